@@ -1,0 +1,65 @@
+#pragma once
+// Seeded random streams with the project's own portable distributions (STYLE item 8).
+//
+// Every random source (world layout, odometry noise, each camera's noise, ...) draws from its own
+// stream derived from (seed, run index, component name), so adding draws to one component never
+// changes the numbers another sees. The generator is xoshiro256** seeded through SplitMix64; the
+// distributions are written here because the standard library's differ between implementations.
+
+#include <cstdint>
+#include <span>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+namespace corridorsim {
+
+/// 64-bit FNV-1a hash of a component name (stable across platforms and builds).
+std::uint64_t HashName(std::string_view name);
+
+class RandomStream {
+ public:
+  /// The stream of `component` (e.g. "worlds.layout") in run `run_index` of an experiment seeded
+  /// with `seed`.
+  RandomStream(std::uint64_t seed, std::uint64_t run_index, std::string_view component);
+
+  /// A child stream, derived from this stream's identity (not its position) and `component`.
+  RandomStream Derive(std::string_view component) const;
+
+  /// Raw 64 random bits (xoshiro256**).
+  std::uint64_t NextU64();
+
+  /// Uniform in [0, 1) with 53 random bits.
+  double Uniform01();
+  /// Uniform in [lo, hi).
+  double Uniform(double lo, double hi);
+  /// Uniform integer in [lo, hi] (inclusive), without modulo bias.
+  std::int64_t UniformInt(std::int64_t lo, std::int64_t hi);
+  /// Normal with the given mean and standard deviation (Marsaglia's polar method).
+  double Normal(double mean = 0.0, double stddev = 1.0);
+  /// True with probability p.
+  bool Bernoulli(double p);
+  /// Exponential with the given rate (events per unit).
+  double Exponential(double rate);
+  /// Index drawn with probability proportional to `weights` (non-negative, positive sum).
+  std::size_t Categorical(std::span<const double> weights);
+
+  /// Fisher-Yates shuffle.
+  template <class T>
+  void Shuffle(std::vector<T>& values) {
+    for (std::size_t i = values.size(); i > 1; --i) {
+      const auto j = static_cast<std::size_t>(UniformInt(0, static_cast<std::int64_t>(i - 1)));
+      std::swap(values[i - 1], values[j]);
+    }
+  }
+
+ private:
+  RandomStream(std::uint64_t identity);
+
+  std::uint64_t identity_;  // hash of (seed, run index, component path); seeds the state
+  std::uint64_t state_[4];
+  bool has_spare_normal_ = false;
+  double spare_normal_ = 0.0;
+};
+
+}  // namespace corridorsim

@@ -1,0 +1,127 @@
+// The corridorsim command. Subcommands: world (this issue); snapshot, drive, run come with
+// their issues. Exit codes: 0 success, 2 bad input (one message naming file, line and key),
+// 1 any other failure.
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <map>
+#include <optional>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "common/atomic_file.h"
+#include "common/error.h"
+#include "scenarios/scenario.h"
+#include "worlds/world_io.h"
+
+namespace corridorsim {
+namespace {
+
+constexpr int kExitBadInput = 2;
+
+std::string DefaultScenarioPath() {
+  if (std::filesystem::exists("scenarios/default.yaml")) return "scenarios/default.yaml";
+  return std::string(CORRIDORSIM_SCENARIO_DIR) + "/default.yaml";
+}
+
+void PrintWorldSummary(const worlds::World& world, const std::filesystem::path& out, double ms) {
+  std::map<std::string, int> door_states;
+  for (const auto& d : world.doors) ++door_states[worlds::DoorStateName(d.state)];
+  int circular = 0, off = 0, room_lamps = 0;
+  for (const auto& l : world.lamps) {
+    circular += l.shape == worlds::LampShape::kCircular;
+    off += !l.on;
+    room_lamps += l.room_door_id >= 0;
+  }
+  const Eigen::Vector3d size = world.bounds.sizes();
+  std::printf("world: %s, seed %llu, %.1f x %.1f x %.1f m, generated in %.0f ms\n",
+              worlds::LayoutName(world.spec.layout).c_str(),
+              static_cast<unsigned long long>(world.seed), size.x(), size.y(), size.z(), ms);
+  std::printf("  corridor segments %zu, walls %zu\n", world.segments.size(), world.walls.size());
+  std::printf("  doors %zu (closed %d, open %d, empty %d)\n", world.doors.size(),
+              door_states["closed"], door_states["open"], door_states["empty"]);
+  std::printf("  door plates %zu\n", world.plates.size());
+  std::printf("  lamps %zu (circular %d, panel %zu, in rooms %d, off %d), reflectors %zu\n",
+              world.lamps.size(), circular, world.lamps.size() - circular, room_lamps, off,
+              world.reflectors.size());
+  std::printf("  ceiling corner points %zu, distractors %zu\n", world.corner_points.size(),
+              world.distractors.size());
+  std::printf("  meshes %zu, triangles %zu, textures %zu, collision boxes %zu\n",
+              world.meshes.size(), world.triangle_count(), world.textures.size(),
+              world.collision_boxes.size());
+  std::printf("wrote %s/{world.obj, world.mtl, textures/, ground_truth.json, map.png}\n",
+              out.string().c_str());
+}
+
+int RunWorld(const std::string& scenario_path, std::optional<std::uint64_t> seed,
+             const std::filesystem::path& out) {
+  const Scenario scenario = LoadScenario(scenario_path);
+  try {
+    EnsureWritableDirectory(out);
+  } catch (const std::exception& e) {
+    throw InputError(SourceLocation{}, "--out", e.what());
+  }
+  const std::uint64_t world_seed = seed.value_or(scenario.seed);
+  const auto t0 = std::chrono::steady_clock::now();
+  const worlds::World world = GenerateWorld(scenario, world_seed);
+  const double ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  worlds::WriteWorldFiles(world, out);
+  PrintWorldSummary(world, out, ms);
+  return 0;
+}
+
+}  // namespace
+}  // namespace corridorsim
+
+int main(int argc, char** argv) {
+  using namespace corridorsim;
+  CLI::App app{"corridorsim: a simulation harness for corridor SLAM"};
+  app.require_subcommand(1);
+  app.set_help_all_flag("--help-all", "Show the help of every subcommand");
+
+  std::string scenario_path;
+  std::optional<std::uint64_t> seed;
+  std::string out_dir = "out/world";
+  CLI::App* world = app.add_subcommand(
+      "world", "Generate a corridor world and write its geometry, textures, ground truth and plan");
+  world->add_option("scenario", scenario_path,
+                    "Scenario YAML whose `world:` section and `seed` are used "
+                    "(default: scenarios/default.yaml)");
+  world->add_option("--seed", seed, "Seed of the world's random streams (default: the scenario's `seed`)");
+  world->add_option("--out", out_dir,
+                    "Output folder for world.obj, world.mtl, textures/, ground_truth.json, map.png")
+      ->capture_default_str();
+  world->footer(
+      "Writes world.obj + world.mtl + textures/*.png (open in MeshLab or Blender), "
+      "ground_truth.json (door plates, lamps, doors, corridor segments, corner points, "
+      "distractors; metres, world frame) and map.png (top-down plan).\n"
+      "Exit codes: 0 success, 2 bad input (file:line:column: key: message), 1 other failures.");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    app.exit(e);
+    return kExitBadInput;
+  }
+
+  try {
+    if (world->parsed()) {
+      return RunWorld(scenario_path.empty() ? DefaultScenarioPath() : scenario_path, seed, out_dir);
+    }
+  } catch (const InputError& e) {
+    std::fprintf(stderr, "corridorsim: error: %s\n", e.what());
+    return kExitBadInput;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "corridorsim: error: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

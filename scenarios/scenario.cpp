@@ -1,0 +1,40 @@
+#include "scenarios/scenario.h"
+
+namespace corridorsim {
+
+Scenario LoadScenario(const std::string& path) {
+  Scenario scenario;
+  scenario.path = path;
+  scenario.world_location = SourceLocation{path, 0, 0};
+  // Documents stay alive while their maps are read: YamlMap points into them.
+  const std::vector<YamlDocument> chain = LoadWithIncludes(path);
+  for (const YamlDocument& doc : chain) {
+    YamlMap root(doc, doc.root, "", &scenario.sources);
+    root.Accept("include");
+    root.Read("name", scenario.name);
+    root.Read("description", scenario.description);
+    root.Read("seed", scenario.seed);
+    if (root.Has("world")) scenario.world_location = root.LocationOfKey("world");
+    YamlMap world = root.Map("world");
+    worlds::ParseWorldSpec(world, scenario.world);
+    root.RejectUnknownKeys();
+  }
+  if (auto problem = scenario.world.Check()) throw LocateProblem(scenario, "world", *problem);
+  return scenario;
+}
+
+InputError LocateProblem(const Scenario& scenario, const std::string& section,
+                         const SpecProblem& problem) {
+  const std::string key = section + "." + problem.key;
+  return InputError(scenario.sources.Find(key, scenario.world_location), key, problem.message);
+}
+
+worlds::World GenerateWorld(const Scenario& scenario, std::uint64_t seed) {
+  try {
+    return worlds::Generate(scenario.world, seed);
+  } catch (const SpecError& e) {
+    throw LocateProblem(scenario, "world", e.problem());
+  }
+}
+
+}  // namespace corridorsim

@@ -1,0 +1,36 @@
+#pragma once
+// A scenario file: the seed and the world of a run (later issues add robot, path, sensors,
+// pipelines and expectations). Loading is strict: see docs/scenarios.md.
+
+#include <cstdint>
+#include <string>
+
+#include "common/yaml_reader.h"
+#include "worlds/world.h"
+#include "worlds/world_spec.h"
+
+namespace corridorsim {
+
+struct Scenario {
+  std::string path;         // the file given on the command line
+  std::string name;         // optional human-readable name
+  std::string description;  // optional
+  std::uint64_t seed = 1;   // seed of every random stream of the run
+  worlds::WorldSpec world;
+  SourceMap sources;        // where each key was set, for errors found after parsing
+  SourceLocation world_location;  // the `world:` key of the last file that has one
+};
+
+/// Loads `path` and its `include:` chain (base first) onto code defaults, then checks the
+/// result. Throws InputError naming file, line, column and key.
+Scenario LoadScenario(const std::string& path);
+
+/// Turns a problem found by a spec's Check() or a generator into an InputError placed at the
+/// line that set the offending key (`section` is e.g. "world").
+InputError LocateProblem(const Scenario& scenario, const std::string& section,
+                         const SpecProblem& problem);
+
+/// Generates the scenario's world with `seed`, reporting generator problems as InputError.
+worlds::World GenerateWorld(const Scenario& scenario, std::uint64_t seed);
+
+}  // namespace corridorsim

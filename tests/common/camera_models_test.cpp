@@ -1,0 +1,361 @@
+#include "common/camera_models.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <optional>
+#include <random>
+#include <string>
+#include <utility>
+#include <variant>
+#include <vector>
+
+#include <catch2/catch.hpp>
+
+#include "tests/support/jacobian_check.h"
+#include "tests/support/tolerances.h"
+
+namespace corridorsim {
+namespace {
+
+using test::CheckJacobian;
+using test::kFovRad;
+using test::kRoundTripBearing;
+using test::kRoundTripPx;
+using test::NumericalJacobian;
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kRadPerDeg = kPi / 180.0;
+constexpr int kRandomPoints = 2000;
+
+// Uniform in [lo, hi) from the top 53 bits of the engine output, identical on every platform.
+double Uniform(std::mt19937_64& rng, double lo, double hi) {
+  return lo + (hi - lo) * static_cast<double>(rng() >> 11) * 0x1.0p-53;
+}
+
+// Point at incidence angle in [0, max_theta_rad] from +z, any azimuth, 0.2 to 20 m away.
+Eigen::Vector3d RandomPoint(std::mt19937_64& rng, double max_theta_rad) {
+  const double theta = Uniform(rng, 0.0, max_theta_rad);
+  const double phi = Uniform(rng, -kPi, kPi);
+  const double range = Uniform(rng, 0.2, 20.0);
+  return range * Eigen::Vector3d(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi),
+                                 std::cos(theta));
+}
+
+// lo, lo + step, ... and hi itself.
+std::vector<double> GridWithEnds(double lo, double hi, double step) {
+  std::vector<double> values;
+  for (double value = lo; value < hi; value += step) values.push_back(value);
+  values.push_back(hi);
+  return values;
+}
+
+double AngleFromAxis(const Eigen::Vector3d& bearing) {
+  return std::atan2(bearing.head<2>().norm(), bearing.z());
+}
+
+// Largest incidence angle seen by the image: the corners.
+template <class Camera>
+double CornerThetaRad(const Camera& camera) {
+  double max_theta = 0.0;
+  for (const Eigen::Vector2d& corner :
+       {Eigen::Vector2d(-0.5, -0.5), Eigen::Vector2d(camera.width - 0.5, -0.5),
+        Eigen::Vector2d(-0.5, camera.height - 0.5),
+        Eigen::Vector2d(camera.width - 0.5, camera.height - 0.5)}) {
+    max_theta = std::max(max_theta, AngleFromAxis(camera.Unproject(corner)));
+  }
+  return max_theta;
+}
+
+// 640x480 camera with distortion typical of a calibrated wide webcam / RGB-D colour camera.
+PinholeRadTan DistortedPinhole() {
+  PinholeRadTan camera;
+  camera.width = 640;
+  camera.height = 480;
+  camera.fx = 525.0;
+  camera.fy = 523.0;
+  camera.cx = 319.2;
+  camera.cy = 240.7;
+  camera.k1 = -0.28;
+  camera.k2 = 0.07;
+  camera.p1 = 1e-4;
+  camera.p2 = -2e-4;
+  camera.k3 = -0.005;
+  return camera;
+}
+
+// 640x480 fisheyes spanning 110 and 130 deg across the image height, with small k1..k4.
+KannalaBrandt Fisheye110() {
+  KannalaBrandt camera = KannalaBrandt::FromFov(640, 480, 110.0 * kRadPerDeg);
+  camera.fy *= 1.002;
+  camera.cx += 1.3;
+  camera.cy -= 0.8;
+  camera.k1 = 0.02;
+  camera.k2 = -0.005;
+  camera.k3 = 0.001;
+  camera.k4 = -0.0002;
+  return camera;
+}
+
+KannalaBrandt Fisheye130() {
+  KannalaBrandt camera = KannalaBrandt::FromFov(640, 480, 130.0 * kRadPerDeg);
+  camera.k1 = -0.01;
+  camera.k2 = 0.004;
+  camera.k3 = -0.0005;
+  camera.k4 = 0.0001;
+  return camera;
+}
+
+std::vector<std::pair<std::string, CameraModel>> TestCameras() {
+  return {{"pinhole radtan", DistortedPinhole()},
+          {"fisheye 110 deg", Fisheye110()},
+          {"fisheye 130 deg", Fisheye130()}};
+}
+
+int Width(const CameraModel& camera) {
+  return std::visit([](const auto& model) { return model.width; }, camera);
+}
+int Height(const CameraModel& camera) {
+  return std::visit([](const auto& model) { return model.height; }, camera);
+}
+double MaxThetaInImage(const CameraModel& camera) {
+  return std::visit([](const auto& model) { return CornerThetaRad(model); }, camera);
+}
+
+TEST_CASE("test cameras are valid", "[camera]") {
+  for (const auto& [name, camera] : TestCameras()) {
+    INFO(name << ": " << Check(camera).value_or("ok"));
+    CHECK_FALSE(Check(camera).has_value());
+  }
+}
+
+TEST_CASE("Project(Unproject(pixel)) returns the pixel over the whole image", "[camera]") {
+  for (const auto& [name, camera] : TestCameras()) {
+    const double right = Width(camera) - 0.5;
+    const double bottom = Height(camera) - 0.5;
+    for (const double v : GridWithEnds(-0.5, bottom, 8.0)) {
+      for (const double u : GridWithEnds(-0.5, right, 8.0)) {
+        const Eigen::Vector2d pixel(u, v);
+        INFO(name << ", pixel " << pixel.transpose());
+        const Eigen::Vector3d bearing = Unproject(camera, pixel);
+        REQUIRE(std::abs(bearing.norm() - 1.0) <= kRoundTripBearing);
+        const std::optional<Eigen::Vector2d> reprojected = Project(camera, bearing);
+        REQUIRE(reprojected.has_value());
+        REQUIRE((*reprojected - pixel).norm() <= kRoundTripPx);
+      }
+    }
+  }
+}
+
+TEST_CASE("Unproject(Project(p)) returns the bearing of random points seen by the image",
+          "[camera]") {
+  std::mt19937_64 rng(20240611);
+  for (const auto& [name, camera] : TestCameras()) {
+    const double max_theta = MaxThetaInImage(camera);
+    for (int i = 0; i < kRandomPoints; ++i) {
+      const Eigen::Vector3d p_in_camera = RandomPoint(rng, max_theta);
+      INFO(name << ", point " << p_in_camera.transpose());
+      const std::optional<Eigen::Vector2d> pixel = Project(camera, p_in_camera);
+      REQUIRE(pixel.has_value());
+      const Eigen::Vector3d bearing = Unproject(camera, *pixel);
+      REQUIRE((bearing - p_in_camera.normalized()).norm() <= kRoundTripBearing);
+    }
+  }
+}
+
+TEST_CASE("fisheye 130 deg sees points at and beyond its edge, behind the image plane",
+          "[camera]") {
+  const KannalaBrandt camera = Fisheye130();
+  // The corners of a 130 deg (across the height) 4:3 fisheye look behind the image plane.
+  REQUIRE(CornerThetaRad(camera) > 100.0 * kRadPerDeg);
+  for (const double theta_deg : {64.0, 65.0, 66.0, 80.0, 89.9, 90.0, 90.1, 95.0, 105.0}) {
+    for (const double phi : {-2.5, -kPi / 2, 0.0, 0.4, kPi / 2, kPi}) {
+      const double theta = theta_deg * kRadPerDeg;
+      const Eigen::Vector3d p_in_camera =
+          3.0 * Eigen::Vector3d(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi),
+                                std::cos(theta));
+      INFO("theta " << theta_deg << " deg, phi " << phi);
+      const std::optional<Eigen::Vector2d> pixel = camera.Project(p_in_camera);
+      REQUIRE(pixel.has_value());
+      // The pixel lies in the azimuth direction of the point.
+      const Eigen::Vector2d offset(pixel->x() - camera.cx, pixel->y() - camera.cy);
+      CHECK(std::atan2(offset.y(), offset.x()) ==
+            Approx(std::atan2(std::sin(phi), std::cos(phi))).margin(1e-9));
+      CHECK((camera.Unproject(*pixel) - p_in_camera.normalized()).norm() <= kRoundTripBearing);
+    }
+  }
+}
+
+TEST_CASE("analytic projection Jacobians match central differences at random points",
+          "[camera][jacobian]") {
+  std::mt19937_64 rng(7);
+  for (const auto& [name, camera] : TestCameras()) {
+    const double max_theta = MaxThetaInImage(camera);
+    std::vector<Eigen::Vector3d> points = {Eigen::Vector3d(0, 0, 2), Eigen::Vector3d(1e-12, 0, 2),
+                                           Eigen::Vector3d(0, -3e-7, 0.5),
+                                           Eigen::Vector3d(1e-4, 2e-4, 1)};
+    for (int i = 0; i < kRandomPoints; ++i) points.push_back(RandomPoint(rng, max_theta));
+    for (const Eigen::Vector3d& p_in_camera : points) {
+      INFO(name << ", point " << p_in_camera.transpose());
+      Eigen::Matrix<double, 2, 3> d_pixel_d_point;
+      const std::optional<Eigen::Vector2d> pixel = Project(camera, p_in_camera, &d_pixel_d_point);
+      REQUIRE(pixel.has_value());
+      // The Jacobian output must not change the pixel.
+      REQUIRE((*pixel - Project(camera, p_in_camera).value()).norm() == 0.0);
+      const Eigen::Matrix<double, 2, 3> numerical = NumericalJacobian<2, 3>(
+          [&](const Eigen::Vector3d& p) { return Project(camera, p).value(); }, p_in_camera);
+      CheckJacobian(d_pixel_d_point, numerical);
+    }
+  }
+}
+
+TEST_CASE("pinhole does not project points at or behind the image plane", "[camera]") {
+  const PinholeRadTan camera = DistortedPinhole();
+  CHECK_FALSE(camera.Project(Eigen::Vector3d(0.1, 0.2, 0.0)).has_value());
+  CHECK_FALSE(camera.Project(Eigen::Vector3d(0.1, 0.2, -1.0)).has_value());
+  CHECK_FALSE(camera.Project(Eigen::Vector3d(0.0, 0.0, -1.0)).has_value());
+  CHECK(camera.Project(Eigen::Vector3d(1e-4, 2e-4, 1e-3)).has_value());
+}
+
+TEST_CASE("pinhole does not project points beyond the turning point of its distortion",
+          "[camera]") {
+  // r (1 - 0.5 r^2) turns at r = sqrt(2/3); beyond, points would fold back into the image.
+  PinholeRadTan camera = PinholeRadTan::FromFov(640, 480, 60.0 * kRadPerDeg);
+  camera.k1 = -0.5;
+  const double turning_r = std::sqrt(2.0 / 3.0);
+  CHECK(camera.Project(Eigen::Vector3d(0.98 * turning_r, 0.0, 1.0)).has_value());
+  CHECK_FALSE(camera.Project(Eigen::Vector3d(1.02 * turning_r, 0.0, 1.0)).has_value());
+  CHECK_FALSE(camera.Project(Eigen::Vector3d(0.0, 3.0, 1.0)).has_value());
+}
+
+TEST_CASE("fisheye does not project points beyond the turning point of theta_d or at theta = pi",
+          "[camera]") {
+  // theta (1 - 0.3 theta^2) turns at theta = sqrt(1/0.9) = 1.054 rad.
+  KannalaBrandt camera = KannalaBrandt::FromFov(640, 480, 90.0 * kRadPerDeg);
+  camera.k1 = -0.3;
+  const auto point_at = [](double theta) {
+    return Eigen::Vector3d(std::sin(theta), 0.0, std::cos(theta));
+  };
+  CHECK(camera.Project(point_at(1.0)).has_value());
+  CHECK_FALSE(camera.Project(point_at(1.1)).has_value());
+  const KannalaBrandt equidistant = KannalaBrandt::FromFov(640, 480, 130.0 * kRadPerDeg);
+  CHECK(equidistant.Project(point_at(3.0)).has_value());
+  CHECK_FALSE(equidistant.Project(Eigen::Vector3d(0.0, 0.0, -1.0)).has_value());
+  CHECK_FALSE(equidistant.Project(Eigen::Vector3d::Zero()).has_value());
+}
+
+TEST_CASE("pinhole FromFov spans the horizontal field of view edge to edge", "[camera]") {
+  for (const double fov_deg : {40.0, 90.0, 120.0, 149.0}) {
+    for (const auto& [width, height] : {std::pair{640, 480}, std::pair{480, 640}}) {
+      INFO(width << "x" << height << " at " << fov_deg << " deg");
+      const PinholeRadTan camera = PinholeRadTan::FromFov(width, height, fov_deg * kRadPerDeg);
+      CHECK(camera.HorizontalFovRad() == Approx(fov_deg * kRadPerDeg).margin(kFovRad));
+      // The left edge of column 0 is at -fov/2.
+      const Eigen::Vector3d left_edge = camera.Unproject(Eigen::Vector2d(-0.5, camera.cy));
+      CHECK(std::atan2(left_edge.x(), left_edge.z()) ==
+            Approx(-0.5 * fov_deg * kRadPerDeg).margin(kFovRad));
+      CHECK(camera.FieldOfViewRad() ==
+            Approx(std::max(camera.HorizontalFovRad(), camera.VerticalFovRad())).margin(kFovRad));
+    }
+  }
+}
+
+TEST_CASE("fisheye FromFov spans the field of view across the smaller image dimension",
+          "[camera]") {
+  for (const double fov_deg : {110.0, 130.0, 179.0}) {
+    for (const auto& [width, height] : {std::pair{640, 480}, std::pair{480, 640}}) {
+      INFO(width << "x" << height << " at " << fov_deg << " deg");
+      const double fov = fov_deg * kRadPerDeg;
+      const KannalaBrandt camera = KannalaBrandt::FromFov(width, height, fov);
+      CHECK(camera.FieldOfViewRad() == Approx(fov).margin(kFovRad));
+      const double smaller_fov =
+          width < height ? camera.HorizontalFovRad() : camera.VerticalFovRad();
+      CHECK(smaller_fov == Approx(fov).margin(kFovRad));
+      // A point at fov/2 from the axis lands on the edge of the smaller dimension.
+      const double half = 0.5 * fov;
+      const Eigen::Vector3d p_in_camera = width < height
+                                              ? Eigen::Vector3d(std::sin(half), 0, std::cos(half))
+                                              : Eigen::Vector3d(0, std::sin(half), std::cos(half));
+      const Eigen::Vector2d edge = width < height ? Eigen::Vector2d(width - 0.5, camera.cy)
+                                                  : Eigen::Vector2d(camera.cx, height - 0.5);
+      CHECK((camera.Project(p_in_camera).value() - edge).norm() <= kRoundTripPx);
+    }
+  }
+}
+
+TEST_CASE("Check rejects a zero or negative image size", "[camera]") {
+  PinholeRadTan pinhole = PinholeRadTan::FromFov(640, 480, 90.0 * kRadPerDeg);
+  REQUIRE_FALSE(pinhole.Check().has_value());
+  pinhole.width = 0;
+  CHECK(pinhole.Check().has_value());
+  KannalaBrandt fisheye = KannalaBrandt::FromFov(640, 480, 120.0 * kRadPerDeg);
+  REQUIRE_FALSE(fisheye.Check().has_value());
+  fisheye.height = -480;
+  CHECK(fisheye.Check().has_value());
+}
+
+TEST_CASE("Check rejects non-positive or non-finite focal lengths", "[camera]") {
+  PinholeRadTan pinhole = DistortedPinhole();
+  pinhole.fy = 0.0;
+  CHECK(pinhole.Check().has_value());
+  KannalaBrandt fisheye = Fisheye130();
+  fisheye.fx = std::nan("");
+  CHECK(fisheye.Check().has_value());
+}
+
+TEST_CASE("Check rejects a pinhole field of view of 150 deg or more", "[camera]") {
+  CHECK_FALSE(PinholeRadTan::FromFov(640, 480, 149.0 * kRadPerDeg).Check().has_value());
+  const std::optional<std::string> problem =
+      PinholeRadTan::FromFov(640, 480, 150.0 * kRadPerDeg).Check();
+  REQUIRE(problem.has_value());
+  CHECK_THAT(*problem, Catch::Contains("field of view"));
+  // Portrait: the vertical field of view is the wider one.
+  CHECK(PinholeRadTan::FromFov(300, 640, 130.0 * kRadPerDeg).Check().has_value());
+}
+
+TEST_CASE("Check rejects a fisheye field of view of 180 deg or more", "[camera]") {
+  CHECK_FALSE(KannalaBrandt::FromFov(640, 480, 179.0 * kRadPerDeg).Check().has_value());
+  const std::optional<std::string> problem =
+      KannalaBrandt::FromFov(640, 480, 180.0 * kRadPerDeg).Check();
+  REQUIRE(problem.has_value());
+  CHECK_THAT(*problem, Catch::Contains("field of view"));
+}
+
+TEST_CASE("Check rejects distortion that turns over inside the image", "[camera]") {
+  PinholeRadTan camera = PinholeRadTan::FromFov(640, 480, 100.0 * kRadPerDeg);
+  camera.k1 = -0.5;
+  const std::optional<std::string> problem = camera.Check();
+  REQUIRE(problem.has_value());
+  CHECK_THAT(*problem, Catch::Contains("corner"));
+}
+
+TEST_CASE("IsInImage covers pixel centres from 0 to size - 1 plus half a pixel", "[camera]") {
+  const CameraModel camera = PinholeRadTan::FromFov(640, 480, 90.0 * kRadPerDeg);
+  CHECK(IsInImage(camera, Eigen::Vector2d(-0.5, -0.5)));
+  CHECK(IsInImage(camera, Eigen::Vector2d(639.49, 479.49)));
+  CHECK_FALSE(IsInImage(camera, Eigen::Vector2d(639.5, 10.0)));
+  CHECK_FALSE(IsInImage(camera, Eigen::Vector2d(10.0, -0.51)));
+}
+
+TEST_CASE("CameraModel visitors dispatch to the held model", "[camera]") {
+  const KannalaBrandt fisheye = Fisheye110();
+  const CameraModel camera = fisheye;
+  const Eigen::Vector3d p_in_camera(0.4, -0.3, 1.2);
+  CHECK((Project(camera, p_in_camera).value() - fisheye.Project(p_in_camera).value()).norm() ==
+        0.0);
+  const Eigen::Vector2d pixel(100.0, 50.0);
+  CHECK((Unproject(camera, pixel) - fisheye.Unproject(pixel)).norm() == 0.0);
+  // A pinhole with the same intrinsics projects the same point elsewhere.
+  PinholeRadTan pinhole;
+  pinhole.width = fisheye.width;
+  pinhole.height = fisheye.height;
+  pinhole.fx = fisheye.fx;
+  pinhole.fy = fisheye.fy;
+  pinhole.cx = fisheye.cx;
+  pinhole.cy = fisheye.cy;
+  CHECK((Project(CameraModel(pinhole), p_in_camera).value() - Project(camera, p_in_camera).value())
+            .norm() > 1.0);
+}
+
+}  // namespace
+}  // namespace corridorsim

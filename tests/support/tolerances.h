@@ -1,0 +1,20 @@
+// Named tolerances for the test suite; every test takes its tolerances from here.
+#pragma once
+
+namespace corridorsim::test {
+
+// Jacobians: central-difference step (relative to max(1, |x_i|)) and the allowed mismatch, relative
+// to max(1, largest numerical entry).
+inline constexpr double kNumericalJacobianStep = 1e-6;
+inline constexpr double kJacobianRelTol = 1e-6;
+
+// Poses: composed and inverted transforms (m, rad, matrix entries).
+inline constexpr double kPoseTol = 1e-12;
+
+// Cameras: Project(Unproject(pixel)) (px) and Unproject(Project(p)) (unit-bearing components).
+inline constexpr double kRoundTripPx = 1e-9;
+inline constexpr double kRoundTripBearing = 1e-12;
+// Field of view computed from the model against the one it was built from (rad).
+inline constexpr double kFovRad = 1e-12;
+
+}  // namespace corridorsim::test

@@ -1,0 +1,256 @@
+#include "worlds/textures.h"
+
+#include <algorithm>
+#include <cstring>
+
+#include <opencv2/imgproc.hpp>
+
+namespace corridorsim::worlds {
+namespace {
+
+Image8 ToImage(const cv::Mat& rgb) {
+  Image8 out(rgb.cols, rgb.rows, 3);
+  for (int y = 0; y < rgb.rows; ++y) {
+    std::memcpy(out.Pixel(0, y), rgb.ptr<std::uint8_t>(y), std::size_t(rgb.cols) * 3);
+  }
+  return out;
+}
+
+cv::Scalar Rgb(double r, double g, double b) { return cv::Scalar(r, g, b); }
+
+int I(double v) { return static_cast<int>(v); }
+
+// Low-frequency seeded noise in [-1, 1]: random values on a coarse grid, smoothly upsampled.
+cv::Mat SmoothNoise(RandomStream& rng, int size_px, int cells) {
+  cv::Mat coarse(cells, cells, CV_32F);
+  for (int y = 0; y < cells; ++y) {
+    for (int x = 0; x < cells; ++x) coarse.at<float>(y, x) = static_cast<float>(rng.Uniform(-1, 1));
+  }
+  cv::Mat fine;
+  cv::resize(coarse, fine, cv::Size(size_px, size_px), 0, 0, cv::INTER_CUBIC);
+  return fine;
+}
+
+// Adds `count` dots of random size and darkness (speckles give corner detectors something).
+void Speckle(RandomStream& rng, cv::Mat& img, int count, int max_radius, double max_darkening) {
+  for (int k = 0; k < count; ++k) {
+    const cv::Point c(I(rng.Uniform(0, img.cols)), I(rng.Uniform(0, img.rows)));
+    const int r = static_cast<int>(rng.UniformInt(1, max_radius));
+    const double f = 1.0 - rng.Uniform(0.3, 1.0) * max_darkening;
+    const cv::Vec3b base = img.at<cv::Vec3b>(std::clamp(c.y, 0, img.rows - 1),
+                                             std::clamp(c.x, 0, img.cols - 1));
+    cv::circle(img, c, r, cv::Scalar(base[0] * f, base[1] * f, base[2] * f), cv::FILLED, cv::LINE_AA);
+  }
+}
+
+cv::Mat Tinted(const cv::Mat& noise, const cv::Vec3d& colour, double amplitude) {
+  cv::Mat img(noise.size(), CV_8UC3);
+  for (int y = 0; y < img.rows; ++y) {
+    for (int x = 0; x < img.cols; ++x) {
+      const double f = 1.0 + amplitude * noise.at<float>(y, x);
+      img.at<cv::Vec3b>(y, x) = cv::Vec3b(cv::saturate_cast<std::uint8_t>(colour[0] * f),
+                                          cv::saturate_cast<std::uint8_t>(colour[1] * f),
+                                          cv::saturate_cast<std::uint8_t>(colour[2] * f));
+    }
+  }
+  return img;
+}
+
+const int kHersheyFonts[] = {cv::FONT_HERSHEY_SIMPLEX, cv::FONT_HERSHEY_DUPLEX,
+                             cv::FONT_HERSHEY_COMPLEX, cv::FONT_HERSHEY_TRIPLEX};
+const char* kHersheyNames[] = {"hershey_simplex", "hershey_duplex", "hershey_complex",
+                               "hershey_triplex"};
+
+// Draws `text` centred in `box`, as large as fits with `fill` of the box.
+void CentredText(cv::Mat& img, const std::string& text, const cv::Rect& box, int font,
+                 const cv::Scalar& colour, double fill) {
+  int baseline = 0;
+  const int thickness = std::max(1, box.height / 14);
+  const cv::Size unit = cv::getTextSize(text, font, 1.0, thickness, &baseline);
+  const double scale = std::min(box.width * fill / unit.width, box.height * fill / unit.height);
+  const cv::Size size = cv::getTextSize(text, font, scale, thickness, &baseline);
+  const cv::Point origin(box.x + (box.width - size.width) / 2, box.y + (box.height + size.height) / 2);
+  cv::putText(img, text, origin, font, scale, colour, thickness, cv::LINE_AA);
+}
+
+}  // namespace
+
+Image8 MakeWallTexture(RandomStream& rng, int size_px) {
+  const cv::Vec3d paint(rng.Uniform(200, 235), rng.Uniform(195, 230), rng.Uniform(180, 220));
+  cv::Mat noise = SmoothNoise(rng, size_px, 6) * 0.6 + SmoothNoise(rng, size_px, 24) * 0.4;
+  cv::Mat img = Tinted(noise, paint, 0.06);
+  Speckle(rng, img, size_px * 3, 2, 0.25);
+  for (int k = 0; k < 6; ++k) {  // scuffs
+    const cv::Point a(I(rng.Uniform(0, size_px)), I(rng.Uniform(0, size_px)));
+    const cv::Point b = a + cv::Point(I(rng.Uniform(-40, 40)), I(rng.Uniform(-8, 8)));
+    cv::line(img, a, b, Rgb(paint[0] * 0.7, paint[1] * 0.7, paint[2] * 0.7), 1, cv::LINE_AA);
+  }
+  return ToImage(img);
+}
+
+Image8 MakeFloorTexture(RandomStream& rng, int size_px, int tiles) {
+  const cv::Vec3d base(rng.Uniform(120, 170), rng.Uniform(115, 160), rng.Uniform(100, 150));
+  cv::Mat img = Tinted(SmoothNoise(rng, size_px, 16), base, 0.08);
+  Speckle(rng, img, size_px * 6, 2, 0.4);
+  const int step = size_px / tiles;
+  for (int k = 0; k <= tiles; ++k) {
+    const int p = std::min(k * step, size_px - 1);
+    const cv::Scalar seam = Rgb(base[0] * 0.55, base[1] * 0.55, base[2] * 0.55);
+    cv::line(img, {p, 0}, {p, size_px - 1}, seam, 2);
+    cv::line(img, {0, p}, {size_px - 1, p}, seam, 2);
+  }
+  return ToImage(img);
+}
+
+Image8 MakeCeilingTexture(RandomStream& rng, int size_px, int tiles) {
+  const cv::Vec3d base(rng.Uniform(225, 240), rng.Uniform(225, 240), rng.Uniform(220, 235));
+  cv::Mat img = Tinted(SmoothNoise(rng, size_px, 8), base, 0.03);
+  const int step = size_px / tiles;
+  for (int ty = 0; ty < tiles; ++ty) {  // perforation dots per tile
+    for (int tx = 0; tx < tiles; ++tx) {
+      for (int k = 0; k < 40; ++k) {
+        const cv::Point c(tx * step + I(rng.Uniform(4, step - 4)), ty * step + I(rng.Uniform(4, step - 4)));
+        cv::circle(img, c, 1, Rgb(base[0] * 0.75, base[1] * 0.75, base[2] * 0.75), cv::FILLED);
+      }
+    }
+  }
+  // Seams on the tile borders: the texture wraps, so border lines straddle both edges.
+  const cv::Scalar seam = Rgb(90, 90, 95);
+  for (int k = 0; k <= tiles; ++k) {
+    const int p = k * step;
+    cv::rectangle(img, cv::Rect(p - 2, 0, 4, size_px), seam, cv::FILLED);
+    cv::rectangle(img, cv::Rect(0, p - 2, size_px, 4), seam, cv::FILLED);
+  }
+  return ToImage(img);
+}
+
+Image8 MakeRoomCeilingTexture(RandomStream& rng, int size_px) {
+  const cv::Vec3d base(rng.Uniform(215, 235), rng.Uniform(210, 230), rng.Uniform(200, 225));
+  cv::Mat img = Tinted(SmoothNoise(rng, size_px, 10), base, 0.05);
+  Speckle(rng, img, size_px * 2, 2, 0.3);
+  return ToImage(img);
+}
+
+Image8 MakeDoorTexture(RandomStream& rng, int width_px, int height_px) {
+  const cv::Vec3d wood(rng.Uniform(120, 170), rng.Uniform(80, 110), rng.Uniform(40, 70));
+  cv::Mat img(height_px, width_px, CV_8UC3, cv::Scalar(wood[0], wood[1], wood[2]));
+  for (int x = 0; x < width_px; ++x) {  // grain: vertical streaks of varying darkness
+    const double f = 0.85 + 0.15 * std::sin(x * 0.35 + rng.Uniform(0, 0.8)) + rng.Uniform(-0.04, 0.04);
+    cv::line(img, {x, 0}, {x, height_px - 1}, Rgb(wood[0] * f, wood[1] * f, wood[2] * f));
+  }
+  Speckle(rng, img, width_px, 2, 0.3);
+  return ToImage(img);
+}
+
+Image8 MakePlateTexture(RandomStream& rng, const std::string& room_number, double aspect,
+                        PlateStyle* style) {
+  // (plate colour, text colour) pairs seen on real door plates.
+  static const cv::Vec3d kPalette[][2] = {
+      {{245, 245, 240}, {20, 20, 20}},   {{200, 200, 205}, {15, 15, 60}},
+      {{240, 230, 200}, {60, 30, 10}},   {{30, 60, 140}, {250, 250, 250}},
+      {{20, 90, 60}, {245, 245, 245}},   {{40, 40, 40}, {240, 240, 240}},
+  };
+  const auto& colours = kPalette[rng.UniformInt(0, 5)];
+  const int font_index = static_cast<int>(rng.UniformInt(0, 3));
+  const int height_px = 128;
+  const int width_px = std::max(32, I(height_px * aspect));
+  cv::Mat img(height_px, width_px, CV_8UC3, cv::Scalar(colours[0][0], colours[0][1], colours[0][2]));
+  const int border = static_cast<int>(rng.UniformInt(0, 2)) * 3;
+  if (border > 0) {
+    cv::rectangle(img, cv::Rect(border, border, width_px - 2 * border, height_px - 2 * border),
+                  cv::Scalar(colours[1][0], colours[1][1], colours[1][2]), border);
+  }
+  const double fill = rng.Uniform(0.6, 0.75);
+  const int inset = border * 2 + 4;
+  CentredText(img, room_number, cv::Rect(inset, inset, width_px - 2 * inset, height_px - 2 * inset),
+              kHersheyFonts[font_index], cv::Scalar(colours[1][0], colours[1][1], colours[1][2]), fill);
+  if (style) {
+    style->font = kHersheyNames[font_index];
+    style->border_px = border;
+  }
+  return ToImage(img);
+}
+
+Image8 MakePosterTexture(RandomStream& rng, const std::string& text, int width_px, int height_px) {
+  const cv::Vec3d bg(rng.Uniform(150, 255), rng.Uniform(150, 255), rng.Uniform(150, 255));
+  cv::Mat img(height_px, width_px, CV_8UC3, cv::Scalar(bg[0], bg[1], bg[2]));
+  for (int k = 0; k < 5; ++k) {  // blocks of colour
+    const cv::Rect r(I(rng.Uniform(0, width_px * 0.7)), I(rng.Uniform(height_px * 0.35, height_px * 0.85)),
+                     I(rng.Uniform(width_px * 0.1, width_px * 0.4)), I(rng.Uniform(height_px * 0.05, height_px * 0.2)));
+    cv::rectangle(img, r, Rgb(rng.Uniform(0, 255), rng.Uniform(0, 255), rng.Uniform(0, 255)), cv::FILLED);
+  }
+  const int font = kHersheyFonts[rng.UniformInt(0, 3)];
+  CentredText(img, text, cv::Rect(0, 0, width_px, height_px / 3), font, Rgb(20, 20, 20), 0.8);
+  for (int k = 0; k < 6; ++k) {  // lines of small print
+    const int y = I(height_px * (0.88 + 0.018 * k));
+    cv::line(img, {width_px / 10, y}, {I(width_px * rng.Uniform(0.5, 0.9)), y}, Rgb(40, 40, 40), 1);
+  }
+  return ToImage(img);
+}
+
+Image8 MakeNoticeBoardTexture(RandomStream& rng, const std::string& text, int width_px,
+                              int height_px) {
+  cv::Mat noise = SmoothNoise(rng, std::max(width_px, height_px), 30);
+  cv::Mat cork = Tinted(noise(cv::Rect(0, 0, width_px, height_px)), {170, 125, 80}, 0.12);
+  Speckle(rng, cork, width_px * 2, 1, 0.4);
+  cv::rectangle(cork, cv::Rect(0, 0, width_px, height_px), Rgb(90, 60, 35), 8);
+  for (int k = 0; k < 5; ++k) {  // pinned notes; the first carries the number
+    const int w = I(rng.Uniform(width_px * 0.18, width_px * 0.3));
+    const int h = I(w * rng.Uniform(1.0, 1.4));
+    const cv::Rect r(I(rng.Uniform(12, width_px - w - 12)), I(rng.Uniform(12, height_px - h - 12)), w, h);
+    cv::rectangle(cork, r, Rgb(rng.Uniform(230, 255), rng.Uniform(230, 255), rng.Uniform(180, 255)), cv::FILLED);
+    if (k == 0) {
+      CentredText(cork, text, r, cv::FONT_HERSHEY_SIMPLEX, Rgb(10, 10, 10), 0.7);
+    } else {
+      for (int line = 1; line < 6; ++line) {
+        const int y = r.y + line * h / 6;
+        cv::line(cork, {r.x + 4, y}, {r.x + w - 4, y}, Rgb(60, 60, 60), 1);
+      }
+    }
+    cv::circle(cork, {r.x + w / 2, r.y + 5}, 3, Rgb(200, 20, 20), cv::FILLED);
+  }
+  return ToImage(cork);
+}
+
+Image8 MakeBookshelfTexture(RandomStream& rng, int width_px, int height_px) {
+  cv::Mat img(height_px, width_px, CV_8UC3, Rgb(110, 75, 45));
+  const int shelves = 5;
+  const int shelf_h = height_px / shelves;
+  for (int s = 0; s < shelves; ++s) {
+    const int top = s * shelf_h + 6, bottom = (s + 1) * shelf_h - 4;
+    int x = 6;
+    while (x < width_px - 10) {
+      const int w = static_cast<int>(rng.UniformInt(6, 16));
+      const int h = I(rng.Uniform(0.6, 1.0) * (bottom - top));
+      cv::rectangle(img, cv::Rect(x, bottom - h, std::min(w, width_px - 6 - x), h),
+                    Rgb(rng.Uniform(20, 230), rng.Uniform(20, 230), rng.Uniform(20, 230)), cv::FILLED);
+      x += w + 1;
+    }
+    cv::rectangle(img, cv::Rect(0, (s + 1) * shelf_h - 4, width_px, 4), Rgb(80, 55, 30), cv::FILLED);
+  }
+  cv::rectangle(img, cv::Rect(0, 0, width_px, height_px), Rgb(80, 55, 30), 6);
+  return ToImage(img);
+}
+
+Image8 MakeCabinetTexture(RandomStream& rng, int width_px, int height_px) {
+  const double grey = rng.Uniform(140, 200);
+  cv::Mat img(height_px, width_px, CV_8UC3, Rgb(grey, grey, grey + 5));
+  cv::line(img, {width_px / 2, 4}, {width_px / 2, height_px - 4}, Rgb(grey * 0.5, grey * 0.5, grey * 0.5), 2);
+  cv::rectangle(img, cv::Rect(0, 0, width_px, height_px), Rgb(grey * 0.6, grey * 0.6, grey * 0.6), 3);
+  for (const int x : {width_px / 2 - 14, width_px / 2 + 8}) {
+    cv::rectangle(img, cv::Rect(x, height_px / 2 - 20, 6, 40), Rgb(50, 50, 50), cv::FILLED);
+  }
+  cv::rectangle(img, cv::Rect(width_px / 8, height_px / 8, width_px / 4, height_px / 12), Rgb(250, 250, 250), cv::FILLED);
+  return ToImage(img);
+}
+
+Image8 MakeVentTexture(int size_px) {
+  cv::Mat img(size_px, size_px, CV_8UC3, Rgb(200, 200, 200));
+  for (int y = size_px / 8; y < size_px * 7 / 8; y += 6) {
+    cv::line(img, {size_px / 8, y}, {size_px * 7 / 8, y}, Rgb(40, 40, 45), 2);
+  }
+  cv::rectangle(img, cv::Rect(0, 0, size_px, size_px), Rgb(150, 150, 150), 4);
+  return ToImage(img);
+}
+
+}  // namespace corridorsim::worlds

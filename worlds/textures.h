@@ -1,0 +1,43 @@
+#pragma once
+// Procedurally drawn, seeded textures (RGB, row 0 on top). Surfaces carry enough texture that
+// corner detectors find features; plates carry legible room numbers in seeded styles.
+
+#include <string>
+
+#include "common/image.h"
+#include "common/random.h"
+
+namespace corridorsim::worlds {
+
+/// Painted plaster: a seeded pale colour, blotches, speckles and scuffs. Covers period_px square.
+Image8 MakeWallTexture(RandomStream& rng, int size_px);
+/// Linoleum tiles with seams and speckles; `tiles` tiles across the texture.
+Image8 MakeFloorTexture(RandomStream& rng, int size_px, int tiles);
+/// Suspended-ceiling tiles: `tiles` x `tiles` tiles with dark seams on tile borders (the seam
+/// crossings are corner features) and perforation dots.
+Image8 MakeCeilingTexture(RandomStream& rng, int size_px, int tiles);
+/// Smooth plaster ceiling of a room, with faint speckles.
+Image8 MakeRoomCeilingTexture(RandomStream& rng, int size_px);
+/// Wood grain for door leaves.
+Image8 MakeDoorTexture(RandomStream& rng, int width_px, int height_px);
+
+struct PlateStyle {
+  std::string font;  // Hershey font name
+  int border_px = 0;
+};
+/// A door plate showing `room_number` in a seeded style; aspect = width / height of the plate.
+Image8 MakePlateTexture(RandomStream& rng, const std::string& room_number, double aspect,
+                        PlateStyle* style);
+/// A poster with a headline, blocks of colour and a number (`text`).
+Image8 MakePosterTexture(RandomStream& rng, const std::string& text, int width_px, int height_px);
+/// A cork notice board with pinned notes, one of which shows `text`.
+Image8 MakeNoticeBoardTexture(RandomStream& rng, const std::string& text, int width_px,
+                              int height_px);
+/// Front of a bookshelf: shelves with rows of book spines.
+Image8 MakeBookshelfTexture(RandomStream& rng, int width_px, int height_px);
+/// Front of a metal cabinet: two doors, handles, a label.
+Image8 MakeCabinetTexture(RandomStream& rng, int width_px, int height_px);
+/// A ventilation grille.
+Image8 MakeVentTexture(int size_px);
+
+}  // namespace corridorsim::worlds

@@ -1,0 +1,388 @@
+#include "worlds/world_io.h"
+
+#include <charconv>
+#include <cmath>
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "common/atomic_file.h"
+#include "worlds/map_plot.h"
+
+namespace corridorsim::worlds {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+// ---------------------------------------------------------------------------------------------
+// ground_truth.json
+
+// Rounds to kGroundTruthResolutionM; -0 becomes 0 so equal worlds print equal text. Dividing the
+// integer count of steps by the exact step count per metre gives the double nearest the decimal
+// value, which JSON prints in its shortest form (2.3, not 2.3000000000000003).
+double Rounded(double v) {
+  static const double steps_per_m = std::round(1.0 / kGroundTruthResolutionM);
+  const double r = std::round(v * steps_per_m) / steps_per_m;
+  return r == 0.0 ? 0.0 : r;
+}
+
+Json Vec(const Eigen::Vector2d& v) { return Json::array({Rounded(v.x()), Rounded(v.y())}); }
+Json Vec(const Eigen::Vector3d& v) {
+  return Json::array({Rounded(v.x()), Rounded(v.y()), Rounded(v.z())});
+}
+
+Json PlateJson(const World& world, const DoorPlate& plate) {
+  Json j;
+  j["id"] = plate.id;
+  j["door_id"] = plate.door_id;
+  j["room_number"] = plate.room_number;
+  j["center"] = Vec(plate.center);
+  j["normal"] = Vec(plate.normal);
+  j["size"] = Vec(plate.size_m);
+  if (plate.texture >= 0 && plate.texture < static_cast<int>(world.textures.size())) {
+    j["texture"] = "textures/" + world.textures[plate.texture].name + ".png";
+  }
+  return j;
+}
+
+Json LampJson(const Lamp& lamp) {
+  Json j;
+  j["id"] = lamp.id;
+  j["shape"] = LampShapeName(lamp.shape);
+  j["center"] = Vec(lamp.center);
+  if (lamp.shape == LampShape::kCircular) {
+    j["radius"] = Rounded(lamp.radius_m);
+  } else {
+    j["size"] = Vec(lamp.size_m);
+  }
+  j["on"] = lamp.on;
+  if (lamp.room_door_id >= 0) j["room_door_id"] = lamp.room_door_id;
+  return j;
+}
+
+Json DoorJson(const Doorway& door) {
+  Json j;
+  j["id"] = door.id;
+  j["state"] = DoorStateName(door.state);
+  j["wall_id"] = door.wall_id;
+  j["column_a"] = Vec(door.column_a);
+  j["column_b"] = Vec(door.column_b);
+  j["top_height"] = Rounded(door.top_height_m);
+  j["width"] = Rounded(door.width_m);
+  j["column_width"] = Rounded(door.column_width_m);
+  j["inward_normal"] = Vec(door.inward_normal);
+  j["room_number"] = door.room_number;
+  if (door.room) {
+    Json room;
+    room["min"] = Vec(Eigen::Vector2d(door.room->footprint.min()));
+    room["max"] = Vec(Eigen::Vector2d(door.room->footprint.max()));
+    room["ceiling_height"] = Rounded(door.room->ceiling_height_m);
+    j["room"] = std::move(room);
+  }
+  return j;
+}
+
+Json SegmentJson(const CorridorSegment& segment) {
+  Json j;
+  j["id"] = segment.id;
+  j["start"] = Vec(segment.start);
+  j["end"] = Vec(segment.end);
+  j["direction"] = Vec(segment.direction());
+  j["width"] = Rounded(segment.width_m);
+  j["height"] = Rounded(segment.height_m);
+  return j;
+}
+
+Json WallJson(const Wall& wall) {
+  Json j;
+  j["id"] = wall.id;
+  j["start"] = Vec(wall.start);
+  j["end"] = Vec(wall.end);
+  j["inward_normal"] = Vec(wall.inward_normal);
+  j["segment_id"] = wall.segment_id;
+  j["side_wall"] = wall.side_wall;
+  return j;
+}
+
+Json ReflectorJson(const Reflector& reflector) {
+  Json j;
+  j["id"] = reflector.id;
+  j["wall_id"] = reflector.wall_id;
+  j["mirrored_lamp_id"] = reflector.mirrored_lamp_id;
+  j["center"] = Vec(reflector.center);
+  j["size"] = Vec(reflector.size_m);
+  j["apparent_lamp_center"] = Vec(reflector.apparent_lamp_center);
+  return j;
+}
+
+Json CornerJson(const CornerPoint& corner) {
+  Json j;
+  j["id"] = corner.id;
+  j["kind"] = CornerKindName(corner.kind);
+  j["position"] = Vec(corner.position);
+  return j;
+}
+
+Json DistractorJson(const Distractor& distractor) {
+  Json j;
+  j["id"] = distractor.id;
+  j["class"] = SemanticClassName(distractor.semantic_class);
+  j["wall_id"] = distractor.wall_id;
+  j["center"] = Vec(distractor.center);
+  j["size"] = Vec(distractor.size_m);
+  j["normal"] = Vec(distractor.normal);
+  j["text"] = distractor.text;
+  return j;
+}
+
+Json CountsJson(const World& world) {
+  int open = 0, closed = 0, empty = 0, rooms = 0, lamps_on = 0;
+  for (const Doorway& door : world.doors) {
+    open += door.state == DoorState::kOpen ? 1 : 0;
+    closed += door.state == DoorState::kClosed ? 1 : 0;
+    empty += door.state == DoorState::kEmpty ? 1 : 0;
+    rooms += door.room ? 1 : 0;
+  }
+  for (const Lamp& lamp : world.lamps) lamps_on += lamp.on ? 1 : 0;
+  Json j;
+  j["plates"] = world.plates.size();
+  j["lamps"] = world.lamps.size();
+  j["lamps_on"] = lamps_on;
+  j["doors"] = world.doors.size();
+  j["doors_open"] = open;
+  j["doors_closed"] = closed;
+  j["doors_empty"] = empty;
+  j["rooms"] = rooms;
+  j["corridor_segments"] = world.segments.size();
+  j["walls"] = world.walls.size();
+  j["reflectors"] = world.reflectors.size();
+  j["corner_points"] = world.corner_points.size();
+  j["distractors"] = world.distractors.size();
+  j["meshes"] = world.meshes.size();
+  j["triangles"] = world.triangle_count();
+  j["materials"] = world.materials.size();
+  j["textures"] = world.textures.size();
+  j["collision_boxes"] = world.collision_boxes.size();
+  return j;
+}
+
+template <class T, class F>
+Json ArrayOf(const std::vector<T>& items, F&& to_json) {
+  Json array = Json::array();
+  for (const T& item : items) array.push_back(to_json(item));
+  return array;
+}
+
+// ---------------------------------------------------------------------------------------------
+// world.obj / world.mtl
+
+// Fixed "%.5f"-style formatting that does not depend on the locale; -0.00000 prints as 0.00000.
+void AppendFixed(std::string& out, double v) {
+  char buffer[64];
+  const auto [end, error] =
+      std::to_chars(buffer, buffer + sizeof(buffer), v, std::chars_format::fixed, 5);
+  if (error != std::errc()) throw std::invalid_argument("world.obj: number out of range");
+  std::string_view text(buffer, static_cast<std::size_t>(end - buffer));
+  if (text == "-0.00000") text = "0.00000";
+  out += text;
+}
+
+template <class Vector>
+void AppendLine(std::string& out, std::string_view tag, const Vector& v) {
+  out += tag;
+  for (Eigen::Index i = 0; i < v.size(); ++i) {
+    out += ' ';
+    AppendFixed(out, static_cast<double>(v[i]));
+  }
+  out += '\n';
+}
+
+// OBJ/MTL names end at whitespace: replace it.
+std::string ObjName(const std::string& name, std::string_view fallback, std::size_t index) {
+  if (name.empty()) return std::string(fallback) + "_" + std::to_string(index);
+  std::string out = name;
+  for (char& c : out) {
+    if (c == ' ' || c == '\t' || c == '\n' || c == '\r') c = '_';
+  }
+  return out;
+}
+
+void CheckTextureNames(const World& world) {
+  std::set<std::string> seen;
+  for (const Texture& texture : world.textures) {
+    const std::string& name = texture.name;
+    const bool bad = name.empty() || name == "." || name == ".." ||
+                     name.find_first_of("/\\ \t\n\r") != std::string::npos;
+    if (bad) throw std::invalid_argument("texture name '" + name + "' is not a valid file stem");
+    if (!seen.insert(name).second) {
+      throw std::invalid_argument("texture name '" + name + "' is used twice");
+    }
+  }
+}
+
+std::string MtlText(const World& world) {
+  std::string out = "# corridorsim world materials\n";
+  for (std::size_t i = 0; i < world.materials.size(); ++i) {
+    const Material& material = world.materials[i];
+    const double specular = static_cast<double>(material.specular);
+    out += "\nnewmtl " + ObjName(material.name, "material", i) + "\n";
+    AppendLine(out, "Ka", Eigen::Vector3d::Zero());  // Blender reads Ka as metallic
+    AppendLine(out, "Kd", material.diffuse);
+    AppendLine(out, "Ks", Eigen::Vector3d::Constant(specular));
+    AppendLine(out, "Ns", Eigen::Matrix<double, 1, 1>(10.0 + 490.0 * specular));
+    AppendLine(out, "Ke", material.emission);
+    out += "d 1.00000\nillum 2\n";
+    if (material.texture >= 0) {
+      if (material.texture >= static_cast<int>(world.textures.size())) {
+        throw std::invalid_argument("material '" + material.name + "' names texture " +
+                                    std::to_string(material.texture) + ", which does not exist");
+      }
+      out += "map_Kd textures/" + world.textures[material.texture].name + ".png\n";
+    }
+  }
+  return out;
+}
+
+void CheckMesh(const World& world, const Mesh& mesh) {
+  const auto fail = [&](const std::string& what) {
+    throw std::invalid_argument("world.obj: mesh '" + mesh.name + "': " + what);
+  };
+  const std::size_t n = mesh.positions.size();
+  if (!mesh.normals.empty() && mesh.normals.size() != n) fail("normal count != position count");
+  if (!mesh.uvs.empty() && mesh.uvs.size() != n) fail("uv count != position count");
+  if (mesh.indices.size() % 3 != 0) fail("index count is not a multiple of 3");
+  for (const std::uint32_t index : mesh.indices) {
+    if (index >= n) fail("index " + std::to_string(index) + " out of range");
+  }
+  if (mesh.material >= static_cast<int>(world.materials.size())) fail("material out of range");
+}
+
+std::string ObjText(const World& world) {
+  std::size_t vertex_total = 0, index_total = 0;
+  for (const Mesh& mesh : world.meshes) {
+    CheckMesh(world, mesh);
+    vertex_total += mesh.positions.size();
+    index_total += mesh.indices.size();
+  }
+  std::string out;
+  out.reserve(vertex_total * 100 + index_total * 12 + 1024);
+  out += "# corridorsim world: layout " + LayoutName(world.spec.layout) + ", seed " +
+         std::to_string(world.seed) + "\n# frame W: x along the corridor, y left, z up; metres\n";
+  out += "mtllib world.mtl\n";
+
+  // OBJ indices are 1-based and global over the file: running offsets per attribute.
+  std::size_t v_offset = 0, vt_offset = 0, vn_offset = 0;
+  for (std::size_t m = 0; m < world.meshes.size(); ++m) {
+    const Mesh& mesh = world.meshes[m];
+    out += "\no " + ObjName(mesh.name, "mesh", m) + "\n";
+    if (mesh.material >= 0) {
+      out += "usemtl " + ObjName(world.materials[mesh.material].name, "material",
+                                 static_cast<std::size_t>(mesh.material)) +
+             "\n";
+    }
+    for (const Eigen::Vector3f& p : mesh.positions) AppendLine(out, "v", p);
+    for (const Eigen::Vector2f& uv : mesh.uvs) AppendLine(out, "vt", uv);
+    for (const Eigen::Vector3f& n : mesh.normals) AppendLine(out, "vn", n);
+    const bool has_uv = !mesh.uvs.empty();
+    const bool has_normal = !mesh.normals.empty();
+    for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
+      out += 'f';
+      for (std::size_t k = 0; k < 3; ++k) {
+        const std::size_t i = mesh.indices[t + k];
+        out += ' ';
+        out += std::to_string(v_offset + i + 1);
+        if (has_uv || has_normal) {
+          out += '/';
+          if (has_uv) out += std::to_string(vt_offset + i + 1);
+          if (has_normal) out += '/' + std::to_string(vn_offset + i + 1);
+        }
+      }
+      out += '\n';
+    }
+    v_offset += mesh.positions.size();
+    vt_offset += mesh.uvs.size();
+    vn_offset += mesh.normals.size();
+  }
+  return out;
+}
+
+// ---------------------------------------------------------------------------------------------
+// PNG
+
+// Image8 is RGB(A) with row 0 on top; OpenCV wants BGR(A). Fixed compression: same bytes each run.
+std::string EncodePng(const Image8& image, const std::string& what) {
+  const bool valid = image.width > 0 && image.height > 0 &&
+                     (image.channels == 1 || image.channels == 3 || image.channels == 4) &&
+                     image.data.size() == std::size_t(image.width) * image.height * image.channels;
+  if (!valid) throw std::invalid_argument(what + ": image has inconsistent size or channels");
+  const cv::Mat rgb(image.height, image.width, CV_8UC(image.channels),
+                    const_cast<std::uint8_t*>(image.data.data()));
+  cv::Mat bgr;
+  if (image.channels == 3) {
+    cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
+  } else if (image.channels == 4) {
+    cv::cvtColor(rgb, bgr, cv::COLOR_RGBA2BGRA);
+  } else {
+    bgr = rgb;
+  }
+  std::vector<std::uint8_t> buffer;
+  if (!cv::imencode(".png", bgr, buffer, {cv::IMWRITE_PNG_COMPRESSION, 6})) {
+    throw std::runtime_error(what + ": PNG encoding failed");
+  }
+  return std::string(buffer.begin(), buffer.end());
+}
+
+}  // namespace
+
+nlohmann::ordered_json GroundTruthJson(const World& world) {
+  Json j;
+  j["seed"] = world.seed;
+  j["layout"] = LayoutName(world.spec.layout);
+  if (world.bounds.isEmpty()) {
+    j["bounds"] = nullptr;
+  } else {
+    j["bounds"] = {{"min", Vec(Eigen::Vector3d(world.bounds.min()))},
+                   {"max", Vec(Eigen::Vector3d(world.bounds.max()))}};
+  }
+  j["door_plates"] = ArrayOf(world.plates, [&](const DoorPlate& p) { return PlateJson(world, p); });
+  j["lamps"] = ArrayOf(world.lamps, LampJson);
+  j["doors"] = ArrayOf(world.doors, DoorJson);
+  j["corridor_segments"] = ArrayOf(world.segments, SegmentJson);
+  j["walls"] = ArrayOf(world.walls, WallJson);
+  j["reflectors"] = ArrayOf(world.reflectors, ReflectorJson);
+  j["corner_points"] = ArrayOf(world.corner_points, CornerJson);
+  j["distractors"] = ArrayOf(world.distractors, DistractorJson);
+  j["counts"] = CountsJson(world);
+  return j;
+}
+
+void WriteWorldFiles(const World& world, const std::filesystem::path& dir) {
+  CheckTextureNames(world);
+  // Build every text before writing anything, so a broken world leaves no partial folder.
+  const std::string mtl = MtlText(world);
+  const std::string obj = ObjText(world);
+  const std::string ground_truth = GroundTruthJson(world).dump(2) + "\n";
+
+  EnsureWritableDirectory(dir);
+  if (!world.textures.empty()) {
+    const std::filesystem::path texture_dir = dir / "textures";
+    EnsureWritableDirectory(texture_dir);
+    for (const Texture& texture : world.textures) {
+      const std::filesystem::path path = texture_dir / (texture.name + ".png");
+      WriteFileAtomic(path, EncodePng(texture.image, path.string()));
+    }
+  }
+  WriteFileAtomic(dir / "world.mtl", mtl);
+  WriteFileAtomic(dir / "world.obj", obj);
+  WriteFileAtomic(dir / "ground_truth.json", ground_truth);
+  const std::filesystem::path map_path = dir / "map.png";
+  WriteFileAtomic(map_path, EncodePng(RenderMap(world), map_path.string()));
+}
+
+}  // namespace corridorsim::worlds
