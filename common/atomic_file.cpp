@@ -63,8 +63,7 @@ void EnsureWritableDirectory(const std::filesystem::path& dir) {
   std::error_code error;
   std::filesystem::create_directories(dir, error);
   if (error) {
-    throw std::runtime_error("cannot create output folder " + Quoted(dir) + ": " +
-                             error.message());
+    throw std::runtime_error("cannot create output folder " + Quoted(dir) + ": " + error.message());
   }
   if (!std::filesystem::is_directory(dir, error)) {
     throw std::runtime_error("output folder " + Quoted(dir) + " is not a directory");

@@ -409,6 +409,19 @@ class Builder {
     return false;
   }
 
+  // Whether `box` lies in the walkable area, at least `margin` from every wall.
+  bool InsideCorridor(const AlignedBox2d& box, double margin) const {
+    const AlignedBox2d grown = Inflated(box, margin);
+    for (const Vector2d& corner : {grown.min(), grown.max(), Vector2d(grown.min().x(), grown.max().y()),
+                                   Vector2d(grown.max().x(), grown.min().y())}) {
+      if (std::none_of(plan_.segment_rects.begin(), plan_.segment_rects.end(),
+                       [&](const AlignedBox2d& r) { return r.contains(corner); })) {
+        return false;
+      }
+    }
+    return true;
+  }
+
   void PlaceLamps() {
     const LampOptions& l = s_.lamps;
     const double z = s_.height_m - kLampDrop;
@@ -424,9 +437,10 @@ class Builder {
         const double radius = lamps_rng_.Uniform(l.radius_min_m, l.radius_max_m);
         const double extent = circular ? radius : l.panel_length_m / 2;
         if (OwnedByEarlierSegment(k, c, extent)) continue;
-        if (pos - extent < 0.05 && k == 0) continue;  // keep off the end wall
         Vector2d size(l.panel_length_m, l.panel_width_m);
         if (std::abs(dir.y()) > 0.5) size = Vector2d(l.panel_width_m, l.panel_length_m);
+        const Vector2d half = circular ? Vector2d(radius, radius) : Vector2d(size / 2);
+        if (!InsideCorridor(AlignedBox2d(c - half, c + half), 0.05)) continue;  // off the walls
         const int id = AddLamp(Vector3d(c.x(), c.y(), z), circular ? LampShape::kCircular : LampShape::kPanel,
                                radius, size, -1);
         lamp_segment_.push_back({id, static_cast<int>(k)});

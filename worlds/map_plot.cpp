@@ -24,7 +24,7 @@ constexpr double kTargetLongestSidePx = 2400.0;
 constexpr double kMinAutoPxPerM = 20.0;
 constexpr double kMaxAutoPxPerM = 80.0;
 constexpr int kMaxSidePx = 20000;
-constexpr int kMarginPx = 70;          // around the plan: room for labels outside the walls
+constexpr int kMarginPx = 70;           // around the plan: room for labels outside the walls
 constexpr int kMinCanvasWidthPx = 720;  // so the title and legend have room on small plans
 constexpr int kPadPx = 12;
 constexpr double kDefaultWallThicknessM = 0.15;
@@ -38,7 +38,7 @@ constexpr int kFont = cv::FONT_HERSHEY_SIMPLEX;
 constexpr double kLabelScale = 0.6;  // room numbers, ~13 px
 constexpr double kTagScale = 0.45;   // distractor letters
 constexpr double kTitleScale = 0.75;
-constexpr double kTextScale = 0.5;   // counts line and legend
+constexpr double kTextScale = 0.5;  // counts line and legend
 constexpr int kLegendRowPx = 30;
 
 // The canvas holds RGB (not OpenCV's usual BGR), so its bytes copy straight into Image8.
@@ -69,8 +69,7 @@ cv::Point Rounded(const Vector2d& px) { return {cvRound(px.x()), cvRound(px.y())
 Vector2d Perpendicular(const Vector2d& d) { return {-d.y(), d.x()}; }  // d turned left
 
 double WallThicknessM(const World& world) {
-  return world.spec.wall_thickness_m > 0.0 ? world.spec.wall_thickness_m
-                                           : kDefaultWallThicknessM;
+  return world.spec.wall_thickness_m > 0.0 ? world.spec.wall_thickness_m : kDefaultWallThicknessM;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -91,8 +90,7 @@ std::vector<Quad> FloorQuads(const World& world) {
   const auto inside_other = [&](const Vector2d& p, std::size_t self) {
     for (std::size_t k = 0; k < world.segments.size(); ++k) {
       const CorridorSegment& other = world.segments[k];
-      if (k != self &&
-          DistanceToSegment(p, other.start, other.end) <= 0.5 * other.width_m + 1e-6) {
+      if (k != self && DistanceToSegment(p, other.start, other.end) <= 0.5 * other.width_m + 1e-6) {
         return true;
       }
     }
@@ -152,14 +150,15 @@ struct DoorGeometry {
 DoorGeometry DoorShape(const Doorway& door, double wall_thickness) {
   DoorGeometry g;
   const Vector2d ab = door.column_b - door.column_a;
-  const Vector2d t = ab.norm() > 0.0 ? Vector2d(ab.normalized()) : Perpendicular(door.inward_normal);
+  const Vector2d t =
+      ab.norm() > 0.0 ? Vector2d(ab.normalized()) : Perpendicular(door.inward_normal);
   g.edge_a = door.column_a + t * 0.5 * door.column_width_m;
   g.edge_b = door.column_b - t * 0.5 * door.column_width_m;
   g.into_room = -door.inward_normal;
   g.depth = wall_thickness;
   if (door.room) {
-    const Vector2d nearest = door.column_a.cwiseMax(door.room->footprint.min())
-                                 .cwiseMin(door.room->footprint.max());
+    const Vector2d nearest =
+        door.column_a.cwiseMax(door.room->footprint.min()).cwiseMin(door.room->footprint.max());
     const double to_room = (nearest - door.column_a).dot(g.into_room);
     if (to_room > 0.0 && to_room < 4.0 * wall_thickness) g.depth = to_room;
   }
@@ -182,9 +181,8 @@ Eigen::AlignedBox2d PlanExtent(const World& world) {
   }
   for (const DoorPlate& plate : world.plates) box.extend(Vector2d(plate.center.head<2>()));
   for (const Lamp& lamp : world.lamps) {
-    const Vector2d half = lamp.shape == LampShape::kCircular
-                              ? Vector2d::Constant(lamp.radius_m)
-                              : Vector2d(0.5 * lamp.size_m);
+    const Vector2d half = lamp.shape == LampShape::kCircular ? Vector2d::Constant(lamp.radius_m)
+                                                             : Vector2d(0.5 * lamp.size_m);
     box.extend(Vector2d(lamp.center.head<2>() - half));
     box.extend(Vector2d(lamp.center.head<2>() + half));
   }
@@ -216,8 +214,7 @@ cv::Size TextSize(const std::string& text, const TextStyle& style) {
 // `origin` is the left end of the baseline, as in cv::putText.
 void DrawText(cv::Mat& canvas, const std::string& text, cv::Point origin, const TextStyle& style) {
   if (style.halo) {
-    cv::putText(canvas, text, origin, kFont, style.scale, kWhite, style.thickness + 3,
-                cv::LINE_AA);
+    cv::putText(canvas, text, origin, kFont, style.scale, kWhite, style.thickness + 3, cv::LINE_AA);
   }
   cv::putText(canvas, text, origin, kFont, style.scale, style.color, style.thickness, cv::LINE_AA);
 }
@@ -338,8 +335,7 @@ int TitleHeight(const std::vector<TitleLine>& lines) {
 }
 
 // A legend entry: a 28x14 px swatch drawn by `swatch` (given its centre) and a label.
-LegendEntry SwatchEntry(const std::string& label,
-                        std::function<void(cv::Mat&, cv::Point)> swatch) {
+LegendEntry SwatchEntry(const std::string& label, std::function<void(cv::Mat&, cv::Point)> swatch) {
   const TextStyle style;
   const cv::Size size = TextSize(label, style);
   LegendEntry entry;
@@ -365,7 +361,7 @@ std::vector<LegendEntry> LegendEntries(double px_per_m, int canvas_width) {
   const TextStyle style;
 
   // Scale bar: black and white halves with the length written after it.
-  const double bar_m = ScaleBarLengthM(px_per_m, std::min(300.0, 0.3 * canvas_width));
+  const double bar_m = ScaleBarLengthM(px_per_m, std::min(400.0, 0.3 * canvas_width));
   const int bar_px = std::max(1, cvRound(bar_m * px_per_m));
   const std::string bar_label = bar_m >= 1.0 ? Format("%.0f m", bar_m) : Format("%.1f m", bar_m);
   const cv::Size bar_label_size = TextSize(bar_label, style);
@@ -373,32 +369,28 @@ std::vector<LegendEntry> LegendEntries(double px_per_m, int canvas_width) {
                        const int y = at.y + kLegendRowPx / 2;
                        const int half = bar_px / 2;
                        cv::rectangle(canvas, cv::Rect(at.x, y - 4, half, 8), kBlack, cv::FILLED);
-                       cv::rectangle(canvas, cv::Rect(at.x + half, y - 4, bar_px - half, 8),
-                                     kWhite, cv::FILLED);
+                       cv::rectangle(canvas, cv::Rect(at.x + half, y - 4, bar_px - half, 8), kWhite,
+                                     cv::FILLED);
                        cv::rectangle(canvas, cv::Rect(at.x, y - 4, bar_px, 8), kBlack, 1);
                        DrawText(canvas, bar_label,
-                                cv::Point(at.x + bar_px + 8, y + bar_label_size.height / 2),
-                                style);
+                                cv::Point(at.x + bar_px + 8, y + bar_label_size.height / 2), style);
                      }});
 
   // Axes of frame W as drawn: +x right, +y up.
-  entries.push_back({80, [=](cv::Mat& canvas, cv::Point at) {
-                       const cv::Point o = at + cv::Point(4, kLegendRowPx - 4);
-                       cv::arrowedLine(canvas, o, o + cv::Point(26, 0), kText, 2, cv::LINE_AA, 0,
-                                       0.3);
-                       cv::arrowedLine(canvas, o, o + cv::Point(0, -22), kText, 2, cv::LINE_AA,
-                                       0, 0.3);
-                       DrawText(canvas, "x", o + cv::Point(30, 4), style);
-                       DrawText(canvas, "y", o + cv::Point(6, -14), style);
-                     }});
+  entries.push_back(
+      {80, [=](cv::Mat& canvas, cv::Point at) {
+         const cv::Point o = at + cv::Point(4, kLegendRowPx - 4);
+         cv::arrowedLine(canvas, o, o + cv::Point(26, 0), kText, 2, cv::LINE_AA, 0, 0.3);
+         cv::arrowedLine(canvas, o, o + cv::Point(0, -22), kText, 2, cv::LINE_AA, 0, 0.3);
+         DrawText(canvas, "x", o + cv::Point(30, 4), style);
+         DrawText(canvas, "y", o + cv::Point(9, -12), style);
+       }});
 
   const cv::Size swatch(28, 14);
-  entries.push_back(SwatchEntry("corridor", [=](cv::Mat& c, cv::Point p) {
-    SwatchRect(c, p, swatch, kFloor, kFloor);
-  }));
-  entries.push_back(SwatchEntry("room", [=](cv::Mat& c, cv::Point p) {
-    SwatchRect(c, p, swatch, kRoomFloor, kRoomFloor);
-  }));
+  entries.push_back(SwatchEntry(
+      "corridor", [=](cv::Mat& c, cv::Point p) { SwatchRect(c, p, swatch, kFloor, kFloor); }));
+  entries.push_back(SwatchEntry(
+      "room", [=](cv::Mat& c, cv::Point p) { SwatchRect(c, p, swatch, kRoomFloor, kRoomFloor); }));
   entries.push_back(SwatchEntry("wall", [=](cv::Mat& c, cv::Point p) {
     SwatchRect(c, p, cv::Size(28, 6), kWallColor, kWallColor);
   }));
@@ -510,8 +502,7 @@ class Painter {
     cv::polylines(canvas_, points, false, color, thickness_px, cv::LINE_AA, kShift);
   }
   // thickness_px < 0 fills.
-  void Circle(const Vector2d& center, double radius_m, const cv::Scalar& color,
-              int thickness_px) {
+  void Circle(const Vector2d& center, double radius_m, const cv::Scalar& color, int thickness_px) {
     const double radius_px = std::max(radius_m * view_.px_per_m, 2.0);
     cv::circle(canvas_, Fixed(Px(center)), cvRound(radius_px * kSubpixel), color, thickness_px,
                cv::LINE_AA, kShift);
@@ -531,12 +522,18 @@ class Painter {
 
 char DistractorTag(SemanticClass c) {
   switch (c) {
-    case SemanticClass::kPoster: return 'P';
-    case SemanticClass::kNoticeBoard: return 'N';
-    case SemanticClass::kBookshelf: return 'B';
-    case SemanticClass::kCabinet: return 'C';
-    case SemanticClass::kFireExtinguisher: return 'F';
-    default: return '?';
+    case SemanticClass::kPoster:
+      return 'P';
+    case SemanticClass::kNoticeBoard:
+      return 'N';
+    case SemanticClass::kBookshelf:
+      return 'B';
+    case SemanticClass::kCabinet:
+      return 'C';
+    case SemanticClass::kFireExtinguisher:
+      return 'F';
+    default:
+      return '?';
   }
 }
 
@@ -596,8 +593,8 @@ void DrawLamps(Painter& paint, const World& world) {
       paint.Circle(center, lamp.radius_m, fill, cv::FILLED);
       paint.Circle(center, lamp.radius_m, edge, 1);
     } else {
-      const Quad quad = Box(center, Vector2d::UnitX(), Vector2d::UnitY(), lamp.size_m.x(),
-                            lamp.size_m.y());
+      const Quad quad =
+          Box(center, Vector2d::UnitX(), Vector2d::UnitY(), lamp.size_m.x(), lamp.size_m.y());
       paint.Fill(quad, fill);
       paint.Outline(quad, edge, 1);
     }
@@ -610,7 +607,8 @@ void DrawReflectors(Painter& paint, const World& world, const std::map<int, cons
   for (const Reflector& r : world.reflectors) {
     if (const auto wall = walls.find(r.wall_id); wall != walls.end()) {
       const Vector2d t = wall->second->tangent();
-      const Vector2d c = Vector2d(r.center.head<2>()) + wall->second->inward_normal * paint.AtLeast(0.0, 2.0);
+      const Vector2d c =
+          Vector2d(r.center.head<2>()) + wall->second->inward_normal * paint.AtLeast(0.0, 2.0);
       paint.Line(c - 0.5 * r.size_m.x() * t, c + 0.5 * r.size_m.x() * t, kReflector, 4);
     }
     const auto lamp = lamps.find(r.mirrored_lamp_id);
@@ -629,8 +627,8 @@ void DrawDistractors(Painter& paint, const World& world) {
     const Quad quad = Box(center, t, n, paint.AtLeast(d.size_m.x(), 6.0), across);
     paint.Fill(quad, kDistractor);
     paint.Outline(quad, kDistractorEdge, 1);
-    paint.TextBeside(std::string(1, DistractorTag(d.semantic_class)), center + n * 0.5 * across,
-                     n, 3.0, tag);
+    paint.TextBeside(std::string(1, DistractorTag(d.semantic_class)), center + n * 0.5 * across, n,
+                     3.0, tag);
   }
 }
 
@@ -642,7 +640,8 @@ void DrawPlates(Painter& paint, const World& world, double wall) {
     const Vector2d t = -Perpendicular(n);
     const double depth = paint.AtLeast(0.04, 5.0);
     const Vector2d face = plate.center.head<2>();
-    const Quad quad = Box(face + n * 0.5 * depth, t, n, paint.AtLeast(plate.size_m.x(), 6.0), depth);
+    const Quad quad =
+        Box(face + n * 0.5 * depth, t, n, paint.AtLeast(plate.size_m.x(), 6.0), depth);
     paint.Fill(quad, kWhite);
     paint.Outline(quad, kBlack, 1);
     if (!plate.room_number.empty()) {
@@ -689,8 +688,7 @@ Image8 RenderMap(const World& world, double px_per_m) {
 
   Image8 image(view.width_px, view.height_px, 3);
   for (int row = 0; row < canvas.rows; ++row) {
-    std::copy_n(canvas.ptr<std::uint8_t>(row), std::size_t(canvas.cols) * 3,
-                image.Pixel(0, row));
+    std::copy_n(canvas.ptr<std::uint8_t>(row), std::size_t(canvas.cols) * 3, image.Pixel(0, row));
   }
   return image;
 }

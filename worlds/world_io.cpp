@@ -282,8 +282,9 @@ std::string ObjText(const World& world) {
     const Mesh& mesh = world.meshes[m];
     out += "\no " + ObjName(mesh.name, "mesh", m) + "\n";
     if (mesh.material >= 0) {
-      out += "usemtl " + ObjName(world.materials[mesh.material].name, "material",
-                                 static_cast<std::size_t>(mesh.material)) +
+      out += "usemtl " +
+             ObjName(world.materials[mesh.material].name, "material",
+                     static_cast<std::size_t>(mesh.material)) +
              "\n";
     }
     for (const Eigen::Vector3f& p : mesh.positions) AppendLine(out, "v", p);

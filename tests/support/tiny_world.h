@@ -11,8 +11,8 @@ namespace corridorsim::test {
 /// Ids used by TinyWorld() (unique across all ground-truth entries, as in generated worlds).
 struct TinyWorldIds {
   static constexpr int kSegment = 1;
-  static constexpr int kRightWall = 2;  // y = -1.2, inward normal +y
-  static constexpr int kLeftWall = 3;   // y = +1.2, inward normal -y
+  static constexpr int kRightWall = 2;   // y = -1.2, inward normal +y
+  static constexpr int kLeftWall = 3;    // y = +1.2, inward normal -y
   static constexpr int kClosedDoor = 4;  // on the right wall, room "101", no room behind it
   static constexpr int kOpenDoor = 5;    // on the left wall, room "102" behind it
   static constexpr int kPlate = 6;       // beside the closed door, "101"
@@ -144,7 +144,8 @@ inline worlds::World TinyWorld() {
   reflector.apparent_lamp_center = Vector3d(3.0, -2.4, 2.7);
   world.reflectors.push_back(reflector);
 
-  world.corner_points.push_back({Ids::kCorner, worlds::CornerKind::kTileSeam, Vector3d(0.6, 0.6, 2.7)});
+  world.corner_points.push_back(
+      {Ids::kCorner, worlds::CornerKind::kTileSeam, Vector3d(0.6, 0.6, 2.7)});
 
   worlds::Distractor poster;
   poster.id = Ids::kPoster;
