@@ -20,14 +20,17 @@ void Measure(const char* label, const WorldSpec& spec, int repetitions) {
   for (int i = 0; i < repetitions; ++i) {
     const auto t0 = std::chrono::steady_clock::now();
     const World world = corridorsim::worlds::Generate(spec, 7);
-    ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    ms.push_back(
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
     triangles = world.triangle_count();
     plates = world.plates.size();
     corners = world.corner_points.size();
   }
   std::sort(ms.begin(), ms.end());
-  std::printf("%-28s median %8.1f ms  min %8.1f ms  (%d runs; %zu triangles, %zu plates, %zu corner points)\n",
-              label, ms[ms.size() / 2], ms.front(), repetitions, triangles, plates, corners);
+  std::printf(
+      "%-28s median %8.1f ms  min %8.1f ms  (%d runs; %zu triangles, %zu plates, %zu corner "
+      "points)\n",
+      label, ms[ms.size() / 2], ms.front(), repetitions, triangles, plates, corners);
 }
 
 }  // namespace
@@ -47,7 +50,8 @@ int main(int argc, char** argv) {
   km.distractors.notice_boards = static_cast<int>(default_spec.distractors.notice_boards * scale);
   km.distractors.bookshelves = static_cast<int>(default_spec.distractors.bookshelves * scale);
   km.distractors.cabinets = static_cast<int>(default_spec.distractors.cabinets * scale);
-  km.distractors.fire_extinguishers = static_cast<int>(default_spec.distractors.fire_extinguishers * scale);
+  km.distractors.fire_extinguishers =
+      static_cast<int>(default_spec.distractors.fire_extinguishers * scale);
   Measure("1 km corridor", km, std::max(1, repetitions / 3));
   return 0;
 }

@@ -66,8 +66,8 @@ std::int64_t RandomStream::UniformInt(std::int64_t lo, std::int64_t hi) {
   const std::uint64_t range = static_cast<std::uint64_t>(hi) - static_cast<std::uint64_t>(lo) + 1;
   if (range == 0) return static_cast<std::int64_t>(NextU64());  // the full 64-bit range
   // Reject the top partial block so every value is equally likely.
-  const std::uint64_t limit = std::numeric_limits<std::uint64_t>::max() -
-                              std::numeric_limits<std::uint64_t>::max() % range;
+  const std::uint64_t limit =
+      std::numeric_limits<std::uint64_t>::max() - std::numeric_limits<std::uint64_t>::max() % range;
   std::uint64_t x = NextU64();
   while (x >= limit) x = NextU64();
   return static_cast<std::int64_t>(static_cast<std::uint64_t>(lo) + x % range);

@@ -25,7 +25,8 @@ void RejectDuplicateKeys(const YamlDocument& doc, const YAML::Node& node, const 
   if (node.IsMap()) {
     std::set<std::string> seen;
     for (const auto& kv : node) {
-      const std::string key = kv.first.IsScalar() ? kv.first.Scalar() : std::string("<complex key>");
+      const std::string key =
+          kv.first.IsScalar() ? kv.first.Scalar() : std::string("<complex key>");
       const std::string full = prefix.empty() ? key : prefix + "." + key;
       if (!seen.insert(key).second) {
         throw InputError(doc.LocationOf(kv.first), full, "duplicate key");
@@ -154,7 +155,9 @@ std::string YamlMap::ScalarOrFail(const std::string& key, const YAML::Node& valu
                                   const char* expected) const {
   if (!value.IsScalar()) {
     Fail(key, std::string("expected ") + expected + ", got " +
-                  (value.IsMap() ? "a map" : value.IsSequence() ? "a list" : "nothing"));
+                  (value.IsMap()        ? "a map"
+                   : value.IsSequence() ? "a list"
+                                        : "nothing"));
   }
   return value.Scalar();
 }

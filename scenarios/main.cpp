@@ -91,9 +91,11 @@ int main(int argc, char** argv) {
   world->add_option("scenario", scenario_path,
                     "Scenario YAML whose `world:` section and `seed` are used "
                     "(default: scenarios/default.yaml)");
-  world->add_option("--seed", seed, "Seed of the world's random streams (default: the scenario's `seed`)");
-  world->add_option("--out", out_dir,
-                    "Output folder for world.obj, world.mtl, textures/, ground_truth.json, map.png")
+  world->add_option("--seed", seed,
+                    "Seed of the world's random streams (default: the scenario's `seed`)");
+  world
+      ->add_option("--out", out_dir,
+                   "Output folder for world.obj, world.mtl, textures/, ground_truth.json, map.png")
       ->capture_default_str();
   world->footer(
       "Writes world.obj + world.mtl + textures/*.png (open in MeshLab or Blender), "

@@ -17,7 +17,7 @@ struct Scenario {
   std::string description;  // optional
   std::uint64_t seed = 1;   // seed of every random stream of the run
   worlds::WorldSpec world;
-  SourceMap sources;        // where each key was set, for errors found after parsing
+  SourceMap sources;              // where each key was set, for errors found after parsing
   SourceLocation world_location;  // the `world:` key of the last file that has one
 };
 

@@ -24,7 +24,7 @@ using Eigen::Vector3d;
 constexpr double kWallPeriodM = 2.0;   // wall texture repeat
 constexpr double kFloorPeriodM = 2.0;  // floor texture repeat (4 x 4 linoleum tiles)
 constexpr int kCeilingTilesPerTexture = 4;
-constexpr double kLampDrop = 0.005;    // lamps hang this far below the ceiling (no z-fighting)
+constexpr double kLampDrop = 0.005;       // lamps hang this far below the ceiling (no z-fighting)
 constexpr double kSurfaceOffset = 0.002;  // decals (plates, posters) in front of their backing
 constexpr int kDiscSegments = 32;
 
@@ -43,7 +43,9 @@ AlignedBox2d Inflated(AlignedBox2d box, double by) {
   return box;
 }
 
-std::string Id(const char* prefix, int id) { return std::string(prefix) + "_" + std::to_string(id); }
+std::string Id(const char* prefix, int id) {
+  return std::string(prefix) + "_" + std::to_string(id);
+}
 
 class Builder {
  public:
@@ -115,8 +117,7 @@ class Builder {
     return w_.meshes.back();
   }
   void Collide(const AlignedBox3d& box, int instance_id, SemanticClass cls) {
-    w_.collision_boxes.push_back(
-        CollisionBox{box.center(), box.sizes() / 2, instance_id, cls});
+    w_.collision_boxes.push_back(CollisionBox{box.center(), box.sizes() / 2, instance_id, cls});
   }
   // A solid box: drawn and collided.
   void Solid(const std::string& name, int material, int id, SemanticClass cls,
@@ -303,13 +304,15 @@ class Builder {
     if (std::abs(n.x()) > 0.5) {  // wall runs along y; the room extends along -n.x
       sides.emplace_back(Vector2d(lo.x(), lo.y()), Vector2d(hi.x(), ilo.y()));
       sides.emplace_back(Vector2d(lo.x(), ihi.y()), Vector2d(hi.x(), hi.y()));
-      sides.push_back(n.x() > 0 ? AlignedBox2d(Vector2d(lo.x(), ilo.y()), Vector2d(ilo.x(), ihi.y()))
-                                : AlignedBox2d(Vector2d(ihi.x(), ilo.y()), Vector2d(hi.x(), ihi.y())));
+      sides.push_back(n.x() > 0
+                          ? AlignedBox2d(Vector2d(lo.x(), ilo.y()), Vector2d(ilo.x(), ihi.y()))
+                          : AlignedBox2d(Vector2d(ihi.x(), ilo.y()), Vector2d(hi.x(), ihi.y())));
     } else {
       sides.emplace_back(Vector2d(lo.x(), lo.y()), Vector2d(ilo.x(), hi.y()));
       sides.emplace_back(Vector2d(ihi.x(), lo.y()), Vector2d(hi.x(), hi.y()));
-      sides.push_back(n.y() > 0 ? AlignedBox2d(Vector2d(ilo.x(), lo.y()), Vector2d(ihi.x(), ilo.y()))
-                                : AlignedBox2d(Vector2d(ilo.x(), ihi.y()), Vector2d(ihi.x(), hi.y())));
+      sides.push_back(n.y() > 0
+                          ? AlignedBox2d(Vector2d(ilo.x(), lo.y()), Vector2d(ihi.x(), ilo.y()))
+                          : AlignedBox2d(Vector2d(ilo.x(), ihi.y()), Vector2d(ihi.x(), hi.y())));
     }
     for (std::size_t k = 0; k < sides.size(); ++k) {
       const AlignedBox3d box(Vector3d(sides[k].min().x(), sides[k].min().y(), 0),
@@ -352,8 +355,9 @@ class Builder {
       plate.normal = Vector3d(wall.inward_normal.x(), wall.inward_normal.y(), 0);
       plate.size_m = Vector2d(width, height);
       PlateStyle style;
-      plate.texture = AddTexture(Id("plate", plate.id),
-                                 MakePlateTexture(textures_rng_, plate.room_number, width / height, &style));
+      plate.texture =
+          AddTexture(Id("plate", plate.id),
+                     MakePlateTexture(textures_rng_, plate.room_number, width / height, &style));
       const int material = TexturedMaterial(Id("plate", plate.id), plate.texture);
       const int backing = PlainMaterial(Id("plate_backing", plate.id), {0.3f, 0.3f, 0.3f});
       const double z0 = p.center_height_m - height / 2, z1 = p.center_height_m + height / 2;
@@ -412,8 +416,9 @@ class Builder {
   // Whether `box` lies in the walkable area, at least `margin` from every wall.
   bool InsideCorridor(const AlignedBox2d& box, double margin) const {
     const AlignedBox2d grown = Inflated(box, margin);
-    for (const Vector2d& corner : {grown.min(), grown.max(), Vector2d(grown.min().x(), grown.max().y()),
-                                   Vector2d(grown.max().x(), grown.min().y())}) {
+    for (const Vector2d& corner :
+         {grown.min(), grown.max(), Vector2d(grown.min().x(), grown.max().y()),
+          Vector2d(grown.max().x(), grown.min().y())}) {
       if (std::none_of(plan_.segment_rects.begin(), plan_.segment_rects.end(),
                        [&](const AlignedBox2d& r) { return r.contains(corner); })) {
         return false;
@@ -430,8 +435,8 @@ class Builder {
       const double length = (seg.end - seg.start).norm();
       const Vector2d dir = seg.direction();
       for (double s = l.spacing_m / 2; s < length; s += l.spacing_m) {
-        const double pos = std::clamp(s + lamps_rng_.Uniform(-l.spacing_jitter_m, l.spacing_jitter_m),
-                                      0.0, length);
+        const double pos = std::clamp(
+            s + lamps_rng_.Uniform(-l.spacing_jitter_m, l.spacing_jitter_m), 0.0, length);
         const Vector2d c = seg.start + pos * dir;
         const bool circular = lamps_rng_.Bernoulli(l.circular_fraction);
         const double radius = lamps_rng_.Uniform(l.radius_min_m, l.radius_max_m);
@@ -441,11 +446,13 @@ class Builder {
         if (std::abs(dir.y()) > 0.5) size = Vector2d(l.panel_width_m, l.panel_length_m);
         const Vector2d half = circular ? Vector2d(radius, radius) : Vector2d(size / 2);
         if (!InsideCorridor(AlignedBox2d(c - half, c + half), 0.05)) continue;  // off the walls
-        const int id = AddLamp(Vector3d(c.x(), c.y(), z), circular ? LampShape::kCircular : LampShape::kPanel,
-                               radius, size, -1);
+        const int id =
+            AddLamp(Vector3d(c.x(), c.y(), z), circular ? LampShape::kCircular : LampShape::kPanel,
+                    radius, size, -1);
         lamp_segment_.push_back({id, static_cast<int>(k)});
-        ceiling_keepout_.push_back(circular ? AlignedBox2d(c - Vector2d(radius, radius), c + Vector2d(radius, radius))
-                                            : AlignedBox2d(c - size / 2, c + size / 2));
+        ceiling_keepout_.push_back(
+            circular ? AlignedBox2d(c - Vector2d(radius, radius), c + Vector2d(radius, radius))
+                     : AlignedBox2d(c - size / 2, c + size / 2));
       }
     }
   }
@@ -514,8 +521,8 @@ class Builder {
            WallBox(wall, s1, s1 + t, z0, H, -depth, 0), kWallPeriodM);
     AddBox(NewMesh(Id("reflector_top", id), mat_.mirror, id, cls),
            WallBox(wall, s0, s1, H, H + t, -depth, 0), kWallPeriodM);
-    AddDisc(NewMesh(Id("reflector_lamp", id), mat_.lamp_on, id, cls),
-            r.apparent_lamp_center, lamp.radius_m, -Vector3d::UnitZ(), kDiscSegments);
+    AddDisc(NewMesh(Id("reflector_lamp", id), mat_.lamp_on, id, cls), r.apparent_lamp_center,
+            lamp.radius_m, -Vector3d::UnitZ(), kDiscSegments);
     (void)dist;
   }
 
@@ -525,7 +532,8 @@ class Builder {
     for (std::size_t k = 0; k < w_.walls.size(); ++k) {
       const Wall& wall = w_.walls[k];
       auto cuts = door_cuts_[k];
-      std::sort(cuts.begin(), cuts.end(), [](const Interval& a, const Interval& b) { return a.lo < b.lo; });
+      std::sort(cuts.begin(), cuts.end(),
+                [](const Interval& a, const Interval& b) { return a.lo < b.lo; });
       double s = 0.0;
       int piece = 0;
       cuts.push_back({wall.length(), wall.length()});
@@ -537,7 +545,8 @@ class Builder {
   }
 
   // A solid stretch of wall [s0, s1]; reflective panels cut its top band.
-  void BuildWallPiece(const Wall& wall, int k, double s0, double s1, int piece, double t, double H) {
+  void BuildWallPiece(const Wall& wall, int k, double s0, double s1, int piece, double t,
+                      double H) {
     const std::string name = Id("wall", wall.id) + "_" + std::to_string(piece);
     Collide(WallBox(wall, s0, s1, 0, H, -t, 0), wall.id, SemanticClass::kWall);
     Mesh& mesh = NewMesh(name, mat_.wall, wall.id, SemanticClass::kWall);
@@ -551,11 +560,13 @@ class Builder {
     }
     const double z_band = H - s_.lamps.reflector_height_m;
     AddBox(mesh, WallBox(wall, s0, s1, 0, z_band, -t, 0), kWallPeriodM);
-    std::sort(bands.begin(), bands.end(), [](const Interval& a, const Interval& b) { return a.lo < b.lo; });
+    std::sort(bands.begin(), bands.end(),
+              [](const Interval& a, const Interval& b) { return a.lo < b.lo; });
     double s = s0;
     bands.push_back({s1, s1});
     for (const Interval& band : bands) {
-      if (band.lo - s > 1e-9) AddBox(mesh, WallBox(wall, s, band.lo, z_band, H, -t, 0), kWallPeriodM);
+      if (band.lo - s > 1e-9)
+        AddBox(mesh, WallBox(wall, s, band.lo, z_band, H, -t, 0), kWallPeriodM);
       s = band.hi;
     }
   }
@@ -571,8 +582,8 @@ class Builder {
                         cell, 0.0, true, kFloorPeriodM);
       const int ceiling_id = next_id_++;
       AddHorizontalRect(
-          NewMesh(Id("ceiling", ceiling_id), mat_.ceiling, ceiling_id, SemanticClass::kCeiling), cell,
-          s_.height_m, false, tile * kCeilingTilesPerTexture, tile_offset_);
+          NewMesh(Id("ceiling", ceiling_id), mat_.ceiling, ceiling_id, SemanticClass::kCeiling),
+          cell, s_.height_m, false, tile * kCeilingTilesPerTexture, tile_offset_);
     }
   }
 
@@ -598,7 +609,8 @@ class Builder {
       const double length = (seg.end - seg.start).norm();
       const Vector2d dir = seg.direction(), left(-dir.y(), dir.x());
       auto along = [&](double spacing, auto&& place) {
-        for (double s = ceiling_rng_.Uniform(0.3, 0.7) * spacing; s < length - 0.3; s += spacing) place(s);
+        for (double s = ceiling_rng_.Uniform(0.3, 0.7) * spacing; s < length - 0.3; s += spacing)
+          place(s);
       };
       along(c.vent_spacing_m, [&](double s) {
         const Vector2d p = seg.start + s * dir - vent_lane * left;
@@ -607,8 +619,8 @@ class Builder {
         if (OwnedByEarlierSegment(k, p, h) || !CeilingFree(box)) return;
         ceiling_keepout_.push_back(box);
         const int id = next_id_++;
-        AddHorizontalRect(NewMesh(Id("vent", id), mat_.vent, id, SemanticClass::kVent), box, H - 0.004,
-                          false, c.vent_size_m, box.min());
+        AddHorizontalRect(NewMesh(Id("vent", id), mat_.vent, id, SemanticClass::kVent), box,
+                          H - 0.004, false, c.vent_size_m, box.min());
         for (const Vector2d& q : {box.min(), Vector2d(box.max().x(), box.min().y()), box.max(),
                                   Vector2d(box.min().x(), box.max().y())}) {
           AddCorner(CornerKind::kVent, Vector3d(q.x(), q.y(), H - 0.004));
@@ -690,7 +702,8 @@ class Builder {
       const Wall& wall = w_.walls[k];
       if (!wall.side_wall) continue;
       auto occ = occupied_[k];
-      std::sort(occ.begin(), occ.end(), [](const Interval& a, const Interval& b) { return a.lo < b.lo; });
+      std::sort(occ.begin(), occ.end(),
+                [](const Interval& a, const Interval& b) { return a.lo < b.lo; });
       double s = 0.3;
       occ.push_back({wall.length() - 0.3, wall.length()});
       for (const Interval& iv : occ) {
@@ -732,16 +745,26 @@ class Builder {
     Vector3d size;  // along the wall, out of the wall, height
     double z0 = 0.0;
     switch (kind.cls) {
-      case SemanticClass::kBookshelf: size = {rng.Uniform(0.8, 1.0), 0.35, rng.Uniform(1.8, 2.0)}; break;
-      case SemanticClass::kCabinet: size = {rng.Uniform(0.8, 1.0), 0.45, rng.Uniform(1.0, 1.9)}; break;
-      case SemanticClass::kNoticeBoard: size = {1.2, 0.03, 0.9}; z0 = 1.0; break;
+      case SemanticClass::kBookshelf:
+        size = {rng.Uniform(0.8, 1.0), 0.35, rng.Uniform(1.8, 2.0)};
+        break;
+      case SemanticClass::kCabinet:
+        size = {rng.Uniform(0.8, 1.0), 0.45, rng.Uniform(1.0, 1.9)};
+        break;
+      case SemanticClass::kNoticeBoard:
+        size = {1.2, 0.03, 0.9};
+        z0 = 1.0;
+        break;
       case SemanticClass::kPoster: {
         const double w = rng.Uniform(0.45, 0.65);
         size = {w, 0.004, w * 1.414};
         z0 = 1.6 - size.z() / 2;
         break;
       }
-      default: size = {0.18, 0.18, 0.55}; z0 = 0.15; break;  // fire extinguisher
+      default:
+        size = {0.18, 0.18, 0.55};
+        z0 = 0.15;
+        break;  // fire extinguisher
     }
     const auto slot = FindSlot(size.x(), 0.15);
     if (!slot) {

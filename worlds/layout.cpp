@@ -34,8 +34,8 @@ std::vector<std::pair<Vector2d, Vector2d>> CentreLines(const WorldSpec& s) {
 
 // Walkable rectangle of a centre line. Segments that start or end at a corner are extended by
 // half a width there so that corners are covered; the first corridor's start is the origin.
-AlignedBox2d SegmentRect(const WorldSpec& s, const Vector2d& a, const Vector2d& b, bool extend_start,
-                         bool extend_end) {
+AlignedBox2d SegmentRect(const WorldSpec& s, const Vector2d& a, const Vector2d& b,
+                         bool extend_start, bool extend_end) {
   const Vector2d dir = (b - a).normalized();
   const Vector2d side(-dir.y(), dir.x());
   const double h = s.width_m / 2;
@@ -71,7 +71,8 @@ std::vector<Wall> UnionBoundary(const std::vector<AlignedBox2d>& rects,
   auto inside = [&](int i, int j) {
     if (i < 0 || j < 0 || i >= nx || j >= ny) return false;
     const Vector2d c((xs[i] + xs[i + 1]) / 2, (ys[j] + ys[j + 1]) / 2);
-    return std::any_of(rects.begin(), rects.end(), [&](const AlignedBox2d& r) { return r.contains(c); });
+    return std::any_of(rects.begin(), rects.end(),
+                       [&](const AlignedBox2d& r) { return r.contains(c); });
   };
   cells->clear();
   for (int j = 0; j < ny; ++j) {
@@ -137,13 +138,13 @@ std::optional<SpecProblem> PlanLayout(const WorldSpec& spec, int first_id, Layou
     seg.height_m = spec.height_m;
     plan->segments.push_back(seg);
     const bool corner_start = k > 0 && spec.layout != Layout::kTJunction;
-    const bool corner_end = spec.layout == Layout::kLoop ||
-                            (spec.layout == Layout::kLTurn && k == 0);
-    plan->segment_rects.push_back(
-        SegmentRect(spec, seg.start, seg.end, corner_start, corner_end));
+    const bool corner_end =
+        spec.layout == Layout::kLoop || (spec.layout == Layout::kLTurn && k == 0);
+    plan->segment_rects.push_back(SegmentRect(spec, seg.start, seg.end, corner_start, corner_end));
   }
   // The T's branch starts on the main corridor's centre line: extend it across the main corridor.
-  if (spec.layout == Layout::kTJunction) plan->segment_rects[1].extend(Vector2d(spec.length_m / 2, 0));
+  if (spec.layout == Layout::kTJunction)
+    plan->segment_rects[1].extend(Vector2d(spec.length_m / 2, 0));
 
   plan->walls = UnionBoundary(plan->segment_rects, &plan->floor_cells);
   for (Wall& w : plan->walls) {
@@ -174,7 +175,8 @@ std::optional<SpecProblem> PlanLayout(const WorldSpec& spec, int first_id, Layou
     if (!plan->walls[k].side_wall) continue;
     const double usable = UsableWallLength(plan->walls[k], spec);
     longest_usable = std::max(longest_usable, usable);
-    capacity[k] = usable + 1e-9 >= f ? static_cast<int>(std::floor((usable - f) / (f + g) + 1e-9)) + 1 : 0;
+    capacity[k] =
+        usable + 1e-9 >= f ? static_cast<int>(std::floor((usable - f) / (f + g) + 1e-9)) + 1 : 0;
     total_capacity += capacity[k];
   }
   if (spec.doors.count > 0 && longest_usable + 1e-9 < f) {
@@ -186,7 +188,8 @@ std::optional<SpecProblem> PlanLayout(const WorldSpec& spec, int first_id, Layou
     return SpecProblem{"doors.count", std::to_string(spec.doors.count) +
                                           " doorways do not fit on the side walls: at most " +
                                           std::to_string(total_capacity) + " fit with width_m " +
-                                          Metres(spec.doors.width_m) + " and min_gap_m " + Metres(g)};
+                                          Metres(spec.doors.width_m) + " and min_gap_m " +
+                                          Metres(g)};
   }
   for (int placed = 0; placed < spec.doors.count; ++placed) {
     int best = -1;

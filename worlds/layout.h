@@ -15,10 +15,10 @@ namespace corridorsim::worlds {
 struct LayoutPlan {
   std::vector<CorridorSegment> segments;
   std::vector<Eigen::AlignedBox2d> segment_rects;  // walkable rectangle of each segment
-  std::vector<Wall> walls;                          // boundary of the union of the rectangles
-  std::vector<Eigen::AlignedBox2d> floor_cells;     // disjoint rectangles covering the union
-  std::vector<int> doors_per_wall;                  // parallel to walls
-  double door_footprint_m = 0.0;                    // opening plus both frame columns
+  std::vector<Wall> walls;                         // boundary of the union of the rectangles
+  std::vector<Eigen::AlignedBox2d> floor_cells;    // disjoint rectangles covering the union
+  std::vector<int> doors_per_wall;                 // parallel to walls
+  double door_footprint_m = 0.0;                   // opening plus both frame columns
 };
 
 /// Builds the plan of `spec`, assigning ids from `first_id` upwards (segments, then walls).

@@ -280,8 +280,11 @@ struct PlanLayout {
 };
 
 double AutoPxPerM(const Eigen::AlignedBox2d& extent) {
-  return std::clamp(kTargetLongestSidePx / extent.sizes().maxCoeff(), kMinAutoPxPerM,
-                    kMaxAutoPxPerM);
+  const double longest_m = extent.sizes().maxCoeff();
+  const double preferred =
+      std::clamp(kTargetLongestSidePx / longest_m, kMinAutoPxPerM, kMaxAutoPxPerM);
+  // Very long worlds (a 1 km corridor) get a coarser plan rather than no plan.
+  return std::min(preferred, 0.8 * kMaxSidePx / longest_m);
 }
 
 // Largest "nice" length whose bar fits in `max_px`.

@@ -70,8 +70,8 @@ void AddBox(Mesh& mesh, const Eigen::AlignedBox3d& box, double uv_period_m) {
 void AddHorizontalRect(Mesh& mesh, const Eigen::AlignedBox2d& rect, double z, bool facing_up,
                        double uv_period_m, const Vector2d& uv_offset_m) {
   const Vector3d n(0, 0, facing_up ? 1.0 : -1.0);
-  Vector2d c[4] = {rect.min(), {rect.max().x(), rect.min().y()}, rect.max(),
-                   {rect.min().x(), rect.max().y()}};
+  Vector2d c[4] = {
+      rect.min(), {rect.max().x(), rect.min().y()}, rect.max(), {rect.min().x(), rect.max().y()}};
   if (!facing_up) std::swap(c[1], c[3]);
   const auto base = static_cast<std::uint32_t>(mesh.positions.size());
   for (const auto& p : c) {
@@ -95,8 +95,9 @@ void AddDisc(Mesh& mesh, const Vector3d& center, double radius, const Vector3d& 
   }
   for (int k = 0; k < segments; ++k) {
     const auto i = static_cast<std::uint32_t>(k);
-    mesh.indices.insert(mesh.indices.end(),
-                        {base, base + 1 + i, base + 1 + (i + 1) % static_cast<std::uint32_t>(segments)});
+    mesh.indices.insert(
+        mesh.indices.end(),
+        {base, base + 1 + i, base + 1 + (i + 1) % static_cast<std::uint32_t>(segments)});
   }
 }
 

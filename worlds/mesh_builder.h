@@ -19,12 +19,13 @@ void AddQuad(Mesh& mesh, const Eigen::Vector3d& origin, const Eigen::Vector3d& u
 /// Axis-aligned horizontal rectangle at height z, facing up (+z) or down, with UVs = (x, y) /
 /// uv_period_m shifted by uv_offset_m (so textures line up with world coordinates).
 void AddHorizontalRect(Mesh& mesh, const Eigen::AlignedBox2d& rect, double z, bool facing_up,
-                       double uv_period_m, const Eigen::Vector2d& uv_offset_m = Eigen::Vector2d::Zero());
+                       double uv_period_m,
+                       const Eigen::Vector2d& uv_offset_m = Eigen::Vector2d::Zero());
 
 /// Flat disc facing `normal` (unit), as a fan of `segments` triangles; UVs map the disc to the
 /// unit square.
-void AddDisc(Mesh& mesh, const Eigen::Vector3d& center, double radius, const Eigen::Vector3d& normal,
-             int segments);
+void AddDisc(Mesh& mesh, const Eigen::Vector3d& center, double radius,
+             const Eigen::Vector3d& normal, int segments);
 
 /// Recomputes mesh.bounds from its positions.
 void UpdateBounds(Mesh& mesh);

@@ -37,9 +37,10 @@ void Speckle(RandomStream& rng, cv::Mat& img, int count, int max_radius, double 
     const cv::Point c(I(rng.Uniform(0, img.cols)), I(rng.Uniform(0, img.rows)));
     const int r = static_cast<int>(rng.UniformInt(1, max_radius));
     const double f = 1.0 - rng.Uniform(0.3, 1.0) * max_darkening;
-    const cv::Vec3b base = img.at<cv::Vec3b>(std::clamp(c.y, 0, img.rows - 1),
-                                             std::clamp(c.x, 0, img.cols - 1));
-    cv::circle(img, c, r, cv::Scalar(base[0] * f, base[1] * f, base[2] * f), cv::FILLED, cv::LINE_AA);
+    const cv::Vec3b base =
+        img.at<cv::Vec3b>(std::clamp(c.y, 0, img.rows - 1), std::clamp(c.x, 0, img.cols - 1));
+    cv::circle(img, c, r, cv::Scalar(base[0] * f, base[1] * f, base[2] * f), cv::FILLED,
+               cv::LINE_AA);
   }
 }
 
@@ -69,7 +70,8 @@ void CentredText(cv::Mat& img, const std::string& text, const cv::Rect& box, int
   const cv::Size unit = cv::getTextSize(text, font, 1.0, thickness, &baseline);
   const double scale = std::min(box.width * fill / unit.width, box.height * fill / unit.height);
   const cv::Size size = cv::getTextSize(text, font, scale, thickness, &baseline);
-  const cv::Point origin(box.x + (box.width - size.width) / 2, box.y + (box.height + size.height) / 2);
+  const cv::Point origin(box.x + (box.width - size.width) / 2,
+                         box.y + (box.height + size.height) / 2);
   cv::putText(img, text, origin, font, scale, colour, thickness, cv::LINE_AA);
 }
 
@@ -109,7 +111,8 @@ Image8 MakeCeilingTexture(RandomStream& rng, int size_px, int tiles) {
   for (int ty = 0; ty < tiles; ++ty) {  // perforation dots per tile
     for (int tx = 0; tx < tiles; ++tx) {
       for (int k = 0; k < 40; ++k) {
-        const cv::Point c(tx * step + I(rng.Uniform(4, step - 4)), ty * step + I(rng.Uniform(4, step - 4)));
+        const cv::Point c(tx * step + I(rng.Uniform(4, step - 4)),
+                          ty * step + I(rng.Uniform(4, step - 4)));
         cv::circle(img, c, 1, Rgb(base[0] * 0.75, base[1] * 0.75, base[2] * 0.75), cv::FILLED);
       }
     }
@@ -135,7 +138,8 @@ Image8 MakeDoorTexture(RandomStream& rng, int width_px, int height_px) {
   const cv::Vec3d wood(rng.Uniform(120, 170), rng.Uniform(80, 110), rng.Uniform(40, 70));
   cv::Mat img(height_px, width_px, CV_8UC3, cv::Scalar(wood[0], wood[1], wood[2]));
   for (int x = 0; x < width_px; ++x) {  // grain: vertical streaks of varying darkness
-    const double f = 0.85 + 0.15 * std::sin(x * 0.35 + rng.Uniform(0, 0.8)) + rng.Uniform(-0.04, 0.04);
+    const double f =
+        0.85 + 0.15 * std::sin(x * 0.35 + rng.Uniform(0, 0.8)) + rng.Uniform(-0.04, 0.04);
     cv::line(img, {x, 0}, {x, height_px - 1}, Rgb(wood[0] * f, wood[1] * f, wood[2] * f));
   }
   Speckle(rng, img, width_px, 2, 0.3);
@@ -146,15 +150,16 @@ Image8 MakePlateTexture(RandomStream& rng, const std::string& room_number, doubl
                         PlateStyle* style) {
   // (plate colour, text colour) pairs seen on real door plates.
   static const cv::Vec3d kPalette[][2] = {
-      {{245, 245, 240}, {20, 20, 20}},   {{200, 200, 205}, {15, 15, 60}},
-      {{240, 230, 200}, {60, 30, 10}},   {{30, 60, 140}, {250, 250, 250}},
-      {{20, 90, 60}, {245, 245, 245}},   {{40, 40, 40}, {240, 240, 240}},
+      {{245, 245, 240}, {20, 20, 20}}, {{200, 200, 205}, {15, 15, 60}},
+      {{240, 230, 200}, {60, 30, 10}}, {{30, 60, 140}, {250, 250, 250}},
+      {{20, 90, 60}, {245, 245, 245}}, {{40, 40, 40}, {240, 240, 240}},
   };
   const auto& colours = kPalette[rng.UniformInt(0, 5)];
   const int font_index = static_cast<int>(rng.UniformInt(0, 3));
   const int height_px = 128;
   const int width_px = std::max(32, I(height_px * aspect));
-  cv::Mat img(height_px, width_px, CV_8UC3, cv::Scalar(colours[0][0], colours[0][1], colours[0][2]));
+  cv::Mat img(height_px, width_px, CV_8UC3,
+              cv::Scalar(colours[0][0], colours[0][1], colours[0][2]));
   const int border = static_cast<int>(rng.UniformInt(0, 2)) * 3;
   if (border > 0) {
     cv::rectangle(img, cv::Rect(border, border, width_px - 2 * border, height_px - 2 * border),
@@ -163,7 +168,8 @@ Image8 MakePlateTexture(RandomStream& rng, const std::string& room_number, doubl
   const double fill = rng.Uniform(0.6, 0.75);
   const int inset = border * 2 + 4;
   CentredText(img, room_number, cv::Rect(inset, inset, width_px - 2 * inset, height_px - 2 * inset),
-              kHersheyFonts[font_index], cv::Scalar(colours[1][0], colours[1][1], colours[1][2]), fill);
+              kHersheyFonts[font_index], cv::Scalar(colours[1][0], colours[1][1], colours[1][2]),
+              fill);
   if (style) {
     style->font = kHersheyNames[font_index];
     style->border_px = border;
@@ -175,9 +181,12 @@ Image8 MakePosterTexture(RandomStream& rng, const std::string& text, int width_p
   const cv::Vec3d bg(rng.Uniform(150, 255), rng.Uniform(150, 255), rng.Uniform(150, 255));
   cv::Mat img(height_px, width_px, CV_8UC3, cv::Scalar(bg[0], bg[1], bg[2]));
   for (int k = 0; k < 5; ++k) {  // blocks of colour
-    const cv::Rect r(I(rng.Uniform(0, width_px * 0.7)), I(rng.Uniform(height_px * 0.35, height_px * 0.85)),
-                     I(rng.Uniform(width_px * 0.1, width_px * 0.4)), I(rng.Uniform(height_px * 0.05, height_px * 0.2)));
-    cv::rectangle(img, r, Rgb(rng.Uniform(0, 255), rng.Uniform(0, 255), rng.Uniform(0, 255)), cv::FILLED);
+    const cv::Rect r(I(rng.Uniform(0, width_px * 0.7)),
+                     I(rng.Uniform(height_px * 0.35, height_px * 0.85)),
+                     I(rng.Uniform(width_px * 0.1, width_px * 0.4)),
+                     I(rng.Uniform(height_px * 0.05, height_px * 0.2)));
+    cv::rectangle(img, r, Rgb(rng.Uniform(0, 255), rng.Uniform(0, 255), rng.Uniform(0, 255)),
+                  cv::FILLED);
   }
   const int font = kHersheyFonts[rng.UniformInt(0, 3)];
   CentredText(img, text, cv::Rect(0, 0, width_px, height_px / 3), font, Rgb(20, 20, 20), 0.8);
@@ -197,8 +206,10 @@ Image8 MakeNoticeBoardTexture(RandomStream& rng, const std::string& text, int wi
   for (int k = 0; k < 5; ++k) {  // pinned notes; the first carries the number
     const int w = I(rng.Uniform(width_px * 0.18, width_px * 0.3));
     const int h = I(w * rng.Uniform(1.0, 1.4));
-    const cv::Rect r(I(rng.Uniform(12, width_px - w - 12)), I(rng.Uniform(12, height_px - h - 12)), w, h);
-    cv::rectangle(cork, r, Rgb(rng.Uniform(230, 255), rng.Uniform(230, 255), rng.Uniform(180, 255)), cv::FILLED);
+    const cv::Rect r(I(rng.Uniform(12, width_px - w - 12)), I(rng.Uniform(12, height_px - h - 12)),
+                     w, h);
+    cv::rectangle(cork, r, Rgb(rng.Uniform(230, 255), rng.Uniform(230, 255), rng.Uniform(180, 255)),
+                  cv::FILLED);
     if (k == 0) {
       CentredText(cork, text, r, cv::FONT_HERSHEY_SIMPLEX, Rgb(10, 10, 10), 0.7);
     } else {
@@ -223,10 +234,12 @@ Image8 MakeBookshelfTexture(RandomStream& rng, int width_px, int height_px) {
       const int w = static_cast<int>(rng.UniformInt(6, 16));
       const int h = I(rng.Uniform(0.6, 1.0) * (bottom - top));
       cv::rectangle(img, cv::Rect(x, bottom - h, std::min(w, width_px - 6 - x), h),
-                    Rgb(rng.Uniform(20, 230), rng.Uniform(20, 230), rng.Uniform(20, 230)), cv::FILLED);
+                    Rgb(rng.Uniform(20, 230), rng.Uniform(20, 230), rng.Uniform(20, 230)),
+                    cv::FILLED);
       x += w + 1;
     }
-    cv::rectangle(img, cv::Rect(0, (s + 1) * shelf_h - 4, width_px, 4), Rgb(80, 55, 30), cv::FILLED);
+    cv::rectangle(img, cv::Rect(0, (s + 1) * shelf_h - 4, width_px, 4), Rgb(80, 55, 30),
+                  cv::FILLED);
   }
   cv::rectangle(img, cv::Rect(0, 0, width_px, height_px), Rgb(80, 55, 30), 6);
   return ToImage(img);
@@ -235,12 +248,15 @@ Image8 MakeBookshelfTexture(RandomStream& rng, int width_px, int height_px) {
 Image8 MakeCabinetTexture(RandomStream& rng, int width_px, int height_px) {
   const double grey = rng.Uniform(140, 200);
   cv::Mat img(height_px, width_px, CV_8UC3, Rgb(grey, grey, grey + 5));
-  cv::line(img, {width_px / 2, 4}, {width_px / 2, height_px - 4}, Rgb(grey * 0.5, grey * 0.5, grey * 0.5), 2);
-  cv::rectangle(img, cv::Rect(0, 0, width_px, height_px), Rgb(grey * 0.6, grey * 0.6, grey * 0.6), 3);
+  cv::line(img, {width_px / 2, 4}, {width_px / 2, height_px - 4},
+           Rgb(grey * 0.5, grey * 0.5, grey * 0.5), 2);
+  cv::rectangle(img, cv::Rect(0, 0, width_px, height_px), Rgb(grey * 0.6, grey * 0.6, grey * 0.6),
+                3);
   for (const int x : {width_px / 2 - 14, width_px / 2 + 8}) {
     cv::rectangle(img, cv::Rect(x, height_px / 2 - 20, 6, 40), Rgb(50, 50, 50), cv::FILLED);
   }
-  cv::rectangle(img, cv::Rect(width_px / 8, height_px / 8, width_px / 4, height_px / 12), Rgb(250, 250, 250), cv::FILLED);
+  cv::rectangle(img, cv::Rect(width_px / 8, height_px / 8, width_px / 4, height_px / 12),
+                Rgb(250, 250, 250), cv::FILLED);
   return ToImage(img);
 }
 

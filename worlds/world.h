@@ -58,24 +58,24 @@ struct Texture {
 };
 
 struct Material {
-  std::string name;                              // unique in the world
-  Eigen::Vector3f diffuse{0.8f, 0.8f, 0.8f};     // linear RGB in [0, 1], multiplies the texture
-  Eigen::Vector3f emission{0.0f, 0.0f, 0.0f};    // emitted radiance, RGB; non-zero for lit lamps
-  float specular = 0.0f;                         // 0 matte .. 1 mirror-like highlight
-  int texture = -1;                              // index into World::textures, -1 for none
+  std::string name;                            // unique in the world
+  Eigen::Vector3f diffuse{0.8f, 0.8f, 0.8f};   // linear RGB in [0, 1], multiplies the texture
+  Eigen::Vector3f emission{0.0f, 0.0f, 0.0f};  // emitted radiance, RGB; non-zero for lit lamps
+  float specular = 0.0f;                       // 0 matte .. 1 mirror-like highlight
+  int texture = -1;                            // index into World::textures, -1 for none
 };
 
 /// Triangles of one object with one material. UVs are in texture repeats (GL_REPEAT).
 struct Mesh {
   std::string name;
-  int material = -1;                  // index into World::materials
-  int instance_id = 0;                // stable object id, shared with the ground-truth entry
+  int material = -1;    // index into World::materials
+  int instance_id = 0;  // stable object id, shared with the ground-truth entry
   SemanticClass semantic_class = SemanticClass::kUnknown;
   std::vector<Eigen::Vector3f> positions;  // world frame
   std::vector<Eigen::Vector3f> normals;    // unit, world frame
   std::vector<Eigen::Vector2f> uvs;
-  std::vector<std::uint32_t> indices;      // three per triangle, counter-clockwise from outside
-  Eigen::AlignedBox3f bounds;              // of positions, for culling
+  std::vector<std::uint32_t> indices;  // three per triangle, counter-clockwise from outside
+  Eigen::AlignedBox3f bounds;          // of positions, for culling
 
   std::size_t triangle_count() const { return indices.size() / 3; }
 };
@@ -102,11 +102,11 @@ struct CorridorSegment {
 /// A straight run of corridor wall face (the boundary of the walkable area).
 struct Wall {
   int id = 0;
-  Eigen::Vector2d start;           // on the wall's inner face
+  Eigen::Vector2d start;  // on the wall's inner face
   Eigen::Vector2d end;
-  Eigen::Vector2d inward_normal;   // unit, points into the corridor; left of start->end
-  int segment_id = 0;              // corridor segment the wall belongs to
-  bool side_wall = false;          // parallel to its segment's axis (doors go only on these)
+  Eigen::Vector2d inward_normal;  // unit, points into the corridor; left of start->end
+  int segment_id = 0;             // corridor segment the wall belongs to
+  bool side_wall = false;         // parallel to its segment's axis (doors go only on these)
   double length() const { return (end - start).norm(); }
   Eigen::Vector2d tangent() const { return (end - start).normalized(); }
 };
@@ -122,34 +122,34 @@ struct Doorway {
   int id = 0;
   DoorState state = DoorState::kClosed;
   int wall_id = 0;
-  Eigen::Vector2d column_a;        // centre of the first column on the wall's inner face (x-y)
-  Eigen::Vector2d column_b;        // centre of the second column, along the wall's tangent
-  Eigen::Vector2d inward_normal;   // into the corridor
-  double width_m = 0.0;            // clear opening between the columns
-  double top_height_m = 0.0;       // top of the opening = underside of the top bar
+  Eigen::Vector2d column_a;       // centre of the first column on the wall's inner face (x-y)
+  Eigen::Vector2d column_b;       // centre of the second column, along the wall's tangent
+  Eigen::Vector2d inward_normal;  // into the corridor
+  double width_m = 0.0;           // clear opening between the columns
+  double top_height_m = 0.0;      // top of the opening = underside of the top bar
   double column_width_m = 0.0;
-  std::optional<Room> room;        // open and empty doorways lead into a room
-  std::string room_number;         // the number of the room, whether or not it has a plate
+  std::optional<Room> room;  // open and empty doorways lead into a room
+  std::string room_number;   // the number of the room, whether or not it has a plate
 };
 
 struct DoorPlate {
   int id = 0;
-  int door_id = 0;                 // the doorway it belongs to
-  std::string room_number;         // unique in the world
-  Eigen::Vector3d center;          // centre of the plate's front face
-  Eigen::Vector3d normal;          // unit, out of the front face (into the corridor)
-  Eigen::Vector2d size_m;          // width along the wall, height
+  int door_id = 0;          // the doorway it belongs to
+  std::string room_number;  // unique in the world
+  Eigen::Vector3d center;   // centre of the plate's front face
+  Eigen::Vector3d normal;   // unit, out of the front face (into the corridor)
+  Eigen::Vector2d size_m;   // width along the wall, height
   int texture = -1;
 };
 
 struct Lamp {
   int id = 0;
   LampShape shape = LampShape::kCircular;
-  Eigen::Vector3d center;          // centre of the emitting face
-  double radius_m = 0.0;           // circular lamps
-  Eigen::Vector2d size_m{0, 0};    // panel lamps: extent along world x and y
+  Eigen::Vector3d center;        // centre of the emitting face
+  double radius_m = 0.0;         // circular lamps
+  Eigen::Vector2d size_m{0, 0};  // panel lamps: extent along world x and y
   bool on = true;
-  int room_door_id = -1;           // lamps in a room's ceiling: the doorway of that room
+  int room_door_id = -1;  // lamps in a room's ceiling: the doorway of that room
 };
 
 /// A reflective strip along the top of a wall that mirrors a circular lamp (P3 Fig. 3b/3c).
@@ -158,8 +158,8 @@ struct Reflector {
   int id = 0;
   int wall_id = 0;
   int mirrored_lamp_id = 0;
-  Eigen::Vector3d center;          // centre of the strip on the wall face
-  Eigen::Vector2d size_m;          // length along the wall, height
+  Eigen::Vector3d center;                // centre of the strip on the wall face
+  Eigen::Vector2d size_m;                // length along the wall, height
   Eigen::Vector3d apparent_lamp_center;  // the lamp's centre mirrored in the wall plane
 };
 
@@ -173,10 +173,10 @@ struct Distractor {
   int id = 0;
   SemanticClass semantic_class = SemanticClass::kPoster;
   int wall_id = 0;
-  Eigen::Vector3d center;          // centre of the object's box
-  Eigen::Vector3d size_m;          // along the wall, out of the wall, height
-  Eigen::Vector3d normal;          // unit, into the corridor
-  std::string text;                // digits printed on posters and notes ("" for none)
+  Eigen::Vector3d center;  // centre of the object's box
+  Eigen::Vector3d size_m;  // along the wall, out of the wall, height
+  Eigen::Vector3d normal;  // unit, into the corridor
+  std::string text;        // digits printed on posters and notes ("" for none)
 };
 
 struct World {
@@ -199,7 +199,7 @@ struct World {
   std::vector<CornerPoint> corner_points;
   std::vector<Distractor> distractors;
 
-  Eigen::AlignedBox3d bounds;      // of all geometry
+  Eigen::AlignedBox3d bounds;  // of all geometry
 
   std::size_t triangle_count() const;
 };

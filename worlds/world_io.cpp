@@ -374,9 +374,19 @@ void WriteWorldFiles(const World& world, const std::filesystem::path& dir) {
   if (!world.textures.empty()) {
     const std::filesystem::path texture_dir = dir / "textures";
     EnsureWritableDirectory(texture_dir);
+    std::set<std::string> written;
     for (const Texture& texture : world.textures) {
       const std::filesystem::path path = texture_dir / (texture.name + ".png");
       WriteFileAtomic(path, EncodePng(texture.image, path.string()));
+      written.insert(path.filename().string());
+    }
+    // textures/ belongs to the world files: drop PNGs of an earlier world written here, so the
+    // folder always matches world.mtl.
+    for (const auto& entry : std::filesystem::directory_iterator(texture_dir)) {
+      if (entry.is_regular_file() && entry.path().extension() == ".png" &&
+          !written.count(entry.path().filename().string())) {
+        std::filesystem::remove(entry.path());
+      }
     }
   }
   WriteFileAtomic(dir / "world.mtl", mtl);

@@ -39,10 +39,14 @@ class Checker {
 
 std::string LayoutName(Layout layout) {
   switch (layout) {
-    case Layout::kStraight: return "straight";
-    case Layout::kLTurn: return "l_turn";
-    case Layout::kTJunction: return "t_junction";
-    case Layout::kLoop: return "loop";
+    case Layout::kStraight:
+      return "straight";
+    case Layout::kLTurn:
+      return "l_turn";
+    case Layout::kTJunction:
+      return "t_junction";
+    case Layout::kLoop:
+      return "loop";
   }
   return "?";
 }
@@ -105,10 +109,12 @@ std::optional<SpecProblem> WorldSpec::Check() const {
   const double max_plate_h = p.height_m * (1 + p.size_jitter);
   c.Require(p.gap_from_frame_m + max_plate_w + 0.05 <= d.min_gap_m, "plates.width_m",
             "a plate of up to " + Num(max_plate_w) + " m beside its door (gap_from_frame_m " +
-                Num(p.gap_from_frame_m) + ") does not fit in the wall between doors (doors.min_gap_m " +
-                Num(d.min_gap_m) + ")");
-  c.Require(p.center_height_m - max_plate_h / 2 > 0 && p.center_height_m + max_plate_h / 2 < height_m,
-            "plates.center_height_m", "plates must lie between the floor and the ceiling");
+                Num(p.gap_from_frame_m) +
+                ") does not fit in the wall between doors (doors.min_gap_m " + Num(d.min_gap_m) +
+                ")");
+  c.Require(
+      p.center_height_m - max_plate_h / 2 > 0 && p.center_height_m + max_plate_h / 2 < height_m,
+      "plates.center_height_m", "plates must lie between the floor and the ceiling");
   c.Require(p.first_floor >= 0 && p.first_floor <= 9, "plates.first_floor",
             "must lie in [0, 9] (0 draws it from the seed)");
 
@@ -120,8 +126,8 @@ std::optional<SpecProblem> WorldSpec::Check() const {
   c.Positive(l.radius_min_m, "lamps.radius_min_m");
   c.Require(l.radius_max_m >= l.radius_min_m, "lamps.radius_max_m",
             "must not be smaller than radius_min_m");
-  c.Require(2 * l.radius_max_m < width_m && 2 * l.radius_max_m < l.spacing_m,
-            "lamps.radius_max_m", "lamps must fit the corridor width and their spacing");
+  c.Require(2 * l.radius_max_m < width_m && 2 * l.radius_max_m < l.spacing_m, "lamps.radius_max_m",
+            "lamps must fit the corridor width and their spacing");
   c.Positive(l.panel_length_m, "lamps.panel_length_m");
   c.Positive(l.panel_width_m, "lamps.panel_width_m");
   c.Require(l.panel_width_m < width_m && l.panel_length_m < l.spacing_m, "lamps.panel_length_m",

@@ -22,9 +22,8 @@ std::string ErrorOf(F&& f) {
 const std::string kData = CORRIDORSIM_TEST_DATA_DIR;
 
 TEST_CASE("duplicate keys are rejected at the second occurrence", "[yaml]") {
-  const auto msg = ErrorOf([] {
-    YamlDocument::FromString("a: 1\nb:\n  c: 2\n  c: 3\n", "dup.yaml");
-  });
+  const auto msg =
+      ErrorOf([] { YamlDocument::FromString("a: 1\nb:\n  c: 2\n  c: 3\n", "dup.yaml"); });
   CHECK(msg == "dup.yaml:4:3: b.c: duplicate key");
 }
 
@@ -40,8 +39,8 @@ TEST_CASE("a document that is not a map is rejected", "[yaml]") {
 }
 
 TEST_CASE("typed reads accept good values and leave absent keys at their defaults", "[yaml]") {
-  const auto doc = YamlDocument::FromString(
-      "x: 2.5\nn: 7\nflag: true\nname: hello\nsub:\n  y: -1\n", "ok.yaml");
+  const auto doc =
+      YamlDocument::FromString("x: 2.5\nn: 7\nflag: true\nname: hello\nsub:\n  y: -1\n", "ok.yaml");
   SourceMap sources;
   YamlMap map(doc, doc.root, "", &sources);
   double x = 0, absent = 9.0;
@@ -79,10 +78,12 @@ TEST_CASE("wrong types are errors naming the key", "[yaml]") {
   bool flag = false;
   CHECK(ErrorOf([&] { map.Read("x", x); }) ==
         "types.yaml:1:1: world.x: expected a finite number, got 'abc'");
-  CHECK(ErrorOf([&] { map.Read("n", n); }) == "types.yaml:2:1: world.n: expected an integer, got '1.5'");
+  CHECK(ErrorOf([&] { map.Read("n", n); }) ==
+        "types.yaml:2:1: world.n: expected an integer, got '1.5'");
   CHECK(ErrorOf([&] { map.Read("flag", flag); }) ==
         "types.yaml:3:1: world.flag: expected true or false, got 'maybe'");
-  CHECK(ErrorOf([&] { map.Read("m", x); }) == "types.yaml:4:1: world.m: expected a number, got a list");
+  CHECK(ErrorOf([&] { map.Read("m", x); }) ==
+        "types.yaml:4:1: world.m: expected a number, got a list");
   CHECK(ErrorOf([&] { map.Read("big", big); }).find("out of range") != std::string::npos);
   CHECK(ErrorOf([&] { map.Read("inf", inf); }).find("finite") != std::string::npos);
 }
@@ -101,7 +102,9 @@ TEST_CASE("enums accept only their names", "[yaml]") {
   const auto doc = YamlDocument::FromString("c: green\n", "enum.yaml");
   YamlMap map(doc, doc.root, "", nullptr);
   Colour c = Colour::kRed;
-  const auto msg = ErrorOf([&] { map.ReadEnum("c", c, {{"red", Colour::kRed}, {"blue", Colour::kBlue}}); });
+  const auto msg = ErrorOf([&] {
+    map.ReadEnum("c", c, {{"red", Colour::kRed}, {"blue", Colour::kBlue}});
+  });
   CHECK(msg == "enum.yaml:1:1: c: unknown value 'green' (expected one of: red, blue)");
 }
 
