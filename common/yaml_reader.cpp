@@ -74,6 +74,10 @@ SourceLocation SourceMap::Find(const std::string& key, const SourceLocation& fal
 }
 
 YamlDocument YamlDocument::Load(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) {
+    throw InputError(SourceLocation{path, 0, 0}, "", "is a folder, not a YAML file");
+  }
   std::ifstream in(path);
   if (!in) throw InputError(SourceLocation{path, 0, 0}, "", "cannot open the file");
   return Parse(in, path);
@@ -104,6 +108,9 @@ std::vector<YamlDocument> LoadWithIncludes(const std::string& path) {
     if (target.is_relative()) target = std::filesystem::path(current.path).parent_path() / target;
     if (!std::filesystem::exists(target)) {
       throw InputError(where, "include", "included file '" + target.string() + "' does not exist");
+    }
+    if (std::filesystem::is_directory(target)) {
+      throw InputError(where, "include", "included path '" + target.string() + "' is a folder");
     }
     if (!visited.insert(std::filesystem::weakly_canonical(target).string()).second) {
       throw InputError(where, "include", "include cycle through '" + target.string() + "'");

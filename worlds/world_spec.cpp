@@ -64,8 +64,10 @@ std::optional<SpecProblem> WorldSpec::Check() const {
   c.Positive(wall_thickness_m, "wall_thickness_m");
   c.Require(length_m > width_m, "length_m",
             "must be longer than the corridor width (" + Num(width_m) + " m)");
-  if (layout == Layout::kLoop) {
-    c.Require(length_m > 2 * width_m && second_length_m > 2 * width_m, "length_m",
+  if (layout == Layout::kLoop) {  // both sides longer than twice the width: the loop has an inside
+    c.Require(length_m > 2 * width_m, "length_m",
+              "a loop needs both sides longer than twice the width so that it has an inside");
+    c.Require(second_length_m > 2 * width_m, "second_length_m",
               "a loop needs both sides longer than twice the width so that it has an inside");
   }
   c.Require(texture_px_per_m >= 20 && texture_px_per_m <= 1000, "texture_px_per_m",
@@ -82,7 +84,7 @@ std::optional<SpecProblem> WorldSpec::Check() const {
   c.NonNegative(d.open_weight, "doors.open_weight");
   c.NonNegative(d.closed_weight, "doors.closed_weight");
   c.NonNegative(d.empty_weight, "doors.empty_weight");
-  c.Require(d.open_weight + d.closed_weight + d.empty_weight > 0, "doors.closed_weight",
+  c.Require(d.open_weight + d.closed_weight + d.empty_weight > 0, "doors",
             "the open, closed and empty weights must not all be 0");
   c.Positive(d.room_depth_m, "doors.room_depth_m");
   c.Positive(d.room_width_m, "doors.room_width_m");
@@ -130,8 +132,10 @@ std::optional<SpecProblem> WorldSpec::Check() const {
             "lamps must fit the corridor width and their spacing");
   c.Positive(l.panel_length_m, "lamps.panel_length_m");
   c.Positive(l.panel_width_m, "lamps.panel_width_m");
-  c.Require(l.panel_width_m < width_m && l.panel_length_m < l.spacing_m, "lamps.panel_length_m",
-            "panel lamps must fit the corridor width and the lamp spacing");
+  c.Require(l.panel_width_m < width_m, "lamps.panel_width_m",
+            "panel lamps must be narrower than the corridor (" + Num(width_m) + " m)");
+  c.Require(l.panel_length_m < l.spacing_m, "lamps.panel_length_m",
+            "panel lamps must be shorter than the lamp spacing (" + Num(l.spacing_m) + " m)");
   c.Fraction(l.off_fraction, "lamps.off_fraction");
   c.Fraction(l.reflector_fraction, "lamps.reflector_fraction");
   c.Require(l.reflector_height_m > 0 && l.reflector_height_m < height_m - 0.3,

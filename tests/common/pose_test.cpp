@@ -30,7 +30,8 @@ std::vector<SE3> SamplePoses3d() {
           SE3::FromSE2(SE2(3.0, -1.0, 2.0), 1.5)};
 }
 
-TEST_CASE("NormalizeAngle wraps into (-pi, pi] and keeps +pi", "[pose]") {
+TEST_CASE("NormalizeAngle wraps into the half-open interval from -pi to +pi, keeping +pi",
+          "[pose]") {
   CHECK(NormalizeAngle(0.0) == 0.0);
   CHECK(NormalizeAngle(kPi) == kPi);
   CHECK(NormalizeAngle(-kPi) == kPi);

@@ -1,0 +1,805 @@
+// Tests worlds/generator.cpp: invariants of generated worlds for every layout and several seeds
+// (doors, plates, lamps, rooms, corner points, distractors, ids, meshes, a drivable centre line),
+// determinism, independent random streams, and the error for distractors that do not fit.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include <catch2/catch.hpp>
+
+#include "tests/support/tolerances.h"
+
+#include "tests/support/expect_input_error.h"
+#include "worlds/layout.h"
+#include "worlds/world.h"
+#include "worlds/world_io.h"
+
+namespace corridorsim::worlds {
+namespace {
+
+using Eigen::AlignedBox2d;
+using Eigen::AlignedBox3d;
+using Eigen::Vector2d;
+using Eigen::Vector3d;
+
+using test::kFloatTol;
+using test::kGeomTolM;
+
+// The generator's fixed offsets (worlds/generator.cpp), as the ground truth documents them.
+constexpr double kLampDropM = 0.005;       // lamps hang this far below the ceiling
+constexpr double kPlateMaxOffsetM = 0.01;  // a plate's front face stands this close to its wall
+
+// ---- the worlds under test -------------------------------------------------------------------
+
+struct GeneratedCase {
+  std::string name;  // layout and seed, for failure messages
+  WorldSpec spec;
+  std::uint64_t seed = 0;
+  World world;
+  LayoutPlan plan;  // the floor plan the world was built on
+  std::map<std::string, const Mesh*> mesh_by_name;
+};
+
+// The specs of the four layouts, with the sizes of the shipped scenarios.
+std::vector<WorldSpec> LayoutSpecs() {
+  std::vector<WorldSpec> specs(4);
+  specs[0].layout = Layout::kStraight;  // the defaults: 55 m, 16 doors, 14 plates
+  specs[1].layout = Layout::kLTurn;
+  specs[1].length_m = 30;
+  specs[1].second_length_m = 20;
+  specs[1].doors.count = 14;
+  specs[1].plates.count = 12;
+  specs[2].layout = Layout::kTJunction;
+  specs[2].length_m = 40;
+  specs[2].second_length_m = 15;
+  specs[2].doors.count = 14;
+  specs[2].plates.count = 12;
+  specs[3].layout = Layout::kLoop;
+  specs[3].length_m = 30;
+  specs[3].second_length_m = 16;
+  specs[3].doors.count = 20;
+  specs[3].plates.count = 18;
+  return specs;
+}
+
+// Every layout with seeds 1..5, generated once per test process.
+const std::vector<GeneratedCase>& Cases() {
+  static const std::vector<GeneratedCase> cases = [] {
+    std::vector<GeneratedCase> out;
+    for (const WorldSpec& spec : LayoutSpecs()) {
+      for (std::uint64_t seed = 1; seed <= 5; ++seed) {
+        GeneratedCase c;
+        c.name = LayoutName(spec.layout) + " seed " + std::to_string(seed);
+        c.spec = spec;
+        c.seed = seed;
+        c.world = Generate(spec, seed);
+        REQUIRE_FALSE(PlanLayout(spec, 1, &c.plan));
+        out.push_back(std::move(c));
+      }
+    }
+    for (GeneratedCase& c : out) {
+      for (const Mesh& m : c.world.meshes) c.mesh_by_name[m.name] = &m;
+    }
+    return out;
+  }();
+  return cases;
+}
+
+// ---- wall geometry ---------------------------------------------------------------------------
+
+struct Span {
+  double lo, hi;  // along a wall, from its start (m)
+};
+
+bool SpansOverlap(const Span& a, const Span& b) {
+  return a.lo < b.hi - kGeomTolM && b.lo < a.hi - kGeomTolM;
+}
+
+double Along(const Wall& w, const Vector2d& p) { return (p - w.start).dot(w.tangent()); }
+double Across(const Wall& w, const Vector2d& p) { return (p - w.start).dot(w.inward_normal); }
+
+const Wall& WallOf(const World& world, int wall_id) {
+  const auto it = std::find_if(world.walls.begin(), world.walls.end(),
+                               [&](const Wall& w) { return w.id == wall_id; });
+  REQUIRE(it != world.walls.end());
+  return *it;
+}
+
+const Doorway& DoorOf(const World& world, int door_id) {
+  const auto it = std::find_if(world.doors.begin(), world.doors.end(),
+                               [&](const Doorway& d) { return d.id == door_id; });
+  REQUIRE(it != world.doors.end());
+  return *it;
+}
+
+// A doorway's footprint along its wall: both columns included.
+Span DoorSpan(const World& world, const Doorway& d) {
+  const Wall& w = WallOf(world, d.wall_id);
+  return {Along(w, d.column_a) - d.column_width_m / 2, Along(w, d.column_b) + d.column_width_m / 2};
+}
+
+Span PlateSpan(const World& world, const DoorPlate& p) {
+  const Wall& w = WallOf(world, DoorOf(world, p.door_id).wall_id);
+  const double c = Along(w, p.center.head<2>());
+  return {c - p.size_m.x() / 2, c + p.size_m.x() / 2};
+}
+
+Span CentredSpan(const Wall& w, const Vector3d& center, double length) {
+  const double c = Along(w, center.head<2>());
+  return {c - length / 2, c + length / 2};
+}
+
+// Everything standing on a wall face, for overlap checks: what it is and where.
+struct WallItem {
+  std::string what;
+  Span span;
+};
+
+std::map<int, std::vector<WallItem>> WallItems(const World& world) {
+  std::map<int, std::vector<WallItem>> items;
+  for (const Doorway& d : world.doors) {
+    items[d.wall_id].push_back({"door " + std::to_string(d.id), DoorSpan(world, d)});
+  }
+  for (const DoorPlate& p : world.plates) {
+    items[DoorOf(world, p.door_id).wall_id].push_back(
+        {"plate " + std::to_string(p.id), PlateSpan(world, p)});
+  }
+  for (const Reflector& r : world.reflectors) {
+    items[r.wall_id].push_back({"reflector " + std::to_string(r.id),
+                                CentredSpan(WallOf(world, r.wall_id), r.center, r.size_m.x())});
+  }
+  for (const Distractor& d : world.distractors) {
+    items[d.wall_id].push_back({"distractor " + std::to_string(d.id),
+                                CentredSpan(WallOf(world, d.wall_id), d.center, d.size_m.x())});
+  }
+  return items;
+}
+
+bool InsideAny(const std::vector<AlignedBox2d>& boxes, const AlignedBox2d& box) {
+  for (const AlignedBox2d& b : boxes) {
+    if ((box.min().array() >= b.min().array() - kGeomTolM).all() &&
+        (box.max().array() <= b.max().array() + kGeomTolM).all()) {
+      return true;
+    }
+  }
+  return false;
+}
+
+bool InsideAny(const std::vector<AlignedBox2d>& boxes, const Vector2d& p) {
+  return InsideAny(boxes, AlignedBox2d(p, p));
+}
+
+// Interiors intersect (touching faces do not count).
+bool Overlap(const AlignedBox2d& a, const AlignedBox2d& b) {
+  return (a.min().array() < b.max().array() - 1e-6).all() &&
+         (b.min().array() < a.max().array() - 1e-6).all();
+}
+
+AlignedBox2d Inflated(AlignedBox2d box, double by) {
+  box.min().array() -= by;
+  box.max().array() += by;
+  return box;
+}
+
+bool HasMesh(const World& world, int instance_id, SemanticClass cls) {
+  return std::any_of(world.meshes.begin(), world.meshes.end(), [&](const Mesh& m) {
+    return m.instance_id == instance_id && m.semantic_class == cls;
+  });
+}
+
+// ---- doorways --------------------------------------------------------------------------------
+
+TEST_CASE("doorways on one wall keep min_gap_m between them and from the wall ends",
+          "[worlds][generator]") {
+  for (const GeneratedCase& c : Cases()) {
+    INFO(c.name);
+    const World& w = c.world;
+    REQUIRE(static_cast<int>(w.doors.size()) == c.spec.doors.count);
+    std::map<int, std::vector<Span>> spans;
+    for (const Doorway& d : w.doors) spans[d.wall_id].push_back(DoorSpan(w, d));
+    for (auto& [wall_id, list] : spans) {
+      INFO("wall " << wall_id);
+      const Wall& wall = WallOf(w, wall_id);
+      std::sort(list.begin(), list.end(), [](const Span& a, const Span& b) { return a.lo < b.lo; });
+      CHECK(list.front().lo >= c.spec.doors.min_gap_m - kGeomTolM);
+      CHECK(list.back().hi <= wall.length() - c.spec.doors.min_gap_m + kGeomTolM);
+      for (std::size_t i = 1; i < list.size(); ++i) {
+        INFO("doorway spans [" << list[i - 1].lo << ", " << list[i - 1].hi << "] and ["
+                               << list[i].lo << ", " << list[i].hi << "]");
+        CHECK(list[i].lo - list[i - 1].hi >= c.spec.doors.min_gap_m - kGeomTolM);
+      }
+    }
+  }
+}
+
+TEST_CASE("every doorway has two columns on a side wall face and a frame of meshes",
+          "[worlds][generator]") {
+  for (const GeneratedCase& c : Cases()) {
+    INFO(c.name);
+    const World& w = c.world;
+    const DoorOptions& spec = c.spec.doors;
+    for (const Doorway& d : w.doors) {
+      INFO("door " << d.id);
+      const Wall& wall = WallOf(w, d.wall_id);
+      CHECK(wall.side_wall);
+      CHECK(std::abs(Across(wall, d.column_a)) < kGeomTolM);
+      CHECK(std::abs(Across(wall, d.column_b)) < kGeomTolM);
+      CHECK(Along(wall, d.column_a) > 0);
+      CHECK(Along(wall, d.column_b) < wall.length());
+      CHECK((d.column_b - d.column_a).dot(wall.tangent()) > 0);  // b follows a along the wall
+      CHECK((d.column_b - d.column_a).norm() ==
+            Approx(d.width_m + d.column_width_m).margin(kGeomTolM));
+      CHECK((d.inward_normal - wall.inward_normal).norm() < kGeomTolM);
+      CHECK(d.width_m == spec.width_m);
+      CHECK(d.column_width_m == spec.frame_width_m);
+      CHECK(d.top_height_m == spec.height_m);
+
+      const double bar_top = spec.height_m + spec.bar_height_m;
+      for (const char* part : {"door_column_a_", "door_column_b_", "door_bar_"}) {
+        const std::string name = part + std::to_string(d.id);
+        INFO(name);
+        const auto it = c.mesh_by_name.find(name);
+        REQUIRE(it != c.mesh_by_name.end());
+        const Mesh& m = *it->second;
+        CHECK(m.semantic_class == SemanticClass::kDoorFrame);
+        CHECK(m.instance_id == d.id);
+        CHECK(m.bounds.max().z() == Approx(bar_top).margin(kFloatTol));
+        CHECK(m.bounds.min().z() ==
+              Approx(std::string(part) == "door_bar_" ? spec.height_m : 0.0).margin(kFloatTol));
+      }
+      // Each column mesh stands on its column point.
+      for (const auto& [name, point] :
+           {std::pair{"door_column_a_", d.column_a}, std::pair{"door_column_b_", d.column_b}}) {
+        const Mesh& m = *c.mesh_by_name.at(name + std::to_string(d.id));
+        const Vector2d centre = m.bounds.center().head<2>().cast<double>();
+        CHECK(std::abs(Along(wall, centre) - Along(wall, point)) < kFloatTol * 100);
+      }
+
+      // Closed doors have a leaf and no room; open ones a leaf and a room; empty ones only a room.
+      const bool has_leaf = c.mesh_by_name.count("door_leaf_" + std::to_string(d.id)) > 0;
+      CHECK(has_leaf == (d.state != DoorState::kEmpty));
+      if (d.state == DoorState::kClosed) CHECK_FALSE(d.room);
+    }
+  }
+}
+
+TEST_CASE("room numbers are unique across doors", "[worlds][generator]") {
+  for (const GeneratedCase& c : Cases()) {
+    INFO(c.name);
+    std::set<std::string> numbers;
+    for (const Doorway& d : c.world.doors) {
+      CHECK_FALSE(d.room_number.empty());
+      CHECK(numbers.insert(d.room_number).second);
+    }
+  }
+}
+
+// ---- door plates -----------------------------------------------------------------------------
+
+TEST_CASE("each door plate is on its door's wall, beside the frame, at the spec height",
+          "[worlds][generator]") {
+  for (const GeneratedCase& c : Cases()) {
+    INFO(c.name);
+    const World& w = c.world;
+    const PlateOptions& spec = c.spec.plates;
+    CHECK(static_cast<int>(w.plates.size()) == spec.count);
+    std::set<std::string> numbers;
+    std::set<int> doors_with_plates;
+    for (const DoorPlate& p : w.plates) {
+      INFO("plate " << p.id << " of door " << p.door_id);
+      const Doorway& door = DoorOf(w, p.door_id);
+      const Wall& wall = WallOf(w, door.wall_id);
+      CHECK(doors_with_plates.insert(p.door_id).second);  // one plate per door
+      CHECK(p.room_number == door.room_number);
+      CHECK(numbers.insert(p.room_number).second);
+
+      // On the wall plane (just in front of it), facing into the corridor.
+      const double offset = Across(wall, p.center.head<2>());
+      CHECK(offset > 0);
+      CHECK(offset < kPlateMaxOffsetM);
+      CHECK((p.normal - Vector3d(wall.inward_normal.x(), wall.inward_normal.y(), 0)).norm() <
+            kGeomTolM);
+      CHECK(p.center.z() == Approx(spec.center_height_m).margin(kGeomTolM));
+
+      // Size within the jitter, aspect ratio kept.
+      CHECK(p.size_m.x() >= spec.width_m * (1 - spec.size_jitter) - kGeomTolM);
+      CHECK(p.size_m.x() <= spec.width_m * (1 + spec.size_jitter) + kGeomTolM);
+      CHECK(p.size_m.x() / p.size_m.y() == Approx(spec.width_m / spec.height_m).margin(kGeomTolM));
+
+      // Beside the door: gap_from_frame_m from the nearer column's outer edge, inside the wall.
+      const Span door_span = DoorSpan(w, door), plate = PlateSpan(w, p);
+      const double gap =
+          plate.hi <= door_span.lo ? door_span.lo - plate.hi : plate.lo - door_span.hi;
+      INFO("plate [" << plate.lo << ", " << plate.hi << "], door [" << door_span.lo << ", "
+                     << door_span.hi << "]");
+      CHECK(gap == Approx(spec.gap_from_frame_m).margin(kGeomTolM));
+      CHECK(plate.lo > 0);
+      CHECK(plate.hi < wall.length());
+
+      // Drawn: a mesh with the plate's id and a texture of its own.
+      CHECK(HasMesh(w, p.id, SemanticClass::kDoorPlate));
+      REQUIRE(p.texture >= 0);
+      REQUIRE(p.texture < static_cast<int>(w.textures.size()));
+      const Texture& tex = w.textures[p.texture];
+      CHECK(tex.name == "plate_" + std::to_string(p.id));
+      CHECK_FALSE(tex.image.empty());
+      CHECK(tex.image.data.size() ==
+            static_cast<std::size_t>(tex.image.width) * tex.image.height * tex.image.channels);
+    }
+  }
+}
+
+// ---- lamps and reflectors ---------------------------------------------------------------------
+
+TEST_CASE("corridor lamps hang from the ceiling inside the corridor; room lamps in their room",
+          "[worlds][generator]") {
+  for (const GeneratedCase& c : Cases()) {
+    INFO(c.name);
+    const World& w = c.world;
+    const LampOptions& spec = c.spec.lamps;
+    int corridor_lamps = 0;
+    std::map<int, int> lamps_per_room;
+    for (const Lamp& lamp : w.lamps) {
+      INFO("lamp " << lamp.id << " at " << lamp.center.transpose());
+      const Vector2d xy = lamp.center.head<2>();
+      const SemanticClass cls = lamp.shape == LampShape::kCircular ? SemanticClass::kLampCircular
+                                                                   : SemanticClass::kLampPanel;
+      CHECK(HasMesh(w, lamp.id, cls));
+      if (lamp.shape == LampShape::kCircular) {
+        CHECK(lamp.radius_m >= spec.radius_min_m);
+        CHECK(lamp.radius_m <= spec.radius_max_m);
+      }
+      if (lamp.room_door_id < 0) {
+        ++corridor_lamps;
+        CHECK(lamp.center.z() == Approx(c.spec.height_m - kLampDropM).margin(kGeomTolM));
+        // The whole emitting face lies in the walkable area of one segment.
+        const Vector2d half = lamp.shape == LampShape::kCircular
+                                  ? Vector2d(lamp.radius_m, lamp.radius_m)
+                                  : Vector2d(lamp.size_m / 2);
+        if (lamp.shape == LampShape::kPanel) {
+          CHECK(lamp.size_m.maxCoeff() == spec.panel_length_m);
+          CHECK(lamp.size_m.minCoeff() == spec.panel_width_m);
+        }
+        CHECK(InsideAny(c.plan.segment_rects, AlignedBox2d(xy - half, xy + half)));
+      } else {
+        const Doorway& door = DoorOf(w, lamp.room_door_id);
+        REQUIRE(door.room);
+        ++lamps_per_room[door.id];
+        CHECK(lamp.shape == LampShape::kCircular);
+        CHECK(door.room->footprint.contains(xy));
+        CHECK(lamp.center.z() ==
+              Approx(door.room->ceiling_height_m - kLampDropM).margin(kGeomTolM));
+      }
+    }
+    CHECK(corridor_lamps > 0);
+    // Every room has its ceiling lamp.
+    for (const Doorway& d : w.doors) {
+      if (d.room) CHECK(lamps_per_room[d.id] == (spec.room_lamps ? 1 : 0));
+    }
+  }
+}
+
+TEST_CASE("reflectors mirror a lit circular lamp in their wall's plane", "[worlds][generator]") {
+  int reflectors = 0;
+  for (const GeneratedCase& c : Cases()) {
+    INFO(c.name);
+    const World& w = c.world;
+    for (const Reflector& r : w.reflectors) {
+      ++reflectors;
+      INFO("reflector " << r.id);
+      const Wall& wall = WallOf(w, r.wall_id);
+      CHECK(wall.side_wall);
+      const auto lamp = std::find_if(w.lamps.begin(), w.lamps.end(),
+                                     [&](const Lamp& l) { return l.id == r.mirrored_lamp_id; });
+      REQUIRE(lamp != w.lamps.end());
+      CHECK(lamp->shape == LampShape::kCircular);
+      CHECK(lamp->on);
+      CHECK(std::abs(Across(wall, r.center.head<2>())) < kGeomTolM);
+      CHECK(Across(wall, r.apparent_lamp_center.head<2>()) ==
+            Approx(-Across(wall, lamp->center.head<2>())).margin(kGeomTolM));
+      CHECK(Along(wall, r.apparent_lamp_center.head<2>()) ==
+            Approx(Along(wall, lamp->center.head<2>())).margin(kGeomTolM));
+      CHECK(r.apparent_lamp_center.z() == lamp->center.z());
+      CHECK(HasMesh(w, r.id, SemanticClass::kReflector));
+    }
+  }
+  CHECK(reflectors > 0);  // the default reflector_fraction places some over 20 worlds
+}
+
+// ---- rooms -----------------------------------------------------------------------------------
+
+TEST_CASE("rooms behind doorways overlap neither each other, the corridor nor a mirror",
+          "[worlds][generator]") {
+  for (const GeneratedCase& c : Cases()) {
+    INFO(c.name);
+    const World& w = c.world;
+    const double t = c.spec.wall_thickness_m;
+    std::vector<std::pair<int, AlignedBox2d>> rooms;  // door id, footprint with its walls
+    for (const Doorway& d : w.doors) {
+      if (!d.room) continue;
+      const Wall& wall = WallOf(w, d.wall_id);
+      // Behind the doorway's wall, at the spec's size.
+      CHECK(Across(wall, d.room->footprint.center()) < -t);
+      CHECK(d.room->ceiling_height_m == c.spec.doors.room_height_m);
+      rooms.emplace_back(d.id, Inflated(d.room->footprint, t));
+    }
+    for (std::size_t i = 0; i < rooms.size(); ++i) {
+      INFO("room of door " << rooms[i].first);
+      for (std::size_t j = i + 1; j < rooms.size(); ++j) {
+        INFO("and room of door " << rooms[j].first);
+        CHECK_FALSE(Overlap(rooms[i].second, rooms[j].second));
+      }
+      for (const AlignedBox2d& corridor : c.plan.segment_rects)
+        CHECK_FALSE(Overlap(rooms[i].second, corridor));
+      for (const Reflector& r : w.reflectors) {
+        // The mirrored corridor behind a reflective panel: the panel's length, a width deep.
+        const Wall& wall = WallOf(w, r.wall_id);
+        const Span s = CentredSpan(wall, r.center, r.size_m.x());
+        AlignedBox2d mirror(wall.start + (s.lo - t) * wall.tangent());
+        mirror.extend(wall.start + (s.hi + t) * wall.tangent() -
+                      (c.spec.width_m + t) * wall.inward_normal);
+        INFO("reflector " << r.id);
+        CHECK_FALSE(Overlap(rooms[i].second, mirror));
+      }
+    }
+  }
+}
+
+// ---- ceiling corner points ---------------------------------------------------------------------
+
+TEST_CASE("ceiling corner points lie on the ceiling inside the corridor; vents give four each",
+          "[worlds][generator]") {
+  for (const GeneratedCase& c : Cases()) {
+    INFO(c.name);
+    const World& w = c.world;
+    const double H = c.spec.height_m;
+    std::map<CornerKind, int> counts;
+    std::vector<Vector3d> vent_corners;
+    for (const CornerPoint& p : w.corner_points) {
+      INFO(CornerKindName(p.kind) << " " << p.id << " at " << p.position.transpose());
+      ++counts[p.kind];
+      CHECK(InsideAny(c.plan.floor_cells, Vector2d(p.position.head<2>())));
+      CHECK(p.position.z() <= H);
+      CHECK(p.position.z() > H - 0.05);
+      if (p.kind == CornerKind::kTileSeam) CHECK(p.position.z() == H);
+      if (p.kind == CornerKind::kVent) vent_corners.push_back(p.position);
+    }
+    CHECK(counts[CornerKind::kTileSeam] > 0);
+    REQUIRE(vent_corners.size() % 4 == 0);
+    // Each vent's four corners are a square of vent_size_m in one horizontal plane.
+    const double size = c.spec.ceiling.vent_size_m;
+    for (std::size_t i = 0; i < vent_corners.size(); i += 4) {
+      AlignedBox3d box(vent_corners[i]);
+      for (std::size_t k = 1; k < 4; ++k) box.extend(vent_corners[i + k]);
+      CHECK(box.sizes().x() == Approx(size).margin(kGeomTolM));
+      CHECK(box.sizes().y() == Approx(size).margin(kGeomTolM));
+      CHECK(box.sizes().z() == 0.0);
+      std::set<std::pair<double, double>> distinct;
+      for (std::size_t k = 0; k < 4; ++k)
+        distinct.insert({vent_corners[i + k].x(), vent_corners[i + k].y()});
+      CHECK(distinct.size() == 4);
+    }
+  }
+}
+
+// ---- distractors -----------------------------------------------------------------------------
+
+TEST_CASE("distractors come in the classes and counts the spec asks for, against side walls",
+          "[worlds][generator]") {
+  for (const GeneratedCase& c : Cases()) {
+    INFO(c.name);
+    const World& w = c.world;
+    const DistractorOptions& x = c.spec.distractors;
+    std::map<SemanticClass, int> counts;
+    for (const Distractor& d : w.distractors) {
+      INFO(SemanticClassName(d.semantic_class) << " " << d.id);
+      ++counts[d.semantic_class];
+      const Wall& wall = WallOf(w, d.wall_id);
+      CHECK(wall.side_wall);
+      CHECK((d.normal - Vector3d(wall.inward_normal.x(), wall.inward_normal.y(), 0)).norm() <
+            kGeomTolM);
+      // Its box stands on the wall face and reaches size.y into the corridor.
+      CHECK(Across(wall, d.center.head<2>()) == Approx(d.size_m.y() / 2).margin(kGeomTolM));
+      const Span s = CentredSpan(wall, d.center, d.size_m.x());
+      CHECK(s.lo > 0);
+      CHECK(s.hi < wall.length());
+      CHECK(d.center.z() - d.size_m.z() / 2 >= -kGeomTolM);
+      CHECK(d.center.z() + d.size_m.z() / 2 <= c.spec.height_m);
+      CHECK(HasMesh(w, d.id, d.semantic_class));
+      const bool has_text = d.semantic_class == SemanticClass::kPoster ||
+                            d.semantic_class == SemanticClass::kNoticeBoard;
+      CHECK(d.text.empty() != has_text);
+      if (has_text) CHECK(d.text.find_first_not_of("0123456789") == std::string::npos);
+    }
+    CHECK(counts[SemanticClass::kPoster] == x.posters);
+    CHECK(counts[SemanticClass::kNoticeBoard] == x.notice_boards);
+    CHECK(counts[SemanticClass::kBookshelf] == x.bookshelves);
+    CHECK(counts[SemanticClass::kCabinet] == x.cabinets);
+    CHECK(counts[SemanticClass::kFireExtinguisher] == x.fire_extinguishers);
+    CHECK(counts.size() == 5);
+  }
+}
+
+TEST_CASE("doorways, plates, reflectors and distractors never overlap along a wall",
+          "[worlds][generator]") {
+  for (const GeneratedCase& c : Cases()) {
+    INFO(c.name);
+    for (const auto& [wall_id, items] : WallItems(c.world)) {
+      for (std::size_t i = 0; i < items.size(); ++i) {
+        for (std::size_t j = i + 1; j < items.size(); ++j) {
+          INFO("wall " << wall_id << ": " << items[i].what << " [" << items[i].span.lo << ", "
+                       << items[i].span.hi << "] and " << items[j].what << " [" << items[j].span.lo
+                       << ", " << items[j].span.hi << "]");
+          CHECK_FALSE(SpansOverlap(items[i].span, items[j].span));
+        }
+      }
+    }
+  }
+}
+
+// ---- ids, meshes, collision boxes
+// ----------------------------------------------------------------
+
+TEST_CASE("ids are unique across every kind of ground truth entry", "[worlds][generator]") {
+  for (const GeneratedCase& c : Cases()) {
+    INFO(c.name);
+    const World& w = c.world;
+    std::map<int, std::string> owner;
+    auto add = [&](int id, const std::string& what) {
+      const auto [it, inserted] = owner.emplace(id, what);
+      INFO(what << " has id " << id << ", already used by " << it->second);
+      CHECK(id > 0);
+      CHECK(inserted);
+    };
+    for (const auto& x : w.segments) add(x.id, "segment");
+    for (const auto& x : w.walls) add(x.id, "wall");
+    for (const auto& x : w.doors) add(x.id, "door");
+    for (const auto& x : w.plates) add(x.id, "plate");
+    for (const auto& x : w.lamps) add(x.id, "lamp");
+    for (const auto& x : w.reflectors) add(x.id, "reflector");
+    for (const auto& x : w.corner_points) add(x.id, "corner point");
+    for (const auto& x : w.distractors) add(x.id, "distractor");
+    // Mesh names are unique too (they name the OBJ groups).
+    CHECK(c.mesh_by_name.size() == w.meshes.size());
+  }
+}
+
+TEST_CASE("meshes have indices in range, unit normals and valid materials", "[worlds][generator]") {
+  for (const GeneratedCase& c : Cases()) {
+    INFO(c.name);
+    const World& w = c.world;
+    for (const Mesh& m : w.meshes) {
+      INFO("mesh " << m.name);
+      REQUIRE_FALSE(m.positions.empty());
+      CHECK(m.normals.size() == m.positions.size());
+      CHECK(m.uvs.size() == m.positions.size());
+      CHECK(m.indices.size() % 3 == 0);
+      CHECK(m.triangle_count() > 0);
+      const std::uint32_t max_index = *std::max_element(m.indices.begin(), m.indices.end());
+      CHECK(max_index < m.positions.size());
+      int bad_normals = 0, outside_bounds = 0;
+      for (const Eigen::Vector3f& n : m.normals)
+        bad_normals += std::abs(n.norm() - 1.0f) > kFloatTol;
+      for (const Eigen::Vector3f& p : m.positions) outside_bounds += !m.bounds.contains(p);
+      CHECK(bad_normals == 0);
+      CHECK(outside_bounds == 0);
+      REQUIRE(m.material >= 0);
+      REQUIRE(m.material < static_cast<int>(w.materials.size()));
+      const int tex = w.materials[m.material].texture;
+      CHECK(tex >= -1);
+      CHECK(tex < static_cast<int>(w.textures.size()));
+    }
+  }
+}
+
+TEST_CASE("collision boxes have positive half extents", "[worlds][generator]") {
+  for (const GeneratedCase& c : Cases()) {
+    INFO(c.name);
+    for (const CollisionBox& b : c.world.collision_boxes) {
+      INFO(SemanticClassName(b.semantic_class)
+           << " " << b.instance_id << " at " << b.center.transpose());
+      CHECK((b.half_extents.array() > 0).all());
+    }
+  }
+}
+
+TEST_CASE("the robot can drive along every corridor centre line", "[worlds][generator]") {
+  constexpr double kHalfWidthM = 0.3, kZLowM = 0.05, kZHighM = 0.5;
+  for (const GeneratedCase& c : Cases()) {
+    INFO(c.name);
+    const World& w = c.world;
+    // The ground slab: floor class, top at z = 0.
+    const auto ground = std::find_if(
+        w.collision_boxes.begin(), w.collision_boxes.end(),
+        [](const CollisionBox& b) { return b.semantic_class == SemanticClass::kFloor; });
+    REQUIRE(ground != w.collision_boxes.end());
+    CHECK(ground->center.z() + ground->half_extents.z() == Approx(0.0).margin(kGeomTolM));
+    for (const CorridorSegment& seg : w.segments) {
+      const Vector2d side(-seg.direction().y(), seg.direction().x());
+      AlignedBox3d lane;
+      lane.setEmpty();
+      for (const Vector2d& p : {seg.start, seg.end}) {
+        for (const double s : {-kHalfWidthM, kHalfWidthM}) {
+          const Vector2d q = p + s * side;
+          lane.extend(Vector3d(q.x(), q.y(), kZLowM));
+          lane.extend(Vector3d(q.x(), q.y(), kZHighM));
+        }
+      }
+      for (const CollisionBox& b : w.collision_boxes) {
+        const AlignedBox3d box(b.center - b.half_extents, b.center + b.half_extents);
+        const bool blocks = (box.min().array() < lane.max().array() - kGeomTolM).all() &&
+                            (lane.min().array() < box.max().array() - kGeomTolM).all();
+        INFO("segment " << seg.id << " blocked by " << SemanticClassName(b.semantic_class) << " "
+                        << b.instance_id << " from " << box.min().transpose() << " to "
+                        << box.max().transpose());
+        CHECK_FALSE(blocks);
+      }
+    }
+  }
+}
+
+// ---- determinism and random streams
+// --------------------------------------------------------------
+
+void CheckIdentical(const World& a, const World& b) {
+  CHECK(GroundTruthJson(a).dump() == GroundTruthJson(b).dump());
+  REQUIRE(a.meshes.size() == b.meshes.size());
+  for (std::size_t i = 0; i < a.meshes.size(); ++i) {
+    const Mesh &ma = a.meshes[i], &mb = b.meshes[i];
+    INFO("mesh " << ma.name);
+    CHECK(ma.name == mb.name);
+    CHECK(ma.material == mb.material);
+    CHECK(ma.instance_id == mb.instance_id);
+    CHECK(ma.semantic_class == mb.semantic_class);
+    CHECK(ma.positions == mb.positions);  // exact: same arithmetic on the same draws
+    CHECK(ma.normals == mb.normals);
+    CHECK(ma.uvs == mb.uvs);
+    CHECK(ma.indices == mb.indices);
+  }
+  REQUIRE(a.textures.size() == b.textures.size());
+  for (std::size_t i = 0; i < a.textures.size(); ++i) {
+    INFO("texture " << a.textures[i].name);
+    CHECK(a.textures[i].name == b.textures[i].name);
+    CHECK(a.textures[i].image.width == b.textures[i].image.width);
+    CHECK(a.textures[i].image.height == b.textures[i].image.height);
+    CHECK(a.textures[i].image.data == b.textures[i].image.data);
+  }
+  REQUIRE(a.materials.size() == b.materials.size());
+  for (std::size_t i = 0; i < a.materials.size(); ++i) {
+    CHECK(a.materials[i].name == b.materials[i].name);
+    CHECK(a.materials[i].texture == b.materials[i].texture);
+    CHECK(a.materials[i].diffuse == b.materials[i].diffuse);
+    CHECK(a.materials[i].emission == b.materials[i].emission);
+  }
+  REQUIRE(a.collision_boxes.size() == b.collision_boxes.size());
+  for (std::size_t i = 0; i < a.collision_boxes.size(); ++i) {
+    CHECK(a.collision_boxes[i].center == b.collision_boxes[i].center);
+    CHECK(a.collision_boxes[i].half_extents == b.collision_boxes[i].half_extents);
+  }
+}
+
+TEST_CASE("generating twice with the same spec and seed gives identical worlds",
+          "[worlds][generator][determinism]") {
+  for (const WorldSpec& spec : LayoutSpecs()) {
+    INFO(LayoutName(spec.layout));
+    CheckIdentical(Generate(spec, 3), Generate(spec, 3));
+  }
+}
+
+std::vector<Vector2d> DoorColumns(const World& w) {
+  std::vector<Vector2d> out;
+  for (const Doorway& d : w.doors) {
+    out.push_back(d.column_a);
+    out.push_back(d.column_b);
+  }
+  return out;
+}
+
+TEST_CASE("another seed gives another layout of doors", "[worlds][generator][determinism]") {
+  for (const WorldSpec& spec : LayoutSpecs()) {
+    INFO(LayoutName(spec.layout));
+    const std::vector<Vector2d> a = DoorColumns(Generate(spec, 1)),
+                                b = DoorColumns(Generate(spec, 2));
+    REQUIRE(a.size() == b.size());
+    double largest_move = 0.0;
+    for (std::size_t i = 0; i < a.size(); ++i)
+      largest_move = std::max(largest_move, (a[i] - b[i]).norm());
+    CHECK(largest_move > 0.01);
+  }
+}
+
+TEST_CASE("changing the number of posters moves no door, plate or lamp",
+          "[worlds][generator][determinism]") {
+  for (const WorldSpec& base : LayoutSpecs()) {
+    INFO(LayoutName(base.layout));
+    WorldSpec more = base;
+    more.distractors.posters = base.distractors.posters + 3;
+    WorldSpec none = base;
+    none.distractors.posters = 0;
+    const World reference = Generate(base, 4);
+    for (const WorldSpec& changed : {more, none}) {
+      INFO("posters " << changed.distractors.posters);
+      const World other = Generate(changed, 4);
+      CHECK(DoorColumns(other) == DoorColumns(reference));
+      REQUIRE(other.doors.size() == reference.doors.size());
+      for (std::size_t i = 0; i < other.doors.size(); ++i) {
+        CHECK(other.doors[i].state == reference.doors[i].state);
+        CHECK(other.doors[i].room_number == reference.doors[i].room_number);
+      }
+      REQUIRE(other.plates.size() == reference.plates.size());
+      for (std::size_t i = 0; i < other.plates.size(); ++i) {
+        CHECK(other.plates[i].center == reference.plates[i].center);
+        CHECK(other.plates[i].size_m == reference.plates[i].size_m);
+      }
+      REQUIRE(other.lamps.size() == reference.lamps.size());
+      for (std::size_t i = 0; i < other.lamps.size(); ++i) {
+        CHECK(other.lamps[i].center == reference.lamps[i].center);
+        CHECK(other.lamps[i].on == reference.lamps[i].on);
+      }
+      CHECK(static_cast<int>(other.distractors.size()) ==
+            static_cast<int>(reference.distractors.size()) + changed.distractors.posters -
+                base.distractors.posters);
+    }
+  }
+}
+
+// ---- specs the generator cannot place ----------------------------------------------------------
+
+TEST_CASE("more distractors than fit on the walls throw a SpecError naming the kind",
+          "[worlds][generator]") {
+  struct Case {
+    const char* key;
+    int DistractorOptions::*field;
+  };
+  for (const Case& k :
+       {Case{"distractors.posters", &DistractorOptions::posters},
+        Case{"distractors.bookshelves", &DistractorOptions::bookshelves},
+        Case{"distractors.fire_extinguishers", &DistractorOptions::fire_extinguishers}}) {
+    INFO(k.key);
+    WorldSpec spec;
+    spec.distractors.*k.field = 300;
+    REQUIRE_FALSE(spec.Check());  // the spec is valid; only the generated walls are too short
+    const SpecProblem p = test::SpecErrorOf([&] { Generate(spec, 1); });
+    CHECK(p.key == k.key);
+    CHECK(test::Contains(p.message, " of 300 fit on the free wall stretches"));
+  }
+}
+
+TEST_CASE("Generate rejects a spec that fails Check with its problem", "[worlds][generator]") {
+  WorldSpec spec;
+  spec.plates.count = 20;
+  const SpecProblem p = test::SpecErrorOf([&] { Generate(spec, 1); });
+  CHECK(p.key == "plates.count");
+}
+
+TEST_CASE("lamps near the far end of a corridor stay inside it", "[worlds][generator]") {
+  // The last lamp slot of a 40.6 m corridor with 3 m spacing is at 40.5 m, 0.1 m before the end
+  // wall; panel lamps reach 0.6 m along the axis from their centre.
+  for (const Layout layout : {Layout::kStraight, Layout::kTJunction, Layout::kLTurn}) {
+    WorldSpec spec;
+    spec.layout = layout;
+    spec.length_m = 40.6;
+    spec.second_length_m = 16.6;
+    spec.lamps.circular_fraction = 0.0;
+    LayoutPlan plan;
+    REQUIRE_FALSE(PlanLayout(spec, 1, &plan));
+    for (std::uint64_t seed = 1; seed <= 5; ++seed) {
+      const World w = Generate(spec, seed);
+      for (const Lamp& lamp : w.lamps) {
+        if (lamp.room_door_id >= 0) continue;
+        const Vector2d xy = lamp.center.head<2>();
+        INFO(LayoutName(layout) << " seed " << seed << ": lamp " << lamp.id << " at "
+                                << xy.transpose() << " size " << lamp.size_m.transpose());
+        CHECK(InsideAny(plan.segment_rects,
+                        AlignedBox2d(xy - lamp.size_m / 2, xy + lamp.size_m / 2)));
+      }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace corridorsim::worlds
