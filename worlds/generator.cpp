@@ -354,10 +354,12 @@ class Builder {
       plate.center = Vector3d(c.x(), c.y(), p.center_height_m);
       plate.normal = Vector3d(wall.inward_normal.x(), wall.inward_normal.y(), 0);
       plate.size_m = Vector2d(width, height);
-      PlateStyle style;
+      PlateStyle style;  // recorded in the ground truth for detector developers
       plate.texture =
           AddTexture(Id("plate", plate.id),
                      MakePlateTexture(textures_rng_, plate.room_number, width / height, &style));
+      plate.font = style.font;
+      plate.border_px = style.border_px;
       const int material = TexturedMaterial(Id("plate", plate.id), plate.texture);
       const int backing = PlainMaterial(Id("plate_backing", plate.id), {0.3f, 0.3f, 0.3f});
       const double z0 = p.center_height_m - height / 2, z1 = p.center_height_m + height / 2;
@@ -492,7 +494,7 @@ class Builder {
         r.size_m = Vector2d(l.reflector_length_m, l.reflector_height_m);
         const Vector2d mirrored = lamp.center.head<2>() - 2 * dist * wall.inward_normal;
         r.apparent_lamp_center = Vector3d(mirrored.x(), mirrored.y(), lamp.center.z());
-        BuildReflector(r, wall, s0, s1, dist, lamp);
+        BuildReflector(r, wall, s0, s1, lamp);
         occupied_[k].push_back({s0 - 0.05, s1 + 0.05});
         reflector_cuts_[k].push_back({s0, s1});
         w_.reflectors.push_back(r);
@@ -503,7 +505,7 @@ class Builder {
 
   // The panel is an opening in the top of the wall onto the mirror image of the corridor: a
   // mirrored ceiling, the mirrored lamp, and the mirrored far wall (planar mirror by geometry).
-  void BuildReflector(const Reflector& r, const Wall& wall, double s0, double s1, double dist,
+  void BuildReflector(const Reflector& r, const Wall& wall, double s0, double s1,
                       const Lamp& lamp) {
     const double t = s_.wall_thickness_m, H = s_.height_m, depth = s_.width_m;
     const double z0 = H - s_.lamps.reflector_height_m;
@@ -523,7 +525,6 @@ class Builder {
            WallBox(wall, s0, s1, H, H + t, -depth, 0), kWallPeriodM);
     AddDisc(NewMesh(Id("reflector_lamp", id), mat_.lamp_on, id, cls), r.apparent_lamp_center,
             lamp.radius_m, -Vector3d::UnitZ(), kDiscSegments);
-    (void)dist;
   }
 
   // ---- walls ------------------------------------------------------------------------------

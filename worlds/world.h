@@ -140,6 +140,8 @@ struct DoorPlate {
   Eigen::Vector3d normal;   // unit, out of the front face (into the corridor)
   Eigen::Vector2d size_m;   // width along the wall, height
   int texture = -1;
+  std::string font;   // style of the seeded plate design: Hershey font name
+  int border_px = 0;  // border width on the 128 px high texture, 0 for none
 };
 
 struct Lamp {

@@ -47,6 +47,8 @@ Json PlateJson(const World& world, const DoorPlate& plate) {
   j["size"] = Vec(plate.size_m);
   if (plate.texture >= 0 && plate.texture < static_cast<int>(world.textures.size())) {
     j["texture"] = "textures/" + world.textures[plate.texture].name + ".png";
+    j["font"] = plate.font;
+    j["border_px"] = plate.border_px;
   }
   return j;
 }

@@ -329,8 +329,23 @@ TEST_CASE("each door plate is on its door's wall, beside the frame, at the spec 
       CHECK_FALSE(tex.image.empty());
       CHECK(tex.image.data.size() ==
             static_cast<std::size_t>(tex.image.width) * tex.image.height * tex.image.channels);
+      CHECK(p.font.rfind("hershey_", 0) == 0);  // the seeded style is recorded
     }
   }
+}
+
+TEST_CASE("plate styles vary with the seed: several fonts and designs appear",
+          "[worlds][generator]") {
+  std::set<std::string> fonts;
+  std::set<int> borders;
+  for (const GeneratedCase& c : Cases()) {
+    for (const DoorPlate& p : c.world.plates) {
+      fonts.insert(p.font);
+      borders.insert(p.border_px);
+    }
+  }
+  CHECK(fonts.size() >= 3);
+  CHECK(borders.size() >= 2);
 }
 
 // ---- lamps and reflectors ---------------------------------------------------------------------
