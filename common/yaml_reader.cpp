@@ -238,6 +238,22 @@ bool YamlMap::Read(const std::string& key, std::string& value) {
   return true;
 }
 
+bool YamlMap::Read(const std::string& key, std::vector<double>& values) {
+  const YAML::Node node = Get(key);
+  if (!node) return false;
+  if (!node.IsSequence()) Fail(key, "expected a list of numbers, e.g. [1.0, 2.0]");
+  std::vector<double> parsed;
+  for (const auto& item : node) {
+    double v = 0.0;
+    if (!item.IsScalar() || !YAML::convert<double>::decode(item, v) || !std::isfinite(v)) {
+      throw InputError(doc_->LocationOf(item), FullKey(key), "expected a finite number in the list");
+    }
+    parsed.push_back(v);
+  }
+  values = std::move(parsed);
+  return true;
+}
+
 YamlMap YamlMap::Map(const std::string& key) {
   // yaml-cpp nodes have reference semantics (assignment writes into the node), so never assign
   // to the result of a lookup: build the returned map from a fresh node instead.

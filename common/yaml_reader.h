@@ -61,6 +61,8 @@ class YamlMap {
   bool Read(const std::string& key, std::uint64_t& value);
   bool Read(const std::string& key, bool& value);
   bool Read(const std::string& key, std::string& value);
+  /// A list of numbers, e.g. `distortion: [-0.28, 0.07, 0, 0, 0]`.
+  bool Read(const std::string& key, std::vector<double>& values);
 
   /// Reads a string key and maps it through `choices` (name -> value); anything else is an error
   /// that lists the valid names.

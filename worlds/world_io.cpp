@@ -13,6 +13,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "common/atomic_file.h"
+#include "worlds/image_io.h"
 #include "worlds/map_plot.h"
 
 namespace corridorsim::worlds {
@@ -319,27 +320,6 @@ std::string ObjText(const World& world) {
 // PNG
 
 // Image8 is RGB(A) with row 0 on top; OpenCV wants BGR(A). Fixed compression: same bytes each run.
-std::string EncodePng(const Image8& image, const std::string& what) {
-  const bool valid = image.width > 0 && image.height > 0 &&
-                     (image.channels == 1 || image.channels == 3 || image.channels == 4) &&
-                     image.data.size() == std::size_t(image.width) * image.height * image.channels;
-  if (!valid) throw std::invalid_argument(what + ": image has inconsistent size or channels");
-  const cv::Mat rgb(image.height, image.width, CV_8UC(image.channels),
-                    const_cast<std::uint8_t*>(image.data.data()));
-  cv::Mat bgr;
-  if (image.channels == 3) {
-    cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
-  } else if (image.channels == 4) {
-    cv::cvtColor(rgb, bgr, cv::COLOR_RGBA2BGRA);
-  } else {
-    bgr = rgb;
-  }
-  std::vector<std::uint8_t> buffer;
-  if (!cv::imencode(".png", bgr, buffer, {cv::IMWRITE_PNG_COMPRESSION, 6})) {
-    throw std::runtime_error(what + ": PNG encoding failed");
-  }
-  return std::string(buffer.begin(), buffer.end());
-}
 
 }  // namespace
 

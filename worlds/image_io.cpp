@@ -1,0 +1,56 @@
+#include "worlds/image_io.h"
+
+#include <stdexcept>
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+namespace corridorsim {
+namespace {
+
+std::string Encode(const cv::Mat& bgr, const std::string& what) {
+  std::vector<std::uint8_t> buffer;
+  if (!cv::imencode(".png", bgr, buffer, {cv::IMWRITE_PNG_COMPRESSION, 6})) {
+    throw std::runtime_error(what + ": PNG encoding failed");
+  }
+  return std::string(buffer.begin(), buffer.end());
+}
+
+}  // namespace
+
+std::string EncodePng(const Image8& image, const std::string& what) {
+  const bool valid = image.width > 0 && image.height > 0 &&
+                     (image.channels == 1 || image.channels == 3 || image.channels == 4) &&
+                     image.data.size() == std::size_t(image.width) * image.height * image.channels;
+  if (!valid) throw std::invalid_argument(what + ": image has inconsistent size or channels");
+  const cv::Mat rgb(image.height, image.width, CV_8UC(image.channels),
+                    const_cast<std::uint8_t*>(image.data.data()));
+  cv::Mat bgr;
+  if (image.channels == 3) {
+    cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
+  } else if (image.channels == 4) {
+    cv::cvtColor(rgb, bgr, cv::COLOR_RGBA2BGRA);
+  } else {
+    bgr = rgb;
+  }
+  return Encode(bgr, what);
+}
+
+std::string EncodePng16(int width, int height, int channels, const std::vector<std::uint16_t>& data,
+                        const std::string& what) {
+  if (width <= 0 || height <= 0 || (channels != 1 && channels != 3) ||
+      data.size() != std::size_t(width) * height * channels) {
+    throw std::invalid_argument(what + ": 16-bit image has inconsistent size or channels");
+  }
+  const cv::Mat rgb(height, width, CV_16UC(channels), const_cast<std::uint16_t*>(data.data()));
+  cv::Mat bgr;
+  if (channels == 3) {
+    cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
+  } else {
+    bgr = rgb;
+  }
+  return Encode(bgr, what);
+}
+
+}  // namespace corridorsim
