@@ -20,7 +20,31 @@ std::uint64_t Combine(std::uint64_t a, std::uint64_t b) {
   return SplitMix64(x);
 }
 
-constexpr std::uint64_t Rotl(std::uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
+
+// log(k!) for k >= 0: exact table below 10, Stirling's series (relative error < 1e-15) from 10 on.
+// Written here rather than std::lgamma, which may write the global `signgam` and so is not
+// thread-safe.
+double LogFactorial(std::int64_t k) {
+  static constexpr double kTable[10] = {0.0,
+                                        0.0,
+                                        0.6931471805599453,
+                                        1.791759469228055,
+                                        3.1780538303479458,
+                                        4.787491742782046,
+                                        6.579251212010101,
+                                        8.525161361065415,
+                                        10.60460290274525,
+                                        12.801827480081469};
+  if (k < 10) return kTable[k];
+  const double n = static_cast<double>(k) + 1.0;  // log(k!) = lgamma(n)
+  const double inv = 1.0 / n, inv2 = inv * inv;
+  // lgamma(n) = (n - 1/2) log n - n + log(2 pi) / 2
+  //             + 1/(12 n) - 1/(360 n^3) + 1/(1260 n^5) - 1/(1680 n^7) + 1/(1188 n^9) - ...
+  const double series =
+      inv *
+      (1.0 / 12 + inv2 * (-1.0 / 360 + inv2 * (1.0 / 1260 + inv2 * (-1.0 / 1680 + inv2 / 1188))));
+  return (n - 0.5) * std::log(n) - n + 0.91893853320467274 + series;
+}
 
 }  // namespace
 
@@ -45,19 +69,6 @@ RandomStream RandomStream::Derive(std::string_view component) const {
   return RandomStream(Combine(identity_, HashName(component)));
 }
 
-std::uint64_t RandomStream::NextU64() {
-  const std::uint64_t result = Rotl(state_[1] * 5, 7) * 9;
-  const std::uint64_t t = state_[1] << 17;
-  state_[2] ^= state_[0];
-  state_[3] ^= state_[1];
-  state_[1] ^= state_[2];
-  state_[0] ^= state_[3];
-  state_[2] ^= t;
-  state_[3] = Rotl(state_[3], 45);
-  return result;
-}
-
-double RandomStream::Uniform01() { return static_cast<double>(NextU64() >> 11) * 0x1.0p-53; }
 
 double RandomStream::Uniform(double lo, double hi) { return lo + (hi - lo) * Uniform01(); }
 
@@ -93,6 +104,42 @@ double RandomStream::Normal(double mean, double stddev) {
 bool RandomStream::Bernoulli(double p) { return Uniform01() < p; }
 
 double RandomStream::Exponential(double rate) { return -std::log1p(-Uniform01()) / rate; }
+
+std::int64_t RandomStream::Poisson(double mean) {
+  assert(mean >= 0.0 && mean < 1e15);  // far below the int64 range
+  if (mean < 10.0) {
+    // Multiplication method: the number of uniforms whose running product stays above e^-mean.
+    const double limit = std::exp(-mean);
+    std::int64_t k = 0;
+    double product = Uniform01();
+    while (product > limit) {
+      ++k;
+      product *= Uniform01();
+    }
+    return k;
+  }
+  // PTRS: W. Hormann, "The transformed rejection method for generating Poisson random variables",
+  // Insurance: Mathematics and Economics 12 (1993), constants of Table 1 / algorithm PTRS.
+  const double sqrt_mean = std::sqrt(mean);
+  const double b = 0.931 + 2.53 * sqrt_mean;
+  const double a = -0.059 + 0.02483 * b;
+  const double v_r = 0.9277 - 3.6224 / (b - 2.0);
+  for (;;) {
+    const double u = Uniform01() - 0.5;
+    const double v = Uniform01();
+    const double us = 0.5 - std::fabs(u);
+    if (us <= 0.0) continue;  // u = -0.5 maps to -infinity
+    const double kf = std::floor((2.0 * a / us + b) * u + mean + 0.43);
+    if (us >= 0.07 && v <= v_r) return static_cast<std::int64_t>(kf);  // squeeze: accept at once
+    if (kf < 0.0 || (us < 0.013 && v > us)) continue;
+    const auto k = static_cast<std::int64_t>(kf);
+    const double inv_alpha = 1.1239 + 1.1328 / (b - 3.4);
+    if (std::log(v * inv_alpha / (a / (us * us) + b)) <=
+        -mean + kf * std::log(mean) - LogFactorial(k)) {
+      return k;
+    }
+  }
+}
 
 std::size_t RandomStream::Categorical(std::span<const double> weights) {
   assert(!weights.empty());

@@ -26,11 +26,21 @@ class RandomStream {
   /// A child stream, derived from this stream's identity (not its position) and `component`.
   RandomStream Derive(std::string_view component) const;
 
-  /// Raw 64 random bits (xoshiro256**).
-  std::uint64_t NextU64();
+  /// Raw 64 random bits (xoshiro256**). Inline: per-pixel noise draws millions per frame.
+  std::uint64_t NextU64() {
+    const std::uint64_t result = Rotl(state_[1] * 5, 7) * 9;
+    const std::uint64_t t = state_[1] << 17;
+    state_[2] ^= state_[0];
+    state_[3] ^= state_[1];
+    state_[1] ^= state_[2];
+    state_[0] ^= state_[3];
+    state_[2] ^= t;
+    state_[3] = Rotl(state_[3], 45);
+    return result;
+  }
 
   /// Uniform in [0, 1) with 53 random bits.
-  double Uniform01();
+  double Uniform01() { return static_cast<double>(NextU64() >> 11) * 0x1.0p-53; }
   /// Uniform in [lo, hi).
   double Uniform(double lo, double hi);
   /// Uniform integer in [lo, hi] (inclusive), without modulo bias.
@@ -41,6 +51,9 @@ class RandomStream {
   bool Bernoulli(double p);
   /// Exponential with the given rate (events per unit).
   double Exponential(double rate);
+  /// Poisson with the given mean (>= 0): the multiplication method below a mean of 10, Hormann's
+  /// transformed rejection with squeeze (PTRS, 1993) from 10 on. Both are exact.
+  std::int64_t Poisson(double mean);
   /// Index drawn with probability proportional to `weights` (non-negative, positive sum).
   std::size_t Categorical(std::span<const double> weights);
 
@@ -54,7 +67,8 @@ class RandomStream {
   }
 
  private:
-  RandomStream(std::uint64_t identity);
+  explicit RandomStream(std::uint64_t identity);
+  static constexpr std::uint64_t Rotl(std::uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
 
   std::uint64_t identity_;  // hash of (seed, run index, component path); seeds the state
   std::uint64_t state_[4];

@@ -6,6 +6,7 @@ Scenario LoadScenario(const std::string& path) {
   Scenario scenario;
   scenario.path = path;
   scenario.world_location = SourceLocation{path, 0, 0};
+  scenario.sensors_location = SourceLocation{path, 0, 0};
   // Documents stay alive while their maps are read: YamlMap points into them.
   const std::vector<YamlDocument> chain = LoadWithIncludes(path);
   for (const YamlDocument& doc : chain) {
@@ -17,16 +18,24 @@ Scenario LoadScenario(const std::string& path) {
     if (root.Has("world")) scenario.world_location = root.LocationOfKey("world");
     YamlMap world = root.Map("world");
     worlds::ParseWorldSpec(world, scenario.world);
+    if (root.Has("sensors")) scenario.sensors_location = root.LocationOfKey("sensors");
+    YamlMap sensors = root.Map("sensors");
+    render::ParseSensors(sensors, scenario.rig);
+    YamlMap render = root.Map("render");
+    render::ParseRenderOptions(render, scenario.rig);
     root.RejectUnknownKeys();
   }
   if (auto problem = scenario.world.Check()) throw LocateProblem(scenario, "world", *problem);
+  if (auto problem = scenario.rig.Check()) throw LocateProblem(scenario, "sensors", *problem);
   return scenario;
 }
 
 InputError LocateProblem(const Scenario& scenario, const std::string& section,
                          const SpecProblem& problem) {
   const std::string key = section + "." + problem.key;
-  return InputError(scenario.sources.Find(key, scenario.world_location), key, problem.message);
+  const SourceLocation& fallback =
+      section == "sensors" ? scenario.sensors_location : scenario.world_location;
+  return InputError(scenario.sources.Find(key, fallback), key, problem.message);
 }
 
 worlds::World GenerateWorld(const Scenario& scenario, std::uint64_t seed) {

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "common/yaml_reader.h"
+#include "render/camera_rig.h"
 #include "worlds/world.h"
 #include "worlds/world_spec.h"
 
@@ -17,8 +18,10 @@ struct Scenario {
   std::string description;  // optional
   std::uint64_t seed = 1;   // seed of every random stream of the run
   worlds::WorldSpec world;
+  render::RigSpec rig = render::RigSpec::Default();  // `sensors:` and `render:`
   SourceMap sources;              // where each key was set, for errors found after parsing
-  SourceLocation world_location;  // the `world:` key of the last file that has one
+  SourceLocation world_location;    // the `world:` key of the last file that has one
+  SourceLocation sensors_location;  // the `sensors:` key of the last file that has one
 };
 
 /// Loads `path` and its `include:` chain (base first) onto code defaults, then checks the
@@ -26,7 +29,7 @@ struct Scenario {
 Scenario LoadScenario(const std::string& path);
 
 /// Turns a problem found by a spec's Check() or a generator into an InputError placed at the
-/// line that set the offending key (`section` is e.g. "world").
+/// line that set the offending key (`section` is "world" or "sensors").
 InputError LocateProblem(const Scenario& scenario, const std::string& section,
                          const SpecProblem& problem);
 

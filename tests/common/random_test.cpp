@@ -140,5 +140,59 @@ TEST_CASE("shuffle is a seeded permutation", "[random]") {
   CHECK(moved);
 }
 
+// Poisson: golden values on both sides of the switch between the multiplication method (mean < 10)
+// and PTRS (mean >= 10); update them only on purpose, as above.
+TEST_CASE("Poisson draws reproduce their golden values", "[random]") {
+  RandomStream r(42, 0, "test.poisson");
+  const std::vector<std::int64_t> expected = {0,  0,  1,  0,  1,    1,   9,      8,
+                                              10, 16, 40, 41, 1028, 971, 123403, 123946};
+  std::vector<std::int64_t> got;
+  for (const double mean : {0.0, 0.5, 3.0, 9.99, 10.0, 42.0, 1000.0, 123456.0}) {
+    got.push_back(r.Poisson(mean));
+    got.push_back(r.Poisson(mean));
+  }
+  CHECK(got == expected);
+}
+
+TEST_CASE("Poisson draws have mean and variance equal to their mean", "[random]") {
+  for (const double mean : {0.3, 2.5, 9.9, 10.0, 17.0, 150.0, 5000.0}) {
+    RandomStream r(17, 0, "test.poisson_moments");
+    const int n = 200000;
+    double sum = 0, sum2 = 0;
+    for (int i = 0; i < n; ++i) {
+      const auto k = r.Poisson(mean);
+      REQUIRE(k >= 0);
+      sum += static_cast<double>(k);
+      sum2 += static_cast<double>(k) * static_cast<double>(k);
+    }
+    const double m = sum / n, var = sum2 / n - m * m;
+    CAPTURE(mean);
+    CHECK(m == Approx(mean).margin(5 * std::sqrt(mean / n)));  // 5 standard errors
+    CHECK(var == Approx(mean).epsilon(0.02));
+  }
+}
+
+TEST_CASE("Poisson draws follow the probability mass function", "[random]") {
+  // Both methods: every k with P(k) > 0.5 % is drawn with its probability within 5 standard errors.
+  for (const double mean : {4.0, 12.0, 30.0}) {
+    RandomStream r(19, 0, "test.poisson_pmf");
+    const int n = 200000;
+    std::vector<int> counts(200, 0);
+    for (int i = 0; i < n; ++i) {
+      const auto k = r.Poisson(mean);
+      if (k < 200) ++counts[static_cast<std::size_t>(k)];
+    }
+    double log_p = -mean;  // log P(0)
+    for (int k = 0; k < 200; ++k) {
+      if (k > 0) log_p += std::log(mean / k);
+      const double p = std::exp(log_p);
+      if (p < 0.005) continue;
+      CAPTURE(mean, k);
+      CHECK(counts[static_cast<std::size_t>(k)] / double(n) ==
+            Approx(p).margin(5 * std::sqrt(p * (1 - p) / n)));
+    }
+  }
+}
+
 }  // namespace
 }  // namespace corridorsim

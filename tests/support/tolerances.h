@@ -22,4 +22,9 @@ inline constexpr double kFovRad = 1e-12;
 inline constexpr double kGeomTolM = 1e-9;
 inline constexpr double kFloatTol = 1e-5;
 
+// Frame truth: projected landmarks against values a test computes independently by closed form
+// (px, rad). Both sides are exact formulas, so only rounding separates them.
+inline constexpr double kFrameTruthPx = 1e-6;
+inline constexpr double kFrameTruthRad = 1e-9;
+
 }  // namespace corridorsim::test

@@ -1,0 +1,51 @@
+#pragma once
+// GL backends behind one interface (MuJoCo's mjr_ side): they only draw a render::Scene.
+// OSMesa (libosmesa6, llvmpipe) and EGL surfaceless (Mesa); the same scene and view give the
+// same images within a small tolerance.
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "common/image.h"
+#include "render/scene.h"
+
+namespace corridorsim::render {
+
+/// What one pinhole pass produces. Rows are top-down (row 0 = top of the image).
+struct RenderedView {
+  Image8 rgb;                            // RGB, 8 bit, lit and shaded
+  ImageF depth_m;                        // z along the optical axis (m), 0 where nothing was hit
+  std::vector<std::uint32_t> instance;   // width * height instance ids, 0 = nothing
+  std::vector<std::uint8_t> semantic;    // width * height worlds::SemanticClass values
+};
+
+enum class BackendKind { kOsMesa, kEgl };
+std::string BackendName(BackendKind kind);  // "osmesa", "egl"
+
+/// A context or GL resource that cannot be created: names the backend and what is missing.
+class RenderError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+class Backend {
+ public:
+  virtual ~Backend() = default;
+  virtual BackendKind kind() const = 0;
+  /// Uploads geometry, materials, textures (once per scene; replaces an earlier scene).
+  virtual void Upload(const Scene& scene) = 0;
+  /// Draws `drawables` (indices into the uploaded scene's drawables) from `view` into `out`,
+  /// lit by the lights listed in `lights` (indices into scene.lights, at most 16).
+  virtual void Draw(const View& view, std::span<const int> drawables, std::span<const int> lights,
+                    RenderedView* out) = 0;
+};
+
+/// Creates a backend with its own off-screen context. Throws RenderError naming the backend and
+/// what is missing when the context cannot be created.
+std::unique_ptr<Backend> CreateBackend(BackendKind kind);
+
+}  // namespace corridorsim::render

@@ -1,0 +1,529 @@
+#include "render/camera_rig.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <numbers>
+
+namespace corridorsim::render {
+namespace {
+
+using Eigen::Matrix3d;
+using Eigen::Vector2d;
+using Eigen::Vector3d;
+
+constexpr double kDegToRad = std::numbers::pi / 180.0;
+
+std::string Num(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "%g", v);
+  return buf;
+}
+
+bool IsUndistortedPinhole(const CameraModel& model) {
+  const auto* p = std::get_if<PinholeRadTan>(&model);
+  return p && p->k1 == 0 && p->k2 == 0 && p->p1 == 0 && p->p2 == 0 && p->k3 == 0;
+}
+
+// Rotation from a pass (cube face) frame to the camera frame whose optical axis is `axis`.
+Matrix3d FaceRotation(int face) {
+  // Columns: the face's x, y, z axes in the camera frame (x right, y down, z forward).
+  Matrix3d r;
+  switch (face) {
+    case 0: r << 1, 0, 0, 0, 1, 0, 0, 0, 1; break;     // +z
+    case 1: r << 0, 0, 1, 0, 1, 0, -1, 0, 0; break;    // +x: face z = cam x, face x = -cam z
+    case 2: r << 0, 0, -1, 0, 1, 0, 1, 0, 0; break;    // -x
+    case 3: r << 1, 0, 0, 0, 0, 1, 0, -1, 0; break;    // +y: face z = cam y, face y = -cam z
+    case 4: r << 1, 0, 0, 0, 0, -1, 0, 1, 0; break;    // -y
+    default: r << -1, 0, 0, 0, 1, 0, 0, 0, -1; break;  // -z
+  }
+  return r;
+}
+
+void Bilinear(const Image8& img, float x, float y, std::uint8_t* out) {
+  const int w = img.width, h = img.height;
+  x = std::clamp(x, 0.0f, static_cast<float>(w - 1));
+  y = std::clamp(y, 0.0f, static_cast<float>(h - 1));
+  const int x0 = std::min(static_cast<int>(x), w - 2 < 0 ? 0 : w - 2);
+  const int y0 = std::min(static_cast<int>(y), h - 2 < 0 ? 0 : h - 2);
+  const int x1 = std::min(x0 + 1, w - 1), y1 = std::min(y0 + 1, h - 1);
+  const float fx = x - static_cast<float>(x0), fy = y - static_cast<float>(y0);
+  const std::uint8_t* p00 = img.Pixel(x0, y0);
+  const std::uint8_t* p10 = img.Pixel(x1, y0);
+  const std::uint8_t* p01 = img.Pixel(x0, y1);
+  const std::uint8_t* p11 = img.Pixel(x1, y1);
+  for (int c = 0; c < 3; ++c) {
+    const float top = static_cast<float>(p00[c]) * (1 - fx) + static_cast<float>(p10[c]) * fx;
+    const float bottom = static_cast<float>(p01[c]) * (1 - fx) + static_cast<float>(p11[c]) * fx;
+    out[c] = static_cast<std::uint8_t>(std::lround(top * (1 - fy) + bottom * fy));
+  }
+}
+
+}  // namespace
+
+SE3 Mount::RobotFromCamera() const {
+  const double yaw = yaw_deg * kDegToRad, pitch = pitch_deg * kDegToRad, roll = roll_deg * kDegToRad;
+  const Vector3d forward(std::cos(pitch) * std::cos(yaw), std::cos(pitch) * std::sin(yaw),
+                         std::sin(pitch));
+  // Horizontal right of the heading (defined by yaw even when looking straight up).
+  const Vector3d right0(std::sin(yaw), -std::cos(yaw), 0.0);
+  const Vector3d down0 = forward.cross(right0);
+  const Vector3d right = std::cos(roll) * right0 + std::sin(roll) * down0;
+  const Vector3d down = forward.cross(right);
+  Matrix3d r;
+  r.col(0) = right;
+  r.col(1) = down;
+  r.col(2) = forward;
+  return SE3(r, Vector3d(x_m, y_m, z_m));
+}
+
+PinholeRadTan PinholeOf(const CameraModel& model) {
+  if (const auto* p = std::get_if<PinholeRadTan>(&model)) return *p;
+  const auto& k = std::get<KannalaBrandt>(model);
+  PinholeRadTan p;
+  p.width = k.width;
+  p.height = k.height;
+  p.fx = k.fx;
+  p.fy = k.fy;
+  p.cx = k.cx;
+  p.cy = k.cy;
+  return p;
+}
+
+RigSpec RigSpec::Default() {
+  RigSpec rig;
+  CameraSpec front;
+  front.id = "front";
+  front.model = PinholeRadTan::FromFov(640, 480, 58.0 * kDegToRad);
+  front.mount = Mount{0.18, 0.0, 0.45, 0.0, 0.0, 0.0};
+  front.depth = true;
+  rig.cameras.push_back(front);
+
+  CameraSpec lateral;
+  lateral.id = "lateral";
+  lateral.model = PinholeRadTan::FromFov(640, 480, 60.0 * kDegToRad);
+  lateral.mount = Mount{0.0, 0.12, 0.55, 90.0, 25.0, 0.0};
+  rig.cameras.push_back(lateral);
+
+  CameraSpec upward;
+  upward.id = "upward";
+  upward.model = KannalaBrandt::FromFov(640, 480, 110.0 * kDegToRad);
+  upward.mount = Mount{-0.05, 0.0, 0.4, 0.0, 90.0, 0.0};
+  rig.cameras.push_back(upward);
+  return rig;
+}
+
+const CameraSpec* RigSpec::Find(const std::string& id) const {
+  for (const CameraSpec& c : cameras) {
+    if (c.id == id) return &c;
+  }
+  return nullptr;
+}
+
+std::optional<SpecProblem> RigSpec::Check() const {
+  for (const CameraSpec& c : cameras) {
+    const std::string k = c.id + ".";
+    if (!(c.rate_hz > 0)) return SpecProblem{k + "rate_hz", "must be greater than 0"};
+    const bool pinhole = std::holds_alternative<PinholeRadTan>(c.model);
+    const PinholeRadTan p = PinholeOf(c.model);
+    if (p.width <= 0 || p.height <= 0) {
+      return SpecProblem{k + (p.width <= 0 ? "width" : "height"),
+                         "the image size must be positive (got " + std::to_string(p.width) + "x" +
+                             std::to_string(p.height) + ")"};
+    }
+    if (!(p.fx > 0) || !(p.fy > 0)) {
+      return SpecProblem{k + "fov_deg", "the field of view must be positive"};
+    }
+    const double fov_deg = (pinhole ? std::get<PinholeRadTan>(c.model).FieldOfViewRad()
+                                    : std::get<KannalaBrandt>(c.model).FieldOfViewRad()) /
+                           kDegToRad;
+    if (pinhole && fov_deg >= 150.0) {
+      return SpecProblem{k + "fov_deg", "a pinhole camera must see less than 150 degrees (got " +
+                                            Num(fov_deg) + "); use model: kannala_brandt"};
+    }
+    if (!pinhole && fov_deg >= 180.0) {
+      return SpecProblem{k + "fov_deg",
+                         "a fisheye must see less than 180 degrees (got " + Num(fov_deg) + ")"};
+    }
+    if (auto problem = corridorsim::Check(c.model)) return SpecProblem{k + "distortion", *problem};
+    if (c.depth && !pinhole) {
+      return SpecProblem{k + "depth", "depth images need a pinhole camera"};
+    }
+    if (c.cube_face_px < 0 || c.cube_face_px > 4096) {
+      return SpecProblem{k + "cube_face_px", "must lie in [0, 4096] (0 = automatic)"};
+    }
+    if (auto problem = c.depth_noise.Check()) {
+      return SpecProblem{k + "noise.depth." + problem->key, problem->message};
+    }
+    if (auto problem = c.rgb_noise.Check()) {
+      return SpecProblem{k + "noise.rgb." + problem->key, problem->message};
+    }
+  }
+  return std::nullopt;
+}
+
+namespace {
+
+void ParseCamera(YamlMap& map, CameraSpec& c) {
+  map.Read("enabled", c.enabled);
+  map.Read("rate_hz", c.rate_hz);
+  bool pinhole = std::holds_alternative<PinholeRadTan>(c.model);
+  if (map.Has("model")) {
+    std::string model;
+    map.ReadEnum("model", model, {{"pinhole", std::string("pinhole")},
+                                  {"kannala_brandt", std::string("kannala_brandt")}});
+    pinhole = model == "pinhole";
+  }
+  PinholeRadTan p = PinholeOf(c.model);
+  // Size and field of view rebuild the intrinsics; explicit fx/fy/cx/cy override them.
+  int width = p.width, height = p.height;
+  map.Read("width", width);
+  map.Read("height", height);
+  double fov_deg = 0.0;
+  const bool has_fov = map.Read("fov_deg", fov_deg);
+  const bool resized = width != p.width || height != p.height;
+  if (has_fov || resized || pinhole != std::holds_alternative<PinholeRadTan>(c.model)) {
+    if (!has_fov) {
+      fov_deg = (std::holds_alternative<PinholeRadTan>(c.model)
+                     ? std::get<PinholeRadTan>(c.model).FieldOfViewRad()
+                     : std::get<KannalaBrandt>(c.model).FieldOfViewRad()) /
+                kDegToRad;
+    }
+    if (width > 0 && height > 0 && fov_deg > 0 && fov_deg < 179.9) {
+      if (pinhole) {
+        c.model = PinholeRadTan::FromFov(width, height, fov_deg * kDegToRad);
+      } else {
+        c.model = KannalaBrandt::FromFov(width, height, fov_deg * kDegToRad);
+      }
+    } else {
+      // Keep the impossible request visible to Check() rather than silently fixing it.
+      PinholeRadTan bad;
+      bad.width = width;
+      bad.height = height;
+      const double f = fov_deg > 0 ? 0.5 * std::max(width, 1) / std::tan(std::min(fov_deg, 179.9) * kDegToRad / 2) : 0.0;
+      bad.fx = bad.fy = f;
+      bad.cx = (width - 1) / 2.0;
+      bad.cy = (height - 1) / 2.0;
+      if (pinhole) {
+        c.model = bad;
+      } else {
+        KannalaBrandt k;
+        k.width = width;
+        k.height = height;
+        k.fx = k.fy = fov_deg > 0 ? std::min(width, height) / (fov_deg * kDegToRad) : 0.0;
+        k.cx = bad.cx;
+        k.cy = bad.cy;
+        c.model = k;
+      }
+    }
+  }
+  std::visit(
+      [&](auto& m) {
+        map.Read("fx", m.fx);
+        map.Read("fy", m.fy);
+        map.Read("cx", m.cx);
+        map.Read("cy", m.cy);
+      },
+      c.model);
+  std::vector<double> distortion;
+  if (map.Read("distortion", distortion)) {
+    if (auto* pm = std::get_if<PinholeRadTan>(&c.model)) {
+      if (distortion.size() != 5) map.Fail("distortion", "a pinhole needs [k1, k2, p1, p2, k3]");
+      pm->k1 = distortion[0], pm->k2 = distortion[1], pm->p1 = distortion[2];
+      pm->p2 = distortion[3], pm->k3 = distortion[4];
+    } else {
+      auto& km = std::get<KannalaBrandt>(c.model);
+      if (distortion.size() != 4) map.Fail("distortion", "a fisheye needs [k1, k2, k3, k4]");
+      km.k1 = distortion[0], km.k2 = distortion[1], km.k3 = distortion[2], km.k4 = distortion[3];
+    }
+  }
+  YamlMap mount = map.Map("mount");
+  mount.Read("x_m", c.mount.x_m);
+  mount.Read("y_m", c.mount.y_m);
+  mount.Read("z_m", c.mount.z_m);
+  mount.Read("yaw_deg", c.mount.yaw_deg);
+  mount.Read("pitch_deg", c.mount.pitch_deg);
+  mount.Read("roll_deg", c.mount.roll_deg);
+  mount.RejectUnknownKeys();
+  map.Read("depth", c.depth);
+  map.Read("cube_face_px", c.cube_face_px);
+  YamlMap noise = map.Map("noise");
+  noise.Read("enabled", c.noise);
+  YamlMap depth_noise = noise.Map("depth");
+  ParseDepthNoiseOptions(depth_noise, c.depth_noise);
+  YamlMap rgb_noise = noise.Map("rgb");
+  ParseRgbNoiseOptions(rgb_noise, c.rgb_noise);
+  noise.RejectUnknownKeys();
+  map.RejectUnknownKeys();
+}
+
+}  // namespace
+
+void ParseSensors(YamlMap& sensors, RigSpec& rig) {
+  for (CameraSpec& c : rig.cameras) {
+    YamlMap camera = sensors.Map(c.id);
+    ParseCamera(camera, c);
+  }
+  sensors.RejectUnknownKeys();
+}
+
+void ParseRenderOptions(YamlMap& render, RigSpec& rig) {
+  render.ReadEnum("backend", rig.backend,
+                  {{"osmesa", BackendKind::kOsMesa}, {"egl", BackendKind::kEgl}});
+  double ambient = rig.scene.ambient, intensity = rig.scene.light_intensity,
+         falloff = rig.scene.light_falloff_m;
+  render.Read("ambient", ambient);
+  render.Read("light_intensity", intensity);
+  render.Read("light_falloff_m", falloff);
+  if (ambient < 0 || ambient > 1) render.Fail("ambient", "must lie in [0, 1]");
+  if (intensity < 0) render.Fail("light_intensity", "must not be negative");
+  if (!(falloff > 0)) render.Fail("light_falloff_m", "must be greater than 0");
+  rig.scene.ambient = static_cast<float>(ambient);
+  rig.scene.light_intensity = static_cast<float>(intensity);
+  rig.scene.light_falloff_m = static_cast<float>(falloff);
+  render.RejectUnknownKeys();
+}
+
+std::optional<SpecProblem> CheckCameraPlacement(const worlds::World& world, const RigSpec& rig,
+                                                const SE3& world_from_robot) {
+  for (const CameraSpec& c : rig.cameras) {
+    if (!c.enabled) continue;
+    const Vector3d p = (world_from_robot * c.mount.RobotFromCamera()).translation();
+    for (const worlds::CollisionBox& box : world.collision_boxes) {
+      if (((p - box.center).cwiseAbs() - box.half_extents).maxCoeff() < 0.0) {
+        return SpecProblem{c.id + ".mount",
+                           "the camera at (" + Num(p.x()) + ", " + Num(p.y()) + ", " + Num(p.z()) +
+                               ") m is inside a " + worlds::SemanticClassName(box.semantic_class) +
+                               " (instance " + std::to_string(box.instance_id) + ")"};
+      }
+    }
+    bool inside = false;
+    for (const worlds::CorridorSegment& seg : world.segments) {
+      const Vector2d d = seg.direction(), q = p.head<2>() - seg.start;
+      const double along = q.dot(d), across = q.dot(Vector2d(-d.y(), d.x()));
+      const double len = (seg.end - seg.start).norm();
+      inside |= along >= -seg.width_m / 2 && along <= len + seg.width_m / 2 &&
+                std::abs(across) <= seg.width_m / 2 && p.z() > 0 && p.z() < seg.height_m;
+    }
+    for (const worlds::Doorway& door : world.doors) {
+      if (door.room) inside |= door.room->footprint.contains(p.head<2>());
+    }
+    if (!inside) {
+      return SpecProblem{c.id + ".mount", "the camera at (" + Num(p.x()) + ", " + Num(p.y()) +
+                                              ", " + Num(p.z()) +
+                                              ") m is outside the corridor (in or behind a wall)"};
+    }
+  }
+  return std::nullopt;
+}
+
+// ---- CameraRenderer ----------------------------------------------------------------------------
+
+CameraRenderer::CameraRenderer(const CameraSpec& spec) : spec_(spec) {
+  if (IsUndistortedPinhole(spec_.model)) {
+    PlanPinholePass();
+  } else {
+    PlanRemapPasses();
+  }
+  rendered_.resize(passes_.size());
+}
+
+void CameraRenderer::PlanPinholePass() {
+  const auto& p = std::get<PinholeRadTan>(spec_.model);
+  Pass pass;
+  pass.view.width = p.width;
+  pass.view.height = p.height;
+  pass.view.fx = p.fx;
+  pass.view.fy = p.fy;
+  pass.view.cx = p.cx;
+  pass.view.cy = p.cy;
+  passes_.push_back(pass);
+}
+
+void CameraRenderer::PlanRemapPasses() {
+  const PinholeRadTan p = PinholeOf(spec_.model);
+  const bool fisheye = std::holds_alternative<KannalaBrandt>(spec_.model);
+  const int w = p.width, h = p.height;
+  // Unit bearings of every output pixel, and which face (or the single pass) each one uses.
+  std::vector<Vector3d> bearings(static_cast<std::size_t>(w) * h);
+  std::vector<int> face_of(bearings.size(), -1);
+  for (int v = 0; v < h; ++v) {
+    for (int u = 0; u < w; ++u) {
+      const Vector3d b = Unproject(spec_.model, Vector2d(u, v));
+      const std::size_t i = static_cast<std::size_t>(v) * w + u;
+      bearings[i] = b;
+      if (!b.allFinite() || b.norm() < 0.5) continue;
+      if (!fisheye) {
+        if (b.z() > 1e-6) face_of[i] = 0;
+        continue;
+      }
+      int best = 0;
+      double best_dot = -2;
+      for (int f = 0; f < 6; ++f) {
+        const double d = FaceRotation(f).col(2).dot(b);
+        if (d > best_dot + 1e-12) best_dot = d, best = f;
+      }
+      face_of[i] = best;
+    }
+  }
+  // Pass intrinsics: a fisheye face spans 90 degrees at `face_px`; a distorted pinhole's single
+  // pass keeps the camera's focal length.
+  int face_px = spec_.cube_face_px;
+  if (face_px == 0) face_px = 2 * static_cast<int>(std::ceil(std::max(p.fx, p.fy)));
+  const double f_face = face_px / 2.0;
+  struct Extent {
+    double u0 = 1e30, v0 = 1e30, u1 = -1e30, v1 = -1e30;
+  };
+  const int n_faces = fisheye ? 6 : 1;
+  std::vector<Extent> extents(static_cast<std::size_t>(n_faces));
+  auto project_in = [&](int f, const Vector3d& b) {
+    const Vector3d q = FaceRotation(f).transpose() * b;
+    const double fx = fisheye ? f_face : p.fx, fy = fisheye ? f_face : p.fy;
+    return Vector2d(fx * q.x() / q.z(), fy * q.y() / q.z());  // relative to the principal point
+  };
+  for (std::size_t i = 0; i < bearings.size(); ++i) {
+    if (face_of[i] < 0) continue;
+    const Vector2d uv = project_in(face_of[i], bearings[i]);
+    Extent& e = extents[static_cast<std::size_t>(face_of[i])];
+    e.u0 = std::min(e.u0, uv.x()), e.u1 = std::max(e.u1, uv.x());
+    e.v0 = std::min(e.v0, uv.y()), e.v1 = std::max(e.v1, uv.y());
+  }
+  std::vector<int> pass_of_face(static_cast<std::size_t>(n_faces), -1);
+  std::vector<Vector2d> origin_of_face(static_cast<std::size_t>(n_faces));
+  for (int f = 0; f < n_faces; ++f) {
+    const Extent& e = extents[static_cast<std::size_t>(f)];
+    if (e.u0 > e.u1) continue;
+    // Crop to the used window plus a border of 2 px for bilinear sampling.
+    const double u0 = std::floor(e.u0) - 2, v0 = std::floor(e.v0) - 2;
+    const double u1 = std::ceil(e.u1) + 2, v1 = std::ceil(e.v1) + 2;
+    Pass pass;
+    pass.camera_from_pass = SE3(FaceRotation(f), Vector3d::Zero());
+    pass.view.width = static_cast<int>(u1 - u0) + 1;
+    pass.view.height = static_cast<int>(v1 - v0) + 1;
+    pass.view.fx = fisheye ? f_face : p.fx;
+    pass.view.fy = fisheye ? f_face : p.fy;
+    pass.view.cx = -u0;  // pixel (0,0) of the crop is at offset (u0, v0) from the principal point
+    pass.view.cy = -v0;
+    pass_of_face[static_cast<std::size_t>(f)] = static_cast<int>(passes_.size());
+    origin_of_face[static_cast<std::size_t>(f)] = Vector2d(u0, v0);
+    passes_.push_back(pass);
+  }
+  lut_.resize(bearings.size());
+  for (std::size_t i = 0; i < bearings.size(); ++i) {
+    if (face_of[i] < 0) continue;
+    const int f = face_of[i];
+    const Vector3d q = FaceRotation(f).transpose() * bearings[i];
+    const Vector2d uv = project_in(f, bearings[i]) - origin_of_face[static_cast<std::size_t>(f)];
+    LutEntry& e = lut_[i];
+    e.x = static_cast<float>(uv.x());
+    e.y = static_cast<float>(uv.y());
+    // Camera z of the point at pass depth 1 along this ray: camera z = pass z * b.z / q.z.
+    e.depth_scale = static_cast<float>(bearings[i].z() / q.z());
+    e.pass = static_cast<std::uint8_t>(pass_of_face[static_cast<std::size_t>(f)]);
+    e.valid = true;
+  }
+}
+
+std::vector<View> CameraRenderer::Passes(const SE3& world_from_camera) const {
+  std::vector<View> views;
+  for (const Pass& pass : passes_) {
+    View v = pass.view;
+    v.world_from_camera = world_from_camera * pass.camera_from_pass;
+    views.push_back(v);
+  }
+  return views;
+}
+
+std::size_t CameraRenderer::pass_pixel_count() const {
+  std::size_t n = 0;
+  for (const Pass& p : passes_) n += static_cast<std::size_t>(p.view.width) * p.view.height;
+  return n;
+}
+
+std::optional<std::pair<int, Eigen::Vector2d>> CameraRenderer::Lookup(int u, int v) const {
+  const PinholeRadTan p = PinholeOf(spec_.model);
+  if (u < 0 || v < 0 || u >= p.width || v >= p.height) return std::nullopt;
+  if (lut_.empty()) return std::make_pair(0, Vector2d(u, v));
+  const LutEntry& e = lut_[static_cast<std::size_t>(v) * p.width + u];
+  if (!e.valid) return std::nullopt;
+  return std::make_pair(static_cast<int>(e.pass), Vector2d(e.x, e.y));
+}
+
+void CameraRenderer::Render(const Scene& scene, Backend& backend, const SE3& world_from_camera,
+                            CameraFrame* frame) {
+  frame->camera_id = spec_.id;
+  frame->world_from_camera = world_from_camera;
+  const std::vector<View> views = Passes(world_from_camera);
+  const std::vector<int> lights = NearestLights(scene, world_from_camera.translation(), 16);
+  for (std::size_t k = 0; k < views.size(); ++k) {
+    const std::vector<int> visible = VisibleDrawables(scene, views[k]);
+    backend.Draw(views[k], visible, lights, &rendered_[k]);
+  }
+  if (lut_.empty()) {
+    RenderedView& r = rendered_[0];
+    frame->rgb = r.rgb;
+    frame->instance = r.instance;
+    frame->semantic = r.semantic;
+    if (spec_.depth) frame->depth_m = r.depth_m;
+  } else {
+    Compose(frame);
+  }
+}
+
+void CameraRenderer::Compose(CameraFrame* frame) const {
+  const PinholeRadTan p = PinholeOf(spec_.model);
+  const int w = p.width, h = p.height;
+  frame->rgb = Image8(w, h, 3);
+  frame->instance.assign(static_cast<std::size_t>(w) * h, 0);
+  frame->semantic.assign(static_cast<std::size_t>(w) * h, 0);
+  if (spec_.depth) frame->depth_m = ImageF(w, h, 0.0f);
+  for (int v = 0; v < h; ++v) {
+    for (int u = 0; u < w; ++u) {
+      const std::size_t i = static_cast<std::size_t>(v) * w + u;
+      const LutEntry& e = lut_[i];
+      if (!e.valid) continue;
+      const RenderedView& r = rendered_[e.pass];
+      Bilinear(r.rgb, e.x, e.y, frame->rgb.Pixel(u, v));
+      const int nx = std::clamp(static_cast<int>(std::lround(e.x)), 0, r.rgb.width - 1);
+      const int ny = std::clamp(static_cast<int>(std::lround(e.y)), 0, r.rgb.height - 1);
+      const std::size_t j = static_cast<std::size_t>(ny) * r.rgb.width + nx;
+      frame->instance[i] = r.instance[j];
+      frame->semantic[i] = r.semantic[j];
+      if (spec_.depth) frame->depth_m.data[i] = r.depth_m.data[j] * e.depth_scale;
+    }
+  }
+}
+
+// ---- Rig -------------------------------------------------------------------------------------
+
+Rig::Rig(const RigSpec& spec, const Scene& scene, Backend& backend)
+    : scene_(scene), backend_(backend) {
+  for (const CameraSpec& c : spec.cameras) {
+    if (c.enabled) cameras_.emplace_back(c);
+  }
+}
+
+void Rig::Render(const SE3& world_from_robot, std::uint64_t seed, std::uint64_t frame_index,
+                 std::vector<CameraFrame>* frames) {
+  frames->resize(cameras_.size());
+  for (std::size_t k = 0; k < cameras_.size(); ++k) {
+    CameraRenderer& camera = cameras_[k];
+    CameraFrame& frame = (*frames)[k];
+    const SE3 world_from_camera = world_from_robot * camera.spec().mount.RobotFromCamera();
+    camera.Render(scene_, backend_, world_from_camera, &frame);
+    const CameraSpec& spec = camera.spec();
+    if (spec.depth) frame.noisy_depth_m = frame.depth_m;
+    if (!spec.noise) continue;
+    // Truth, then noise (STYLE item 9): each camera and frame has its own stream.
+    RandomStream rng = RandomStream(seed, 0, "render.noise." + spec.id)
+                           .Derive(std::to_string(frame_index));
+    RandomStream depth_rng = rng.Derive("depth"), rgb_rng = rng.Derive("rgb");
+    if (spec.depth) {
+      ApplyDepthNoise(spec.depth_noise, std::get<PinholeRadTan>(spec.model), depth_rng,
+                      &frame.noisy_depth_m);
+    }
+    ApplyRgbNoise(spec.rgb_noise, rgb_rng, &frame.rgb);
+  }
+}
+
+}  // namespace corridorsim::render

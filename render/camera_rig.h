@@ -1,0 +1,144 @@
+#pragma once
+// The sensor rig: cameras mounted on the robot (front RGB-D like P1's ASUS Xtion Pro Live, a
+// lateral web camera tilted up to read door plates (P1), a wide-angle upward camera (P2/P3)),
+// their options as parsed from a scenario's `sensors:` section, and the renderer that turns the
+// GL backend's pinhole passes into each camera's image through its model.
+//
+// Every camera is drawn as one or more undistorted pinhole passes: an undistorted pinhole camera
+// is one pass drawn with its own intrinsics (exact); a distorted pinhole is one wider pass
+// remapped through the distortion; a Kannala-Brandt fisheye is drawn as the cube faces its field
+// of view needs, each cropped to the part it uses, and remapped per pixel through the model
+// (bilinear colour, nearest labels and depth). The remap table is built once per camera.
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "common/camera_models.h"
+#include "common/error.h"
+#include "common/image.h"
+#include "common/pose.h"
+#include "common/yaml_reader.h"
+#include "render/backend.h"
+#include "render/noise.h"
+#include "render/scene.h"
+#include "worlds/world.h"
+
+namespace corridorsim::render {
+
+/// Where a camera sits on the robot. Position in the robot frame R (x forward, y left, z up);
+/// the optical axis points at heading `yaw_deg` (0 forward, 90 left) and elevation `pitch_deg`
+/// (0 horizontal, 90 straight up); `roll_deg` turns the image about the optical axis. At zero
+/// roll the image x axis is horizontal (for an upward camera: towards the robot's right).
+struct Mount {
+  double x_m = 0.0, y_m = 0.0, z_m = 0.0;
+  double yaw_deg = 0.0, pitch_deg = 0.0, roll_deg = 0.0;
+  SE3 RobotFromCamera() const;
+};
+
+struct CameraSpec {
+  std::string id;              // "front", "lateral", "upward"
+  bool enabled = true;
+  double rate_hz = 10.0 / 3.0;  // frames per second (P1: a 300 ms sensor period)
+  CameraModel model;
+  Mount mount;
+  bool depth = false;          // a registered depth image (front RGB-D sensor)
+  bool noise = true;           // apply the noise models below (false: exact images)
+  DepthNoiseOptions depth_noise;
+  RgbNoiseOptions rgb_noise;
+  int cube_face_px = 0;        // fisheye: cube face resolution (0 = matched to the model's centre)
+};
+
+struct RigSpec {
+  std::vector<CameraSpec> cameras;  // in a fixed order: front, lateral, upward
+  BackendKind backend = BackendKind::kOsMesa;
+  SceneOptions scene;
+
+  /// The defaults: front RGB-D (640x480, 58 x 45 deg), lateral web camera (640x480, 60 deg,
+  /// facing left, 25 deg up), upward Kannala-Brandt fisheye (640x480, 110 deg, P3).
+  static RigSpec Default();
+  const CameraSpec* Find(const std::string& id) const;
+  /// The first problem (key relative to `sensors`, e.g. "upward.fov_deg"), or nothing.
+  std::optional<SpecProblem> Check() const;
+};
+
+/// Reads a `sensors:` map onto `rig` (cameras by id; unknown ids are errors).
+void ParseSensors(YamlMap& sensors, RigSpec& rig);
+/// Reads a `render:` map (backend, lighting) onto `rig`.
+void ParseRenderOptions(YamlMap& render, RigSpec& rig);
+
+/// A problem when a camera at `world_from_robot` would sit inside a wall or outside the walkable
+/// area (key "<camera>.mount").
+std::optional<SpecProblem> CheckCameraPlacement(const worlds::World& world, const RigSpec& rig,
+                                                const SE3& world_from_robot);
+
+/// One camera's rendered frame. Rows top-down; pixel (0,0) is the centre of the top-left pixel.
+struct CameraFrame {
+  std::string camera_id;
+  SE3 world_from_camera;
+  Image8 rgb;                           // with noise when the camera's noise is on
+  ImageF depth_m;                       // exact z along the optical axis (depth cameras only)
+  ImageF noisy_depth_m;                 // after the depth noise model (depth cameras only)
+  std::vector<std::uint32_t> instance;  // per pixel instance id (World ids), 0 = nothing
+  std::vector<std::uint8_t> semantic;   // per pixel worlds::SemanticClass
+};
+
+/// Draws one camera: its pinhole passes and the remap table through its model.
+class CameraRenderer {
+ public:
+  explicit CameraRenderer(const CameraSpec& spec);
+
+  const CameraSpec& spec() const { return spec_; }
+  /// The pinhole passes for a camera at `world_from_camera`.
+  std::vector<View> Passes(const SE3& world_from_camera) const;
+  /// Renders the exact (noise-free) frame.
+  void Render(const Scene& scene, Backend& backend, const SE3& world_from_camera,
+              CameraFrame* frame);
+  std::size_t pass_pixel_count() const;
+  /// Where output pixel (u, v) is sampled: the pass index and the continuous pixel position in
+  /// that pass, or nothing outside the model's valid angle (for tests and tools).
+  std::optional<std::pair<int, Eigen::Vector2d>> Lookup(int u, int v) const;
+
+ private:
+  struct Pass {
+    SE3 camera_from_pass;  // rotation only
+    View view;             // intrinsics of the (cropped) pass; pose filled per frame
+  };
+  struct LutEntry {
+    float x = 0, y = 0;          // continuous pixel position in the pass image
+    float depth_scale = 0;       // camera z per pass z along this pixel's ray
+    std::uint8_t pass = 0;
+    bool valid = false;          // false outside the model's valid angle
+  };
+  void PlanPinholePass();
+  void PlanRemapPasses();
+  void Compose(CameraFrame* frame) const;
+
+  CameraSpec spec_;
+  std::vector<Pass> passes_;
+  std::vector<LutEntry> lut_;  // empty for a direct (undistorted pinhole) camera
+  std::vector<RenderedView> rendered_;
+};
+
+/// The whole rig on one robot.
+class Rig {
+ public:
+  Rig(const RigSpec& spec, const Scene& scene, Backend& backend);
+  /// Renders every enabled camera at `world_from_robot`, then applies each camera's noise from
+  /// the stream (seed, 0, "render.noise.<camera>") derived for `frame_index`.
+  void Render(const SE3& world_from_robot, std::uint64_t seed, std::uint64_t frame_index,
+              std::vector<CameraFrame>* frames);
+  const std::vector<CameraRenderer>& cameras() const { return cameras_; }
+
+ private:
+  const Scene& scene_;
+  Backend& backend_;
+  std::vector<CameraRenderer> cameras_;
+};
+
+/// The pinhole intrinsics of a model (a fisheye's fx, fy, cx, cy with no distortion), for noise
+/// models and overlays.
+PinholeRadTan PinholeOf(const CameraModel& model);
+
+}  // namespace corridorsim::render

@@ -1,0 +1,500 @@
+#include "render/gl_renderer.h"
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+
+namespace corridorsim::render {
+namespace {
+
+constexpr const char* kVertexShader = R"glsl(#version 330 core
+layout(location = 0) in vec3 a_position;  // world frame, m
+layout(location = 1) in vec3 a_normal;    // world frame
+layout(location = 2) in vec2 a_uv;
+uniform mat4 u_camera_from_world;
+uniform mat4 u_clip_from_camera;
+out vec3 v_world;
+out vec3 v_normal;
+out vec2 v_uv;
+out vec3 v_camera;  // OpenCV optical frame, m
+void main() {
+  vec4 p_in_camera = u_camera_from_world * vec4(a_position, 1.0);
+  v_world = a_position;
+  v_normal = a_normal;
+  v_uv = a_uv;
+  v_camera = p_in_camera.xyz;
+  gl_Position = u_clip_from_camera * p_in_camera;
+}
+)glsl";
+
+// Compiled once per light count (LIGHT_COUNT is prepended): llvmpipe runs a loop over a uniform
+// count for every array slot, so a constant bound costs only the lights that are drawn.
+constexpr const char* kFragmentShader = R"glsl(
+in vec3 v_world;
+in vec3 v_normal;
+in vec2 v_uv;
+in vec3 v_camera;
+uniform vec3 u_diffuse;
+uniform vec3 u_emission;
+uniform int u_has_texture;
+uniform sampler2D u_texture;
+uniform float u_ambient;
+uniform float u_inv_falloff2;  // 1 / falloff^2, 1/m^2: a light's contribution halves at falloff
+#if LIGHT_COUNT > 0
+uniform vec3 u_light_position[LIGHT_COUNT];   // world frame, m
+uniform vec3 u_light_intensity[LIGHT_COUNT];  // RGB
+#endif
+uniform uint u_instance;
+uniform uint u_semantic;
+layout(location = 0) out vec4 o_color;
+layout(location = 1) out uint o_instance;
+layout(location = 2) out uint o_semantic;
+layout(location = 3) out float o_z;
+void main() {
+  vec3 base = u_diffuse;
+  if (u_has_texture != 0) base *= texture(u_texture, v_uv).rgb;
+  vec3 n = normalize(v_normal);
+  vec3 light = vec3(u_ambient);
+#if LIGHT_COUNT > 0
+  for (int i = 0; i < LIGHT_COUNT; ++i) {
+    // intensity * max(0, n.l) / (1 + (d / falloff)^2)
+    vec3 to_light = u_light_position[i] - v_world;
+    float d2 = max(dot(to_light, to_light), 1e-12);
+    float n_dot_l = max(dot(n, to_light) * inversesqrt(d2), 0.0);
+    light += u_light_intensity[i] * (n_dot_l / (1.0 + d2 * u_inv_falloff2));
+  }
+#endif
+  o_color = vec4(clamp(base * light + u_emission, 0.0, 1.0), 1.0);
+  o_instance = u_instance;
+  o_semantic = u_semantic;
+  o_z = v_camera.z;  // exact for planar faces: perspective-correct interpolation of camera-frame z
+}
+)glsl";
+
+// Column-major 4x4 clip_from_camera for the OpenCV pinhole model. GL window pixel centres
+// (i + 0.5, j + 0.5) map to (u, v) = (i, j), and window row j is image row j: the y axis is not
+// flipped, so glReadPixels' bottom-up rows come back as top-down image rows with no copy.
+std::array<float, 16> ClipFromCamera(const View& view) {
+  const double w = view.width, h = view.height, n = view.near_m, f = view.far_m;
+  std::array<float, 16> m{};
+  m[0] = float(2.0 * view.fx / w);
+  m[5] = float(2.0 * view.fy / h);
+  m[8] = float(2.0 * (view.cx + 0.5) / w - 1.0);
+  m[9] = float(2.0 * (view.cy + 0.5) / h - 1.0);
+  m[10] = float((f + n) / (f - n));
+  m[11] = 1.0f;
+  m[14] = float(-2.0 * f * n / (f - n));
+  return m;
+}
+
+std::array<float, 16> CameraFromWorld(const View& view) {
+  const Eigen::Matrix4f m = view.world_from_camera.Inverse().ToMatrix().cast<float>();
+  std::array<float, 16> out{};
+  std::memcpy(out.data(), m.data(), sizeof(out));  // Eigen is column-major, like GL
+  return out;
+}
+
+GLenum TextureFormat(int channels) {
+  switch (channels) {
+    case 1:
+      return GL_RED;
+    case 3:
+      return GL_RGB;
+    default:
+      return GL_RGBA;
+  }
+}
+
+}  // namespace
+
+GlBackend::GlBackend(std::unique_ptr<GlContext> context) : context_(std::move(context)) {
+  context_->MakeCurrent();
+  gl_ = LoadGlFunctions(*context_);
+
+  const auto* version = reinterpret_cast<const char*>(gl_.GetString(GL_VERSION));
+  GLint major = 0, minor = 0;
+  gl_.GetIntegerv(GL_MAJOR_VERSION, &major);
+  gl_.GetIntegerv(GL_MINOR_VERSION, &minor);
+  if (major * 10 + minor < 33) {
+    Fail(std::string("needs OpenGL 3.3 core, the context is ") +
+         (version != nullptr ? version : "of unknown version"));
+  }
+
+  // The richest variant now, so that a shader that does not compile fails here; others on use.
+  ProgramFor(kMaxLightsPerDraw);
+  gl_.GenVertexArrays(1, &vao_);
+  gl_.GenBuffers(1, &vbo_);
+  gl_.GenBuffers(1, &ibo_);
+  gl_.GenFramebuffers(1, &fbo_);
+  gl_.GenRenderbuffers(GLsizei(renderbuffers_.size()), renderbuffers_.data());
+
+  // Vertex layout: SceneVertex {position[3], normal[3], uv[2]}.
+  gl_.BindVertexArray(vao_);
+  gl_.BindBuffer(GL_ARRAY_BUFFER, vbo_);
+  gl_.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, ibo_);
+  constexpr auto kStride = GLsizei(sizeof(SceneVertex));
+  gl_.EnableVertexAttribArray(0);
+  gl_.VertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, kStride,
+                          reinterpret_cast<const void*>(offsetof(SceneVertex, position)));
+  gl_.EnableVertexAttribArray(1);
+  gl_.VertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, kStride,
+                          reinterpret_cast<const void*>(offsetof(SceneVertex, normal)));
+  gl_.EnableVertexAttribArray(2);
+  gl_.VertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, kStride,
+                          reinterpret_cast<const void*>(offsetof(SceneVertex, uv)));
+
+  // Fixed state: depth test, no blending, no culling (walls are seen from both sides), no dither.
+  gl_.Enable(GL_DEPTH_TEST);
+  gl_.DepthFunc(GL_LESS);
+  gl_.Disable(GL_CULL_FACE);
+  gl_.Disable(GL_BLEND);
+  gl_.Disable(GL_DITHER);
+  gl_.PixelStorei(GL_PACK_ALIGNMENT, 1);
+  gl_.PixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  CheckGlError("context setup");
+}
+
+GlBackend::~GlBackend() {
+  try {
+    context_->MakeCurrent();
+  } catch (const RenderError&) {
+    return;  // the context goes with its objects
+  }
+  DeleteTextures();
+  gl_.DeleteRenderbuffers(GLsizei(renderbuffers_.size()), renderbuffers_.data());
+  gl_.DeleteFramebuffers(1, &fbo_);
+  gl_.DeleteBuffers(1, &ibo_);
+  gl_.DeleteBuffers(1, &vbo_);
+  gl_.DeleteVertexArrays(1, &vao_);
+  for (const Program& program : programs_) {
+    if (program.id != 0) gl_.DeleteProgram(program.id);
+  }
+}
+
+void GlBackend::Fail(const std::string& what) const {
+  throw RenderError(BackendName(context_->kind()) + ": " + what);
+}
+
+void GlBackend::CheckGlError(const char* where) {
+  std::string errors;
+  for (GLenum e = gl_.GetError(); e != GL_NO_ERROR; e = gl_.GetError()) {
+    errors += std::string(errors.empty() ? "" : ", ") + GlErrorName(e);
+  }
+  if (!errors.empty()) Fail(std::string("GL error after ") + where + ": " + errors);
+}
+
+const GlBackend::Program& GlBackend::ProgramFor(int light_count) {
+  Program& program = programs_[std::size_t(light_count)];
+  if (program.id != 0) return program;
+  auto compile = [&](GLenum type, const std::string& source, const char* name) {
+    const GLuint shader = gl_.CreateShader(type);
+    const char* text = source.c_str();
+    gl_.ShaderSource(shader, 1, &text, nullptr);
+    gl_.CompileShader(shader);
+    GLint ok = GL_FALSE;
+    gl_.GetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+    if (ok != GL_TRUE) {
+      GLint length = 0;
+      gl_.GetShaderiv(shader, GL_INFO_LOG_LENGTH, &length);
+      std::string log(std::size_t(std::max(length, 1)), '\0');
+      gl_.GetShaderInfoLog(shader, GLsizei(log.size()), nullptr, log.data());
+      gl_.DeleteShader(shader);
+      Fail(std::string(name) + " shader does not compile: " + log.c_str());
+    }
+    return shader;
+  };
+  const GLuint vertex = compile(GL_VERTEX_SHADER, kVertexShader, "vertex");
+  GLuint fragment = 0;
+  try {
+    fragment = compile(GL_FRAGMENT_SHADER,
+                       "#version 330 core\n#define LIGHT_COUNT " + std::to_string(light_count) +
+                           "\n" + kFragmentShader,
+                       "fragment");
+  } catch (...) {
+    gl_.DeleteShader(vertex);
+    throw;
+  }
+  const GLuint id = gl_.CreateProgram();
+  gl_.AttachShader(id, vertex);
+  gl_.AttachShader(id, fragment);
+  gl_.LinkProgram(id);
+  gl_.DeleteShader(vertex);  // flagged; freed with the program
+  gl_.DeleteShader(fragment);
+  GLint ok = GL_FALSE;
+  gl_.GetProgramiv(id, GL_LINK_STATUS, &ok);
+  if (ok != GL_TRUE) {
+    GLint length = 0;
+    gl_.GetProgramiv(id, GL_INFO_LOG_LENGTH, &length);
+    std::string log(std::size_t(std::max(length, 1)), '\0');
+    gl_.GetProgramInfoLog(id, GLsizei(log.size()), nullptr, log.data());
+    gl_.DeleteProgram(id);
+    Fail(std::string("shader program does not link: ") + log.c_str());
+  }
+
+  program.id = id;
+  auto location = [&](const char* name) { return gl_.GetUniformLocation(id, name); };
+  program.camera_from_world = location("u_camera_from_world");
+  program.clip_from_camera = location("u_clip_from_camera");
+  program.diffuse = location("u_diffuse");
+  program.emission = location("u_emission");
+  program.has_texture = location("u_has_texture");
+  program.texture = location("u_texture");
+  program.ambient = location("u_ambient");
+  program.inv_falloff2 = location("u_inv_falloff2");
+  program.light_position = location("u_light_position");
+  program.light_intensity = location("u_light_intensity");
+  program.instance = location("u_instance");
+  program.semantic = location("u_semantic");
+  gl_.UseProgram(id);
+  gl_.Uniform1i(program.texture, 0);
+  CheckGlError("shader setup");
+  return program;
+}
+
+void GlBackend::DeleteTextures() {
+  if (!textures_.empty()) gl_.DeleteTextures(GLsizei(textures_.size()), textures_.data());
+  textures_.clear();
+}
+
+void GlBackend::Upload(const Scene& scene) {
+  // Check the scene before touching GL: a bad scene leaves the earlier upload in place.
+  const std::size_t vertex_count = scene.vertices.size();
+  for (std::uint32_t index : scene.indices) {
+    if (index >= vertex_count) {
+      throw std::invalid_argument("render scene: index " + std::to_string(index) + " is past the " +
+                                  std::to_string(vertex_count) + " vertices");
+    }
+  }
+  for (std::size_t i = 0; i < scene.drawables.size(); ++i) {
+    const Drawable& d = scene.drawables[i];
+    if (std::size_t(d.first_index) + d.index_count > scene.indices.size() ||
+        d.index_count % 3 != 0) {
+      throw std::invalid_argument("render scene: drawable " + std::to_string(i) +
+                                  " has an index range outside the index buffer or not whole "
+                                  "triangles");
+    }
+    if (d.material < 0 || std::size_t(d.material) >= scene.materials.size()) {
+      throw std::invalid_argument("render scene: drawable " + std::to_string(i) +
+                                  " names material " + std::to_string(d.material) + " of " +
+                                  std::to_string(scene.materials.size()));
+    }
+  }
+  for (std::size_t i = 0; i < scene.materials.size(); ++i) {
+    const int t = scene.materials[i].texture;
+    if (t < -1 || t >= int(scene.textures.size())) {
+      throw std::invalid_argument("render scene: material " + std::to_string(i) +
+                                  " names texture " + std::to_string(t) + " of " +
+                                  std::to_string(scene.textures.size()));
+    }
+  }
+  for (std::size_t i = 0; i < scene.textures.size(); ++i) {
+    const Image8& t = scene.textures[i];
+    if (t.width <= 0 || t.height <= 0 || (t.channels != 1 && t.channels != 3 && t.channels != 4) ||
+        t.data.size() != std::size_t(t.width) * t.height * t.channels) {
+      throw std::invalid_argument("render scene: texture " + std::to_string(i) +
+                                  " is empty, not 1/3/4 channels, or its data size is wrong");
+    }
+  }
+  if (!(scene.options.light_falloff_m > 0.0f)) {
+    throw std::invalid_argument("render scene: options.light_falloff_m must be positive");
+  }
+
+  context_->MakeCurrent();
+  gl_.BindVertexArray(vao_);
+  gl_.BindBuffer(GL_ARRAY_BUFFER, vbo_);
+  gl_.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(vertex_count * sizeof(SceneVertex)),
+                 scene.vertices.data(), GL_STATIC_DRAW);
+  gl_.BufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(scene.indices.size() * sizeof(std::uint32_t)),
+                 scene.indices.data(), GL_STATIC_DRAW);
+
+  // Textures: Image8 row 0 is the top row, GL's first row is t = 0, and UV (0,0) is the
+  // bottom-left of the image: upload the rows bottom-up.
+  DeleteTextures();
+  textures_.resize(scene.textures.size());
+  if (!textures_.empty()) gl_.GenTextures(GLsizei(textures_.size()), textures_.data());
+  gl_.ActiveTexture(GL_TEXTURE0);
+  std::vector<std::uint8_t> flipped;
+  for (std::size_t i = 0; i < scene.textures.size(); ++i) {
+    const Image8& image = scene.textures[i];
+    const std::size_t row_bytes = std::size_t(image.width) * image.channels;
+    flipped.resize(image.data.size());
+    for (int y = 0; y < image.height; ++y) {
+      std::memcpy(&flipped[std::size_t(image.height - 1 - y) * row_bytes],
+                  &image.data[std::size_t(y) * row_bytes], row_bytes);
+    }
+    const GLenum format = TextureFormat(image.channels);
+    gl_.BindTexture(GL_TEXTURE_2D, textures_[i]);
+    gl_.TexImage2D(GL_TEXTURE_2D, 0, image.channels == 4 ? GL_RGBA8 : GLint(GL_RGB8), image.width,
+                   image.height, 0, format, GL_UNSIGNED_BYTE, flipped.data());
+    if (image.channels == 1) {  // grey: replicate red into green and blue
+      gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_SWIZZLE_G, GL_RED);
+      gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_SWIZZLE_B, GL_RED);
+    }
+    gl_.GenerateMipmap(GL_TEXTURE_2D);
+    gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
+    gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
+  }
+  gl_.BindTexture(GL_TEXTURE_2D, 0);
+
+  materials_ = scene.materials;
+  drawables_.clear();
+  drawables_.reserve(scene.drawables.size());
+  for (const Drawable& d : scene.drawables) {
+    drawables_.push_back(
+        {d.first_index, d.index_count, d.material, d.instance_id, d.semantic_class});
+  }
+  lights_ = scene.lights;
+  options_ = scene.options;
+  uploaded_ = true;
+  CheckGlError("scene upload");
+}
+
+void GlBackend::EnsureFramebuffer(int width, int height) {
+  if (width == fbo_width_ && height == fbo_height_) return;
+  // colour, instance id, semantic class, view-space z, depth
+  constexpr std::array<GLenum, 5> kFormats = {GL_RGBA8, GL_R32UI, GL_R8UI, GL_R32F,
+                                              GL_DEPTH_COMPONENT32F};
+  gl_.BindFramebuffer(GL_FRAMEBUFFER, fbo_);
+  for (std::size_t i = 0; i < kFormats.size(); ++i) {
+    gl_.BindRenderbuffer(GL_RENDERBUFFER, renderbuffers_[i]);
+    gl_.RenderbufferStorage(GL_RENDERBUFFER, kFormats[i], width, height);
+    const GLenum attachment =
+        i + 1 < kFormats.size() ? GLenum(GL_COLOR_ATTACHMENT0 + i) : GLenum(GL_DEPTH_ATTACHMENT);
+    gl_.FramebufferRenderbuffer(GL_FRAMEBUFFER, attachment, GL_RENDERBUFFER, renderbuffers_[i]);
+  }
+  constexpr std::array<GLenum, 4> kDrawBuffers = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1,
+                                                  GL_COLOR_ATTACHMENT2, GL_COLOR_ATTACHMENT3};
+  gl_.DrawBuffers(GLsizei(kDrawBuffers.size()), kDrawBuffers.data());
+  const GLenum status = gl_.CheckFramebufferStatus(GL_FRAMEBUFFER);
+  if (status != GL_FRAMEBUFFER_COMPLETE) {
+    fbo_width_ = fbo_height_ = 0;
+    Fail("framebuffer (RGBA8, R32UI, R8UI, R32F, depth 32F) is incomplete: status 0x" + [&] {
+      char hex[16];
+      std::snprintf(hex, sizeof(hex), "%x", status);
+      return std::string(hex);
+    }());
+  }
+  fbo_width_ = width;
+  fbo_height_ = height;
+  CheckGlError("framebuffer setup");
+}
+
+void GlBackend::Draw(const View& view, std::span<const int> drawables, std::span<const int> lights,
+                     RenderedView* out) {
+  if (out == nullptr) throw std::invalid_argument("render: Draw needs an output view");
+  if (view.width <= 0 || view.height <= 0) {
+    throw std::invalid_argument("render: view size must be positive, got " +
+                                std::to_string(view.width) + " x " + std::to_string(view.height));
+  }
+  if (!(view.fx > 0) || !(view.fy > 0) || !std::isfinite(view.cx) || !std::isfinite(view.cy)) {
+    throw std::invalid_argument("render: view focal lengths must be positive and finite");
+  }
+  if (!(view.near_m > 0) || !(view.far_m > view.near_m) || !std::isfinite(view.far_m)) {
+    throw std::invalid_argument("render: view needs 0 < near_m < far_m");
+  }
+  if (lights.size() > std::size_t(kMaxLightsPerDraw)) {
+    throw std::invalid_argument("render: at most 16 lights per draw, got " +
+                                std::to_string(lights.size()));
+  }
+  if (!uploaded_) throw std::logic_error("render: Draw before Upload");
+  for (int d : drawables) {
+    if (d < 0 || std::size_t(d) >= drawables_.size()) {
+      throw std::invalid_argument("render: drawable index " + std::to_string(d) + " out of range");
+    }
+  }
+  for (int l : lights) {
+    if (l < 0 || std::size_t(l) >= lights_.size()) {
+      throw std::invalid_argument("render: light index " + std::to_string(l) + " out of range");
+    }
+  }
+
+  context_->MakeCurrent();
+  GLint max_size = 0;
+  gl_.GetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_size);
+  if (view.width > max_size || view.height > max_size) {
+    throw std::invalid_argument("render: view size " + std::to_string(view.width) + " x " +
+                                std::to_string(view.height) + " exceeds the GL limit " +
+                                std::to_string(max_size));
+  }
+  EnsureFramebuffer(view.width, view.height);
+  gl_.BindFramebuffer(GL_FRAMEBUFFER, fbo_);
+  gl_.Viewport(0, 0, view.width, view.height);
+  constexpr GLfloat kBlack[4] = {0, 0, 0, 0};
+  constexpr GLuint kNoId[4] = {0, 0, 0, 0};
+  constexpr GLfloat kFarDepth = 1.0f;
+  gl_.ClearBufferfv(GL_COLOR, 0, kBlack);
+  gl_.ClearBufferuiv(GL_COLOR, 1, kNoId);
+  gl_.ClearBufferuiv(GL_COLOR, 2, kNoId);
+  gl_.ClearBufferfv(GL_COLOR, 3, kBlack);
+  gl_.ClearBufferfv(GL_DEPTH, 0, &kFarDepth);
+
+  const Program& program = ProgramFor(int(lights.size()));
+  gl_.UseProgram(program.id);
+  gl_.BindVertexArray(vao_);
+  const std::array<float, 16> camera_from_world = CameraFromWorld(view);
+  const std::array<float, 16> clip_from_camera = ClipFromCamera(view);
+  gl_.UniformMatrix4fv(program.camera_from_world, 1, GL_FALSE, camera_from_world.data());
+  gl_.UniformMatrix4fv(program.clip_from_camera, 1, GL_FALSE, clip_from_camera.data());
+  gl_.Uniform1f(program.ambient, options_.ambient);
+  gl_.Uniform1f(program.inv_falloff2, 1.0f / (options_.light_falloff_m * options_.light_falloff_m));
+  if (!lights.empty()) {
+    std::array<float, 3 * kMaxLightsPerDraw> positions{}, intensities{};
+    for (std::size_t i = 0; i < lights.size(); ++i) {
+      const PointLight& light = lights_[std::size_t(lights[i])];
+      for (int k = 0; k < 3; ++k) {
+        positions[3 * i + k] = light.position[k];
+        intensities[3 * i + k] = light.intensity[k];
+      }
+    }
+    gl_.Uniform3fv(program.light_position, GLsizei(lights.size()), positions.data());
+    gl_.Uniform3fv(program.light_intensity, GLsizei(lights.size()), intensities.data());
+  }
+
+  gl_.ActiveTexture(GL_TEXTURE0);
+  int bound_material = -1;
+  for (int index : drawables) {
+    const DrawRange& d = drawables_[std::size_t(index)];
+    if (d.index_count == 0) continue;
+    if (d.material != bound_material) {
+      const SceneMaterial& m = materials_[std::size_t(d.material)];
+      gl_.Uniform3f(program.diffuse, m.diffuse.x(), m.diffuse.y(), m.diffuse.z());
+      gl_.Uniform3f(program.emission, m.emission.x(), m.emission.y(), m.emission.z());
+      gl_.Uniform1i(program.has_texture, m.texture >= 0 ? 1 : 0);
+      gl_.BindTexture(GL_TEXTURE_2D, m.texture >= 0 ? textures_[std::size_t(m.texture)] : 0);
+      bound_material = d.material;
+    }
+    gl_.Uniform1ui(program.instance, d.instance_id);
+    gl_.Uniform1ui(program.semantic, d.semantic_class);
+    gl_.DrawElements(
+        GL_TRIANGLES, GLsizei(d.index_count), GL_UNSIGNED_INT,
+        reinterpret_cast<const void*>(std::uintptr_t(d.first_index) * sizeof(std::uint32_t)));
+  }
+
+  // Read back: GL rows come bottom-up, which is image row 0 first (see ClipFromCamera).
+  const int w = view.width, h = view.height;
+  const std::size_t pixels = std::size_t(w) * h;
+  out->rgb.width = w;
+  out->rgb.height = h;
+  out->rgb.channels = 3;
+  out->rgb.data.resize(pixels * 3);
+  out->depth_m.width = w;
+  out->depth_m.height = h;
+  out->depth_m.data.resize(pixels);
+  out->instance.resize(pixels);
+  out->semantic.resize(pixels);
+  gl_.ReadBuffer(GL_COLOR_ATTACHMENT0);
+  gl_.ReadPixels(0, 0, w, h, GL_RGB, GL_UNSIGNED_BYTE, out->rgb.data.data());
+  gl_.ReadBuffer(GL_COLOR_ATTACHMENT1);
+  gl_.ReadPixels(0, 0, w, h, GL_RED_INTEGER, GL_UNSIGNED_INT, out->instance.data());
+  gl_.ReadBuffer(GL_COLOR_ATTACHMENT2);
+  gl_.ReadPixels(0, 0, w, h, GL_RED_INTEGER, GL_UNSIGNED_BYTE, out->semantic.data());
+  gl_.ReadBuffer(GL_COLOR_ATTACHMENT3);
+  gl_.ReadPixels(0, 0, w, h, GL_RED, GL_FLOAT, out->depth_m.data.data());
+  CheckGlError("frame");
+}
+
+}  // namespace corridorsim::render

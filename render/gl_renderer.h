@@ -1,0 +1,76 @@
+#pragma once
+// The one GL renderer behind both backends (OSMesa and EGL provide only the context): GLSL 330
+// core shaders, the scene in one VBO + IBO, mip-mapped textures, and an FBO with colour, instance
+// id, semantic class and view-space z attachments read back top-down.
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "render/backend.h"
+#include "render/gl_context.h"
+#include "render/gl_functions.h"
+
+namespace corridorsim::render {
+
+inline constexpr int kMaxLightsPerDraw = 16;
+
+class GlBackend final : public Backend {
+ public:
+  /// Takes a fresh context, loads GL through it and builds the shaders. Throws RenderError.
+  explicit GlBackend(std::unique_ptr<GlContext> context);
+  ~GlBackend() override;
+  GlBackend(const GlBackend&) = delete;
+  GlBackend& operator=(const GlBackend&) = delete;
+
+  BackendKind kind() const override { return context_->kind(); }
+  void Upload(const Scene& scene) override;
+  void Draw(const View& view, std::span<const int> drawables, std::span<const int> lights,
+            RenderedView* out) override;
+
+ private:
+  // What Draw needs of the uploaded scene.
+  struct DrawRange {
+    std::uint32_t first_index = 0;
+    std::uint32_t index_count = 0;
+    int material = 0;
+    std::uint32_t instance_id = 0;
+    std::uint8_t semantic_class = 0;
+  };
+  // One linked shader program (for one light count) and its uniform locations.
+  struct Program {
+    GLuint id = 0;
+    GLint camera_from_world = -1, clip_from_camera = -1;
+    GLint diffuse = -1, emission = -1, has_texture = -1, texture = -1;
+    GLint ambient = -1, inv_falloff2 = -1, light_position = -1, light_intensity = -1;
+    GLint instance = -1, semantic = -1;
+  };
+
+  /// The program for `light_count` lights, compiled on first use.
+  const Program& ProgramFor(int light_count);
+  void EnsureFramebuffer(int width, int height);
+  void DeleteTextures();
+  void CheckGlError(const char* where);
+  [[noreturn]] void Fail(const std::string& what) const;
+
+  std::unique_ptr<GlContext> context_;  // declared first: destroyed after the GL objects
+  GlFunctions gl_;
+  std::array<Program, kMaxLightsPerDraw + 1> programs_{};  // by light count
+  GLuint vao_ = 0, vbo_ = 0, ibo_ = 0, fbo_ = 0;
+  std::array<GLuint, 5> renderbuffers_{};  // colour, instance, class, z, depth
+  int fbo_width_ = 0, fbo_height_ = 0;     // px; 0 = no FBO yet
+
+  bool uploaded_ = false;
+  std::vector<GLuint> textures_;
+  std::vector<SceneMaterial> materials_;
+  std::vector<DrawRange> drawables_;
+  std::vector<PointLight> lights_;
+  SceneOptions options_;
+
+  std::vector<std::uint8_t> rgba_;  // read-back buffer, reused across frames
+};
+
+}  // namespace corridorsim::render

@@ -1,0 +1,194 @@
+// Tests render/camera_rig.cpp without GL: mounts, the rig's options and checks, and the remap
+// of distorted and fisheye cameras onto their pinhole passes.
+#include "render/camera_rig.h"
+
+#include <cmath>
+#include <numbers>
+
+#include <catch2/catch.hpp>
+
+#include "tests/support/expect_input_error.h"
+
+namespace corridorsim::render {
+namespace {
+
+using Eigen::Vector2d;
+using Eigen::Vector3d;
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+TEST_CASE("mounts point the optical axis by yaw and pitch, image x horizontal", "[render][rig]") {
+  const SE3 front = Mount{0.2, 0, 0.4, 0, 0, 0}.RobotFromCamera();
+  CHECK((front.rotation().col(2) - Vector3d(1, 0, 0)).norm() < 1e-12);   // z forward
+  CHECK((front.rotation().col(0) - Vector3d(0, -1, 0)).norm() < 1e-12);  // x right
+  CHECK((front.rotation().col(1) - Vector3d(0, 0, -1)).norm() < 1e-12);  // y down
+  CHECK((front.translation() - Vector3d(0.2, 0, 0.4)).norm() < 1e-12);
+
+  const SE3 up = Mount{0, 0, 0.4, 0, 90, 0}.RobotFromCamera();
+  CHECK((up.rotation().col(2) - Vector3d(0, 0, 1)).norm() < 1e-12);
+  CHECK((up.rotation().col(0) - Vector3d(0, -1, 0)).norm() < 1e-12);
+
+  const SE3 lateral = Mount{0, 0.1, 0.5, 90, 25, 0}.RobotFromCamera();
+  CHECK((lateral.rotation().col(2) - Vector3d(0, std::cos(25 * kDeg), std::sin(25 * kDeg))).norm() <
+        1e-12);
+  CHECK(std::abs(lateral.rotation().col(0).z()) < 1e-12);  // no roll: image x stays horizontal
+  CHECK(std::abs(lateral.rotation().determinant() - 1.0) < 1e-12);
+
+  const SE3 rolled = Mount{0, 0, 0, 0, 0, 90}.RobotFromCamera();
+  CHECK((rolled.rotation().col(0) - Vector3d(0, 0, -1)).norm() < 1e-12);
+}
+
+TEST_CASE("the default rig is P1's front RGB-D and lateral camera plus P3's upward fisheye",
+          "[render][rig]") {
+  const RigSpec rig = RigSpec::Default();
+  REQUIRE(rig.cameras.size() == 3);
+  CHECK_FALSE(rig.Check());
+  const CameraSpec& front = *rig.Find("front");
+  CHECK(front.depth);
+  const auto& fp = std::get<PinholeRadTan>(front.model);
+  CHECK(fp.width == 640);
+  CHECK(fp.height == 480);
+  CHECK(fp.HorizontalFovRad() / kDeg == Approx(58).margin(1e-9));
+  CHECK(fp.VerticalFovRad() / kDeg == Approx(45).margin(1.5));
+  const auto& up = std::get<KannalaBrandt>(rig.Find("upward")->model);
+  CHECK(up.FieldOfViewRad() / kDeg == Approx(110).margin(1e-9));
+}
+
+TEST_CASE("each fisheye pixel samples the pass pixel that sees along the same ray",
+          "[render][rig]") {
+  for (const double fov : {110.0, 130.0}) {
+    CameraSpec spec = RigSpec::Default().cameras[2];
+    spec.model = KannalaBrandt::FromFov(320, 240, fov * kDeg);
+    const CameraRenderer renderer(spec);
+    const std::vector<View> passes = renderer.Passes(SE3());
+    CHECK(passes.size() >= 5);  // the up face and the four side faces it reaches into
+    for (int v = 0; v < 240; v += 7) {
+      for (int u = 0; u < 320; u += 7) {
+        const auto hit = renderer.Lookup(u, v);
+        REQUIRE(hit);
+        const View& pass = passes[static_cast<std::size_t>(hit->first)];
+        const Vector2d q = hit->second;
+        CHECK(q.x() >= 0);
+        CHECK(q.y() >= 0);
+        CHECK(q.x() <= pass.width - 1);
+        CHECK(q.y() <= pass.height - 1);
+        const Vector3d ray_in_pass((q.x() - pass.cx) / pass.fx, (q.y() - pass.cy) / pass.fy, 1.0);
+        const Vector3d ray = (pass.world_from_camera.rotation() * ray_in_pass).normalized();
+        const Vector3d expected = Unproject(spec.model, Vector2d(u, v)).normalized();
+        CHECK((ray - expected).norm() < 1e-5);
+      }
+    }
+  }
+}
+
+TEST_CASE("an undistorted pinhole camera is drawn in one exact pass", "[render][rig]") {
+  const CameraRenderer renderer(RigSpec::Default().cameras[0]);
+  const std::vector<View> passes = renderer.Passes(SE3());
+  REQUIRE(passes.size() == 1);
+  CHECK(passes[0].width == 640);
+  const auto hit = renderer.Lookup(100, 50);
+  REQUIRE(hit);
+  CHECK(hit->second == Vector2d(100, 50));
+}
+
+TEST_CASE("a distorted pinhole camera samples one wider pass along its rays", "[render][rig]") {
+  CameraSpec spec = RigSpec::Default().cameras[1];
+  auto& p = std::get<PinholeRadTan>(spec.model);
+  p.k1 = -0.28;
+  p.k2 = 0.07;
+  p.p1 = 1e-4;
+  const CameraRenderer renderer(spec);
+  const std::vector<View> passes = renderer.Passes(SE3());
+  REQUIRE(passes.size() == 1);
+  for (const auto& [u, v] : {std::pair{0, 0}, {639, 479}, {320, 240}, {10, 400}}) {
+    const auto hit = renderer.Lookup(u, v);
+    REQUIRE(hit);
+    const View& pass = passes[0];
+    const Vector3d ray = Vector3d((hit->second.x() - pass.cx) / pass.fx,
+                                  (hit->second.y() - pass.cy) / pass.fy, 1.0)
+                             .normalized();
+    CHECK((ray - Unproject(spec.model, Vector2d(u, v)).normalized()).norm() < 1e-5);
+  }
+}
+
+TEST_CASE("the rig rejects impossible cameras naming the key", "[render][rig]") {
+  {
+    RigSpec rig = RigSpec::Default();
+    rig.cameras[2].model = KannalaBrandt::FromFov(640, 480, 179.0 * kDeg);
+    CHECK_FALSE(rig.Check());
+    auto& k = std::get<KannalaBrandt>(rig.cameras[2].model);
+    k.fx = k.fy = 480 / std::numbers::pi;  // 180 degrees
+    REQUIRE(rig.Check());
+    CHECK(rig.Check()->key == "upward.fov_deg");
+  }
+  {
+    RigSpec rig = RigSpec::Default();
+    rig.cameras[0].model = PinholeRadTan::FromFov(640, 480, 150.0 * kDeg);
+    REQUIRE(rig.Check());
+    CHECK(rig.Check()->key == "front.fov_deg");
+  }
+  {
+    RigSpec rig = RigSpec::Default();
+    std::get<PinholeRadTan>(rig.cameras[1].model).width = 0;
+    REQUIRE(rig.Check());
+    CHECK(rig.Check()->key == "lateral.width");
+  }
+}
+
+TEST_CASE("sensors are parsed from YAML; unknown cameras and keys are errors", "[render][rig]") {
+  const auto doc = YamlDocument::FromString(
+      "front:\n"
+      "  rate_hz: 5\n"
+      "  width: 320\n"
+      "  height: 240\n"
+      "  fov_deg: 60\n"
+      "  mount: {x_m: 0.3, z_m: 0.5}\n"
+      "upward:\n"
+      "  model: kannala_brandt\n"
+      "  fov_deg: 130\n"
+      "  distortion: [0.01, -0.002, 0.0, 0.0]\n"
+      "lateral:\n"
+      "  enabled: false\n",
+      "s.yaml");
+  RigSpec rig = RigSpec::Default();
+  YamlMap map(doc, doc.root, "sensors", nullptr);
+  ParseSensors(map, rig);
+  CHECK(rig.Find("front")->rate_hz == 5);
+  const auto& f = std::get<PinholeRadTan>(rig.Find("front")->model);
+  CHECK(f.width == 320);
+  CHECK(f.HorizontalFovRad() / kDeg == Approx(60));
+  CHECK(rig.Find("front")->mount.x_m == 0.3);
+  CHECK(rig.Find("front")->mount.z_m == 0.5);
+  const auto& k = std::get<KannalaBrandt>(rig.Find("upward")->model);
+  CHECK(k.fx == Approx(480 / (130 * kDeg)));  // fov_deg sets the focal length before distortion
+  CHECK(k.k1 == 0.01);
+  CHECK_FALSE(rig.Find("lateral")->enabled);
+  CHECK_FALSE(rig.Check());
+
+  const auto bad = YamlDocument::FromString("rear:\n  enabled: true\n", "bad.yaml");
+  YamlMap bad_map(bad, bad.root, "sensors", nullptr);
+  RigSpec rig2 = RigSpec::Default();
+  const InputError e = test::InputErrorOf([&] { ParseSensors(bad_map, rig2); });
+  CHECK(std::string(e.what()).rfind("bad.yaml:1:1: sensors.rear: unknown key", 0) == 0);
+
+  const auto short_distortion =
+      YamlDocument::FromString("upward:\n  distortion: [0.1]\n", "d.yaml");
+  YamlMap d_map(short_distortion, short_distortion.root, "sensors", nullptr);
+  RigSpec rig3 = RigSpec::Default();
+  const InputError e2 = test::InputErrorOf([&] { ParseSensors(d_map, rig3); });
+  CHECK(std::string(e2.what()).rfind("d.yaml:2:3: sensors.upward.distortion:", 0) == 0);
+}
+
+TEST_CASE("a camera mounted inside a wall is rejected at its mount", "[render][rig]") {
+  const worlds::World world = worlds::Generate(worlds::WorldSpec{}, 7);
+  RigSpec rig = RigSpec::Default();
+  const SE3 robot = SE3::FromSE2(SE2(10.0, 0.0, 0.0));
+  CHECK_FALSE(CheckCameraPlacement(world, rig, robot));
+  rig.cameras[1].mount.y_m = 1.25;  // 5 cm into the left wall (inner face at y = 1.2)
+  const auto problem = CheckCameraPlacement(world, rig, robot);
+  REQUIRE(problem);
+  CHECK(problem->key == "lateral.mount");
+}
+
+}  // namespace
+}  // namespace corridorsim::render
