@@ -17,10 +17,10 @@ namespace corridorsim::render {
 
 /// What one pinhole pass produces. Rows are top-down (row 0 = top of the image).
 struct RenderedView {
-  Image8 rgb;                            // RGB, 8 bit, lit and shaded
-  ImageF depth_m;                        // z along the optical axis (m), 0 where nothing was hit
-  std::vector<std::uint32_t> instance;   // width * height instance ids, 0 = nothing
-  std::vector<std::uint8_t> semantic;    // width * height worlds::SemanticClass values
+  Image8 rgb;                           // RGB, 8 bit, lit and shaded
+  ImageF depth_m;                       // z along the optical axis (m), 0 where nothing was hit
+  std::vector<std::uint32_t> instance;  // width * height instance ids, 0 = nothing
+  std::vector<std::uint8_t> semantic;   // width * height worlds::SemanticClass values
 };
 
 enum class BackendKind { kOsMesa, kEgl };

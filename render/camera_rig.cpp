@@ -30,12 +30,24 @@ Matrix3d FaceRotation(int face) {
   // Columns: the face's x, y, z axes in the camera frame (x right, y down, z forward).
   Matrix3d r;
   switch (face) {
-    case 0: r << 1, 0, 0, 0, 1, 0, 0, 0, 1; break;     // +z
-    case 1: r << 0, 0, 1, 0, 1, 0, -1, 0, 0; break;    // +x: face z = cam x, face x = -cam z
-    case 2: r << 0, 0, -1, 0, 1, 0, 1, 0, 0; break;    // -x
-    case 3: r << 1, 0, 0, 0, 0, 1, 0, -1, 0; break;    // +y: face z = cam y, face y = -cam z
-    case 4: r << 1, 0, 0, 0, 0, -1, 0, 1, 0; break;    // -y
-    default: r << -1, 0, 0, 0, 1, 0, 0, 0, -1; break;  // -z
+    case 0:
+      r << 1, 0, 0, 0, 1, 0, 0, 0, 1;
+      break;  // +z
+    case 1:
+      r << 0, 0, 1, 0, 1, 0, -1, 0, 0;
+      break;  // +x: face z = cam x, face x = -cam z
+    case 2:
+      r << 0, 0, -1, 0, 1, 0, 1, 0, 0;
+      break;  // -x
+    case 3:
+      r << 1, 0, 0, 0, 0, 1, 0, -1, 0;
+      break;  // +y: face z = cam y, face y = -cam z
+    case 4:
+      r << 1, 0, 0, 0, 0, -1, 0, 1, 0;
+      break;  // -y
+    default:
+      r << -1, 0, 0, 0, 1, 0, 0, 0, -1;
+      break;  // -z
   }
   return r;
 }
@@ -62,7 +74,8 @@ void Bilinear(const Image8& img, float x, float y, std::uint8_t* out) {
 }  // namespace
 
 SE3 Mount::RobotFromCamera() const {
-  const double yaw = yaw_deg * kDegToRad, pitch = pitch_deg * kDegToRad, roll = roll_deg * kDegToRad;
+  const double yaw = yaw_deg * kDegToRad, pitch = pitch_deg * kDegToRad,
+               roll = roll_deg * kDegToRad;
   const Vector3d forward(std::cos(pitch) * std::cos(yaw), std::cos(pitch) * std::sin(yaw),
                          std::sin(pitch));
   // Horizontal right of the heading (defined by yaw even when looking straight up).
@@ -170,8 +183,9 @@ void ParseCamera(YamlMap& map, CameraSpec& c) {
   bool pinhole = std::holds_alternative<PinholeRadTan>(c.model);
   if (map.Has("model")) {
     std::string model;
-    map.ReadEnum("model", model, {{"pinhole", std::string("pinhole")},
-                                  {"kannala_brandt", std::string("kannala_brandt")}});
+    map.ReadEnum(
+        "model", model,
+        {{"pinhole", std::string("pinhole")}, {"kannala_brandt", std::string("kannala_brandt")}});
     pinhole = model == "pinhole";
   }
   PinholeRadTan p = PinholeOf(c.model);
@@ -200,7 +214,9 @@ void ParseCamera(YamlMap& map, CameraSpec& c) {
       PinholeRadTan bad;
       bad.width = width;
       bad.height = height;
-      const double f = fov_deg > 0 ? 0.5 * std::max(width, 1) / std::tan(std::min(fov_deg, 179.9) * kDegToRad / 2) : 0.0;
+      const double f = fov_deg > 0 ? 0.5 * std::max(width, 1) /
+                                         std::tan(std::min(fov_deg, 179.9) * kDegToRad / 2)
+                                   : 0.0;
       bad.fx = bad.fy = f;
       bad.cx = (width - 1) / 2.0;
       bad.cy = (height - 1) / 2.0;
@@ -515,8 +531,8 @@ void Rig::Render(const SE3& world_from_robot, std::uint64_t seed, std::uint64_t 
     if (spec.depth) frame.noisy_depth_m = frame.depth_m;
     if (!spec.noise) continue;
     // Truth, then noise (STYLE item 9): each camera and frame has its own stream.
-    RandomStream rng = RandomStream(seed, 0, "render.noise." + spec.id)
-                           .Derive(std::to_string(frame_index));
+    RandomStream rng =
+        RandomStream(seed, 0, "render.noise." + spec.id).Derive(std::to_string(frame_index));
     RandomStream depth_rng = rng.Derive("depth"), rgb_rng = rng.Derive("rgb");
     if (spec.depth) {
       ApplyDepthNoise(spec.depth_noise, std::get<PinholeRadTan>(spec.model), depth_rng,

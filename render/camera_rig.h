@@ -38,16 +38,16 @@ struct Mount {
 };
 
 struct CameraSpec {
-  std::string id;              // "front", "lateral", "upward"
+  std::string id;  // "front", "lateral", "upward"
   bool enabled = true;
   double rate_hz = 10.0 / 3.0;  // frames per second (P1: a 300 ms sensor period)
   CameraModel model;
   Mount mount;
-  bool depth = false;          // a registered depth image (front RGB-D sensor)
-  bool noise = true;           // apply the noise models below (false: exact images)
+  bool depth = false;  // a registered depth image (front RGB-D sensor)
+  bool noise = true;   // apply the noise models below (false: exact images)
   DepthNoiseOptions depth_noise;
   RgbNoiseOptions rgb_noise;
-  int cube_face_px = 0;        // fisheye: cube face resolution (0 = matched to the model's centre)
+  int cube_face_px = 0;  // fisheye: cube face resolution (0 = matched to the model's centre)
 };
 
 struct RigSpec {
@@ -106,10 +106,10 @@ class CameraRenderer {
     View view;             // intrinsics of the (cropped) pass; pose filled per frame
   };
   struct LutEntry {
-    float x = 0, y = 0;          // continuous pixel position in the pass image
-    float depth_scale = 0;       // camera z per pass z along this pixel's ray
+    float x = 0, y = 0;     // continuous pixel position in the pass image
+    float depth_scale = 0;  // camera z per pass z along this pixel's ray
     std::uint8_t pass = 0;
-    bool valid = false;          // false outside the model's valid angle
+    bool valid = false;  // false outside the model's valid angle
   };
   void PlanPinholePass();
   void PlanRemapPasses();

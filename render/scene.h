@@ -33,7 +33,7 @@ struct Drawable {
   std::uint32_t first_index = 0;
   std::uint32_t index_count = 0;
   int material = 0;
-  std::uint32_t instance_id = 0;  // World ground-truth id (0 = nothing)
+  std::uint32_t instance_id = 0;    // World ground-truth id (0 = nothing)
   std::uint8_t semantic_class = 0;  // worlds::SemanticClass
   Eigen::AlignedBox3f bounds;
 };
@@ -46,10 +46,10 @@ struct PointLight {
 };
 
 struct SceneOptions {
-  float ambient = 0.35f;           // uniform ambient light on diffuse surfaces
-  float light_intensity = 0.25f;   // scale of every lamp's point light
-  float light_falloff_m = 2.5f;    // distance at which a lamp's light has halved
-  double cull_cell_m = 4.0;        // size of the culling grid cells
+  float ambient = 0.35f;          // uniform ambient light on diffuse surfaces
+  float light_intensity = 0.25f;  // scale of every lamp's point light
+  float light_falloff_m = 2.5f;   // distance at which a lamp's light has halved
+  double cull_cell_m = 4.0;       // size of the culling grid cells
 };
 
 struct Scene {

@@ -121,7 +121,8 @@ int main(int argc, char** argv) {
       "G = instance id >> 16, B = instance id & 0xffff), <camera>_overlay.png (ground truth drawn "
       "on the image), front_depth.png (16-bit, 5000 per metre, 0 = invalid), plus "
       "frame_ground_truth.json and intrinsics.json.\n"
-      "Environment: CORRIDORSIM_RENDER_BACKEND=osmesa|egl overrides the scenario's render.backend.\n"
+      "Environment: CORRIDORSIM_RENDER_BACKEND=osmesa|egl overrides the scenario's "
+      "render.backend.\n"
       "Exit codes: 0 success, 2 bad input, 1 other failures (e.g. no GL context).");
 
   try {
@@ -137,7 +138,8 @@ int main(int argc, char** argv) {
 
   try {
     if (snapshot->parsed()) {
-      if (snapshot_request.scenario_path.empty()) snapshot_request.scenario_path = DefaultScenarioPath();
+      if (snapshot_request.scenario_path.empty())
+        snapshot_request.scenario_path = DefaultScenarioPath();
       snapshot_request.out_dir = snapshot_out;
       RunSnapshot(snapshot_request);
       return 0;

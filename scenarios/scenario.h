@@ -19,7 +19,7 @@ struct Scenario {
   std::uint64_t seed = 1;   // seed of every random stream of the run
   worlds::WorldSpec world;
   render::RigSpec rig = render::RigSpec::Default();  // `sensors:` and `render:`
-  SourceMap sources;              // where each key was set, for errors found after parsing
+  SourceMap sources;                // where each key was set, for errors found after parsing
   SourceLocation world_location;    // the `world:` key of the last file that has one
   SourceLocation sensors_location;  // the `sensors:` key of the last file that has one
 };

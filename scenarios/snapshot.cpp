@@ -63,22 +63,25 @@ Image8 DrawOverlay(const Image8& rgb, const render::FrameTruth& truth) {
   std::memcpy(img.data, rgb.data.data(), rgb.data.size());
   const int shift = 4;  // sub-pixel drawing
   auto P = [&](const Eigen::Vector2d& p) {
-    return cv::Point(static_cast<int>(std::lround(p.x() * 16)), static_cast<int>(std::lround(p.y() * 16)));
+    return cv::Point(static_cast<int>(std::lround(p.x() * 16)),
+                     static_cast<int>(std::lround(p.y() * 16)));
   };
   for (const auto& plate : truth.plates) {
     std::vector<cv::Point> poly;
     for (const auto& c : plate.corners_px) poly.push_back(P(c));
     cv::polylines(img, poly, true, cv::Scalar(0, 255, 0), 2, cv::LINE_AA, shift);
-    cv::putText(img, plate.room_number, cv::Point(static_cast<int>(plate.bbox_min_px.x()),
-                                                  static_cast<int>(plate.bbox_min_px.y()) - 4),
+    cv::putText(img, plate.room_number,
+                cv::Point(static_cast<int>(plate.bbox_min_px.x()),
+                          static_cast<int>(plate.bbox_min_px.y()) - 4),
                 cv::FONT_HERSHEY_SIMPLEX, 0.6, cv::Scalar(0, 255, 0), 2, cv::LINE_AA);
   }
   for (const auto& lamp : truth.lamps) {
     const cv::Scalar colour = lamp.reflection ? cv::Scalar(0, 255, 255) : cv::Scalar(255, 200, 0);
     cv::circle(img, P(lamp.center_px), static_cast<int>(std::lround(lamp.radius_px * 16)), colour,
                2, cv::LINE_AA, shift);
-    cv::drawMarker(img, cv::Point(static_cast<int>(lamp.center_px.x()), static_cast<int>(lamp.center_px.y())),
-                   colour, cv::MARKER_CROSS, 8, 1);
+    cv::drawMarker(
+        img, cv::Point(static_cast<int>(lamp.center_px.x()), static_cast<int>(lamp.center_px.y())),
+        colour, cv::MARKER_CROSS, 8, 1);
   }
   for (const auto& door : truth.doors) {
     const cv::Scalar colour = cv::Scalar(255, 60, 60);
@@ -93,7 +96,8 @@ Image8 DrawOverlay(const Image8& rgb, const render::FrameTruth& truth) {
                    cv::Scalar(255, 0, 255), cv::MARKER_TILTED_CROSS, 18, 2);
   }
   for (const auto& corner : truth.corners) {
-    cv::circle(img, P(corner.pixel), 2 * 16, cv::Scalar(0, 128, 255), cv::FILLED, cv::LINE_AA, shift);
+    cv::circle(img, P(corner.pixel), 2 * 16, cv::Scalar(0, 128, 255), cv::FILLED, cv::LINE_AA,
+               shift);
   }
   Image8 out(rgb.width, rgb.height, 3);
   std::memcpy(out.data.data(), img.data, out.data.size());
@@ -211,7 +215,8 @@ void RunSnapshot(const SnapshotRequest& request) {
     WriteFileAtomic(dir / (id + "_overlay.png"),
                     EncodePng(DrawOverlay(frame.rgb, truth), id + "_overlay.png"));
     if (spec.depth) {
-      WriteFileAtomic(dir / (id + "_depth.png"), EncodeDepth(frame.noisy_depth_m, id + "_depth.png"));
+      WriteFileAtomic(dir / (id + "_depth.png"),
+                      EncodeDepth(frame.noisy_depth_m, id + "_depth.png"));
     }
     std::printf("  %-8s %dx%d  plates %zu, lamps %zu, doors %zu, corners %zu%s\n", id.c_str(),
                 frame.rgb.width, frame.rgb.height, truth.plates.size(), truth.lamps.size(),

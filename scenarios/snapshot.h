@@ -14,8 +14,8 @@ namespace corridorsim {
 
 struct SnapshotRequest {
   std::string scenario_path;
-  std::string pose_text;                // "x,y,yaw_deg" as given on the command line
-  std::optional<std::uint64_t> seed;    // overrides the scenario's seed
+  std::string pose_text;              // "x,y,yaw_deg" as given on the command line
+  std::optional<std::uint64_t> seed;  // overrides the scenario's seed
   std::filesystem::path out_dir = "out/snapshot";
 };
 

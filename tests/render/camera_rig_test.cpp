@@ -104,9 +104,9 @@ TEST_CASE("a distorted pinhole camera samples one wider pass along its rays", "[
     const auto hit = renderer.Lookup(u, v);
     REQUIRE(hit);
     const View& pass = passes[0];
-    const Vector3d ray = Vector3d((hit->second.x() - pass.cx) / pass.fx,
-                                  (hit->second.y() - pass.cy) / pass.fy, 1.0)
-                             .normalized();
+    const Vector3d ray =
+        Vector3d((hit->second.x() - pass.cx) / pass.fx, (hit->second.y() - pass.cy) / pass.fy, 1.0)
+            .normalized();
     CHECK((ray - Unproject(spec.model, Vector2d(u, v)).normalized()).norm() < 1e-5);
   }
 }

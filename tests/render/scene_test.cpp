@@ -88,7 +88,8 @@ TEST_CASE("culling keeps every drawable with a vertex in view", "[render][scene]
         bool in_view = false;
         for (std::uint32_t k = 0; k < d.index_count && !in_view; ++k) {
           const SceneVertex& v = scene.vertices[scene.indices[d.first_index + k]];
-          const Vector3d p = camera_from_world * Vector3d(v.position[0], v.position[1], v.position[2]);
+          const Vector3d p =
+              camera_from_world * Vector3d(v.position[0], v.position[1], v.position[2]);
           if (p.z() <= view.near_m || p.z() >= view.far_m) continue;
           const double u = view.fx * p.x() / p.z() + view.cx, w = view.fy * p.y() / p.z() + view.cy;
           in_view = u > -0.5 && u < view.width - 0.5 && w > -0.5 && w < view.height - 0.5;
@@ -124,8 +125,10 @@ TEST_CASE("a 1 km corridor costs no more per view than the 55 m one", "[render][
     return n;
   };
   // Mid-corridor, looking along it with the default 60 m draw distance.
-  const std::size_t long_tris = triangles(long_scene, VisibleDrawables(long_scene, ForwardView(500)));
-  const std::size_t short_tris = triangles(short_scene, VisibleDrawables(short_scene, ForwardView(0.5)));
+  const std::size_t long_tris =
+      triangles(long_scene, VisibleDrawables(long_scene, ForwardView(500)));
+  const std::size_t short_tris =
+      triangles(short_scene, VisibleDrawables(short_scene, ForwardView(0.5)));
   INFO("1 km: " << long_tris << " triangles, 55 m: " << short_tris);
   CHECK(long_tris < 2 * short_tris);
   CHECK(long_tris < long_scene.triangle_count() / 5);

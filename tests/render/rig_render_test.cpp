@@ -1,0 +1,307 @@
+// Rendering a generated world through the rig: exact depth against known walls, labels against
+// geometry, ground-truth points where they appear in the image, determinism and memory.
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <numbers>
+#include <set>
+#include <string>
+
+#include <catch2/catch.hpp>
+
+#include "render/backend.h"
+#include "render/camera_rig.h"
+#include "render/frame_truth.h"
+#include "render/scene.h"
+#include "tests/support/tolerances.h"
+#include "worlds/world.h"
+
+namespace corridorsim::render {
+namespace {
+
+using Eigen::Vector2d;
+using Eigen::Vector3d;
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+struct Fixture {
+  worlds::World world = worlds::Generate(worlds::WorldSpec{}, 7);
+  Scene scene = BuildScene(world);
+  std::unique_ptr<Backend> backend = CreateBackend(BackendKind::kOsMesa);
+  Fixture() { backend->Upload(scene); }
+};
+
+Fixture& Shared() {
+  static Fixture f;
+  return f;
+}
+
+CameraSpec Exact(CameraSpec spec) {
+  spec.noise = false;
+  return spec;
+}
+
+// A camera with a forward pinhole at `world_from_camera`, rendered exactly.
+CameraFrame RenderWith(const CameraSpec& spec, const SE3& world_from_camera) {
+  CameraRenderer camera(Exact(spec));
+  CameraFrame frame;
+  camera.Render(Shared().scene, *Shared().backend, world_from_camera, &frame);
+  return frame;
+}
+
+// Distance along the optical axis to the plane {p : n.p = d} for the ray through pixel (u, v).
+double DepthToPlane(const PinholeRadTan& k, const SE3& world_from_camera, double u, double v,
+                    const Vector3d& n, double d) {
+  const Vector3d ray_c((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0);
+  const Vector3d ray_w = world_from_camera.rotation() * ray_c;
+  const Vector3d c = world_from_camera.translation();
+  const double t = (d - n.dot(c)) / n.dot(ray_w);
+  return t;  // ray_c has z = 1, so t is the depth along the optical axis
+}
+
+TEST_CASE("noise-free depth equals the distance to the known walls within 1 mm", "[render][gl]") {
+  const worlds::World& world = Shared().world;
+  const CameraSpec spec = RigSpec::Default().cameras[0];
+  const auto& k = std::get<PinholeRadTan>(spec.model);
+  // A robot at x = 20 looking along +x; the camera is 0.45 m up.
+  const SE3 world_from_robot = SE3::FromSE2(SE2(20.0, 0.0, 0.0));
+  const SE3 world_from_camera = world_from_robot * spec.mount.RobotFromCamera();
+  const CameraFrame frame = RenderWith(spec, world_from_camera);
+  REQUIRE(frame.depth_m.width == k.width);
+  int checked = 0;
+  for (int v = 0; v < k.height; v += 9) {
+    for (int u = 0; u < k.width; u += 11) {
+      const std::size_t i = static_cast<std::size_t>(v) * k.width + u;
+      const auto cls = static_cast<worlds::SemanticClass>(frame.semantic[i]);
+      double expected = -1;
+      if (cls == worlds::SemanticClass::kFloor) {
+        expected = DepthToPlane(k, world_from_camera, u, v, Vector3d::UnitZ(), 0.0);
+      } else if (cls == worlds::SemanticClass::kCeiling) {
+        expected = DepthToPlane(k, world_from_camera, u, v, Vector3d::UnitZ(), world.spec.height_m);
+      } else if (cls == worlds::SemanticClass::kWall) {
+        // Side walls at y = +-width/2 (their faces); the end wall at x = length.
+        const Vector3d ray =
+            world_from_camera.rotation() * Vector3d((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0);
+        const Vector3d c = world_from_camera.translation();
+        const double tl = (world.spec.width_m / 2 - c.y()) / ray.y();
+        const double tr = (-world.spec.width_m / 2 - c.y()) / ray.y();
+        const double te = (world.spec.length_m - c.x()) / ray.x();
+        double t = 1e9;
+        for (const double cand : {tl, tr, te}) {
+          if (cand > 0 && cand < t) t = cand;
+        }
+        expected = t;
+      } else {
+        continue;
+      }
+      INFO("pixel " << u << "," << v << " class " << int(frame.semantic[i]));
+      CHECK(std::abs(frame.depth_m.data[i] - expected) < 1e-3);
+      ++checked;
+    }
+  }
+  CHECK(checked > 1000);
+}
+
+TEST_CASE("label images agree with the geometry", "[render][gl]") {
+  const CameraSpec spec = RigSpec::Default().cameras[0];
+  const auto& k = std::get<PinholeRadTan>(spec.model);
+  const SE3 world_from_camera = SE3::FromSE2(SE2(20.0, 0.0, 0.0)) * spec.mount.RobotFromCamera();
+  const CameraFrame frame = RenderWith(spec, world_from_camera);
+  const std::size_t centre = static_cast<std::size_t>(k.height / 2) * k.width + k.width / 2;
+  // Straight ahead, the robot sees the end wall of the corridor ...
+  CHECK(frame.semantic[centre] == static_cast<std::uint8_t>(worlds::SemanticClass::kWall));
+  const std::size_t bottom = static_cast<std::size_t>(k.height - 1) * k.width + k.width / 2;
+  // ... below it the floor, above it the ceiling (or a lamp on it).
+  CHECK(frame.semantic[bottom] == static_cast<std::uint8_t>(worlds::SemanticClass::kFloor));
+  const auto top = static_cast<worlds::SemanticClass>(frame.semantic[k.width / 2]);
+  CHECK((top == worlds::SemanticClass::kCeiling || top == worlds::SemanticClass::kLampCircular ||
+         top == worlds::SemanticClass::kLampPanel));
+  // Every labelled pixel's instance id belongs to a drawable of that class.
+  std::map<std::uint32_t, std::set<std::uint8_t>> classes_of;
+  for (const Drawable& d : Shared().scene.drawables)
+    classes_of[d.instance_id].insert(d.semantic_class);
+  for (std::size_t i = 0; i < frame.instance.size(); i += 37) {
+    if (frame.instance[i] == 0) continue;
+    REQUIRE(classes_of.count(frame.instance[i]));
+    CHECK(classes_of[frame.instance[i]].count(frame.semantic[i]));
+  }
+}
+
+// The centroid of an object's labelled pixels against its projected centre.
+Vector2d LabelCentroid(const CameraFrame& frame, int width, std::uint32_t id, int* count) {
+  Vector2d sum = Vector2d::Zero();
+  *count = 0;
+  for (std::size_t i = 0; i < frame.instance.size(); ++i) {
+    if (frame.instance[i] != id) continue;
+    sum += Vector2d(static_cast<double>(i % width), static_cast<double>(i / width));
+    ++*count;
+  }
+  return *count ? Vector2d(sum / *count) : sum;
+}
+
+TEST_CASE("a door plate seen straight on appears where its corners project, within 0.5 px",
+          "[render][gl]") {
+  const worlds::World& world = Shared().world;
+  const worlds::DoorPlate& plate = world.plates.front();
+  CameraSpec spec = RigSpec::Default().cameras[1];
+  spec.model = PinholeRadTan::FromFov(640, 480, 60 * kDeg);
+  const auto& k = std::get<PinholeRadTan>(spec.model);
+  // Camera 1.0 m in front of the plate, at its height, looking at it.
+  const Vector3d n = plate.normal;
+  const Vector3d c = plate.center + 1.0 * n;
+  Eigen::Matrix3d r;
+  r.col(2) = -n;
+  r.col(1) = -Vector3d::UnitZ();
+  r.col(0) = r.col(1).cross(r.col(2));
+  const SE3 world_from_camera(r, c);
+  const CameraFrame frame = RenderWith(spec, world_from_camera);
+  FrameTruthInput input;
+  input.world = &world;
+  input.camera_id = "lateral";
+  input.model = spec.model;
+  input.world_from_camera = world_from_camera;
+  input.world_from_robot = world_from_camera;
+  input.instance = &frame.instance;
+  const FrameTruth truth = ComputeFrameTruth(input);
+  const PlateTruth* seen = nullptr;
+  for (const auto& p : truth.plates) {
+    if (p.id == plate.id) seen = &p;
+  }
+  REQUIRE(seen);
+  int count = 0;
+  const Vector2d centroid =
+      LabelCentroid(frame, k.width, static_cast<std::uint32_t>(plate.id), &count);
+  REQUIRE(count > 100);
+  CHECK((centroid - seen->center_px).norm() < 0.5);
+  // The labelled region spans the projected corners: its extreme pixel centres lie within
+  // half a pixel inside the projected outline.
+  int u0 = k.width, u1 = -1, v0 = k.height, v1 = -1;
+  for (std::size_t i = 0; i < frame.instance.size(); ++i) {
+    if (frame.instance[i] != static_cast<std::uint32_t>(plate.id)) continue;
+    const int u = static_cast<int>(i % k.width), v = static_cast<int>(i / k.width);
+    u0 = std::min(u0, u), u1 = std::max(u1, u), v0 = std::min(v0, v), v1 = std::max(v1, v);
+  }
+  CHECK(std::abs(u0 - seen->bbox_min_px.x()) <= 1.0);
+  CHECK(std::abs(u1 - seen->bbox_max_px.x()) <= 1.0);
+  CHECK(std::abs(v0 - seen->bbox_min_px.y()) <= 1.0);
+  CHECK(std::abs(v1 - seen->bbox_max_px.y()) <= 1.0);
+  CHECK(u0 >= seen->bbox_min_px.x() - 0.5);
+  CHECK(u1 <= seen->bbox_max_px.x() + 0.5);
+}
+
+TEST_CASE("a lamp seen by the upward fisheye appears where the camera model puts it",
+          "[render][gl]") {
+  const worlds::World& world = Shared().world;
+  for (const double fov : {110.0, 130.0}) {
+    CameraSpec spec = RigSpec::Default().cameras[2];
+    spec.model = KannalaBrandt::FromFov(640, 480, fov * kDeg);
+    const CameraRenderer renderer(spec);
+    int checked = 0;
+    for (const worlds::Lamp& lamp : world.lamps) {
+      if (lamp.shape != worlds::LampShape::kCircular || lamp.room_door_id >= 0) continue;
+      if (lamp.center.x() < 5 || lamp.center.x() > 45 || checked >= 3) continue;
+      // The camera 1.2 m along the corridor from the lamp, 0.4 m above the floor, looking up:
+      // the lamp is well off-axis.
+      const SE3 world_from_robot = SE3::FromSE2(SE2(lamp.center.x() - 1.2, 0.0, 0.0));
+      const SE3 world_from_camera = world_from_robot * spec.mount.RobotFromCamera();
+      const CameraFrame frame = RenderWith(spec, world_from_camera);
+      FrameTruthInput input;
+      input.world = &world;
+      input.camera_id = "upward";
+      input.model = spec.model;
+      input.world_from_camera = world_from_camera;
+      input.world_from_robot = world_from_robot;
+      input.instance = &frame.instance;
+      const FrameTruth truth = ComputeFrameTruth(input);
+      const LampTruth* seen = nullptr;
+      for (const auto& l : truth.lamps) {
+        if (l.id == lamp.id && !l.reflection) seen = &l;
+      }
+      REQUIRE(seen);
+      REQUIRE_FALSE(seen->cut_by_border);
+      // An off-axis disc's image centroid is not the projection of its centre: compare the
+      // labelled pixels' centroid with the area-weighted mean of the projected disc.
+      Vector2d weighted = Vector2d::Zero();
+      double total = 0.0;
+      const SE3 camera_from_world = world_from_camera.Inverse();
+      const Eigen::Matrix<double, 3, 2> d_camera_d_disc =
+          camera_from_world.rotation().leftCols<2>();
+      for (int a = -60; a <= 60; ++a) {
+        for (int b = -60; b <= 60; ++b) {
+          const Vector2d q(a / 60.0, b / 60.0);
+          if (q.norm() > 1) continue;
+          const Vector3d p = lamp.center + Vector3d(q.x(), q.y(), 0) * lamp.radius_m;
+          Eigen::Matrix<double, 2, 3> J;
+          const auto px = Project(spec.model, camera_from_world * p, &J);
+          REQUIRE(px);
+          const double w = std::abs((J * d_camera_d_disc).determinant());
+          weighted += w * *px;
+          total += w;
+        }
+      }
+      const Vector2d expected = weighted / total;
+      int count = 0;
+      const Vector2d centroid =
+          LabelCentroid(frame, 640, static_cast<std::uint32_t>(lamp.id), &count);
+      REQUIRE(count > 50);
+      INFO("fov " << fov << " lamp " << lamp.id << " centroid " << centroid.transpose()
+                  << " expected " << expected.transpose());
+      CHECK((centroid - expected).norm() < 0.5);
+      CHECK((seen->center_px - expected).norm() < 0.1 * seen->radius_px);
+      ++checked;
+    }
+    CHECK(checked == 3);
+  }
+}
+
+TEST_CASE("rendering the same frame twice gives identical bytes", "[render][gl][determinism]") {
+  const RigSpec spec = RigSpec::Default();
+  Rig rig(spec, Shared().scene, *Shared().backend);
+  std::vector<CameraFrame> a, b;
+  const SE3 pose = SE3::FromSE2(SE2(12.0, 0.3, 0.2));
+  rig.Render(pose, 5, 3, &a);
+  rig.Render(pose, 5, 3, &b);
+  REQUIRE(a.size() == 3);
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    CHECK(a[k].rgb.data == b[k].rgb.data);
+    CHECK(a[k].instance == b[k].instance);
+    CHECK(a[k].noisy_depth_m.data == b[k].noisy_depth_m.data);
+  }
+  // Another frame index draws other noise.
+  std::vector<CameraFrame> c;
+  rig.Render(pose, 5, 4, &c);
+  CHECK(c[0].noisy_depth_m.data != a[0].noisy_depth_m.data);
+  CHECK(c[0].depth_m.data == a[0].depth_m.data);
+}
+
+long ResidentKiB() {
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  while (std::getline(status, line)) {
+    if (line.rfind("VmRSS:", 0) == 0) return std::stol(line.substr(6));
+  }
+  return -1;
+}
+
+TEST_CASE("memory does not grow over ten thousand frames", "[render][gl][slow]") {
+  RigSpec spec = RigSpec::Default();
+  // Small images keep the test short; the per-frame code paths are the same.
+  spec.cameras[0].model = PinholeRadTan::FromFov(64, 48, 58 * kDeg);
+  spec.cameras[1].model = PinholeRadTan::FromFov(64, 48, 60 * kDeg);
+  spec.cameras[2].model = KannalaBrandt::FromFov(64, 48, 110 * kDeg);
+  Rig rig(spec, Shared().scene, *Shared().backend);
+  std::vector<CameraFrame> frames;
+  long after_warmup = 0;
+  for (int i = 0; i < 10000; ++i) {
+    const SE3 pose =
+        SE3::FromSE2(SE2(2.0 + 0.005 * i, 0.2 * std::sin(i * 0.01), 0.1 * std::cos(i * 0.02)));
+    rig.Render(pose, 1, static_cast<std::uint64_t>(i), &frames);
+    if (i == 500) after_warmup = ResidentKiB();
+  }
+  const long end = ResidentKiB();
+  INFO("RSS after 500 frames " << after_warmup << " KiB, after 10000 " << end << " KiB");
+  CHECK(end - after_warmup < 4096);
+}
+
+}  // namespace
+}  // namespace corridorsim::render
