@@ -76,7 +76,8 @@ int main(int argc, char** argv) {
   for (int i = 0; i < frames; ++i) {
     for (const render::CameraRenderer& camera : rig.cameras()) {
       const SE3 world_from_camera = PoseAt(i) * camera.spec().mount.RobotFromCamera();
-      const auto lights = render::NearestLights(scene, world_from_camera.translation(), 16);
+      const auto lights =
+          render::NearestLights(scene, world_from_camera.translation(), scene.options.max_lights);
       for (const render::View& view : camera.Passes(world_from_camera)) {
         prepared[static_cast<std::size_t>(i)].push_back(
             {view, render::VisibleDrawables(scene, view), lights});

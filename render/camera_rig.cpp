@@ -291,6 +291,10 @@ void ParseRenderOptions(YamlMap& render, RigSpec& rig) {
   render.Read("ambient", ambient);
   render.Read("light_intensity", intensity);
   render.Read("light_falloff_m", falloff);
+  render.Read("max_lights", rig.scene.max_lights);
+  if (rig.scene.max_lights < 0 || rig.scene.max_lights > 16) {
+    render.Fail("max_lights", "must lie in [0, 16]");
+  }
   if (ambient < 0 || ambient > 1) render.Fail("ambient", "must lie in [0, 1]");
   if (intensity < 0) render.Fail("light_intensity", "must not be negative");
   if (!(falloff > 0)) render.Fail("light_falloff_m", "must be greater than 0");
@@ -470,7 +474,8 @@ void CameraRenderer::Render(const Scene& scene, Backend& backend, const SE3& wor
   frame->camera_id = spec_.id;
   frame->world_from_camera = world_from_camera;
   const std::vector<View> views = Passes(world_from_camera);
-  const std::vector<int> lights = NearestLights(scene, world_from_camera.translation(), 16);
+  const std::vector<int> lights =
+      NearestLights(scene, world_from_camera.translation(), scene.options.max_lights);
   for (std::size_t k = 0; k < views.size(); ++k) {
     const std::vector<int> visible = VisibleDrawables(scene, views[k]);
     backend.Draw(views[k], visible, lights, &rendered_[k]);

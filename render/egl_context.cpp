@@ -2,7 +2,6 @@
 // libEGL_mesa). Without a /dev/dri render node Mesa falls back to its swrast DRI driver, i.e.
 // gallium llvmpipe, the same rasterizer OSMesa uses.
 
-#include <mutex>
 #include <string>
 
 #include <EGL/egl.h>
@@ -61,23 +60,17 @@ bool HasExtension(const char* extensions, const std::string& name) {
 }
 
 // The surfaceless display is one per process: eglGetPlatformDisplayEXT returns the same handle for
-// every backend, and eglTerminate would end it for all of them. Count the users; terminate with
-// the last one.
-std::mutex display_mutex;
-int display_users = 0;
-
-EGLDisplay AcquireDisplay() {
-  std::lock_guard<std::mutex> lock(display_mutex);
+// every backend, and eglInitialize on an initialised display does nothing. It is never terminated:
+// eglTerminate would end it for every other EGL backend, and unload the driver (with LLVM) only for
+// the next backend to load it again. Mesa frees it at exit.
+EGLDisplay InitializeDisplay() {
   const char* client_extensions = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
-  if (!HasExtension(client_extensions, "EGL_EXT_platform_base")) {
-    throw RenderError(
-        "egl: eglGetPlatformDisplayEXT is not available: EGL_EXT_platform_base is not supported "
-        "by this libEGL");
-  }
-  if (!HasExtension(client_extensions, "EGL_MESA_platform_surfaceless")) {
+  if (!HasExtension(client_extensions, "EGL_EXT_platform_base") ||
+      !HasExtension(client_extensions, "EGL_MESA_platform_surfaceless")) {
     throw RenderError(
         "egl: eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA) failed: "
-        "EGL_MESA_platform_surfaceless is not supported by this libEGL (install libegl-mesa0)");
+        "EGL_MESA_platform_surfaceless is not supported by this libEGL (needs Mesa's EGL vendor: "
+        "libegl-mesa0, and libgl1-mesa-dri for swrast_dri.so)");
   }
   const auto get_platform_display = reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(
       eglGetProcAddress("eglGetPlatformDisplayEXT"));
@@ -93,26 +86,15 @@ EGLDisplay AcquireDisplay() {
     ThrowEgl(
         "eglInitialize(surfaceless display) (no usable Mesa driver: is swrast_dri.so installed?)");
   }
-  ++display_users;
   return display;
-}
-
-void ReleaseDisplay(EGLDisplay display) {
-  std::lock_guard<std::mutex> lock(display_mutex);
-  if (--display_users == 0) eglTerminate(display);
 }
 
 class EglContext final : public GlContext {
  public:
   EglContext() {
     PinSoftwareRasterizer();
-    display_ = AcquireDisplay();
-    try {
-      CreateContext();
-    } catch (...) {
-      ReleaseDisplay(display_);
-      throw;
-    }
+    display_ = InitializeDisplay();
+    CreateContext();
   }
 
   ~EglContext() override {
@@ -120,7 +102,6 @@ class EglContext final : public GlContext {
       eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
     }
     eglDestroyContext(display_, context_);
-    ReleaseDisplay(display_);
   }
 
   EglContext(const EglContext&) = delete;

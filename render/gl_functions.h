@@ -33,6 +33,8 @@ namespace corridorsim::render {
   X(DELETETEXTURES, DeleteTextures)                   \
   X(DELETEVERTEXARRAYS, DeleteVertexArrays)           \
   X(DEPTHFUNC, DepthFunc)                             \
+  X(FRONTFACE, FrontFace)                             \
+  X(CULLFACE, CullFace)                               \
   X(DISABLE, Disable)                                 \
   X(DRAWBUFFERS, DrawBuffers)                         \
   X(DRAWELEMENTS, DrawElements)                       \

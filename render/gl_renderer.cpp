@@ -1,7 +1,9 @@
 #include "render/gl_renderer.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <stdexcept>
 #include <string>
@@ -127,8 +129,6 @@ GlBackend::GlBackend(std::unique_ptr<GlContext> context) : context_(std::move(co
   gl_.GenVertexArrays(1, &vao_);
   gl_.GenBuffers(1, &vbo_);
   gl_.GenBuffers(1, &ibo_);
-  gl_.GenFramebuffers(1, &fbo_);
-  gl_.GenRenderbuffers(GLsizei(renderbuffers_.size()), renderbuffers_.data());
 
   // Vertex layout: SceneVertex {position[3], normal[3], uv[2]}.
   gl_.BindVertexArray(vao_);
@@ -145,10 +145,15 @@ GlBackend::GlBackend(std::unique_ptr<GlContext> context) : context_(std::move(co
   gl_.VertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, kStride,
                           reinterpret_cast<const void*>(offsetof(SceneVertex, uv)));
 
-  // Fixed state: depth test, no blending, no culling (walls are seen from both sides), no dither.
+  // Fixed state: depth test, back-face culling, no blending, no dither.
   gl_.Enable(GL_DEPTH_TEST);
   gl_.DepthFunc(GL_LESS);
-  gl_.Disable(GL_CULL_FACE);
+  // Back faces are culled: every solid is a closed box and every flat surface faces where it is
+  // seen from. The projection maps image rows top-down onto GL window rows, which mirrors the
+  // winding, so counter-clockwise-from-outside triangles arrive clockwise.
+  gl_.Enable(GL_CULL_FACE);
+  gl_.CullFace(GL_BACK);
+  gl_.FrontFace(GL_CW);
   gl_.Disable(GL_BLEND);
   gl_.Disable(GL_DITHER);
   gl_.PixelStorei(GL_PACK_ALIGNMENT, 1);
@@ -163,8 +168,10 @@ GlBackend::~GlBackend() {
     return;  // the context goes with its objects
   }
   DeleteTextures();
-  gl_.DeleteRenderbuffers(GLsizei(renderbuffers_.size()), renderbuffers_.data());
-  gl_.DeleteFramebuffers(1, &fbo_);
+  for (Target& t : targets_) {
+    gl_.DeleteRenderbuffers(GLsizei(t.renderbuffers.size()), t.renderbuffers.data());
+    gl_.DeleteFramebuffers(1, &t.fbo);
+  }
   gl_.DeleteBuffers(1, &ibo_);
   gl_.DeleteBuffers(1, &vbo_);
   gl_.DeleteVertexArrays(1, &vao_);
@@ -354,32 +361,43 @@ void GlBackend::Upload(const Scene& scene) {
 }
 
 void GlBackend::EnsureFramebuffer(int width, int height) {
-  if (width == fbo_width_ && height == fbo_height_) return;
+  for (const Target& t : targets_) {
+    if (t.width == width && t.height == height) {
+      bound_fbo_ = t.fbo;
+      return;
+    }
+  }
   // colour, instance id, semantic class, view-space z, depth
   constexpr std::array<GLenum, 5> kFormats = {GL_RGBA8, GL_R32UI, GL_R8UI, GL_R32F,
                                               GL_DEPTH_COMPONENT32F};
-  gl_.BindFramebuffer(GL_FRAMEBUFFER, fbo_);
+  Target t;
+  t.width = width;
+  t.height = height;
+  gl_.GenFramebuffers(1, &t.fbo);
+  gl_.GenRenderbuffers(GLsizei(t.renderbuffers.size()), t.renderbuffers.data());
+  gl_.BindFramebuffer(GL_FRAMEBUFFER, t.fbo);
   for (std::size_t i = 0; i < kFormats.size(); ++i) {
-    gl_.BindRenderbuffer(GL_RENDERBUFFER, renderbuffers_[i]);
+    gl_.BindRenderbuffer(GL_RENDERBUFFER, t.renderbuffers[i]);
     gl_.RenderbufferStorage(GL_RENDERBUFFER, kFormats[i], width, height);
     const GLenum attachment =
         i + 1 < kFormats.size() ? GLenum(GL_COLOR_ATTACHMENT0 + i) : GLenum(GL_DEPTH_ATTACHMENT);
-    gl_.FramebufferRenderbuffer(GL_FRAMEBUFFER, attachment, GL_RENDERBUFFER, renderbuffers_[i]);
+    gl_.FramebufferRenderbuffer(GL_FRAMEBUFFER, attachment, GL_RENDERBUFFER, t.renderbuffers[i]);
   }
   constexpr std::array<GLenum, 4> kDrawBuffers = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1,
                                                   GL_COLOR_ATTACHMENT2, GL_COLOR_ATTACHMENT3};
   gl_.DrawBuffers(GLsizei(kDrawBuffers.size()), kDrawBuffers.data());
   const GLenum status = gl_.CheckFramebufferStatus(GL_FRAMEBUFFER);
   if (status != GL_FRAMEBUFFER_COMPLETE) {
-    fbo_width_ = fbo_height_ = 0;
+    gl_.DeleteRenderbuffers(GLsizei(t.renderbuffers.size()), t.renderbuffers.data());
+    gl_.DeleteFramebuffers(1, &t.fbo);
     Fail("framebuffer (RGBA8, R32UI, R8UI, R32F, depth 32F) is incomplete: status 0x" + [&] {
       char hex[16];
       std::snprintf(hex, sizeof(hex), "%x", status);
       return std::string(hex);
     }());
   }
-  fbo_width_ = width;
-  fbo_height_ = height;
+  targets_.push_back(t);
+  bound_fbo_ = t.fbo;
   CheckGlError("framebuffer setup");
 }
 
@@ -421,7 +439,7 @@ void GlBackend::Draw(const View& view, std::span<const int> drawables, std::span
                                 std::to_string(max_size));
   }
   EnsureFramebuffer(view.width, view.height);
-  gl_.BindFramebuffer(GL_FRAMEBUFFER, fbo_);
+  gl_.BindFramebuffer(GL_FRAMEBUFFER, bound_fbo_);
   gl_.Viewport(0, 0, view.width, view.height);
   constexpr GLfloat kBlack[4] = {0, 0, 0, 0};
   constexpr GLuint kNoId[4] = {0, 0, 0, 0};

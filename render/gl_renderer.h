@@ -59,9 +59,16 @@ class GlBackend final : public Backend {
   std::unique_ptr<GlContext> context_;  // declared first: destroyed after the GL objects
   GlFunctions gl_;
   std::array<Program, kMaxLightsPerDraw + 1> programs_{};  // by light count
-  GLuint vao_ = 0, vbo_ = 0, ibo_ = 0, fbo_ = 0;
-  std::array<GLuint, 5> renderbuffers_{};  // colour, instance, class, z, depth
-  int fbo_width_ = 0, fbo_height_ = 0;     // px; 0 = no FBO yet
+  GLuint vao_ = 0, vbo_ = 0, ibo_ = 0;
+  // Off-screen targets by size: a rig alternates between pass sizes every frame, so each size
+  // keeps its own framebuffer instead of reallocating storage per draw.
+  struct Target {
+    int width = 0, height = 0;  // px
+    GLuint fbo = 0;
+    std::array<GLuint, 5> renderbuffers{};  // colour, instance, class, z, depth
+  };
+  std::vector<Target> targets_;
+  GLuint bound_fbo_ = 0;
 
   bool uploaded_ = false;
   std::vector<GLuint> textures_;

@@ -50,6 +50,7 @@ struct SceneOptions {
   float light_intensity = 0.25f;  // scale of every lamp's point light
   float light_falloff_m = 2.5f;   // distance at which a lamp's light has halved
   double cull_cell_m = 4.0;       // size of the culling grid cells
+  int max_lights = 4;  // nearest lamps lighting one pass (each costs ~1.4 ms per 640x480 pass)
 };
 
 struct Scene {

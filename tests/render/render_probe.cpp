@@ -4,6 +4,7 @@
 //
 //   render_probe <osmesa|egl>                 prints "<backend> <hash>" (8 lights)
 //   render_probe <osmesa|egl> --bench FRAMES  also times FRAMES draws (render + read back)
+//   ... --width W                              renders W x (3/4 W) instead of 640 x 480
 //   ... --lights N                             draws with the N first lights (0..16; the
 //                                              corridor has 10)
 //
@@ -122,7 +123,7 @@ Scene CorridorScene() {
   return scene;
 }
 
-View ProbeView() {
+View ProbeView(int width) {
   View view;
   // Robot at x = 0.5 looking down the corridor, camera 1.2 m up, yawed 5 deg and pitched 3 deg.
   const SE3 world_from_body = SE3::FromYawPitchRoll(0.0873, 0.0524, 0.0, {0.5, 0.1, 1.2});
@@ -131,11 +132,13 @@ View ProbeView() {
   body_from_optical.col(1) = Eigen::Vector3d(0, 0, -1);
   body_from_optical.col(2) = Eigen::Vector3d(1, 0, 0);
   view.world_from_camera = world_from_body * SE3(body_from_optical, Eigen::Vector3d::Zero());
-  view.width = 640;
-  view.height = 480;
-  view.fx = view.fy = 380.0;
-  view.cx = 319.5;
-  view.cy = 239.5;
+  // 640 x 480 with fx = fy = 380 px, scaled to `width` (4:3).
+  const double scale = width / 640.0;
+  view.width = width;
+  view.height = width * 3 / 4;
+  view.fx = view.fy = 380.0 * scale;
+  view.cx = 0.5 * view.width - 0.5;
+  view.cy = 0.5 * view.height - 0.5;
   return view;
 }
 
@@ -151,7 +154,8 @@ std::uint64_t Fnv1a(std::uint64_t hash, const void* data, std::size_t size) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  const char* usage = "usage: render_probe <osmesa|egl> [--bench FRAMES] [--lights N]\n";
+  const char* usage =
+      "usage: render_probe <osmesa|egl> [--bench FRAMES] [--lights N] [--width W]\n";
   if (argc < 2 || argc % 2 != 0) {
     std::fputs(usage, stderr);
     return 2;
@@ -161,7 +165,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "render_probe: unknown backend '%s' (osmesa or egl)\n", name.c_str());
     return 2;
   }
-  int frames = 0, light_count = 8;
+  int frames = 0, light_count = 8, width = 640;
   for (int i = 2; i + 1 < argc; i += 2) {
     const std::string flag = argv[i];
     const int value = std::atoi(argv[i + 1]);
@@ -169,6 +173,8 @@ int main(int argc, char** argv) {
       frames = value;
     } else if (flag == "--lights" && value >= 0 && value <= 16) {
       light_count = value;
+    } else if (flag == "--width" && value >= 8 && value % 4 == 0) {
+      width = value;
     } else {
       std::fputs(usage, stderr);
       return 2;
@@ -188,7 +194,7 @@ int main(int argc, char** argv) {
   for (std::size_t i = 0; i < drawables.size(); ++i) drawables[i] = int(i);
   std::vector<int> lights;
   for (int i = 0; i < light_count && i < int(scene.lights.size()); ++i) lights.push_back(i);
-  const View view = ProbeView();
+  const View view = ProbeView(width);
   RenderedView out;
   backend->Draw(view, drawables, lights, &out);
 
@@ -213,10 +219,10 @@ int main(int argc, char** argv) {
     const double cpu_ms = 1000.0 * double(std::clock() - cpu_start) / CLOCKS_PER_SEC / frames;
     std::sort(ms.begin(), ms.end());
     std::printf(
-        "%s: %zu triangles, %zu drawables, %zu lights, 640x480, %d frames: wall median %.2f ms, "
+        "%s: %zu triangles, %zu drawables, %zu lights, %dx%d, %d frames: wall median %.2f ms, "
         "min %.2f ms; CPU %.2f ms per frame\n",
-        name.c_str(), scene.triangle_count(), drawables.size(), lights.size(), frames,
-        ms[ms.size() / 2], ms.front(), cpu_ms);
+        name.c_str(), scene.triangle_count(), drawables.size(), lights.size(), view.width,
+        view.height, frames, ms[ms.size() / 2], ms.front(), cpu_ms);
   }
   return 0;
 }
