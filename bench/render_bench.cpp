@@ -78,7 +78,8 @@ int main(int argc, char** argv) {
       const SE3 world_from_camera = PoseAt(i) * camera.spec().mount.RobotFromCamera();
       const auto lights =
           render::NearestLights(scene, world_from_camera.translation(), scene.options.max_lights);
-      for (const render::View& view : camera.Passes(world_from_camera)) {
+      for (render::View view : camera.Passes(world_from_camera)) {
+        view.read_depth = camera.spec().depth;
         prepared[static_cast<std::size_t>(i)].push_back(
             {view, render::VisibleDrawables(scene, view), lights});
       }

@@ -52,25 +52,6 @@ Matrix3d FaceRotation(int face) {
   return r;
 }
 
-void Bilinear(const Image8& img, float x, float y, std::uint8_t* out) {
-  const int w = img.width, h = img.height;
-  x = std::clamp(x, 0.0f, static_cast<float>(w - 1));
-  y = std::clamp(y, 0.0f, static_cast<float>(h - 1));
-  const int x0 = std::min(static_cast<int>(x), w - 2 < 0 ? 0 : w - 2);
-  const int y0 = std::min(static_cast<int>(y), h - 2 < 0 ? 0 : h - 2);
-  const int x1 = std::min(x0 + 1, w - 1), y1 = std::min(y0 + 1, h - 1);
-  const float fx = x - static_cast<float>(x0), fy = y - static_cast<float>(y0);
-  const std::uint8_t* p00 = img.Pixel(x0, y0);
-  const std::uint8_t* p10 = img.Pixel(x1, y0);
-  const std::uint8_t* p01 = img.Pixel(x0, y1);
-  const std::uint8_t* p11 = img.Pixel(x1, y1);
-  for (int c = 0; c < 3; ++c) {
-    const float top = static_cast<float>(p00[c]) * (1 - fx) + static_cast<float>(p10[c]) * fx;
-    const float bottom = static_cast<float>(p01[c]) * (1 - fx) + static_cast<float>(p11[c]) * fx;
-    out[c] = static_cast<std::uint8_t>(std::lround(top * (1 - fy) + bottom * fy));
-  }
-}
-
 }  // namespace
 
 SE3 Mount::RobotFromCamera() const {
@@ -437,6 +418,16 @@ void CameraRenderer::PlanRemapPasses() {
     LutEntry& e = lut_[i];
     e.x = static_cast<float>(uv.x());
     e.y = static_cast<float>(uv.y());
+    const View& pv = passes_[static_cast<std::size_t>(pass_of_face[static_cast<std::size_t>(f)])].view;
+    // The crop keeps a 2 px border, so the bilinear block and the nearest pixel stay inside.
+    const int x0 = std::clamp(static_cast<int>(std::floor(uv.x())), 0, pv.width - 2);
+    const int y0 = std::clamp(static_cast<int>(std::floor(uv.y())), 0, pv.height - 2);
+    e.top_left = static_cast<std::uint32_t>(y0 * pv.width + x0);
+    e.wx = static_cast<std::uint16_t>(std::clamp(std::lround((uv.x() - x0) * 256.0), 0L, 256L));
+    e.wy = static_cast<std::uint16_t>(std::clamp(std::lround((uv.y() - y0) * 256.0), 0L, 256L));
+    const int nx = std::clamp(static_cast<int>(std::lround(uv.x())), 0, pv.width - 1);
+    const int ny = std::clamp(static_cast<int>(std::lround(uv.y())), 0, pv.height - 1);
+    e.nearest = static_cast<std::uint32_t>(ny * pv.width + nx);
     // Camera z of the point at pass depth 1 along this ray: camera z = pass z * b.z / q.z.
     e.depth_scale = static_cast<float>(bearings[i].z() / q.z());
     e.pass = static_cast<std::uint8_t>(pass_of_face[static_cast<std::size_t>(f)]);
@@ -473,19 +464,21 @@ void CameraRenderer::Render(const Scene& scene, Backend& backend, const SE3& wor
                             CameraFrame* frame) {
   frame->camera_id = spec_.id;
   frame->world_from_camera = world_from_camera;
-  const std::vector<View> views = Passes(world_from_camera);
+  std::vector<View> views = Passes(world_from_camera);
   const std::vector<int> lights =
       NearestLights(scene, world_from_camera.translation(), scene.options.max_lights);
   for (std::size_t k = 0; k < views.size(); ++k) {
+    views[k].read_depth = spec_.depth;
     const std::vector<int> visible = VisibleDrawables(scene, views[k]);
     backend.Draw(views[k], visible, lights, &rendered_[k]);
   }
   if (lut_.empty()) {
+    // One exact pass: hand its buffers over (the frame's old buffers come back for reuse).
     RenderedView& r = rendered_[0];
-    frame->rgb = r.rgb;
-    frame->instance = r.instance;
-    frame->semantic = r.semantic;
-    if (spec_.depth) frame->depth_m = r.depth_m;
+    std::swap(frame->rgb, r.rgb);
+    std::swap(frame->instance, r.instance);
+    std::swap(frame->semantic, r.semantic);
+    if (spec_.depth) std::swap(frame->depth_m, r.depth_m);
   } else {
     Compose(frame);
   }
@@ -493,25 +486,40 @@ void CameraRenderer::Render(const Scene& scene, Backend& backend, const SE3& wor
 
 void CameraRenderer::Compose(CameraFrame* frame) const {
   const PinholeRadTan p = PinholeOf(spec_.model);
-  const int w = p.width, h = p.height;
-  frame->rgb = Image8(w, h, 3);
-  frame->instance.assign(static_cast<std::size_t>(w) * h, 0);
-  frame->semantic.assign(static_cast<std::size_t>(w) * h, 0);
-  if (spec_.depth) frame->depth_m = ImageF(w, h, 0.0f);
-  for (int v = 0; v < h; ++v) {
-    for (int u = 0; u < w; ++u) {
-      const std::size_t i = static_cast<std::size_t>(v) * w + u;
-      const LutEntry& e = lut_[i];
-      if (!e.valid) continue;
-      const RenderedView& r = rendered_[e.pass];
-      Bilinear(r.rgb, e.x, e.y, frame->rgb.Pixel(u, v));
-      const int nx = std::clamp(static_cast<int>(std::lround(e.x)), 0, r.rgb.width - 1);
-      const int ny = std::clamp(static_cast<int>(std::lround(e.y)), 0, r.rgb.height - 1);
-      const std::size_t j = static_cast<std::size_t>(ny) * r.rgb.width + nx;
-      frame->instance[i] = r.instance[j];
-      frame->semantic[i] = r.semantic[j];
-      if (spec_.depth) frame->depth_m.data[i] = r.depth_m.data[j] * e.depth_scale;
+  const std::size_t n = static_cast<std::size_t>(p.width) * p.height;
+  if (frame->rgb.width != p.width || frame->rgb.height != p.height || frame->rgb.channels != 3) {
+    frame->rgb = Image8(p.width, p.height, 3);
+  }
+  frame->instance.resize(n);
+  frame->semantic.resize(n);
+  if (spec_.depth) {
+    frame->depth_m.width = p.width;
+    frame->depth_m.height = p.height;
+    frame->depth_m.data.resize(n);
+  }
+  std::uint8_t* rgb = frame->rgb.data.data();
+  for (std::size_t i = 0; i < n; ++i, rgb += 3) {
+    const LutEntry& e = lut_[i];
+    if (!e.valid) {
+      rgb[0] = rgb[1] = rgb[2] = 0;
+      frame->instance[i] = 0;
+      frame->semantic[i] = 0;
+      if (spec_.depth) frame->depth_m.data[i] = 0.0f;
+      continue;
     }
+    const RenderedView& r = rendered_[e.pass];
+    const std::size_t stride = static_cast<std::size_t>(r.rgb.width) * 3;
+    const std::uint8_t* a = r.rgb.data.data() + static_cast<std::size_t>(e.top_left) * 3;
+    const std::uint8_t* c = a + stride;
+    const std::uint32_t wx = e.wx, wy = e.wy;
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t top = a[k] * (256 - wx) + a[k + 3] * wx;
+      const std::uint32_t bottom = c[k] * (256 - wx) + c[k + 3] * wx;
+      rgb[k] = static_cast<std::uint8_t>((top * (256 - wy) + bottom * wy + 32768) >> 16);
+    }
+    frame->instance[i] = r.instance[e.nearest];
+    frame->semantic[i] = r.semantic[e.nearest];
+    if (spec_.depth) frame->depth_m.data[i] = r.depth_m.data[e.nearest] * e.depth_scale;
   }
 }
 

@@ -499,9 +499,9 @@ void GlBackend::Draw(const View& view, std::span<const int> drawables, std::span
   out->rgb.height = h;
   out->rgb.channels = 3;
   out->rgb.data.resize(pixels * 3);
-  out->depth_m.width = w;
-  out->depth_m.height = h;
-  out->depth_m.data.resize(pixels);
+  out->depth_m.width = view.read_depth ? w : 0;
+  out->depth_m.height = view.read_depth ? h : 0;
+  out->depth_m.data.resize(view.read_depth ? pixels : 0);
   out->instance.resize(pixels);
   out->semantic.resize(pixels);
   gl_.ReadBuffer(GL_COLOR_ATTACHMENT0);
@@ -510,8 +510,10 @@ void GlBackend::Draw(const View& view, std::span<const int> drawables, std::span
   gl_.ReadPixels(0, 0, w, h, GL_RED_INTEGER, GL_UNSIGNED_INT, out->instance.data());
   gl_.ReadBuffer(GL_COLOR_ATTACHMENT2);
   gl_.ReadPixels(0, 0, w, h, GL_RED_INTEGER, GL_UNSIGNED_BYTE, out->semantic.data());
-  gl_.ReadBuffer(GL_COLOR_ATTACHMENT3);
-  gl_.ReadPixels(0, 0, w, h, GL_RED, GL_FLOAT, out->depth_m.data.data());
+  if (view.read_depth) {
+    gl_.ReadBuffer(GL_COLOR_ATTACHMENT3);
+    gl_.ReadPixels(0, 0, w, h, GL_RED, GL_FLOAT, out->depth_m.data.data());
+  }
   CheckGlError("frame");
 }
 

@@ -81,6 +81,7 @@ struct View {
   double fx = 0, fy = 0, cx = 0, cy = 0;  // pixels; (0,0) is the centre of the top-left pixel
   double near_m = 0.05;
   double far_m = 60.0;
+  bool read_depth = true;  // read back the metric depth buffer (cameras without depth skip it)
 };
 
 /// Indices of the drawables whose bounds intersect the view frustum (conservative), in
