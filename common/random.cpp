@@ -20,7 +20,6 @@ std::uint64_t Combine(std::uint64_t a, std::uint64_t b) {
   return SplitMix64(x);
 }
 
-
 // log(k!) for k >= 0: exact table below 10, Stirling's series (relative error < 1e-15) from 10 on.
 // Written here rather than std::lgamma, which may write the global `signgam` and so is not
 // thread-safe.
@@ -68,7 +67,6 @@ RandomStream::RandomStream(std::uint64_t identity) : identity_(identity) {
 RandomStream RandomStream::Derive(std::string_view component) const {
   return RandomStream(Combine(identity_, HashName(component)));
 }
-
 
 double RandomStream::Uniform(double lo, double hi) { return lo + (hi - lo) * Uniform01(); }
 

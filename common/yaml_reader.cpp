@@ -246,7 +246,8 @@ bool YamlMap::Read(const std::string& key, std::vector<double>& values) {
   for (const auto& item : node) {
     double v = 0.0;
     if (!item.IsScalar() || !YAML::convert<double>::decode(item, v) || !std::isfinite(v)) {
-      throw InputError(doc_->LocationOf(item), FullKey(key), "expected a finite number in the list");
+      throw InputError(doc_->LocationOf(item), FullKey(key),
+                       "expected a finite number in the list");
     }
     parsed.push_back(v);
   }

@@ -418,7 +418,8 @@ void CameraRenderer::PlanRemapPasses() {
     LutEntry& e = lut_[i];
     e.x = static_cast<float>(uv.x());
     e.y = static_cast<float>(uv.y());
-    const View& pv = passes_[static_cast<std::size_t>(pass_of_face[static_cast<std::size_t>(f)])].view;
+    const View& pv =
+        passes_[static_cast<std::size_t>(pass_of_face[static_cast<std::size_t>(f)])].view;
     // The crop keeps a 2 px border, so the bilinear block and the nearest pixel stay inside.
     const int x0 = std::clamp(static_cast<int>(std::floor(uv.x())), 0, pv.width - 2);
     const int y0 = std::clamp(static_cast<int>(std::floor(uv.y())), 0, pv.height - 2);

@@ -108,13 +108,13 @@ class CameraRenderer {
   // Where one output pixel samples its pass: bilinear colour from the 2x2 block at `top_left`
   // with 8-bit fixed-point weights, nearest labels and depth at `nearest`.
   struct LutEntry {
-    std::uint32_t top_left = 0;  // pass pixel index of the bilinear block
-    std::uint32_t nearest = 0;   // pass pixel index nearest to the sample position
+    std::uint32_t top_left = 0;    // pass pixel index of the bilinear block
+    std::uint32_t nearest = 0;     // pass pixel index nearest to the sample position
     std::uint16_t wx = 0, wy = 0;  // weights of the right column / bottom row, in 1/256
-    float x = 0, y = 0;          // continuous pixel position in the pass image
-    float depth_scale = 0;       // camera z per pass z along this pixel's ray
+    float x = 0, y = 0;            // continuous pixel position in the pass image
+    float depth_scale = 0;         // camera z per pass z along this pixel's ray
     std::uint8_t pass = 0;
-    bool valid = false;          // false outside the model's valid angle
+    bool valid = false;  // false outside the model's valid angle
   };
   void PlanPinholePass();
   void PlanRemapPasses();
