@@ -76,8 +76,10 @@ int main(int argc, char** argv) {
   for (int i = 0; i < frames; ++i) {
     for (const render::CameraRenderer& camera : rig.cameras()) {
       const SE3 world_from_camera = PoseAt(i) * camera.spec().mount.RobotFromCamera();
-      const auto lights =
-          render::NearestLights(scene, world_from_camera.translation(), scene.options.max_lights);
+      const auto lights = scene.options.bake_lighting
+                              ? std::vector<int>{}
+                              : render::NearestLights(scene, world_from_camera.translation(),
+                                                      scene.options.max_lights);
       for (render::View view : camera.Passes(world_from_camera)) {
         view.read_depth = camera.spec().depth;
         prepared[static_cast<std::size_t>(i)].push_back(

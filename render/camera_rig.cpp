@@ -272,6 +272,7 @@ void ParseRenderOptions(YamlMap& render, RigSpec& rig) {
   render.Read("ambient", ambient);
   render.Read("light_intensity", intensity);
   render.Read("light_falloff_m", falloff);
+  render.Read("bake_lighting", rig.scene.bake_lighting);
   render.Read("max_lights", rig.scene.max_lights);
   if (rig.scene.max_lights < 0 || rig.scene.max_lights > 16) {
     render.Fail("max_lights", "must lie in [0, 16]");
@@ -466,8 +467,11 @@ void CameraRenderer::Render(const Scene& scene, Backend& backend, const SE3& wor
   frame->camera_id = spec_.id;
   frame->world_from_camera = world_from_camera;
   std::vector<View> views = Passes(world_from_camera);
+  // Baked lighting needs no per-pixel lights; otherwise the nearest few light each pass.
   const std::vector<int> lights =
-      NearestLights(scene, world_from_camera.translation(), scene.options.max_lights);
+      scene.options.bake_lighting
+          ? std::vector<int>{}
+          : NearestLights(scene, world_from_camera.translation(), scene.options.max_lights);
   for (std::size_t k = 0; k < views.size(); ++k) {
     views[k].read_depth = spec_.depth;
     const std::vector<int> visible = VisibleDrawables(scene, views[k]);

@@ -15,18 +15,21 @@ constexpr const char* kVertexShader = R"glsl(#version 330 core
 layout(location = 0) in vec3 a_position;  // world frame, m
 layout(location = 1) in vec3 a_normal;    // world frame
 layout(location = 2) in vec2 a_uv;
+layout(location = 3) in float a_irradiance;  // ambient + baked lamps
 uniform mat4 u_camera_from_world;
 uniform mat4 u_clip_from_camera;
 out vec3 v_world;
 out vec3 v_normal;
 out vec2 v_uv;
 out vec3 v_camera;  // OpenCV optical frame, m
+out float v_irradiance;
 void main() {
   vec4 p_in_camera = u_camera_from_world * vec4(a_position, 1.0);
   v_world = a_position;
   v_normal = a_normal;
   v_uv = a_uv;
   v_camera = p_in_camera.xyz;
+  v_irradiance = a_irradiance;
   gl_Position = u_clip_from_camera * p_in_camera;
 }
 )glsl";
@@ -38,11 +41,11 @@ in vec3 v_world;
 in vec3 v_normal;
 in vec2 v_uv;
 in vec3 v_camera;
+in float v_irradiance;
 uniform vec3 u_diffuse;
 uniform vec3 u_emission;
 uniform int u_has_texture;
 uniform sampler2D u_texture;
-uniform float u_ambient;
 uniform float u_inv_falloff2;  // 1 / falloff^2, 1/m^2: a light's contribution halves at falloff
 #if LIGHT_COUNT > 0
 uniform vec3 u_light_position[LIGHT_COUNT];   // world frame, m
@@ -58,7 +61,7 @@ void main() {
   vec3 base = u_diffuse;
   if (u_has_texture != 0) base *= texture(u_texture, v_uv).rgb;
   vec3 n = normalize(v_normal);
-  vec3 light = vec3(u_ambient);
+  vec3 light = vec3(v_irradiance);  // ambient (+ lamps when baked)
 #if LIGHT_COUNT > 0
   for (int i = 0; i < LIGHT_COUNT; ++i) {
     // intensity * max(0, n.l) / (1 + (d / falloff)^2)
@@ -130,7 +133,7 @@ GlBackend::GlBackend(std::unique_ptr<GlContext> context) : context_(std::move(co
   gl_.GenBuffers(1, &vbo_);
   gl_.GenBuffers(1, &ibo_);
 
-  // Vertex layout: SceneVertex {position[3], normal[3], uv[2]}.
+  // Vertex layout: SceneVertex {position[3], normal[3], uv[2], irradiance}.
   gl_.BindVertexArray(vao_);
   gl_.BindBuffer(GL_ARRAY_BUFFER, vbo_);
   gl_.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, ibo_);
@@ -144,16 +147,17 @@ GlBackend::GlBackend(std::unique_ptr<GlContext> context) : context_(std::move(co
   gl_.EnableVertexAttribArray(2);
   gl_.VertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, kStride,
                           reinterpret_cast<const void*>(offsetof(SceneVertex, uv)));
+  gl_.EnableVertexAttribArray(3);
+  gl_.VertexAttribPointer(3, 1, GL_FLOAT, GL_FALSE, kStride,
+                          reinterpret_cast<const void*>(offsetof(SceneVertex, irradiance)));
 
-  // Fixed state: depth test, back-face culling, no blending, no dither.
+  // Fixed state: depth test, no culling, no blending, no dither.
   gl_.Enable(GL_DEPTH_TEST);
   gl_.DepthFunc(GL_LESS);
-  // Back faces are culled: every solid is a closed box and every flat surface faces where it is
-  // seen from. The projection maps image rows top-down onto GL window rows, which mirrors the
-  // winding, so counter-clockwise-from-outside triangles arrive clockwise.
-  gl_.Enable(GL_CULL_FACE);
-  gl_.CullFace(GL_BACK);
-  gl_.FrontFace(GL_CW);
+  // No back-face culling: solids are separate boxes whose faces meet edge to edge, and where a
+  // seam leaves a pixel uncovered the inside of the box behind it must fill it (culling opened
+  // one-pixel holes onto the void at floor-wall and frame-wall seams).
+  gl_.Disable(GL_CULL_FACE);
   gl_.Disable(GL_BLEND);
   gl_.Disable(GL_DITHER);
   gl_.PixelStorei(GL_PACK_ALIGNMENT, 1);
@@ -248,7 +252,6 @@ const GlBackend::Program& GlBackend::ProgramFor(int light_count) {
   program.emission = location("u_emission");
   program.has_texture = location("u_has_texture");
   program.texture = location("u_texture");
-  program.ambient = location("u_ambient");
   program.inv_falloff2 = location("u_inv_falloff2");
   program.light_position = location("u_light_position");
   program.light_intensity = location("u_light_intensity");
@@ -457,7 +460,6 @@ void GlBackend::Draw(const View& view, std::span<const int> drawables, std::span
   const std::array<float, 16> clip_from_camera = ClipFromCamera(view);
   gl_.UniformMatrix4fv(program.camera_from_world, 1, GL_FALSE, camera_from_world.data());
   gl_.UniformMatrix4fv(program.clip_from_camera, 1, GL_FALSE, clip_from_camera.data());
-  gl_.Uniform1f(program.ambient, options_.ambient);
   gl_.Uniform1f(program.inv_falloff2, 1.0f / (options_.light_falloff_m * options_.light_falloff_m));
   if (!lights.empty()) {
     std::array<float, 3 * kMaxLightsPerDraw> positions{}, intensities{};

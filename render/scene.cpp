@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <numbers>
 
 namespace corridorsim::render {
@@ -41,12 +42,13 @@ Frustum MakeFrustum(const View& view) {
     f.corners[k] = c + R * (rays[k] * view.near_m);
     f.corners[4 + k] = c + R * (rays[k] * view.far_m);
   }
-  // Side planes through the camera centre and two adjacent corner rays.
+  // Side planes through the camera centre and two adjacent corner rays, facing the ray through
+  // the image centre (always inside; the optical axis is not, for a cropped off-centre pass).
+  const Vector3d inside = R * Vector3d((x0 + x1) / 2, (y0 + y1) / 2, 1.0);
   for (int k = 0; k < 4; ++k) {
     Vector3d n = R * rays[k].cross(rays[(k + 1) % 4]);
     n.normalize();
-    // Make the normal point towards the optical axis.
-    if (n.dot(R * Vector3d::UnitZ()) < 0) n = -n;
+    if (n.dot(inside) < 0) n = -n;
     f.normal[k] = n;
     f.offset[k] = -n.dot(c);
   }
@@ -56,6 +58,44 @@ Frustum MakeFrustum(const View& view) {
   f.normal[5] = -axis;
   f.offset[5] = axis.dot(c + axis * view.far_m);
   return f;
+}
+
+// Irradiance per vertex: ambient + sum over lamps of intensity * max(0, n.l) / (1 + (d/f)^2),
+// the same model the per-pixel shader evaluates, for every lamp within bake_range_m. Lamps are
+// bucketed along x-y so a 1 km corridor costs what its neighbourhoods cost.
+void BakeLighting(Scene* scene) {
+  const SceneOptions& o = scene->options;
+  const double range = o.bake_range_m, inv_falloff2 = 1.0 / (o.light_falloff_m * o.light_falloff_m);
+  std::map<std::pair<long, long>, std::vector<int>> buckets;
+  auto bucket_of = [&](double x, double y) {
+    return std::make_pair(static_cast<long>(std::floor(x / range)),
+                          static_cast<long>(std::floor(y / range)));
+  };
+  for (std::size_t i = 0; i < scene->lights.size(); ++i) {
+    const auto& p = scene->lights[i].position;
+    buckets[bucket_of(p.x(), p.y())].push_back(static_cast<int>(i));
+  }
+  for (SceneVertex& v : scene->vertices) {
+    const Vector3d p(v.position[0], v.position[1], v.position[2]);
+    const Vector3d n(v.normal[0], v.normal[1], v.normal[2]);
+    const auto [bx, by] = bucket_of(p.x(), p.y());
+    double sum = o.ambient;
+    for (long dx = -1; dx <= 1; ++dx) {
+      for (long dy = -1; dy <= 1; ++dy) {
+        const auto it = buckets.find({bx + dx, by + dy});
+        if (it == buckets.end()) continue;
+        for (const int i : it->second) {
+          const PointLight& light = scene->lights[static_cast<std::size_t>(i)];
+          const Vector3d to_light = light.position.cast<double>() - p;
+          const double d2 = std::max(to_light.squaredNorm(), 1e-12);
+          if (d2 > range * range) continue;
+          const double n_dot_l = std::max(n.dot(to_light) / std::sqrt(d2), 0.0);
+          sum += light.intensity.x() * n_dot_l / (1.0 + d2 * inv_falloff2);
+        }
+      }
+    }
+    v.irradiance = static_cast<float>(sum);
+  }
 }
 
 }  // namespace
@@ -77,17 +117,42 @@ Scene BuildScene(const worlds::World& world, const SceneOptions& options) {
       }
       v.uv[0] = mesh.uvs[i].x();
       v.uv[1] = mesh.uvs[i].y();
+      v.irradiance = options.ambient;
       scene.vertices.push_back(v);
     }
-    Drawable d;
-    d.first_index = static_cast<std::uint32_t>(scene.indices.size());
-    for (const std::uint32_t index : mesh.indices) scene.indices.push_back(base + index);
-    d.index_count = static_cast<std::uint32_t>(mesh.indices.size());
-    d.material = mesh.material;
-    d.instance_id = static_cast<std::uint32_t>(mesh.instance_id);
-    d.semantic_class = static_cast<std::uint8_t>(mesh.semantic_class);
-    d.bounds = mesh.bounds;
-    scene.drawables.push_back(d);
+    // Triangles of a mesh larger than a culling cell go into one drawable per cell (by
+    // centroid, cells in a fixed order), so culling a long corridor keeps only what is near.
+    std::map<std::pair<long, long>, std::vector<std::uint32_t>> chunks;
+    const Eigen::Vector3f extent = mesh.bounds.sizes();
+    const bool split = std::max(extent.x(), extent.y()) > options.cull_cell_m;
+    for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
+      std::pair<long, long> key{0, 0};
+      if (split) {
+        const Eigen::Vector3f c =
+            (mesh.positions[mesh.indices[t]] + mesh.positions[mesh.indices[t + 1]] +
+             mesh.positions[mesh.indices[t + 2]]) /
+            3.0f;
+        key = {static_cast<long>(std::floor(c.x() / options.cull_cell_m)),
+               static_cast<long>(std::floor(c.y() / options.cull_cell_m))};
+      }
+      auto& chunk = chunks[key];
+      for (int k = 0; k < 3; ++k) chunk.push_back(mesh.indices[t + static_cast<std::size_t>(k)]);
+    }
+    for (const auto& [key, indices] : chunks) {
+      Drawable d;
+      d.mesh = static_cast<int>(&mesh - world.meshes.data());
+      d.first_index = static_cast<std::uint32_t>(scene.indices.size());
+      d.bounds.setEmpty();
+      for (const std::uint32_t index : indices) {
+        scene.indices.push_back(base + index);
+        d.bounds.extend(mesh.positions[index]);
+      }
+      d.index_count = static_cast<std::uint32_t>(indices.size());
+      d.material = mesh.material;
+      d.instance_id = static_cast<std::uint32_t>(mesh.instance_id);
+      d.semantic_class = static_cast<std::uint8_t>(mesh.semantic_class);
+      scene.drawables.push_back(d);
+    }
   }
   for (const worlds::Lamp& lamp : world.lamps) {
     if (!lamp.on) continue;
@@ -102,6 +167,8 @@ Scene BuildScene(const worlds::World& world, const SceneOptions& options) {
     light.lamp_id = lamp.id;
     scene.lights.push_back(light);
   }
+
+  if (options.bake_lighting) BakeLighting(&scene);
 
   // Culling grid over the x-y extent of all drawables.
   Eigen::AlignedBox3f all;

@@ -19,6 +19,7 @@ struct SceneVertex {
   float position[3];  // world frame, m
   float normal[3];    // unit, world frame
   float uv[2];        // texture repeats, (0,0) = bottom-left of the image
+  float irradiance;   // light reaching the surface here: ambient + every lit lamp (baked)
 };
 
 struct SceneMaterial {
@@ -28,8 +29,10 @@ struct SceneMaterial {
   int texture = -1;  // index into Scene::textures
 };
 
-/// One world mesh: a range of the index buffer drawn with one material.
+/// A range of the index buffer drawn with one material: a world mesh, or one culling-cell chunk
+/// of a mesh larger than a cell (a long floor or wall), so culling keeps only what is near.
 struct Drawable {
+  int mesh = 0;  // index of the world mesh it draws (part of)
   std::uint32_t first_index = 0;
   std::uint32_t index_count = 0;
   int material = 0;
@@ -50,7 +53,10 @@ struct SceneOptions {
   float light_intensity = 0.25f;  // scale of every lamp's point light
   float light_falloff_m = 2.5f;   // distance at which a lamp's light has halved
   double cull_cell_m = 4.0;       // size of the culling grid cells
-  int max_lights = 4;  // nearest lamps lighting one pass (each costs ~1.4 ms per 640x480 pass)
+  bool bake_lighting = true;      // lamps' light baked per vertex (all lamps, no per-pixel cost)
+  int max_lights = 4;          // per-pixel lighting when not baked: nearest lamps lighting one pass
+                               // (each costs ~1.4 ms per 640x480 pass on llvmpipe)
+  double bake_range_m = 15.0;  // lamps further than this from a vertex are left out of its sum
 };
 
 struct Scene {

@@ -27,6 +27,10 @@ constexpr int kCeilingTilesPerTexture = 4;
 constexpr double kLampDrop = 0.005;       // lamps hang this far below the ceiling (no z-fighting)
 constexpr double kSurfaceOffset = 0.002;  // decals (plates, posters) in front of their backing
 constexpr int kDiscSegments = 32;
+// Solids that meet the floor or the ceiling run this far beyond it, so that the seam between
+// two separate meshes is a crossing, not two edges touching: a ray through the seam then hits
+// the wall's continuation instead of passing into the void behind.
+constexpr double kSeam = 0.05;
 
 struct Interval {
   double lo, hi;
@@ -267,21 +271,23 @@ class Builder {
     const int id = door.id;
     // Columns and top bar: the door feature of P2/P3.
     Solid(Id("door_column_a", id), mat_.frame, id, SemanticClass::kDoorFrame,
-          WallBox(wall, start, start + fw, 0, bar_top, -t - p, p));
+          WallBox(wall, start, start + fw, -kSeam, bar_top, -t - p, p));
     Solid(Id("door_column_b", id), mat_.frame, id, SemanticClass::kDoorFrame,
-          WallBox(wall, start + f - fw, start + f, 0, bar_top, -t - p, p));
+          WallBox(wall, start + f - fw, start + f, -kSeam, bar_top, -t - p, p));
     Solid(Id("door_bar", id), mat_.frame, id, SemanticClass::kDoorFrame,
           WallBox(wall, start + fw, start + f - fw, d.height_m, bar_top, -t - p, p));
     Solid(Id("door_header", id), mat_.wall, wall.id, SemanticClass::kWall,
-          WallBox(wall, start, start + f, bar_top, s_.height_m, -t, 0));
+          WallBox(wall, start, start + f, bar_top, s_.height_m + kSeam, -t, 0));
     if (door.state == DoorState::kClosed) {
       Solid(Id("door_leaf", id), mat_.door_leaf, id, SemanticClass::kDoorLeaf,
-            WallBox(wall, start + fw, start + f - fw, 0, d.height_m, -t / 2 - 0.02, -t / 2 + 0.02),
+            WallBox(wall, start + fw, start + f - fw, -kSeam, d.height_m, -t / 2 - 0.02,
+                    -t / 2 + 0.02),
             d.height_m);
     } else if (door.state == DoorState::kOpen) {
       // The leaf swung by 90 degrees into the room, hinged at column a.
       Solid(Id("door_leaf", id), mat_.door_leaf, id, SemanticClass::kDoorLeaf,
-            WallBox(wall, start + fw, start + fw + 0.04, 0, d.height_m - 0.01, -t - d.width_m, -t),
+            WallBox(wall, start + fw, start + fw + 0.04, -kSeam, d.height_m - 0.01, -t - d.width_m,
+                    -t),
             d.height_m);
     }
     if (door.room) BuildRoom(door, wall);
@@ -291,8 +297,14 @@ class Builder {
     const Room& room = *door.room;
     const double t = s_.wall_thickness_m, h = room.ceiling_height_m;
     const int id = door.id;
+    // The room's floor runs under the doorway's threshold up to the corridor's floor.
+    AlignedBox2d floor_area = room.footprint;
+    floor_area.extend(
+        room.footprint.center() +
+        wall.inward_normal *
+            (room.footprint.sizes().dot(wall.inward_normal.cwiseAbs()) / 2 + s_.wall_thickness_m));
     Mesh& floor = NewMesh(Id("room_floor", id), mat_.room_floor, id, SemanticClass::kRoom);
-    AddHorizontalRect(floor, room.footprint, 0.0, true, kFloorPeriodM);
+    AddHorizontalRect(floor, floor_area, 0.0, true, kFloorPeriodM);
     Mesh& ceiling = NewMesh(Id("room_ceiling", id), mat_.room_ceiling, id, SemanticClass::kRoom);
     AddHorizontalRect(ceiling, room.footprint, h, false, kWallPeriodM);
     // Three walls; the fourth is the back of the corridor wall.
@@ -315,8 +327,8 @@ class Builder {
                           : AlignedBox2d(Vector2d(ilo.x(), ihi.y()), Vector2d(ihi.x(), hi.y())));
     }
     for (std::size_t k = 0; k < sides.size(); ++k) {
-      const AlignedBox3d box(Vector3d(sides[k].min().x(), sides[k].min().y(), 0),
-                             Vector3d(sides[k].max().x(), sides[k].max().y(), h));
+      const AlignedBox3d box(Vector3d(sides[k].min().x(), sides[k].min().y(), -kSeam),
+                             Vector3d(sides[k].max().x(), sides[k].max().y(), h + kSeam));
       Solid(Id("room_wall", id) + "_" + std::to_string(k), mat_.room_wall, id, SemanticClass::kRoom,
             box);
     }
@@ -542,6 +554,18 @@ class Builder {
         if (cut.lo - s > 1e-9) BuildWallPiece(wall, static_cast<int>(k), s, cut.lo, piece++, t, H);
         s = cut.hi;
       }
+      // Outer corners: the square behind both wall faces where two walls meet is filled, so no
+      // seam between the two wall boxes can show the void behind them. Inner corners (L, T)
+      // would put the square into the corridor and are left alone.
+      for (const double s0 : {-t, wall.length()}) {
+        const AlignedBox2d square = WallRect(wall, s0, s0 + t, 0, -t);
+        const bool in_corridor =
+            std::any_of(plan_.segment_rects.begin(), plan_.segment_rects.end(),
+                        [&](const AlignedBox2d& r) { return Overlaps(square, r); });
+        if (in_corridor) continue;
+        Solid(Id("wall_corner", wall.id) + (s0 < 0 ? "_start" : "_end"), mat_.wall, wall.id,
+              SemanticClass::kWall, WallBox(wall, s0, s0 + t, -kSeam, H + kSeam, -t, 0));
+      }
     }
   }
 
@@ -556,18 +580,18 @@ class Builder {
       if (r.lo >= s0 && r.hi <= s1) bands.push_back(r);
     }
     if (bands.empty()) {
-      AddBox(mesh, WallBox(wall, s0, s1, 0, H, -t, 0), kWallPeriodM);
+      AddBox(mesh, WallBox(wall, s0, s1, -kSeam, H + kSeam, -t, 0), kWallPeriodM);
       return;
     }
     const double z_band = H - s_.lamps.reflector_height_m;
-    AddBox(mesh, WallBox(wall, s0, s1, 0, z_band, -t, 0), kWallPeriodM);
+    AddBox(mesh, WallBox(wall, s0, s1, -kSeam, z_band, -t, 0), kWallPeriodM);
     std::sort(bands.begin(), bands.end(),
               [](const Interval& a, const Interval& b) { return a.lo < b.lo; });
     double s = s0;
     bands.push_back({s1, s1});
     for (const Interval& band : bands) {
       if (band.lo - s > 1e-9)
-        AddBox(mesh, WallBox(wall, s, band.lo, z_band, H, -t, 0), kWallPeriodM);
+        AddBox(mesh, WallBox(wall, s, band.lo, z_band, H + kSeam, -t, 0), kWallPeriodM);
       s = band.hi;
     }
   }

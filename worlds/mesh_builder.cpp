@@ -2,9 +2,14 @@
 
 #include <cmath>
 #include <numbers>
+#include <vector>
 
 namespace corridorsim::worlds {
 namespace {
+
+// Large faces are split into patches no longer than this, so that lighting baked per vertex
+// (render::BuildScene) follows the lamps closely enough.
+constexpr double kMaxPatchM = 1.0;
 
 using Eigen::Vector2d;
 using Eigen::Vector3d;
@@ -32,37 +37,58 @@ void AddQuad(Mesh& mesh, const Vector3d& origin, const Vector3d& u, const Vector
   PushQuadIndices(mesh, base);
 }
 
+namespace {
+
+// Splits [lo, hi] into the fewest equal parts no longer than kMaxPatchM.
+std::vector<double> Splits(double lo, double hi) {
+  const int n = std::max(1, static_cast<int>(std::ceil((hi - lo) / kMaxPatchM - 1e-9)));
+  std::vector<double> out(static_cast<std::size_t>(n) + 1);
+  for (int i = 0; i <= n; ++i) out[static_cast<std::size_t>(i)] = lo + (hi - lo) * i / n;
+  out.back() = hi;
+  return out;
+}
+
+}  // namespace
+
 void AddBox(Mesh& mesh, const Eigen::AlignedBox3d& box, double uv_period_m) {
   const Vector3d lo = box.min(), hi = box.max();
-  // For each axis and side: the face's two in-plane axes (a, b) with a x b along the normal.
+  // Each axis is split once for the whole box, so neighbouring faces share their edge vertices
+  // (no T-junctions, no cracks).
+  const std::vector<double> splits[3] = {Splits(lo.x(), hi.x()), Splits(lo.y(), hi.y()),
+                                         Splits(lo.z(), hi.z())};
   for (int axis = 0; axis < 3; ++axis) {
     const int a = (axis + 1) % 3, b = (axis + 2) % 3;
+    // UVs: horizontal world axis first and z second on walls, (x, y) on floors and ceilings.
+    const int ua = axis == 2 ? 0 : (axis == 0 ? 1 : 0);
+    const int va = axis == 2 ? 1 : 2;
     for (int side = 0; side < 2; ++side) {
       Vector3d n = Vector3d::Zero();
       n[axis] = side ? 1.0 : -1.0;
-      // Corners in counter-clockwise order seen from outside.
-      Vector3d c[4];
-      for (auto& corner : c) corner[axis] = side ? hi[axis] : lo[axis];
-      const double a0 = lo[a], a1 = hi[a], b0 = lo[b], b1 = hi[b];
-      if (side) {
-        c[0][a] = a0, c[0][b] = b0;
-        c[1][a] = a1, c[1][b] = b0;
-        c[2][a] = a1, c[2][b] = b1;
-        c[3][a] = a0, c[3][b] = b1;
-      } else {
-        c[0][a] = a0, c[0][b] = b0;
-        c[1][a] = a0, c[1][b] = b1;
-        c[2][a] = a1, c[2][b] = b1;
-        c[3][a] = a1, c[3][b] = b0;
+      const auto& sa = splits[a];
+      const auto& sb = splits[b];
+      for (std::size_t i = 0; i + 1 < sa.size(); ++i) {
+        for (std::size_t j = 0; j + 1 < sb.size(); ++j) {
+          // Corners in counter-clockwise order seen from outside (a x b is along +axis).
+          Vector3d c[4];
+          for (auto& corner : c) corner[axis] = side ? hi[axis] : lo[axis];
+          const double a0 = sa[i], a1 = sa[i + 1], b0 = sb[j], b1 = sb[j + 1];
+          c[0][a] = a0, c[0][b] = b0;
+          if (side) {
+            c[1][a] = a1, c[1][b] = b0;
+            c[2][a] = a1, c[2][b] = b1;
+            c[3][a] = a0, c[3][b] = b1;
+          } else {
+            c[1][a] = a0, c[1][b] = b1;
+            c[2][a] = a1, c[2][b] = b1;
+            c[3][a] = a1, c[3][b] = b0;
+          }
+          const auto base = static_cast<std::uint32_t>(mesh.positions.size());
+          for (const auto& corner : c) {
+            PushVertex(mesh, corner, n, Vector2d(corner[ua], corner[va]) / uv_period_m);
+          }
+          PushQuadIndices(mesh, base);
+        }
       }
-      // UVs: horizontal world axis first and z second on walls, (x, y) on floors and ceilings.
-      const int ua = axis == 2 ? 0 : (axis == 0 ? 1 : 0);
-      const int va = axis == 2 ? 1 : 2;
-      const auto base = static_cast<std::uint32_t>(mesh.positions.size());
-      for (const auto& corner : c) {
-        PushVertex(mesh, corner, n, Vector2d(corner[ua], corner[va]) / uv_period_m);
-      }
-      PushQuadIndices(mesh, base);
     }
   }
 }
@@ -70,14 +96,20 @@ void AddBox(Mesh& mesh, const Eigen::AlignedBox3d& box, double uv_period_m) {
 void AddHorizontalRect(Mesh& mesh, const Eigen::AlignedBox2d& rect, double z, bool facing_up,
                        double uv_period_m, const Vector2d& uv_offset_m) {
   const Vector3d n(0, 0, facing_up ? 1.0 : -1.0);
-  Vector2d c[4] = {
-      rect.min(), {rect.max().x(), rect.min().y()}, rect.max(), {rect.min().x(), rect.max().y()}};
-  if (!facing_up) std::swap(c[1], c[3]);
-  const auto base = static_cast<std::uint32_t>(mesh.positions.size());
-  for (const auto& p : c) {
-    PushVertex(mesh, Vector3d(p.x(), p.y(), z), n, (p - uv_offset_m) / uv_period_m);
+  const std::vector<double> xs = Splits(rect.min().x(), rect.max().x());
+  const std::vector<double> ys = Splits(rect.min().y(), rect.max().y());
+  for (std::size_t i = 0; i + 1 < xs.size(); ++i) {
+    for (std::size_t j = 0; j + 1 < ys.size(); ++j) {
+      Vector2d c[4] = {
+          {xs[i], ys[j]}, {xs[i + 1], ys[j]}, {xs[i + 1], ys[j + 1]}, {xs[i], ys[j + 1]}};
+      if (!facing_up) std::swap(c[1], c[3]);
+      const auto base = static_cast<std::uint32_t>(mesh.positions.size());
+      for (const auto& p : c) {
+        PushVertex(mesh, Vector3d(p.x(), p.y(), z), n, (p - uv_offset_m) / uv_period_m);
+      }
+      PushQuadIndices(mesh, base);
+    }
   }
-  PushQuadIndices(mesh, base);
 }
 
 void AddDisc(Mesh& mesh, const Vector3d& center, double radius, const Vector3d& normal,

@@ -86,6 +86,7 @@ void AddQuad(Scene* scene, const std::array<Eigen::Vector3d, 4>& corners_in_came
     }
     v.uv[0] = kUv[i][0];
     v.uv[1] = kUv[i][1];
+    v.irradiance = scene->options.ambient;  // unlit surfaces get the ambient term
     scene->vertices.push_back(v);
     drawable.bounds.extend(p.cast<float>());
   }

@@ -71,6 +71,7 @@ void AddSurface(Scene* scene, const Eigen::Vector3f& origin, const Eigen::Vector
       }
       v.uv[0] = s * axis_s.norm();  // one texture repeat per metre
       v.uv[1] = t * axis_t.norm();
+      v.irradiance = scene->options.ambient;  // unlit surfaces get the ambient term
       scene->vertices.push_back(v);
       drawable.bounds.extend(p);
     }

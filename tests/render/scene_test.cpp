@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include <catch2/catch.hpp>
 
@@ -37,22 +38,32 @@ View ForwardView(double x, double yaw = 0.0, double far_m = 60.0) {
 TEST_CASE("the scene holds every mesh of the world with its ids and material", "[render][scene]") {
   const worlds::World& world = DefaultWorld();
   const Scene scene = BuildScene(world);
-  REQUIRE(scene.drawables.size() == world.meshes.size());
-  std::size_t vertices = 0;
-  for (std::size_t i = 0; i < world.meshes.size(); ++i) {
-    const worlds::Mesh& m = world.meshes[i];
-    const Drawable& d = scene.drawables[i];
+  REQUIRE(scene.drawables.size() >= world.meshes.size());
+  std::vector<std::size_t> indices_of_mesh(world.meshes.size(), 0);
+  for (const Drawable& d : scene.drawables) {
+    REQUIRE(d.mesh >= 0);
+    REQUIRE(d.mesh < static_cast<int>(world.meshes.size()));
+    const worlds::Mesh& m = world.meshes[static_cast<std::size_t>(d.mesh)];
     CHECK(d.instance_id == static_cast<std::uint32_t>(m.instance_id));
     CHECK(d.semantic_class == static_cast<std::uint8_t>(m.semantic_class));
     CHECK(d.material == m.material);
-    CHECK(d.index_count == m.indices.size());
-    // The first triangle's first vertex is the mesh's first referenced vertex.
-    const SceneVertex& v = scene.vertices[scene.indices[d.first_index]];
-    const Eigen::Vector3f p = m.positions[m.indices[0]];
-    CHECK(v.position[0] == p.x());
-    CHECK(v.position[1] == p.y());
-    CHECK(v.position[2] == p.z());
-    vertices += m.positions.size();
+    indices_of_mesh[static_cast<std::size_t>(d.mesh)] += d.index_count;
+    // Every vertex a drawable references lies in its bounds and in its mesh's bounds.
+    for (std::uint32_t k = 0; k < d.index_count; ++k) {
+      const SceneVertex& v = scene.vertices[scene.indices[d.first_index + k]];
+      const Eigen::Vector3f p(v.position[0], v.position[1], v.position[2]);
+      CHECK(d.bounds.contains(p));
+      CHECK(m.bounds.contains(p));
+    }
+    // Chunks of a long mesh stay within about one culling cell.
+    CHECK(d.bounds.sizes().head<2>().maxCoeff() <=
+          std::max(2.0f * static_cast<float>(scene.options.cull_cell_m),
+                   m.bounds.sizes().head<2>().minCoeff() + 1.0f));
+  }
+  std::size_t vertices = 0;
+  for (std::size_t i = 0; i < world.meshes.size(); ++i) {
+    CHECK(indices_of_mesh[i] == world.meshes[i].indices.size());
+    vertices += world.meshes[i].positions.size();
   }
   CHECK(scene.vertices.size() == vertices);
   CHECK(scene.triangle_count() == world.triangle_count());
@@ -60,6 +71,41 @@ TEST_CASE("the scene holds every mesh of the world with its ids and material", "
   const auto lit = std::count_if(world.lamps.begin(), world.lamps.end(),
                                  [](const worlds::Lamp& l) { return l.on; });
   CHECK(scene.lights.size() == static_cast<std::size_t>(lit));
+}
+
+TEST_CASE("baked lighting sums every lit lamp's Lambert term with distance fall-off",
+          "[render][scene]") {
+  const worlds::World& world = DefaultWorld();
+  const Scene scene = BuildScene(world);
+  const SceneOptions& o = scene.options;
+  int checked = 0;
+  for (std::size_t i = 0; i < scene.vertices.size(); i += 131) {
+    const SceneVertex& v = scene.vertices[i];
+    const Vector3d p(v.position[0], v.position[1], v.position[2]);
+    const Vector3d n(v.normal[0], v.normal[1], v.normal[2]);
+    double expected = o.ambient;
+    for (const worlds::Lamp& lamp : world.lamps) {
+      if (!lamp.on) continue;
+      const double area = lamp.shape == worlds::LampShape::kCircular
+                              ? std::numbers::pi * lamp.radius_m * lamp.radius_m
+                              : lamp.size_m.x() * lamp.size_m.y();
+      const double intensity = o.light_intensity * area / (std::numbers::pi * 0.2 * 0.2);
+      const Vector3d l = lamp.center - Vector3d(0, 0, 0.05) - p;
+      if (l.norm() > o.bake_range_m) continue;
+      expected += intensity * std::max(0.0, n.dot(l.normalized())) /
+                  (1.0 + l.squaredNorm() / (o.light_falloff_m * o.light_falloff_m));
+    }
+    CHECK(v.irradiance == Approx(expected).epsilon(1e-4));
+    ++checked;
+  }
+  CHECK(checked > 50);
+  // Without baking every vertex carries the ambient term alone.
+  SceneOptions unbaked;
+  unbaked.bake_lighting = false;
+  const Scene flat = BuildScene(world, unbaked);
+  for (std::size_t i = 0; i < flat.vertices.size(); i += 97) {
+    CHECK(flat.vertices[i].irradiance == unbaked.ambient);
+  }
 }
 
 TEST_CASE("switched-off lamps give no light", "[render][scene]") {
@@ -77,26 +123,36 @@ TEST_CASE("switched-off lamps give no light", "[render][scene]") {
 // the camera (within far) is kept.
 TEST_CASE("culling keeps every drawable with a vertex in view", "[render][scene]") {
   const Scene scene = BuildScene(DefaultWorld());
+  // Full views, and crops whose principal point lies outside the image (as the cube faces of a
+  // fisheye are drawn).
+  auto crop = [](View v, int variant) {
+    if (variant == 1) v.height = 120, v.cy = 400;  // only the top of the view
+    if (variant == 2) v.width = 150, v.cx = -200;  // only a strip right of the axis
+    return v;
+  };
   for (const double x : {1.0, 20.0, 50.0}) {
     for (const double yaw : {0.0, 0.7, 3.1}) {
-      const View view = ForwardView(x, yaw);
-      const std::vector<int> kept = VisibleDrawables(scene, view);
-      CHECK(std::is_sorted(kept.begin(), kept.end()));
-      const SE3 camera_from_world = view.world_from_camera.Inverse();
-      for (std::size_t i = 0; i < scene.drawables.size(); ++i) {
-        const Drawable& d = scene.drawables[i];
-        bool in_view = false;
-        for (std::uint32_t k = 0; k < d.index_count && !in_view; ++k) {
-          const SceneVertex& v = scene.vertices[scene.indices[d.first_index + k]];
-          const Vector3d p =
-              camera_from_world * Vector3d(v.position[0], v.position[1], v.position[2]);
-          if (p.z() <= view.near_m || p.z() >= view.far_m) continue;
-          const double u = view.fx * p.x() / p.z() + view.cx, w = view.fy * p.y() / p.z() + view.cy;
-          in_view = u > -0.5 && u < view.width - 0.5 && w > -0.5 && w < view.height - 0.5;
-        }
-        if (in_view) {
-          INFO("x " << x << " yaw " << yaw << " drawable " << i);
-          CHECK(std::binary_search(kept.begin(), kept.end(), static_cast<int>(i)));
+      for (const int variant : {0, 1, 2}) {
+        const View view = crop(ForwardView(x, yaw), variant);
+        const std::vector<int> kept = VisibleDrawables(scene, view);
+        CHECK(std::is_sorted(kept.begin(), kept.end()));
+        const SE3 camera_from_world = view.world_from_camera.Inverse();
+        for (std::size_t i = 0; i < scene.drawables.size(); ++i) {
+          const Drawable& d = scene.drawables[i];
+          bool in_view = false;
+          for (std::uint32_t k = 0; k < d.index_count && !in_view; ++k) {
+            const SceneVertex& v = scene.vertices[scene.indices[d.first_index + k]];
+            const Vector3d p =
+                camera_from_world * Vector3d(v.position[0], v.position[1], v.position[2]);
+            if (p.z() <= view.near_m || p.z() >= view.far_m) continue;
+            const double u = view.fx * p.x() / p.z() + view.cx,
+                         w = view.fy * p.y() / p.z() + view.cy;
+            in_view = u > -0.5 && u < view.width - 0.5 && w > -0.5 && w < view.height - 0.5;
+          }
+          if (in_view) {
+            INFO("x " << x << " yaw " << yaw << " crop " << variant << " drawable " << i);
+            CHECK(std::binary_search(kept.begin(), kept.end(), static_cast<int>(i)));
+          }
         }
       }
     }
