@@ -1,5 +1,7 @@
 #include "render/camera_rig.h"
 
+#include "common/spec_checker.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -14,11 +16,7 @@ using Eigen::Vector3d;
 
 constexpr double kDegToRad = std::numbers::pi / 180.0;
 
-std::string Num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof(buf), "%g", v);
-  return buf;
-}
+const auto& Num = FormatNumber;
 
 bool IsUndistortedPinhole(const CameraModel& model) {
   const auto* p = std::get_if<PinholeRadTan>(&model);

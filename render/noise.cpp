@@ -1,5 +1,7 @@
 #include "render/noise.h"
 
+#include "common/spec_checker.h"
+
 #include <algorithm>
 #include <cassert>
 #include <cmath>
@@ -14,32 +16,8 @@
 namespace corridorsim::render {
 namespace {
 
-std::string Num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof(buf), "%g", v);
-  return buf;
-}
-
-// Collects the first failed requirement, in the order the checks are written.
-class Checker {
- public:
-  void Require(bool ok, const char* key, const std::string& message) {
-    if (!ok && !problem_) problem_ = SpecProblem{key, message};
-  }
-  void NonNegative(double v, const char* key) {
-    Require(v >= 0, key, "must not be negative (got " + Num(v) + ")");
-  }
-  void Positive(double v, const char* key) {
-    Require(v > 0, key, "must be greater than 0 (got " + Num(v) + ")");
-  }
-  void Fraction(double v, const char* key) {
-    Require(v >= 0 && v <= 1, key, "must lie in [0, 1] (got " + Num(v) + ")");
-  }
-  const std::optional<SpecProblem>& problem() const { return problem_; }
-
- private:
-  std::optional<SpecProblem> problem_;
-};
+using Checker = SpecChecker;
+const auto& Num = FormatNumber;
 
 // Clean copies of the rows [y - halo, y + halo] of an image that is overwritten in place, row by
 // row from the top: the noise stages read the input around the pixel they write without copying

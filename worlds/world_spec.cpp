@@ -1,5 +1,7 @@
 #include "worlds/world_spec.h"
 
+#include "common/spec_checker.h"
+
 #include <algorithm>
 #include <cstdio>
 
@@ -8,32 +10,8 @@
 namespace corridorsim::worlds {
 namespace {
 
-std::string Num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof(buf), "%g", v);
-  return buf;
-}
-
-// Collects the first failed requirement, in the order the checks are written.
-class Checker {
- public:
-  void Require(bool ok, const std::string& key, const std::string& message) {
-    if (!ok && !problem_) problem_ = SpecProblem{key, message};
-  }
-  void Positive(double v, const std::string& key) {
-    Require(v > 0, key, "must be greater than 0 (got " + Num(v) + ")");
-  }
-  void NonNegative(double v, const std::string& key) {
-    Require(v >= 0, key, "must not be negative (got " + Num(v) + ")");
-  }
-  void Fraction(double v, const std::string& key) {
-    Require(v >= 0 && v <= 1, key, "must lie in [0, 1] (got " + Num(v) + ")");
-  }
-  const std::optional<SpecProblem>& problem() const { return problem_; }
-
- private:
-  std::optional<SpecProblem> problem_;
-};
+using Checker = SpecChecker;
+const auto& Num = FormatNumber;
 
 }  // namespace
 

@@ -1,0 +1,40 @@
+#pragma once
+// The `Check()` helper of options structs (STYLE item 4): it keeps the first failed requirement,
+// in the order the checks are written, as a SpecProblem {key, message}.
+
+#include <cstdio>
+#include <optional>
+#include <string>
+
+#include "common/error.h"
+
+namespace corridorsim {
+
+/// A number as a short human-readable string ("%g"), for messages.
+inline std::string FormatNumber(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "%g", v);
+  return buf;
+}
+
+class SpecChecker {
+ public:
+  void Require(bool ok, const std::string& key, const std::string& message) {
+    if (!ok && !problem_) problem_ = SpecProblem{key, message};
+  }
+  void Positive(double v, const std::string& key) {
+    Require(v > 0, key, "must be greater than 0 (got " + FormatNumber(v) + ")");
+  }
+  void NonNegative(double v, const std::string& key) {
+    Require(v >= 0, key, "must not be negative (got " + FormatNumber(v) + ")");
+  }
+  void Fraction(double v, const std::string& key) {
+    Require(v >= 0 && v <= 1, key, "must lie in [0, 1] (got " + FormatNumber(v) + ")");
+  }
+  const std::optional<SpecProblem>& problem() const { return problem_; }
+
+ private:
+  std::optional<SpecProblem> problem_;
+};
+
+}  // namespace corridorsim
