@@ -232,10 +232,16 @@ class Builder {
         door.top_height_m = d.height_m;
         door.column_width_m = d.frame_width_m;
         if (door.state != DoorState::kClosed) {
+          // The room is room_width_m wide, narrowed where needed to stop half-way to the
+          // neighbouring doorways on this wall (less its wall), so that rooms of close doors
+          // share a wall instead of turning each other's doors into closed ones.
           const double centre = start + f / 2;
           const double half = std::max(d.room_width_m, f + 0.4) / 2;
-          const AlignedBox2d area =
-              WallRect(wall, centre - half, centre + half, -t, -t - d.room_depth_m);
+          double lo = centre - half, hi = centre + half;
+          if (i > 0) lo = std::max(lo, (g + (i - 1) * (f + g) + cuts[i - 1] + f + start) / 2 + t);
+          if (i + 1 < n)
+            hi = std::min(hi, (start + f + g + (i + 1) * (f + g) + cuts[i + 1]) / 2 - t);
+          const AlignedBox2d area = WallRect(wall, lo, hi, -t, -t - d.room_depth_m);
           if (OverlapsRoomsOrCorridors(Inflated(area, t))) {
             door.state = DoorState::kClosed;  // no space behind this wall for a room
           } else {
