@@ -28,6 +28,12 @@ class SpecChecker {
   void NonNegative(double v, const std::string& key) {
     Require(v >= 0, key, "must not be negative (got " + FormatNumber(v) + ")");
   }
+  /// lo <= v <= hi (the upper bound keeps sizes where the generators' cost stays sane).
+  void InRange(double v, double lo, double hi, const std::string& key) {
+    Require(v >= lo && v <= hi, key,
+            "must lie in [" + FormatNumber(lo) + ", " + FormatNumber(hi) + "] (got " +
+                FormatNumber(v) + ")");
+  }
   void Fraction(double v, const std::string& key) {
     Require(v >= 0 && v <= 1, key, "must lie in [0, 1] (got " + FormatNumber(v) + ")");
   }

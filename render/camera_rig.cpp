@@ -123,8 +123,18 @@ std::optional<SpecProblem> RigSpec::Check() const {
                          "the image size must be positive (got " + std::to_string(p.width) + "x" +
                              std::to_string(p.height) + ")"};
     }
+    if (p.width > 8192 || p.height > 8192) {
+      return SpecProblem{k + (p.width > 8192 ? "width" : "height"),
+                         "images larger than 8192 px on a side are not supported"};
+    }
     if (!(p.fx > 0) || !(p.fy > 0)) {
       return SpecProblem{k + "fov_deg", "the field of view must be positive"};
+    }
+    // Fisheyes are drawn from cube faces of 2 fx pixels (up to 4096), pinholes in one pass.
+    const double max_focal = pinhole ? 1e5 : 2048.0;
+    if (p.fx > max_focal || p.fy > max_focal) {
+      return SpecProblem{k + "fx", "focal lengths above " + Num(max_focal) +
+                                       " px are not supported for this model"};
     }
     const double fov_deg = (pinhole ? std::get<PinholeRadTan>(c.model).FieldOfViewRad()
                                     : std::get<KannalaBrandt>(c.model).FieldOfViewRad()) /
@@ -175,7 +185,12 @@ void ParseCamera(YamlMap& map, CameraSpec& c) {
   double fov_deg = 0.0;
   const bool has_fov = map.Read("fov_deg", fov_deg);
   const bool resized = width != p.width || height != p.height;
-  if (has_fov || resized || pinhole != std::holds_alternative<PinholeRadTan>(c.model)) {
+  const bool model_changed = pinhole != std::holds_alternative<PinholeRadTan>(c.model);
+  if (model_changed && !has_fov) {
+    // A pinhole's fov_deg is horizontal, a fisheye's spans the smaller image side: say which.
+    map.Fail("model", "changing the camera model needs fov_deg as well");
+  }
+  if (has_fov || resized || model_changed) {
     if (!has_fov) {
       fov_deg = (std::holds_alternative<PinholeRadTan>(c.model)
                      ? std::get<PinholeRadTan>(c.model).FieldOfViewRad()

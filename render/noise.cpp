@@ -145,6 +145,9 @@ std::optional<SpecProblem> DepthNoiseOptions::Check() const {
   c.Require(grazing_max_deg >= grazing_start_deg && grazing_max_deg <= 90, "grazing_max_deg",
             "must lie in [grazing_start_deg, 90] deg (got " + Num(grazing_max_deg) + ")");
   c.Fraction(random_dropout, "random_dropout");
+  c.InRange(max_m, 0.0, 1000.0, "max_m");
+  c.InRange(baseline_m, 0.0, 10.0, "baseline_m");
+  c.InRange(subpixel, 1, 1024, "subpixel");
   return c.problem();
 }
 
@@ -254,6 +257,10 @@ std::optional<SpecProblem> RgbNoiseOptions::Check() const {
   c.Require(read_noise_electrons == 0 || full_well_electrons > 0, "read_noise_electrons",
             "needs full_well_electrons > 0 to convert electrons to DN");
   c.NonNegative(motion_blur_px, "motion_blur_px");
+  c.InRange(motion_blur_px, 0.0, 64.0, "motion_blur_px");
+  c.InRange(exposure, 0.0, 100.0, "exposure");
+  c.InRange(full_well_electrons, 0.0, 1e7, "full_well_electrons");
+  c.InRange(read_noise_electrons, 0.0, 1e4, "read_noise_electrons");
   return c.problem();
 }
 

@@ -99,7 +99,7 @@ std::optional<SpecProblem> WorldSpec::Check() const {
             "must lie in [0, 9] (0 draws it from the seed)");
 
   const LampOptions& l = lamps;
-  c.Positive(l.spacing_m, "lamps.spacing_m");
+  c.InRange(l.spacing_m, 0.5, 100.0, "lamps.spacing_m");
   c.Require(l.spacing_jitter_m >= 0 && l.spacing_jitter_m < l.spacing_m / 4,
             "lamps.spacing_jitter_m", "must lie in [0, spacing_m / 4)");
   c.Fraction(l.circular_fraction, "lamps.circular_fraction");
@@ -136,6 +136,43 @@ std::optional<SpecProblem> WorldSpec::Check() const {
   c.Require(x.bookshelves >= 0, "distractors.bookshelves", "must not be negative");
   c.Require(x.cabinets >= 0, "distractors.cabinets", "must not be negative");
   c.Require(x.fire_extinguishers >= 0, "distractors.fire_extinguishers", "must not be negative");
+
+  // Bounds that keep generation finite and affordable (each patch, tile, lamp and texel costs).
+  c.InRange(length_m, 0.0, 2000.0, "length_m");
+  if (layout != Layout::kStraight) c.InRange(second_length_m, 0.0, 2000.0, "second_length_m");
+  c.InRange(width_m, 0.0, 20.0, "width_m");
+  c.InRange(height_m, 0.0, 20.0, "height_m");
+  c.InRange(wall_thickness_m, 0.02, 1.0, "wall_thickness_m");
+  c.InRange(d.count, 0, 10000, "doors.count");
+  c.InRange(d.width_m, 0.0, 5.0, "doors.width_m");
+  c.InRange(d.height_m, 0.0, 10.0, "doors.height_m");
+  c.InRange(d.frame_width_m, 0.0, 1.0, "doors.frame_width_m");
+  c.InRange(d.bar_height_m, 0.0, 1.0, "doors.bar_height_m");
+  c.InRange(d.frame_protrusion_m, 0.0, 0.5, "doors.frame_protrusion_m");
+  c.InRange(d.min_gap_m, 0.2, 100.0, "doors.min_gap_m");
+  c.InRange(d.room_depth_m, 0.0, 20.0, "doors.room_depth_m");
+  c.InRange(d.room_width_m, 0.0, 20.0, "doors.room_width_m");
+  c.InRange(d.room_height_m, 0.0, 20.0, "doors.room_height_m");
+  c.InRange(p.width_m, 0.02, 2.0, "plates.width_m");
+  c.InRange(p.height_m, 0.02, 2.0, "plates.height_m");
+  c.Require(p.width_m <= 10 * p.height_m && p.height_m <= 10 * p.width_m, "plates.height_m",
+            "a plate's width and height must lie within a factor of 10 of each other");
+  c.InRange(l.radius_min_m, 0.02, 2.0, "lamps.radius_min_m");
+  c.InRange(l.panel_length_m, 0.05, 5.0, "lamps.panel_length_m");
+  c.InRange(l.panel_width_m, 0.05, 5.0, "lamps.panel_width_m");
+  c.InRange(l.reflector_length_m, 0.0, 10.0, "lamps.reflector_length_m");
+  c.InRange(ce.tile_size_m, 0.1, 2.0, "ceiling.tile_size_m");
+  c.InRange(ce.vent_spacing_m, 0.5, 100.0, "ceiling.vent_spacing_m");
+  c.InRange(ce.vent_size_m, 0.05, 2.0, "ceiling.vent_size_m");
+  c.InRange(ce.smoke_detector_spacing_m, 0.5, 100.0, "ceiling.smoke_detector_spacing_m");
+  c.InRange(ce.sprinkler_spacing_m, 0.5, 100.0, "ceiling.sprinkler_spacing_m");
+  for (const auto& [count, key] : {std::pair{x.posters, "distractors.posters"},
+                                   {x.notice_boards, "distractors.notice_boards"},
+                                   {x.bookshelves, "distractors.bookshelves"},
+                                   {x.cabinets, "distractors.cabinets"},
+                                   {x.fire_extinguishers, "distractors.fire_extinguishers"}}) {
+    c.InRange(count, 0, 10000, key);
+  }
 
   if (c.problem()) return c.problem();
   LayoutPlan plan;

@@ -133,6 +133,33 @@ TEST_CASE("the rig rejects impossible cameras naming the key", "[render][rig]") 
     REQUIRE(rig.Check());
     CHECK(rig.Check()->key == "lateral.width");
   }
+  {  // sizes whose passes or remap tables could not be allocated
+    RigSpec rig = RigSpec::Default();
+    std::get<PinholeRadTan>(rig.cameras[0].model).width = 100000;
+    REQUIRE(rig.Check());
+    CHECK(rig.Check()->key == "front.width");
+    RigSpec rig2 = RigSpec::Default();
+    std::get<KannalaBrandt>(rig2.cameras[2].model).fx = 1e10;
+    REQUIRE(rig2.Check());
+    CHECK(rig2.Check()->key == "upward.fx");
+    RigSpec rig3 = RigSpec::Default();
+    rig3.cameras[0].rgb_noise.motion_blur_px = 1e5;
+    REQUIRE(rig3.Check());
+    CHECK(rig3.Check()->key == "front.noise.rgb.motion_blur_px");
+    RigSpec rig4 = RigSpec::Default();
+    rig4.cameras[0].rgb_noise.exposure = 1e30;
+    REQUIRE(rig4.Check());
+    CHECK(rig4.Check()->key == "front.noise.rgb.exposure");
+  }
+}
+
+TEST_CASE("changing a camera's model needs its field of view too", "[render][rig]") {
+  const auto doc = YamlDocument::FromString("lateral:\n  model: kannala_brandt\n", "m.yaml");
+  YamlMap map(doc, doc.root, "sensors", nullptr);
+  RigSpec rig = RigSpec::Default();
+  const InputError e = test::InputErrorOf([&] { ParseSensors(map, rig); });
+  CHECK(std::string(e.what()).rfind("m.yaml:2:3: sensors.lateral.model: changing the camera model",
+                                    0) == 0);
 }
 
 TEST_CASE("sensors are parsed from YAML; unknown cameras and keys are errors", "[render][rig]") {

@@ -164,11 +164,11 @@ TEST_CASE("a zero size is an error at its line", "[scenarios]") {
 TEST_CASE("a door wider than its wall is an error at doors.width_m", "[scenarios]") {
   const std::string msg = LoadError(
       "world:\n"
-      "  length_m: 55\n"
-      "  doors: {width_m: 60}\n");
+      "  length_m: 5\n"
+      "  doors: {width_m: 3}\n");
   CHECK(msg ==
-        ":3:11: world.doors.width_m: a doorway of 60.16 m with its frame is wider than every wall "
-        "segment (longest usable wall: 52.60 m)");
+        ":3:11: world.doors.width_m: a doorway of 3.16 m with its frame is wider than every wall "
+        "segment (longest usable wall: 2.60 m)");
 }
 
 TEST_CASE("more plates than doors is an error at plates.count", "[scenarios]") {

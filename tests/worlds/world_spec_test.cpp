@@ -186,6 +186,18 @@ TEST_CASE("every Check rule reports its key and says what is wrong", "[worlds][w
          s.second_length_m = 30;
        },
        "length_m", "a loop needs both sides longer than twice the width"},
+      {"corridor longer than 2 km", [](WorldSpec& s) { s.length_m = 2500; }, "length_m",
+       "must lie in [0, 2000]"},
+      {"sprinklers closer than 0.5 m", [](WorldSpec& s) { s.ceiling.sprinkler_spacing_m = 1e-20; },
+       "ceiling.sprinkler_spacing_m", "must lie in [0.5, 100]"},
+      {"lamps closer than 0.5 m", [](WorldSpec& s) { s.lamps.spacing_m = 1e-14; },
+       "lamps.spacing_m", "must lie in [0.5, 100]"},
+      {"ceiling tiles of a kilometre", [](WorldSpec& s) { s.ceiling.tile_size_m = 1000; },
+       "ceiling.tile_size_m", "must lie in [0.1, 2]"},
+      {"a wall a kilometre thick", [](WorldSpec& s) { s.wall_thickness_m = 1e6; },
+       "wall_thickness_m", "must lie in [0.02, 1]"},
+      {"a needle-thin plate", [](WorldSpec& s) { s.plates.height_m = 1e-7; }, "plates.height_m",
+       "must lie in [0.02, 2]"},
       {"texture resolution too low", [](WorldSpec& s) { s.texture_px_per_m = 19; },
        "texture_px_per_m", "must lie in [20, 1000] (got 19)"},
       {"texture resolution too high", [](WorldSpec& s) { s.texture_px_per_m = 1001; },
@@ -234,7 +246,7 @@ TEST_CASE("every Check rule reports its key and says what is wrong", "[worlds][w
       {"negative floor digit", [](WorldSpec& s) { s.plates.first_floor = -1; },
        "plates.first_floor", "must lie in [0, 9]"},
       {"lamp spacing", [](WorldSpec& s) { s.lamps.spacing_m = 0; }, "lamps.spacing_m",
-       "must be greater than 0"},
+       "must lie in [0.5, 100] (got 0)"},
       {"lamp jitter too large", [](WorldSpec& s) { s.lamps.spacing_jitter_m = 0.75; },
        "lamps.spacing_jitter_m", "[0, spacing_m / 4)"},
       {"negative lamp jitter", [](WorldSpec& s) { s.lamps.spacing_jitter_m = -0.1; },
@@ -289,8 +301,12 @@ TEST_CASE("every Check rule reports its key and says what is wrong", "[worlds][w
       // The floor plan's own problems come through Check too.
       {"more doors than fit", [](WorldSpec& s) { s.doors.count = 47; }, "doors.count",
        "doorways do not fit on the side walls"},
-      {"a door wider than every wall", [](WorldSpec& s) { s.doors.width_m = 60; }, "doors.width_m",
-       "wider than every wall segment"},
+      {"a door wider than every wall",
+       [](WorldSpec& s) {
+         s.length_m = 5;  // 2.6 m of usable wall
+         s.doors.width_m = 3;
+       },
+       "doors.width_m", "wider than every wall segment"},
   };
   for (const Rule& rule : rules) {
     DYNAMIC_SECTION(rule.name) {
