@@ -49,6 +49,18 @@ CameraFrame RenderWith(const CameraSpec& spec, const SE3& world_from_camera) {
   return frame;
 }
 
+// The ground truth of a rendered frame, with its labels for occlusion.
+FrameTruth TruthOf(const CameraSpec& spec, const CameraFrame& frame, const SE3& world_from_robot) {
+  FrameTruthInput input;
+  input.world = &Shared().world;
+  input.camera_id = spec.id;
+  input.model = spec.model;
+  input.world_from_camera = frame.world_from_camera;
+  input.world_from_robot = world_from_robot;
+  input.instance = &frame.instance;
+  return ComputeFrameTruth(input);
+}
+
 // Distance along the optical axis to the plane {p : n.p = d} for the ray through pixel (u, v).
 double DepthToPlane(const PinholeRadTan& k, const SE3& world_from_camera, double u, double v,
                     const Vector3d& n, double d) {
@@ -155,14 +167,7 @@ TEST_CASE("a door plate seen straight on appears where its corners project, with
   r.col(0) = r.col(1).cross(r.col(2));
   const SE3 world_from_camera(r, c);
   const CameraFrame frame = RenderWith(spec, world_from_camera);
-  FrameTruthInput input;
-  input.world = &world;
-  input.camera_id = "lateral";
-  input.model = spec.model;
-  input.world_from_camera = world_from_camera;
-  input.world_from_robot = world_from_camera;
-  input.instance = &frame.instance;
-  const FrameTruth truth = ComputeFrameTruth(input);
+  const FrameTruth truth = TruthOf(spec, frame, world_from_camera);
   const PlateTruth* seen = nullptr;
   for (const auto& p : truth.plates) {
     if (p.id == plate.id) seen = &p;
@@ -205,14 +210,7 @@ TEST_CASE("a lamp seen by the upward fisheye appears where the camera model puts
       const SE3 world_from_robot = SE3::FromSE2(SE2(lamp.center.x() - 1.2, 0.0, 0.0));
       const SE3 world_from_camera = world_from_robot * spec.mount.RobotFromCamera();
       const CameraFrame frame = RenderWith(spec, world_from_camera);
-      FrameTruthInput input;
-      input.world = &world;
-      input.camera_id = "upward";
-      input.model = spec.model;
-      input.world_from_camera = world_from_camera;
-      input.world_from_robot = world_from_robot;
-      input.instance = &frame.instance;
-      const FrameTruth truth = ComputeFrameTruth(input);
+      const FrameTruth truth = TruthOf(spec, frame, world_from_robot);
       const LampTruth* seen = nullptr;
       for (const auto& l : truth.lamps) {
         if (l.id == lamp.id && !l.reflection) seen = &l;
