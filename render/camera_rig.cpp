@@ -50,6 +50,20 @@ Matrix3d FaceRotation(int face) {
   return r;
 }
 
+// What is wrong with a field of view for a model, or nothing. A pinhole's is horizontal, a
+// fisheye's spans the smaller image side.
+std::optional<std::string> FovProblem(bool pinhole, double fov_deg) {
+  if (!(fov_deg > 0)) return "the field of view must be positive (got " + Num(fov_deg) + ")";
+  if (pinhole && fov_deg >= 150.0) {
+    return "a pinhole camera must see less than 150 degrees (got " + Num(fov_deg) +
+           "); use model: kannala_brandt";
+  }
+  if (!pinhole && fov_deg >= 180.0) {
+    return "a fisheye must see less than 180 degrees (got " + Num(fov_deg) + ")";
+  }
+  return std::nullopt;
+}
+
 }  // namespace
 
 SE3 Mount::RobotFromCamera() const {
@@ -139,14 +153,7 @@ std::optional<SpecProblem> RigSpec::Check() const {
     const double fov_deg = (pinhole ? std::get<PinholeRadTan>(c.model).FieldOfViewRad()
                                     : std::get<KannalaBrandt>(c.model).FieldOfViewRad()) /
                            kDegToRad;
-    if (pinhole && fov_deg >= 150.0) {
-      return SpecProblem{k + "fov_deg", "a pinhole camera must see less than 150 degrees (got " +
-                                            Num(fov_deg) + "); use model: kannala_brandt"};
-    }
-    if (!pinhole && fov_deg >= 180.0) {
-      return SpecProblem{k + "fov_deg",
-                         "a fisheye must see less than 180 degrees (got " + Num(fov_deg) + ")"};
-    }
+    if (auto problem = FovProblem(pinhole, fov_deg)) return SpecProblem{k + "fov_deg", *problem};
     if (auto problem = corridorsim::Check(c.model)) return SpecProblem{k + "distortion", *problem};
     if (c.depth && !pinhole) {
       return SpecProblem{k + "depth", "depth images need a pinhole camera"};
@@ -197,34 +204,12 @@ void ParseCamera(YamlMap& map, CameraSpec& c) {
                      : std::get<KannalaBrandt>(c.model).FieldOfViewRad()) /
                 kDegToRad;
     }
-    if (width > 0 && height > 0 && fov_deg > 0 && fov_deg < 179.9) {
-      if (pinhole) {
-        c.model = PinholeRadTan::FromFov(width, height, fov_deg * kDegToRad);
-      } else {
-        c.model = KannalaBrandt::FromFov(width, height, fov_deg * kDegToRad);
-      }
+    // An impossible field of view is reported here, at its key, before it shapes a model.
+    if (auto problem = FovProblem(pinhole, fov_deg)) map.Fail("fov_deg", *problem);
+    if (pinhole) {
+      c.model = PinholeRadTan::FromFov(width, height, fov_deg * kDegToRad);
     } else {
-      // Keep the impossible request visible to Check() rather than silently fixing it.
-      PinholeRadTan bad;
-      bad.width = width;
-      bad.height = height;
-      const double f = fov_deg > 0 ? 0.5 * std::max(width, 1) /
-                                         std::tan(std::min(fov_deg, 179.9) * kDegToRad / 2)
-                                   : 0.0;
-      bad.fx = bad.fy = f;
-      bad.cx = (width - 1) / 2.0;
-      bad.cy = (height - 1) / 2.0;
-      if (pinhole) {
-        c.model = bad;
-      } else {
-        KannalaBrandt k;
-        k.width = width;
-        k.height = height;
-        k.fx = k.fy = fov_deg > 0 ? std::min(width, height) / (fov_deg * kDegToRad) : 0.0;
-        k.cx = bad.cx;
-        k.cy = bad.cy;
-        c.model = k;
-      }
+      c.model = KannalaBrandt::FromFov(width, height, fov_deg * kDegToRad);
     }
   }
   std::visit(
