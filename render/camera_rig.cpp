@@ -130,6 +130,11 @@ std::optional<SpecProblem> RigSpec::Check() const {
   for (const CameraSpec& c : cameras) {
     const std::string k = c.id + ".";
     if (!(c.rate_hz > 0)) return SpecProblem{k + "rate_hz", "must be greater than 0"};
+    if (c.rate_hz > 1000) return SpecProblem{k + "rate_hz", "must not exceed 1000"};
+    if (!(c.phase_s >= 0 && c.phase_s * c.rate_hz < 1)) {
+      return SpecProblem{k + "phase_s", "must lie in [0, 1 / rate_hz) (got " +
+                                            FormatNumber(c.phase_s) + " s)"};
+    }
     const bool pinhole = std::holds_alternative<PinholeRadTan>(c.model);
     const PinholeRadTan p = PinholeOf(c.model);
     if (p.width <= 0 || p.height <= 0) {
@@ -176,6 +181,7 @@ namespace {
 void ParseCamera(YamlMap& map, CameraSpec& c) {
   map.Read("enabled", c.enabled);
   map.Read("rate_hz", c.rate_hz);
+  map.Read("phase_s", c.phase_s);
   bool pinhole = std::holds_alternative<PinholeRadTan>(c.model);
   if (map.Has("model")) {
     std::string model;
@@ -539,23 +545,27 @@ void Rig::Render(const SE3& world_from_robot, std::uint64_t seed, std::uint64_t 
                  std::vector<CameraFrame>* frames) {
   frames->resize(cameras_.size());
   for (std::size_t k = 0; k < cameras_.size(); ++k) {
-    CameraRenderer& camera = cameras_[k];
-    CameraFrame& frame = (*frames)[k];
-    const SE3 world_from_camera = world_from_robot * camera.spec().mount.RobotFromCamera();
-    camera.Render(scene_, backend_, world_from_camera, &frame);
-    const CameraSpec& spec = camera.spec();
-    if (spec.depth) frame.noisy_depth_m = frame.depth_m;
-    if (!spec.noise) continue;
-    // Truth, then noise (STYLE item 9): each camera and frame has its own stream.
-    RandomStream rng =
-        RandomStream(seed, 0, "render.noise." + spec.id).Derive(std::to_string(frame_index));
-    RandomStream depth_rng = rng.Derive("depth"), rgb_rng = rng.Derive("rgb");
-    if (spec.depth) {
-      ApplyDepthNoise(spec.depth_noise, std::get<PinholeRadTan>(spec.model), depth_rng,
-                      &frame.noisy_depth_m);
-    }
-    ApplyRgbNoise(spec.rgb_noise, rgb_rng, &frame.rgb);
+    RenderCamera(k, world_from_robot, seed, frame_index, &(*frames)[k]);
   }
+}
+
+void Rig::RenderCamera(std::size_t index, const SE3& world_from_robot, std::uint64_t seed,
+                       std::uint64_t frame_index, CameraFrame* frame) {
+  CameraRenderer& camera = cameras_.at(index);
+  const SE3 world_from_camera = world_from_robot * camera.spec().mount.RobotFromCamera();
+  camera.Render(scene_, backend_, world_from_camera, frame);
+  const CameraSpec& spec = camera.spec();
+  if (spec.depth) frame->noisy_depth_m = frame->depth_m;
+  if (!spec.noise) return;
+  // Truth, then noise (STYLE item 9): each camera and frame has its own stream.
+  RandomStream rng =
+      RandomStream(seed, 0, "render.noise." + spec.id).Derive(std::to_string(frame_index));
+  RandomStream depth_rng = rng.Derive("depth"), rgb_rng = rng.Derive("rgb");
+  if (spec.depth) {
+    ApplyDepthNoise(spec.depth_noise, std::get<PinholeRadTan>(spec.model), depth_rng,
+                    &frame->noisy_depth_m);
+  }
+  ApplyRgbNoise(spec.rgb_noise, rgb_rng, &frame->rgb);
 }
 
 }  // namespace corridorsim::render

@@ -41,6 +41,7 @@ struct CameraSpec {
   std::string id;  // "front", "lateral", "upward"
   bool enabled = true;
   double rate_hz = 10.0 / 3.0;  // frames per second (P1: a 300 ms sensor period)
+  double phase_s = 0.0;         // first frame at this time; then every 1 / rate_hz (sim clock)
   CameraModel model;
   Mount mount;
   bool depth = false;  // a registered depth image (front RGB-D sensor)
@@ -134,6 +135,10 @@ class Rig {
   /// the stream (seed, 0, "render.noise.<camera>") derived for `frame_index`.
   void Render(const SE3& world_from_robot, std::uint64_t seed, std::uint64_t frame_index,
               std::vector<CameraFrame>* frames);
+  /// Renders the enabled camera `index` (in cameras() order) alone, with the same noise
+  /// streams as Render(): a camera's frame does not depend on which other cameras render.
+  void RenderCamera(std::size_t index, const SE3& world_from_robot, std::uint64_t seed,
+                    std::uint64_t frame_index, CameraFrame* frame);
   const std::vector<CameraRenderer>& cameras() const { return cameras_; }
 
  private:

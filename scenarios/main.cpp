@@ -1,5 +1,4 @@
-// The corridorsim command. Subcommands: world (this issue); snapshot, drive, run come with
-// their issues. Exit codes: 0 success, 2 bad input (one message naming file, line and key),
+// The corridorsim command. Subcommands: world, snapshot, drive (run comes with its issue). Exit codes: 0 success, 2 bad input (one message naming file, line and key),
 // 1 any other failure.
 
 #include <chrono>
@@ -14,6 +13,7 @@
 
 #include "common/atomic_file.h"
 #include "common/error.h"
+#include "scenarios/drive.h"
 #include "scenarios/scenario.h"
 #include "scenarios/snapshot.h"
 #include "worlds/world_io.h"
@@ -125,6 +125,26 @@ int main(int argc, char** argv) {
       "render.backend.\n"
       "Exit codes: 0 success, 2 bad input, 1 other failures (e.g. no GL context).");
 
+  DriveRequest drive_request;
+  std::string drive_out = "out/drive";
+  CLI::App* drive = app.add_subcommand(
+      "drive", "Drive the scenario's path closed loop and write trajectories, odometry and events");
+  drive->add_option("scenario", drive_request.scenario_path,
+                    "Scenario YAML (world, robot, path, sensors); default: scenarios/default.yaml");
+  drive->add_option("--seed", drive_request.seed,
+                    "Seed of the world, the odometry errors and the sensor noise");
+  drive->add_option("--out", drive_out, "Output folder")->capture_default_str();
+  drive->add_flag("--save-frames", drive_request.save_frames,
+                  "Render the cameras at their rates and write every frame");
+  drive->footer(
+      "Writes ground_truth.tum (world_from_robot at 100 Hz) and odometry.tum (wheel odometry dead "
+      "reckoning from the true start pose), both TUM format: t x y z qx qy qz qw, seconds; "
+      "odometry.csv (the raw messages: per-wheel distances and ticks); events.json (collisions, "
+      "slips, path done or timeout). With --save-frames: frames/<camera>/{rgb,labels,depth}/"
+      "<t>.png, frames/<camera>/frames.json (pose and visible landmarks per frame) and "
+      "frames/intrinsics.json.\n"
+      "Exit codes: 0 success, 2 bad input, 1 other failures.");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -142,6 +162,12 @@ int main(int argc, char** argv) {
         snapshot_request.scenario_path = DefaultScenarioPath();
       snapshot_request.out_dir = snapshot_out;
       RunSnapshot(snapshot_request);
+      return 0;
+    }
+    if (drive->parsed()) {
+      if (drive_request.scenario_path.empty()) drive_request.scenario_path = DefaultScenarioPath();
+      drive_request.out_dir = drive_out;
+      RunDrive(drive_request);
       return 0;
     }
     if (world->parsed()) {

@@ -1,5 +1,7 @@
 #include "scenarios/scenario.h"
 
+#include "common/spec_checker.h"
+
 namespace corridorsim {
 
 Scenario LoadScenario(const std::string& path) {
@@ -7,6 +9,8 @@ Scenario LoadScenario(const std::string& path) {
   scenario.path = path;
   scenario.world_location = SourceLocation{path, 0, 0};
   scenario.sensors_location = SourceLocation{path, 0, 0};
+  scenario.robot_location = SourceLocation{path, 0, 0};
+  scenario.path_location = SourceLocation{path, 0, 0};
   // Documents stay alive while their maps are read: YamlMap points into them.
   const std::vector<YamlDocument> chain = LoadWithIncludes(path);
   for (const YamlDocument& doc : chain) {
@@ -23,18 +27,33 @@ Scenario LoadScenario(const std::string& path) {
     render::ParseSensors(sensors, scenario.rig);
     YamlMap render = root.Map("render");
     render::ParseRenderOptions(render, scenario.rig);
+    if (root.Has("robot")) scenario.robot_location = root.LocationOfKey("robot");
+    YamlMap robot = root.Map("robot");
+    sim::ParseRobotSpec(robot, scenario.robot);
+    if (root.Has("path")) scenario.path_location = root.LocationOfKey("path");
+    YamlMap path_map = root.Map("path");
+    sim::ParsePathOptions(path_map, scenario.path_options);
+    root.Read("duration_s", scenario.duration_s);
     root.RejectUnknownKeys();
   }
   if (auto problem = scenario.world.Check()) throw LocateProblem(scenario, "world", *problem);
   if (auto problem = scenario.rig.Check()) throw LocateProblem(scenario, "sensors", *problem);
+  if (auto problem = scenario.robot.Check()) throw LocateProblem(scenario, "robot", *problem);
+  if (auto problem = scenario.path_options.Check()) throw LocateProblem(scenario, "path", *problem);
+  if (!(scenario.duration_s >= 0 && scenario.duration_s <= 1e6)) {
+    throw InputError(scenario.sources.Find("duration_s", SourceLocation{path, 0, 0}), "duration_s",
+                     "must lie in [0, 1e+06] s (got " + FormatNumber(scenario.duration_s) + ")");
+  }
   return scenario;
 }
 
 InputError LocateProblem(const Scenario& scenario, const std::string& section,
                          const SpecProblem& problem) {
   const std::string key = section + "." + problem.key;
-  const SourceLocation& fallback =
-      section == "sensors" ? scenario.sensors_location : scenario.world_location;
+  const SourceLocation& fallback = section == "sensors" ? scenario.sensors_location
+                                   : section == "robot" ? scenario.robot_location
+                                   : section == "path"  ? scenario.path_location
+                                                        : scenario.world_location;
   return InputError(scenario.sources.Find(key, fallback), key, problem.message);
 }
 
@@ -43,6 +62,14 @@ worlds::World GenerateWorld(const Scenario& scenario, std::uint64_t seed) {
     return worlds::Generate(scenario.world, seed);
   } catch (const SpecError& e) {
     throw LocateProblem(scenario, "world", e.problem());
+  }
+}
+
+sim::Path BuildScenarioPath(const Scenario& scenario, const worlds::World& world) {
+  try {
+    return sim::BuildPath(world, scenario.path_options);
+  } catch (const SpecError& e) {
+    throw LocateProblem(scenario, "path", e.problem());
   }
 }
 

@@ -1,5 +1,5 @@
 #pragma once
-// A scenario file: the seed and the world of a run (later issues add robot, path, sensors,
+// A scenario file: the seed, the world, the sensors, the robot and its path (later issues add
 // pipelines and expectations). Loading is strict: see docs/scenarios.md.
 
 #include <cstdint>
@@ -7,6 +7,8 @@
 
 #include "common/yaml_reader.h"
 #include "render/camera_rig.h"
+#include "sim/path.h"
+#include "sim/robot.h"
 #include "worlds/world.h"
 #include "worlds/world_spec.h"
 
@@ -19,9 +21,14 @@ struct Scenario {
   std::uint64_t seed = 1;   // seed of every random stream of the run
   worlds::WorldSpec world;
   render::RigSpec rig = render::RigSpec::Default();  // `sensors:` and `render:`
+  sim::RobotSpec robot;   // `robot:` (odometry errors under `robot.odometry`)
+  sim::PathOptions path_options;  // `path:`
+  double duration_s = 0;  // `duration_s`: simulated time of a run; 0 = until the path is done
   SourceMap sources;                // where each key was set, for errors found after parsing
   SourceLocation world_location;    // the `world:` key of the last file that has one
   SourceLocation sensors_location;  // the `sensors:` key of the last file that has one
+  SourceLocation robot_location;    // `robot:`
+  SourceLocation path_location;     // `path:`
 };
 
 /// Loads `path` and its `include:` chain (base first) onto code defaults, then checks the
@@ -29,11 +36,14 @@ struct Scenario {
 Scenario LoadScenario(const std::string& path);
 
 /// Turns a problem found by a spec's Check() or a generator into an InputError placed at the
-/// line that set the offending key (`section` is "world" or "sensors").
+/// line that set the offending key (`section` is "world", "sensors", "robot" or "path").
 InputError LocateProblem(const Scenario& scenario, const std::string& section,
                          const SpecProblem& problem);
 
 /// Generates the scenario's world with `seed`, reporting generator problems as InputError.
 worlds::World GenerateWorld(const Scenario& scenario, std::uint64_t seed);
+
+/// The scenario's path in `world`, reporting a path that does not fit as InputError at `path:`.
+sim::Path BuildScenarioPath(const Scenario& scenario, const worlds::World& world);
 
 }  // namespace corridorsim

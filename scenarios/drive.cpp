@@ -1,0 +1,269 @@
+#include "scenarios/drive.h"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <memory>
+#include <numbers>
+#include <sstream>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "common/atomic_file.h"
+#include "common/error.h"
+#include "common/wheel_odometry_model.h"
+#include "render/backend.h"
+#include "render/camera_rig.h"
+#include "render/scene.h"
+#include "scenarios/frame_io.h"
+#include "scenarios/scenario.h"
+#include "sim/simulation.h"
+#include "worlds/image_io.h"
+
+namespace corridorsim {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double Seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
+
+std::string FormatFixed(double v) {
+  char buf[40];
+  std::snprintf(buf, sizeof(buf), "%.9f", v);
+  return buf;
+}
+
+// A progress line: rewritten in place on a terminal, a plain line every 10 % otherwise.
+class Progress {
+ public:
+  Progress() : tty_(isatty(fileno(stdout)) != 0), start_(Clock::now()), last_(start_) {}
+
+  void Update(TimeNs sim_ns, double fraction) {
+    const Clock::time_point now = Clock::now();
+    if (tty_) {
+      if (now - last_ < std::chrono::milliseconds(200)) return;
+      std::printf("\r%s", Line(sim_ns, fraction, now).c_str());
+      std::fflush(stdout);
+    } else {
+      const int decile = static_cast<int>(fraction * 10);
+      if (decile <= last_decile_) return;
+      last_decile_ = decile;
+      std::printf("%s\n", Line(sim_ns, fraction, now).c_str());
+      std::fflush(stdout);
+    }
+    last_ = now;
+  }
+  void Finish() {
+    if (tty_) std::printf("\n");
+  }
+  double wall_s() const { return Seconds(Clock::now() - start_); }
+
+ private:
+  std::string Line(TimeNs sim_ns, double fraction, Clock::time_point now) const {
+    const double wall = Seconds(now - start_);
+    const double sim = ToSeconds(sim_ns);
+    const double rtf = wall > 0 ? sim / wall : 0.0;
+    const double eta = fraction > 0 ? wall * (1 - fraction) / fraction : 0.0;
+    char buf[160];
+    std::snprintf(buf, sizeof(buf), "drive: sim %7.1f s  %5.1f %%  real-time factor %6.1fx  ETA %4.0f s",
+                  sim, 100 * fraction, rtf, eta);
+    return buf;
+  }
+
+  bool tty_;
+  Clock::time_point start_, last_;
+  int last_decile_ = 0;
+};
+
+nlohmann::ordered_json EventJson(const sim::Event& e) {
+  nlohmann::ordered_json j;
+  j["t"] = ToSeconds(e.stamp_ns);
+  j["t_ns"] = e.stamp_ns;
+  j["type"] = sim::EventKindName(e.kind);
+  switch (e.kind) {
+    case sim::EventKind::kCollisionBegin:
+    case sim::EventKind::kCollisionEnd: {
+      j["object_id"] = e.instance_id;
+      j["object_class"] = worlds::SemanticClassName(e.semantic_class);
+      const auto r = [](double v) { return std::round(v * 1e6) / 1e6; };
+      j["position"] = {r(e.position_in_world.x()), r(e.position_in_world.y()),
+                       r(e.position_in_world.z())};
+      if (e.kind == sim::EventKind::kCollisionBegin) j["depth_m"] = r(e.depth_m);
+      break;
+    }
+    case sim::EventKind::kSlip:
+      j["wheel"] = e.left_wheel ? "left" : "right";
+      j["extra_distance_m"] = std::round(e.distance_m * 1e9) / 1e9;
+      break;
+    case sim::EventKind::kPathDone:
+    case sim::EventKind::kTimeout: break;
+  }
+  return j;
+}
+
+// Frames of one camera written as they come: images now, the per-frame truth at the end.
+struct FrameWriter {
+  std::filesystem::path dir;
+  render::CameraSpec spec;
+  nlohmann::ordered_json truth = nlohmann::ordered_json::array();
+
+  void Write(const sim::CameraMessage& m) {
+    char stamp[32];
+    std::snprintf(stamp, sizeof(stamp), "%lld.%09lld",
+                  static_cast<long long>(m.stamp_ns / kNanosecondsPerSecond),
+                  static_cast<long long>(m.stamp_ns % kNanosecondsPerSecond));
+    const std::string name = std::string(stamp) + ".png";
+    const render::CameraFrame& f = m.frame;
+    WriteFileAtomic(dir / "rgb" / name, EncodePng(f.rgb, name));
+    WriteFileAtomic(dir / "labels" / name, EncodeLabels(f, f.rgb.width, f.rgb.height));
+    if (spec.depth) WriteFileAtomic(dir / "depth" / name, EncodeDepth(f.noisy_depth_m, name));
+    nlohmann::ordered_json j;
+    j["t"] = stamp;
+    j["frame_index"] = m.frame_index;
+    j["world_from_camera"] = PoseJson(f.world_from_camera);
+    j["truth"] = render::FrameTruthJson(m.truth);
+    truth.push_back(std::move(j));
+  }
+};
+
+}  // namespace
+
+void RunDrive(const DriveRequest& request) {
+  const Scenario scenario = LoadScenario(request.scenario_path);
+  const render::BackendKind backend_kind = ChooseBackend(scenario.rig.backend);
+  const std::filesystem::path& out = request.out_dir;
+  try {
+    EnsureWritableDirectory(out);
+  } catch (const std::exception& e) {
+    throw InputError(SourceLocation{"command line", 0, 0}, "--out", e.what());
+  }
+  const std::uint64_t seed = request.seed.value_or(scenario.seed);
+  const worlds::World world = GenerateWorld(scenario, seed);
+  sim::Path path = BuildScenarioPath(scenario, world);
+  const SE2 start = path.world_from_start;
+
+  // Rendering only when frames are saved: nothing else consumes them in a drive.
+  std::optional<render::Scene> scene;
+  std::unique_ptr<render::Backend> backend;
+  std::unique_ptr<render::Rig> rig;
+  std::vector<FrameWriter> writers;
+  if (request.save_frames) {
+    if (auto problem = render::CheckCameraPlacement(world, scenario.rig, SE3::FromSE2(start))) {
+      throw LocateProblem(scenario, "sensors", *problem);
+    }
+    scene = render::BuildScene(world, scenario.rig.scene);
+    backend = render::CreateBackend(backend_kind);
+    backend->Upload(*scene);
+    rig = std::make_unique<render::Rig>(scenario.rig, *scene, *backend);
+    nlohmann::ordered_json intrinsics = nlohmann::ordered_json::object();
+    for (const render::CameraRenderer& camera : rig->cameras()) {
+      FrameWriter w{out / "frames" / camera.spec().id, camera.spec()};
+      for (const char* sub : {"rgb", "labels", "depth"}) {
+        if (std::string(sub) != "depth" || w.spec.depth) std::filesystem::create_directories(w.dir / sub);
+      }
+      intrinsics[camera.spec().id] = IntrinsicsJson(camera.spec());
+      writers.push_back(std::move(w));
+    }
+    WriteFileAtomic(out / "frames" / "intrinsics.json", intrinsics.dump(2) + "\n");
+  }
+
+  sim::SimulationOptions options;
+  options.robot = scenario.robot;
+  options.path = scenario.path_options;
+  options.seed = seed;
+  options.max_duration_ns = FromSeconds(scenario.duration_s);
+  sim::Simulation simulation(world, options, std::move(path), rig.get(), &scenario.rig);
+
+  std::printf("drive: %s, seed %llu, path %s (%.1f m, %.0f deg of turns), physics %.0f Hz%s\n",
+              scenario.name.empty() ? request.scenario_path.c_str() : scenario.name.c_str(),
+              static_cast<unsigned long long>(seed), sim::PathKindName(scenario.path_options.kind).c_str(),
+              simulation.path().length_m(), simulation.path().total_turn_rad() * 180 / std::numbers::pi,
+              scenario.robot.physics_rate_hz,
+              request.save_frames ? ", rendering cameras" : "");
+
+  std::ostringstream truth_tum, odometry_tum, odometry_csv;
+  truth_tum << "# ground truth: world_from_robot (robot frame R: floor, between the wheels)\n"
+            << "# timestamp tx ty tz qx qy qz qw\n";
+  odometry_tum << "# wheel odometry dead reckoning (P1 eq. 13, nominal wheelbase) from the true "
+                  "start pose\n# timestamp tx ty tz qx qy qz qw\n";
+  odometry_csv << "timestamp_ns,left_distance_m,right_distance_m,left_ticks,right_ticks\n";
+  const TimeNs truth_period = PeriodFromRateHz(kTruthFileRateHz);
+  SE2 dead_reckoning = start;
+  odometry_tum << sim::TumLine(0, SE3::FromSE2(dead_reckoning)) << "\n";
+  truth_tum << sim::TumLine(0, simulation.truth().state.world_from_robot) << "\n";
+
+  nlohmann::ordered_json events = nlohmann::ordered_json::array();
+  int collisions = 0, slips = 0, frames = 0;
+  double travelled_m = 0;
+  Eigen::Vector3d last_position = simulation.truth().state.world_from_robot.translation();
+  Progress progress;
+  while (!simulation.finished()) {
+    const sim::StepOutput& step = simulation.Step();
+    const TimeNs now = step.truth.stamp_ns;
+    const Eigen::Vector3d position = step.truth.state.world_from_robot.translation();
+    travelled_m += (position - last_position).head<2>().norm();
+    last_position = position;
+    if (now % truth_period == 0) {
+      truth_tum << sim::TumLine(now, step.truth.state.world_from_robot) << "\n";
+    }
+    for (const WheelOdometry& o : step.odometry) {
+      dead_reckoning = ApplyWheelOdometry(dead_reckoning, o.left_distance_m, o.right_distance_m,
+                                          scenario.robot.wheelbase_m);
+      if (o.stamp_ns == 0) continue;  // the start pose is already written
+      odometry_tum << sim::TumLine(o.stamp_ns, SE3::FromSE2(dead_reckoning)) << "\n";
+      odometry_csv << o.stamp_ns << "," << FormatFixed(o.left_distance_m) << ","
+                   << FormatFixed(o.right_distance_m) << "," << o.left_ticks << "," << o.right_ticks
+                   << "\n";
+    }
+    for (const sim::CameraMessage& m : step.frames) {
+      writers[m.camera].Write(m);
+      ++frames;
+    }
+    for (const sim::Event& e : step.events) {
+      collisions += e.kind == sim::EventKind::kCollisionBegin;
+      slips += e.kind == sim::EventKind::kSlip;
+      events.push_back(EventJson(e));
+    }
+    progress.Update(now, simulation.progress());
+  }
+  progress.Finish();
+  if (simulation.now_ns() % truth_period != 0) {
+    truth_tum << sim::TumLine(simulation.now_ns(), simulation.truth().state.world_from_robot)
+              << "\n";
+  }
+
+  WriteFileAtomic(out / "ground_truth.tum", truth_tum.str());
+  WriteFileAtomic(out / "odometry.tum", odometry_tum.str());
+  WriteFileAtomic(out / "odometry.csv", odometry_csv.str());
+  nlohmann::ordered_json events_json;
+  events_json["seed"] = seed;
+  events_json["duration_s"] = ToSeconds(simulation.now_ns());
+  events_json["events"] = std::move(events);
+  WriteFileAtomic(out / "events.json", events_json.dump(2) + "\n");
+  for (const FrameWriter& w : writers) {
+    WriteFileAtomic(w.dir / "frames.json", w.truth.dump(1) + "\n");
+  }
+
+  const SE2 truth_end = simulation.truth().world_from_robot_2d;
+  const double wall = progress.wall_s();
+  const double sim_s = ToSeconds(simulation.now_ns());
+  std::printf("drive: %.1f s simulated in %.1f s (real-time factor %.1fx), %.2f m driven\n", sim_s,
+              wall, wall > 0 ? sim_s / wall : 0.0, travelled_m);
+  std::printf("  end: truth (%.3f, %.3f, %.1f deg), %.3f m from the start; odometry off by %.3f m, "
+              "%.2f deg\n",
+              truth_end.x(), truth_end.y(), truth_end.yaw() * 180 / std::numbers::pi,
+              (truth_end.translation() - start.translation()).norm(),
+              (dead_reckoning.translation() - truth_end.translation()).norm(),
+              std::abs(NormalizeAngle(dead_reckoning.yaw() - truth_end.yaw())) * 180 /
+                  std::numbers::pi);
+  std::printf("  collisions %d, slips %d, frames %d%s\n", collisions, slips, frames,
+              simulation.path_done() ? "" : "  (the path was not finished: see events.json)");
+  std::printf("wrote %s/{ground_truth.tum, odometry.tum, odometry.csv, events.json%s}\n",
+              out.string().c_str(), request.save_frames ? ", frames/" : "");
+}
+
+}  // namespace corridorsim

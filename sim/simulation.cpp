@@ -1,0 +1,230 @@
+#include "sim/simulation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+
+namespace corridorsim::sim {
+namespace {
+
+constexpr TimeNs kSafetyMarginNs = 60 * kNanosecondsPerSecond;
+
+// The time a perfectly followed path takes at cruise speed and turn rate, ramps left out.
+double NominalDurationS(const Path& path, const PathOptions& options) {
+  double s = path.length_m() / options.speed_mps +
+             path.total_turn_rad() / (options.turn_rate_dps * std::numbers::pi / 180.0);
+  for (const VelocityCommand& c : path.commands) s += c.duration_s;
+  return s;
+}
+
+SE2 Planar(const SE3& pose) {
+  const Eigen::Vector3d x_axis = pose.rotation().col(0);
+  return SE2(pose.translation().x(), pose.translation().y(), std::atan2(x_axis.y(), x_axis.x()));
+}
+
+}  // namespace
+
+std::string EventKindName(EventKind kind) {
+  switch (kind) {
+    case EventKind::kCollisionBegin: return "collision_begin";
+    case EventKind::kCollisionEnd: return "collision_end";
+    case EventKind::kSlip: return "slip";
+    case EventKind::kPathDone: return "path_done";
+    case EventKind::kTimeout: return "timeout";
+  }
+  return "unknown";
+}
+
+std::string TumLine(TimeNs stamp_ns, const SE3& pose) {
+  const Eigen::Quaterniond& q = pose.quaternion();
+  const Eigen::Vector3d& t = pose.translation();
+  // Seconds from the integer nanoseconds: whole seconds, then nine digits of the fraction.
+  const TimeNs whole = stamp_ns / kNanosecondsPerSecond;
+  const TimeNs frac = stamp_ns % kNanosecondsPerSecond;
+  char buf[256];
+  std::snprintf(buf, sizeof(buf), "%lld.%09lld %.6f %.6f %.6f %.9f %.9f %.9f %.9f",
+                static_cast<long long>(whole), static_cast<long long>(frac), t.x(), t.y(), t.z(),
+                q.x(), q.y(), q.z(), q.w());
+  return buf;
+}
+
+Simulation::Simulation(const worlds::World& world, const SimulationOptions& options, Path path,
+                       render::Rig* rig, const render::RigSpec* rig_spec)
+    : world_(world),
+      options_(options),
+      rig_(rig),
+      path_(std::move(path)),
+      odometer_(options.robot.odometry, options.robot.wheel_diameter_m, options.seed),
+      odometry_clock_(PeriodFromRateHz(options.robot.odometry.rate_hz), 0) {
+  follower_ = std::make_unique<PathFollower>(path_, options_.path);
+  physics_ = std::make_unique<RobotPhysics>(world, options_.robot, path_.world_from_start);
+  step_ns_ = options_.robot.physics_step_ns();
+  steps_per_control_ = std::max<std::int64_t>(
+      1, std::llround(options_.robot.physics_rate_hz / options_.robot.control_rate_hz));
+  if (rig_ && rig_spec) {
+    for (const render::CameraSpec& c : rig_spec->cameras) {
+      if (!c.enabled) continue;
+      camera_specs_.push_back(c);
+      camera_clocks_.emplace_back(PeriodFromRateHz(c.rate_hz), FromSeconds(c.phase_s));
+    }
+  }
+  end_ns_ = options_.max_duration_ns > 0
+                ? options_.max_duration_ns
+                : 2 * FromSeconds(NominalDurationS(path_, options_.path)) + kSafetyMarginNs;
+
+  output_.truth.stamp_ns = 0;
+  output_.truth.state = physics_->state();
+  output_.truth.world_from_robot_2d = Planar(physics_->state().world_from_robot);
+  // Messages stamped 0 are due before the first step.
+  EmitDue(output_.truth, output_.truth);
+}
+
+Simulation::~Simulation() = default;
+
+double Simulation::progress() const {
+  if (options_.max_duration_ns > 0) {
+    return std::min(1.0, static_cast<double>(now_ns_) / static_cast<double>(end_ns_));
+  }
+  return follower_->progress();
+}
+
+TruthSample Simulation::Interpolate(const TruthSample& a, const TruthSample& b,
+                                    TimeNs stamp) const {
+  if (stamp == b.stamp_ns) return b;
+  if (stamp == a.stamp_ns) return a;
+  const double t = static_cast<double>(stamp - a.stamp_ns) /
+                   static_cast<double>(b.stamp_ns - a.stamp_ns);
+  TruthSample s;
+  s.stamp_ns = stamp;
+  s.state.world_from_robot = SE3::Interpolate(a.state.world_from_robot, b.state.world_from_robot, t);
+  s.state.linear_velocity_in_world =
+      (1 - t) * a.state.linear_velocity_in_world + t * b.state.linear_velocity_in_world;
+  s.state.angular_velocity_in_world =
+      (1 - t) * a.state.angular_velocity_in_world + t * b.state.angular_velocity_in_world;
+  s.state.left_wheel_angle_rad =
+      (1 - t) * a.state.left_wheel_angle_rad + t * b.state.left_wheel_angle_rad;
+  s.state.right_wheel_angle_rad =
+      (1 - t) * a.state.right_wheel_angle_rad + t * b.state.right_wheel_angle_rad;
+  s.world_from_robot_2d = Planar(s.state.world_from_robot);
+  return s;
+}
+
+void Simulation::EmitDue(const TruthSample& before, const TruthSample& after) {
+  const TimeNs now = after.stamp_ns;
+  // Odometry.
+  while (odometry_clock_.next_ns() <= now) {
+    const TruthSample at = Interpolate(before, after, odometry_clock_.next_ns());
+    std::vector<SlipEvent> slips;
+    output_.odometry.push_back(odometer_.Measure(at.stamp_ns, at.state.left_wheel_angle_rad,
+                                                 at.state.right_wheel_angle_rad, &slips));
+    for (const SlipEvent& slip : slips) {
+      Event e;
+      e.stamp_ns = slip.stamp_ns;
+      e.kind = EventKind::kSlip;
+      e.left_wheel = slip.left_wheel;
+      e.distance_m = slip.extra_distance_m;
+      output_.events.push_back(e);
+    }
+    odometry_clock_.Advance();
+  }
+  // Cameras, each at its own rate, rendered at the true pose of its stamp.
+  for (std::size_t k = 0; k < camera_clocks_.size(); ++k) {
+    SensorClock& clock = camera_clocks_[k];
+    while (clock.next_ns() <= now) {
+      const TruthSample at = Interpolate(before, after, clock.next_ns());
+      CameraMessage message;
+      message.stamp_ns = at.stamp_ns;
+      message.frame_index = clock.count();
+      message.camera = k;
+      message.world_from_robot = at.state.world_from_robot;
+      rig_->RenderCamera(k, at.state.world_from_robot, options_.seed, message.frame_index,
+                         &message.frame);
+      render::FrameTruthInput input;
+      input.world = &world_;
+      input.camera_id = camera_specs_[k].id;
+      input.model = camera_specs_[k].model;
+      input.world_from_camera = message.frame.world_from_camera;
+      input.world_from_robot = at.state.world_from_robot;
+      input.instance = &message.frame.instance;
+      input.semantic = &message.frame.semantic;
+      message.truth = render::ComputeFrameTruth(input);
+      output_.frames.push_back(std::move(message));
+      clock.Advance();
+    }
+  }
+}
+
+void Simulation::TrackContacts() {
+  const std::vector<Contact>& now = physics_->contacts();
+  auto has = [](const std::vector<Contact>& list, int id) {
+    return std::any_of(list.begin(), list.end(), [&](const Contact& c) { return c.instance_id == id; });
+  };
+  for (const Contact& c : now) {
+    if (has(touching_, c.instance_id)) continue;
+    Event e;
+    e.stamp_ns = now_ns_;
+    e.kind = EventKind::kCollisionBegin;
+    e.instance_id = c.instance_id;
+    e.semantic_class = c.semantic_class;
+    e.position_in_world = c.position_in_world;
+    e.depth_m = c.depth_m;
+    output_.events.push_back(e);
+  }
+  for (const Contact& c : touching_) {
+    if (has(now, c.instance_id)) continue;
+    Event e;
+    e.stamp_ns = now_ns_;
+    e.kind = EventKind::kCollisionEnd;
+    e.instance_id = c.instance_id;
+    e.semantic_class = c.semantic_class;
+    e.position_in_world = c.position_in_world;
+    output_.events.push_back(e);
+  }
+  touching_ = now;
+}
+
+const StepOutput& Simulation::Step() {
+  const TruthSample before = output_.truth;
+  output_.odometry.clear();
+  output_.frames.clear();
+  output_.events.clear();
+  if (finished_) return output_;
+
+  // The driver acts at the control rate, from ground truth.
+  if (static_cast<std::int64_t>(physics_->steps()) % steps_per_control_ == 0) {
+    const DriveCommand command = follower_->Update(now_ns_, before.world_from_robot_2d);
+    const Eigen::Vector2d wheels =
+        WheelSpeedsFor(options_.robot, command.linear_mps, command.angular_rps);
+    physics_->SetWheelSpeeds(wheels.x(), wheels.y());
+  }
+  physics_->Step();
+  now_ns_ += step_ns_;
+
+  output_.truth.stamp_ns = now_ns_;
+  output_.truth.state = physics_->state();
+  output_.truth.world_from_robot_2d = Planar(physics_->state().world_from_robot);
+  TrackContacts();
+  EmitDue(before, output_.truth);
+
+  if (follower_->done() && !path_done_) {
+    path_done_ = true;
+    Event e;
+    e.stamp_ns = now_ns_;
+    e.kind = EventKind::kPathDone;
+    output_.events.push_back(e);
+    if (options_.max_duration_ns == 0) finished_ = true;
+  }
+  if (!finished_ && now_ns_ >= end_ns_) {
+    finished_ = true;
+    if (!path_done_) {
+      Event e;
+      e.stamp_ns = now_ns_;
+      e.kind = EventKind::kTimeout;
+      output_.events.push_back(e);
+    }
+  }
+  return output_;
+}
+
+}  // namespace corridorsim::sim

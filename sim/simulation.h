@@ -1,0 +1,149 @@
+#pragma once
+// The closed simulation loop: fixed-step physics, the path follower driving from ground truth,
+// and the sensor clock that emits the messages due at each step (odometry, camera frames rendered
+// at the true pose at their stamp) together with the ground truth of every instant.
+//
+// Time is int64 nanoseconds: physics step k ends at k * step_ns; a sensor with period T and
+// phase p is stamped at p + n T exactly. A stamp that falls between two physics steps takes the
+// state interpolated between them (wheel angles linearly, the pose by slerp), so stamps never
+// snap to the physics grid.
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "common/pose.h"
+#include "common/sensor_messages.h"
+#include "common/time.h"
+#include "render/camera_rig.h"
+#include "render/frame_truth.h"
+#include "sim/odometry.h"
+#include "sim/path.h"
+#include "sim/robot.h"
+#include "worlds/world.h"
+
+namespace corridorsim::sim {
+
+/// Stamps phase + n * period, n = 0, 1, ...
+class SensorClock {
+ public:
+  SensorClock(TimeNs period_ns, TimeNs phase_ns) : period_ns_(period_ns), phase_ns_(phase_ns) {}
+  TimeNs next_ns() const { return phase_ns_ + count_ * period_ns_; }
+  std::uint64_t count() const { return static_cast<std::uint64_t>(count_); }
+  void Advance() { ++count_; }
+  TimeNs period_ns() const { return period_ns_; }
+
+ private:
+  TimeNs period_ns_;
+  TimeNs phase_ns_;
+  std::int64_t count_ = 0;
+};
+
+/// Ground truth of one instant.
+struct TruthSample {
+  TimeNs stamp_ns = 0;
+  SE2 world_from_robot_2d;  // the planar pose (x, y, yaw of the robot's x axis)
+  RobotState state;         // full 3D pose, velocities, wheel angles
+};
+
+/// One camera frame with its truth. The rendered images exist only when the simulation renders.
+struct CameraMessage {
+  TimeNs stamp_ns = 0;
+  std::uint64_t frame_index = 0;  // n of the camera's clock: seeds its noise
+  std::size_t camera = 0;         // index in the rig's enabled cameras
+  SE3 world_from_robot;           // truth at the stamp
+  render::CameraFrame frame;      // images (exact depth, noisy depth, labels), world_from_camera
+  render::FrameTruth truth;       // the landmarks the camera sees
+};
+
+enum class EventKind {
+  kCollisionBegin,  // the chassis touches a world object
+  kCollisionEnd,
+  kSlip,       // an odometry slip event (sim/odometry.h)
+  kPathDone,   // the follower reached the path's end
+  kTimeout,    // the run's duration ended before the path did
+};
+std::string EventKindName(EventKind kind);
+
+struct Event {
+  TimeNs stamp_ns = 0;
+  EventKind kind = EventKind::kPathDone;
+  int instance_id = 0;  // collisions: the World object
+  worlds::SemanticClass semantic_class = worlds::SemanticClass::kUnknown;
+  Eigen::Vector3d position_in_world = Eigen::Vector3d::Zero();  // collisions: contact point
+  double depth_m = 0.0;      // collisions: penetration at the first contact
+  bool left_wheel = false;   // slips
+  double distance_m = 0.0;   // slips: extra distance the wheel reported
+};
+
+struct SimulationOptions {
+  RobotSpec robot;
+  PathOptions path;
+  std::uint64_t seed = 1;
+  TimeNs max_duration_ns = 0;  // 0: until the path is done (with a safety timeout, see below)
+};
+
+/// What became due during one Step(), in stamp order per kind.
+struct StepOutput {
+  TruthSample truth;  // at the end of the step
+  std::vector<WheelOdometry> odometry;
+  std::vector<CameraMessage> frames;
+  std::vector<Event> events;
+};
+
+class Simulation {
+ public:
+  /// Drives `path` (BuildPath of options.path in `world`). `rig` (optional, with the spec it was
+  /// built from) renders the cameras at their rates; without it no camera messages are emitted.
+  /// The world and rig must outlive the simulation.
+  Simulation(const worlds::World& world, const SimulationOptions& options, Path path,
+             render::Rig* rig = nullptr, const render::RigSpec* rig_spec = nullptr);
+  ~Simulation();
+
+  /// Advances one physics step and returns what became due.
+  const StepOutput& Step();
+  /// The run is over: the path is done (without a set duration) or the duration has passed.
+  bool finished() const { return finished_; }
+  /// The follower reached the end of the path.
+  bool path_done() const { return path_done_; }
+  TimeNs now_ns() const { return now_ns_; }
+  const TruthSample& truth() const { return output_.truth; }
+  const Path& path() const { return path_; }
+  double progress() const;
+  /// The planned duration: max_duration_ns if set, else the safety timeout (twice the path's
+  /// nominal time plus a minute).
+  TimeNs end_ns() const { return end_ns_; }
+  const RobotSpec& robot() const { return options_.robot; }
+  const std::vector<SensorClock>& camera_clocks() const { return camera_clocks_; }
+
+ private:
+  TruthSample Interpolate(const TruthSample& a, const TruthSample& b, TimeNs stamp) const;
+  void EmitDue(const TruthSample& before, const TruthSample& after);
+  void TrackContacts();
+
+  const worlds::World& world_;
+  SimulationOptions options_;
+  render::Rig* rig_;
+  std::vector<render::CameraSpec> camera_specs_;  // the rig's enabled cameras, in order
+  Path path_;
+  std::unique_ptr<PathFollower> follower_;
+  std::unique_ptr<RobotPhysics> physics_;
+  WheelOdometer odometer_;
+  SensorClock odometry_clock_;
+  std::vector<SensorClock> camera_clocks_;
+  TimeNs step_ns_ = 0;
+  std::int64_t steps_per_control_ = 1;
+  TimeNs now_ns_ = 0;
+  TimeNs end_ns_ = 0;
+  bool finished_ = false;
+  bool path_done_ = false;
+  std::vector<Contact> touching_;  // contacts after the previous step
+  StepOutput output_;
+};
+
+/// TUM trajectory line: "t x y z qx qy qz qw" (seconds, metres), fixed precision.
+std::string TumLine(TimeNs stamp_ns, const SE3& pose);
+
+}  // namespace corridorsim::sim
