@@ -11,6 +11,17 @@ inline constexpr double kJacobianRelTol = 1e-6;
 // Poses: composed and inverted transforms (m, rad, matrix entries).
 inline constexpr double kPoseTol = 1e-12;
 
+// Motion model: the P1 eq. 13 step's overshoot along an arc against its closed form
+// (delta / 2) / sin(delta / 2) - 1, relative; only rounding over the summed steps separates them.
+inline constexpr double kMotionModelBiasRel = 1e-4;
+
+// Odometry: distances summed in double over thousands of messages agree to rounding (m).
+inline constexpr double kOdometryRoundingM = 1e-9;
+
+// Statistical tests of noise models over many seeds: two-sided bounds at this confidence
+// (each tail holds (1 - confidence) / 2 of the reference distribution).
+inline constexpr double kStatConfidence = 0.99;
+
 // Cameras: Project(Unproject(pixel)) (px) and Unproject(Project(p)) (unit-bearing components).
 inline constexpr double kRoundTripPx = 1e-9;
 inline constexpr double kRoundTripBearing = 1e-12;
