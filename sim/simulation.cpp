@@ -76,8 +76,7 @@ Simulation::Simulation(const worlds::World& world, const SimulationOptions& opti
   output_.truth.stamp_ns = 0;
   output_.truth.state = physics_->state();
   output_.truth.world_from_robot_2d = Planar(physics_->state().world_from_robot);
-  // Messages stamped 0 are due before the first step.
-  EmitDue(output_.truth, output_.truth);
+  // Messages stamped 0 come out of the first Step(), with those of its interval.
 }
 
 Simulation::~Simulation() = default;

@@ -21,7 +21,7 @@ const worlds::World& Corridor() {
     spec.length_m = 12.0;
     spec.doors.count = 0;
     spec.plates.count = 0;
-    spec.distractors_enabled = false;
+    spec.distractors = worlds::DistractorOptions{0, 0, 0, 0, 0};
     return worlds::Generate(spec, 3);
   }();
   return world;
