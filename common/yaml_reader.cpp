@@ -255,6 +255,32 @@ bool YamlMap::Read(const std::string& key, std::vector<double>& values) {
   return true;
 }
 
+bool YamlMap::Read(const std::string& key, std::vector<std::vector<double>>& rows,
+                   std::size_t columns) {
+  const YAML::Node node = Get(key);
+  if (!node) return false;
+  const std::string example = "expected a list of rows of " + std::to_string(columns) + " numbers";
+  if (!node.IsSequence()) Fail(key, example + ", e.g. [[1.0, 2.0, ...], ...]");
+  std::vector<std::vector<double>> parsed;
+  for (const auto& row : node) {
+    const std::string where = "row " + std::to_string(parsed.size() + 1) + ": ";
+    if (!row.IsSequence() || row.size() != columns) {
+      throw InputError(doc_->LocationOf(row), FullKey(key), where + example);
+    }
+    std::vector<double> values;
+    for (const auto& item : row) {
+      double v = 0.0;
+      if (!item.IsScalar() || !YAML::convert<double>::decode(item, v) || !std::isfinite(v)) {
+        throw InputError(doc_->LocationOf(item), FullKey(key), where + "expected a finite number");
+      }
+      values.push_back(v);
+    }
+    parsed.push_back(std::move(values));
+  }
+  rows = std::move(parsed);
+  return true;
+}
+
 YamlMap YamlMap::Map(const std::string& key) {
   // yaml-cpp nodes have reference semantics (assignment writes into the node), so never assign
   // to the result of a lookup: build the returned map from a fresh node instead.

@@ -63,6 +63,9 @@ class YamlMap {
   bool Read(const std::string& key, std::string& value);
   /// A list of numbers, e.g. `distortion: [-0.28, 0.07, 0, 0, 0]`.
   bool Read(const std::string& key, std::vector<double>& values);
+  /// A list of rows of exactly `columns` numbers each, e.g. `commands: [[2.0, 0.3, 0], [1, 0,
+  /// 30]]`; a bad row is an error at that row.
+  bool Read(const std::string& key, std::vector<std::vector<double>>& rows, std::size_t columns);
 
   /// Reads a string key and maps it through `choices` (name -> value); anything else is an error
   /// that lists the valid names.

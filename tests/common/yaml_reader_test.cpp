@@ -1,6 +1,7 @@
 #include "common/yaml_reader.h"
 
 #include <string>
+#include <vector>
 
 #include <catch2/catch.hpp>
 
@@ -86,6 +87,28 @@ TEST_CASE("wrong types are errors naming the key", "[yaml]") {
         "types.yaml:4:1: world.m: expected a number, got a list");
   CHECK(ErrorOf([&] { map.Read("big", big); }).find("out of range") != std::string::npos);
   CHECK(ErrorOf([&] { map.Read("inf", inf); }).find("finite") != std::string::npos);
+}
+
+TEST_CASE("lists of rows read row by row and name the bad row", "[yaml]") {
+  const auto doc = YamlDocument::FromString(
+      "ok: [[1, 2.5, -3], [4, 5, 6]]\nempty: []\nshort:\n  - [1, 2, 3]\n  - [1, 2]\n"
+      "text: [[1, x, 3]]\nflat: [1, 2, 3]\nscalar: 4\n",
+      "rows.yaml");
+  YamlMap map(doc, doc.root, "path", nullptr);
+  std::vector<std::vector<double>> rows = {{9, 9, 9}};
+  REQUIRE(map.Read("ok", rows, 3));
+  CHECK(rows == std::vector<std::vector<double>>{{1, 2.5, -3}, {4, 5, 6}});
+  REQUIRE(map.Read("empty", rows, 3));
+  CHECK(rows.empty());
+  CHECK_FALSE(map.Read("absent", rows, 3));
+  CHECK(ErrorOf([&] { map.Read("short", rows, 3); }) ==
+        "rows.yaml:5:5: path.short: row 2: expected a list of rows of 3 numbers");
+  CHECK(ErrorOf([&] { map.Read("text", rows, 3); }) ==
+        "rows.yaml:6:12: path.text: row 1: expected a finite number");
+  CHECK(ErrorOf([&] { map.Read("flat", rows, 3); }) ==
+        "rows.yaml:7:8: path.flat: row 1: expected a list of rows of 3 numbers");
+  CHECK(ErrorOf([&] { map.Read("scalar", rows, 3); }).find("expected a list of rows of 3") !=
+        std::string::npos);
 }
 
 TEST_CASE("unknown keys are errors listing the known ones", "[yaml]") {
