@@ -1,0 +1,124 @@
+# `corridorsim drive` as a user runs it: the files, TUM lines with 8 columns, byte-identical
+# reruns, saved frames, and exit code 2 with a clear message for bad robot and path input.
+file(REMOVE_RECURSE "${WORK_DIR}")
+file(MAKE_DIRECTORY "${WORK_DIR}")
+
+# A short corridor with odometry errors and slips on, so determinism covers every stream.
+file(WRITE "${WORK_DIR}/short.yaml" "include: ${SOURCE_DIR}/scenarios/default.yaml
+world:
+  length_m: 9.0
+  doors: {count: 4}
+  plates: {count: 3}
+  distractors: {posters: 1, notice_boards: 0, bookshelves: 0, cabinets: 0, fire_extinguishers: 1}
+robot:
+  odometry: {random_k_m: 0.0001, slip_rate_per_m: 0.3, diameter_ratio: 1.005}
+sensors:
+  front: {width: 80, height: 60}
+  lateral: {enabled: false}
+  upward: {width: 80, height: 60, rate_hz: 2}
+")
+
+function(drive out)
+  execute_process(COMMAND "${CORRIDORSIM}" drive "${WORK_DIR}/short.yaml" --out "${out}" ${ARGN}
+                  WORKING_DIRECTORY "${SOURCE_DIR}" RESULT_VARIABLE rc OUTPUT_VARIABLE stdout
+                  ERROR_VARIABLE stderr)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "drive exited ${rc}: ${stderr}")
+  endif()
+  if(NOT stdout MATCHES "real-time factor")
+    message(FATAL_ERROR "drive printed no progress line: ${stdout}")
+  endif()
+endfunction()
+
+drive("${WORK_DIR}/a")
+drive("${WORK_DIR}/b")
+foreach(f ground_truth.tum odometry.tum odometry.csv events.json)
+  if(NOT EXISTS "${WORK_DIR}/a/${f}")
+    message(FATAL_ERROR "missing ${f}")
+  endif()
+  file(SHA256 "${WORK_DIR}/a/${f}" ha)
+  file(SHA256 "${WORK_DIR}/b/${f}" hb)
+  if(NOT ha STREQUAL hb)
+    message(FATAL_ERROR "${f} differs between two runs of one scenario and seed")
+  endif()
+endforeach()
+foreach(f ground_truth.tum odometry.tum)
+  file(STRINGS "${WORK_DIR}/a/${f}" lines REGEX "^[^#]")
+  list(LENGTH lines n)
+  if(n LESS 100)
+    message(FATAL_ERROR "${f}: only ${n} poses")
+  endif()
+  foreach(line ${lines})
+    string(REGEX MATCHALL "[^ ]+" columns "${line}")
+    list(LENGTH columns c)
+    if(NOT c EQUAL 8)
+      message(FATAL_ERROR "${f}: a line without 8 columns: ${line}")
+    endif()
+  endforeach()
+endforeach()
+file(READ "${WORK_DIR}/a/events.json" events)
+if(NOT events MATCHES "\"type\": \"path_done\"" OR NOT events MATCHES "\"type\": \"slip\"")
+  message(FATAL_ERROR "events.json lacks path_done or slips: ${events}")
+endif()
+
+# Another seed, other odometry.
+drive("${WORK_DIR}/c" --seed 9)
+file(SHA256 "${WORK_DIR}/a/odometry.tum" ha)
+file(SHA256 "${WORK_DIR}/c/odometry.tum" hc)
+if(ha STREQUAL hc)
+  message(FATAL_ERROR "--seed did not change the odometry")
+endif()
+
+# Saved frames: rgb, labels and depth per stamp, and the per-frame truth.
+drive("${WORK_DIR}/frames" --save-frames)
+file(GLOB front_rgb "${WORK_DIR}/frames/frames/front/rgb/*.png")
+file(GLOB front_depth "${WORK_DIR}/frames/frames/front/depth/*.png")
+file(GLOB upward_rgb "${WORK_DIR}/frames/frames/upward/rgb/*.png")
+list(LENGTH front_rgb n_front)
+list(LENGTH front_depth n_depth)
+list(LENGTH upward_rgb n_upward)
+if(n_front LESS 10 OR NOT n_front EQUAL n_depth OR n_upward EQUAL 0 OR NOT n_upward LESS n_front)
+  message(FATAL_ERROR "frames: front ${n_front}, depth ${n_depth}, upward ${n_upward}")
+endif()
+if(NOT EXISTS "${WORK_DIR}/frames/frames/front/rgb/0.300000000.png")
+  message(FATAL_ERROR "the front camera's second frame is not stamped 0.3 s")
+endif()
+foreach(f frames/front/frames.json frames/upward/frames.json frames/intrinsics.json)
+  if(NOT EXISTS "${WORK_DIR}/frames/${f}")
+    message(FATAL_ERROR "missing ${f}")
+  endif()
+endforeach()
+if(EXISTS "${WORK_DIR}/frames/frames/lateral")
+  message(FATAL_ERROR "a disabled camera wrote frames")
+endif()
+
+# Bad input: exit code 2 and the key in the message.
+function(expect_bad name yaml pattern)
+  file(WRITE "${WORK_DIR}/${name}.yaml" "include: ${WORK_DIR}/short.yaml\n${yaml}")
+  execute_process(COMMAND "${CORRIDORSIM}" drive "${WORK_DIR}/${name}.yaml" --out "${WORK_DIR}/bad"
+                  RESULT_VARIABLE rc ERROR_VARIABLE stderr OUTPUT_QUIET)
+  if(NOT rc EQUAL 2)
+    message(FATAL_ERROR "${name}: exit ${rc}, expected 2 (${stderr})")
+  endif()
+  if(NOT stderr MATCHES "${pattern}")
+    message(FATAL_ERROR "${name}: unexpected message: ${stderr}")
+  endif()
+endfunction()
+
+expect_bad(unknown_robot_key "robot:\n  wheels: 3\n" "unknown_robot_key.yaml:3:3: robot.wheels: unknown key")
+expect_bad(bad_ratio "robot:\n  odometry:\n    diameter_ratio: 0\n"
+           "bad_ratio.yaml:4:5: robot.odometry.diameter_ratio: must lie in")
+expect_bad(bad_kind "path:\n  kind: zigzag\n" "bad_kind.yaml:3:3: path.kind: unknown value 'zigzag'")
+expect_bad(negative_speed "path:\n  speed_mps: -1\n" "negative_speed.yaml:3:3: path.speed_mps:")
+expect_bad(loop_on_straight "path:\n  kind: loop\n" "loop_on_straight.yaml:3:3: path.kind:")
+expect_bad(offset_into_wall "path:\n  lateral_offset_m: 1.0\n"
+           "offset_into_wall.yaml:3:3: path.lateral_offset_m:")
+expect_bad(bad_duration "duration_s: -3\n" "bad_duration.yaml:2:1: duration_s: must lie in")
+
+# An unwritable output folder is refused before the run.
+file(WRITE "${WORK_DIR}/not_a_dir" "x")
+execute_process(COMMAND "${CORRIDORSIM}" drive "${WORK_DIR}/short.yaml" --out "${WORK_DIR}/not_a_dir/out"
+                RESULT_VARIABLE rc ERROR_VARIABLE stderr OUTPUT_QUIET)
+if(NOT rc EQUAL 2 OR NOT stderr MATCHES "--out")
+  message(FATAL_ERROR "unwritable --out: exit ${rc}, ${stderr}")
+endif()
