@@ -132,8 +132,8 @@ std::optional<SpecProblem> RigSpec::Check() const {
     if (!(c.rate_hz > 0)) return SpecProblem{k + "rate_hz", "must be greater than 0"};
     if (c.rate_hz > 1000) return SpecProblem{k + "rate_hz", "must not exceed 1000"};
     if (!(c.phase_s >= 0 && c.phase_s * c.rate_hz < 1)) {
-      return SpecProblem{k + "phase_s", "must lie in [0, 1 / rate_hz) (got " +
-                                            FormatNumber(c.phase_s) + " s)"};
+      return SpecProblem{k + "phase_s",
+                         "must lie in [0, 1 / rate_hz) (got " + FormatNumber(c.phase_s) + " s)"};
     }
     const bool pinhole = std::holds_alternative<PinholeRadTan>(c.model);
     const PinholeRadTan p = PinholeOf(c.model);

@@ -69,8 +69,9 @@ class Progress {
     const double rtf = wall > 0 ? sim / wall : 0.0;
     const double eta = fraction > 0 ? wall * (1 - fraction) / fraction : 0.0;
     char buf[160];
-    std::snprintf(buf, sizeof(buf), "drive: sim %7.1f s  %5.1f %%  real-time factor %6.1fx  ETA %4.0f s",
-                  sim, 100 * fraction, rtf, eta);
+    std::snprintf(buf, sizeof(buf),
+                  "drive: sim %7.1f s  %5.1f %%  real-time factor %6.1fx  ETA %4.0f s", sim,
+                  100 * fraction, rtf, eta);
     return buf;
   }
 
@@ -100,7 +101,8 @@ nlohmann::ordered_json EventJson(const sim::Event& e) {
       j["extra_distance_m"] = std::round(e.distance_m * 1e9) / 1e9;
       break;
     case sim::EventKind::kPathDone:
-    case sim::EventKind::kTimeout: break;
+    case sim::EventKind::kTimeout:
+      break;
   }
   return j;
 }
@@ -163,7 +165,8 @@ void RunDrive(const DriveRequest& request) {
     for (const render::CameraRenderer& camera : rig->cameras()) {
       FrameWriter w{out / "frames" / camera.spec().id, camera.spec()};
       for (const char* sub : {"rgb", "labels", "depth"}) {
-        if (std::string(sub) != "depth" || w.spec.depth) std::filesystem::create_directories(w.dir / sub);
+        if (std::string(sub) != "depth" || w.spec.depth)
+          std::filesystem::create_directories(w.dir / sub);
       }
       intrinsics[camera.spec().id] = IntrinsicsJson(camera.spec());
       writers.push_back(std::move(w));
@@ -180,10 +183,10 @@ void RunDrive(const DriveRequest& request) {
 
   std::printf("drive: %s, seed %llu, path %s (%.1f m, %.0f deg of turns), physics %.0f Hz%s\n",
               scenario.name.empty() ? request.scenario_path.c_str() : scenario.name.c_str(),
-              static_cast<unsigned long long>(seed), sim::PathKindName(scenario.path_options.kind).c_str(),
-              simulation.path().length_m(), simulation.path().total_turn_rad() * 180 / std::numbers::pi,
-              scenario.robot.physics_rate_hz,
-              request.save_frames ? ", rendering cameras" : "");
+              static_cast<unsigned long long>(seed),
+              sim::PathKindName(scenario.path_options.kind).c_str(), simulation.path().length_m(),
+              simulation.path().total_turn_rad() * 180 / std::numbers::pi,
+              scenario.robot.physics_rate_hz, request.save_frames ? ", rendering cameras" : "");
 
   std::ostringstream truth_tum, odometry_tum, odometry_csv;
   truth_tum << "# ground truth: world_from_robot (robot frame R: floor, between the wheels)\n"
@@ -253,13 +256,13 @@ void RunDrive(const DriveRequest& request) {
   const double sim_s = ToSeconds(simulation.now_ns());
   std::printf("drive: %.1f s simulated in %.1f s (real-time factor %.1fx), %.2f m driven\n", sim_s,
               wall, wall > 0 ? sim_s / wall : 0.0, travelled_m);
-  std::printf("  end: truth (%.3f, %.3f, %.1f deg), %.3f m from the start; odometry off by %.3f m, "
-              "%.2f deg\n",
-              truth_end.x(), truth_end.y(), truth_end.yaw() * 180 / std::numbers::pi,
-              (truth_end.translation() - start.translation()).norm(),
-              (dead_reckoning.translation() - truth_end.translation()).norm(),
-              std::abs(NormalizeAngle(dead_reckoning.yaw() - truth_end.yaw())) * 180 /
-                  std::numbers::pi);
+  std::printf(
+      "  end: truth (%.3f, %.3f, %.1f deg), %.3f m from the start; odometry off by %.3f m, "
+      "%.2f deg\n",
+      truth_end.x(), truth_end.y(), truth_end.yaw() * 180 / std::numbers::pi,
+      (truth_end.translation() - start.translation()).norm(),
+      (dead_reckoning.translation() - truth_end.translation()).norm(),
+      std::abs(NormalizeAngle(dead_reckoning.yaw() - truth_end.yaw())) * 180 / std::numbers::pi);
   std::printf("  collisions %d, slips %d, frames %d%s\n", collisions, slips, frames,
               simulation.path_done() ? "" : "  (the path was not finished: see events.json)");
   std::printf("wrote %s/{ground_truth.tum, odometry.tum, odometry.csv, events.json%s}\n",

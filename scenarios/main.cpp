@@ -1,5 +1,5 @@
-// The corridorsim command. Subcommands: world, snapshot, drive (run comes with its issue). Exit codes: 0 success, 2 bad input (one message naming file, line and key),
-// 1 any other failure.
+// The corridorsim command. Subcommands: world, snapshot, drive (run comes with its issue). Exit
+// codes: 0 success, 2 bad input (one message naming file, line and key), 1 any other failure.
 
 #include <chrono>
 #include <cstdio>

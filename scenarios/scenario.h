@@ -21,10 +21,10 @@ struct Scenario {
   std::uint64_t seed = 1;   // seed of every random stream of the run
   worlds::WorldSpec world;
   render::RigSpec rig = render::RigSpec::Default();  // `sensors:` and `render:`
-  sim::RobotSpec robot;   // `robot:` (odometry errors under `robot.odometry`)
+  sim::RobotSpec robot;           // `robot:` (odometry errors under `robot.odometry`)
   sim::PathOptions path_options;  // `path:`
   double duration_s = 0;  // `duration_s`: simulated time of a run; 0 = until the path is done
-  SourceMap sources;                // where each key was set, for errors found after parsing
+  SourceMap sources;      // where each key was set, for errors found after parsing
   SourceLocation world_location;    // the `world:` key of the last file that has one
   SourceLocation sensors_location;  // the `sensors:` key of the last file that has one
   SourceLocation robot_location;    // `robot:`

@@ -40,9 +40,11 @@ namespace corridorsim::sim {
 struct OdometryOptions {
   double rate_hz = 50.0;  // odometry messages per second (read by the sensor clock)
   // Encoder ticks per wheel revolution; 0 = no quantisation (distances reported as measured).
-  // 1263 is a Pioneer 3-DX's position unit as ARIA's stock p3dx.p gives it (DistConvFactor
-  // 0.485 mm) on its 195 mm wheels: pi * 195 mm / 0.485 mm.
-  int ticks_per_revolution = 1263;
+  // Default: a 500-line quadrature encoder (2,000 counts per motor turn) behind a 19.7:1
+  // gearhead, the Pioneer 3-DX's drive: 39,400 counts per wheel turn, 15.5 um of travel. (A coarse
+  // encoder quantises the dead-reckoned heading to tick / wheelbase: 1,263 ticks gave 0.08 deg
+  // steps, 15 mm of cross-track error over 10 m.)
+  int ticks_per_revolution = 39400;
   double diameter_ratio = 1.0;   // E_d = D_R / D_L of the real wheels (Borenstein UMBmark)
   double wheelbase_ratio = 1.0;  // E_b = real wheelbase / nominal wheelbase
   double random_k_m = 0.0;       // k: variance k |s| per wheel (m^2 per m travelled, P1 eq. 17)

@@ -8,8 +8,8 @@
 // rolls on exactly its radius and the contact wheelbase is exactly the axle's; friction limits
 // traction, so wheels can slip. Wheels and caster collide with the floor only; the chassis
 // carries the robot's full footprint (wheels included) and collides with walls, door leaves and
-// furniture. A fresh Bullet world is built per run, stepped at a fixed rate with deterministic
-// overlapping pairs (DEPENDENCIES.md: byte-identical trajectories).
+// furniture, not with the floor it never touches. A fresh Bullet world is built per run, stepped at
+// a fixed rate with deterministic overlapping pairs (DEPENDENCIES.md: byte-identical trajectories).
 
 #include <cstdint>
 #include <memory>
@@ -30,14 +30,14 @@ namespace corridorsim::sim {
 
 /// The robot's description (scenario key `robot`). Defaults: Pioneer 3-DX.
 struct RobotSpec {
-  double body_length_m = 0.455;   // overall, along x
-  double body_width_m = 0.381;    // overall, wheels included
-  double body_height_m = 0.237;   // floor to top plate
-  double mass_kg = 9.0;           // whole robot
+  double body_length_m = 0.455;     // overall, along x
+  double body_width_m = 0.381;      // overall, wheels included
+  double body_height_m = 0.237;     // floor to top plate
+  double mass_kg = 9.0;             // whole robot
   double wheel_diameter_m = 0.195;  // nominal (what odometry and the controller assume)
   double wheel_width_m = 0.047;
-  double wheelbase_m = 0.33;        // nominal distance between the wheels' mid-planes
-  double wheel_friction = 1.0;      // Coulomb coefficient of the wheel-floor contact
+  double wheelbase_m = 0.33;         // nominal distance between the wheels' mid-planes
+  double wheel_friction = 1.0;       // Coulomb coefficient of the wheel-floor contact
   double max_wheel_torque_nm = 4.0;  // per wheel motor
   double max_wheel_speed_rps = 8.0;  // per wheel motor, rad/s (about 0.78 m/s)
   double physics_rate_hz = 1000.0;   // fixed physics step
@@ -62,10 +62,10 @@ struct Contact {
 
 /// The true state of the robot after a physics step.
 struct RobotState {
-  SE3 world_from_robot;                                // robot frame R: floor, between the wheels
+  SE3 world_from_robot;  // robot frame R: floor, between the wheels
   Eigen::Vector3d linear_velocity_in_world = Eigen::Vector3d::Zero();   // of R's origin, m/s
   Eigen::Vector3d angular_velocity_in_world = Eigen::Vector3d::Zero();  // rad/s
-  double left_wheel_angle_rad = 0.0;   // cumulative rotation, positive rolls forward
+  double left_wheel_angle_rad = 0.0;  // cumulative rotation, positive rolls forward
   double right_wheel_angle_rad = 0.0;
 };
 
@@ -75,7 +75,8 @@ class RobotPhysics {
   /// Builds the world's static collision boxes and a floor plane, and the robot standing at
   /// `world_from_robot_start` (planar). The robot's real wheels follow `spec.odometry`'s
   /// systematic errors (RealWheelGeometry); the nominal values stay what the controller uses.
-  RobotPhysics(const worlds::World& world, const RobotSpec& spec, const SE2& world_from_robot_start);
+  RobotPhysics(const worlds::World& world, const RobotSpec& spec,
+               const SE2& world_from_robot_start);
   ~RobotPhysics();
   RobotPhysics(const RobotPhysics&) = delete;
   RobotPhysics& operator=(const RobotPhysics&) = delete;

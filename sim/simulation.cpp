@@ -27,11 +27,16 @@ SE2 Planar(const SE3& pose) {
 
 std::string EventKindName(EventKind kind) {
   switch (kind) {
-    case EventKind::kCollisionBegin: return "collision_begin";
-    case EventKind::kCollisionEnd: return "collision_end";
-    case EventKind::kSlip: return "slip";
-    case EventKind::kPathDone: return "path_done";
-    case EventKind::kTimeout: return "timeout";
+    case EventKind::kCollisionBegin:
+      return "collision_begin";
+    case EventKind::kCollisionEnd:
+      return "collision_end";
+    case EventKind::kSlip:
+      return "slip";
+    case EventKind::kPathDone:
+      return "path_done";
+    case EventKind::kTimeout:
+      return "timeout";
   }
   return "unknown";
 }
@@ -92,11 +97,12 @@ TruthSample Simulation::Interpolate(const TruthSample& a, const TruthSample& b,
                                     TimeNs stamp) const {
   if (stamp == b.stamp_ns) return b;
   if (stamp == a.stamp_ns) return a;
-  const double t = static_cast<double>(stamp - a.stamp_ns) /
-                   static_cast<double>(b.stamp_ns - a.stamp_ns);
+  const double t =
+      static_cast<double>(stamp - a.stamp_ns) / static_cast<double>(b.stamp_ns - a.stamp_ns);
   TruthSample s;
   s.stamp_ns = stamp;
-  s.state.world_from_robot = SE3::Interpolate(a.state.world_from_robot, b.state.world_from_robot, t);
+  s.state.world_from_robot =
+      SE3::Interpolate(a.state.world_from_robot, b.state.world_from_robot, t);
   s.state.linear_velocity_in_world =
       (1 - t) * a.state.linear_velocity_in_world + t * b.state.linear_velocity_in_world;
   s.state.angular_velocity_in_world =
@@ -157,7 +163,8 @@ void Simulation::EmitDue(const TruthSample& before, const TruthSample& after) {
 void Simulation::TrackContacts() {
   const std::vector<Contact>& now = physics_->contacts();
   auto has = [](const std::vector<Contact>& list, int id) {
-    return std::any_of(list.begin(), list.end(), [&](const Contact& c) { return c.instance_id == id; });
+    return std::any_of(list.begin(), list.end(),
+                       [&](const Contact& c) { return c.instance_id == id; });
   };
   for (const Contact& c : now) {
     if (has(touching_, c.instance_id)) continue;

@@ -61,9 +61,9 @@ struct CameraMessage {
 enum class EventKind {
   kCollisionBegin,  // the chassis touches a world object
   kCollisionEnd,
-  kSlip,       // an odometry slip event (sim/odometry.h)
-  kPathDone,   // the follower reached the path's end
-  kTimeout,    // the run's duration ended before the path did
+  kSlip,      // an odometry slip event (sim/odometry.h)
+  kPathDone,  // the follower reached the path's end
+  kTimeout,   // the run's duration ended before the path did
 };
 std::string EventKindName(EventKind kind);
 
@@ -73,9 +73,9 @@ struct Event {
   int instance_id = 0;  // collisions: the World object
   worlds::SemanticClass semantic_class = worlds::SemanticClass::kUnknown;
   Eigen::Vector3d position_in_world = Eigen::Vector3d::Zero();  // collisions: contact point
-  double depth_m = 0.0;      // collisions: penetration at the first contact
-  bool left_wheel = false;   // slips
-  double distance_m = 0.0;   // slips: extra distance the wheel reported
+  double depth_m = 0.0;     // collisions: penetration at the first contact
+  bool left_wheel = false;  // slips
+  double distance_m = 0.0;  // slips: extra distance the wheel reported
 };
 
 struct SimulationOptions {

@@ -49,8 +49,7 @@ TEST_CASE("the robot stands still on the floor with its frame at floor level", "
   CHECK(robot.contacts().empty());
 }
 
-TEST_CASE("equal forward wheel speeds drive straight ahead at wheel radius times speed",
-          "[sim]") {
+TEST_CASE("equal forward wheel speeds drive straight ahead at wheel radius times speed", "[sim]") {
   RobotSpec spec;
   RobotPhysics robot(Corridor(), spec, SE2(2.0, 0.0, 0.0));
   const double wheel_rps = 3.0;
@@ -80,12 +79,12 @@ TEST_CASE("a faster right wheel turns the robot counter-clockwise", "[sim]") {
   CHECK(Yaw(robot.state().world_from_robot) > 0.3);
   CHECK(robot.state().angular_velocity_in_world.z() == Approx(0.5).epsilon(0.02));
   // In place: the origin between the wheels stays put.
-  CHECK((robot.state().world_from_robot.translation().head<2>() - Eigen::Vector2d(4.0, 0.0))
-            .norm() < 5e-3);
+  CHECK(
+      (robot.state().world_from_robot.translation().head<2>() - Eigen::Vector2d(4.0, 0.0)).norm() <
+      5e-3);
 }
 
-TEST_CASE("a wall stops the robot, is reported as a contact and is never passed through",
-          "[sim]") {
+TEST_CASE("a wall stops the robot, is reported as a contact and is never passed through", "[sim]") {
   RobotSpec spec;
   // Facing the left wall (y = +1.2) from the corridor axis, full speed ahead for 8 s.
   RobotPhysics robot(Corridor(), spec, SE2(6.0, 0.0, std::numbers::pi / 2));

@@ -59,11 +59,10 @@ Run Drive(const worlds::World& world, const SimulationOptions& options, Path pat
   while (!simulation.finished()) {
     const StepOutput& out = simulation.Step();
     for (const WheelOdometry& m : out.odometry) {
-      const SE2 next =
-          ApplyWheelOdometry(odometry, m.left_distance_m, m.right_distance_m,
-                             options.robot.wheelbase_m);
-      run.odometry_yaw_change_rad += (m.right_distance_m - m.left_distance_m) /
-                                     options.robot.wheelbase_m;
+      const SE2 next = ApplyWheelOdometry(odometry, m.left_distance_m, m.right_distance_m,
+                                          options.robot.wheelbase_m);
+      run.odometry_yaw_change_rad +=
+          (m.right_distance_m - m.left_distance_m) / options.robot.wheelbase_m;
       odometry = next;
       run.messages.push_back(m);
     }
@@ -98,8 +97,8 @@ TEST_CASE("error-free odometry follows ground truth within 0.1 % over 10 m of st
   CHECK(run.distance_m == Approx(10.0).epsilon(0.01));
   const double error = (run.odometry_end.translation() - run.truth_end.translation()).norm();
   CHECK(error < kStraightOdometryFraction * run.distance_m);
-  CHECK(std::abs(NormalizeAngle(run.odometry_end.yaw() - run.truth_end.yaw())) <
-        kTurnOdometryRad);
+
+  CHECK(std::abs(NormalizeAngle(run.odometry_end.yaw() - run.truth_end.yaw())) < kTurnOdometryRad);
 }
 
 TEST_CASE("error-free odometry follows a full in-place turn within 0.5 degrees", "[sim]") {
@@ -135,8 +134,7 @@ TEST_CASE("a wheel-diameter error E_d curves the odometry of a straight drive as
   CHECK(std::abs(run.truth_end.y()) < 0.01);
 }
 
-TEST_CASE("the round trip returns to within 0.2 m of its start without touching a wall",
-          "[sim]") {
+TEST_CASE("the round trip returns to within 0.2 m of its start without touching a wall", "[sim]") {
   const worlds::World world = Corridor(16.0);
   SimulationOptions options;
   const Path path = BuildPath(world, options.path);
@@ -156,8 +154,7 @@ TEST_CASE("the round trip returns to within 0.2 m of its start without touching 
   CHECK(max_abs_y < 1.2 - 0.381 / 2);
 }
 
-TEST_CASE("driving into the end wall reports a collision and never passes through it",
-          "[sim]") {
+TEST_CASE("driving into the end wall reports a collision and never passes through it", "[sim]") {
   const worlds::World world = Corridor(6.0);
   SimulationOptions options;
   Path path;
@@ -248,9 +245,8 @@ TEST_CASE("camera frames are stamped phase + n / rate and rendered at the true p
       REQUIRE(m.stamp_ns <= out.truth.stamp_ns);
       const double t = static_cast<double>(m.stamp_ns - before.stamp_ns) /
                        static_cast<double>(out.truth.stamp_ns - before.stamp_ns);
-      const Eigen::Vector3d expected =
-          (1 - t) * before.state.world_from_robot.translation() +
-          t * out.truth.state.world_from_robot.translation();
+      const Eigen::Vector3d expected = (1 - t) * before.state.world_from_robot.translation() +
+                                       t * out.truth.state.world_from_robot.translation();
       CHECK((m.world_from_robot.translation() - expected).norm() < 1e-9);
       CHECK(m.frame.rgb.width == 64);
       frames.push_back(m);
