@@ -1,0 +1,49 @@
+#include "slam/odometry_pipeline.h"
+
+#include "common/spec_checker.h"
+#include "common/wheel_odometry_model.h"
+
+namespace corridorsim::slam {
+
+std::optional<SpecProblem> OdometryPipelineOptions::Check() const {
+  SpecChecker c;
+  c.InRange(k_m, 0.0, 0.1, "k_m");
+  return c.problem();
+}
+
+void ParseOdometryPipelineOptions(YamlMap& map, OdometryPipelineOptions& options) {
+  map.Read("k_m", options.k_m);
+  map.RejectUnknownKeys();
+}
+
+OdometryPipeline::OdometryPipeline(const OdometryPipelineOptions& options,
+                                   const Calibration& calibration)
+    : options_(options), wheelbase_m_(calibration.wheelbase_m) {}
+
+void OdometryPipeline::Initialize(TimeNs stamp_ns, const SE2& world_from_robot) {
+  estimate_.stamp_ns = stamp_ns;
+  estimate_.world_from_robot = world_from_robot;
+  estimate_.covariance.setZero();  // the start pose is known exactly
+}
+
+void OdometryPipeline::OnOdometry(const WheelOdometry& odometry) {
+  const auto t0 = std::chrono::steady_clock::now();
+  Eigen::Matrix3d F;
+  Eigen::Matrix<double, 3, 2> G;
+  // P1 eq. 13: the motion model; eq. 14: P = F P F^T + G Q G^T with Q of eq. 17.
+  estimate_.world_from_robot =
+      ApplyWheelOdometry(estimate_.world_from_robot, odometry.left_distance_m,
+                         odometry.right_distance_m, wheelbase_m_, &F, &G);
+  const Eigen::Matrix2d Q =
+      WheelOdometryNoise(odometry.left_distance_m, odometry.right_distance_m, options_.k_m);
+  estimate_.covariance = F * estimate_.covariance * F.transpose() + G * Q * G.transpose();
+  estimate_.covariance = 0.5 * (estimate_.covariance + estimate_.covariance.transpose());
+  estimate_.stamp_ns = odometry.stamp_ns;
+  predict_time_ += std::chrono::steady_clock::now() - t0;
+}
+
+std::map<std::string, double> OdometryPipeline::stage_seconds() const {
+  return {{"predict", std::chrono::duration<double>(predict_time_).count()}};
+}
+
+}  // namespace corridorsim::slam
