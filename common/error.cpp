@@ -1,5 +1,8 @@
 #include "common/error.h"
 
+#include <cstdio>
+#include <cstdlib>
+
 #include <utility>
 
 namespace corridorsim {
@@ -29,5 +32,11 @@ InputError::InputError(SourceLocation location, std::string key, std::string mes
 
 SpecError::SpecError(SpecProblem problem)
     : std::runtime_error(problem.key + ": " + problem.message), problem_(std::move(problem)) {}
+
+void CheckOrDie(bool ok, const char* where, const char* what) {
+  if (ok) return;
+  std::fprintf(stderr, "corridorsim: %s: %s\n", where, what);
+  std::abort();
+}
 
 }  // namespace corridorsim

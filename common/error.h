@@ -46,4 +46,8 @@ class SpecError : public std::runtime_error {
   SpecProblem problem_;
 };
 
+/// A broken invariant is a bug (STYLE item 10): prints "corridorsim: <where>: <what>" to stderr
+/// and aborts when `ok` is false. Never for bad input.
+void CheckOrDie(bool ok, const char* where, const char* what);
+
 }  // namespace corridorsim

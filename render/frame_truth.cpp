@@ -25,13 +25,6 @@ constexpr int kColumnSearchPx = 2;        // door column: label search half-widt
 // world +z: the axis' world z component exceeds cos(45 deg).
 constexpr double kUpwardMinAxisZ = std::numbers::sqrt2 / 2;
 
-// A broken invariant is a bug: say what and abort (STYLE item 10).
-void CheckOrDie(bool ok, const char* what) {
-  if (ok) return;
-  std::fprintf(stderr, "corridorsim::render::ComputeFrameTruth: %s\n", what);
-  std::abort();
-}
-
 // Image size, focal length and principal point of either model.
 struct Intrinsics {
   int width = 0;
@@ -68,8 +61,10 @@ class Frame {
         upward_(input.world_from_camera.rotation()(2, 2) > kUpwardMinAxisZ) {
     const std::size_t pixels = std::size_t(intrinsics_.width) * std::size_t(intrinsics_.height);
     CheckOrDie(input.instance == nullptr || input.instance->size() == pixels,
+               "render::ComputeFrameTruth",
                "instance image size differs from the camera's width * height");
     CheckOrDie(input.semantic == nullptr || input.semantic->size() == pixels,
+               "render::ComputeFrameTruth",
                "semantic image size differs from the camera's width * height");
   }
 
@@ -484,7 +479,7 @@ void AddPolar(nlohmann::ordered_json& json, const std::optional<UpwardPolar>& po
 }  // namespace
 
 FrameTruth ComputeFrameTruth(const FrameTruthInput& input) {
-  CheckOrDie(input.world != nullptr, "FrameTruthInput::world is null");
+  CheckOrDie(input.world != nullptr, "render::ComputeFrameTruth", "FrameTruthInput::world is null");
   const worlds::World& world = *input.world;
   const Frame frame(input);
   FrameTruth truth;

@@ -20,13 +20,6 @@ constexpr double kEpsM = 1e-9;
 constexpr double kMaxSpeedMps = 1.2;
 constexpr double kMaxTurnRateDps = 300.0;
 
-// A broken invariant is a bug: say what and abort (STYLE item 10).
-void CheckOrDie(bool ok, const char* what) {
-  if (ok) return;
-  std::fprintf(stderr, "corridorsim::sim::PathFollower: %s\n", what);
-  std::abort();
-}
-
 std::string Metres(double v) {
   char buf[32];
   std::snprintf(buf, sizeof(buf), "%.3g m", v);
@@ -325,7 +318,8 @@ SE2 Path::world_from_goal() const {
 }
 
 Path BuildPath(const worlds::World& world, const PathOptions& options) {
-  CheckOrDie(!world.segments.empty(), "BuildPath: the world has no corridor segments");
+  CheckOrDie(!world.segments.empty(), "sim::PathFollower",
+             "BuildPath: the world has no corridor segments");
   const double width_m = CorridorWidth(world);
   const double free_half_width_m = width_m / 2 - kPathWallClearanceM;
   const double offset_m = options.lateral_offset_m;
@@ -438,7 +432,7 @@ PathFollower::PathFollower(Path path, const PathOptions& options)
       turn_acceleration_rps2_(options.turn_acceleration_dps2 * kDegToRad) {
   CheckOrDie(
       speed_mps_ > 0 && acceleration_mps2_ > 0 && turn_rate_rps_ > 0 && turn_acceleration_rps2_ > 0,
-      "speeds and accelerations must be positive (PathOptions::Check)");
+      "sim::PathFollower", "speeds and accelerations must be positive (PathOptions::Check)");
   if (path_.kind == PathKind::kScript) {
     for (const VelocityCommand& c : path_.commands) total_nominal_s_ += c.duration_s;
     done_ = path_.commands.empty();
@@ -454,6 +448,7 @@ PathFollower::PathFollower(Path path, const PathOptions& options)
       drive.to_in_world = w.p_in_world;
       drive.heading_after = std::atan2(step.y(), step.x());
       CheckOrDie(std::abs(NormalizeAngle(drive.heading_after - heading)) < 1e-6,
+                 "sim::PathFollower",
                  "a leg does not start along the heading the previous turn left");
       drive.nominal_s = TrapezoidTime(step.norm(), speed_mps_, acceleration_mps2_);
       actions_.push_back(drive);

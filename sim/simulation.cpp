@@ -1,5 +1,7 @@
 #include "sim/simulation.h"
 
+#include "common/error.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -67,10 +69,14 @@ Simulation::Simulation(const worlds::World& world, const SimulationOptions& opti
   step_ns_ = options_.robot.physics_step_ns();
   steps_per_control_ = std::max<std::int64_t>(
       1, std::llround(options_.robot.physics_rate_hz / options_.robot.control_rate_hz));
-  if (rig_ && rig_spec) {
+  if (rig_spec) {
     for (const render::CameraSpec& c : rig_spec->cameras) {
-      if (!c.enabled) continue;
-      camera_specs_.push_back(c);
+      if (c.enabled) camera_specs_.push_back(c);
+    }
+  }
+  CheckOrDie(!rig_ || rig_spec, "sim::Simulation", "a rig needs the spec it was built from");
+  if (rig_) {
+    for (const render::CameraSpec& c : camera_specs_) {
       camera_clocks_.emplace_back(PeriodFromRateHz(c.rate_hz), FromSeconds(c.phase_s));
     }
   }
@@ -80,7 +86,7 @@ Simulation::Simulation(const worlds::World& world, const SimulationOptions& opti
 
   output_.truth.stamp_ns = 0;
   output_.truth.state = physics_->state();
-  output_.truth.world_from_robot_2d = Planar(physics_->state().world_from_robot);
+  FillTruth(&output_.truth);
   // Messages stamped 0 come out of the first Step(), with those of its interval.
 }
 
@@ -111,8 +117,17 @@ TruthSample Simulation::Interpolate(const TruthSample& a, const TruthSample& b,
       (1 - t) * a.state.left_wheel_angle_rad + t * b.state.left_wheel_angle_rad;
   s.state.right_wheel_angle_rad =
       (1 - t) * a.state.right_wheel_angle_rad + t * b.state.right_wheel_angle_rad;
-  s.world_from_robot_2d = Planar(s.state.world_from_robot);
+  FillTruth(&s);
   return s;
+}
+
+void Simulation::FillTruth(TruthSample* sample) const {
+  sample->world_from_robot_2d = Planar(sample->state.world_from_robot);
+  sample->world_from_camera.resize(camera_specs_.size());
+  for (std::size_t k = 0; k < camera_specs_.size(); ++k) {
+    sample->world_from_camera[k] =
+        sample->state.world_from_robot * camera_specs_[k].mount.RobotFromCamera();
+  }
 }
 
 void Simulation::EmitDue(const TruthSample& before, const TruthSample& after) {
@@ -209,7 +224,7 @@ const StepOutput& Simulation::Step() {
 
   output_.truth.stamp_ns = now_ns_;
   output_.truth.state = physics_->state();
-  output_.truth.world_from_robot_2d = Planar(physics_->state().world_from_robot);
+  FillTruth(&output_.truth);
   TrackContacts();
   EmitDue(before, output_.truth);
 

@@ -46,6 +46,8 @@ struct TruthSample {
   TimeNs stamp_ns = 0;
   SE2 world_from_robot_2d;  // the planar pose (x, y, yaw of the robot's x axis)
   RobotState state;         // full 3D pose, velocities, wheel angles
+  // world_from_camera of every enabled camera of the rig spec (its order), if one was given
+  std::vector<SE3> world_from_camera;
 };
 
 /// One camera frame with its truth. The rendered images exist only when the simulation renders.
@@ -95,9 +97,10 @@ struct StepOutput {
 
 class Simulation {
  public:
-  /// Drives `path` (BuildPath of options.path in `world`). `rig` (optional, with the spec it was
-  /// built from) renders the cameras at their rates; without it no camera messages are emitted.
-  /// The world and rig must outlive the simulation.
+  /// Drives `path` (BuildPath of options.path in `world`). With `rig_spec`, the truth carries
+  /// every enabled camera's pose; `rig` (optional, built from `rig_spec`) renders the cameras at
+  /// their rates; without it no camera messages are emitted. The world and rig must outlive the
+  /// simulation.
   Simulation(const worlds::World& world, const SimulationOptions& options, Path path,
              render::Rig* rig = nullptr, const render::RigSpec* rig_spec = nullptr);
   ~Simulation();
@@ -122,11 +125,12 @@ class Simulation {
   TruthSample Interpolate(const TruthSample& a, const TruthSample& b, TimeNs stamp) const;
   void EmitDue(const TruthSample& before, const TruthSample& after);
   void TrackContacts();
+  void FillTruth(TruthSample* sample) const;  // planar pose and camera poses from the state
 
   const worlds::World& world_;
   SimulationOptions options_;
   render::Rig* rig_;
-  std::vector<render::CameraSpec> camera_specs_;  // the rig's enabled cameras, in order
+  std::vector<render::CameraSpec> camera_specs_;  // the rig spec's enabled cameras, in order
   Path path_;
   std::unique_ptr<PathFollower> follower_;
   std::unique_ptr<RobotPhysics> physics_;
