@@ -281,6 +281,33 @@ bool YamlMap::Read(const std::string& key, std::vector<std::vector<double>>& row
   return true;
 }
 
+bool YamlMap::Read(const std::string& key, std::vector<std::string>& values,
+                   std::vector<SourceLocation>* locations) {
+  const YAML::Node node = Get(key);
+  if (!node) return false;
+  if (!node.IsSequence()) Fail(key, "expected a list of strings, e.g. [\"a\", \"b\"]");
+  std::vector<std::string> parsed;
+  std::vector<SourceLocation> where;
+  for (const auto& item : node) {
+    if (!item.IsScalar()) {
+      throw InputError(doc_->LocationOf(item), FullKey(key),
+                       "item " + std::to_string(parsed.size() + 1) + ": expected a string");
+    }
+    parsed.push_back(item.Scalar());
+    where.push_back(doc_->LocationOf(item));
+  }
+  values = std::move(parsed);
+  if (locations) *locations = std::move(where);
+  return true;
+}
+
+std::vector<std::string> YamlMap::Keys() const {
+  std::vector<std::string> keys;
+  if (!node_.IsMap()) return keys;
+  for (const auto& kv : node_) keys.push_back(kv.first.Scalar());
+  return keys;
+}
+
 YamlMap YamlMap::Map(const std::string& key) {
   // yaml-cpp nodes have reference semantics (assignment writes into the node), so never assign
   // to the result of a lookup: build the returned map from a fresh node instead.

@@ -67,6 +67,14 @@ class YamlMap {
   /// 30]]`; a bad row is an error at that row.
   bool Read(const std::string& key, std::vector<std::vector<double>>& rows, std::size_t columns);
 
+  /// A list of strings, e.g. `expectations: ["odometry.ate_rmse_m < 1"]`, with the location of
+  /// each item (for errors found when the items are interpreted).
+  bool Read(const std::string& key, std::vector<std::string>& values,
+            std::vector<SourceLocation>* locations = nullptr);
+
+  /// The keys of this map in document order (for maps keyed by name, e.g. `pipelines:`).
+  std::vector<std::string> Keys() const;
+
   /// Reads a string key and maps it through `choices` (name -> value); anything else is an error
   /// that lists the valid names.
   template <class E>

@@ -1,7 +1,5 @@
 #include "scenarios/drive.h"
 
-#include <unistd.h>
-
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -20,6 +18,7 @@
 #include "render/camera_rig.h"
 #include "render/scene.h"
 #include "scenarios/frame_io.h"
+#include "scenarios/progress.h"
 #include "scenarios/scenario.h"
 #include "sim/simulation.h"
 #include "worlds/image_io.h"
@@ -27,58 +26,11 @@
 namespace corridorsim {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-double Seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
-
 std::string FormatFixed(double v) {
   char buf[40];
   std::snprintf(buf, sizeof(buf), "%.9f", v);
   return buf;
 }
-
-// A progress line: rewritten in place on a terminal, a plain line every 10 % otherwise.
-class Progress {
- public:
-  Progress() : tty_(isatty(fileno(stdout)) != 0), start_(Clock::now()), last_(start_) {}
-
-  void Update(TimeNs sim_ns, double fraction) {
-    const Clock::time_point now = Clock::now();
-    if (tty_) {
-      if (now - last_ < std::chrono::milliseconds(200)) return;
-      std::printf("\r%s", Line(sim_ns, fraction, now).c_str());
-      std::fflush(stdout);
-    } else {
-      const int decile = static_cast<int>(fraction * 10);
-      if (decile <= last_decile_) return;
-      last_decile_ = decile;
-      std::printf("%s\n", Line(sim_ns, fraction, now).c_str());
-      std::fflush(stdout);
-    }
-    last_ = now;
-  }
-  void Finish() {
-    if (tty_) std::printf("\n");
-  }
-  double wall_s() const { return Seconds(Clock::now() - start_); }
-
- private:
-  std::string Line(TimeNs sim_ns, double fraction, Clock::time_point now) const {
-    const double wall = Seconds(now - start_);
-    const double sim = ToSeconds(sim_ns);
-    const double rtf = wall > 0 ? sim / wall : 0.0;
-    const double eta = fraction > 0 ? wall * (1 - fraction) / fraction : 0.0;
-    char buf[160];
-    std::snprintf(buf, sizeof(buf),
-                  "drive: sim %7.1f s  %5.1f %%  real-time factor %6.1fx  ETA %4.0f s", sim,
-                  100 * fraction, rtf, eta);
-    return buf;
-  }
-
-  bool tty_;
-  Clock::time_point start_, last_;
-  int last_decile_ = 0;
-};
 
 nlohmann::ordered_json EventJson(const sim::Event& e) {
   nlohmann::ordered_json j;
@@ -203,7 +155,7 @@ void RunDrive(const DriveRequest& request) {
   int collisions = 0, slips = 0, frames = 0;
   double travelled_m = 0;
   Eigen::Vector3d last_position = simulation.truth().state.world_from_robot.translation();
-  Progress progress;
+  Progress progress("drive");
   while (!simulation.finished()) {
     const sim::StepOutput& step = simulation.Step();
     const TimeNs now = step.truth.stamp_ns;
@@ -231,7 +183,7 @@ void RunDrive(const DriveRequest& request) {
       slips += e.kind == sim::EventKind::kSlip;
       events.push_back(EventJson(e));
     }
-    progress.Update(now, simulation.progress());
+    progress.Update(now, simulation.progress(), "");
   }
   progress.Finish();
   if (simulation.now_ns() % truth_period != 0) {

@@ -1,8 +1,35 @@
 #include "scenarios/scenario.h"
 
+#include <algorithm>
+
 #include "common/spec_checker.h"
 
 namespace corridorsim {
+
+namespace {
+
+// `pipelines:` maps pipeline names to their options; options accumulate over the include chain.
+void ParsePipelines(YamlMap& pipelines, Scenario& scenario) {
+  for (const std::string& name : pipelines.Keys()) {
+    YamlMap options = pipelines.Map(name);
+    auto entry = std::find_if(scenario.pipelines.begin(), scenario.pipelines.end(),
+                              [&](const Scenario::PipelineEntry& e) { return e.name == name; });
+    if (entry == scenario.pipelines.end()) {
+      std::shared_ptr<slam::PipelineConfig> config = slam::NewPipelineConfig(name);
+      if (!config) {
+        std::string known;
+        for (const std::string& n : slam::PipelineNames()) known += (known.empty() ? "" : ", ") + n;
+        pipelines.Fail(name, "unknown pipeline (known: " + known + ")");
+      }
+      scenario.pipelines.push_back({name, std::move(config), true});
+      entry = scenario.pipelines.end() - 1;
+    }
+    options.Read("enabled", entry->enabled);
+    entry->config->Parse(options);
+  }
+}
+
+}  // namespace
 
 Scenario LoadScenario(const std::string& path) {
   Scenario scenario;
@@ -11,6 +38,7 @@ Scenario LoadScenario(const std::string& path) {
   scenario.sensors_location = SourceLocation{path, 0, 0};
   scenario.robot_location = SourceLocation{path, 0, 0};
   scenario.path_location = SourceLocation{path, 0, 0};
+  scenario.pipelines_location = SourceLocation{path, 0, 0};
   // Documents stay alive while their maps are read: YamlMap points into them.
   const std::vector<YamlDocument> chain = LoadWithIncludes(path);
   for (const YamlDocument& doc : chain) {
@@ -34,12 +62,22 @@ Scenario LoadScenario(const std::string& path) {
     YamlMap path_map = root.Map("path");
     sim::ParsePathOptions(path_map, scenario.path_options);
     root.Read("duration_s", scenario.duration_s);
+    if (root.Has("pipelines")) scenario.pipelines_location = root.LocationOfKey("pipelines");
+    YamlMap pipelines = root.Map("pipelines");
+    ParsePipelines(pipelines, scenario);
+    root.Read("expectations", scenario.expectations, &scenario.expectation_locations);
     root.RejectUnknownKeys();
   }
   if (auto problem = scenario.world.Check()) throw LocateProblem(scenario, "world", *problem);
   if (auto problem = scenario.rig.Check()) throw LocateProblem(scenario, "sensors", *problem);
   if (auto problem = scenario.robot.Check()) throw LocateProblem(scenario, "robot", *problem);
   if (auto problem = scenario.path_options.Check()) throw LocateProblem(scenario, "path", *problem);
+  for (const Scenario::PipelineEntry& entry : scenario.pipelines) {
+    if (auto problem = entry.config->Check()) {
+      throw LocateProblem(scenario, "pipelines",
+                          SpecProblem{entry.name + "." + problem->key, problem->message});
+    }
+  }
   if (!(scenario.duration_s >= 0 && scenario.duration_s <= 1e6)) {
     throw InputError(scenario.sources.Find("duration_s", SourceLocation{path, 0, 0}), "duration_s",
                      "must lie in [0, 1e+06] s (got " + FormatNumber(scenario.duration_s) + ")");
@@ -50,10 +88,11 @@ Scenario LoadScenario(const std::string& path) {
 InputError LocateProblem(const Scenario& scenario, const std::string& section,
                          const SpecProblem& problem) {
   const std::string key = section + "." + problem.key;
-  const SourceLocation& fallback = section == "sensors" ? scenario.sensors_location
-                                   : section == "robot" ? scenario.robot_location
-                                   : section == "path"  ? scenario.path_location
-                                                        : scenario.world_location;
+  const SourceLocation& fallback = section == "sensors"     ? scenario.sensors_location
+                                   : section == "robot"     ? scenario.robot_location
+                                   : section == "path"      ? scenario.path_location
+                                   : section == "pipelines" ? scenario.pipelines_location
+                                                            : scenario.world_location;
   return InputError(scenario.sources.Find(key, fallback), key, problem.message);
 }
 

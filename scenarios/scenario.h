@@ -1,14 +1,18 @@
 #pragma once
-// A scenario file: the seed, the world, the sensors, the robot and its path (later issues add
-// pipelines and expectations). Loading is strict: see docs/scenarios.md.
+// A scenario file: the seed, the world, the sensors, the robot and its path, the SLAM pipelines
+// that run on the sensor stream and the expectations on their metrics. Loading is strict: see
+// docs/scenarios.md.
 
 #include <cstdint>
+#include <memory>
 #include <string>
+#include <vector>
 
 #include "common/yaml_reader.h"
 #include "render/camera_rig.h"
 #include "sim/path.h"
 #include "sim/robot.h"
+#include "slam/registry.h"
 #include "worlds/world.h"
 #include "worlds/world_spec.h"
 
@@ -24,11 +28,22 @@ struct Scenario {
   sim::RobotSpec robot;           // `robot:` (odometry errors under `robot.odometry`)
   sim::PathOptions path_options;  // `path:`
   double duration_s = 0;  // `duration_s`: simulated time of a run; 0 = until the path is done
-  SourceMap sources;      // where each key was set, for errors found after parsing
-  SourceLocation world_location;    // the `world:` key of the last file that has one
-  SourceLocation sensors_location;  // the `sensors:` key of the last file that has one
-  SourceLocation robot_location;    // `robot:`
-  SourceLocation path_location;     // `path:`
+  // `pipelines:` in order of first appearance (base files first); `enabled: false` drops one.
+  struct PipelineEntry {
+    std::string name;
+    std::shared_ptr<slam::PipelineConfig> config;
+    bool enabled = true;
+  };
+  std::vector<PipelineEntry> pipelines;
+  // `expectations:` as written (the last file that has the key wins), with where each was set.
+  std::vector<std::string> expectations;
+  std::vector<SourceLocation> expectation_locations;
+  SourceMap sources;                  // where each key was set, for errors found after parsing
+  SourceLocation world_location;      // the `world:` key of the last file that has one
+  SourceLocation sensors_location;    // the `sensors:` key of the last file that has one
+  SourceLocation robot_location;      // `robot:`
+  SourceLocation path_location;       // `path:`
+  SourceLocation pipelines_location;  // `pipelines:`
 };
 
 /// Loads `path` and its `include:` chain (base first) onto code defaults, then checks the
@@ -36,7 +51,8 @@ struct Scenario {
 Scenario LoadScenario(const std::string& path);
 
 /// Turns a problem found by a spec's Check() or a generator into an InputError placed at the
-/// line that set the offending key (`section` is "world", "sensors", "robot" or "path").
+/// line that set the offending key (`section` is "world", "sensors", "robot", "path" or
+/// "pipelines").
 InputError LocateProblem(const Scenario& scenario, const std::string& section,
                          const SpecProblem& problem);
 

@@ -111,8 +111,8 @@ TEST_CASE("an unknown top-level key is an error at that key", "[scenarios]") {
       "wrld:\n"
       "  length_m: 30\n");
   CHECK(msg ==
-        ":2:1: wrld: unknown key (known keys here: description, duration_s, include, name, path, "
-        "render, robot, seed, sensors, world)");
+        ":2:1: wrld: unknown key (known keys here: description, duration_s, expectations, "
+        "include, name, path, pipelines, render, robot, seed, sensors, world)");
 }
 
 TEST_CASE("an unknown nested key is an error naming its full key", "[scenarios]") {
@@ -428,6 +428,20 @@ TEST_CASE("includes chain through several files, base first", "[scenarios]") {
   CHECK(s.seed == 3);
   CHECK(s.world.length_m == 35);
   CHECK(s.world.width_m == 2.2);
+}
+
+TEST_CASE("pipelines are read by name with their options, and an unknown one is an error",
+          "[scenarios]") {
+  const std::string msg = LoadError(
+      "pipelines:\n"
+      "  odometry: {k_m: 0.0002}\n"
+      "  orb_slam9: {}\n");
+  CHECK(msg == ":3:3: pipelines.orb_slam9: unknown pipeline (known: odometry)");
+  const std::string bad = LoadError(
+      "pipelines:\n"
+      "  odometry:\n"
+      "    k_m: -1\n");
+  CHECK(bad.rfind(":3:5: pipelines.odometry.k_m: must lie in", 0) == 0);
 }
 
 }  // namespace
