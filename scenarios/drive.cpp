@@ -19,6 +19,7 @@
 #include "render/scene.h"
 #include "scenarios/frame_io.h"
 #include "scenarios/progress.h"
+#include "scenarios/run_io.h"
 #include "scenarios/scenario.h"
 #include "sim/simulation.h"
 #include "worlds/image_io.h"
@@ -30,33 +31,6 @@ std::string FormatFixed(double v) {
   char buf[40];
   std::snprintf(buf, sizeof(buf), "%.9f", v);
   return buf;
-}
-
-nlohmann::ordered_json EventJson(const sim::Event& e) {
-  nlohmann::ordered_json j;
-  j["t"] = ToSeconds(e.stamp_ns);
-  j["t_ns"] = e.stamp_ns;
-  j["type"] = sim::EventKindName(e.kind);
-  switch (e.kind) {
-    case sim::EventKind::kCollisionBegin:
-    case sim::EventKind::kCollisionEnd: {
-      j["object_id"] = e.instance_id;
-      j["object_class"] = worlds::SemanticClassName(e.semantic_class);
-      const auto r = [](double v) { return std::round(v * 1e6) / 1e6; };
-      j["position"] = {r(e.position_in_world.x()), r(e.position_in_world.y()),
-                       r(e.position_in_world.z())};
-      if (e.kind == sim::EventKind::kCollisionBegin) j["depth_m"] = r(e.depth_m);
-      break;
-    }
-    case sim::EventKind::kSlip:
-      j["wheel"] = e.left_wheel ? "left" : "right";
-      j["extra_distance_m"] = std::round(e.distance_m * 1e9) / 1e9;
-      break;
-    case sim::EventKind::kPathDone:
-    case sim::EventKind::kTimeout:
-      break;
-  }
-  return j;
 }
 
 // Frames of one camera written as they come: images now, the per-frame truth at the end.

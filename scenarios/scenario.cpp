@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include <yaml-cpp/yaml.h>
+
 #include "common/spec_checker.h"
 
 namespace corridorsim {
@@ -102,6 +104,42 @@ worlds::World GenerateWorld(const Scenario& scenario, std::uint64_t seed) {
   } catch (const SpecError& e) {
     throw LocateProblem(scenario, "world", e.problem());
   }
+}
+
+namespace {
+
+// `over` on top of `base`: maps merge key by key, anything else replaces.
+YAML::Node MergeNodes(const YAML::Node& base, const YAML::Node& over) {
+  if (!base.IsMap() || !over.IsMap()) return YAML::Clone(over);
+  YAML::Node out(YAML::NodeType::Map);
+  for (const auto& kv : base) {
+    const std::string key = kv.first.Scalar();
+    const YAML::Node& o = over;
+    out[key] = o[key] ? MergeNodes(kv.second, o[key]) : YAML::Clone(kv.second);
+  }
+  for (const auto& kv : over) {
+    const std::string key = kv.first.Scalar();
+    const YAML::Node& b = base;
+    if (!b[key]) out[key] = YAML::Clone(kv.second);
+  }
+  return out;
+}
+
+}  // namespace
+
+std::string ResolvedScenarioYaml(const std::string& path, std::uint64_t seed) {
+  YAML::Node merged(YAML::NodeType::Map);
+  for (const YamlDocument& doc : LoadWithIncludes(path)) {
+    if (doc.root.IsMap()) merged = MergeNodes(merged, doc.root);
+  }
+  merged.remove("include");
+  merged["seed"] = seed;
+  YAML::Emitter out;
+  out << merged;
+  return "# The scenario of this run: " + path +
+         " with its include chain merged and the seed used.\n# Keys not written here keep "
+         "corridorsim's defaults (docs/scenarios.md).\n" +
+         std::string(out.c_str()) + "\n";
 }
 
 sim::Path BuildScenarioPath(const Scenario& scenario, const worlds::World& world) {

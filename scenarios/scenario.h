@@ -59,6 +59,10 @@ InputError LocateProblem(const Scenario& scenario, const std::string& section,
 /// Generates the scenario's world with `seed`, reporting generator problems as InputError.
 worlds::World GenerateWorld(const Scenario& scenario, std::uint64_t seed);
 
+/// The scenario file with its include chain merged (base first, the same key-by-key rules as
+/// loading), `include:` removed and `seed` set to `seed`: a single file that repeats the run.
+std::string ResolvedScenarioYaml(const std::string& path, std::uint64_t seed);
+
 /// The scenario's path in `world`, reporting a path that does not fit as InputError at `path:`.
 sim::Path BuildScenarioPath(const Scenario& scenario, const worlds::World& world);
 

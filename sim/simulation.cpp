@@ -152,6 +152,7 @@ void Simulation::EmitDue(const TruthSample& before, const TruthSample& after) {
   for (std::size_t k = 0; k < camera_clocks_.size(); ++k) {
     SensorClock& clock = camera_clocks_[k];
     while (clock.next_ns() <= now) {
+      const auto t0 = std::chrono::steady_clock::now();
       const TruthSample at = Interpolate(before, after, clock.next_ns());
       CameraMessage message;
       message.stamp_ns = at.stamp_ns;
@@ -170,6 +171,8 @@ void Simulation::EmitDue(const TruthSample& before, const TruthSample& after) {
       input.semantic = &message.frame.semantic;
       message.truth = render::ComputeFrameTruth(input);
       output_.frames.push_back(std::move(message));
+      render_seconds_ +=
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       clock.Advance();
     }
   }

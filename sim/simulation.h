@@ -8,6 +8,7 @@
 // state interpolated between them (wheel angles linearly, the pose by slerp), so stamps never
 // snap to the physics grid.
 
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -120,6 +121,9 @@ class Simulation {
   TimeNs end_ns() const { return end_ns_; }
   const RobotSpec& robot() const { return options_.robot; }
   const std::vector<SensorClock>& camera_clocks() const { return camera_clocks_; }
+  /// Wall-clock seconds spent rendering camera frames and computing their truth (for the
+  /// run's cost split; never part of an output that must be deterministic).
+  double render_seconds() const { return render_seconds_; }
 
  private:
   TruthSample Interpolate(const TruthSample& a, const TruthSample& b, TimeNs stamp) const;
@@ -143,6 +147,7 @@ class Simulation {
   TimeNs end_ns_ = 0;
   bool finished_ = false;
   bool path_done_ = false;
+  double render_seconds_ = 0.0;
   std::vector<Contact> touching_;  // contacts after the previous step
   StepOutput output_;
 };
