@@ -1,0 +1,759 @@
+#!/usr/bin/python3
+"""Plots of a finished `corridorsim run`: writes RUN_DIR/plots/*.png.
+
+    scripts/plot_run.py RUN_DIR
+
+Reads from RUN_DIR (metres, seconds, radians, world frame W; docs/frames.md):
+  world.json               the world's ground truth as `corridorsim world` writes ground_truth.json
+  ground_truth.tum         the true trajectory, TUM lines `t tx ty tz qx qy qz qw`
+  metrics.json             {"pipelines": {name: {...}}, "expectations": [{text, measured, passed}]}
+  <pipeline>.tum           each pipeline's estimated trajectory
+  <pipeline>_errors.csv    t,ex_m,ey_m,eyaw_rad,sigma_x_m,sigma_y_m,sigma_yaw_rad,nees
+The pipelines are the keys of metrics.json's `pipelines`, or, when it has none, the stems of the
+other *.tum files. Every metrics key is optional: a plot whose data is absent is skipped.
+
+Writes (each printed on its own line):
+  trajectories.png         every trajectory over the world's top-down plan
+  errors_<pipeline>.png    x, y and heading error against time with +-2 sigma (P3 Fig. 18)
+  nees_<pipeline>.png      NEES against time with the 95 % chi-square band for 3 dof
+  detectors.png            precision / recall / accuracy per detector and pipeline
+  summary.png              the main metrics per pipeline and the expectations, pass or fail
+
+Exit status: 0 when all plots were written; 1 when an input is missing or malformed (the message
+names the file and, where it can, the line); 2 on a bad command line. Every input is read and
+checked before anything is drawn, so a bad input leaves no partial plots. The PNGs carry no
+software or date metadata, so the same inputs and matplotlib version give the same bytes.
+"""
+
+import argparse
+import bisect
+import csv
+import json
+import json.decoder
+import json.scanner
+import math
+import os
+import re
+import sys
+import textwrap
+
+# Debian's python3-matplotlib and python3-numpy live in /usr/bin/python3's site-packages; a pyenv
+# or venv `python3` that comes first on PATH may not see them, so the script re-runs itself there.
+SYSTEM_PYTHON = "/usr/bin/python3"
+REEXEC_ENV = "CORRIDORSIM_PLOT_REEXEC"
+try:
+    import matplotlib
+    import numpy as np
+except ImportError as missing:
+    if (not os.environ.get(REEXEC_ENV) and os.path.exists(SYSTEM_PYTHON) and
+            os.path.realpath(sys.executable) != os.path.realpath(SYSTEM_PYTHON)):
+        os.environ[REEXEC_ENV] = "1"
+        os.execv(SYSTEM_PYTHON, [SYSTEM_PYTHON, os.path.abspath(__file__)] + sys.argv[1:])
+    print(f"plot_run: {missing.name} is not installed for {sys.executable} "
+          "(scripts/setup.sh installs python3-matplotlib)", file=sys.stderr)
+    sys.exit(1)
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402 (after choosing the backend)
+from matplotlib.lines import Line2D  # noqa: E402
+from matplotlib.patches import Circle, Rectangle  # noqa: E402
+
+# Single-sample 95 % bounds of chi-square (2.5 % and 97.5 % quantiles) by degrees of freedom.
+CHI2_95_BOUNDS = {1: (0.000982, 5.0239), 2: (0.0506, 7.3778), 3: (0.2158, 9.3484),
+                  6: (1.2373, 14.4494)}
+NEES_DOF = 3  # x, y, yaw
+
+# Scalars read from metrics.json's pipelines, with their labels in summary.png.
+SUMMARY_METRICS = [
+    ("ate_rmse_m", "ATE RMSE [m]"),
+    ("ate_aligned_rmse_m", "ATE RMSE, aligned [m]"),
+    ("final_position_error_m", "final position error [m]"),
+    ("nees_mean", "mean NEES (3 dof)"),
+    ("nees_in_band_fraction", "NEES in 95 % band"),
+]
+DETECTOR_SCORES = ["precision", "recall", "accuracy"]
+
+# Plan colours, the same as worlds/map_plot.cpp draws map.png.
+DOOR_COLORS = {"closed": "#d72828", "open": "#1ea03c", "empty": "#285adc"}
+WALL_COLOR = "#37373c"
+LAMP_ON_FACE, LAMP_ON_EDGE = "#ffd700", "#aa8200"
+LAMP_OFF_EDGE = "#646464"
+PLATE_COLOR = "#6a3d9a"
+
+PANEL_MAX_ASPECT = 8.0  # a trajectories panel is at most 8 times longer than it is wide
+PANEL_MAX_COUNT = 8
+PANEL_OVERLAP_M = 0.5   # neighbouring panels share this much, so nothing hides at a cut
+PLAN_MARGIN_M = 0.3
+ESTIMATE_SLACK_M = 1.5  # how far beyond the world and the truth the plan grows for estimates
+DPI = 100
+
+
+class InputError(Exception):
+    """A missing or malformed input: file, line (None when unknown) and what is wrong."""
+
+    def __init__(self, path, line, message):
+        super().__init__(message)
+        self.path, self.line, self.message = path, line, message
+
+    def __str__(self):
+        where = self.path if self.line is None else f"{self.path}:{self.line}"
+        return f"{where}: {self.message}"
+
+
+# ------------------------------------------------------------------------------------------------
+# Reading the inputs
+
+def read_text(path):
+    if not os.path.isfile(path):
+        raise InputError(path, None, "missing")
+    try:
+        with open(path, encoding="utf-8") as f:
+            return f.read()
+    except (OSError, UnicodeDecodeError) as e:
+        raise InputError(path, None, f"cannot be read: {e}") from None
+
+
+class JsonObject(dict):
+    """A JSON object that remembers the line of its opening brace."""
+    line = None
+
+
+class JsonArray(list):
+    """A JSON array that remembers the line of its opening bracket."""
+    line = None
+
+
+def load_json(path):
+    """Parses a JSON file into JsonObject/JsonArray values that know their line numbers."""
+    text = read_text(path)
+    newlines = [m.start() for m in re.finditer("\n", text)]
+
+    def line_of(pos):
+        return bisect.bisect_left(newlines, pos) + 1
+
+    def parse_object(s_and_end, *args):
+        value, end = json.decoder.JSONObject(s_and_end, *args)
+        out = JsonObject(value)
+        out.line = line_of(s_and_end[1] - 1)
+        return out, end
+
+    def parse_array(s_and_end, scan_once):
+        value, end = json.decoder.JSONArray(s_and_end, scan_once)
+        out = JsonArray(value)
+        out.line = line_of(s_and_end[1] - 1)
+        return out, end
+
+    # The pure-Python scanner lets us hook object and array parsing (the C one does not).
+    decoder = json.JSONDecoder()
+    decoder.parse_object = parse_object
+    decoder.parse_array = parse_array
+    decoder.scan_once = json.scanner.py_make_scanner(decoder)
+    try:
+        root = decoder.decode(text)
+    except json.JSONDecodeError as e:
+        raise InputError(path, e.lineno, f"column {e.colno}: invalid JSON: {e.msg}") from None
+    if not isinstance(root, dict):
+        raise InputError(path, 1, "the top level is not a JSON object")
+    return root
+
+
+class JsonReader:
+    """Typed access to optional keys of one JSON file; errors name the file, line and key."""
+
+    def __init__(self, path):
+        self.path = path
+
+    def fail(self, parent, where, message):
+        raise InputError(self.path, getattr(parent, "line", None), f"{where}: {message}")
+
+    def get(self, obj, key, kind, where):
+        """obj[key] if it is of `kind` ('object', 'array', 'number', 'bool', 'text'); None when
+        absent or null."""
+        value = obj.get(key)
+        if value is None:
+            return None
+        name = f"{where}.{key}" if where else key
+        ok = {
+            "object": isinstance(value, dict),
+            "array": isinstance(value, list),
+            "number": isinstance(value, (int, float)) and not isinstance(value, bool),
+            "bool": isinstance(value, bool),
+            "text": isinstance(value, (str, int)) and not isinstance(value, bool),
+        }[kind]
+        if not ok:
+            self.fail(obj, name, f"expected {kind}, got {json.dumps(value)[:40]}")
+        return value
+
+    def vec2(self, obj, key, where):
+        """The x, y of a [x, y] or [x, y, z] array; None when absent."""
+        value = obj.get(key)
+        if value is None:
+            return None
+        ok = (isinstance(value, list) and len(value) in (2, 3) and
+              all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value))
+        if not ok:
+            self.fail(obj, f"{where}.{key}", f"expected [x, y] or [x, y, z] in metres, "
+                      f"got {json.dumps(value)[:40]}")
+        return float(value[0]), float(value[1])
+
+    def items(self, obj, key):
+        """The objects in the array obj[key], each with its name `key[i]`; [] when absent."""
+        array = self.get(obj, key, "array", "")
+        out = []
+        for i, item in enumerate(array or []):
+            if not isinstance(item, dict):
+                self.fail(array, f"{key}[{i}]", "expected an object")
+            out.append((f"{key}[{i}]", item))
+        return out
+
+
+def read_world(path):
+    """The plan-view parts of ground_truth.json (schema: worlds/world_io.cpp)."""
+    root = load_json(path)
+    r = JsonReader(path)
+    world = {"walls": [], "doors": [], "plates": [], "lamps": []}
+    for name, wall in r.items(root, "walls"):
+        a, b = r.vec2(wall, "start", name), r.vec2(wall, "end", name)
+        if a is None or b is None:
+            r.fail(wall, name, "needs start and end")
+        world["walls"].append((a, b))
+    for name, door in r.items(root, "doors"):
+        a, b = r.vec2(door, "column_a", name), r.vec2(door, "column_b", name)
+        if a is None or b is None:
+            r.fail(door, name, "needs column_a and column_b")
+        state = r.get(door, "state", "text", name)
+        if state is not None and state not in DOOR_COLORS:
+            r.fail(door, f"{name}.state", f"expected one of {sorted(DOOR_COLORS)}, got '{state}'")
+        world["doors"].append({"a": a, "b": b, "state": state,
+                               "room": r.get(door, "room_number", "text", name)})
+    for name, plate in r.items(root, "door_plates"):
+        center = r.vec2(plate, "center", name)
+        if center is None:
+            r.fail(plate, name, "needs center")
+        world["plates"].append({"center": center, "normal": r.vec2(plate, "normal", name),
+                                "room": r.get(plate, "room_number", "text", name)})
+    for name, lamp in r.items(root, "lamps"):
+        center = r.vec2(lamp, "center", name)
+        if center is None:
+            r.fail(lamp, name, "needs center")
+        shape = r.get(lamp, "shape", "text", name) or "circular"
+        if shape == "circular":
+            radius = r.get(lamp, "radius", "number", name)
+            if radius is None or radius <= 0:
+                r.fail(lamp, name, "a circular lamp needs a positive radius")
+            extent = float(radius)
+        elif shape == "panel":
+            extent = r.vec2(lamp, "size", name)
+            if extent is None or min(extent) <= 0:
+                r.fail(lamp, name, "a panel lamp needs a positive size [x, y]")
+        else:
+            r.fail(lamp, f"{name}.shape", f"expected circular or panel, got '{shape}'")
+        on = r.get(lamp, "on", "bool", name)
+        world["lamps"].append({"center": center, "shape": shape, "extent": extent,
+                               "on": True if on is None else on})
+    return world
+
+
+def read_tum(path):
+    """TUM trajectory as an (N, 8) array: t tx ty tz qx qy qz qw (s, m, unit quaternion)."""
+    rows = []
+    for number, line in enumerate(read_text(path).splitlines(), start=1):
+        line = line.strip()
+        if not line or line.startswith("#"):
+            continue
+        fields = line.split()
+        if len(fields) != 8:
+            raise InputError(path, number, f"expected 8 numbers 't tx ty tz qx qy qz qw', "
+                             f"got {len(fields)} fields")
+        try:
+            values = [float(v) for v in fields]
+        except ValueError:
+            raise InputError(path, number, "not a number in the line") from None
+        if not all(math.isfinite(v) for v in values):
+            raise InputError(path, number, "non-finite value")
+        rows.append(values)
+    if not rows:
+        raise InputError(path, None, "has no poses")
+    return np.array(rows)
+
+
+ERROR_COLUMNS_REQUIRED = ["t", "ex_m", "ey_m", "eyaw_rad"]
+ERROR_COLUMNS_OPTIONAL = ["sigma_x_m", "sigma_y_m", "sigma_yaw_rad", "nees"]
+
+
+def read_errors(path):
+    """<pipeline>_errors.csv as {column: array}; optional columns absent from the header are
+    missing from the result, and empty cells (or 'nan') are NaN."""
+    lines = read_text(path).splitlines()
+    if not lines or not lines[0].strip():
+        raise InputError(path, 1, "missing the header line")
+    header = [h.strip() for h in next(csv.reader([lines[0]]))]
+    for column in ERROR_COLUMNS_REQUIRED:
+        if column not in header:
+            raise InputError(path, 1, f"the header has no column '{column}'")
+    wanted = [c for c in ERROR_COLUMNS_REQUIRED + ERROR_COLUMNS_OPTIONAL if c in header]
+    index = {c: header.index(c) for c in wanted}
+    columns = {c: [] for c in wanted}
+    for number, row in enumerate(csv.reader(lines[1:]), start=2):
+        if not row or all(not cell.strip() for cell in row):
+            continue
+        if len(row) != len(header):
+            raise InputError(path, number, f"expected {len(header)} fields, got {len(row)}")
+        for c in wanted:
+            cell = row[index[c]].strip()
+            try:
+                value = float(cell) if cell else math.nan
+            except ValueError:
+                raise InputError(path, number, f"{c}: not a number: '{cell}'") from None
+            if c == "t" and not math.isfinite(value):
+                raise InputError(path, number, "t: must be a finite time in seconds")
+            columns[c].append(value)
+    return {c: np.array(v, dtype=float) for c, v in columns.items()}
+
+
+def read_metrics(path):
+    """The parts of metrics.json the plots use; every key is optional."""
+    root = load_json(path)
+    r = JsonReader(path)
+    metrics = {"pipelines": {}, "expectations": []}
+    pipelines = r.get(root, "pipelines", "object", "") or {}
+    for name, entry in pipelines.items():
+        where = f"pipelines.{name}"
+        if not re.fullmatch(r"[A-Za-z0-9_+-][A-Za-z0-9_.+-]*", name):
+            r.fail(pipelines, where, "a pipeline name must be a plain file stem")
+        if not isinstance(entry, dict):
+            r.fail(pipelines, where, "expected an object")
+        m = {key: r.get(entry, key, "number", where) for key, _ in SUMMARY_METRICS}
+        band = r.get(entry, "nees_band", "array", where)
+        if band is not None:
+            if len(band) != 2 or not all(isinstance(v, (int, float)) and not isinstance(v, bool)
+                                         for v in band) or not 0 <= band[0] < band[1]:
+                r.fail(band, f"{where}.nees_band", "expected [lo, hi] with 0 <= lo < hi")
+            band = (float(band[0]), float(band[1]))
+        m["nees_band"] = band
+        m["detectors"] = read_detectors(r, entry, where)
+        metrics["pipelines"][name] = m
+    for name, item in r.items(root, "expectations"):
+        text = r.get(item, "text", "text", name)
+        measured = item.get("measured")
+        if isinstance(measured, (dict, list)):
+            r.fail(item, f"{name}.measured", "expected a number or text")
+        metrics["expectations"].append({"text": "" if text is None else str(text),
+                                         "measured": measured,
+                                         "passed": r.get(item, "passed", "bool", name)})
+    return metrics
+
+
+def read_detectors(r, entry, where):
+    """[(detector, {score: value})] from `detectors`: an object {name: {precision, recall,
+    accuracy}} or an array of such objects, each with a `name` (or `detector`)."""
+    detectors = entry.get("detectors")
+    if detectors is None:
+        return []
+    if isinstance(detectors, dict):
+        named = list(detectors.items())
+    elif isinstance(detectors, list):
+        named = []
+        for i, d in enumerate(detectors):
+            label = d.get("name", d.get("detector")) if isinstance(d, dict) else None
+            named.append((str(label) if label is not None else f"detector {i + 1}", d))
+    else:
+        r.fail(entry, f"{where}.detectors", "expected an object or an array")
+    out = []
+    for name, d in named:
+        if not isinstance(d, dict):
+            r.fail(detectors, f"{where}.detectors.{name}", "expected an object")
+        scores = {s: r.get(d, s, "number", f"{where}.detectors.{name}") for s in DETECTOR_SCORES}
+        if any(v is not None for v in scores.values()):
+            out.append((name, scores))
+    return out
+
+
+def read_run(run_dir):
+    """Reads and checks every input; raises InputError on the first problem."""
+    if not os.path.isdir(run_dir):
+        raise InputError(run_dir, None, "is not a directory")
+    run = {
+        "world": read_world(os.path.join(run_dir, "world.json")),
+        "metrics": read_metrics(os.path.join(run_dir, "metrics.json")),
+        "truth": read_tum(os.path.join(run_dir, "ground_truth.tum")),
+        "pipelines": {},
+    }
+    names = list(run["metrics"]["pipelines"])
+    if not names:
+        names = sorted(f[:-len(".tum")] for f in os.listdir(run_dir)
+                       if f.endswith(".tum") and f != "ground_truth.tum")
+    for name in names:
+        run["pipelines"][name] = {
+            "trajectory": read_tum(os.path.join(run_dir, f"{name}.tum")),
+            "errors": read_errors(os.path.join(run_dir, f"{name}_errors.csv")),
+        }
+    return run
+
+
+# ------------------------------------------------------------------------------------------------
+# Drawing
+
+def chi2_95_bounds(dof):
+    """2.5 % and 97.5 % quantiles of chi-square with `dof` degrees of freedom: scipy when it is
+    installed, else the table, else the Wilson-Hilferty approximation."""
+    try:
+        from scipy.stats import chi2
+        return float(chi2.ppf(0.025, dof)), float(chi2.ppf(0.975, dof))
+    except ImportError:
+        pass
+    if dof in CHI2_95_BOUNDS:
+        return CHI2_95_BOUNDS[dof]
+    z, h = 1.959964, 2.0 / (9.0 * dof)
+    return tuple(dof * (1.0 - h + s * z * math.sqrt(h)) ** 3 for s in (-1.0, 1.0))
+
+
+def save(fig, plots_dir, name, written):
+    """Writes the figure atomically (temporary file, then rename) and without metadata."""
+    path = os.path.join(plots_dir, name)
+    tmp = path + ".tmp"
+    fig.savefig(tmp, format="png", dpi=DPI, metadata={"Software": None})
+    os.replace(tmp, path)
+    written.append(path)
+    plt.close(fig)
+
+
+def plan_extent(run):
+    """(xmin, xmax, ymin, ymax) of the plan: walls, lamps, plates and the true trajectory, with a
+    margin, grown by at most ESTIMATE_SLACK_M to take in the estimates. A diverged estimate is
+    cut at the border rather than shrinking the corridor to a line."""
+    world = run["world"]
+    xs, ys = [], []
+    for a, b in world["walls"]:
+        xs += [a[0], b[0]]
+        ys += [a[1], b[1]]
+    for p in world["plates"] + world["lamps"]:
+        xs.append(p["center"][0])
+        ys.append(p["center"][1])
+    xs += [run["truth"][:, 1].min(), run["truth"][:, 1].max()]
+    ys += [run["truth"][:, 2].min(), run["truth"][:, 2].max()]
+    m = PLAN_MARGIN_M
+    xmin, xmax, ymin, ymax = min(xs) - m, max(xs) + m, min(ys) - m, max(ys) + m
+    for p in run["pipelines"].values():
+        tum = p["trajectory"]
+        xmin = max(min(xmin, tum[:, 1].min() - m), xmin - ESTIMATE_SLACK_M)
+        xmax = min(max(xmax, tum[:, 1].max() + m), xmax + ESTIMATE_SLACK_M)
+        ymin = max(min(ymin, tum[:, 2].min() - m), ymin - ESTIMATE_SLACK_M)
+        ymax = min(max(ymax, tum[:, 2].max() + m), ymax + ESTIMATE_SLACK_M)
+    return xmin, xmax, ymin, ymax
+
+
+def outside(tum, extent):
+    """Whether some pose of the trajectory lies outside the plotted extent."""
+    xmin, xmax, ymin, ymax = extent
+    x, y = tum[:, 1], tum[:, 2]
+    return bool(((x < xmin) | (x > xmax) | (y < ymin) | (y > ymax)).any())
+
+
+def plan_panels(extent):
+    """Splits a long plan along its longer axis into panels of at most PANEL_MAX_ASPECT:1.
+    Returns ([(xlim, ylim)], stacked) where stacked means one panel above the other."""
+    xmin, xmax, ymin, ymax = extent
+    dx, dy = xmax - xmin, ymax - ymin
+    stacked = dx >= dy
+    long_lo, long_len, short = (xmin, dx, dy) if stacked else (ymin, dy, dx)
+    count = max(1, min(PANEL_MAX_COUNT, math.ceil(long_len / (PANEL_MAX_ASPECT * short))))
+    step = long_len / count
+    overlap = PANEL_OVERLAP_M if count > 1 else 0.0
+    panels = []
+    for i in range(count):
+        lo = long_lo + i * step - (overlap if i > 0 else 0.0)
+        hi = long_lo + (i + 1) * step + (overlap if i < count - 1 else 0.0)
+        panels.append(((lo, hi), (ymin, ymax)) if stacked else ((xmin, xmax), (lo, hi)))
+    return panels, stacked
+
+
+def draw_world(ax, world):
+    """The top-down plan: walls, doors by state, lamps (off ones hollow), plates with numbers."""
+    for a, b in world["walls"]:
+        ax.plot([a[0], b[0]], [a[1], b[1]], color=WALL_COLOR, lw=2.0, solid_capstyle="butt",
+                zorder=3)
+    for door in world["doors"]:
+        color = DOOR_COLORS.get(door["state"], "0.5")
+        ax.plot([door["a"][0], door["b"][0]], [door["a"][1], door["b"][1]], color=color,
+                lw=4.0, solid_capstyle="butt", zorder=4)
+    for lamp in world["lamps"]:
+        (x, y), on = lamp["center"], lamp["on"]
+        style = dict(facecolor=LAMP_ON_FACE if on else "none",
+                     edgecolor=LAMP_ON_EDGE if on else LAMP_OFF_EDGE, lw=0.8, zorder=1)
+        if lamp["shape"] == "circular":
+            ax.add_patch(Circle((x, y), lamp["extent"], **style))
+        else:
+            sx, sy = lamp["extent"]
+            ax.add_patch(Rectangle((x - sx / 2, y - sy / 2), sx, sy, **style))
+    for plate in world["plates"]:
+        (x, y) = plate["center"]
+        ax.plot([x], [y], marker="s", ms=5, color=PLATE_COLOR, zorder=5)
+        if plate["room"] is not None:
+            # The number sits on the corridor side of the plate, along its normal.
+            nx, ny = plate["normal"] or (0.0, 0.0)
+            ax.text(x + 0.3 * nx, y + 0.3 * ny, str(plate["room"]), fontsize=7,
+                    color=PLATE_COLOR, ha="center", va="center", clip_on=True, zorder=5)
+
+
+def plot_trajectories(run, plots_dir, written):
+    """trajectories.png: the true and estimated x-y paths (m) over the plan, equal axes; a long
+    corridor is cut into panels stacked top to bottom (or placed left to right)."""
+    extent = plan_extent(run)
+    panels, stacked = plan_panels(extent)
+    n = len(panels)
+    (xlim, ylim) = panels[0]
+    pw, ph = xlim[1] - xlim[0], ylim[1] - ylim[0]
+    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+
+    handles = [Line2D([], [], color="k", lw=1.6, marker="o", ms=5, label="ground truth (o start)")]
+    for j, (name, p) in enumerate(run["pipelines"].items()):
+        note = ", leaves the plot" if outside(p["trajectory"], extent) else ""
+        handles.append(Line2D([], [], color=colors[j % len(colors)], lw=1.1, marker="x", ms=7,
+                              label=f"{name} (x end{note})"))
+    handles.append(Line2D([], [], color=WALL_COLOR, lw=2.0, label="wall"))
+    for state, color in DOOR_COLORS.items():
+        handles.append(Line2D([], [], color=color, lw=4.0, label=f"door {state}"))
+    handles.append(Line2D([], [], ls="", marker="s", ms=5, color=PLATE_COLOR,
+                          label="door plate (room)"))
+    handles.append(Circle((0, 0), 1, facecolor=LAMP_ON_FACE, edgecolor=LAMP_ON_EDGE,
+                          label="lamp on"))
+    handles.append(Circle((0, 0), 1, facecolor="none", edgecolor=LAMP_OFF_EDGE, label="lamp off"))
+
+    # Figure layout in inches: at most 16 in wide, each panel's axes at most 10 in high, sized
+    # by the data's aspect ratio; the legend's rows on top.
+    left, right, bottom, max_w, max_h = 0.7, 0.25, 0.55, 16.0, 10.0
+    gap = 0.45 if stacked else 0.85  # side by side, the gap holds the tick labels
+    if stacked:
+        aw = max_w - left - right
+        ah = min(aw * ph / pw, max_h)
+        aw = ah * pw / ph
+    else:
+        aw = (max_w - left - right - (n - 1) * gap) / n
+        ah = min(aw * ph / pw, max_h)
+        aw = ah * pw / ph
+    content_w = aw if stacked else n * aw + (n - 1) * gap
+    width = max(8.0, left + right + content_w)
+    x0 = left + (width - left - right - content_w) / 2  # centres narrow panels
+    columns = max(2, min(len(handles), int(width / 2.2)))
+    top = 0.55 + 0.25 * math.ceil(len(handles) / columns)
+    height = bottom + top + (n * ah + (n - 1) * gap if stacked else ah)
+    fig = plt.figure(figsize=(width, height))
+    for i, (xlim, ylim) in enumerate(panels):
+        if stacked:
+            rect = [x0, bottom + (n - 1 - i) * (ah + gap), aw, ah]
+        else:
+            rect = [x0 + i * (aw + gap), bottom, aw, ah]
+        ax = fig.add_axes([rect[0] / width, rect[1] / height, rect[2] / width, rect[3] / height])
+        draw_world(ax, run["world"])
+        truth = run["truth"]
+        ax.plot(truth[:, 1], truth[:, 2], color="k", lw=1.6, zorder=6)
+        ax.plot(truth[:1, 1], truth[:1, 2], "o", color="k", ms=5, zorder=7)
+        for j, p in enumerate(run["pipelines"].values()):
+            tum = p["trajectory"]
+            ax.plot(tum[:, 1], tum[:, 2], color=colors[j % len(colors)], lw=1.1, zorder=6)
+            ax.plot(tum[-1:, 1], tum[-1:, 2], "x", color=colors[j % len(colors)], ms=7, mew=1.5,
+                    zorder=7)
+        ax.set_xlim(*xlim)
+        ax.set_ylim(*ylim)
+        ax.set_aspect("equal", adjustable="box")
+        ax.grid(True, lw=0.3, color="0.85")
+        if stacked or i == 0:
+            ax.set_ylabel("y [m]")
+        if not stacked or i == n - 1:
+            ax.set_xlabel("x [m]")
+
+    fig.legend(handles=handles, loc="upper center", ncol=columns, frameon=False, fontsize=9,
+               bbox_to_anchor=(0.5, 1.0 - 0.35 / height))
+    fig.suptitle("Trajectories over the world plan (frame W, metres)", y=1.0 - 0.08 / height,
+                 va="top", fontsize=11)
+    save(fig, plots_dir, "trajectories.png", written)
+
+
+def wrap_angle(a):
+    return (a + np.pi) % (2.0 * np.pi) - np.pi
+
+
+def plot_errors(name, errors, plots_dir, written):
+    """errors_<name>.png: x, y (m) and heading (deg) error of the estimate minus the truth in
+    the world frame against time (s), with the filter's +-2 sigma bounds, drawn as P3 Fig. 18."""
+    t = errors["t"]
+    rows = [("ex_m", "sigma_x_m", "x error [m]", 1.0),
+            ("ey_m", "sigma_y_m", "y error [m]", 1.0),
+            ("eyaw_rad", "sigma_yaw_rad", "heading error [deg]", 180.0 / math.pi)]
+    fig, axes = plt.subplots(3, 1, figsize=(10, 8), sharex=True)
+    for ax, (column, sigma_column, label, scale) in zip(axes, rows):
+        e = errors[column]
+        if column == "eyaw_rad":
+            e = wrap_angle(e)
+        ax.axhline(0.0, color="0.6", lw=0.6)
+        ax.plot(t, e * scale, color="C0", lw=1.0, label="error")
+        sigma = errors.get(sigma_column)
+        if sigma is not None and np.isfinite(sigma).any():
+            ax.plot(t, 2.0 * sigma * scale, color="C3", lw=0.9, ls="--", label="±2σ")
+            ax.plot(t, -2.0 * sigma * scale, color="C3", lw=0.9, ls="--")
+        ax.set_ylabel(label)
+        ax.grid(True, lw=0.3, color="0.85")
+    axes[0].legend(loc="upper left", fontsize=9)
+    axes[-1].set_xlabel("time [s]")
+    fig.suptitle(f"{name}: pose error (estimate − truth, world frame) with ±2σ bounds")
+    fig.tight_layout()
+    save(fig, plots_dir, f"errors_{name}.png", written)
+
+
+def plot_nees(name, errors, band, plots_dir, written):
+    """nees_<name>.png: the pose NEES (3 dof, dimensionless) against time (s), the single-sample
+    95 % chi-square band and the mean over the run. A log axis when NEES runs far above the band."""
+    t, nees = errors["t"], errors["nees"]
+    lo, hi = band if band is not None else chi2_95_bounds(NEES_DOF)
+    finite = nees[np.isfinite(nees)]
+    mean = float(finite.mean())
+    inside = float(((finite >= lo) & (finite <= hi)).mean())
+    fig, ax = plt.subplots(figsize=(10, 4.5))
+    ax.axhspan(lo, hi, color="C2", alpha=0.15, lw=0)
+    ax.axhline(lo, color="C2", lw=0.8, ls="--", label=f"95 % band [{lo:.4g}, {hi:.4g}]")
+    ax.axhline(hi, color="C2", lw=0.8, ls="--")
+    ax.plot(t, nees, color="C0", lw=0.9, label="NEES")
+    ax.axhline(mean, color="C1", lw=1.2, label=f"mean {mean:.3g}")
+    ax.axhline(NEES_DOF, color="0.4", lw=0.6, ls=":", label=f"expected {NEES_DOF}")
+    if finite.max() > 3.0 * hi:
+        ax.set_yscale("log")
+        ax.set_ylim(bottom=max(min(finite[finite > 0].min(initial=lo), lo) * 0.5, 1e-6))
+    else:
+        ax.set_ylim(bottom=0.0)
+    ax.set_xlabel("time [s]")
+    ax.set_ylabel(f"NEES ({NEES_DOF} dof)")
+    ax.grid(True, lw=0.3, color="0.85")
+    ax.legend(loc="upper left", fontsize=9)
+    ax.set_title(f"{name}: NEES, {100 * inside:.0f} % of {finite.size} samples inside the 95 % band")
+    fig.tight_layout()
+    save(fig, plots_dir, f"nees_{name}.png", written)
+
+
+def plot_detectors(with_detectors, plots_dir, written):
+    """detectors.png: precision, recall and accuracy (0-1) of each detector, one panel per
+    pipeline."""
+    n = len(with_detectors)
+    widest = max(len(d) for _, d in with_detectors)
+    fig, axes = plt.subplots(n, 1, figsize=(max(8.0, 1.6 * widest + 2.0), 3.2 * n + 0.6),
+                             squeeze=False)
+    bar = 0.8 / len(DETECTOR_SCORES)
+    for ax, (name, detectors) in zip(axes[:, 0], with_detectors):
+        x = np.arange(len(detectors))
+        for k, score in enumerate(DETECTOR_SCORES):
+            values = [d[score] for _, d in detectors]
+            heights = [v if v is not None else 0.0 for v in values]
+            bars = ax.bar(x + (k - 1) * bar, heights, bar, label=score, color=f"C{k}")
+            ax.bar_label(bars, labels=["–" if v is None else f"{v:.2f}" for v in values],
+                         fontsize=7, padding=1)
+        ax.set_xticks(x, [d for d, _ in detectors])
+        ax.set_ylim(0.0, 1.25)
+        ax.set_ylabel("score")
+        ax.set_title(name)
+        ax.grid(True, axis="y", lw=0.3, color="0.85")
+    axes[0, 0].legend(loc="upper right", fontsize=8, ncol=len(DETECTOR_SCORES))
+    fig.tight_layout()
+    save(fig, plots_dir, "detectors.png", written)
+
+
+def format_value(v):
+    if v is None:
+        return "–"
+    if isinstance(v, bool):
+        return str(v).lower()
+    if isinstance(v, (int, float)):
+        return f"{v:.4g}"
+    return str(v)
+
+
+def plot_summary(metrics, plots_dir, written):
+    """summary.png: the main metrics per pipeline as a table, then each expectation with its
+    measured value and PASS / FAIL."""
+    names = list(metrics["pipelines"])
+    rows = [(label, [metrics["pipelines"][p][key] for p in names]) for key, label in
+            SUMMARY_METRICS if any(metrics["pipelines"][p][key] is not None for p in names)]
+    expectations = metrics["expectations"]
+    wrapped = [textwrap.wrap(e["text"], 95) or [""] for e in expectations]
+    table_h = 0.3 * (len(rows) + 1) if rows else 0.0
+    list_h = 0.22 * sum(len(w) for w in wrapped) + 0.12 * len(wrapped)
+    height = 0.8 + table_h + (0.6 + list_h if expectations else 0.0)
+    fig = plt.figure(figsize=(12, height))
+    y = 1.0 - 0.25 / height  # running top edge, in figure fractions
+    fig.text(0.02, y, "Run summary", fontsize=12, weight="bold", va="top")
+    y -= 0.45 / height
+    if rows:
+        # Metric names in the first column (matplotlib's row labels get no width of their own).
+        table_w = min(0.96, 0.25 + 0.14 * len(names))
+        ax = fig.add_axes([0.02, y - table_h / height, table_w, table_h / height])
+        ax.axis("off")
+        label_w = 0.25 / table_w
+        value_w = (1.0 - label_w) / len(names)
+        table = ax.table(cellText=[[label] + [format_value(v) for v in values]
+                                   for label, values in rows],
+                         colLabels=["metric"] + names, colWidths=[label_w] + [value_w] * len(names),
+                         cellLoc="center", bbox=[0.0, 0.0, 1.0, 1.0])
+        table.auto_set_font_size(False)
+        table.set_fontsize(9)
+        for r in range(len(rows) + 1):
+            table[r, 0].set_text_props(ha="left")
+        y -= table_h / height + 0.3 / height
+    if expectations:
+        fig.text(0.02, y, "Expectations", fontsize=11, weight="bold", va="top")
+        y -= 0.3 / height
+        for e, lines in zip(expectations, wrapped):
+            verdict = {True: ("PASS", "#1ea03c"), False: ("FAIL", "#d72828")}.get(
+                e["passed"], ("?", "0.4"))
+            fig.text(0.02, y, verdict[0], color=verdict[1], weight="bold", fontsize=9, va="top",
+                     family="monospace")
+            measured = "" if e["measured"] is None else f"   (measured {format_value(e['measured'])})"
+            lines = list(lines)
+            lines[-1] += measured
+            for line in lines:
+                fig.text(0.08, y, line, fontsize=9, va="top")
+                y -= 0.22 / height
+            y -= 0.12 / height
+    save(fig, plots_dir, "summary.png", written)
+
+
+def plot_run(run, plots_dir):
+    """Draws every plot whose data is present; returns the paths written."""
+    os.makedirs(plots_dir, exist_ok=True)
+    written = []
+    plot_trajectories(run, plots_dir, written)
+    metrics = run["metrics"]
+    for name, p in run["pipelines"].items():
+        errors = p["errors"]
+        if errors["t"].size == 0:
+            continue
+        plot_errors(name, errors, plots_dir, written)
+        nees = errors.get("nees")
+        if nees is not None and np.isfinite(nees).any():
+            band = metrics["pipelines"].get(name, {}).get("nees_band")
+            plot_nees(name, errors, band, plots_dir, written)
+    with_detectors = [(name, m["detectors"]) for name, m in metrics["pipelines"].items()
+                      if m["detectors"]]
+    if with_detectors:
+        plot_detectors(with_detectors, plots_dir, written)
+    has_scalars = any(m[key] is not None for m in metrics["pipelines"].values()
+                      for key, _ in SUMMARY_METRICS)
+    if has_scalars or metrics["expectations"]:
+        plot_summary(metrics, plots_dir, written)
+    return written
+
+
+def main(argv):
+    parser = argparse.ArgumentParser(description="Writes RUN_DIR/plots/*.png for a finished "
+                                     "`corridorsim run`.")
+    parser.add_argument("run_dir", metavar="RUN_DIR")
+    args = parser.parse_args(argv)
+    try:
+        run = read_run(args.run_dir)
+    except InputError as e:
+        print(f"plot_run: {e}", file=sys.stderr)
+        return 1
+    for path in plot_run(run, os.path.join(args.run_dir, "plots")):
+        print(path)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
