@@ -38,4 +38,11 @@ inline constexpr double kFloatTol = 1e-5;
 inline constexpr double kFrameTruthPx = 1e-6;
 inline constexpr double kFrameTruthRad = 1e-9;
 
+// Metrics: metrics.json rounds metres to 1e-6, rad to 1e-8, px to 1e-4 and ratios (fractions,
+// NEES, NIS) to 1e-6; a value a test computes by closed form agrees to one rounding step.
+inline constexpr double kMetricsJsonM = 1e-6;
+inline constexpr double kMetricsJsonRad = 1e-8;
+inline constexpr double kMetricsJsonPx = 1e-4;
+inline constexpr double kMetricsJsonRatio = 1e-6;
+
 }  // namespace corridorsim::test
