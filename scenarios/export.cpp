@@ -325,16 +325,17 @@ void DatasetExporter::AddFrame(const sim::CameraMessage& message, const std::str
     image.width = width;
     image.height = height;
     for (const render::PlateTruth& p : message.truth.plates) {
-      // Pixel centres to pixel edges (+0.5), clipped to the image.
-      const double x0 = std::clamp(p.bbox_min_px.x() + 0.5, 0.0, double(width));
-      const double y0 = std::clamp(p.bbox_min_px.y() + 0.5, 0.0, double(height));
-      const double x1 = std::clamp(p.bbox_max_px.x() + 0.5, 0.0, double(width));
-      const double y1 = std::clamp(p.bbox_max_px.y() + 0.5, 0.0, double(height));
+      // Pixel centres to pixel edges (+0.5), clipped to the image; the corners are rounded
+      // before the size so that the box stays inside the image.
+      const double x0 = Round4(std::clamp(p.bbox_min_px.x() + 0.5, 0.0, double(width)));
+      const double y0 = Round4(std::clamp(p.bbox_min_px.y() + 0.5, 0.0, double(height)));
+      const double x1 = Round4(std::clamp(p.bbox_max_px.x() + 0.5, 0.0, double(width)));
+      const double y1 = Round4(std::clamp(p.bbox_max_px.y() + 0.5, 0.0, double(height)));
       PlateBox box;
       box.plate_id = p.id;
       box.room_number = p.room_number;
-      box.x = Round4(x0);
-      box.y = Round4(y0);
+      box.x = x0;
+      box.y = y0;
       box.w = Round4(x1 - x0);
       box.h = Round4(y1 - y0);
       box.visible_fraction = std::round(p.visible_fraction * 1e6) / 1e6;
