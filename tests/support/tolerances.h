@@ -45,4 +45,10 @@ inline constexpr double kMetricsJsonRad = 1e-8;
 inline constexpr double kMetricsJsonPx = 1e-4;
 inline constexpr double kMetricsJsonRatio = 1e-6;
 
+// Exported text files: poses as written with fixed decimals (TUM: 6 decimals of metres and 9 of
+// quaternions; EuRoC ground truth: 9 of both), read back and compared (m, rotation-matrix entries).
+inline constexpr double kTumTranslationTolM = 0.6e-6;
+inline constexpr double kTumRotationTol = 1e-8;
+inline constexpr double kEurocPoseTol = 1e-8;
+
 }  // namespace corridorsim::test
