@@ -131,6 +131,10 @@ std::optional<SpecProblem> RigSpec::Check() const {
     const std::string k = c.id + ".";
     if (!(c.rate_hz > 0)) return SpecProblem{k + "rate_hz", "must be greater than 0"};
     if (c.rate_hz > 1000) return SpecProblem{k + "rate_hz", "must not exceed 1000"};
+    if (!(c.drop_probability >= 0 && c.drop_probability < 1)) {
+      return SpecProblem{k + "drop_probability", "must lie in [0, 1) (got " +
+                                                     FormatNumber(c.drop_probability) + ")"};
+    }
     if (!(c.phase_s >= 0 && c.phase_s * c.rate_hz < 1)) {
       return SpecProblem{k + "phase_s",
                          "must lie in [0, 1 / rate_hz) (got " + FormatNumber(c.phase_s) + " s)"};
@@ -182,6 +186,7 @@ void ParseCamera(YamlMap& map, CameraSpec& c) {
   map.Read("enabled", c.enabled);
   map.Read("rate_hz", c.rate_hz);
   map.Read("phase_s", c.phase_s);
+  map.Read("drop_probability", c.drop_probability);
   bool pinhole = std::holds_alternative<PinholeRadTan>(c.model);
   if (map.Has("model")) {
     std::string model;

@@ -42,6 +42,7 @@ struct CameraSpec {
   bool enabled = true;
   double rate_hz = 10.0 / 3.0;  // frames per second (P1: a 300 ms sensor period)
   double phase_s = 0.0;         // first frame at this time; then every 1 / rate_hz (sim clock)
+  double drop_probability = 0.0;  // each frame is lost with this probability (sim clock)
   CameraModel model;
   Mount mount;
   bool depth = false;  // a registered depth image (front RGB-D sensor)

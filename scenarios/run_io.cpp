@@ -27,6 +27,9 @@ nlohmann::ordered_json EventJson(const sim::Event& e) {
       j["wheel"] = e.left_wheel ? "left" : "right";
       j["extra_distance_m"] = std::round(e.distance_m * 1e9) / 1e9;
       break;
+    case sim::EventKind::kFrameDropped:
+      j["camera"] = e.camera_id;
+      break;
     case sim::EventKind::kPathDone:
     case sim::EventKind::kTimeout:
       break;

@@ -80,6 +80,7 @@ Scenario LoadScenario(const std::string& path) {
                           SpecProblem{entry.name + "." + problem->key, problem->message});
     }
   }
+  ScenarioExpectations(scenario);  // checked here so that every command rejects a bad one
   if (!(scenario.duration_s >= 0 && scenario.duration_s <= 1e6)) {
     throw InputError(scenario.sources.Find("duration_s", SourceLocation{path, 0, 0}), "duration_s",
                      "must lie in [0, 1e+06] s (got " + FormatNumber(scenario.duration_s) + ")");
@@ -140,6 +141,39 @@ std::string ResolvedScenarioYaml(const std::string& path, std::uint64_t seed) {
          " with its include chain merged and the seed used.\n# Keys not written here keep "
          "corridorsim's defaults (docs/scenarios.md).\n" +
          std::string(out.c_str()) + "\n";
+}
+
+std::vector<Expectation> ScenarioExpectations(const Scenario& scenario) {
+  std::vector<Expectation> parsed;
+  const std::vector<std::string> metric_names = MetricNames();
+  for (std::size_t i = 0; i < scenario.expectations.size(); ++i) {
+    const SourceLocation& where = scenario.expectation_locations[i];
+    Expectation e;
+    if (auto error = ParseExpectation(scenario.expectations[i], &e)) {
+      throw InputError(where, "expectations", *error);
+    }
+    const auto pipeline =
+        std::find_if(scenario.pipelines.begin(), scenario.pipelines.end(),
+                     [&](const Scenario::PipelineEntry& p) { return p.name == e.pipeline; });
+    if (pipeline == scenario.pipelines.end() || !pipeline->enabled) {
+      std::string known;
+      for (const auto& p : scenario.pipelines) {
+        if (p.enabled) known += (known.empty() ? "" : ", ") + p.name;
+      }
+      throw InputError(where, "expectations",
+                       "'" + e.text + "': the pipeline '" + e.pipeline +
+                           "' does not run in this scenario (running: " +
+                           (known.empty() ? "none" : known) + ")");
+    }
+    if (std::find(metric_names.begin(), metric_names.end(), e.metric) == metric_names.end()) {
+      std::string known;
+      for (const std::string& m : metric_names) known += (known.empty() ? "" : ", ") + m;
+      throw InputError(where, "expectations",
+                       "'" + e.text + "': unknown metric '" + e.metric + "' (known: " + known + ")");
+    }
+    parsed.push_back(std::move(e));
+  }
+  return parsed;
 }
 
 sim::Path BuildScenarioPath(const Scenario& scenario, const worlds::World& world) {

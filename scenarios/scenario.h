@@ -10,6 +10,7 @@
 
 #include "common/yaml_reader.h"
 #include "render/camera_rig.h"
+#include "scenarios/metrics.h"
 #include "sim/path.h"
 #include "sim/robot.h"
 #include "slam/registry.h"
@@ -62,6 +63,11 @@ worlds::World GenerateWorld(const Scenario& scenario, std::uint64_t seed);
 /// The scenario file with its include chain merged (base first, the same key-by-key rules as
 /// loading), `include:` removed and `seed` set to `seed`: a single file that repeats the run.
 std::string ResolvedScenarioYaml(const std::string& path, std::uint64_t seed);
+
+/// The scenario's expectations, parsed and checked against its pipelines and the metric names.
+/// Throws InputError at the expectation's line for bad syntax, an unknown or disabled pipeline, or
+/// an unknown metric.
+std::vector<Expectation> ScenarioExpectations(const Scenario& scenario);
 
 /// The scenario's path in `world`, reporting a path that does not fit as InputError at `path:`.
 sim::Path BuildScenarioPath(const Scenario& scenario, const worlds::World& world);

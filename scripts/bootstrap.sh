@@ -26,7 +26,7 @@ case "$mode" in
     ;;
   run)
     configure_and_build build -DCMAKE_BUILD_TYPE=Release
-    build/bin/corridorsim world scenarios/default.yaml --out out/world
+    build/bin/corridorsim run scenarios/default.yaml --out out/run
     ;;
   test)
     configure_and_build build -DCMAKE_BUILD_TYPE=Release

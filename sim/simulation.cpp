@@ -39,6 +39,8 @@ std::string EventKindName(EventKind kind) {
       return "path_done";
     case EventKind::kTimeout:
       return "timeout";
+    case EventKind::kFrameDropped:
+      return "frame_dropped";
   }
   return "unknown";
 }
@@ -78,6 +80,7 @@ Simulation::Simulation(const worlds::World& world, const SimulationOptions& opti
   if (rig_) {
     for (const render::CameraSpec& c : camera_specs_) {
       camera_clocks_.emplace_back(PeriodFromRateHz(c.rate_hz), FromSeconds(c.phase_s));
+      drop_rngs_.emplace_back(options.seed, 0, "sim.clock.drop." + c.id);
     }
   }
   end_ns_ = options_.max_duration_ns > 0
@@ -152,6 +155,17 @@ void Simulation::EmitDue(const TruthSample& before, const TruthSample& after) {
   for (std::size_t k = 0; k < camera_clocks_.size(); ++k) {
     SensorClock& clock = camera_clocks_[k];
     while (clock.next_ns() <= now) {
+      // A lost frame: one draw per stamp and camera, only when frames can be lost.
+      if (camera_specs_[k].drop_probability > 0 &&
+          drop_rngs_[k].Bernoulli(camera_specs_[k].drop_probability)) {
+        Event e;
+        e.stamp_ns = clock.next_ns();
+        e.kind = EventKind::kFrameDropped;
+        e.camera_id = camera_specs_[k].id;
+        output_.events.push_back(e);
+        clock.Advance();
+        continue;
+      }
       const auto t0 = std::chrono::steady_clock::now();
       const TruthSample at = Interpolate(before, after, clock.next_ns());
       CameraMessage message;

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "common/pose.h"
+#include "common/random.h"
 #include "common/sensor_messages.h"
 #include "common/time.h"
 #include "render/camera_rig.h"
@@ -67,6 +68,7 @@ enum class EventKind {
   kSlip,      // an odometry slip event (sim/odometry.h)
   kPathDone,  // the follower reached the path's end
   kTimeout,   // the run's duration ended before the path did
+  kFrameDropped,  // a camera frame due at this stamp was lost (sensors.<camera>.drop_probability)
 };
 std::string EventKindName(EventKind kind);
 
@@ -79,6 +81,7 @@ struct Event {
   double depth_m = 0.0;     // collisions: penetration at the first contact
   bool left_wheel = false;  // slips
   double distance_m = 0.0;  // slips: extra distance the wheel reported
+  std::string camera_id;    // dropped frames: the camera
 };
 
 struct SimulationOptions {
@@ -141,6 +144,7 @@ class Simulation {
   WheelOdometer odometer_;
   SensorClock odometry_clock_;
   std::vector<SensorClock> camera_clocks_;
+  std::vector<RandomStream> drop_rngs_;  // per camera: "sim.clock.drop.<camera>"
   TimeNs step_ns_ = 0;
   std::int64_t steps_per_control_ = 1;
   TimeNs now_ns_ = 0;

@@ -13,9 +13,9 @@ world:
 robot:
   odometry: {random_k_m: 0.0001, slip_rate_per_m: 0.3, diameter_ratio: 1.005}
 sensors:
-  front: {width: 80, height: 60}
+  front: {width: 80, height: 60, rate_hz: 3.3333333333}
   lateral: {enabled: false}
-  upward: {width: 80, height: 60, rate_hz: 2}
+  upward: {enabled: true, width: 80, height: 60, rate_hz: 2}
 ")
 
 function(drive out)

@@ -3,9 +3,14 @@
 file(REMOVE_RECURSE "${WORK_DIR}")
 file(MAKE_DIRECTORY "${WORK_DIR}")
 
+# The default scenario with every camera on (default.yaml leaves P2/P3's upward camera off).
+file(WRITE "${WORK_DIR}/all_cameras.yaml"
+     "include: ${SOURCE_DIR}/scenarios/default.yaml\nsensors:\n  upward:\n    enabled: true\n")
+
 function(snapshot out threads)
   execute_process(COMMAND ${CMAKE_COMMAND} -E env LP_NUM_THREADS=${threads}
-                          "${CORRIDORSIM}" snapshot --pose 12,0.2,10 --out "${out}"
+                          "${CORRIDORSIM}" snapshot "${WORK_DIR}/all_cameras.yaml"
+                          --pose 12,0.2,10 --out "${out}"
                   WORKING_DIRECTORY "${SOURCE_DIR}" RESULT_VARIABLE rc OUTPUT_VARIABLE stdout
                   ERROR_VARIABLE stderr)
   if(NOT rc EQUAL 0)

@@ -1,0 +1,150 @@
+"""CI scenario tests (CTest label `scenario`): `corridorsim run` on shortened scenarios.
+
+Usage: scenario_runs_test.py CORRIDORSIM SOURCE_DIR WORK_DIR [TestCase.test_name ...]
+
+- the odometry pipeline's error lies within what its noise model predicts, and its NEES stays
+  inside the chi-square band when Q matches the simulated noise (over many seeds: a single run's
+  NEES over time is strongly correlated, so the band is judged on the average over seeds);
+- two runs of one scenario give byte-identical trajectories, metrics and exported datasets;
+- a failing expectation fails the run (exit code 3) with a readable report;
+- every shipped scenario loads and its world, path and pipelines build (`run --check`).
+"""
+
+import csv
+import filecmp
+import json
+import os
+import shutil
+import subprocess
+import sys
+import unittest
+
+CORRIDORSIM, SOURCE_DIR, WORK_DIR = sys.argv[1:4]
+DATA = os.path.join(SOURCE_DIR, "tests", "data", "scenarios")
+
+# Two-sided 99 % chi-square bounds of the average of M independent NEES values of 3 dof, i.e.
+# chi2(3M) / M, for M = 16 (chi2(48): 0.5 % = 25.25, 99.5 % = 78.23).
+SEEDS = 16
+AVG_NEES_BAND = (25.25 / SEEDS, 78.23 / SEEDS)
+# chi2(3) 99.9 % quantile: one run's final NEES above it is a model violation at 0.1 %.
+NEES_3DOF_999 = 16.27
+
+
+def run(*args, check=True):
+    result = subprocess.run([CORRIDORSIM, *args], capture_output=True, text=True, check=False)
+    if check and result.returncode != 0:
+        raise AssertionError(f"corridorsim {' '.join(args)} exited {result.returncode}:\n"
+                             f"{result.stdout}\n{result.stderr}")
+    return result
+
+
+def fresh(name):
+    path = os.path.join(WORK_DIR, name)
+    shutil.rmtree(path, ignore_errors=True)
+    return path
+
+
+def read_errors(path):
+    """Rows of <pipeline>_errors.csv; rows without a NEES (zero covariance at the start) dropped."""
+    with open(path, newline="") as f:
+        rows = [{k: float(v) if v != "" else float("nan") for k, v in row.items()}
+                for row in csv.DictReader(f)]
+    return [r for r in rows if r["nees"] == r["nees"]]
+
+
+class OdometryConsistency(unittest.TestCase):
+    runs = None
+
+    @classmethod
+    def setUpClass(cls):
+        # One run per seed of the shortened default scenario (no cameras: nothing reads them).
+        cls.runs = []
+        scenario = os.path.join(DATA, "odometry_consistency.yaml")
+        for seed in range(1, SEEDS + 1):
+            out = fresh(f"consistency/{seed}")
+            run("run", scenario, "--seed", str(seed), "--out", out, "--no-plots")
+            cls.runs.append(read_errors(os.path.join(out, "odometry_errors.csv")))
+
+    def test_final_error_lies_within_what_the_noise_model_predicts(self):
+        for seed, rows in enumerate(self.runs, start=1):
+            last = rows[-1]
+            self.assertGreater(last["sigma_x_m"], 0)
+            self.assertLess(last["nees"], NEES_3DOF_999,
+                            f"seed {seed}: final error ({last['ex_m']:.3f}, {last['ey_m']:.3f} m, "
+                            f"{last['eyaw_rad']:.4f} rad) is outside its covariance")
+
+    def test_nees_averaged_over_seeds_stays_in_the_chi_square_band(self):
+        n = min(len(r) for r in self.runs)
+        self.assertGreater(n, 100)
+        # Ten checkpoints spread over the run, from a tenth of it on (at the start P is tiny and
+        # the encoders' quantisation, outside the model, dominates).
+        for k in range(1, 11):
+            i = k * (n - 1) // 10
+            average = sum(r[i]["nees"] for r in self.runs) / len(self.runs)
+            t = self.runs[0][i]["t"]
+            self.assertGreater(average, AVG_NEES_BAND[0], f"t = {t} s: average NEES {average:.2f}")
+            self.assertLess(average, AVG_NEES_BAND[1], f"t = {t} s: average NEES {average:.2f}")
+
+
+class Determinism(unittest.TestCase):
+    def test_two_runs_give_byte_identical_trajectories_metrics_and_export(self):
+        scenario = os.path.join(DATA, "short_with_cameras.yaml")
+        outs = []
+        for name in ("a", "b"):
+            out, export = fresh(f"determinism/{name}"), fresh(f"determinism/{name}_export")
+            run("run", scenario, "--out", out, "--export", export, "--no-plots")
+            outs.append((out, export))
+        (a, a_export), (b, b_export) = outs
+        compared = 0
+        for root, _, files in os.walk(a):
+            for f in files:
+                if f == "timing.json":  # wall-clock seconds, by design not reproducible
+                    continue
+                path_a = os.path.join(root, f)
+                path_b = os.path.join(b, os.path.relpath(path_a, a))
+                self.assertTrue(filecmp.cmp(path_a, path_b, shallow=False), f"{f} differs")
+                compared += 1
+        self.assertGreaterEqual(compared, 8)
+        exported = 0
+        for root, _, files in os.walk(a_export):
+            for f in files:
+                path_a = os.path.join(root, f)
+                path_b = os.path.join(b_export, os.path.relpath(path_a, a_export))
+                self.assertTrue(filecmp.cmp(path_a, path_b, shallow=False),
+                                f"export {os.path.relpath(path_a, a_export)} differs")
+                exported += 1
+        self.assertGreater(exported, 20)  # images of three cameras, indexes, labels
+
+
+class Expectations(unittest.TestCase):
+    def test_a_failing_expectation_fails_the_run_with_a_readable_report(self):
+        scenario = os.path.join(fresh("expectation"), "failing.yaml")
+        os.makedirs(os.path.dirname(scenario))
+        with open(scenario, "w") as f:
+            f.write(f"include: {os.path.join(DATA, 'odometry_consistency.yaml')}\n"
+                    "duration_s: 10\n"
+                    "expectations:\n"
+                    "  - odometry.ate_rmse_m < 0.000000001\n"
+                    "  - odometry.ate_rmse_m < 100\n")
+        result = run("run", scenario, "--out", os.path.dirname(scenario) + "/out", "--no-plots",
+                     check=False)
+        self.assertEqual(result.returncode, 3, result.stdout + result.stderr)
+        self.assertRegex(result.stdout, r"FAIL\s+odometry\.ate_rmse_m < 0\.000000001\s+measured \d")
+        self.assertRegex(result.stdout, r"PASS\s+odometry\.ate_rmse_m < 100\s+measured \d")
+        with open(os.path.dirname(scenario) + "/out/metrics.json") as f:
+            metrics = json.load(f)
+        self.assertEqual([e["passed"] for e in metrics["expectations"]], [False, True])
+
+
+class ShippedScenarios(unittest.TestCase):
+    def test_every_shipped_scenario_loads_and_builds(self):
+        folder = os.path.join(SOURCE_DIR, "scenarios")
+        names = sorted(f for f in os.listdir(folder) if f.endswith(".yaml"))
+        self.assertGreaterEqual(len(names), 11)
+        for name in names:
+            result = run("run", os.path.join(folder, name), "--check", check=False)
+            self.assertEqual(result.returncode, 0, f"{name}: {result.stdout}{result.stderr}")
+
+
+if __name__ == "__main__":
+    unittest.main(argv=[sys.argv[0], *sys.argv[4:]])
