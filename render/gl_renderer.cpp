@@ -53,9 +53,10 @@ uniform vec3 u_light_intensity[LIGHT_COUNT];  // RGB
 #endif
 uniform uint u_instance;
 uniform uint u_semantic;
-layout(location = 0) out vec4 o_color;  // alpha: the semantic class (exact in 8 bits)
+layout(location = 0) out vec4 o_color;
 layout(location = 1) out uint o_instance;
-layout(location = 2) out float o_z;  // dropped by targets without a z attachment
+layout(location = 2) out uint o_semantic;
+layout(location = 3) out float o_z;
 void main() {
   vec3 base = u_diffuse;
   if (u_has_texture != 0) base *= texture(u_texture, v_uv).rgb;
@@ -70,9 +71,9 @@ void main() {
     light += u_light_intensity[i] * (n_dot_l / (1.0 + d2 * u_inv_falloff2));
   }
 #endif
-  // (class + 0.25) / 255 stores the class whether the conversion to 8 bits rounds or truncates.
-  o_color = vec4(clamp(base * light + u_emission, 0.0, 1.0), (float(u_semantic) + 0.25) / 255.0);
+  o_color = vec4(clamp(base * light + u_emission, 0.0, 1.0), 1.0);
   o_instance = u_instance;
+  o_semantic = u_semantic;
   o_z = v_camera.z;  // exact for planar faces: perspective-correct interpolation of camera-frame z
 }
 )glsl";
@@ -172,7 +173,7 @@ GlBackend::~GlBackend() {
   }
   DeleteTextures();
   for (Target& t : targets_) {
-    gl_.DeleteRenderbuffers(t.with_z ? 4 : 3, t.renderbuffers.data());
+    gl_.DeleteRenderbuffers(GLsizei(t.renderbuffers.size()), t.renderbuffers.data());
     gl_.DeleteFramebuffers(1, &t.fbo);
   }
   gl_.DeleteBuffers(1, &ibo_);
@@ -362,40 +363,37 @@ void GlBackend::Upload(const Scene& scene) {
   CheckGlError("scene upload");
 }
 
-void GlBackend::EnsureFramebuffer(int width, int height, bool with_z) {
+void GlBackend::EnsureFramebuffer(int width, int height) {
   for (const Target& t : targets_) {
-    if (t.width == width && t.height == height && t.with_z == with_z) {
+    if (t.width == width && t.height == height) {
       bound_fbo_ = t.fbo;
       return;
     }
   }
-  // colour + semantic class, instance id, depth, view-space z (views that read depth only: a
-  // target without it saves llvmpipe a clear and a write per fragment)
-  constexpr std::array<GLenum, 4> kFormats = {GL_RGBA8, GL_R32UI, GL_DEPTH_COMPONENT32F, GL_R32F};
-  constexpr std::array<GLenum, 4> kAttachments = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1,
-                                                  GL_DEPTH_ATTACHMENT, GL_COLOR_ATTACHMENT2};
-  const std::size_t count = with_z ? 4 : 3;
+  // colour, instance id, semantic class, view-space z, depth
+  constexpr std::array<GLenum, 5> kFormats = {GL_RGBA8, GL_R32UI, GL_R8UI, GL_R32F,
+                                              GL_DEPTH_COMPONENT32F};
   Target t;
   t.width = width;
   t.height = height;
-  t.with_z = with_z;
   gl_.GenFramebuffers(1, &t.fbo);
-  gl_.GenRenderbuffers(GLsizei(count), t.renderbuffers.data());
+  gl_.GenRenderbuffers(GLsizei(t.renderbuffers.size()), t.renderbuffers.data());
   gl_.BindFramebuffer(GL_FRAMEBUFFER, t.fbo);
-  for (std::size_t i = 0; i < count; ++i) {
+  for (std::size_t i = 0; i < kFormats.size(); ++i) {
     gl_.BindRenderbuffer(GL_RENDERBUFFER, t.renderbuffers[i]);
     gl_.RenderbufferStorage(GL_RENDERBUFFER, kFormats[i], width, height);
-    gl_.FramebufferRenderbuffer(GL_FRAMEBUFFER, kAttachments[i], GL_RENDERBUFFER,
-                                t.renderbuffers[i]);
+    const GLenum attachment =
+        i + 1 < kFormats.size() ? GLenum(GL_COLOR_ATTACHMENT0 + i) : GLenum(GL_DEPTH_ATTACHMENT);
+    gl_.FramebufferRenderbuffer(GL_FRAMEBUFFER, attachment, GL_RENDERBUFFER, t.renderbuffers[i]);
   }
-  constexpr std::array<GLenum, 3> kDrawBuffers = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1,
-                                                  GL_COLOR_ATTACHMENT2};
-  gl_.DrawBuffers(with_z ? 3 : 2, kDrawBuffers.data());
+  constexpr std::array<GLenum, 4> kDrawBuffers = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1,
+                                                  GL_COLOR_ATTACHMENT2, GL_COLOR_ATTACHMENT3};
+  gl_.DrawBuffers(GLsizei(kDrawBuffers.size()), kDrawBuffers.data());
   const GLenum status = gl_.CheckFramebufferStatus(GL_FRAMEBUFFER);
   if (status != GL_FRAMEBUFFER_COMPLETE) {
-    gl_.DeleteRenderbuffers(GLsizei(count), t.renderbuffers.data());
+    gl_.DeleteRenderbuffers(GLsizei(t.renderbuffers.size()), t.renderbuffers.data());
     gl_.DeleteFramebuffers(1, &t.fbo);
-    Fail("framebuffer (RGBA8, R32UI, depth 32F, R32F) is incomplete: status 0x" + [&] {
+    Fail("framebuffer (RGBA8, R32UI, R8UI, R32F, depth 32F) is incomplete: status 0x" + [&] {
       char hex[16];
       std::snprintf(hex, sizeof(hex), "%x", status);
       return std::string(hex);
@@ -443,7 +441,7 @@ void GlBackend::Draw(const View& view, std::span<const int> drawables, std::span
                                 std::to_string(view.height) + " exceeds the GL limit " +
                                 std::to_string(max_size));
   }
-  EnsureFramebuffer(view.width, view.height, view.read_depth);
+  EnsureFramebuffer(view.width, view.height);
   gl_.BindFramebuffer(GL_FRAMEBUFFER, bound_fbo_);
   gl_.Viewport(0, 0, view.width, view.height);
   constexpr GLfloat kBlack[4] = {0, 0, 0, 0};
@@ -451,7 +449,8 @@ void GlBackend::Draw(const View& view, std::span<const int> drawables, std::span
   constexpr GLfloat kFarDepth = 1.0f;
   gl_.ClearBufferfv(GL_COLOR, 0, kBlack);
   gl_.ClearBufferuiv(GL_COLOR, 1, kNoId);
-  if (view.read_depth) gl_.ClearBufferfv(GL_COLOR, 2, kBlack);
+  gl_.ClearBufferuiv(GL_COLOR, 2, kNoId);
+  gl_.ClearBufferfv(GL_COLOR, 3, kBlack);
   gl_.ClearBufferfv(GL_DEPTH, 0, &kFarDepth);
 
   const Program& program = ProgramFor(int(lights.size()));
@@ -519,24 +518,15 @@ void GlBackend::Draw(const View& view, std::span<const int> drawables, std::span
   out->depth_m.data.resize(view.read_depth ? pixels : 0);
   out->instance.resize(pixels);
   out->semantic.resize(pixels);
-  // Colour and class in one read (RGBA8 as stored: llvmpipe copies it), split here.
-  rgba_.resize(pixels * 4);
   gl_.ReadBuffer(GL_COLOR_ATTACHMENT0);
-  gl_.ReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, rgba_.data());
+  gl_.ReadPixels(0, 0, w, h, GL_RGB, GL_UNSIGNED_BYTE, out->rgb.data.data());
   gl_.ReadBuffer(GL_COLOR_ATTACHMENT1);
   gl_.ReadPixels(0, 0, w, h, GL_RED_INTEGER, GL_UNSIGNED_INT, out->instance.data());
+  gl_.ReadBuffer(GL_COLOR_ATTACHMENT2);
+  gl_.ReadPixels(0, 0, w, h, GL_RED_INTEGER, GL_UNSIGNED_BYTE, out->semantic.data());
   if (view.read_depth) {
-    gl_.ReadBuffer(GL_COLOR_ATTACHMENT2);
+    gl_.ReadBuffer(GL_COLOR_ATTACHMENT3);
     gl_.ReadPixels(0, 0, w, h, GL_RED, GL_FLOAT, out->depth_m.data.data());
-  }
-  const std::uint8_t* rgba = rgba_.data();
-  std::uint8_t* rgb = out->rgb.data.data();
-  std::uint8_t* semantic = out->semantic.data();
-  for (std::size_t i = 0; i < pixels; ++i, rgba += 4, rgb += 3) {
-    rgb[0] = rgba[0];
-    rgb[1] = rgba[1];
-    rgb[2] = rgba[2];
-    semantic[i] = rgba[3];
   }
   CheckGlError("frame");
 }

@@ -1,8 +1,7 @@
 #pragma once
 // The one GL renderer behind both backends (OSMesa and EGL provide only the context): GLSL 330
-// core shaders, the scene in one VBO + IBO, mip-mapped textures, and an FBO with colour (semantic
-// class in alpha), instance id and, for views that read depth, view-space z attachments read back
-// top-down.
+// core shaders, the scene in one VBO + IBO, mip-mapped textures, and an FBO with colour, instance
+// id, semantic class and view-space z attachments read back top-down.
 
 #include <array>
 #include <cstdint>
@@ -54,7 +53,7 @@ class GlBackend final : public Backend {
 
   /// The program for `light_count` lights, compiled on first use.
   const Program& ProgramFor(int light_count);
-  void EnsureFramebuffer(int width, int height, bool with_z);
+  void EnsureFramebuffer(int width, int height);
   void DeleteTextures();
   void CheckGlError(const char* where);
   [[noreturn]] void Fail(const std::string& what) const;
@@ -67,9 +66,8 @@ class GlBackend final : public Backend {
   // keeps its own framebuffer instead of reallocating storage per draw.
   struct Target {
     int width = 0, height = 0;  // px
-    bool with_z = false;        // has the view-space z attachment
     GLuint fbo = 0;
-    std::array<GLuint, 4> renderbuffers{};  // colour + class, instance, depth, z (0 without)
+    std::array<GLuint, 5> renderbuffers{};  // colour, instance, class, z, depth
   };
   std::vector<Target> targets_;
   GLuint bound_fbo_ = 0;
