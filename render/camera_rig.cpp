@@ -3,6 +3,7 @@
 #include "common/spec_checker.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdlib>
 #include <numbers>
@@ -420,6 +421,8 @@ void CameraRenderer::PlanRemapPasses() {
     passes_.push_back(pass);
   }
   lut_.resize(bearings.size());
+  remap_.resize(bearings.size());
+  if (spec_.depth) depth_scale_.assign(bearings.size(), 0.0f);
   for (std::size_t i = 0; i < bearings.size(); ++i) {
     if (face_of[i] < 0) continue;
     const int f = face_of[i];
@@ -428,21 +431,31 @@ void CameraRenderer::PlanRemapPasses() {
     LutEntry& e = lut_[i];
     e.x = static_cast<float>(uv.x());
     e.y = static_cast<float>(uv.y());
-    const View& pv =
-        passes_[static_cast<std::size_t>(pass_of_face[static_cast<std::size_t>(f)])].view;
-    // The crop keeps a 2 px border, so the bilinear block and the nearest pixel stay inside.
-    const int x0 = std::clamp(static_cast<int>(std::floor(uv.x())), 0, pv.width - 2);
-    const int y0 = std::clamp(static_cast<int>(std::floor(uv.y())), 0, pv.height - 2);
-    e.top_left = static_cast<std::uint32_t>(y0 * pv.width + x0);
-    e.wx = static_cast<std::uint16_t>(std::clamp(std::lround((uv.x() - x0) * 256.0), 0L, 256L));
-    e.wy = static_cast<std::uint16_t>(std::clamp(std::lround((uv.y() - y0) * 256.0), 0L, 256L));
-    const int nx = std::clamp(static_cast<int>(std::lround(uv.x())), 0, pv.width - 1);
-    const int ny = std::clamp(static_cast<int>(std::lround(uv.y())), 0, pv.height - 1);
-    e.nearest = static_cast<std::uint32_t>(ny * pv.width + nx);
-    // Camera z of the point at pass depth 1 along this ray: camera z = pass z * b.z / q.z.
-    e.depth_scale = static_cast<float>(bearings[i].z() / q.z());
     e.pass = static_cast<std::uint8_t>(pass_of_face[static_cast<std::size_t>(f)]);
     e.valid = true;
+    const View& pv = passes_[e.pass].view;
+    // The crop keeps a 2 px border, so the bilinear block and the nearest pixel stay inside.
+    int x0 = std::clamp(static_cast<int>(std::floor(uv.x())), 0, pv.width - 2);
+    int y0 = std::clamp(static_cast<int>(std::floor(uv.y())), 0, pv.height - 2);
+    long wx = std::clamp(std::lround((uv.x() - x0) * 256.0), 0L, 256L);
+    long wy = std::clamp(std::lround((uv.y() - y0) * 256.0), 0L, 256L);
+    // A full weight on the right column (bottom row) is the next block's left column (top row)
+    // with weight 0: the same sum, and the weights fit in 8 bits.
+    if (wx == 256 && x0 + 2 < pv.width) ++x0, wx = 0;
+    if (wy == 256 && y0 + 2 < pv.height) ++y0, wy = 0;
+    const int nx = std::clamp(static_cast<int>(std::lround(uv.x())), 0, pv.width - 1);
+    const int ny = std::clamp(static_cast<int>(std::lround(uv.y())), 0, pv.height - 1);
+    if (wx > 255 || wy > 255 || nx < x0 || nx > x0 + 1 || ny < y0 || ny > y0 + 1) {
+      std::abort();  // cannot happen with the 2 px border (the sample lies inside the crop)
+    }
+    RemapEntry& r = remap_[i];
+    r.top_left = static_cast<std::uint32_t>(y0 * pv.width + x0);
+    r.wx = static_cast<std::uint8_t>(wx);
+    r.wy = static_cast<std::uint8_t>(wy);
+    r.pass = e.pass;
+    r.nearest = static_cast<std::uint8_t>((nx - x0) | (ny - y0) << 1);
+    // Camera z of the point at pass depth 1 along this ray: camera z = pass z * b.z / q.z.
+    if (spec_.depth) depth_scale_[i] = static_cast<float>(bearings[i].z() / q.z());
   }
 }
 
@@ -511,29 +524,46 @@ void CameraRenderer::Compose(CameraFrame* frame) const {
     frame->depth_m.height = p.height;
     frame->depth_m.data.resize(n);
   }
+  // Per pass: where its images start (up to 6 cube faces).
+  struct PassImages {
+    const std::uint8_t* rgb = nullptr;
+    const std::uint32_t* instance = nullptr;
+    const std::uint8_t* semantic = nullptr;
+    const float* depth = nullptr;
+    std::size_t width = 0;
+  };
+  std::array<PassImages, 6> images{};
+  for (std::size_t k = 0; k < rendered_.size() && k < images.size(); ++k) {
+    const RenderedView& r = rendered_[k];
+    images[k] = {r.rgb.data.data(), r.instance.data(), r.semantic.data(),
+                 spec_.depth ? r.depth_m.data.data() : nullptr, std::size_t(r.rgb.width)};
+  }
   std::uint8_t* rgb = frame->rgb.data.data();
+  std::uint32_t* instance = frame->instance.data();
+  std::uint8_t* semantic = frame->semantic.data();
+  float* depth = spec_.depth ? frame->depth_m.data.data() : nullptr;
   for (std::size_t i = 0; i < n; ++i, rgb += 3) {
-    const LutEntry& e = lut_[i];
-    if (!e.valid) {
+    const RemapEntry e = remap_[i];
+    if (e.nearest == RemapEntry::kInvalid) {
       rgb[0] = rgb[1] = rgb[2] = 0;
-      frame->instance[i] = 0;
-      frame->semantic[i] = 0;
-      if (spec_.depth) frame->depth_m.data[i] = 0.0f;
+      instance[i] = 0;
+      semantic[i] = 0;
+      if (depth != nullptr) depth[i] = 0.0f;
       continue;
     }
-    const RenderedView& r = rendered_[e.pass];
-    const std::size_t stride = static_cast<std::size_t>(r.rgb.width) * 3;
-    const std::uint8_t* a = r.rgb.data.data() + static_cast<std::size_t>(e.top_left) * 3;
-    const std::uint8_t* c = a + stride;
+    const PassImages& r = images[e.pass];
+    const std::uint8_t* a = r.rgb + std::size_t(e.top_left) * 3;
+    const std::uint8_t* c = a + r.width * 3;
     const std::uint32_t wx = e.wx, wy = e.wy;
     for (int k = 0; k < 3; ++k) {
       const std::uint32_t top = a[k] * (256 - wx) + a[k + 3] * wx;
       const std::uint32_t bottom = c[k] * (256 - wx) + c[k + 3] * wx;
       rgb[k] = static_cast<std::uint8_t>((top * (256 - wy) + bottom * wy + 32768) >> 16);
     }
-    frame->instance[i] = r.instance[e.nearest];
-    frame->semantic[i] = r.semantic[e.nearest];
-    if (spec_.depth) frame->depth_m.data[i] = r.depth_m.data[e.nearest] * e.depth_scale;
+    const std::size_t nearest = e.top_left + (e.nearest & 1u) + (e.nearest >> 1) * r.width;
+    instance[i] = r.instance[nearest];
+    semantic[i] = r.semantic[nearest];
+    if (depth != nullptr) depth[i] = r.depth[nearest] * depth_scale_[i];
   }
 }
 

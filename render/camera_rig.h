@@ -107,16 +107,22 @@ class CameraRenderer {
     SE3 camera_from_pass;  // rotation only
     View view;             // intrinsics of the (cropped) pass; pose filled per frame
   };
-  // Where one output pixel samples its pass: bilinear colour from the 2x2 block at `top_left`
-  // with 8-bit fixed-point weights, nearest labels and depth at `nearest`.
+  // Where one output pixel samples its pass (kept for Lookup): the pass and the continuous pixel
+  // position in it.
   struct LutEntry {
-    std::uint32_t top_left = 0;    // pass pixel index of the bilinear block
-    std::uint32_t nearest = 0;     // pass pixel index nearest to the sample position
-    std::uint16_t wx = 0, wy = 0;  // weights of the right column / bottom row, in 1/256
-    float x = 0, y = 0;            // continuous pixel position in the pass image
-    float depth_scale = 0;         // camera z per pass z along this pixel's ray
+    float x = 0, y = 0;  // continuous pixel position in the pass image
     std::uint8_t pass = 0;
     bool valid = false;  // false outside the model's valid angle
+  };
+  // What Compose reads per output pixel, 8 bytes: bilinear colour from the 2x2 block at
+  // `top_left` with 8-bit fixed-point weights (a weight of 256 is stored as the next block with
+  // weight 0), nearest labels and depth at top_left + the offsets in `nearest`.
+  struct RemapEntry {
+    std::uint32_t top_left = 0;   // pass pixel index of the bilinear block
+    std::uint8_t wx = 0, wy = 0;  // weights of the right column / bottom row, in 1/256
+    std::uint8_t pass = 0;
+    std::uint8_t nearest = kInvalid;  // bit 0: right column, bit 1: bottom row; kInvalid: none
+    static constexpr std::uint8_t kInvalid = 0x80;
   };
   void PlanPinholePass();
   void PlanRemapPasses();
@@ -124,7 +130,9 @@ class CameraRenderer {
 
   CameraSpec spec_;
   std::vector<Pass> passes_;
-  std::vector<LutEntry> lut_;  // empty for a direct (undistorted pinhole) camera
+  std::vector<LutEntry> lut_;       // empty for a direct (undistorted pinhole) camera
+  std::vector<RemapEntry> remap_;   // per output pixel, alongside lut_
+  std::vector<float> depth_scale_;  // camera z per pass z along each pixel's ray (depth cameras)
   std::vector<RenderedView> rendered_;
 };
 

@@ -355,7 +355,7 @@ void GlBackend::Upload(const Scene& scene) {
   drawables_.reserve(scene.drawables.size());
   for (const Drawable& d : scene.drawables) {
     drawables_.push_back(
-        {d.first_index, d.index_count, d.material, d.instance_id, d.semantic_class});
+        {d.first_index, d.index_count, d.material, d.instance_id, d.semantic_class, d.bounds});
   }
   lights_ = scene.lights;
   options_ = scene.options;
@@ -474,11 +474,23 @@ void GlBackend::Draw(const View& view, std::span<const int> drawables, std::span
     gl_.Uniform3fv(program.light_intensity, GLsizei(lights.size()), intensities.data());
   }
 
-  gl_.ActiveTexture(GL_TEXTURE0);
-  int bound_material = -1;
+  // Front to back (by the distance from the camera to each drawable's bounds, then by index):
+  // llvmpipe tests depth before shading, so hidden surfaces drawn later cost little. The order is
+  // a function of the view, so images stay deterministic.
+  const Eigen::Vector3f eye = view.world_from_camera.translation().cast<float>();
+  order_.clear();
   for (int index : drawables) {
     const DrawRange& d = drawables_[std::size_t(index)];
     if (d.index_count == 0) continue;
+    const Eigen::Vector3f nearest = eye.cwiseMax(d.bounds.min()).cwiseMin(d.bounds.max());
+    order_.emplace_back((nearest - eye).squaredNorm(), index);
+  }
+  std::sort(order_.begin(), order_.end());
+
+  gl_.ActiveTexture(GL_TEXTURE0);
+  int bound_material = -1;
+  for (const auto& [distance2, index] : order_) {
+    const DrawRange& d = drawables_[std::size_t(index)];
     if (d.material != bound_material) {
       const SceneMaterial& m = materials_[std::size_t(d.material)];
       gl_.Uniform3f(program.diffuse, m.diffuse.x(), m.diffuse.y(), m.diffuse.z());

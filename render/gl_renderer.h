@@ -8,6 +8,7 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "render/backend.h"
@@ -39,6 +40,7 @@ class GlBackend final : public Backend {
     int material = 0;
     std::uint32_t instance_id = 0;
     std::uint8_t semantic_class = 0;
+    Eigen::AlignedBox3f bounds;  // world frame, for drawing front to back
   };
   // One linked shader program (for one light count) and its uniform locations.
   struct Program {
@@ -77,7 +79,8 @@ class GlBackend final : public Backend {
   std::vector<PointLight> lights_;
   SceneOptions options_;
 
-  std::vector<std::uint8_t> rgba_;  // read-back buffer, reused across frames
+  std::vector<std::uint8_t> rgba_;            // read-back buffer, reused across frames
+  std::vector<std::pair<float, int>> order_;  // draw order of one Draw, reused across frames
 };
 
 }  // namespace corridorsim::render
