@@ -133,8 +133,8 @@ std::optional<SpecProblem> RigSpec::Check() const {
     if (!(c.rate_hz > 0)) return SpecProblem{k + "rate_hz", "must be greater than 0"};
     if (c.rate_hz > 1000) return SpecProblem{k + "rate_hz", "must not exceed 1000"};
     if (!(c.drop_probability >= 0 && c.drop_probability < 1)) {
-      return SpecProblem{k + "drop_probability", "must lie in [0, 1) (got " +
-                                                     FormatNumber(c.drop_probability) + ")"};
+      return SpecProblem{k + "drop_probability",
+                         "must lie in [0, 1) (got " + FormatNumber(c.drop_probability) + ")"};
     }
     if (!(c.phase_s >= 0 && c.phase_s * c.rate_hz < 1)) {
       return SpecProblem{k + "phase_s",

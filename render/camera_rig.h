@@ -40,8 +40,8 @@ struct Mount {
 struct CameraSpec {
   std::string id;  // "front", "lateral", "upward"
   bool enabled = true;
-  double rate_hz = 10.0 / 3.0;  // frames per second (P1: a 300 ms sensor period)
-  double phase_s = 0.0;         // first frame at this time; then every 1 / rate_hz (sim clock)
+  double rate_hz = 10.0 / 3.0;    // frames per second (P1: a 300 ms sensor period)
+  double phase_s = 0.0;           // first frame at this time; then every 1 / rate_hz (sim clock)
   double drop_probability = 0.0;  // each frame is lost with this probability (sim clock)
   CameraModel model;
   Mount mount;

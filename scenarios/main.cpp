@@ -131,7 +131,8 @@ int main(int argc, char** argv) {
   std::string run_export;
   bool no_plots = false;
   CLI::App* run = app.add_subcommand(
-      "run", "Run a scenario closed loop, score every pipeline against ground truth, write the run");
+      "run",
+      "Run a scenario closed loop, score every pipeline against ground truth, write the run");
   run->add_option("scenario", run_request.scenario_path,
                   "Scenario YAML (default: scenarios/default.yaml)");
   run->add_option("--seed", run_request.seed, "Seed of every random stream of the run");

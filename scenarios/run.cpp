@@ -91,8 +91,8 @@ void PrintClosingTable(const nlohmann::ordered_json& metrics,
   std::printf("\nexpectations:\n");
   for (const ExpectationResult& r : results) {
     const std::string measured = r.measured ? Fixed(*r.measured, 4) : "missing";
-    std::printf("  %s  %-45s measured %s\n", r.passed ? "PASS" : "FAIL",
-                r.expectation.text.c_str(), measured.c_str());
+    std::printf("  %s  %-45s measured %s\n", r.passed ? "PASS" : "FAIL", r.expectation.text.c_str(),
+                measured.c_str());
   }
 }
 
@@ -203,18 +203,18 @@ int RunScenario(const RunRequest& request) {
     for (const render::CameraRenderer& c : rig->cameras()) rendered_ids.push_back(c.spec().id);
   }
 
-  std::printf("run: %s, seed %llu, %zu pipeline(s)%s, path %s (%.1f m)%s\n",
-              scenario.name.empty() ? request.scenario_path.c_str() : scenario.name.c_str(),
-              static_cast<unsigned long long>(seed), runs.size(),
-              [&] {
-                std::string names;
-                for (const PipelineRun& r : runs) names += (names.empty() ? ": " : ", ") + r.record.name;
-                return names;
-              }()
-                  .c_str(),
-              sim::PathKindName(scenario.path_options.kind).c_str(),
-              simulation.path().length_m(),
-              render_any ? ", rendering cameras" : "");
+  std::printf(
+      "run: %s, seed %llu, %zu pipeline(s)%s, path %s (%.1f m)%s\n",
+      scenario.name.empty() ? request.scenario_path.c_str() : scenario.name.c_str(),
+      static_cast<unsigned long long>(seed), runs.size(),
+      [&] {
+        std::string names;
+        for (const PipelineRun& r : runs) names += (names.empty() ? ": " : ", ") + r.record.name;
+        return names;
+      }()
+          .c_str(),
+      sim::PathKindName(scenario.path_options.kind).c_str(), simulation.path().length_m(),
+      render_any ? ", rendering cameras" : "");
 
   MetricsInput input;
   input.world = &world;
@@ -271,9 +271,11 @@ int RunScenario(const RunRequest& request) {
       if (run.record.estimates.empty()) continue;
       const EstimateSample& e = run.record.estimates.back();
       if (const TruthPose* t = TruthAt(input.truth, e.stamp_ns)) {
-        errors += run.record.name + " " +
-                  Fixed((e.world_from_robot.translation() - t->world_from_robot.translation()).norm(), 3) +
-                  " m  ";
+        errors +=
+            run.record.name + " " +
+            Fixed((e.world_from_robot.translation() - t->world_from_robot.translation()).norm(),
+                  3) +
+            " m  ";
       }
     }
     progress.Update(now, simulation.progress(), errors);
@@ -300,10 +302,11 @@ int RunScenario(const RunRequest& request) {
   const Clock::time_point t_metrics = Clock::now();
   const double render_seconds = simulation.render_seconds();
   input.timing.sim_seconds = ToSeconds(simulation.now_ns());
-  input.timing.wall_seconds = {{"setup", std::chrono::duration<double>(loop_start - run_start).count()},
-                               {"physics", step_seconds - render_seconds},
-                               {"rendering", render_seconds},
-                               {"pipelines", pipeline_seconds}};
+  input.timing.wall_seconds = {
+      {"setup", std::chrono::duration<double>(loop_start - run_start).count()},
+      {"physics", step_seconds - render_seconds},
+      {"rendering", render_seconds},
+      {"pipelines", pipeline_seconds}};
   nlohmann::ordered_json metrics = ComputeMetrics(input);
   const std::vector<ExpectationResult> results = CheckExpectations(metrics, expectations);
   nlohmann::ordered_json timing;
@@ -353,7 +356,8 @@ int RunScenario(const RunRequest& request) {
     }
     WriteFileAtomic(out / (run.record.name + ".tum"), tum.str());
     WriteFileAtomic(out / (run.record.name + "_cov.txt"), cov.str());
-    WriteFileAtomic(out / (run.record.name + "_errors.csv"), ErrorSeriesCsv(input.truth, run.record));
+    WriteFileAtomic(out / (run.record.name + "_errors.csv"),
+                    ErrorSeriesCsv(input.truth, run.record));
     const std::filesystem::path maps = out / "maps";
     if (!run.pipeline->WriteMaps(maps / run.record.name).empty()) {
       std::printf("  %s wrote maps to %s\n", run.record.name.c_str(),
@@ -391,16 +395,16 @@ int RunScenario(const RunRequest& request) {
   WriteFileAtomic(out / "timing.json", timing.dump(2) + "\n");
 
   PrintClosingTable(metrics, results);
-  std::printf("\nrun: %.1f s simulated in %.1f s (real-time factor %.1fx): physics %.1f s, "
-              "rendering %.1f s, pipelines %.2f s, metrics %.2f s, writing %.2f s, plots %.1f s\n",
-              sim_s, total, timing["real_time_factor"].get<double>(),
-              step_seconds - render_seconds, render_seconds, pipeline_seconds, metrics_seconds,
-              write_seconds, plot_seconds);
-  std::printf("wrote %s/{scenario.yaml, world.json, ground_truth.tum, <pipeline>.tum, "
-              "<pipeline>_cov.txt, <pipeline>_errors.csv, metrics.json, timing.json, events.json%s}%s\n",
-              out.string().c_str(), request.plots ? ", plots/" : "",
-              request.export_dir ? (" and the dataset in " + request.export_dir->string()).c_str()
-                                 : "");
+  std::printf(
+      "\nrun: %.1f s simulated in %.1f s (real-time factor %.1fx): physics %.1f s, "
+      "rendering %.1f s, pipelines %.2f s, metrics %.2f s, writing %.2f s, plots %.1f s\n",
+      sim_s, total, timing["real_time_factor"].get<double>(), step_seconds - render_seconds,
+      render_seconds, pipeline_seconds, metrics_seconds, write_seconds, plot_seconds);
+  std::printf(
+      "wrote %s/{scenario.yaml, world.json, ground_truth.tum, <pipeline>.tum, "
+      "<pipeline>_cov.txt, <pipeline>_errors.csv, metrics.json, timing.json, events.json%s}%s\n",
+      out.string().c_str(), request.plots ? ", plots/" : "",
+      request.export_dir ? (" and the dataset in " + request.export_dir->string()).c_str() : "");
   if (!simulation.path_done()) {
     std::printf("warning: the path was not finished (see events.json)\n");
   }

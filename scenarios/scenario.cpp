@@ -168,8 +168,9 @@ std::vector<Expectation> ScenarioExpectations(const Scenario& scenario) {
     if (std::find(metric_names.begin(), metric_names.end(), e.metric) == metric_names.end()) {
       std::string known;
       for (const std::string& m : metric_names) known += (known.empty() ? "" : ", ") + m;
-      throw InputError(where, "expectations",
-                       "'" + e.text + "': unknown metric '" + e.metric + "' (known: " + known + ")");
+      throw InputError(
+          where, "expectations",
+          "'" + e.text + "': unknown metric '" + e.metric + "' (known: " + known + ")");
     }
     parsed.push_back(std::move(e));
   }

@@ -65,9 +65,9 @@ struct CameraMessage {
 enum class EventKind {
   kCollisionBegin,  // the chassis touches a world object
   kCollisionEnd,
-  kSlip,      // an odometry slip event (sim/odometry.h)
-  kPathDone,  // the follower reached the path's end
-  kTimeout,   // the run's duration ended before the path did
+  kSlip,          // an odometry slip event (sim/odometry.h)
+  kPathDone,      // the follower reached the path's end
+  kTimeout,       // the run's duration ended before the path did
   kFrameDropped,  // a camera frame due at this stamp was lost (sensors.<camera>.drop_probability)
 };
 std::string EventKindName(EventKind kind);
