@@ -1,0 +1,47 @@
+# `corridorsim run` as a user runs it: bad input gets exit code 2 and one message naming the
+# file, line and key, before anything runs or any folder is written.
+file(REMOVE_RECURSE "${WORK_DIR}")
+file(MAKE_DIRECTORY "${WORK_DIR}")
+
+function(expect_bad name yaml pattern)
+  file(WRITE "${WORK_DIR}/${name}.yaml" "include: ${SOURCE_DIR}/scenarios/default.yaml\n${yaml}")
+  execute_process(COMMAND "${CORRIDORSIM}" run "${WORK_DIR}/${name}.yaml" --out "${WORK_DIR}/out_${name}"
+                  RESULT_VARIABLE rc ERROR_VARIABLE stderr OUTPUT_QUIET)
+  if(NOT rc EQUAL 2)
+    message(FATAL_ERROR "${name}: exit ${rc}, expected 2 (${stderr})")
+  endif()
+  if(NOT stderr MATCHES "${pattern}")
+    message(FATAL_ERROR "${name}: unexpected message: ${stderr}")
+  endif()
+  if(EXISTS "${WORK_DIR}/out_${name}")
+    message(FATAL_ERROR "${name}: bad input still created the run folder")
+  endif()
+endfunction()
+
+expect_bad(unknown_metric "expectations:\n  - odometry.speed_of_light < 3\n"
+           "unknown_metric.yaml:3:5: expectations: .*unknown metric 'speed_of_light'")
+expect_bad(bad_operator "expectations:\n  - odometry.ate_rmse_m ~ 3\n"
+           "bad_operator.yaml:3:5: expectations:")
+expect_bad(absent_pipeline "expectations:\n  - p1_vp_doorplate.ate_rmse_m < 0.15\n"
+           "absent_pipeline.yaml:3:5: expectations: .*the pipeline 'p1_vp_doorplate' does not run")
+expect_bad(unknown_pipeline "pipelines:\n  orb_slam9: {}\n"
+           "unknown_pipeline.yaml:3:3: pipelines.orb_slam9: unknown pipeline")
+expect_bad(bad_option "pipelines:\n  odometry: {k_m: -2}\n"
+           "bad_option.yaml:3:.*pipelines.odometry.k_m: must lie in")
+expect_bad(drop_one "sensors:\n  front: {drop_probability: 1.5}\n"
+           "drop_one.yaml:3:.*sensors.front.drop_probability: must lie in")
+
+# An unwritable output folder is refused before the run starts.
+file(WRITE "${WORK_DIR}/not_a_dir" "x")
+execute_process(COMMAND "${CORRIDORSIM}" run --out "${WORK_DIR}/not_a_dir/run"
+                WORKING_DIRECTORY "${SOURCE_DIR}" RESULT_VARIABLE rc ERROR_VARIABLE stderr
+                OUTPUT_VARIABLE stdout)
+if(NOT rc EQUAL 2 OR NOT stderr MATCHES "--out" OR stdout MATCHES "real-time factor")
+  message(FATAL_ERROR "unwritable --out: exit ${rc}, ${stderr}")
+endif()
+execute_process(COMMAND "${CORRIDORSIM}" run --out "${WORK_DIR}/ok" --export "${WORK_DIR}/not_a_dir/x"
+                WORKING_DIRECTORY "${SOURCE_DIR}" RESULT_VARIABLE rc ERROR_VARIABLE stderr
+                OUTPUT_VARIABLE stdout)
+if(NOT rc EQUAL 2 OR NOT stderr MATCHES "--export" OR stdout MATCHES "real-time factor")
+  message(FATAL_ERROR "unwritable --export: exit ${rc}, ${stderr}")
+endif()
