@@ -223,6 +223,7 @@ int RunScenario(const RunRequest& request) {
   input.truth.push_back({0, simulation.truth().world_from_robot_2d});
   if (exporter) exporter->AddTruth(0, simulation.truth().state.world_from_robot);
   double step_seconds = 0.0;
+  double export_seconds = 0.0;
   Progress progress("run");
   const Clock::time_point loop_start = Clock::now();
   while (!simulation.finished()) {
@@ -235,7 +236,11 @@ int RunScenario(const RunRequest& request) {
       if (exporter) exporter->AddTruth(now, step.truth.state.world_from_robot);
     }
     for (const WheelOdometry& odometry : step.odometry) {
-      if (exporter) exporter->AddOdometry(odometry);
+      if (exporter) {
+        const Clock::time_point t0 = Clock::now();
+        exporter->AddOdometry(odometry);
+        export_seconds += Since(t0);
+      }
       for (PipelineRun& run : runs) {
         const Clock::time_point t0 = Clock::now();
         run.pipeline->OnOdometry(odometry);
@@ -246,7 +251,11 @@ int RunScenario(const RunRequest& request) {
     }
     for (const sim::CameraMessage& message : step.frames) {
       const std::string& id = rendered_ids[message.camera];
-      if (exporter) exporter->AddFrame(message, id);
+      if (exporter) {
+        const Clock::time_point t0 = Clock::now();
+        exporter->AddFrame(message, id);
+        export_seconds += Since(t0);
+      }
       if (!cameras_needed.count(id)) continue;
       input.frames.push_back({message.stamp_ns, message.truth});
       slam::CameraInput camera_input;
@@ -370,8 +379,12 @@ int RunScenario(const RunRequest& request) {
   events_json["duration_s"] = ToSeconds(simulation.now_ns());
   events_json["events"] = std::move(events);
   WriteFileAtomic(out / "events.json", events_json.dump(2) + "\n");
-  if (exporter) exporter->Finish();
   const double write_seconds = Since(t_write);
+  if (exporter) {
+    const Clock::time_point t0 = Clock::now();
+    exporter->Finish();
+    export_seconds += Since(t0);
+  }
 
   std::optional<std::string> plot_error;
   const Clock::time_point t_plots = Clock::now();
@@ -391,15 +404,18 @@ int RunScenario(const RunRequest& request) {
       {"pipelines", pipeline_seconds},
       {"metrics", metrics_seconds},
       {"writing", write_seconds},
+      {"export", export_seconds},
       {"plots", plot_seconds}};
   WriteFileAtomic(out / "timing.json", timing.dump(2) + "\n");
 
   PrintClosingTable(metrics, results);
   std::printf(
       "\nrun: %.1f s simulated in %.1f s (real-time factor %.1fx): physics %.1f s, "
-      "rendering %.1f s, pipelines %.2f s, metrics %.2f s, writing %.2f s, plots %.1f s\n",
+      "rendering %.1f s, pipelines %.2f s, metrics %.2f s, writing %.2f s, export %.1f s, plots "
+      "%.1f s\n",
       sim_s, total, timing["real_time_factor"].get<double>(), step_seconds - render_seconds,
-      render_seconds, pipeline_seconds, metrics_seconds, write_seconds, plot_seconds);
+      render_seconds, pipeline_seconds, metrics_seconds, write_seconds, export_seconds,
+      plot_seconds);
   std::printf(
       "wrote %s/{scenario.yaml, world.json, ground_truth.tum, <pipeline>.tum, "
       "<pipeline>_cov.txt, <pipeline>_errors.csv, metrics.json, timing.json, events.json%s}%s\n",

@@ -11,7 +11,9 @@ namespace {
 
 std::string Encode(const cv::Mat& bgr, const std::string& what) {
   std::vector<std::uint8_t> buffer;
-  if (!cv::imencode(".png", bgr, buffer, {cv::IMWRITE_PNG_COMPRESSION, 6})) {
+  // zlib level 1: a noisy 640x480 camera frame encodes in 15 ms (level 6: 73 ms) for 17 % more
+  // bytes; runs that save or export every frame are bound by this.
+  if (!cv::imencode(".png", bgr, buffer, {cv::IMWRITE_PNG_COMPRESSION, 1})) {
     throw std::runtime_error(what + ": PNG encoding failed");
   }
   return std::string(buffer.begin(), buffer.end());
