@@ -64,11 +64,7 @@ void RunDrive(const DriveRequest& request) {
   const Scenario scenario = LoadScenario(request.scenario_path);
   const render::BackendKind backend_kind = ChooseBackend(scenario.rig.backend);
   const std::filesystem::path& out = request.out_dir;
-  try {
-    EnsureWritableDirectory(out);
-  } catch (const std::exception& e) {
-    throw InputError(SourceLocation{"command line", 0, 0}, "--out", e.what());
-  }
+  EnsureOutputDirectory(out, "--out");
   const std::uint64_t seed = request.seed.value_or(scenario.seed);
   const worlds::World world = GenerateWorld(scenario, seed);
   sim::Path path = BuildScenarioPath(scenario, world);

@@ -61,11 +61,7 @@ void PrintWorldSummary(const worlds::World& world, const std::filesystem::path& 
 int RunWorld(const std::string& scenario_path, std::optional<std::uint64_t> seed,
              const std::filesystem::path& out) {
   const Scenario scenario = LoadScenario(scenario_path);
-  try {
-    EnsureWritableDirectory(out);
-  } catch (const std::exception& e) {
-    throw InputError(SourceLocation{}, "--out", e.what());
-  }
+  EnsureOutputDirectory(out, "--out");
   const std::uint64_t world_seed = seed.value_or(scenario.seed);
   const auto t0 = std::chrono::steady_clock::now();
   const worlds::World world = GenerateWorld(scenario, world_seed);

@@ -116,19 +116,11 @@ int RunScenario(const RunRequest& request) {
   const std::filesystem::path& out = request.out_dir;
   // Output folders are checked before anything runs: a run never ends unable to write.
   if (!request.check_only) {
-    try {
-      EnsureWritableDirectory(out);
-      if (request.plots) std::filesystem::create_directories(out / "plots");
-    } catch (const std::exception& e) {
-      throw InputError(SourceLocation{"command line", 0, 0}, "--out", e.what());
-    }
+    EnsureOutputDirectory(out, "--out");
+    if (request.plots) EnsureOutputDirectory(out / "plots", "--out");
   }
   if (request.export_dir && !request.check_only) {
-    try {
-      EnsureWritableDirectory(*request.export_dir);
-    } catch (const std::exception& e) {
-      throw InputError(SourceLocation{"command line", 0, 0}, "--export", e.what());
-    }
+    EnsureOutputDirectory(*request.export_dir, "--export");
   }
   const std::uint64_t seed = request.seed.value_or(scenario.seed);
   const worlds::World world = GenerateWorld(scenario, seed);

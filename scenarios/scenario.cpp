@@ -4,6 +4,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "common/atomic_file.h"
 #include "common/spec_checker.h"
 
 namespace corridorsim {
@@ -141,6 +142,14 @@ std::string ResolvedScenarioYaml(const std::string& path, std::uint64_t seed) {
          " with its include chain merged and the seed used.\n# Keys not written here keep "
          "corridorsim's defaults (docs/scenarios.md).\n" +
          std::string(out.c_str()) + "\n";
+}
+
+void EnsureOutputDirectory(const std::filesystem::path& dir, const std::string& option) {
+  try {
+    EnsureWritableDirectory(dir);
+  } catch (const std::exception& e) {
+    throw InputError(SourceLocation{"command line", 0, 0}, option, e.what());
+  }
 }
 
 std::vector<Expectation> ScenarioExpectations(const Scenario& scenario) {

@@ -4,6 +4,7 @@
 // docs/scenarios.md.
 
 #include <cstdint>
+#include <filesystem>
 #include <memory>
 #include <string>
 #include <vector>
@@ -63,6 +64,10 @@ worlds::World GenerateWorld(const Scenario& scenario, std::uint64_t seed);
 /// The scenario file with its include chain merged (base first, the same key-by-key rules as
 /// loading), `include:` removed and `seed` set to `seed`: a single file that repeats the run.
 std::string ResolvedScenarioYaml(const std::string& path, std::uint64_t seed);
+
+/// Creates `dir` if needed and proves it writable, or throws InputError naming the command-line
+/// `option` ("--out", "--export") and the folder: every job checks its outputs before it runs.
+void EnsureOutputDirectory(const std::filesystem::path& dir, const std::string& option);
 
 /// The scenario's expectations, parsed and checked against its pipelines and the metric names.
 /// Throws InputError at the expectation's line for bad syntax, an unknown or disabled pipeline, or

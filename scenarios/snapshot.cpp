@@ -46,11 +46,7 @@ void RunSnapshot(const SnapshotRequest& request) {
   const Scenario scenario = LoadScenario(request.scenario_path);
   const SE2 pose = ParsePose(request.pose_text);
   const render::BackendKind backend_kind = ChooseBackend(scenario.rig.backend);
-  try {
-    EnsureWritableDirectory(request.out_dir);
-  } catch (const std::exception& e) {
-    throw InputError(SourceLocation{"command line", 0, 0}, "--out", e.what());
-  }
+  EnsureOutputDirectory(request.out_dir, "--out");
   const std::uint64_t seed = request.seed.value_or(scenario.seed);
   const worlds::World world = GenerateWorld(scenario, seed);
   const SE3 world_from_robot = SE3::FromSE2(pose);
