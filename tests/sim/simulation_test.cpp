@@ -6,6 +6,7 @@
 // deterministic.
 #include "sim/simulation.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <numbers>
@@ -260,6 +261,52 @@ TEST_CASE("camera frames are stamped phase + n / rate and rendered at the true p
     CHECK(frames[n].frame_index == n);
     CHECK(frames[n].truth.camera_id == "front");
   }
+}
+
+TEST_CASE("dropped frames are neither rendered nor delivered and each is an event", "[sim][gl]") {
+  const worlds::World world = Corridor(14.0);
+  render::RigSpec rig_spec = render::RigSpec::Default();
+  for (render::CameraSpec& c : rig_spec.cameras) {
+    c.enabled = c.id == "front";
+    c.rate_hz = 50.0;
+    c.noise = false;
+    c.drop_probability = 0.3;
+    c.model = PinholeRadTan::FromFov(32, 24, 58.0 * kDeg);
+  }
+  const render::Scene scene = render::BuildScene(world, rig_spec.scene);
+  std::unique_ptr<render::Backend> backend = render::CreateBackend(rig_spec.backend);
+  backend->Upload(scene);
+  render::Rig rig(rig_spec, scene, *backend);
+  SimulationOptions options;
+  options.max_duration_ns = 4 * kNanosecondsPerSecond;
+  auto run = [&](std::vector<TimeNs>* delivered, std::vector<TimeNs>* dropped) {
+    Simulation simulation(world, options, StraightPath(10.0), &rig, &rig_spec);
+    while (!simulation.finished()) {
+      const StepOutput& out = simulation.Step();
+      for (const CameraMessage& m : out.frames) delivered->push_back(m.stamp_ns);
+      for (const Event& e : out.events) {
+        if (e.kind == EventKind::kFrameDropped) {
+          CHECK(e.camera_id == "front");
+          dropped->push_back(e.stamp_ns);
+        }
+      }
+    }
+  };
+  std::vector<TimeNs> delivered, dropped;
+  run(&delivered, &dropped);
+  // 201 stamps (0 to 4 s at 50 Hz): each either delivered or dropped, never both.
+  CHECK(delivered.size() + dropped.size() == 201);
+  std::vector<TimeNs> all = delivered;
+  all.insert(all.end(), dropped.begin(), dropped.end());
+  std::sort(all.begin(), all.end());
+  for (std::size_t n = 0; n < all.size(); ++n) CHECK(all[n] == static_cast<TimeNs>(n) * 20'000'000);
+  // About 30 % lost: Binomial(201, 0.3) has a standard deviation of 6.5 frames.
+  CHECK(dropped.size() > 60 - 26);
+  CHECK(dropped.size() < 60 + 26);
+  // The same seed loses the same frames.
+  std::vector<TimeNs> delivered2, dropped2;
+  run(&delivered2, &dropped2);
+  CHECK(dropped2 == dropped);
 }
 
 }  // namespace
