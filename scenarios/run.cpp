@@ -23,6 +23,7 @@
 #include "scenarios/progress.h"
 #include "scenarios/run_io.h"
 #include "scenarios/scenario.h"
+#include "scenarios/serial_worker.h"
 #include "sim/simulation.h"
 #include "slam/pipeline.h"
 #include "worlds/world_io.h"
@@ -183,6 +184,10 @@ int RunScenario(const RunRequest& request) {
       throw InputError(SourceLocation{"command line", 0, 0}, "--export", e.what());
     }
   }
+  // The export encodes and writes on a worker thread, in submission order, while the next frames
+  // render (PNG encoding cost as much as rendering); a few frames may wait, no more.
+  std::optional<SerialWorker> export_worker;
+  if (exporter) export_worker.emplace(4);
 
   sim::SimulationOptions options;
   options.robot = scenario.robot;
@@ -213,9 +218,13 @@ int RunScenario(const RunRequest& request) {
   nlohmann::ordered_json events = nlohmann::ordered_json::array();
   const TimeNs truth_period = PeriodFromRateHz(100.0);
   input.truth.push_back({0, simulation.truth().world_from_robot_2d});
-  if (exporter) exporter->AddTruth(0, simulation.truth().state.world_from_robot);
+  if (exporter) {
+    const SE3 pose = simulation.truth().state.world_from_robot;
+    export_worker->Submit([&exporter, pose] { exporter->AddTruth(0, pose); }, 0);
+  }
   double step_seconds = 0.0;
-  double export_seconds = 0.0;
+  double export_seconds = 0.0;       // the export worker's busy time (overlaps the loop)
+  double export_wait_seconds = 0.0;  // the loop waiting on it (queue full, final drain)
   Progress progress("run");
   const Clock::time_point loop_start = Clock::now();
   while (!simulation.finished()) {
@@ -225,13 +234,14 @@ int RunScenario(const RunRequest& request) {
     const TimeNs now = step.truth.stamp_ns;
     if (now % truth_period == 0) {
       input.truth.push_back({now, step.truth.world_from_robot_2d});
-      if (exporter) exporter->AddTruth(now, step.truth.state.world_from_robot);
+      if (exporter) {
+        const SE3 pose = step.truth.state.world_from_robot;
+        export_worker->Submit([&exporter, now, pose] { exporter->AddTruth(now, pose); }, 0);
+      }
     }
     for (const WheelOdometry& odometry : step.odometry) {
       if (exporter) {
-        const Clock::time_point t0 = Clock::now();
-        exporter->AddOdometry(odometry);
-        export_seconds += Since(t0);
+        export_worker->Submit([&exporter, odometry] { exporter->AddOdometry(odometry); }, 0);
       }
       for (PipelineRun& run : runs) {
         const Clock::time_point t0 = Clock::now();
@@ -245,8 +255,9 @@ int RunScenario(const RunRequest& request) {
       const std::string& id = rendered_ids[message.camera];
       if (exporter) {
         const Clock::time_point t0 = Clock::now();
-        exporter->AddFrame(message, id);
-        export_seconds += Since(t0);
+        export_worker->Submit(
+            [&exporter, message, id] { exporter->AddFrame(message, id); });  // copies the frame
+        export_wait_seconds += Since(t0);
       }
       if (!cameras_needed.count(id)) continue;
       input.frames.push_back({message.stamp_ns, message.truth});
@@ -374,8 +385,10 @@ int RunScenario(const RunRequest& request) {
   const double write_seconds = Since(t_write);
   if (exporter) {
     const Clock::time_point t0 = Clock::now();
-    exporter->Finish();
-    export_seconds += Since(t0);
+    export_worker->Submit([&exporter] { exporter->Finish(); });
+    export_worker->Drain();
+    export_wait_seconds += Since(t0);
+    export_seconds = export_worker->busy_seconds();
   }
 
   std::optional<std::string> plot_error;
@@ -397,6 +410,7 @@ int RunScenario(const RunRequest& request) {
       {"metrics", metrics_seconds},
       {"writing", write_seconds},
       {"export", export_seconds},
+      {"export_wait", export_wait_seconds},
       {"plots", plot_seconds}};
   WriteFileAtomic(out / "timing.json", timing.dump(2) + "\n");
 
