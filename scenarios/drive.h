@@ -17,9 +17,6 @@ struct DriveRequest {
   bool save_frames = false;
 };
 
-/// Ground truth is written on this grid (every odometry stamp at the default 50 Hz lies on it).
-inline constexpr double kTruthFileRateHz = 100.0;
-
 /// Runs the drive; prints progress and a summary. Throws InputError for bad input.
 void RunDrive(const DriveRequest& request);
 

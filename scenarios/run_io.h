@@ -11,6 +11,10 @@
 
 namespace corridorsim {
 
+/// Drives and runs write the ground truth on this grid (every odometry stamp at the default
+/// 50 Hz lies on it; metrics interpolate between its points).
+inline constexpr double kTruthFileRateHz = 100.0;
+
 /// One event of events.json: {t, t_ns, type, ...} with the fields of its kind.
 nlohmann::ordered_json EventJson(const sim::Event& event);
 

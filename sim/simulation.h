@@ -35,7 +35,6 @@ class SensorClock {
   TimeNs next_ns() const { return phase_ns_ + count_ * period_ns_; }
   std::uint64_t count() const { return static_cast<std::uint64_t>(count_); }
   void Advance() { ++count_; }
-  TimeNs period_ns() const { return period_ns_; }
 
  private:
   TimeNs period_ns_;
@@ -119,11 +118,6 @@ class Simulation {
   const TruthSample& truth() const { return output_.truth; }
   const Path& path() const { return path_; }
   double progress() const;
-  /// The planned duration: max_duration_ns if set, else the safety timeout (twice the path's
-  /// nominal time plus a minute).
-  TimeNs end_ns() const { return end_ns_; }
-  const RobotSpec& robot() const { return options_.robot; }
-  const std::vector<SensorClock>& camera_clocks() const { return camera_clocks_; }
   /// Wall-clock seconds spent rendering camera frames and computing their truth (for the
   /// run's cost split; never part of an output that must be deterministic).
   double render_seconds() const { return render_seconds_; }
