@@ -47,6 +47,11 @@ class RandomStream {
   std::int64_t UniformInt(std::int64_t lo, std::int64_t hi);
   /// Normal with the given mean and standard deviation (Marsaglia's polar method).
   double Normal(double mean = 0.0, double stddev = 1.0);
+  /// Standard normal by the ziggurat method (Marsaglia and Tsang 2000, 256 layers): exact, one
+  /// 64-bit draw per value 99 % of the time and no logarithm, several times faster than Normal();
+  /// for per-pixel noise, where a frame takes hundreds of thousands of draws. Its sequence differs
+  /// from Normal()'s.
+  double StandardNormalZiggurat();
   /// True with probability p.
   bool Bernoulli(double p);
   /// Exponential with the given rate (events per unit).

@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <cstdlib>
+#include <future>
 #include <numbers>
 
 namespace corridorsim::render {
@@ -579,19 +580,38 @@ Rig::Rig(const RigSpec& spec, const Scene& scene, Backend& backend)
 void Rig::Render(const SE3& world_from_robot, std::uint64_t seed, std::uint64_t frame_index,
                  std::vector<CameraFrame>* frames) {
   frames->resize(cameras_.size());
+  // Each camera's noise runs on a thread of its own while the next cameras render: llvmpipe
+  // leaves a core idle while the calling thread transforms and bins triangles, and the noise
+  // reads and writes only its own frame from its own stream, so the bytes do not depend on the
+  // overlap. (Futures from std::async join in their destructors, also when a render throws.)
+  std::vector<std::future<void>> noise;
   for (std::size_t k = 0; k < cameras_.size(); ++k) {
-    RenderCamera(k, world_from_robot, seed, frame_index, &(*frames)[k]);
+    CameraFrame* frame = &(*frames)[k];
+    RenderExact(k, world_from_robot, frame);
+    if (!cameras_[k].spec().noise) continue;
+    noise.push_back(std::async(std::launch::async, [this, k, seed, frame_index, frame] {
+      ApplyNoise(k, seed, frame_index, frame);
+    }));
   }
+  for (std::future<void>& n : noise) n.get();  // rethrows a noise stage's exception
 }
 
 void Rig::RenderCamera(std::size_t index, const SE3& world_from_robot, std::uint64_t seed,
                        std::uint64_t frame_index, CameraFrame* frame) {
+  RenderExact(index, world_from_robot, frame);
+  if (cameras_.at(index).spec().noise) ApplyNoise(index, seed, frame_index, frame);
+}
+
+void Rig::RenderExact(std::size_t index, const SE3& world_from_robot, CameraFrame* frame) {
   CameraRenderer& camera = cameras_.at(index);
   const SE3 world_from_camera = world_from_robot * camera.spec().mount.RobotFromCamera();
   camera.Render(scene_, backend_, world_from_camera, frame);
-  const CameraSpec& spec = camera.spec();
-  if (spec.depth) frame->noisy_depth_m = frame->depth_m;
-  if (!spec.noise) return;
+  if (camera.spec().depth) frame->noisy_depth_m = frame->depth_m;
+}
+
+void Rig::ApplyNoise(std::size_t index, std::uint64_t seed, std::uint64_t frame_index,
+                     CameraFrame* frame) const {
+  const CameraSpec& spec = cameras_.at(index).spec();
   // Truth, then noise (STYLE item 9): each camera and frame has its own stream.
   RandomStream rng =
       RandomStream(seed, 0, "render.noise." + spec.id).Derive(std::to_string(frame_index));

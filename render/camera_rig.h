@@ -141,7 +141,8 @@ class Rig {
  public:
   Rig(const RigSpec& spec, const Scene& scene, Backend& backend);
   /// Renders every enabled camera at `world_from_robot`, then applies each camera's noise from
-  /// the stream (seed, 0, "render.noise.<camera>") derived for `frame_index`.
+  /// the stream (seed, 0, "render.noise.<camera>") derived for `frame_index`; a camera's noise
+  /// runs on another thread while the next cameras render (the same bytes as RenderCamera).
   void Render(const SE3& world_from_robot, std::uint64_t seed, std::uint64_t frame_index,
               std::vector<CameraFrame>* frames);
   /// Renders the enabled camera `index` (in cameras() order) alone, with the same noise
@@ -151,6 +152,12 @@ class Rig {
   const std::vector<CameraRenderer>& cameras() const { return cameras_; }
 
  private:
+  // The exact frame of camera `index` (noisy_depth_m a copy of the exact depth).
+  void RenderExact(std::size_t index, const SE3& world_from_robot, CameraFrame* frame);
+  // The camera's noise models on `frame`, from its stream for `frame_index`.
+  void ApplyNoise(std::size_t index, std::uint64_t seed, std::uint64_t frame_index,
+                  CameraFrame* frame) const;
+
   const Scene& scene_;
   Backend& backend_;
   std::vector<CameraRenderer> cameras_;

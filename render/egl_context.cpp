@@ -110,6 +110,7 @@ class EglContext final : public GlContext {
   BackendKind kind() const override { return BackendKind::kEgl; }
 
   void MakeCurrent() override {
+    if (eglGetCurrentContext() == context_) return;  // rebinding is not free
     if (!eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, context_)) {
       ThrowEgl("eglMakeCurrent(EGL_NO_SURFACE)");
     }

@@ -54,12 +54,6 @@ class CleanRows {
   std::vector<T> ring_;
 };
 
-// floor() without a library call (x86-64 without SSE4.1 has no rounding instruction).
-int FloorToInt(double v) {
-  const int t = static_cast<int>(v);
-  return t > v ? t - 1 : t;
-}
-
 // The lateral shift clamp(round(N(0, sigma)), -reach, reach) drawn by inversion: thresholds[i] is
 // 2^32 P(shift <= i - reach), so one 32-bit uniform gives one shift (the distribution is the
 // rounded Gaussian's, exactly up to the 2^-32 resolution of the thresholds).
@@ -90,41 +84,55 @@ struct BackProjector {
   }
 };
 
-// Cosine of the angle between the viewing ray of pixel (x, y) and the surface normal there, the
-// normal from central differences of the back-projected depth (one-sided next to invalid pixels
-// and the image border). 1 (head-on) where no normal can be estimated. `rows[d]` is row y + d.
-double CosIncidence(const float* const* rows, int width, int height,
-                    const BackProjector& back_project, int x, int y) {
-  const Eigen::Vector3d p = back_project(x, y, rows[0][x]);
-  auto neighbour = [&](int du, int dv, Eigen::Vector3d* q) {
-    const int u = x + du, v = y + dv;
-    if (u < 0 || u >= width || v < 0 || v >= height) return false;
-    const float z = rows[dv][u];
-    if (!(z > 0.0f)) return false;
-    *q = back_project(u, v, z);
-    return true;
-  };
-  auto tangent = [&](int du, int dv, Eigen::Vector3d* t) {
-    Eigen::Vector3d before, after;
-    const bool has_before = neighbour(-du, -dv, &before);
-    const bool has_after = neighbour(du, dv, &after);
-    if (has_before && has_after) {
-      *t = after - before;
-    } else if (has_after) {
-      *t = after - p;
-    } else if (has_before) {
-      *t = p - before;
-    } else {
-      return false;
+// Cosines of the angle between the viewing ray and the surface normal for every pixel of row v,
+// the normal from central differences of the back-projected depth (one-sided next to invalid
+// pixels and the image border); 1 (head-on) where no normal can be estimated. `above` and
+// `below` are rows v - 1 and v + 1, nullptr beyond the image.
+void CosIncidenceRow(const float* above, const float* row, const float* below, int width, int v,
+                     const BackProjector& back_project, float* out) {
+  const double y_scale = (v - back_project.cy) * back_project.inv_fy;
+  const double y_above = y_scale - back_project.inv_fy, y_below = y_scale + back_project.inv_fy;
+  for (int x = 0; x < width; ++x) {
+    const double z = row[x];
+    if (!(z > 0.0)) {
+      out[x] = 1.0f;
+      continue;
     }
-    return true;
-  };
-  Eigen::Vector3d t_x, t_y;
-  if (!tangent(1, 0, &t_x) || !tangent(0, 1, &t_y)) return 1.0;
-  const Eigen::Vector3d normal = t_x.cross(t_y);
-  const double norms = normal.norm() * p.norm();
-  if (!(norms > 0.0)) return 1.0;
-  return std::abs(normal.dot(p)) / norms;
+    const double x_scale = (x - back_project.cx) * back_project.inv_fx;
+    const Eigen::Vector3d p(z * x_scale, z * y_scale, z);
+    // Tangent along x: the points at x - 1 and x + 1 where they are valid.
+    const double z_left = x > 0 ? row[x - 1] : 0.0, z_right = x + 1 < width ? row[x + 1] : 0.0;
+    Eigen::Vector3d t_x;
+    if (z_left > 0 && z_right > 0) {
+      t_x = Eigen::Vector3d(z_right * (x_scale + back_project.inv_fx), z_right * y_scale, z_right) -
+            Eigen::Vector3d(z_left * (x_scale - back_project.inv_fx), z_left * y_scale, z_left);
+    } else if (z_right > 0) {
+      t_x = Eigen::Vector3d(z_right * (x_scale + back_project.inv_fx), z_right * y_scale, z_right) -
+            p;
+    } else if (z_left > 0) {
+      t_x = p - Eigen::Vector3d(z_left * (x_scale - back_project.inv_fx), z_left * y_scale, z_left);
+    } else {
+      out[x] = 1.0f;
+      continue;
+    }
+    const double z_up = above != nullptr ? above[x] : 0.0;
+    const double z_down = below != nullptr ? below[x] : 0.0;
+    Eigen::Vector3d t_y;
+    if (z_up > 0 && z_down > 0) {
+      t_y = Eigen::Vector3d(z_down * x_scale, z_down * y_below, z_down) -
+            Eigen::Vector3d(z_up * x_scale, z_up * y_above, z_up);
+    } else if (z_down > 0) {
+      t_y = Eigen::Vector3d(z_down * x_scale, z_down * y_below, z_down) - p;
+    } else if (z_up > 0) {
+      t_y = p - Eigen::Vector3d(z_up * x_scale, z_up * y_above, z_up);
+    } else {
+      out[x] = 1.0f;
+      continue;
+    }
+    const Eigen::Vector3d normal = t_x.cross(t_y);
+    const double norms2 = normal.squaredNorm() * p.squaredNorm();
+    out[x] = norms2 > 0.0 ? static_cast<float>(std::abs(normal.dot(p)) / std::sqrt(norms2)) : 1.0f;
+  }
 }
 
 }  // namespace
@@ -181,7 +189,7 @@ void ApplyDepthNoise(const DepthNoiseOptions& options, const PinholeRadTan& intr
   const int reach = sigma_px > 0 ? static_cast<int>(std::ceil(4 * sigma_px)) : 0;
   const int halo = reach + (options.grazing ? 1 : 0);
   CleanRows<float> rows(depth_m->data.data(), width, height, halo);
-  std::vector<const float*> window(std::size_t(2 * halo + 1));  // rows y - halo .. y + halo
+  std::vector<const float*> window(std::size_t(2 * reach + 1));  // rows y - reach .. y + reach
   const LateralShift lateral_shift(sigma_px > 0 ? sigma_px : 1.0, reach);
   const BackProjector back_project{1.0 / intrinsics.fx, 1.0 / intrinsics.fy, intrinsics.cx,
                                    intrinsics.cy};
@@ -191,50 +199,75 @@ void ApplyDepthNoise(const DepthNoiseOptions& options, const PinholeRadTan& intr
   const double cos_max = std::cos(options.grazing_max_deg * kRadPerDeg);
   const double ramp_deg = options.grazing_max_deg - options.grazing_start_deg;
 
+  // Incidence cosines of the noise-free input, a row at a time as the input rows arrive: a ring
+  // of the rows y - reach .. y + reach (the sources the lateral shift can pick).
+  const int cos_slots = std::min(2 * reach + 1, height);
+  std::vector<float> cos_ring(options.grazing ? std::size_t(cos_slots) * width : 0);
+  auto cos_row = [&](int r) { return &cos_ring[std::size_t(r % cos_slots) * width]; };
+  auto compute_cos_row = [&](int r) {
+    CosIncidenceRow(r > 0 ? rows.Row(r - 1) : nullptr, rows.Row(r),
+                    r + 1 < height ? rows.Row(r + 1) : nullptr, width, r, back_project, cos_row(r));
+  };
+  std::vector<const float*> cos_window(window.size());
+  std::vector<double> z_row(static_cast<std::size_t>(width));  // one row through the stages
+  std::vector<float> cos_src(options.grazing ? std::size_t(width) : 0);
+
   for (int y = 0; y < height; ++y) {
     rows.Advance(y);
-    for (int d = -halo; d <= halo; ++d) {
-      window[std::size_t(d + halo)] = rows.Row(std::clamp(y + d, 0, height - 1));
+    if (options.grazing) {
+      if (y == 0) {
+        for (int r = 0; r <= std::min(reach, height - 1); ++r) compute_cos_row(r);
+      } else if (y + reach < height) {
+        compute_cos_row(y + reach);
+      }
     }
-    const float* const* row_y = window.data() + halo;  // row_y[d] is row y + d
+    for (int d = -reach; d <= reach; ++d) {
+      const int r = std::clamp(y + d, 0, height - 1);
+      window[std::size_t(d + reach)] = rows.Row(r);
+      if (options.grazing) cos_window[std::size_t(d + reach)] = cos_row(r);
+    }
+    const float* const* row_y = window.data() + reach;  // row_y[d] is row y + d
+    const float* const* cos_y = cos_window.data() + reach;
     float* out = &depth_m->at(0, y);
+    // Stage by stage over the row (the draws keep the per-pixel order of the stages' streams
+    // within each stage): independent pixels pipeline, and the quantisation vectorises.
+    // 1. lateral: one 64-bit draw gives both shifts; z and the incidence at the source pixel.
     for (int x = 0; x < width; ++x) {
-      // 1. lateral: one 64-bit draw gives both shifts
       int sx = x, sy = y;
       if (reach > 0) {
         const std::uint64_t u = rng.NextU64();
         sx = std::clamp(x + lateral_shift(static_cast<std::uint32_t>(u)), 0, width - 1);
         sy = std::clamp(y + lateral_shift(static_cast<std::uint32_t>(u >> 32)), 0, height - 1);
       }
-      double z = row_y[sy - y][sx];
-      if (!(z > 0)) {
-        out[x] = 0.0f;
-        continue;
-      }
-      // 2. axial (Nguyen et al. 2012 eq. 6)
-      if (options.axial) {
+      z_row[std::size_t(x)] = row_y[sy - y][sx];
+      if (options.grazing) cos_src[std::size_t(x)] = cos_y[sy - y][sx];
+    }
+    // 2. axial (Nguyen et al. 2012 eq. 6), on valid pixels only
+    if (options.axial) {
+      for (int x = 0; x < width; ++x) {
+        double& z = z_row[std::size_t(x)];
+        if (!(z > 0)) continue;
         const double dz = z - options.axial_z0_m;
-        z += rng.Normal(0, options.axial_a_m + options.axial_b * dz * dz);
+        z += (options.axial_a_m + options.axial_b * dz * dz) * rng.StandardNormalZiggurat();
       }
-      // 3. disparity quantisation to 1 / subpixel px
-      if (options.quantise && z > 0) {
-        const double steps = focal_baseline_steps / z + 0.5;
-        // Beyond 2^31 steps z is far below any valid range (~1e-7 m) and stays as it is.
-        const int disparity_steps = steps < 0x1.0p31 ? FloorToInt(steps) : -1;
-        if (disparity_steps >= 0) {
-          z = disparity_steps > 0 ? focal_baseline_steps / disparity_steps : 0.0;
-        }
+    }
+    // 3. disparity quantisation to 1 / subpixel px: d = floor(f b s / z + 1/2) steps, z = f b s / d
+    // (d = 0: invalid). Steps are capped at 2^52 (z ~1e-13 m, far below any valid range).
+    if (options.quantise) {
+      for (int x = 0; x < width; ++x) {
+        const double z = z_row[std::size_t(x)];
+        const double steps = std::min(focal_baseline_steps / std::max(z, 1e-300) + 0.5, 0x1.0p52);
+        const double d = static_cast<double>(static_cast<std::int64_t>(steps));  // floor: > 0
+        z_row[std::size_t(x)] = z > 0 ? (d > 0 ? focal_baseline_steps / std::max(d, 1.0) : 0.0) : z;
       }
-      // 4. range
-      if (!(z >= options.min_m && z <= options.max_m)) {
-        out[x] = 0.0f;
-        continue;
-      }
-      // 5. dropouts
-      bool drop = false;
-      if (options.grazing) {
-        const double cos_theta =
-            CosIncidence(row_y + (sy - y), width, height, back_project, sx, sy);
+    }
+    // 4. range, 5. grazing dropouts (decided on the noise-free surface at the source pixel), then
+    // random dropouts.
+    for (int x = 0; x < width; ++x) {
+      const double z = z_row[std::size_t(x)];
+      bool drop = !(z >= options.min_m && z <= options.max_m);
+      if (!drop && options.grazing) {
+        const double cos_theta = cos_src[std::size_t(x)];
         if (cos_theta < cos_max) {
           drop = true;
         } else if (cos_theta < cos_start) {
@@ -382,7 +415,7 @@ void ApplyRgbNoise(const RgbNoiseOptions& options, RandomStream& rng, Image8* rg
         if (shot) {
           double electrons = static_cast<double>(rng.Poisson(std::max(0.0, dn * electrons_per_dn)));
           if (options.read_noise_electrons > 0) {
-            electrons += rng.Normal(0, options.read_noise_electrons);
+            electrons += options.read_noise_electrons * rng.StandardNormalZiggurat();
           }
           dn = electrons * dn_per_electron;
         }

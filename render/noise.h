@@ -2,8 +2,9 @@
 // Sensor noise as pure functions on rendered images (STYLE item 9: truth, noise and sensing are
 // separate stages). Each stage is optional and draws from the RandomStream the caller passes (one
 // stream per camera and frame, STYLE item 8); with every stage off the output equals the input bit
-// for bit. Stages that are off draw nothing; the stages' draws interleave per pixel, so switching
-// one stage on or off changes the numbers the others draw.
+// for bit. Stages that are off draw nothing; the depth stages draw from the one stream row by row
+// (a row's lateral draws, then its axial draws, ...), so switching one stage on or off changes the
+// numbers the others draw.
 
 #include <optional>
 
@@ -62,7 +63,8 @@ void ParseDepthNoiseOptions(YamlMap& map, DepthNoiseOptions& options);
 /// back-project pixels for the normals and for the disparity: exact for an undistorted camera,
 /// approximate towards the edges of a distorted one (whose depth image the rig remaps).
 ///
-/// Per pixel, in this order:
+/// Per pixel, in this order (each stage runs over a whole row before the next; the axial noise is
+/// Gaussian by the ziggurat method):
 ///   1. lateral: take the depth of the displaced pixel (the sensor's matching window lands on a
 ///      neighbouring surface, so edges fray); an invalid source makes the pixel invalid;
 ///   2. axial: add N(0, sigma_z(z)) (the disparity measurement's noise, before it is quantised);

@@ -56,6 +56,8 @@ class OsMesaContext final : public GlContext {
   BackendKind kind() const override { return BackendKind::kOsMesa; }
 
   void MakeCurrent() override {
+    // Rebinding a current context is not free (Mesa revalidates the framebuffer): skip it.
+    if (OSMesaGetCurrentContext() == context_) return;
     if (!OSMesaMakeCurrent(context_, buffer_.data(), GL_UNSIGNED_BYTE, kBufferSize, kBufferSize)) {
       throw RenderError("osmesa: OSMesaMakeCurrent failed");
     }

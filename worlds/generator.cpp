@@ -311,6 +311,18 @@ class Builder {
             (room.footprint.sizes().dot(wall.inward_normal.cwiseAbs()) / 2 + s_.wall_thickness_m));
     Mesh& floor = NewMesh(Id("room_floor", id), mat_.room_floor, id, SemanticClass::kRoom);
     AddHorizontalRect(floor, floor_area, 0.0, true, kFloorPeriodM);
+    // A strip kSeam either side of the edge, 0.5 mm below: the two floors meet edge to edge in
+    // one plane, with T-junctions between their patches that can open one-pixel holes onto the
+    // void; a ray through such a hole meets the strip (hidden everywhere else).
+    const Vector2d edge =
+        floor_area.center() + wall.inward_normal.cwiseProduct(floor_area.sizes() / 2);
+    AlignedBox2d strip = floor_area;
+    for (int a = 0; a < 2; ++a) {
+      if (std::abs(wall.inward_normal[a]) < 0.5) continue;
+      strip.min()[a] = edge[a] - kSeam;
+      strip.max()[a] = edge[a] + kSeam;
+    }
+    AddHorizontalRect(floor, strip, -0.0005, true, kFloorPeriodM);
     Mesh& ceiling = NewMesh(Id("room_ceiling", id), mat_.room_ceiling, id, SemanticClass::kRoom);
     AddHorizontalRect(ceiling, room.footprint, h, false, kWallPeriodM);
     // Three walls; the fourth is the back of the corridor wall.

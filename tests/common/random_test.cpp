@@ -87,6 +87,41 @@ TEST_CASE("normal draws have the requested mean and standard deviation", "[rando
   CHECK(sum4 / n == Approx(3.0).epsilon(0.05));  // kurtosis of a Gaussian
 }
 
+TEST_CASE("ziggurat normal draws follow the standard normal distribution, tails included",
+          "[random]") {
+  RandomStream r(6, 0, "test.ziggurat");
+  const int n = 2000000;
+  double sum = 0, sum2 = 0, sum4 = 0;
+  // Bins of the CDF at -3, -2, -1, -0.5, 0, 0.5, 1, 2, 3 and the tails beyond +-3.65 (the
+  // ziggurat's base layer: values there come from the separate tail sampler).
+  const std::vector<double> edges = {-3, -2, -1, -0.5, 0, 0.5, 1, 2, 3};
+  std::vector<int> below(edges.size(), 0);
+  int tail = 0;
+  for (int i = 0; i < n; ++i) {
+    const double x = r.StandardNormalZiggurat();
+    sum += x;
+    sum2 += x * x;
+    sum4 += x * x * x * x;
+    for (std::size_t k = 0; k < edges.size(); ++k) below[k] += x < edges[k];
+    tail += std::abs(x) > 3.6541528853610088;
+  }
+  CHECK(sum / n == Approx(0.0).margin(0.003));
+  CHECK(sum2 / n == Approx(1.0).epsilon(0.003));
+  CHECK(sum4 / n == Approx(3.0).epsilon(0.01));
+  for (std::size_t k = 0; k < edges.size(); ++k) {
+    const double p = 0.5 * std::erfc(-edges[k] / std::sqrt(2.0));
+    // Within 4 binomial standard deviations of the normal CDF.
+    CHECK(below[k] / double(n) == Approx(p).margin(4 * std::sqrt(p * (1 - p) / n)));
+  }
+  const double p_tail = std::erfc(3.6541528853610088 / std::sqrt(2.0));  // ~2.6e-4
+  CHECK(tail / double(n) == Approx(p_tail).margin(4 * std::sqrt(p_tail / n)));
+}
+
+TEST_CASE("ziggurat normal draws are reproducible from the seed", "[random]") {
+  RandomStream a(8, 1, "test.ziggurat_repeat"), b(8, 1, "test.ziggurat_repeat");
+  for (int i = 0; i < 1000; ++i) REQUIRE(a.StandardNormalZiggurat() == b.StandardNormalZiggurat());
+}
+
 TEST_CASE("uniform integers cover their inclusive range evenly", "[random]") {
   RandomStream r(9, 0, "test.ints");
   std::vector<int> counts(6, 0);

@@ -1,5 +1,6 @@
 // Rendering a generated world through the rig: exact depth against known walls, labels against
 // geometry, ground-truth points where they appear in the image, determinism and memory.
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <map>
@@ -274,6 +275,36 @@ TEST_CASE("every pixel of the upward fisheye sees something inside the corridor"
   }
 }
 
+TEST_CASE("with back faces culled no pixel looks through a seam into the void", "[render][gl]") {
+  // Every pinhole pixel inside a closed corridor hits a surface: a pixel with no instance would
+  // be a face culled from where it can be seen, or a seam that touches instead of crossing.
+  RigSpec rig = RigSpec::Default();
+  for (CameraSpec& c : rig.cameras) c = Exact(c);
+  for (const std::uint64_t seed : {2u, 5u}) {
+    const worlds::World world = worlds::Generate(worlds::WorldSpec{}, seed);
+    const Scene scene = BuildScene(world);
+    Shared().backend->Upload(scene);
+    Rig renderer(rig, scene, *Shared().backend);
+    std::vector<CameraFrame> frames;
+    int rendered = 0;
+    for (int i = 0; i < 50; ++i) {
+      for (const double yaw : {0.0, std::numbers::pi, 1.2, -2.0}) {
+        const SE3 pose = SE3::FromSE2(SE2(1.0 + 1.05 * i, 0.25 * std::sin(i), yaw));
+        if (CheckCameraPlacement(world, rig, pose)) continue;
+        renderer.Render(pose, 1, 0, &frames);
+        ++rendered;
+        for (std::size_t c = 0; c < 2; ++c) {  // front and lateral: pinholes, every pixel valid
+          const auto empty = std::count(frames[c].instance.begin(), frames[c].instance.end(), 0u);
+          INFO("seed " << seed << " pose " << i << " yaw " << yaw << " " << frames[c].camera_id);
+          REQUIRE(empty == 0);
+        }
+      }
+    }
+    CHECK(rendered > 100);
+  }
+  Shared().backend->Upload(Shared().scene);  // the shared fixture's scene again
+}
+
 TEST_CASE("rendering the same frame twice gives identical bytes", "[render][gl][determinism]") {
   const RigSpec spec = RigSpec::Default();
   Rig rig(spec, Shared().scene, *Shared().backend);
@@ -292,6 +323,28 @@ TEST_CASE("rendering the same frame twice gives identical bytes", "[render][gl][
   rig.Render(pose, 5, 4, &c);
   CHECK(c[0].noisy_depth_m.data != a[0].noisy_depth_m.data);
   CHECK(c[0].depth_m.data == a[0].depth_m.data);
+}
+
+TEST_CASE("the whole rig, its noise overlapped with rendering, equals each camera rendered alone",
+          "[render][gl][determinism]") {
+  RigSpec spec = RigSpec::Default();
+  spec.cameras[0].rgb_noise.full_well_electrons = 6000;  // noise on every camera
+  spec.cameras[1].rgb_noise.full_well_electrons = 6000;
+  spec.cameras[2].rgb_noise.read_noise_electrons = 6;
+  spec.cameras[2].rgb_noise.full_well_electrons = 6000;
+  Rig rig(spec, Shared().scene, *Shared().backend);
+  std::vector<CameraFrame> together;
+  const SE3 pose = SE3::FromSE2(SE2(20.0, -0.2, 2.9));
+  rig.Render(pose, 11, 7, &together);
+  REQUIRE(together.size() == 3);
+  for (std::size_t k = 0; k < together.size(); ++k) {
+    CameraFrame alone;
+    rig.RenderCamera(k, pose, 11, 7, &alone);
+    INFO(alone.camera_id);
+    CHECK(alone.rgb.data == together[k].rgb.data);
+    CHECK(alone.noisy_depth_m.data == together[k].noisy_depth_m.data);
+    CHECK(alone.instance == together[k].instance);
+  }
 }
 
 long ResidentKiB() {
