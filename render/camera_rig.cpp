@@ -487,8 +487,12 @@ std::optional<std::pair<int, Eigen::Vector2d>> CameraRenderer::Lookup(int u, int
 
 void CameraRenderer::Render(const Scene& scene, Backend& backend, const SE3& world_from_camera,
                             CameraFrame* frame) {
-  frame->camera_id = spec_.id;
-  frame->world_from_camera = world_from_camera;
+  Draw(scene, backend, world_from_camera);
+  Finish(frame);
+}
+
+void CameraRenderer::Draw(const Scene& scene, Backend& backend, const SE3& world_from_camera) {
+  world_from_camera_ = world_from_camera;
   std::vector<View> views = Passes(world_from_camera);
   // Baked lighting needs no per-pixel lights; otherwise the nearest few light each pass.
   const std::vector<int> lights =
@@ -500,6 +504,11 @@ void CameraRenderer::Render(const Scene& scene, Backend& backend, const SE3& wor
     const std::vector<int> visible = VisibleDrawables(scene, views[k]);
     backend.Draw(views[k], visible, lights, &rendered_[k]);
   }
+}
+
+void CameraRenderer::Finish(CameraFrame* frame) {
+  frame->camera_id = spec_.id;
+  frame->world_from_camera = world_from_camera_;
   if (lut_.empty()) {
     // One exact pass: hand its buffers over (the frame's old buffers come back for reuse).
     RenderedView& r = rendered_[0];
@@ -580,33 +589,46 @@ Rig::Rig(const RigSpec& spec, const Scene& scene, Backend& backend)
 void Rig::Render(const SE3& world_from_robot, std::uint64_t seed, std::uint64_t frame_index,
                  std::vector<CameraFrame>* frames) {
   frames->resize(cameras_.size());
-  // Each camera's noise runs on a thread of its own while the next cameras render: llvmpipe
-  // leaves a core idle while the calling thread transforms and bins triangles, and the noise
-  // reads and writes only its own frame from its own stream, so the bytes do not depend on the
-  // overlap. (Futures from std::async join in their destructors, also when a render throws.)
-  std::vector<std::future<void>> noise;
-  for (std::size_t k = 0; k < cameras_.size(); ++k) {
+  // The GL passes run on this thread; what follows them on the CPU (a fisheye's remap, the noise
+  // models) runs on a thread of its own per camera while the next cameras draw: llvmpipe leaves a
+  // core idle while this thread transforms and bins triangles. Those stages read and write only
+  // their own camera's buffers and draw from their own streams, so the bytes do not depend on
+  // the overlap; cameras with such work draw first. (Futures from std::async join in their
+  // destructors, also when a draw throws.)
+  std::vector<std::size_t> order(cameras_.size());
+  for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return cameras_[a].cpu_work() > cameras_[b].cpu_work();
+  });
+  std::vector<std::future<void>> pending;
+  for (const std::size_t k : order) {
+    cameras_[k].Draw(scene_, backend_,
+                     world_from_robot * cameras_[k].spec().mount.RobotFromCamera());
     CameraFrame* frame = &(*frames)[k];
-    RenderExact(k, world_from_robot, frame);
-    if (!cameras_[k].spec().noise) continue;
-    noise.push_back(std::async(std::launch::async, [this, k, seed, frame_index, frame] {
-      ApplyNoise(k, seed, frame_index, frame);
+    if (cameras_[k].cpu_work() == 0) {
+      FinishCamera(k, seed, frame_index, frame);
+      continue;
+    }
+    pending.push_back(std::async(std::launch::async, [this, k, seed, frame_index, frame] {
+      FinishCamera(k, seed, frame_index, frame);
     }));
   }
-  for (std::future<void>& n : noise) n.get();  // rethrows a noise stage's exception
+  for (std::future<void>& p : pending) p.get();  // rethrows a stage's exception
 }
 
 void Rig::RenderCamera(std::size_t index, const SE3& world_from_robot, std::uint64_t seed,
                        std::uint64_t frame_index, CameraFrame* frame) {
-  RenderExact(index, world_from_robot, frame);
-  if (cameras_.at(index).spec().noise) ApplyNoise(index, seed, frame_index, frame);
+  CameraRenderer& camera = cameras_.at(index);
+  camera.Draw(scene_, backend_, world_from_robot * camera.spec().mount.RobotFromCamera());
+  FinishCamera(index, seed, frame_index, frame);
 }
 
-void Rig::RenderExact(std::size_t index, const SE3& world_from_robot, CameraFrame* frame) {
-  CameraRenderer& camera = cameras_.at(index);
-  const SE3 world_from_camera = world_from_robot * camera.spec().mount.RobotFromCamera();
-  camera.Render(scene_, backend_, world_from_camera, frame);
+void Rig::FinishCamera(std::size_t index, std::uint64_t seed, std::uint64_t frame_index,
+                       CameraFrame* frame) {
+  CameraRenderer& camera = cameras_[index];
+  camera.Finish(frame);
   if (camera.spec().depth) frame->noisy_depth_m = frame->depth_m;
+  if (camera.spec().noise) ApplyNoise(index, seed, frame_index, frame);
 }
 
 void Rig::ApplyNoise(std::size_t index, std::uint64_t seed, std::uint64_t frame_index,

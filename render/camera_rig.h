@@ -94,9 +94,21 @@ class CameraRenderer {
   const CameraSpec& spec() const { return spec_; }
   /// The pinhole passes for a camera at `world_from_camera`.
   std::vector<View> Passes(const SE3& world_from_camera) const;
-  /// Renders the exact (noise-free) frame.
+  /// Renders the exact (noise-free) frame: Draw, then Finish.
   void Render(const Scene& scene, Backend& backend, const SE3& world_from_camera,
               CameraFrame* frame);
+  /// Draws the passes (GL work) into this renderer's buffers.
+  void Draw(const Scene& scene, Backend& backend, const SE3& world_from_camera);
+  /// Turns the last Draw's passes into the frame (CPU only: the remap through the model, or a
+  /// hand-over of the one exact pass); may run on another thread than Draw, not beside it.
+  void Finish(CameraFrame* frame);
+  /// Rough CPU work after Draw (depth noise 3, colour noise 2, a remap 1 per pixel), 0 for
+  /// none: the rig draws the cameras with the most of it first, so it overlaps the most drawing.
+  int cpu_work() const {
+    const bool noise = spec_.noise;
+    return (noise && spec_.depth ? 3 : 0) + (noise && spec_.rgb_noise.Active() ? 2 : 0) +
+           (lut_.empty() ? 0 : 1);
+  }
   std::size_t pass_pixel_count() const;
   /// Where output pixel (u, v) is sampled: the pass index and the continuous pixel position in
   /// that pass, or nothing outside the model's valid angle (for tests and tools).
@@ -129,6 +141,7 @@ class CameraRenderer {
   void Compose(CameraFrame* frame) const;
 
   CameraSpec spec_;
+  SE3 world_from_camera_;  // of the last Draw
   std::vector<Pass> passes_;
   std::vector<LutEntry> lut_;       // empty for a direct (undistorted pinhole) camera
   std::vector<RemapEntry> remap_;   // per output pixel, alongside lut_
@@ -141,8 +154,9 @@ class Rig {
  public:
   Rig(const RigSpec& spec, const Scene& scene, Backend& backend);
   /// Renders every enabled camera at `world_from_robot`, then applies each camera's noise from
-  /// the stream (seed, 0, "render.noise.<camera>") derived for `frame_index`; a camera's noise
-  /// runs on another thread while the next cameras render (the same bytes as RenderCamera).
+  /// the stream (seed, 0, "render.noise.<camera>") derived for `frame_index`. A camera's remap
+  /// and noise run on another thread while the next cameras draw (the same bytes as
+  /// RenderCamera gives each camera).
   void Render(const SE3& world_from_robot, std::uint64_t seed, std::uint64_t frame_index,
               std::vector<CameraFrame>* frames);
   /// Renders the enabled camera `index` (in cameras() order) alone, with the same noise
@@ -152,8 +166,9 @@ class Rig {
   const std::vector<CameraRenderer>& cameras() const { return cameras_; }
 
  private:
-  // The exact frame of camera `index` (noisy_depth_m a copy of the exact depth).
-  void RenderExact(std::size_t index, const SE3& world_from_robot, CameraFrame* frame);
+  // After camera `index` drew: its frame, then its noise.
+  void FinishCamera(std::size_t index, std::uint64_t seed, std::uint64_t frame_index,
+                    CameraFrame* frame);
   // The camera's noise models on `frame`, from its stream for `frame_index`.
   void ApplyNoise(std::size_t index, std::uint64_t seed, std::uint64_t frame_index,
                   CameraFrame* frame) const;

@@ -455,7 +455,12 @@ void GlBackend::Draw(const View& view, std::span<const int> drawables, std::span
   gl_.ClearBufferfv(GL_COLOR, 0, kBlack);
   gl_.ClearBufferuiv(GL_COLOR, 1, kNoId);
   gl_.ClearBufferuiv(GL_COLOR, 2, kNoId);
-  gl_.ClearBufferfv(GL_COLOR, 3, kBlack);
+  // The metric z attachment only where it is read: llvmpipe then neither clears nor writes it.
+  const std::array<GLenum, 4> draw_buffers = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1,
+                                              GL_COLOR_ATTACHMENT2,
+                                              view.read_depth ? GL_COLOR_ATTACHMENT3 : GL_NONE};
+  gl_.DrawBuffers(GLsizei(draw_buffers.size()), draw_buffers.data());
+  if (view.read_depth) gl_.ClearBufferfv(GL_COLOR, 3, kBlack);
   gl_.ClearBufferfv(GL_DEPTH, 0, &kFarDepth);
 
   const Program& program = ProgramFor(int(lights.size()));

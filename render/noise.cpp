@@ -3,6 +3,7 @@
 #include "common/spec_checker.h"
 
 #include <algorithm>
+#include <array>
 #include <cassert>
 #include <cmath>
 #include <cstdint>
@@ -64,16 +65,29 @@ class LateralShift {
       const double cdf = 0.5 * std::erfc(-(k + 0.5) / (sigma_px * std::numbers::sqrt2));
       thresholds_.push_back(static_cast<std::uint64_t>(std::ldexp(cdf, 32)));
     }
+    // Most of the 256 ranges of the top 8 bits hold no threshold: their shift is known.
+    for (std::uint32_t b = 0; b < 256; ++b) {
+      const std::uint64_t lo = std::uint64_t(b) << 24, hi = lo + (1u << 24) - 1;
+      const int at_lo = Count(static_cast<std::uint32_t>(lo));
+      by_top_byte_[b] = at_lo == Count(static_cast<std::uint32_t>(hi)) ? at_lo : kCount;
+    }
   }
   int operator()(std::uint32_t u) const {
+    const int shift = by_top_byte_[u >> 24];
+    return shift != kCount ? shift : Count(u);
+  }
+
+ private:
+  static constexpr int kCount = 1 << 30;  // a range with a threshold inside: count
+  int Count(std::uint32_t u) const {
     int shift = -reach_;  // counted without branches: the outcome is unpredictable
     for (const std::uint64_t t : thresholds_) shift += u >= t;
     return shift;
   }
 
- private:
   int reach_;
   std::vector<std::uint64_t> thresholds_;  // 2 reach entries
+  std::array<int, 256> by_top_byte_{};     // the shift for each top byte of u, or kCount
 };
 
 // Back-projection of pixel (u, v) at depth z with the pinhole part of the intrinsics.
@@ -87,53 +101,74 @@ struct BackProjector {
 // Cosines of the angle between the viewing ray and the surface normal for every pixel of row v,
 // the normal from central differences of the back-projected depth (one-sided next to invalid
 // pixels and the image border); 1 (head-on) where no normal can be estimated. `above` and
-// `below` are rows v - 1 and v + 1, nullptr beyond the image.
+// `below` are rows v - 1 and v + 1, nullptr beyond the image. Single precision and without
+// branches (a missing neighbour is replaced by the pixel itself, which makes the difference
+// one-sided, or zero when both are missing), so the loop vectorises.
+// The incidence cosine at one pixel from its depth z and its neighbours' (0 = invalid); xs, ys
+// its ray's x and y at z = 1 and inv_fx, inv_fy the ray steps between pixels.
+inline float CosIncidence(float z, float z_left, float z_right, float z_up, float z_down, float xs,
+                          float ys, float inv_fx, float inv_fy) {
+  // Back-projected neighbours P = z (xs, ys, 1), each replaced by the pixel where invalid.
+  const bool l = z_left > 0, r = z_right > 0, u = z_up > 0, d = z_down > 0;
+  const float zl = l ? z_left : z, xl = l ? xs - inv_fx : xs;
+  const float zr = r ? z_right : z, xr = r ? xs + inv_fx : xs;
+  const float zu = u ? z_up : z, yu = u ? ys - inv_fy : ys;
+  const float zd = d ? z_down : z, yd = d ? ys + inv_fy : ys;
+  const float tx0 = zr * xr - zl * xl, tx1 = (zr - zl) * ys, tx2 = zr - zl;
+  const float ty0 = (zd - zu) * xs, ty1 = zd * yd - zu * yu, ty2 = zd - zu;
+  const float n0 = tx1 * ty2 - tx2 * ty1, n1 = tx2 * ty0 - tx0 * ty2, n2 = tx0 * ty1 - tx1 * ty0;
+  // The cosine does not depend on the length of the ray: use (xs, ys, 1).
+  const float n_dot_p = n0 * xs + n1 * ys + n2;
+  const float norms2 = (n0 * n0 + n1 * n1 + n2 * n2) * (xs * xs + ys * ys + 1.0f);
+  const float cosine = std::abs(n_dot_p) / std::sqrt(std::max(norms2, 1e-30f));
+  return (z > 0) & (norms2 > 0) ? cosine : 1.0f;  // & not &&: no branch, so it vectorises
+}
+
 void CosIncidenceRow(const float* above, const float* row, const float* below, int width, int v,
                      const BackProjector& back_project, float* out) {
-  const double y_scale = (v - back_project.cy) * back_project.inv_fy;
-  const double y_above = y_scale - back_project.inv_fy, y_below = y_scale + back_project.inv_fy;
-  for (int x = 0; x < width; ++x) {
-    const double z = row[x];
-    if (!(z > 0.0)) {
-      out[x] = 1.0f;
-      continue;
-    }
-    const double x_scale = (x - back_project.cx) * back_project.inv_fx;
-    const Eigen::Vector3d p(z * x_scale, z * y_scale, z);
-    // Tangent along x: the points at x - 1 and x + 1 where they are valid.
-    const double z_left = x > 0 ? row[x - 1] : 0.0, z_right = x + 1 < width ? row[x + 1] : 0.0;
-    Eigen::Vector3d t_x;
-    if (z_left > 0 && z_right > 0) {
-      t_x = Eigen::Vector3d(z_right * (x_scale + back_project.inv_fx), z_right * y_scale, z_right) -
-            Eigen::Vector3d(z_left * (x_scale - back_project.inv_fx), z_left * y_scale, z_left);
-    } else if (z_right > 0) {
-      t_x = Eigen::Vector3d(z_right * (x_scale + back_project.inv_fx), z_right * y_scale, z_right) -
-            p;
-    } else if (z_left > 0) {
-      t_x = p - Eigen::Vector3d(z_left * (x_scale - back_project.inv_fx), z_left * y_scale, z_left);
-    } else {
-      out[x] = 1.0f;
-      continue;
-    }
-    const double z_up = above != nullptr ? above[x] : 0.0;
-    const double z_down = below != nullptr ? below[x] : 0.0;
-    Eigen::Vector3d t_y;
-    if (z_up > 0 && z_down > 0) {
-      t_y = Eigen::Vector3d(z_down * x_scale, z_down * y_below, z_down) -
-            Eigen::Vector3d(z_up * x_scale, z_up * y_above, z_up);
-    } else if (z_down > 0) {
-      t_y = Eigen::Vector3d(z_down * x_scale, z_down * y_below, z_down) - p;
-    } else if (z_up > 0) {
-      t_y = p - Eigen::Vector3d(z_up * x_scale, z_up * y_above, z_up);
-    } else {
-      out[x] = 1.0f;
-      continue;
-    }
-    const Eigen::Vector3d normal = t_x.cross(t_y);
-    const double norms2 = normal.squaredNorm() * p.squaredNorm();
-    out[x] = norms2 > 0.0 ? static_cast<float>(std::abs(normal.dot(p)) / std::sqrt(norms2)) : 1.0f;
+  const auto inv_fx = static_cast<float>(back_project.inv_fx);
+  const auto inv_fy = static_cast<float>(back_project.inv_fy);
+  const auto cx = static_cast<float>(back_project.cx);
+  const float ys = static_cast<float>((v - back_project.cy) * back_project.inv_fy);
+  auto at = [&](int x) {
+    return CosIncidence(row[x], x > 0 ? row[x - 1] : 0.0f, x + 1 < width ? row[x + 1] : 0.0f,
+                        above != nullptr ? above[x] : 0.0f, below != nullptr ? below[x] : 0.0f,
+                        (static_cast<float>(x) - cx) * inv_fx, ys, inv_fx, inv_fy);
+  };
+  if (above == nullptr || below == nullptr || width < 3) {
+    for (int x = 0; x < width; ++x) out[x] = at(x);
+    return;
   }
+  // Inside the image every neighbour exists: a loop without conditional loads vectorises.
+  out[0] = at(0);
+  for (int x = 1; x + 1 < width; ++x) {
+    out[x] = CosIncidence(row[x], row[x - 1], row[x + 1], above[x], below[x],
+                          (static_cast<float>(x) - cx) * inv_fx, ys, inv_fx, inv_fy);
+  }
+  out[width - 1] = at(width - 1);
 }
+
+// theta in degrees for cosines in [lo, hi] (the grazing ramp), from a table with linear
+// interpolation: within 1e-6 deg of acos, without a libm call per pixel.
+class AcosDegTable {
+ public:
+  AcosDegTable(double lo, double hi) : lo_(lo), step_((hi - lo) / kIntervals) {
+    for (int i = 0; i <= kIntervals; ++i) {
+      deg_[std::size_t(i)] = std::acos(lo + step_ * i) * 180.0 / std::numbers::pi;
+    }
+  }
+  double operator()(double c) const {
+    if (!(step_ > 0)) return std::acos(c) * 180.0 / std::numbers::pi;
+    const double t = std::clamp((c - lo_) / step_, 0.0, double(kIntervals));
+    const int i = std::min(static_cast<int>(t), kIntervals - 1);
+    return deg_[std::size_t(i)] + (t - i) * (deg_[std::size_t(i) + 1] - deg_[std::size_t(i)]);
+  }
+
+ private:
+  static constexpr int kIntervals = 4096;
+  double lo_, step_;
+  std::array<double, kIntervals + 1> deg_{};
+};
 
 }  // namespace
 
@@ -198,6 +233,7 @@ void ApplyDepthNoise(const DepthNoiseOptions& options, const PinholeRadTan& intr
   const double cos_start = std::cos(options.grazing_start_deg * kRadPerDeg);
   const double cos_max = std::cos(options.grazing_max_deg * kRadPerDeg);
   const double ramp_deg = options.grazing_max_deg - options.grazing_start_deg;
+  const AcosDegTable theta_deg_of(cos_max, cos_start);
 
   // Incidence cosines of the noise-free input, a row at a time as the input rows arrive: a ring
   // of the rows y - reach .. y + reach (the sources the lateral shift can pick).
@@ -271,7 +307,7 @@ void ApplyDepthNoise(const DepthNoiseOptions& options, const PinholeRadTan& intr
         if (cos_theta < cos_max) {
           drop = true;
         } else if (cos_theta < cos_start) {
-          const double theta_deg = std::acos(cos_theta) / kRadPerDeg;
+          const double theta_deg = theta_deg_of(cos_theta);
           drop = rng.Uniform01() * ramp_deg < theta_deg - options.grazing_start_deg;
         }
       }

@@ -100,6 +100,11 @@ struct RgbNoiseOptions {
   // it, in the direction the caller passes (the image motion during the exposure).
   double motion_blur_px = 0.0;  // px, 0 = off
 
+  /// Whether any stage is on (with none, ApplyRgbNoise leaves the image as it is).
+  bool Active() const {
+    return motion_blur_px > 0 || full_well_electrons > 0 || exposure != 1.0 || vignetting != 0.0;
+  }
+
   /// The first invalid value (key relative to this struct and what is wrong), or nullopt.
   std::optional<SpecProblem> Check() const;
 };
