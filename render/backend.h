@@ -32,6 +32,14 @@ class RenderError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// One pass of a batch: what to draw from where, and where its images go.
+struct DrawRequest {
+  View view;
+  std::span<const int> drawables;  // indices into the uploaded scene's drawables
+  std::span<const int> lights;     // indices into scene.lights, at most 16
+  RenderedView* out = nullptr;
+};
+
 class Backend {
  public:
   virtual ~Backend() = default;
@@ -42,6 +50,10 @@ class Backend {
   /// lit by the lights listed in `lights` (indices into scene.lights, at most 16).
   virtual void Draw(const View& view, std::span<const int> drawables, std::span<const int> lights,
                     RenderedView* out) = 0;
+  /// Draws several passes, each as Draw would (the same images), then reads them back: a
+  /// backend may overlap one pass's drawing with the next one's submission. Every request is
+  /// checked before anything is drawn.
+  virtual void DrawPasses(std::span<const DrawRequest> requests) = 0;
 };
 
 /// Creates a backend with its own off-screen context. Throws RenderError naming the backend and

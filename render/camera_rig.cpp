@@ -499,11 +499,15 @@ void CameraRenderer::Draw(const Scene& scene, Backend& backend, const SE3& world
       scene.options.bake_lighting
           ? std::vector<int>{}
           : NearestLights(scene, world_from_camera.translation(), scene.options.max_lights);
+  // All passes in one batch: the backend submits the next pass while the last one rasterises.
+  visible_.resize(views.size());
+  std::vector<DrawRequest> requests(views.size());
   for (std::size_t k = 0; k < views.size(); ++k) {
     views[k].read_depth = spec_.depth;
-    const std::vector<int> visible = VisibleDrawables(scene, views[k]);
-    backend.Draw(views[k], visible, lights, &rendered_[k]);
+    visible_[k] = VisibleDrawables(scene, views[k]);
+    requests[k] = DrawRequest{views[k], visible_[k], lights, &rendered_[k]};
   }
+  backend.DrawPasses(requests);
 }
 
 void CameraRenderer::Finish(CameraFrame* frame) {

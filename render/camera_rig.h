@@ -147,6 +147,7 @@ class CameraRenderer {
   std::vector<RemapEntry> remap_;   // per output pixel, alongside lut_
   std::vector<float> depth_scale_;  // camera z per pass z along each pixel's ray (depth cameras)
   std::vector<RenderedView> rendered_;
+  std::vector<std::vector<int>> visible_;  // per pass, the drawables of the last Draw
 };
 
 /// The whole rig on one robot.

@@ -368,12 +368,9 @@ void GlBackend::Upload(const Scene& scene) {
   CheckGlError("scene upload");
 }
 
-void GlBackend::EnsureFramebuffer(int width, int height) {
+const GlBackend::Target& GlBackend::EnsureFramebuffer(int width, int height, int slot) {
   for (const Target& t : targets_) {
-    if (t.width == width && t.height == height) {
-      bound_fbo_ = t.fbo;
-      return;
-    }
+    if (t.width == width && t.height == height && t.slot == slot) return t;
   }
   // colour, instance id, semantic class, view-space z, depth
   constexpr std::array<GLenum, 5> kFormats = {GL_RGBA8, GL_R32UI, GL_R8UI, GL_R32F,
@@ -381,6 +378,7 @@ void GlBackend::EnsureFramebuffer(int width, int height) {
   Target t;
   t.width = width;
   t.height = height;
+  t.slot = slot;
   gl_.GenFramebuffers(1, &t.fbo);
   gl_.GenRenderbuffers(GLsizei(t.renderbuffers.size()), t.renderbuffers.data());
   gl_.BindFramebuffer(GL_FRAMEBUFFER, t.fbo);
@@ -405,13 +403,39 @@ void GlBackend::EnsureFramebuffer(int width, int height) {
     }());
   }
   targets_.push_back(t);
-  bound_fbo_ = t.fbo;
   CheckGlError("framebuffer setup");
+  return targets_.back();
 }
 
 void GlBackend::Draw(const View& view, std::span<const int> drawables, std::span<const int> lights,
                      RenderedView* out) {
-  if (out == nullptr) throw std::invalid_argument("render: Draw needs an output view");
+  const DrawRequest request{view, drawables, lights, out};
+  DrawPasses(std::span<const DrawRequest>(&request, 1));
+}
+
+void GlBackend::DrawPasses(std::span<const DrawRequest> requests) {
+  for (const DrawRequest& request : requests) Check(request);
+  context_->MakeCurrent();
+  GLint max_size = 0;
+  gl_.GetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_size);
+  for (const DrawRequest& request : requests) {
+    if (request.view.width > max_size || request.view.height > max_size) {
+      throw std::invalid_argument("render: view size " + std::to_string(request.view.width) +
+                                  " x " + std::to_string(request.view.height) +
+                                  " exceeds the GL limit " + std::to_string(max_size));
+    }
+  }
+  // Every pass into a framebuffer of its own, then the read-backs: llvmpipe rasterises a pass on
+  // its threads while this thread transforms and bins the next one.
+  for (std::size_t i = 0; i < requests.size(); ++i) Submit(requests[i], int(i));
+  CheckGlError("draw");
+  for (std::size_t i = 0; i < requests.size(); ++i) ReadBack(requests[i], int(i));
+}
+
+void GlBackend::Check(const DrawRequest& request) const {
+  const View& view = request.view;
+  const std::span<const int> drawables = request.drawables, lights = request.lights;
+  if (request.out == nullptr) throw std::invalid_argument("render: Draw needs an output view");
   if (view.width <= 0 || view.height <= 0) {
     throw std::invalid_argument("render: view size must be positive, got " +
                                 std::to_string(view.width) + " x " + std::to_string(view.height));
@@ -437,17 +461,12 @@ void GlBackend::Draw(const View& view, std::span<const int> drawables, std::span
       throw std::invalid_argument("render: light index " + std::to_string(l) + " out of range");
     }
   }
+}
 
-  context_->MakeCurrent();
-  GLint max_size = 0;
-  gl_.GetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_size);
-  if (view.width > max_size || view.height > max_size) {
-    throw std::invalid_argument("render: view size " + std::to_string(view.width) + " x " +
-                                std::to_string(view.height) + " exceeds the GL limit " +
-                                std::to_string(max_size));
-  }
-  EnsureFramebuffer(view.width, view.height);
-  gl_.BindFramebuffer(GL_FRAMEBUFFER, bound_fbo_);
+void GlBackend::Submit(const DrawRequest& request, int slot) {
+  const View& view = request.view;
+  const std::span<const int> drawables = request.drawables, lights = request.lights;
+  gl_.BindFramebuffer(GL_FRAMEBUFFER, EnsureFramebuffer(view.width, view.height, slot).fbo);
   gl_.Viewport(0, 0, view.width, view.height);
   constexpr GLfloat kBlack[4] = {0, 0, 0, 0};
   constexpr GLuint kNoId[4] = {0, 0, 0, 0};
@@ -515,7 +534,12 @@ void GlBackend::Draw(const View& view, std::span<const int> drawables, std::span
         GL_TRIANGLES, GLsizei(d.index_count), GL_UNSIGNED_INT,
         reinterpret_cast<const void*>(std::uintptr_t(d.first_index) * sizeof(std::uint32_t)));
   }
+}
 
+void GlBackend::ReadBack(const DrawRequest& request, int slot) {
+  const View& view = request.view;
+  RenderedView* out = request.out;
+  gl_.BindFramebuffer(GL_READ_FRAMEBUFFER, EnsureFramebuffer(view.width, view.height, slot).fbo);
   // Read back: GL rows come bottom-up, which is image row 0 first (see ClipFromCamera).
   const int w = view.width, h = view.height;
   const std::size_t pixels = std::size_t(w) * h;
@@ -538,7 +562,7 @@ void GlBackend::Draw(const View& view, std::span<const int> drawables, std::span
     gl_.ReadBuffer(GL_COLOR_ATTACHMENT3);
     gl_.ReadPixels(0, 0, w, h, GL_RED, GL_FLOAT, out->depth_m.data.data());
   }
-  CheckGlError("frame");
+  CheckGlError("read-back");
 }
 
 }  // namespace corridorsim::render

@@ -31,6 +31,7 @@ class GlBackend final : public Backend {
   void Upload(const Scene& scene) override;
   void Draw(const View& view, std::span<const int> drawables, std::span<const int> lights,
             RenderedView* out) override;
+  void DrawPasses(std::span<const DrawRequest> requests) override;
 
  private:
   // What Draw needs of the uploaded scene.
@@ -53,7 +54,16 @@ class GlBackend final : public Backend {
 
   /// The program for `light_count` lights, compiled on first use.
   const Program& ProgramFor(int light_count);
-  void EnsureFramebuffer(int width, int height);
+  struct Target;
+  /// The framebuffer for a pass of this size at position `slot` of a batch (created on first
+  /// use; kept, so a rig's passes reuse theirs every frame).
+  const Target& EnsureFramebuffer(int width, int height, int slot);
+  /// Throws std::invalid_argument (std::logic_error before Upload) for a request it cannot draw.
+  void Check(const DrawRequest& request) const;
+  /// Clears the slot's framebuffer and issues the draw calls of one pass (no wait).
+  void Submit(const DrawRequest& request, int slot);
+  /// Reads the slot's images into request.out (waits for the rasteriser).
+  void ReadBack(const DrawRequest& request, int slot);
   void DeleteTextures();
   void CheckGlError(const char* where);
   [[noreturn]] void Fail(const std::string& what) const;
@@ -62,15 +72,15 @@ class GlBackend final : public Backend {
   GlFunctions gl_;
   std::array<Program, kMaxLightsPerDraw + 1> programs_{};  // by light count
   GLuint vao_ = 0, vbo_ = 0, ibo_ = 0;
-  // Off-screen targets by size: a rig alternates between pass sizes every frame, so each size
-  // keeps its own framebuffer instead of reallocating storage per draw.
+  // Off-screen targets by size and batch slot: a rig alternates between pass sizes every frame,
+  // so each keeps its own framebuffer instead of reallocating storage per draw.
   struct Target {
     int width = 0, height = 0;  // px
+    int slot = 0;               // position in a DrawPasses batch
     GLuint fbo = 0;
     std::array<GLuint, 5> renderbuffers{};  // colour, instance, class, z, depth
   };
   std::vector<Target> targets_;
-  GLuint bound_fbo_ = 0;
 
   bool uploaded_ = false;
   std::vector<GLuint> textures_;

@@ -288,12 +288,12 @@ void ApplyDepthNoise(const DepthNoiseOptions& options, const PinholeRadTan& intr
       }
     }
     // 3. disparity quantisation to 1 / subpixel px: d = floor(f b s / z + 1/2) steps, z = f b s / d
-    // (d = 0: invalid). Steps are capped at 2^52 (z ~1e-13 m, far below any valid range).
+    // (d = 0: invalid). Steps are capped at 2^30 (z ~1e-7 m, far below any depth a camera can see).
     if (options.quantise) {
       for (int x = 0; x < width; ++x) {
         const double z = z_row[std::size_t(x)];
-        const double steps = std::min(focal_baseline_steps / std::max(z, 1e-300) + 0.5, 0x1.0p52);
-        const double d = static_cast<double>(static_cast<std::int64_t>(steps));  // floor: > 0
+        const double steps = std::min(focal_baseline_steps / std::max(z, 1e-300) + 0.5, 0x1.0p30);
+        const double d = static_cast<double>(static_cast<std::int32_t>(steps));  // floor: > 0
         z_row[std::size_t(x)] = z > 0 ? (d > 0 ? focal_baseline_steps / std::max(d, 1.0) : 0.0) : z;
       }
     }
