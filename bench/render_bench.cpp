@@ -1,17 +1,20 @@
 // Rendering speed on the default world: frames per second of each camera and of the whole rig
 // (front RGB-D + lateral + upward, noise included), and the rig's time against a bare draw of
-// the same passes (the same views and drawables straight to the backend: no culling, remap,
-// copies or noise). Usage: bench_render [frames] [osmesa|egl]
+// the same passes (the same views and drawables straight to the backend, a camera's passes in
+// one batch: no culling, remap, copies or noise). Usage: bench_render [frames] [osmesa|egl]
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
+#include <functional>
 #include <string>
 #include <vector>
 
 #include "render/backend.h"
 #include "render/camera_rig.h"
+#include "render/noise.h"
 #include "render/scene.h"
 #include "worlds/world.h"
 
@@ -69,67 +72,88 @@ int main(int argc, char** argv) {
         camera.Passes(SE3()).size());
   }
 
-  // The whole rig, noise included.
+  // The whole rig with noise, the same rig with exact images, and the bare draw of the same
+  // passes, measured in interleaved rounds (median per figure), so that a shared machine's
+  // changing speed hits all three alike and their ratios stay meaningful.
   render::Rig rig(spec, scene, *backend);
+  render::RigSpec exact_spec = spec;
+  for (render::CameraSpec& c : exact_spec.cameras) c.noise = false;
+  render::Rig exact_rig(exact_spec, scene, *backend);
   std::vector<render::CameraFrame> rig_frames;
   rig.Render(PoseAt(0), 1, 0, &rig_frames);
-  double c0 = CpuMs();
-  auto t0 = Clock::now();
-  for (int i = 0; i < frames; ++i)
-    rig.Render(PoseAt(i), 1, static_cast<std::uint64_t>(i), &rig_frames);
-  const double rig_ms = Ms(t0, Clock::now()) / frames;
-  const double rig_cpu = (CpuMs() - c0) / frames;
+  exact_rig.Render(PoseAt(0), 1, 0, &rig_frames);
 
-  // The bare draw of the same passes: views and drawable lists prepared outside the timing.
+  // The bare draw: views and drawable lists prepared outside the timing, each camera's passes
+  // handed to the backend in one batch as the rig does; no culling, remap, copies or noise.
   struct Prepared {
-    render::View view;
-    std::vector<int> drawables;
-    std::vector<int> lights;
+    std::vector<render::View> views;
+    std::vector<std::vector<int>> drawables;
   };
   std::vector<std::vector<Prepared>> prepared(static_cast<std::size_t>(frames));
   for (int i = 0; i < frames; ++i) {
     for (const render::CameraRenderer& camera : rig.cameras()) {
       const SE3 world_from_camera = PoseAt(i) * camera.spec().mount.RobotFromCamera();
-      const auto lights = scene.options.bake_lighting
-                              ? std::vector<int>{}
-                              : render::NearestLights(scene, world_from_camera.translation(),
-                                                      scene.options.max_lights);
+      Prepared p;
       for (render::View view : camera.Passes(world_from_camera)) {
         view.read_depth = camera.spec().depth;
-        prepared[static_cast<std::size_t>(i)].push_back(
-            {view, render::VisibleDrawables(scene, view), lights});
+        p.drawables.push_back(render::VisibleDrawables(scene, view));
+        p.views.push_back(view);
       }
+      prepared[static_cast<std::size_t>(i)].push_back(std::move(p));
     }
   }
-  render::RenderedView out;
-  c0 = CpuMs();
-  t0 = Clock::now();
-  for (const auto& frame_passes : prepared) {
-    for (const Prepared& p : frame_passes) backend->Draw(p.view, p.drawables, p.lights, &out);
+  std::vector<render::RenderedView> outs(8);
+  auto bare_frame = [&](int i) {
+    for (const Prepared& p : prepared[static_cast<std::size_t>(i)]) {
+      std::vector<render::DrawRequest> requests;
+      for (std::size_t k = 0; k < p.views.size(); ++k) {
+        requests.push_back({p.views[k], p.drawables[k], {}, &outs[k]});
+      }
+      backend->DrawPasses(requests);
+    }
+  };
+  if (!scene.options.bake_lighting) {
+    std::printf("  (the bare draw assumes baked lighting; this scene lights per pixel)\n");
   }
-  const double bare_ms = Ms(t0, Clock::now()) / frames;
-  const double bare_cpu = (CpuMs() - c0) / frames;
+
+  constexpr int kRounds = 5;
+  const int per_round = std::max(2, frames / kRounds);
+  struct Figure {
+    std::vector<double> ms, cpu;
+    double Median(std::vector<double> v) const {
+      std::sort(v.begin(), v.end());
+      return v[v.size() / 2];
+    }
+  };
+  Figure noisy, bare, exact;
+  auto time = [&](Figure* figure, const std::function<void(int)>& frame) {
+    const double c0 = CpuMs();
+    const auto t0 = Clock::now();
+    for (int i = 0; i < per_round; ++i) frame(i);
+    figure->ms.push_back(Ms(t0, Clock::now()) / per_round);
+    figure->cpu.push_back((CpuMs() - c0) / per_round);
+  };
+  for (int round = 0; round < kRounds; ++round) {
+    const int offset = round * per_round;
+    time(&noisy, [&](int i) {
+      rig.Render(PoseAt(offset + i), 1, static_cast<std::uint64_t>(offset + i), &rig_frames);
+    });
+    time(&bare, [&](int i) { bare_frame((offset + i) % frames); });
+    time(&exact, [&](int i) {
+      exact_rig.Render(PoseAt(offset + i), 1, static_cast<std::uint64_t>(offset + i), &rig_frames);
+    });
+  }
+  const double rig_ms = noisy.Median(noisy.ms), rig_cpu = noisy.Median(noisy.cpu);
+  const double bare_ms = bare.Median(bare.ms), bare_cpu = bare.Median(bare.cpu);
+  const double exact_ms = exact.Median(exact.ms), exact_cpu = exact.Median(exact.cpu);
   std::printf(
       "  rig      %6.2f ms/frame  %6.1f frames/s  cpu %6.2f ms  (front RGB-D + lateral + upward, "
-      "noise on)\n",
-      rig_ms, 1000.0 / rig_ms, rig_cpu);
+      "noise on; median of %d rounds)\n",
+      rig_ms, 1000.0 / rig_ms, rig_cpu, kRounds);
   std::printf(
       "  bare     %6.2f ms/frame  %6.1f frames/s  cpu %6.2f ms  (the same passes drawn and read "
       "back)\n",
       bare_ms, 1000.0 / bare_ms, bare_cpu);
-
-  // The same rig with exact images (no noise models), to split the harness's share.
-  render::RigSpec exact = spec;
-  for (render::CameraSpec& c : exact.cameras) c.noise = false;
-  render::Rig exact_rig(exact, scene, *backend);
-  exact_rig.Render(PoseAt(0), 1, 0, &rig_frames);
-  c0 = CpuMs();
-  t0 = Clock::now();
-  for (int i = 0; i < frames; ++i) {
-    exact_rig.Render(PoseAt(i), 1, static_cast<std::uint64_t>(i), &rig_frames);
-  }
-  const double exact_ms = Ms(t0, Clock::now()) / frames;
-  const double exact_cpu = (CpuMs() - c0) / frames;
   std::printf(
       "  rig      %6.2f ms/frame  %6.1f frames/s  cpu %6.2f ms  (noise off: exact images)\n",
       exact_ms, 1000.0 / exact_ms, exact_cpu);
@@ -137,6 +161,24 @@ int main(int argc, char** argv) {
               rig_ms / bare_ms, exact_ms / bare_ms);
   std::printf("  same in cpu time:              %.2f with noise, %.2f without\n",
               rig_cpu / bare_cpu, exact_cpu / bare_cpu);
+
+  // The front camera's depth noise alone, on one thread.
+  {
+    const render::CameraSpec& front = spec.cameras[0];
+    render::CameraRenderer camera(front);
+    render::CameraFrame frame;
+    camera.Render(scene, *backend, PoseAt(0) * front.mount.RobotFromCamera(), &frame);
+    std::vector<double> ms;
+    for (int i = 0; i < std::max(10, frames / 2); ++i) {
+      ImageF depth = frame.depth_m;
+      RandomStream rng(1, 0, "bench.depth_noise");
+      const auto t0 = Clock::now();
+      render::ApplyDepthNoise(front.depth_noise, std::get<PinholeRadTan>(front.model), rng, &depth);
+      ms.push_back(Ms(t0, Clock::now()));
+    }
+    std::printf("  depth noise %5.2f ms per front frame (median, one thread)\n",
+                Figure{}.Median(ms));
+  }
 
   // Culling: the same rig in the middle of a 1 km corridor.
   worlds::WorldSpec km_spec;
@@ -149,8 +191,8 @@ int main(int argc, char** argv) {
   render::Rig km_rig(spec, km_scene, *backend);
   auto km_pose = [](int i) { return SE3::FromSE2(SE2(480.0 + 0.1 * (i % 400), 0.0, 0.0)); };
   km_rig.Render(km_pose(0), 1, 0, &rig_frames);
-  c0 = CpuMs();
-  t0 = Clock::now();
+  const double c0 = CpuMs();
+  const auto t0 = Clock::now();
   for (int i = 0; i < frames; ++i) {
     km_rig.Render(km_pose(i), 1, static_cast<std::uint64_t>(i), &rig_frames);
   }

@@ -433,6 +433,47 @@ TEST_CASE("a bad draw request throws invalid_argument and the backend still work
   CheckTestImage(Render(*backend));
 }
 
+TEST_CASE("a batch of passes gives each pass the images a single draw gives", "[render]") {
+  auto backend = CreateBackend(BackendKind::kOsMesa);
+  backend->Upload(TestScene());
+  // Three passes, two of one size (each keeps a framebuffer of its own within the batch).
+  View smaller = TestView();
+  smaller.width = kWidth / 2;
+  smaller.cx = smaller.cx / 2;
+  View turned = TestView();
+  turned.world_from_camera =
+      turned.world_from_camera *
+      SE3(Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitY()).matrix(), Eigen::Vector3d::Zero());
+  const std::vector<View> views = {TestView(), smaller, turned};
+  std::vector<RenderedView> batch(views.size());
+  std::vector<DrawRequest> requests;
+  for (std::size_t k = 0; k < views.size(); ++k) {
+    requests.push_back({views[k], kAllDrawables, kAllLights, &batch[k]});
+  }
+  backend->DrawPasses(requests);
+  for (std::size_t k = 0; k < views.size(); ++k) {
+    const RenderedView alone = Render(*backend, views[k]);
+    INFO("pass " << k);
+    CHECK(batch[k].rgb.width == views[k].width);
+    CHECK(batch[k].rgb.data == alone.rgb.data);
+    CHECK(batch[k].depth_m.data == alone.depth_m.data);
+    CHECK(batch[k].instance == alone.instance);
+    CHECK(batch[k].semantic == alone.semantic);
+  }
+  CHECK(batch[0].rgb.data != batch[2].rgb.data);  // the turned view sees something else
+  CheckTestImage(batch[0]);
+
+  // A bad request anywhere in the batch: nothing is drawn, the outputs stay as they were.
+  std::vector<RenderedView> untouched(2);
+  View zero_height = TestView();
+  zero_height.height = 0;
+  const std::vector<DrawRequest> bad = {{TestView(), kAllDrawables, kAllLights, &untouched[0]},
+                                        {zero_height, kAllDrawables, kAllLights, &untouched[1]}};
+  CHECK_THROWS_AS(backend->DrawPasses(bad), std::invalid_argument);
+  CHECK(untouched[0].rgb.data.empty());
+  CheckTestImage(Render(*backend));
+}
+
 TEST_CASE("a scene with an index past the vertices is rejected before upload", "[render]") {
   auto backend = CreateBackend(BackendKind::kOsMesa);
   Scene scene = TestScene();
