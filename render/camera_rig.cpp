@@ -6,7 +6,6 @@
 #include <array>
 #include <cmath>
 #include <cstdlib>
-#include <future>
 #include <numbers>
 
 namespace corridorsim::render {
@@ -588,43 +587,64 @@ Rig::Rig(const RigSpec& spec, const Scene& scene, Backend& backend)
   for (const CameraSpec& c : spec.cameras) {
     if (c.enabled) cameras_.emplace_back(c);
   }
+  started_.assign(cameras_.size(), false);
+}
+
+Rig::~Rig() {
+  try {
+    Wait();        // the stages write frames the caller owns: let them end
+  } catch (...) {  // NOLINT(bugprone-empty-catch): a destructor reports nothing
+  }
 }
 
 void Rig::Render(const SE3& world_from_robot, std::uint64_t seed, std::uint64_t frame_index,
                  std::vector<CameraFrame>* frames) {
   frames->resize(cameras_.size());
-  // The GL passes run on this thread; what follows them on the CPU (a fisheye's remap, the noise
-  // models) runs on a thread of its own per camera while the next cameras draw: llvmpipe leaves a
-  // core idle while this thread transforms and bins triangles. Those stages read and write only
-  // their own camera's buffers and draw from their own streams, so the bytes do not depend on
-  // the overlap; cameras with such work draw first. (Futures from std::async join in their
-  // destructors, also when a draw throws.)
+  // The cameras with the most CPU work after their draw start first, so it overlaps the most
+  // drawing of the others.
   std::vector<std::size_t> order(cameras_.size());
   for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
   std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
     return cameras_[a].cpu_work() > cameras_[b].cpu_work();
   });
-  std::vector<std::future<void>> pending;
-  for (const std::size_t k : order) {
-    cameras_[k].Draw(scene_, backend_,
-                     world_from_robot * cameras_[k].spec().mount.RobotFromCamera());
-    CameraFrame* frame = &(*frames)[k];
-    if (cameras_[k].cpu_work() == 0) {
-      FinishCamera(k, seed, frame_index, frame);
-      continue;
+  try {
+    for (const std::size_t k : order) {
+      StartCamera(k, world_from_robot, seed, frame_index, &(*frames)[k]);
     }
-    pending.push_back(std::async(std::launch::async, [this, k, seed, frame_index, frame] {
-      FinishCamera(k, seed, frame_index, frame);
-    }));
+  } catch (...) {
+    // The cameras already started write into *frames: let them end before it can go away.
+    try {
+      Wait();
+    } catch (...) {  // NOLINT(bugprone-empty-catch): the draw's exception is the one to report
+    }
+    throw;
   }
-  for (std::future<void>& p : pending) p.get();  // rethrows a stage's exception
+  Wait();
 }
 
 void Rig::RenderCamera(std::size_t index, const SE3& world_from_robot, std::uint64_t seed,
                        std::uint64_t frame_index, CameraFrame* frame) {
+  StartCamera(index, world_from_robot, seed, frame_index, frame);
+  Wait();
+}
+
+void Rig::StartCamera(std::size_t index, const SE3& world_from_robot, std::uint64_t seed,
+                      std::uint64_t frame_index, CameraFrame* frame) {
   CameraRenderer& camera = cameras_.at(index);
+  if (started_.at(index)) Wait();  // its last frame's CPU stages still read the buffers Draw writes
   camera.Draw(scene_, backend_, world_from_robot * camera.spec().mount.RobotFromCamera());
-  FinishCamera(index, seed, frame_index, frame);
+  if (camera.cpu_work() == 0) {
+    FinishCamera(index, seed, frame_index, frame);
+    return;
+  }
+  started_[index] = true;
+  worker_.Submit(
+      [this, index, seed, frame_index, frame] { FinishCamera(index, seed, frame_index, frame); });
+}
+
+void Rig::Wait() {
+  std::fill(started_.begin(), started_.end(), false);
+  worker_.Drain();  // rethrows the first exception of a stage
 }
 
 void Rig::FinishCamera(std::size_t index, std::uint64_t seed, std::uint64_t frame_index,

@@ -19,6 +19,7 @@
 #include "common/error.h"
 #include "common/image.h"
 #include "common/pose.h"
+#include "common/serial_worker.h"
 #include "common/yaml_reader.h"
 #include "render/backend.h"
 #include "render/noise.h"
@@ -151,12 +152,21 @@ class CameraRenderer {
 };
 
 /// The whole rig on one robot.
+///
+/// The GL passes run on the calling thread; what follows them on the CPU (a fisheye's remap,
+/// the noise models) runs on the rig's worker thread while the next cameras draw: llvmpipe
+/// leaves a core idle while the calling thread transforms and bins triangles. Those stages read
+/// and write only their own camera's buffers and frame and draw from their own streams, so the
+/// bytes never depend on the overlap.
 class Rig {
  public:
   Rig(const RigSpec& spec, const Scene& scene, Backend& backend);
+  ~Rig();
+  Rig(const Rig&) = delete;
+  Rig& operator=(const Rig&) = delete;
+
   /// Renders every enabled camera at `world_from_robot`, then applies each camera's noise from
-  /// the stream (seed, 0, "render.noise.<camera>") derived for `frame_index`. A camera's remap
-  /// and noise run on another thread while the next cameras draw (the same bytes as
+  /// the stream (seed, 0, "render.noise.<camera>") derived for `frame_index` (the same bytes as
   /// RenderCamera gives each camera).
   void Render(const SE3& world_from_robot, std::uint64_t seed, std::uint64_t frame_index,
               std::vector<CameraFrame>* frames);
@@ -164,6 +174,13 @@ class Rig {
   /// streams as Render(): a camera's frame does not depend on which other cameras render.
   void RenderCamera(std::size_t index, const SE3& world_from_robot, std::uint64_t seed,
                     std::uint64_t frame_index, CameraFrame* frame);
+  /// RenderCamera in two halves: draws the camera now and leaves its CPU stages running;
+  /// `*frame` must stay where it is, untouched, until Wait() (or the next StartCamera of the
+  /// same camera, which waits for the last one) returns.
+  void StartCamera(std::size_t index, const SE3& world_from_robot, std::uint64_t seed,
+                   std::uint64_t frame_index, CameraFrame* frame);
+  /// Waits for every started camera; rethrows the first exception of their stages.
+  void Wait();
   const std::vector<CameraRenderer>& cameras() const { return cameras_; }
 
  private:
@@ -177,6 +194,10 @@ class Rig {
   const Scene& scene_;
   Backend& backend_;
   std::vector<CameraRenderer> cameras_;
+  // The CPU stages after the draws, in the order the cameras started (one thread: the other
+  // core is llvmpipe's); a bound of 64 queued frames is never reached by one rig frame.
+  SerialWorker worker_{64};
+  std::vector<bool> started_;  // per camera: a frame whose stages may still run
 };
 
 /// The pinhole intrinsics of a model (a fisheye's fx, fy, cx, cy with no distortion), for noise

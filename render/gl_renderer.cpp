@@ -5,6 +5,9 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 #include <stdexcept>
 #include <string>
 
@@ -112,9 +115,26 @@ GLenum TextureFormat(int channels) {
   }
 }
 
+// llvmpipe's draw module allocates and frees a vertex buffer on every draw call. With glibc's
+// defaults each free at the top of the heap trims it and the next allocation faults its pages in
+// again: with small images, where little else happens per draw, that was 90 % of a frame
+// (64 x 48 front camera: 35 ms instead of 3.5 ms). Freed memory up to 64 MiB stays with the
+// process, and buffers up to 32 MiB come from the heap instead of mmap. Process-wide, once.
+void KeepHeapPages() {
+#if defined(__GLIBC__)
+  static const bool done = [] {
+    mallopt(M_TRIM_THRESHOLD, 64 << 20);
+    mallopt(M_MMAP_THRESHOLD, 32 << 20);
+    return true;
+  }();
+  (void)done;
+#endif
+}
+
 }  // namespace
 
 GlBackend::GlBackend(std::unique_ptr<GlContext> context) : context_(std::move(context)) {
+  KeepHeapPages();
   context_->MakeCurrent();
   gl_ = LoadGlFunctions(*context_);
 

@@ -14,6 +14,7 @@
 
 #include "common/atomic_file.h"
 #include "common/error.h"
+#include "common/serial_worker.h"
 #include "render/backend.h"
 #include "render/camera_rig.h"
 #include "render/scene.h"
@@ -23,7 +24,6 @@
 #include "scenarios/progress.h"
 #include "scenarios/run_io.h"
 #include "scenarios/scenario.h"
-#include "scenarios/serial_worker.h"
 #include "sim/simulation.h"
 #include "slam/pipeline.h"
 #include "worlds/world_io.h"

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <deque>
 #include <numbers>
 
 namespace corridorsim::sim {
@@ -151,7 +152,11 @@ void Simulation::EmitDue(const TruthSample& before, const TruthSample& after) {
     }
     odometry_clock_.Advance();
   }
-  // Cameras, each at its own rate, rendered at the true pose of its stamp.
+  // Cameras, each at its own rate, rendered at the true pose of its stamp. Every frame due in
+  // this step is started before any is finished: a camera's remap and noise run while the next
+  // ones draw (render::Rig). The frames are kept in place until the rig is done with them.
+  const auto t0 = std::chrono::steady_clock::now();
+  std::deque<CameraMessage> started;
   for (std::size_t k = 0; k < camera_clocks_.size(); ++k) {
     SensorClock& clock = camera_clocks_[k];
     while (clock.next_ns() <= now) {
@@ -166,30 +171,41 @@ void Simulation::EmitDue(const TruthSample& before, const TruthSample& after) {
         clock.Advance();
         continue;
       }
-      const auto t0 = std::chrono::steady_clock::now();
       const TruthSample at = Interpolate(before, after, clock.next_ns());
-      CameraMessage message;
+      CameraMessage& message = started.emplace_back();
       message.stamp_ns = at.stamp_ns;
       message.frame_index = clock.count();
       message.camera = k;
       message.world_from_robot = at.state.world_from_robot;
-      rig_->RenderCamera(k, at.state.world_from_robot, options_.seed, message.frame_index,
-                         &message.frame);
-      render::FrameTruthInput input;
-      input.world = &world_;
-      input.camera_id = camera_specs_[k].id;
-      input.model = camera_specs_[k].model;
-      input.world_from_camera = message.frame.world_from_camera;
-      input.world_from_robot = at.state.world_from_robot;
-      input.instance = &message.frame.instance;
-      input.semantic = &message.frame.semantic;
-      message.truth = render::ComputeFrameTruth(input);
-      output_.frames.push_back(std::move(message));
-      render_seconds_ +=
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      try {
+        rig_->StartCamera(k, at.state.world_from_robot, options_.seed, message.frame_index,
+                          &message.frame);
+      } catch (...) {
+        // The frames already started are written by the rig: let it end before they go away.
+        try {
+          rig_->Wait();
+        } catch (...) {  // NOLINT(bugprone-empty-catch): the draw's exception is reported
+        }
+        throw;
+      }
       clock.Advance();
     }
   }
+  if (started.empty()) return;
+  rig_->Wait();
+  for (CameraMessage& message : started) {
+    render::FrameTruthInput input;
+    input.world = &world_;
+    input.camera_id = camera_specs_[message.camera].id;
+    input.model = camera_specs_[message.camera].model;
+    input.world_from_camera = message.frame.world_from_camera;
+    input.world_from_robot = message.world_from_robot;
+    input.instance = &message.frame.instance;
+    input.semantic = &message.frame.semantic;
+    message.truth = render::ComputeFrameTruth(input);
+    output_.frames.push_back(std::move(message));
+  }
+  render_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
 void Simulation::TrackContacts() {

@@ -1,6 +1,6 @@
-// Tests scenarios/serial_worker.cpp: jobs run in submission order on one thread, a failing job's
+// Tests common/serial_worker.cpp: jobs run in submission order on one thread, a failing job's
 // exception reaches the submitter, and the queued weight stays bounded.
-#include "scenarios/serial_worker.h"
+#include "common/serial_worker.h"
 
 #include <atomic>
 #include <stdexcept>

@@ -1,4 +1,4 @@
-#include "scenarios/serial_worker.h"
+#include "common/serial_worker.h"
 
 #include <chrono>
 
