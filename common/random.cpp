@@ -99,50 +99,45 @@ double RandomStream::Normal(double mean, double stddev) {
   return mean + stddev * u * factor;
 }
 
-namespace {
-
 // Ziggurat of the unnormalised density f(x) = exp(-x^2 / 2) in 256 layers of equal area kArea
 // (Marsaglia and Tsang 2000): x[0] = kArea / f(r) is the width of the base layer (the strip below
 // f(r) plus the tail beyond r, as a rectangle of the same area), x[1] = r, x[i + 1] solves
 // f(x[i + 1]) = f(x[i]) + kArea / x[i], x[256] = 0; y[i] = f(x[i]).
-struct ZigguratTables {
-  static constexpr double kTailStart = 3.6541528853610088;  // r
-  static constexpr double kArea = 4.92867323399e-3;         // v, area of each layer
-  double x[257];
-  double y[257];
-  ZigguratTables() {
-    auto f = [](double v) { return std::exp(-0.5 * v * v); };
-    x[0] = kArea / f(kTailStart);
-    x[1] = kTailStart;
-    for (int i = 1; i < 255; ++i) x[i + 1] = std::sqrt(-2.0 * std::log(kArea / x[i] + f(x[i])));
-    x[256] = 0.0;
-    for (int i = 0; i < 257; ++i) y[i] = f(x[i]);
+detail::ZigguratTables detail::MakeZigguratTables() {
+  ZigguratTables t{};
+  auto f = [](double v) { return std::exp(-0.5 * v * v); };
+  t.x[0] = ZigguratTables::kArea / f(ZigguratTables::kTailStart);
+  t.x[1] = ZigguratTables::kTailStart;
+  for (int i = 1; i < 255; ++i) {
+    t.x[i + 1] = std::sqrt(-2.0 * std::log(ZigguratTables::kArea / t.x[i] + f(t.x[i])));
   }
-};
+  t.x[256] = 0.0;
+  for (int i = 0; i < 257; ++i) t.y[i] = f(t.x[i]);
+  return t;
+}
 
-}  // namespace
-
-double RandomStream::StandardNormalZiggurat() {
-  static const ZigguratTables tables;
+double RandomStream::ZigguratOutside(int layer, double u, double x) {
+  const detail::ZigguratTables& tables = detail::kZiggurat;
   for (;;) {
-    const std::uint64_t bits = NextU64();
-    const auto layer = static_cast<int>(bits & 0xFF);
-    // A uniform in (-1, 1) from the top 53 bits (sign included), never exactly +-1.
-    const double u = (static_cast<double>(bits >> 11) + 0.5) * 0x1.0p-52 - 1.0;
-    const double x = u * tables.x[layer];
-    if (std::abs(x) < tables.x[layer + 1]) return x;  // inside the layer's core rectangle
     if (layer == 0) {
       // The tail beyond r (Marsaglia 1964): x = -log(U1) / r accepted when -2 log(U2) > x^2.
       double tail = 0.0, y = 0.0;
       do {
-        tail = -std::log1p(-Uniform01()) / ZigguratTables::kTailStart;
+        tail = -std::log1p(-Uniform01()) / detail::ZigguratTables::kTailStart;
         y = -std::log1p(-Uniform01());
       } while (2.0 * y < tail * tail);
-      return u < 0 ? -(ZigguratTables::kTailStart + tail) : ZigguratTables::kTailStart + tail;
+      return u < 0 ? -(detail::ZigguratTables::kTailStart + tail)
+                   : detail::ZigguratTables::kTailStart + tail;
     }
     // The wedge between the core rectangle and the curve: accept under the density.
     const double height = tables.y[layer] + Uniform01() * (tables.y[layer + 1] - tables.y[layer]);
     if (height < std::exp(-0.5 * x * x)) return x;
+    // Rejected: a new draw, as StandardNormalZiggurat() makes it.
+    const std::uint64_t bits = NextU64();
+    layer = static_cast<int>(bits & 0xFF);
+    u = (static_cast<double>(bits >> 11) + 0.5) * 0x1.0p-52 - 1.0;
+    x = u * tables.x[layer];
+    if (std::abs(x) < tables.x[layer + 1]) return x;
   }
 }
 

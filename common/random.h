@@ -6,6 +6,7 @@
 // changes the numbers another sees. The generator is xoshiro256** seeded through SplitMix64; the
 // distributions are written here because the standard library's differ between implementations.
 
+#include <cmath>
 #include <cstdint>
 #include <span>
 #include <string_view>
@@ -16,6 +17,19 @@ namespace corridorsim {
 
 /// 64-bit FNV-1a hash of a component name (stable across platforms and builds).
 std::uint64_t HashName(std::string_view name);
+
+namespace detail {
+/// The ziggurat's layer edges x[i] and densities y[i] = exp(-x[i]^2 / 2) (see random.cpp).
+struct ZigguratTables {
+  static constexpr double kTailStart = 3.6541528853610088;  // r
+  static constexpr double kArea = 4.92867323399e-3;         // v, area of each layer
+  double x[257];
+  double y[257];
+};
+ZigguratTables MakeZigguratTables();
+/// Computed once before main(); no static initialiser draws from a RandomStream.
+inline const ZigguratTables kZiggurat = MakeZigguratTables();
+}  // namespace detail
 
 class RandomStream {
  public:
@@ -50,8 +64,16 @@ class RandomStream {
   /// Standard normal by the ziggurat method (Marsaglia and Tsang 2000, 256 layers): exact, one
   /// 64-bit draw per value 99 % of the time and no logarithm, several times faster than Normal();
   /// for per-pixel noise, where a frame takes hundreds of thousands of draws. Its sequence differs
-  /// from Normal()'s.
-  double StandardNormalZiggurat();
+  /// from Normal()'s. Inline: the common case is a table lookup and a comparison.
+  double StandardNormalZiggurat() {
+    const std::uint64_t bits = NextU64();
+    const auto layer = static_cast<int>(bits & 0xFF);
+    // A uniform in (-1, 1) from the top 53 bits (sign included), never exactly +-1.
+    const double u = (static_cast<double>(bits >> 11) + 0.5) * 0x1.0p-52 - 1.0;
+    const double x = u * detail::kZiggurat.x[layer];
+    if (std::abs(x) < detail::kZiggurat.x[layer + 1]) return x;  // inside the core rectangle
+    return ZigguratOutside(layer, u, x);
+  }
   /// True with probability p.
   bool Bernoulli(double p);
   /// Exponential with the given rate (events per unit).
@@ -73,6 +95,9 @@ class RandomStream {
 
  private:
   explicit RandomStream(std::uint64_t identity);
+  // The rest of a ziggurat draw outside the core rectangle of `layer`: the tail, or the wedge
+  // test and, when it rejects, new draws.
+  double ZigguratOutside(int layer, double u, double x);
   static constexpr std::uint64_t Rotl(std::uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
 
   std::uint64_t identity_;  // hash of (seed, run index, component path); seeds the state
