@@ -96,7 +96,7 @@ class RandomStream {
  private:
   explicit RandomStream(std::uint64_t identity);
   // The rest of a ziggurat draw outside the core rectangle of `layer`: the tail, or the wedge
-  // test and, when it rejects, new draws.
+  // test and, when it rejects, a new draw.
   double ZigguratOutside(int layer, double u, double x);
   static constexpr std::uint64_t Rotl(std::uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
 

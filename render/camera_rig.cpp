@@ -499,12 +499,12 @@ void CameraRenderer::Draw(const Scene& scene, Backend& backend, const SE3& world
           ? std::vector<int>{}
           : NearestLights(scene, world_from_camera.translation(), scene.options.max_lights);
   // All passes in one batch: the backend submits the next pass while the last one rasterises.
-  visible_.resize(views.size());
+  std::vector<std::vector<int>> visible(views.size());
   std::vector<DrawRequest> requests(views.size());
   for (std::size_t k = 0; k < views.size(); ++k) {
     views[k].read_depth = spec_.depth;
-    visible_[k] = VisibleDrawables(scene, views[k]);
-    requests[k] = DrawRequest{views[k], visible_[k], lights, &rendered_[k]};
+    visible[k] = VisibleDrawables(scene, views[k]);
+    requests[k] = DrawRequest{views[k], visible[k], lights, &rendered_[k]};
   }
   backend.DrawPasses(requests);
 }
@@ -588,35 +588,25 @@ Rig::Rig(const RigSpec& spec, const Scene& scene, Backend& backend)
     if (c.enabled) cameras_.emplace_back(c);
   }
   started_.assign(cameras_.size(), false);
+  // The cameras with the most CPU work after their draw start first in Render, so it overlaps
+  // the most drawing of the others.
+  for (std::size_t k = 0; k < cameras_.size(); ++k) draw_order_.push_back(k);
+  std::stable_sort(draw_order_.begin(), draw_order_.end(), [&](std::size_t a, std::size_t b) {
+    return cameras_[a].cpu_work() > cameras_[b].cpu_work();
+  });
 }
 
-Rig::~Rig() {
-  try {
-    Wait();        // the stages write frames the caller owns: let them end
-  } catch (...) {  // NOLINT(bugprone-empty-catch): a destructor reports nothing
-  }
-}
+Rig::~Rig() { Abandon(); }  // the stages write frames the caller owns: let them end
 
 void Rig::Render(const SE3& world_from_robot, std::uint64_t seed, std::uint64_t frame_index,
                  std::vector<CameraFrame>* frames) {
   frames->resize(cameras_.size());
-  // The cameras with the most CPU work after their draw start first, so it overlaps the most
-  // drawing of the others.
-  std::vector<std::size_t> order(cameras_.size());
-  for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-    return cameras_[a].cpu_work() > cameras_[b].cpu_work();
-  });
   try {
-    for (const std::size_t k : order) {
+    for (const std::size_t k : draw_order_) {
       StartCamera(k, world_from_robot, seed, frame_index, &(*frames)[k]);
     }
   } catch (...) {
-    // The cameras already started write into *frames: let them end before it can go away.
-    try {
-      Wait();
-    } catch (...) {  // NOLINT(bugprone-empty-catch): the draw's exception is the one to report
-    }
+    Abandon();  // the cameras already started write into *frames: let them end first
     throw;
   }
   Wait();
@@ -645,6 +635,13 @@ void Rig::StartCamera(std::size_t index, const SE3& world_from_robot, std::uint6
 void Rig::Wait() {
   std::fill(started_.begin(), started_.end(), false);
   worker_.Drain();  // rethrows the first exception of a stage
+}
+
+void Rig::Abandon() noexcept {
+  try {
+    Wait();
+  } catch (...) {  // NOLINT(bugprone-empty-catch): the caller reports its own error
+  }
 }
 
 void Rig::FinishCamera(std::size_t index, std::uint64_t seed, std::uint64_t frame_index,

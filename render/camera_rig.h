@@ -148,7 +148,6 @@ class CameraRenderer {
   std::vector<RemapEntry> remap_;   // per output pixel, alongside lut_
   std::vector<float> depth_scale_;  // camera z per pass z along each pixel's ray (depth cameras)
   std::vector<RenderedView> rendered_;
-  std::vector<std::vector<int>> visible_;  // per pass, the drawables of the last Draw
 };
 
 /// The whole rig on one robot.
@@ -181,6 +180,9 @@ class Rig {
                    std::uint64_t frame_index, CameraFrame* frame);
   /// Waits for every started camera; rethrows the first exception of their stages.
   void Wait();
+  /// Waits for every started camera and drops their exceptions: for a caller unwinding from an
+  /// error of its own, whose started frames must not go away under the worker.
+  void Abandon() noexcept;
   const std::vector<CameraRenderer>& cameras() const { return cameras_; }
 
  private:
@@ -194,6 +196,7 @@ class Rig {
   const Scene& scene_;
   Backend& backend_;
   std::vector<CameraRenderer> cameras_;
+  std::vector<std::size_t> draw_order_;  // Render's order: most CPU work after the draw first
   // The CPU stages after the draws, in the order the cameras started (one thread: the other
   // core is llvmpipe's); a bound of 64 queued frames is never reached by one rig frame.
   SerialWorker worker_{64};

@@ -388,9 +388,9 @@ void GlBackend::Upload(const Scene& scene) {
   CheckGlError("scene upload");
 }
 
-const GlBackend::Target& GlBackend::EnsureFramebuffer(int width, int height, int slot) {
+GLuint GlBackend::EnsureFramebuffer(int width, int height, int slot) {
   for (const Target& t : targets_) {
-    if (t.width == width && t.height == height && t.slot == slot) return t;
+    if (t.width == width && t.height == height && t.slot == slot) return t.fbo;
   }
   // colour, instance id, semantic class, view-space z, depth
   constexpr std::array<GLenum, 5> kFormats = {GL_RGBA8, GL_R32UI, GL_R8UI, GL_R32F,
@@ -424,7 +424,7 @@ const GlBackend::Target& GlBackend::EnsureFramebuffer(int width, int height, int
   }
   targets_.push_back(t);
   CheckGlError("framebuffer setup");
-  return targets_.back();
+  return t.fbo;
 }
 
 void GlBackend::Draw(const View& view, std::span<const int> drawables, std::span<const int> lights,
@@ -486,7 +486,7 @@ void GlBackend::Check(const DrawRequest& request) const {
 void GlBackend::Submit(const DrawRequest& request, int slot) {
   const View& view = request.view;
   const std::span<const int> drawables = request.drawables, lights = request.lights;
-  gl_.BindFramebuffer(GL_FRAMEBUFFER, EnsureFramebuffer(view.width, view.height, slot).fbo);
+  gl_.BindFramebuffer(GL_FRAMEBUFFER, EnsureFramebuffer(view.width, view.height, slot));
   gl_.Viewport(0, 0, view.width, view.height);
   constexpr GLfloat kBlack[4] = {0, 0, 0, 0};
   constexpr GLuint kNoId[4] = {0, 0, 0, 0};
@@ -559,7 +559,7 @@ void GlBackend::Submit(const DrawRequest& request, int slot) {
 void GlBackend::ReadBack(const DrawRequest& request, int slot) {
   const View& view = request.view;
   RenderedView* out = request.out;
-  gl_.BindFramebuffer(GL_READ_FRAMEBUFFER, EnsureFramebuffer(view.width, view.height, slot).fbo);
+  gl_.BindFramebuffer(GL_READ_FRAMEBUFFER, EnsureFramebuffer(view.width, view.height, slot));
   // Read back: GL rows come bottom-up, which is image row 0 first (see ClipFromCamera).
   const int w = view.width, h = view.height;
   const std::size_t pixels = std::size_t(w) * h;

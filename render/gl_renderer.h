@@ -54,10 +54,9 @@ class GlBackend final : public Backend {
 
   /// The program for `light_count` lights, compiled on first use.
   const Program& ProgramFor(int light_count);
-  struct Target;
   /// The framebuffer for a pass of this size at position `slot` of a batch (created on first
   /// use; kept, so a rig's passes reuse theirs every frame).
-  const Target& EnsureFramebuffer(int width, int height, int slot);
+  GLuint EnsureFramebuffer(int width, int height, int slot);
   /// Throws std::invalid_argument (std::logic_error before Upload) for a request it cannot draw.
   void Check(const DrawRequest& request) const;
   /// Clears the slot's framebuffer and issues the draw calls of one pass (no wait).

@@ -98,14 +98,10 @@ struct BackProjector {
   }
 };
 
-// Cosines of the angle between the viewing ray and the surface normal for every pixel of row v,
-// the normal from central differences of the back-projected depth (one-sided next to invalid
-// pixels and the image border); 1 (head-on) where no normal can be estimated. `above` and
-// `below` are rows v - 1 and v + 1, nullptr beyond the image. Single precision and without
-// branches (a missing neighbour is replaced by the pixel itself, which makes the difference
-// one-sided, or zero when both are missing), so the loop vectorises.
 // The incidence cosine at one pixel from its depth z and its neighbours' (0 = invalid); xs, ys
-// its ray's x and y at z = 1 and inv_fx, inv_fy the ray steps between pixels.
+// its ray's x and y at z = 1 and inv_fx, inv_fy the ray steps between pixels. Single precision
+// and without branches (a missing neighbour is replaced by the pixel itself, which makes the
+// difference one-sided, or zero when both are missing), so a loop over it vectorises.
 inline float CosIncidence(float z, float z_left, float z_right, float z_up, float z_down, float xs,
                           float ys, float inv_fx, float inv_fy) {
   // Back-projected neighbours P = z (xs, ys, 1), each replaced by the pixel where invalid.
@@ -124,6 +120,10 @@ inline float CosIncidence(float z, float z_left, float z_right, float z_up, floa
   return (z > 0) & (norms2 > 0) ? cosine : 1.0f;  // & not &&: no branch, so it vectorises
 }
 
+// Cosines of the angle between the viewing ray and the surface normal for every pixel of row v,
+// the normal from central differences of the back-projected depth (one-sided next to invalid
+// pixels and the image border); 1 (head-on) where no normal can be estimated. `above` and
+// `below` are rows v - 1 and v + 1, nullptr beyond the image.
 void CosIncidenceRow(const float* above, const float* row, const float* below, int width, int v,
                      const BackProjector& back_project, float* out) {
   const auto inv_fx = static_cast<float>(back_project.inv_fx);
@@ -149,7 +149,8 @@ void CosIncidenceRow(const float* above, const float* row, const float* below, i
 }
 
 // theta in degrees for cosines in [lo, hi] (the grazing ramp), from a table with linear
-// interpolation: within 1e-6 deg of acos, without a libm call per pixel.
+// interpolation: within 1e-6 deg of acos over the default 70-78 deg ramp, without a libm call
+// per pixel.
 class AcosDegTable {
  public:
   AcosDegTable(double lo, double hi) : lo_(lo), step_((hi - lo) / kIntervals) {

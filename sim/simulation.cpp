@@ -181,11 +181,7 @@ void Simulation::EmitDue(const TruthSample& before, const TruthSample& after) {
         rig_->StartCamera(k, at.state.world_from_robot, options_.seed, message.frame_index,
                           &message.frame);
       } catch (...) {
-        // The frames already started are written by the rig: let it end before they go away.
-        try {
-          rig_->Wait();
-        } catch (...) {  // NOLINT(bugprone-empty-catch): the draw's exception is reported
-        }
+        rig_->Abandon();  // the frames already started are written by the rig: let it end first
         throw;
       }
       clock.Advance();
