@@ -88,6 +88,7 @@ int main(int argc, char** argv) {
   struct Prepared {
     std::vector<render::View> views;
     std::vector<std::vector<int>> drawables;
+    std::vector<std::span<const render::PixelRect>> unused;
   };
   std::vector<std::vector<Prepared>> prepared(static_cast<std::size_t>(frames));
   for (int i = 0; i < frames; ++i) {
@@ -97,6 +98,7 @@ int main(int argc, char** argv) {
       for (render::View view : camera.Passes(world_from_camera)) {
         view.read_depth = camera.spec().depth;
         p.drawables.push_back(render::VisibleDrawables(scene, view));
+        p.unused.push_back(camera.unused_pixels(p.views.size()));
         p.views.push_back(view);
       }
       prepared[static_cast<std::size_t>(i)].push_back(std::move(p));
@@ -107,7 +109,7 @@ int main(int argc, char** argv) {
     for (const Prepared& p : prepared[static_cast<std::size_t>(i)]) {
       std::vector<render::DrawRequest> requests;
       for (std::size_t k = 0; k < p.views.size(); ++k) {
-        requests.push_back({p.views[k], p.drawables[k], {}, &outs[k]});
+        requests.push_back({p.views[k], p.drawables[k], {}, &outs[k], p.unused[k]});
       }
       backend->DrawPasses(requests);
     }

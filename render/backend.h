@@ -32,12 +32,21 @@ class RenderError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// Pixels [x0, x1) x [y0, y1) of a pass image (rows top-down).
+struct PixelRect {
+  int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+};
+
 /// One pass of a batch: what to draw from where, and where its images go.
 struct DrawRequest {
   View view;
   std::span<const int> drawables;  // indices into the uploaded scene's drawables
   std::span<const int> lights;     // indices into scene.lights, at most 16
   RenderedView* out = nullptr;
+  /// Pixels of the pass that nobody reads (a fisheye's remap samples only part of its cropped
+  /// cube faces): the backend may leave them unshaded, so their values are unspecified. Every
+  /// other pixel is exactly what it would be without them.
+  std::span<const PixelRect> unused = {};
 };
 
 class Backend {

@@ -457,6 +457,65 @@ void CameraRenderer::PlanRemapPasses() {
     // Camera z of the point at pass depth 1 along this ray: camera z = pass z * b.z / q.z.
     if (spec_.depth) depth_scale_[i] = static_cast<float>(bearings[i].z() / q.z());
   }
+  PlanUnusedPixels();
+}
+
+void CameraRenderer::PlanUnusedPixels() {
+  // The pass pixels Compose reads: each output pixel's bilinear block (its nearest pixel is one
+  // of the four).
+  std::vector<std::vector<bool>> used(passes_.size());
+  for (std::size_t k = 0; k < passes_.size(); ++k) {
+    used[k].assign(std::size_t(passes_[k].view.width) * passes_[k].view.height, false);
+  }
+  for (const RemapEntry& r : remap_) {
+    if (r.nearest == RemapEntry::kInvalid) continue;
+    std::vector<bool>& u = used[r.pass];
+    const std::size_t w = std::size_t(passes_[r.pass].view.width);
+    u[r.top_left] = u[r.top_left + 1] = u[r.top_left + w] = u[r.top_left + w + 1] = true;
+  }
+  // Unused blocks of kBlock x kBlock pixels (llvmpipe shades 4x4 blocks; a coarser grid keeps
+  // the rectangles few), as runs along block rows merged with identical runs of the rows below.
+  constexpr int kBlock = 8;
+  unused_.assign(passes_.size(), {});
+  for (std::size_t k = 0; k < passes_.size(); ++k) {
+    const int w = passes_[k].view.width, h = passes_[k].view.height;
+    auto block_unused = [&](int bx, int by) {
+      for (int y = by * kBlock; y < std::min(h, (by + 1) * kBlock); ++y) {
+        for (int x = bx * kBlock; x < std::min(w, (bx + 1) * kBlock); ++x) {
+          if (used[k][std::size_t(y) * w + x]) return false;
+        }
+      }
+      return true;
+    };
+    std::vector<PixelRect> open;  // runs of the previous block row, still growing downwards
+    for (int by = 0; by * kBlock < h; ++by) {
+      const int y0 = by * kBlock, y1 = std::min(h, y0 + kBlock);
+      std::vector<PixelRect> runs;
+      for (int bx = 0; bx * kBlock < w; ++bx) {
+        if (!block_unused(bx, by)) continue;
+        const int x0 = bx * kBlock, x1 = std::min(w, x0 + kBlock);
+        if (!runs.empty() && runs.back().x1 == x0) {
+          runs.back().x1 = x1;
+        } else {
+          runs.push_back({x0, y0, x1, y1});
+        }
+      }
+      std::vector<PixelRect> next;
+      for (PixelRect run : runs) {
+        const auto same = std::find_if(open.begin(), open.end(), [&](const PixelRect& o) {
+          return o.x0 == run.x0 && o.x1 == run.x1;
+        });
+        if (same != open.end()) {
+          run.y0 = same->y0;
+          open.erase(same);
+        }
+        next.push_back(run);
+      }
+      unused_[k].insert(unused_[k].end(), open.begin(), open.end());  // ended above this row
+      open = std::move(next);
+    }
+    unused_[k].insert(unused_[k].end(), open.begin(), open.end());
+  }
 }
 
 std::vector<View> CameraRenderer::Passes(const SE3& world_from_camera) const {
@@ -504,7 +563,7 @@ void CameraRenderer::Draw(const Scene& scene, Backend& backend, const SE3& world
   for (std::size_t k = 0; k < views.size(); ++k) {
     views[k].read_depth = spec_.depth;
     visible[k] = VisibleDrawables(scene, views[k]);
-    requests[k] = DrawRequest{views[k], visible[k], lights, &rendered_[k]};
+    requests[k] = DrawRequest{views[k], visible[k], lights, &rendered_[k], unused_pixels(k)};
   }
   backend.DrawPasses(requests);
 }

@@ -12,6 +12,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -111,6 +112,12 @@ class CameraRenderer {
            (lut_.empty() ? 0 : 1);
   }
   std::size_t pass_pixel_count() const;
+  /// Pixels of pass `pass` that no output pixel samples (empty for a direct pinhole camera):
+  /// drawn, they would be shaded for nothing.
+  std::span<const PixelRect> unused_pixels(std::size_t pass) const {
+    return pass < unused_.size() ? std::span<const PixelRect>(unused_[pass])
+                                 : std::span<const PixelRect>();
+  }
   /// Where output pixel (u, v) is sampled: the pass index and the continuous pixel position in
   /// that pass, or nothing outside the model's valid angle (for tests and tools).
   std::optional<std::pair<int, Eigen::Vector2d>> Lookup(int u, int v) const;
@@ -138,6 +145,7 @@ class CameraRenderer {
     static constexpr std::uint8_t kInvalid = 0x80;
   };
   void PlanPinholePass();
+  void PlanUnusedPixels();
   void PlanRemapPasses();
   void Compose(CameraFrame* frame) const;
 
@@ -148,6 +156,7 @@ class CameraRenderer {
   std::vector<RemapEntry> remap_;   // per output pixel, alongside lut_
   std::vector<float> depth_scale_;  // camera z per pass z along each pixel's ray (depth cameras)
   std::vector<RenderedView> rendered_;
+  std::vector<std::vector<PixelRect>> unused_;  // per pass, see unused_pixels()
 };
 
 /// The whole rig on one robot.

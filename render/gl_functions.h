@@ -20,6 +20,7 @@ namespace corridorsim::render {
   X(BINDVERTEXARRAY, BindVertexArray)                 \
   X(BUFFERDATA, BufferData)                           \
   X(CHECKFRAMEBUFFERSTATUS, CheckFramebufferStatus)   \
+  X(COLORMASK, ColorMask)                             \
   X(CLEARBUFFERFV, ClearBufferfv)                     \
   X(CLEARBUFFERUIV, ClearBufferuiv)                   \
   X(COMPILESHADER, CompileShader)                     \
@@ -36,6 +37,7 @@ namespace corridorsim::render {
   X(FRONTFACE, FrontFace)                             \
   X(CULLFACE, CullFace)                               \
   X(DISABLE, Disable)                                 \
+  X(DRAWARRAYS, DrawArrays)                           \
   X(DRAWBUFFERS, DrawBuffers)                         \
   X(DRAWELEMENTS, DrawElements)                       \
   X(ENABLE, Enable)                                   \

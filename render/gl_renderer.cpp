@@ -81,6 +81,16 @@ void main() {
 }
 )glsl";
 
+// Marks a pass's unused pixels as nearest possible (depth 0) before the scene is drawn: llvmpipe
+// tests depth before shading, so the scene's fragments there fail without being shaded.
+constexpr const char* kMaskVertexShader = R"glsl(#version 330 core
+layout(location = 0) in vec2 a_ndc;
+void main() { gl_Position = vec4(a_ndc, -1.0, 1.0); }
+)glsl";
+constexpr const char* kMaskFragmentShader = R"glsl(#version 330 core
+void main() {}
+)glsl";
+
 // Column-major 4x4 clip_from_camera for the OpenCV pinhole model. GL window pixel centres
 // (i + 0.5, j + 0.5) map to (u, v) = (i, j), and window row j is image row j: the y axis is not
 // flipped, so glReadPixels' bottom-up rows come back as top-down image rows with no copy.
@@ -171,6 +181,14 @@ GlBackend::GlBackend(std::unique_ptr<GlContext> context) : context_(std::move(co
   gl_.VertexAttribPointer(3, 1, GL_FLOAT, GL_FALSE, kStride,
                           reinterpret_cast<const void*>(offsetof(SceneVertex, irradiance)));
 
+  mask_program_ = LinkProgram(kMaskVertexShader, kMaskFragmentShader);
+  gl_.GenVertexArrays(1, &mask_vao_);
+  gl_.GenBuffers(1, &mask_vbo_);
+  gl_.BindVertexArray(mask_vao_);
+  gl_.BindBuffer(GL_ARRAY_BUFFER, mask_vbo_);
+  gl_.EnableVertexAttribArray(0);
+  gl_.VertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 2 * sizeof(float), nullptr);
+
   // Fixed state: depth test, back-face culling, no blending, no dither.
   gl_.Enable(GL_DEPTH_TEST);
   gl_.DepthFunc(GL_LESS);
@@ -204,6 +222,9 @@ GlBackend::~GlBackend() {
   gl_.DeleteBuffers(1, &ibo_);
   gl_.DeleteBuffers(1, &vbo_);
   gl_.DeleteVertexArrays(1, &vao_);
+  gl_.DeleteBuffers(1, &mask_vbo_);
+  gl_.DeleteVertexArrays(1, &mask_vao_);
+  if (mask_program_ != 0) gl_.DeleteProgram(mask_program_);
   for (const Program& program : programs_) {
     if (program.id != 0) gl_.DeleteProgram(program.id);
   }
@@ -221,9 +242,8 @@ void GlBackend::CheckGlError(const char* where) {
   if (!errors.empty()) Fail(std::string("GL error after ") + where + ": " + errors);
 }
 
-const GlBackend::Program& GlBackend::ProgramFor(int light_count) {
-  Program& program = programs_[std::size_t(light_count)];
-  if (program.id != 0) return program;
+GLuint GlBackend::LinkProgram(const std::string& vertex_source,
+                              const std::string& fragment_source) {
   auto compile = [&](GLenum type, const std::string& source, const char* name) {
     const GLuint shader = gl_.CreateShader(type);
     const char* text = source.c_str();
@@ -241,13 +261,10 @@ const GlBackend::Program& GlBackend::ProgramFor(int light_count) {
     }
     return shader;
   };
-  const GLuint vertex = compile(GL_VERTEX_SHADER, kVertexShader, "vertex");
+  const GLuint vertex = compile(GL_VERTEX_SHADER, vertex_source, "vertex");
   GLuint fragment = 0;
   try {
-    fragment = compile(GL_FRAGMENT_SHADER,
-                       "#version 330 core\n#define LIGHT_COUNT " + std::to_string(light_count) +
-                           "\n" + kFragmentShader,
-                       "fragment");
+    fragment = compile(GL_FRAGMENT_SHADER, fragment_source, "fragment");
   } catch (...) {
     gl_.DeleteShader(vertex);
     throw;
@@ -268,7 +285,15 @@ const GlBackend::Program& GlBackend::ProgramFor(int light_count) {
     gl_.DeleteProgram(id);
     Fail(std::string("shader program does not link: ") + log.c_str());
   }
+  return id;
+}
 
+const GlBackend::Program& GlBackend::ProgramFor(int light_count) {
+  Program& program = programs_[std::size_t(light_count)];
+  if (program.id != 0) return program;
+  const GLuint id =
+      LinkProgram(kVertexShader, "#version 330 core\n#define LIGHT_COUNT " +
+                                     std::to_string(light_count) + "\n" + kFragmentShader);
   program.id = id;
   auto location = [&](const char* name) { return gl_.GetUniformLocation(id, name); };
   program.camera_from_world = location("u_camera_from_world");
@@ -481,6 +506,14 @@ void GlBackend::Check(const DrawRequest& request) const {
       throw std::invalid_argument("render: light index " + std::to_string(l) + " out of range");
     }
   }
+  for (const PixelRect& r : request.unused) {
+    if (!(0 <= r.x0 && r.x0 < r.x1 && r.x1 <= view.width && 0 <= r.y0 && r.y0 < r.y1 &&
+          r.y1 <= view.height)) {
+      throw std::invalid_argument("render: unused rectangle [" + std::to_string(r.x0) + ", " +
+                                  std::to_string(r.x1) + ") x [" + std::to_string(r.y0) + ", " +
+                                  std::to_string(r.y1) + ") is empty or outside the view");
+    }
+  }
 }
 
 void GlBackend::Submit(const DrawRequest& request, int slot) {
@@ -495,12 +528,13 @@ void GlBackend::Submit(const DrawRequest& request, int slot) {
   gl_.ClearBufferuiv(GL_COLOR, 1, kNoId);
   gl_.ClearBufferuiv(GL_COLOR, 2, kNoId);
   // The metric z attachment only where it is read: llvmpipe then neither clears nor writes it.
-  const std::array<GLenum, 4> draw_buffers = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1,
-                                              GL_COLOR_ATTACHMENT2,
-                                              view.read_depth ? GL_COLOR_ATTACHMENT3 : GL_NONE};
+  const std::array<GLenum, 4> draw_buffers = {
+      GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2,
+      view.read_depth ? GLenum(GL_COLOR_ATTACHMENT3) : GLenum(GL_NONE)};
   gl_.DrawBuffers(GLsizei(draw_buffers.size()), draw_buffers.data());
   if (view.read_depth) gl_.ClearBufferfv(GL_COLOR, 3, kBlack);
   gl_.ClearBufferfv(GL_DEPTH, 0, &kFarDepth);
+  if (!request.unused.empty()) DrawUnusedMask(request);
 
   const Program& program = ProgramFor(int(lights.size()));
   gl_.UseProgram(program.id);
@@ -554,6 +588,30 @@ void GlBackend::Submit(const DrawRequest& request, int slot) {
         GL_TRIANGLES, GLsizei(d.index_count), GL_UNSIGNED_INT,
         reinterpret_cast<const void*>(std::uintptr_t(d.first_index) * sizeof(std::uint32_t)));
   }
+}
+
+void GlBackend::DrawUnusedMask(const DrawRequest& request) {
+  // Two triangles per rectangle in normalised device coordinates: window row j is image row j
+  // (see ClipFromCamera), so y needs no flip.
+  const float sx = 2.0f / float(request.view.width), sy = 2.0f / float(request.view.height);
+  mask_vertices_.clear();
+  for (const PixelRect& r : request.unused) {
+    const float x0 = float(r.x0) * sx - 1, x1 = float(r.x1) * sx - 1;
+    const float y0 = float(r.y0) * sy - 1, y1 = float(r.y1) * sy - 1;
+    mask_vertices_.insert(mask_vertices_.end(), {x0, y0, x1, y0, x1, y1, x0, y0, x1, y1, x0, y1});
+  }
+  gl_.UseProgram(mask_program_);
+  gl_.BindVertexArray(mask_vao_);
+  gl_.BindBuffer(GL_ARRAY_BUFFER, mask_vbo_);
+  gl_.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(mask_vertices_.size() * sizeof(float)),
+                 mask_vertices_.data(), GL_STREAM_DRAW);
+  gl_.ColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+  gl_.Disable(GL_CULL_FACE);
+  gl_.DepthFunc(GL_ALWAYS);
+  gl_.DrawArrays(GL_TRIANGLES, 0, GLsizei(mask_vertices_.size() / 2));
+  gl_.DepthFunc(GL_LESS);
+  gl_.Enable(GL_CULL_FACE);
+  gl_.ColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
 }
 
 void GlBackend::ReadBack(const DrawRequest& request, int slot) {

@@ -52,6 +52,8 @@ class GlBackend final : public Backend {
     GLint instance = -1, semantic = -1;
   };
 
+  /// Compiles and links a program; throws RenderError with the compiler's log.
+  GLuint LinkProgram(const std::string& vertex_source, const std::string& fragment_source);
   /// The program for `light_count` lights, compiled on first use.
   const Program& ProgramFor(int light_count);
   /// The framebuffer for a pass of this size at position `slot` of a batch (created on first
@@ -61,6 +63,8 @@ class GlBackend final : public Backend {
   void Check(const DrawRequest& request) const;
   /// Clears the slot's framebuffer and issues the draw calls of one pass (no wait).
   void Submit(const DrawRequest& request, int slot);
+  /// Sets depth 0 over request.unused, so that the scene is not shaded there.
+  void DrawUnusedMask(const DrawRequest& request);
   /// Reads the slot's images into request.out (waits for the rasteriser).
   void ReadBack(const DrawRequest& request, int slot);
   void DeleteTextures();
@@ -71,6 +75,7 @@ class GlBackend final : public Backend {
   GlFunctions gl_;
   std::array<Program, kMaxLightsPerDraw + 1> programs_{};  // by light count
   GLuint vao_ = 0, vbo_ = 0, ibo_ = 0;
+  GLuint mask_program_ = 0, mask_vao_ = 0, mask_vbo_ = 0;  // DrawUnusedMask
   // Off-screen targets by size and batch slot: a rig alternates between pass sizes every frame,
   // so each keeps its own framebuffer instead of reallocating storage per draw.
   struct Target {
@@ -90,6 +95,7 @@ class GlBackend final : public Backend {
 
   std::vector<std::uint8_t> rgba_;            // read-back buffer, reused across frames
   std::vector<std::pair<float, int>> order_;  // draw order of one Draw, reused across frames
+  std::vector<float> mask_vertices_;          // DrawUnusedMask's triangles, reused
 };
 
 }  // namespace corridorsim::render

@@ -275,6 +275,82 @@ TEST_CASE("every pixel of the upward fisheye sees something inside the corridor"
   }
 }
 
+TEST_CASE("a fisheye leaves unshaded only pass pixels its remap never reads", "[render][gl]") {
+  auto inside = [](const PixelRect& r, int x, int y) {
+    return r.x0 <= x && x < r.x1 && r.y0 <= y && y < r.y1;
+  };
+  for (const double fov : {110.0, 130.0}) {
+    CameraSpec spec = Exact(RigSpec::Default().cameras[2]);
+    spec.model = KannalaBrandt::FromFov(320, 240, fov * kDeg);
+    const CameraRenderer camera(spec);
+    const std::vector<View> views =
+        camera.Passes(SE3::FromSE2(SE2(9, 0.2, 0.4)) * spec.mount.RobotFromCamera());
+    INFO("fov " << fov);
+    // Every output pixel's bilinear block lies outside its pass's unused rectangles.
+    std::size_t unused_pixels = 0, read_in_unused = 0;
+    for (std::size_t k = 0; k < views.size(); ++k) {
+      for (const PixelRect& r : camera.unused_pixels(k)) {
+        unused_pixels += std::size_t(r.x1 - r.x0) * std::size_t(r.y1 - r.y0);
+      }
+    }
+    for (int v = 0; v < 240; ++v) {
+      for (int u = 0; u < 320; ++u) {
+        const auto sample = camera.Lookup(u, v);
+        if (!sample) continue;
+        const int x = int(std::floor(sample->second.x())), y = int(std::floor(sample->second.y()));
+        for (const PixelRect& r : camera.unused_pixels(std::size_t(sample->first))) {
+          read_in_unused += inside(r, x, y) || inside(r, x + 1, y) || inside(r, x, y + 1) ||
+                            inside(r, x + 1, y + 1);
+        }
+      }
+    }
+    CHECK(unused_pixels > camera.pass_pixel_count() / 10);  // the cropped side faces' corners
+    CHECK(read_in_unused == 0);
+    // Drawn with and without them, each pass is the same outside the unused rectangles.
+    for (std::size_t k = 0; k < views.size(); ++k) {
+      const std::vector<int> visible = VisibleDrawables(Shared().scene, views[k]);
+      RenderedView full, masked;
+      Shared().backend->Draw(views[k], visible, {}, &full);
+      const DrawRequest request{views[k], visible, {}, &masked, camera.unused_pixels(k)};
+      Shared().backend->DrawPasses(std::span<const DrawRequest>(&request, 1));
+      std::size_t differing = 0;
+      for (int y = 0; y < views[k].height; ++y) {
+        for (int x = 0; x < views[k].width; ++x) {
+          const auto& rects = camera.unused_pixels(k);
+          if (std::any_of(rects.begin(), rects.end(),
+                          [&](const PixelRect& r) { return inside(r, x, y); })) {
+            continue;
+          }
+          const std::size_t i = std::size_t(y) * std::size_t(views[k].width) + std::size_t(x);
+          differing += full.instance[i] != masked.instance[i] ||
+                       full.semantic[i] != masked.semantic[i] ||
+                       !std::equal(&full.rgb.data[3 * i], &full.rgb.data[3 * i + 3],
+                                   &masked.rgb.data[3 * i]) ||
+                       full.depth_m.data[i] != masked.depth_m.data[i];
+        }
+      }
+      INFO("pass " << k);
+      CHECK(differing == 0);
+    }
+  }
+  // A pinhole draws every pixel of its one pass.
+  CHECK(CameraRenderer(RigSpec::Default().cameras[0]).unused_pixels(0).empty());
+}
+
+TEST_CASE("unused rectangles outside the view are rejected before drawing", "[render][gl]") {
+  CameraSpec spec = Exact(RigSpec::Default().cameras[2]);
+  const CameraRenderer camera(spec);
+  const View view = camera.Passes(SE3::FromSE2(SE2(9, 0, 0)) * spec.mount.RobotFromCamera())[0];
+  RenderedView out;
+  for (const PixelRect bad :
+       {PixelRect{0, 0, view.width + 1, 4}, PixelRect{5, 5, 5, 9}, PixelRect{-1, 0, 3, 3}}) {
+    const DrawRequest request{view, {}, {}, &out, std::span<const PixelRect>(&bad, 1)};
+    CHECK_THROWS_AS(Shared().backend->DrawPasses(std::span<const DrawRequest>(&request, 1)),
+                    std::invalid_argument);
+  }
+  CHECK(out.rgb.data.empty());
+}
+
 TEST_CASE("with back faces culled no pixel looks through a seam into the void", "[render][gl]") {
   // Every pinhole pixel inside a closed corridor hits a surface: a pixel with no instance would
   // be a face culled from where it can be seen, or a seam that touches instead of crossing.
