@@ -597,46 +597,16 @@ void CameraRenderer::Compose(CameraFrame* frame) const {
     frame->depth_m.data.resize(n);
   }
   // Per pass: where its images start (up to 6 cube faces).
-  struct PassImages {
-    const std::uint8_t* rgb = nullptr;
-    const std::uint32_t* instance = nullptr;
-    const std::uint8_t* semantic = nullptr;
-    const float* depth = nullptr;
-    std::size_t width = 0;
-  };
-  std::array<PassImages, 6> images{};
+  std::array<detail::PassImages, 6> images{};
   for (std::size_t k = 0; k < rendered_.size() && k < images.size(); ++k) {
     const RenderedView& r = rendered_[k];
     images[k] = {r.rgb.data.data(), r.instance.data(), r.semantic.data(),
                  spec_.depth ? r.depth_m.data.data() : nullptr, std::size_t(r.rgb.width)};
   }
-  std::uint8_t* rgb = frame->rgb.data.data();
-  std::uint32_t* instance = frame->instance.data();
-  std::uint8_t* semantic = frame->semantic.data();
-  float* depth = spec_.depth ? frame->depth_m.data.data() : nullptr;
-  for (std::size_t i = 0; i < n; ++i, rgb += 3) {
-    const RemapEntry e = remap_[i];
-    if (e.nearest == RemapEntry::kInvalid) {
-      rgb[0] = rgb[1] = rgb[2] = 0;
-      instance[i] = 0;
-      semantic[i] = 0;
-      if (depth != nullptr) depth[i] = 0.0f;
-      continue;
-    }
-    const PassImages& r = images[e.pass];
-    const std::uint8_t* a = r.rgb + std::size_t(e.top_left) * 3;
-    const std::uint8_t* c = a + r.width * 3;
-    const std::uint32_t wx = e.wx, wy = e.wy;
-    for (int k = 0; k < 3; ++k) {
-      const std::uint32_t top = a[k] * (256 - wx) + a[k + 3] * wx;
-      const std::uint32_t bottom = c[k] * (256 - wx) + c[k + 3] * wx;
-      rgb[k] = static_cast<std::uint8_t>((top * (256 - wy) + bottom * wy + 32768) >> 16);
-    }
-    const std::size_t nearest = e.top_left + (e.nearest & 1u) + (e.nearest >> 1) * r.width;
-    instance[i] = r.instance[nearest];
-    semantic[i] = r.semantic[nearest];
-    if (depth != nullptr) depth[i] = r.depth[nearest] * depth_scale_[i];
-  }
+  detail::NearestLabels(remap_, images, spec_.depth ? depth_scale_.data() : nullptr,
+                        frame->instance.data(), frame->semantic.data(),
+                        spec_.depth ? frame->depth_m.data.data() : nullptr);
+  detail::BilinearRgb(remap_, images, frame->rgb.data.data());
 }
 
 // ---- Rig -------------------------------------------------------------------------------------

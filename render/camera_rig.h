@@ -24,6 +24,7 @@
 #include "common/yaml_reader.h"
 #include "render/backend.h"
 #include "render/noise.h"
+#include "render/remap_kernel.h"
 #include "render/scene.h"
 #include "worlds/world.h"
 
@@ -134,16 +135,7 @@ class CameraRenderer {
     std::uint8_t pass = 0;
     bool valid = false;  // false outside the model's valid angle
   };
-  // What Compose reads per output pixel, 8 bytes: bilinear colour from the 2x2 block at
-  // `top_left` with 8-bit fixed-point weights (a weight of 256 is stored as the next block with
-  // weight 0), nearest labels and depth at top_left + the offsets in `nearest`.
-  struct RemapEntry {
-    std::uint32_t top_left = 0;   // pass pixel index of the bilinear block
-    std::uint8_t wx = 0, wy = 0;  // weights of the right column / bottom row, in 1/256
-    std::uint8_t pass = 0;
-    std::uint8_t nearest = kInvalid;  // bit 0: right column, bit 1: bottom row; kInvalid: none
-    static constexpr std::uint8_t kInvalid = 0x80;
-  };
+  using RemapEntry = detail::RemapEntry;
   void PlanPinholePass();
   void PlanUnusedPixels();
   void PlanRemapPasses();

@@ -4,9 +4,12 @@
 
 #include <cmath>
 #include <numbers>
+#include <vector>
 
 #include <catch2/catch.hpp>
 
+#include "common/random.h"
+#include "render/remap_kernel.h"
 #include "tests/support/expect_input_error.h"
 
 namespace corridorsim::render {
@@ -215,6 +218,50 @@ TEST_CASE("a camera mounted inside a wall is rejected at its mount", "[render][r
   const auto problem = CheckCameraPlacement(world, rig, robot);
   REQUIRE(problem);
   CHECK(problem->key == "lateral.mount");
+}
+
+TEST_CASE("the remap's vector bilinear blend gives the scalar loop's bytes", "[render][rig]") {
+  using detail::RemapEntry;
+  // Two passes of random texels; entries anywhere, including the buffers' last pixels (a read
+  // past a pass would show under the sanitizers), extreme weights and invalid entries.
+  RandomStream rng(11, 0, "test.remap");
+  const int widths[2] = {37, 64}, heights[2] = {23, 9};
+  std::vector<std::vector<std::uint8_t>> rgb(2);
+  std::vector<detail::PassImages> passes(2);
+  for (std::size_t k = 0; k < 2; ++k) {
+    rgb[k].resize(std::size_t(widths[k]) * std::size_t(heights[k]) * 3);
+    for (std::uint8_t& b : rgb[k]) b = std::uint8_t(rng.UniformInt(0, 255));
+    passes[k].rgb = rgb[k].data();
+    passes[k].width = std::size_t(widths[k]);
+  }
+  std::vector<RemapEntry> remap(20000);
+  for (std::size_t i = 0; i < remap.size(); ++i) {
+    RemapEntry& e = remap[i];
+    e.pass = std::uint8_t(rng.UniformInt(0, 1));
+    const int w = widths[e.pass], h = heights[e.pass];
+    const int x = i % 7 == 0 ? w - 2 : int(rng.UniformInt(0, w - 2));
+    const int y = i % 11 == 0 ? h - 2 : int(rng.UniformInt(0, h - 2));
+    e.top_left = std::uint32_t(y * w + x);
+    const std::uint8_t extremes[3] = {0, 1, 255};
+    e.wx = i % 5 == 0 ? extremes[i % 3] : std::uint8_t(rng.UniformInt(0, 255));
+    e.wy = i % 3 == 0 ? extremes[i % 3] : std::uint8_t(rng.UniformInt(0, 255));
+    e.nearest = i % 13 == 0 ? RemapEntry::kInvalid : std::uint8_t(rng.UniformInt(0, 3));
+  }
+  std::vector<std::uint8_t> vector_out(remap.size() * 3, 1), scalar_out(remap.size() * 3, 2);
+  detail::BilinearRgb(remap, passes, vector_out.data());
+  detail::BilinearRgbScalar(remap, passes, scalar_out.data());
+  CHECK(vector_out == scalar_out);
+
+  // The scalar loop itself: zero weights give the top-left texel, half a right weight the
+  // rounded mean of the row's two texels, invalid entries black.
+  const std::uint8_t texels[12] = {10, 20, 30, 11, 21, 31, 200, 100, 0, 255, 255, 255};
+  const detail::PassImages block{texels, nullptr, nullptr, nullptr, 2};
+  const std::vector<RemapEntry> probes = {
+      {0, 0, 0, 0, 0}, {0, 128, 0, 0, 0}, {0, 0, 128, 0, 0}, {0, 0, 0, 0, RemapEntry::kInvalid}};
+  std::uint8_t out[12];
+  detail::BilinearRgbScalar(probes, std::span(&block, 1), out);
+  CHECK(std::vector<int>(out, out + 12) ==
+        std::vector<int>{10, 20, 30, 11, 21, 31, 105, 60, 15, 0, 0, 0});
 }
 
 }  // namespace
