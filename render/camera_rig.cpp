@@ -284,6 +284,9 @@ void ParseRenderOptions(YamlMap& render, RigSpec& rig) {
   render.Read("light_falloff_m", falloff);
   render.Read("bake_lighting", rig.scene.bake_lighting);
   render.Read("max_lights", rig.scene.max_lights);
+  render.ReadEnum(
+      "texture_filter", rig.scene.texture_filter,
+      {{"trilinear", TextureFilter::kTrilinear}, {"nearest_mip", TextureFilter::kNearestMip}});
   if (rig.scene.max_lights < 0 || rig.scene.max_lights > 16) {
     render.Fail("max_lights", "must lie in [0, 16]");
   }

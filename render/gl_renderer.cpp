@@ -393,7 +393,10 @@ void GlBackend::Upload(const Scene& scene) {
       gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_SWIZZLE_B, GL_RED);
     }
     gl_.GenerateMipmap(GL_TEXTURE_2D);
-    gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER,
+                      scene.options.texture_filter == TextureFilter::kNearestMip
+                          ? GL_LINEAR_MIPMAP_NEAREST
+                          : GL_LINEAR_MIPMAP_LINEAR);
     gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
     gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);

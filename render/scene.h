@@ -48,6 +48,13 @@ struct PointLight {
   int lamp_id = 0;
 };
 
+/// How textures are filtered when a surface shows them smaller than their texels.
+enum class TextureFilter {
+  kTrilinear,  // bilinear in the two nearest mip levels, blended (GL_LINEAR_MIPMAP_LINEAR)
+  kNearestMip  // bilinear in the nearest level (GL_LINEAR_MIPMAP_NEAREST): cheaper on llvmpipe,
+               // with a visible step in sharpness where the level changes
+};
+
 struct SceneOptions {
   float ambient = 0.35f;          // uniform ambient light on diffuse surfaces
   float light_intensity = 0.25f;  // scale of every lamp's point light
@@ -57,6 +64,7 @@ struct SceneOptions {
   int max_lights = 4;          // per-pixel lighting when not baked: nearest lamps lighting one pass
                                // (each costs ~1.4 ms per 640x480 pass on llvmpipe)
   double bake_range_m = 15.0;  // lamps further than this from a vertex are left out of its sum
+  TextureFilter texture_filter = TextureFilter::kTrilinear;
 };
 
 struct Scene {

@@ -144,6 +144,17 @@ TEST_CASE("a value of the wrong type is an error at its key", "[scenarios]") {
   CHECK(LoadError("world: [1, 2]\n") == ":1:1: world: expected a map of keys");
 }
 
+TEST_CASE("render.texture_filter picks the mip filter; other values are errors", "[scenarios]") {
+  const FixtureDir dir;
+  CHECK(LoadScenario(dir.Write("a.yaml", "name: a\n")).rig.scene.texture_filter ==
+        render::TextureFilter::kTrilinear);
+  CHECK(LoadScenario(dir.Write("b.yaml", "render:\n  texture_filter: nearest_mip\n"))
+            .rig.scene.texture_filter == render::TextureFilter::kNearestMip);
+  CHECK(LoadError("render:\n  texture_filter: anisotropic\n") ==
+        ":2:3: render.texture_filter: unknown value 'anisotropic' (expected one of: trilinear, "
+        "nearest_mip)");
+}
+
 TEST_CASE("a negative size is an error at its line", "[scenarios]") {
   const std::string msg = LoadError(
       "name: negative\n"
