@@ -405,7 +405,7 @@ TEST_CASE("the nearest-mip texture filter changes colours only, and only a littl
     differing += d != 0;
     total += d;
   }
-  CHECK(differing > 1000);                            // the floor far ahead is minified
+  CHECK(differing > 1000);  // the floor far ahead is minified
   INFO("differing " << differing << " mean " << total / double(fast.rgb.data.size()));
   CHECK(total / double(fast.rgb.data.size()) < 3.0);  // mean change of a channel, in DN
 }
