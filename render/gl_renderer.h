@@ -93,7 +93,6 @@ class GlBackend final : public Backend {
   std::vector<PointLight> lights_;
   SceneOptions options_;
 
-  std::vector<std::uint8_t> rgba_;            // read-back buffer, reused across frames
   std::vector<std::pair<float, int>> order_;  // draw order of one Draw, reused across frames
   std::vector<float> mask_vertices_;          // DrawUnusedMask's triangles, reused
 };
