@@ -51,8 +51,12 @@ int main(int argc, char** argv) {
   const render::Scene scene = render::BuildScene(world, spec.scene);
   auto backend = render::CreateBackend(kind);
   backend->Upload(scene);
-  std::printf("backend %s, default world: %zu triangles, %zu drawables, %d frames per figure\n",
-              backend_name.c_str(), scene.triangle_count(), scene.drawables.size(), frames);
+  const char* gallivm_perf = std::getenv("GALLIVM_PERF");  // set by the backend unless it was
+  std::printf(
+      "backend %s (GALLIVM_PERF=%s), default world: %zu triangles, %zu drawables, %d frames per "
+      "figure\n",
+      backend_name.c_str(), gallivm_perf != nullptr ? gallivm_perf : "", scene.triangle_count(),
+      scene.drawables.size(), frames);
 
   // Each camera alone (exact frames, no noise).
   for (const render::CameraSpec& camera_spec : spec.cameras) {

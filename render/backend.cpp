@@ -23,6 +23,13 @@ void PinSoftwareRasterizer() {
   // through a render node. overwrite = 0: a value the user set wins.
   setenv("GALLIUM_DRIVER", "llvmpipe", 0);
   setenv("LIBGL_ALWAYS_SOFTWARE", "1", 0);
+  // Texture LOD as GPUs compute it: the mip level from the largest derivative component instead
+  // of the Euclidean length (an approximation the GL spec allows), and two levels blended only
+  // near a level change ("brilinear", what GPU drivers do for trilinear by default). 8 % less
+  // time per noisy rig frame (median of eight alternated runs each way, 3-19 %); a front image
+  // changes by 0.3 DN on average, labels and depth not at all. GALLIVM_PERF= (empty) gives
+  // llvmpipe's exact trilinear filter. gallivm reads it once, when the first context is made.
+  setenv("GALLIVM_PERF", kDefaultGallivmPerf, 0);
 }
 
 std::unique_ptr<Backend> CreateBackend(BackendKind kind) {

@@ -30,8 +30,13 @@ std::unique_ptr<GlContext> CreateOsMesaContext();
 /// without a surface. Throws RenderError ("egl: ...") when it cannot be created.
 std::unique_ptr<GlContext> CreateEglContext();
 
+/// llvmpipe's texture-sampling shortcuts corridorsim asks for unless GALLIVM_PERF is set.
+inline constexpr const char* kDefaultGallivmPerf = "brilinear,rho_approx";
+
 /// Pins Mesa to llvmpipe (softpipe and hardware drivers give different images) unless the user
-/// set GALLIUM_DRIVER / LIBGL_ALWAYS_SOFTWARE already. Called before any context is created.
+/// set GALLIUM_DRIVER / LIBGL_ALWAYS_SOFTWARE already, and sets GALLIVM_PERF to
+/// kDefaultGallivmPerf unless it is set (empty: llvmpipe's exact trilinear LOD and filter).
+/// Called before any context is created.
 void PinSoftwareRasterizer();
 
 }  // namespace corridorsim::render

@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <memory>
 #include <optional>
 #include <stdexcept>
@@ -16,6 +17,7 @@
 #include <catch2/catch.hpp>
 
 #include "render/backend.h"
+#include "render/gl_context.h"
 
 namespace corridorsim::render {
 namespace {
@@ -257,6 +259,48 @@ void CheckTestImage(const RenderedView& image) {
 TEST_CASE("backend names are osmesa and egl", "[render]") {
   CHECK(BackendName(BackendKind::kOsMesa) == "osmesa");
   CHECK(BackendName(BackendKind::kEgl) == "egl");
+}
+
+TEST_CASE("Mesa is pinned to llvmpipe and its fast texture LOD unless the user chose otherwise",
+          "[render]") {
+  // The variables as the process had them, restored on the way out (gallivm read them when this
+  // process made its first context, so changing them here changes no image).
+  struct SavedEnvironment {
+    std::vector<std::pair<std::string, std::optional<std::string>>> values;
+    SavedEnvironment() {
+      for (const char* name : {"GALLIUM_DRIVER", "LIBGL_ALWAYS_SOFTWARE", "GALLIVM_PERF"}) {
+        const char* value = std::getenv(name);
+        values.emplace_back(name,
+                            value != nullptr ? std::optional<std::string>(value) : std::nullopt);
+      }
+    }
+    ~SavedEnvironment() {
+      for (const auto& [name, value] : values) {
+        if (value) {
+          setenv(name.c_str(), value->c_str(), 1);
+        } else {
+          unsetenv(name.c_str());
+        }
+      }
+    }
+  } saved;
+  auto get = [](const char* name) {
+    const char* value = std::getenv(name);
+    return value != nullptr ? std::string(value) : std::string("(unset)");
+  };
+
+  for (const auto& [name, value] : saved.values) unsetenv(name.c_str());
+  PinSoftwareRasterizer();
+  CHECK(get("GALLIUM_DRIVER") == "llvmpipe");
+  CHECK(get("LIBGL_ALWAYS_SOFTWARE") == "1");
+  CHECK(get("GALLIVM_PERF") == "brilinear,rho_approx");
+
+  // A value the user set wins, an empty GALLIVM_PERF (exact trilinear) included.
+  setenv("GALLIUM_DRIVER", "softpipe", 1);
+  setenv("GALLIVM_PERF", "", 1);
+  PinSoftwareRasterizer();
+  CHECK(get("GALLIUM_DRIVER") == "softpipe");
+  CHECK(get("GALLIVM_PERF").empty());
 }
 
 TEST_CASE("osmesa renders depth, ids and edges where the pinhole model puts them", "[render]") {
