@@ -50,7 +50,8 @@ struct PointLight {
 
 /// How textures are filtered when a surface shows them smaller than their texels.
 enum class TextureFilter {
-  kTrilinear,  // bilinear in the two nearest mip levels, blended (GL_LINEAR_MIPMAP_LINEAR)
+  kTrilinear,  // bilinear in the two nearest mip levels, blended (GL_LINEAR_MIPMAP_LINEAR; near
+               // a level change only under the default GALLIVM_PERF, see PinSoftwareRasterizer)
   kNearestMip  // bilinear in the nearest level (GL_LINEAR_MIPMAP_NEAREST): cheaper on llvmpipe,
                // with a visible step in sharpness where the level changes
 };
