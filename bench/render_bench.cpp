@@ -46,9 +46,9 @@ int main(int argc, char** argv) {
   const render::BackendKind kind =
       backend_name == "egl" ? render::BackendKind::kEgl : render::BackendKind::kOsMesa;
 
-  const worlds::World world = worlds::Generate(worlds::WorldSpec{}, 7);
-  const render::RigSpec spec = render::RigSpec::Default();
-  const render::Scene scene = render::BuildScene(world, spec.scene);
+  const worlds::World world = worlds::Generate(worlds::WorldOptions{}, 7);
+  const render::RigOptions rig_options = render::RigOptions::Default();
+  const render::Scene scene = render::BuildScene(world, rig_options.scene);
   auto backend = render::CreateBackend(kind);
   backend->Upload(scene);
   const char* gallivm_perf = std::getenv("GALLIVM_PERF");  // set by the backend unless it was
@@ -59,30 +59,30 @@ int main(int argc, char** argv) {
       scene.drawables.size(), frames);
 
   // Each camera alone (exact frames, no noise).
-  for (const render::CameraSpec& camera_spec : spec.cameras) {
-    render::CameraRenderer camera(camera_spec);
+  for (const render::CameraOptions& camera_options : rig_options.cameras) {
+    render::CameraRenderer camera(camera_options);
     render::CameraFrame frame;
-    camera.Render(scene, *backend, PoseAt(0) * camera_spec.mount.RobotFromCamera(), &frame);
+    camera.Render(scene, *backend, PoseAt(0) * camera_options.mount.RobotFromCamera(), &frame);
     const double c0 = CpuMs();
     const auto t0 = Clock::now();
     for (int i = 0; i < frames; ++i) {
-      camera.Render(scene, *backend, PoseAt(i) * camera_spec.mount.RobotFromCamera(), &frame);
+      camera.Render(scene, *backend, PoseAt(i) * camera_options.mount.RobotFromCamera(), &frame);
     }
     const double ms = Ms(t0, Clock::now()) / frames;
     const double cpu = (CpuMs() - c0) / frames;
     std::printf(
         "  %-8s %6.2f ms/frame  %6.1f frames/s  cpu %6.2f ms  (%zu pass pixels in %zu passes)\n",
-        camera_spec.id.c_str(), ms, 1000.0 / ms, cpu, camera.pass_pixel_count(),
+        camera_options.id.c_str(), ms, 1000.0 / ms, cpu, camera.pass_pixel_count(),
         camera.Passes(SE3()).size());
   }
 
   // The whole rig with noise, the same rig with exact images, and the bare draw of the same
   // passes, measured in interleaved rounds (median per figure), so that a shared machine's
   // changing speed hits all three alike and their ratios stay meaningful.
-  render::Rig rig(spec, scene, *backend);
-  render::RigSpec exact_spec = spec;
-  for (render::CameraSpec& c : exact_spec.cameras) c.noise = false;
-  render::Rig exact_rig(exact_spec, scene, *backend);
+  render::Rig rig(rig_options, scene, *backend);
+  render::RigOptions exact_options = rig_options;
+  for (render::CameraOptions& c : exact_options.cameras) c.noise = false;
+  render::Rig exact_rig(exact_options, scene, *backend);
   std::vector<render::CameraFrame> rig_frames;
   rig.Render(PoseAt(0), 1, 0, &rig_frames);
   exact_rig.Render(PoseAt(0), 1, 0, &rig_frames);
@@ -97,10 +97,10 @@ int main(int argc, char** argv) {
   std::vector<std::vector<Prepared>> prepared(static_cast<std::size_t>(frames));
   for (int i = 0; i < frames; ++i) {
     for (const render::CameraRenderer& camera : rig.cameras()) {
-      const SE3 world_from_camera = PoseAt(i) * camera.spec().mount.RobotFromCamera();
+      const SE3 world_from_camera = PoseAt(i) * camera.options().mount.RobotFromCamera();
       Prepared p;
       for (render::View view : camera.Passes(world_from_camera)) {
-        view.read_depth = camera.spec().depth;
+        view.read_depth = camera.options().depth;
         p.drawables.push_back(render::VisibleDrawables(scene, view));
         p.unused.push_back(camera.unused_pixels(p.views.size()));
         p.views.push_back(view);
@@ -133,12 +133,12 @@ int main(int argc, char** argv) {
   };
   // The same rig with textures filtered in the nearest mip level (render.texture_filter:
   // nearest_mip), on a backend of its own so that its rounds interleave with the others.
-  render::SceneOptions fast_options = spec.scene;
+  render::SceneOptions fast_options = rig_options.scene;
   fast_options.texture_filter = render::TextureFilter::kNearestMip;
   const render::Scene fast_scene = render::BuildScene(world, fast_options);
   const std::unique_ptr<render::Backend> fast_backend = render::CreateBackend(kind);
   fast_backend->Upload(fast_scene);
-  render::Rig fast_rig(spec, fast_scene, *fast_backend);
+  render::Rig fast_rig(rig_options, fast_scene, *fast_backend);
   fast_rig.Render(PoseAt(0), 1, 0, &rig_frames);
 
   Figure noisy, bare, exact, fast;
@@ -188,7 +188,7 @@ int main(int argc, char** argv) {
 
   // The front camera's depth noise alone, on one thread.
   {
-    const render::CameraSpec& front = spec.cameras[0];
+    const render::CameraOptions& front = rig_options.cameras[0];
     render::CameraRenderer camera(front);
     render::CameraFrame frame;
     camera.Render(scene, *backend, PoseAt(0) * front.mount.RobotFromCamera(), &frame);
@@ -205,14 +205,14 @@ int main(int argc, char** argv) {
   }
 
   // Culling: the same rig in the middle of a 1 km corridor.
-  worlds::WorldSpec km_spec;
-  km_spec.length_m = 1000;
-  km_spec.doors.count = 290;
-  km_spec.plates.count = 254;
-  const worlds::World km = worlds::Generate(km_spec, 7);
-  const render::Scene km_scene = render::BuildScene(km, spec.scene);
+  worlds::WorldOptions km_options;
+  km_options.length_m = 1000;
+  km_options.doors.count = 290;
+  km_options.plates.count = 254;
+  const worlds::World km = worlds::Generate(km_options, 7);
+  const render::Scene km_scene = render::BuildScene(km, rig_options.scene);
   backend->Upload(km_scene);
-  render::Rig km_rig(spec, km_scene, *backend);
+  render::Rig km_rig(rig_options, km_scene, *backend);
   auto km_pose = [](int i) { return SE3::FromSE2(SE2(480.0 + 0.1 * (i % 400), 0.0, 0.0)); };
   km_rig.Render(km_pose(0), 1, 0, &rig_frames);
   const double c0 = CpuMs();

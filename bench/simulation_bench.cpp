@@ -34,7 +34,7 @@ int main(int argc, char** argv) {
   const double sim_s = argc > 1 ? std::max(5.0, std::atof(argv[1])) : 60.0;
   const std::string only = argc > 2 ? argv[2] : "all";
   auto run = [&](const char* part) { return only == "all" || only == part; };
-  const worlds::World world = worlds::Generate(worlds::WorldSpec{}, 1);
+  const worlds::World world = worlds::Generate(worlds::WorldOptions{}, 1);
   sim::SimulationOptions options;
   std::printf("default world, %zu collision boxes; %.0f s simulated per figure\n",
               world.collision_boxes.size(), sim_s);
@@ -55,7 +55,7 @@ int main(int argc, char** argv) {
   // 2. The loop without cameras.
   if (run("loop")) {
     options.max_duration_ns = FromSeconds(sim_s);
-    sim::Simulation simulation(world, options, sim::BuildPath(world, options.path));
+    sim::Simulation simulation(world, options, sim::BuildRobotPath(world, options.robot_path));
     const auto t0 = Clock::now();
     std::size_t messages = 0;
     while (!simulation.finished()) messages += simulation.Step().odometry.size();
@@ -68,16 +68,16 @@ int main(int argc, char** argv) {
 
   // 3. The closed loop with the full rig at 10 Hz.
   if (run("rig")) {
-    render::RigSpec rig_spec = render::RigSpec::Default();
-    for (render::CameraSpec& c : rig_spec.cameras) c.rate_hz = 10.0;
-    const render::Scene scene = render::BuildScene(world, rig_spec.scene);
-    std::unique_ptr<render::Backend> backend = render::CreateBackend(rig_spec.backend);
+    render::RigOptions rig_options = render::RigOptions::Default();
+    for (render::CameraOptions& c : rig_options.cameras) c.rate_hz = 10.0;
+    const render::Scene scene = render::BuildScene(world, rig_options.scene);
+    std::unique_ptr<render::Backend> backend = render::CreateBackend(rig_options.backend);
     backend->Upload(scene);
-    render::Rig rig(rig_spec, scene, *backend);
+    render::Rig rig(rig_options, scene, *backend);
     const double rig_s = sim_s / 4;  // rendering dominates: a shorter run gives the same rate
     options.max_duration_ns = FromSeconds(rig_s);
-    sim::Simulation simulation(world, options, sim::BuildPath(world, options.path), &rig,
-                               &rig_spec);
+    sim::Simulation simulation(world, options, sim::BuildRobotPath(world, options.robot_path), &rig,
+                               &rig_options);
     const auto t0 = Clock::now();
     std::size_t frames = 0;
     while (!simulation.finished()) frames += simulation.Step().frames.size();

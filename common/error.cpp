@@ -30,7 +30,7 @@ InputError::InputError(SourceLocation location, std::string key, std::string mes
       key_(std::move(key)),
       message_(std::move(message)) {}
 
-SpecError::SpecError(SpecProblem problem)
+OptionsError::OptionsError(OptionsProblem problem)
     : std::runtime_error(problem.key + ": " + problem.message), problem_(std::move(problem)) {}
 
 void CheckOrDie(bool ok, const char* where, const char* what) {

@@ -31,19 +31,19 @@ class InputError : public std::runtime_error {
 
 /// A problem found by an options `Check()` or a generator, before it is given a location: the
 /// dotted key relative to the options struct (e.g. "doors.width_m") and what is wrong.
-struct SpecProblem {
+struct OptionsProblem {
   std::string key;
   std::string message;
 };
 
 /// Thrown by code that has no file context (generators); loaders turn it into an InputError.
-class SpecError : public std::runtime_error {
+class OptionsError : public std::runtime_error {
  public:
-  explicit SpecError(SpecProblem problem);
-  const SpecProblem& problem() const { return problem_; }
+  explicit OptionsError(OptionsProblem problem);
+  const OptionsProblem& problem() const { return problem_; }
 
  private:
-  SpecProblem problem_;
+  OptionsProblem problem_;
 };
 
 /// A broken invariant is a bug (STYLE item 10): prints "corridorsim: <where>: <what>" to stderr

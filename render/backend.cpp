@@ -24,7 +24,7 @@ void PinSoftwareRasterizer() {
   setenv("GALLIUM_DRIVER", "llvmpipe", 0);
   setenv("LIBGL_ALWAYS_SOFTWARE", "1", 0);
   // Texture LOD as GPUs compute it: the mip level from the largest derivative component instead
-  // of the Euclidean length (an approximation the GL spec allows), and two levels blended only
+  // of the Euclidean length (an approximation the GL options allows), and two levels blended only
   // near a level change ("brilinear", what GPU drivers do for trilinear by default). 8 % less
   // time per noisy rig frame (median of eight alternated runs each way, 3-19 %); a front image
   // changes by 0.3 DN on average, labels and depth not at all. GALLIVM_PERF= (empty) gives

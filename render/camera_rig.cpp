@@ -1,6 +1,6 @@
 #include "render/camera_rig.h"
 
-#include "common/spec_checker.h"
+#include "common/options_checker.h"
 
 #include <algorithm>
 #include <array>
@@ -97,22 +97,22 @@ PinholeRadTan PinholeOf(const CameraModel& model) {
   return p;
 }
 
-RigSpec RigSpec::Default() {
-  RigSpec rig;
-  CameraSpec front;
+RigOptions RigOptions::Default() {
+  RigOptions rig;
+  CameraOptions front;
   front.id = "front";
   front.model = PinholeRadTan::FromFov(640, 480, 58.0 * kDegToRad);
   front.mount = Mount{0.18, 0.0, 0.45, 0.0, 0.0, 0.0};
   front.depth = true;
   rig.cameras.push_back(front);
 
-  CameraSpec lateral;
+  CameraOptions lateral;
   lateral.id = "lateral";
   lateral.model = PinholeRadTan::FromFov(640, 480, 60.0 * kDegToRad);
   lateral.mount = Mount{0.0, 0.12, 0.55, 90.0, 25.0, 0.0};
   rig.cameras.push_back(lateral);
 
-  CameraSpec upward;
+  CameraOptions upward;
   upward.id = "upward";
   upward.model = KannalaBrandt::FromFov(640, 480, 110.0 * kDegToRad);
   upward.mount = Mount{-0.05, 0.0, 0.4, 0.0, 90.0, 0.0};
@@ -120,62 +120,63 @@ RigSpec RigSpec::Default() {
   return rig;
 }
 
-const CameraSpec* RigSpec::Find(const std::string& id) const {
-  for (const CameraSpec& c : cameras) {
+const CameraOptions* RigOptions::Find(const std::string& id) const {
+  for (const CameraOptions& c : cameras) {
     if (c.id == id) return &c;
   }
   return nullptr;
 }
 
-std::optional<SpecProblem> RigSpec::Check() const {
-  for (const CameraSpec& c : cameras) {
+std::optional<OptionsProblem> RigOptions::Check() const {
+  for (const CameraOptions& c : cameras) {
     const std::string k = c.id + ".";
-    if (!(c.rate_hz > 0)) return SpecProblem{k + "rate_hz", "must be greater than 0"};
-    if (c.rate_hz > 1000) return SpecProblem{k + "rate_hz", "must not exceed 1000"};
+    if (!(c.rate_hz > 0)) return OptionsProblem{k + "rate_hz", "must be greater than 0"};
+    if (c.rate_hz > 1000) return OptionsProblem{k + "rate_hz", "must not exceed 1000"};
     if (!(c.drop_probability >= 0 && c.drop_probability < 1)) {
-      return SpecProblem{k + "drop_probability",
-                         "must lie in [0, 1) (got " + FormatNumber(c.drop_probability) + ")"};
+      return OptionsProblem{k + "drop_probability",
+                            "must lie in [0, 1) (got " + FormatNumber(c.drop_probability) + ")"};
     }
     if (!(c.phase_s >= 0 && c.phase_s * c.rate_hz < 1)) {
-      return SpecProblem{k + "phase_s",
-                         "must lie in [0, 1 / rate_hz) (got " + FormatNumber(c.phase_s) + " s)"};
+      return OptionsProblem{k + "phase_s",
+                            "must lie in [0, 1 / rate_hz) (got " + FormatNumber(c.phase_s) + " s)"};
     }
     const bool pinhole = std::holds_alternative<PinholeRadTan>(c.model);
     const PinholeRadTan p = PinholeOf(c.model);
     if (p.width <= 0 || p.height <= 0) {
-      return SpecProblem{k + (p.width <= 0 ? "width" : "height"),
-                         "the image size must be positive (got " + std::to_string(p.width) + "x" +
-                             std::to_string(p.height) + ")"};
+      return OptionsProblem{k + (p.width <= 0 ? "width" : "height"),
+                            "the image size must be positive (got " + std::to_string(p.width) +
+                                "x" + std::to_string(p.height) + ")"};
     }
     if (p.width > 8192 || p.height > 8192) {
-      return SpecProblem{k + (p.width > 8192 ? "width" : "height"),
-                         "images larger than 8192 px on a side are not supported"};
+      return OptionsProblem{k + (p.width > 8192 ? "width" : "height"),
+                            "images larger than 8192 px on a side are not supported"};
     }
     if (!(p.fx > 0) || !(p.fy > 0)) {
-      return SpecProblem{k + "fov_deg", "the field of view must be positive"};
+      return OptionsProblem{k + "fov_deg", "the field of view must be positive"};
     }
     // Fisheyes are drawn from cube faces of 2 fx pixels (up to 4096), pinholes in one pass.
     const double max_focal = pinhole ? 1e5 : 2048.0;
     if (p.fx > max_focal || p.fy > max_focal) {
-      return SpecProblem{k + "fx", "focal lengths above " + Num(max_focal) +
-                                       " px are not supported for this model"};
+      return OptionsProblem{k + "fx", "focal lengths above " + Num(max_focal) +
+                                          " px are not supported for this model"};
     }
     const double fov_deg = (pinhole ? std::get<PinholeRadTan>(c.model).FieldOfViewRad()
                                     : std::get<KannalaBrandt>(c.model).FieldOfViewRad()) /
                            kDegToRad;
-    if (auto problem = FovProblem(pinhole, fov_deg)) return SpecProblem{k + "fov_deg", *problem};
-    if (auto problem = corridorsim::Check(c.model)) return SpecProblem{k + "distortion", *problem};
+    if (auto problem = FovProblem(pinhole, fov_deg)) return OptionsProblem{k + "fov_deg", *problem};
+    if (auto problem = corridorsim::Check(c.model))
+      return OptionsProblem{k + "distortion", *problem};
     if (c.depth && !pinhole) {
-      return SpecProblem{k + "depth", "depth images need a pinhole camera"};
+      return OptionsProblem{k + "depth", "depth images need a pinhole camera"};
     }
     if (c.cube_face_px < 0 || c.cube_face_px > 4096) {
-      return SpecProblem{k + "cube_face_px", "must lie in [0, 4096] (0 = automatic)"};
+      return OptionsProblem{k + "cube_face_px", "must lie in [0, 4096] (0 = automatic)"};
     }
     if (auto problem = c.depth_noise.Check()) {
-      return SpecProblem{k + "noise.depth." + problem->key, problem->message};
+      return OptionsProblem{k + "noise.depth." + problem->key, problem->message};
     }
     if (auto problem = c.rgb_noise.Check()) {
-      return SpecProblem{k + "noise.rgb." + problem->key, problem->message};
+      return OptionsProblem{k + "noise.rgb." + problem->key, problem->message};
     }
   }
   return std::nullopt;
@@ -183,7 +184,7 @@ std::optional<SpecProblem> RigSpec::Check() const {
 
 namespace {
 
-void ParseCamera(YamlMap& map, CameraSpec& c) {
+void ParseCamera(YamlMap& map, CameraOptions& c) {
   map.Read("enabled", c.enabled);
   map.Read("rate_hz", c.rate_hz);
   map.Read("phase_s", c.phase_s);
@@ -266,15 +267,15 @@ void ParseCamera(YamlMap& map, CameraSpec& c) {
 
 }  // namespace
 
-void ParseSensors(YamlMap& sensors, RigSpec& rig) {
-  for (CameraSpec& c : rig.cameras) {
+void ParseSensors(YamlMap& sensors, RigOptions& rig) {
+  for (CameraOptions& c : rig.cameras) {
     YamlMap camera = sensors.Map(c.id);
     ParseCamera(camera, c);
   }
   sensors.RejectUnknownKeys();
 }
 
-void ParseRenderOptions(YamlMap& render, RigSpec& rig) {
+void ParseRenderOptions(YamlMap& render, RigOptions& rig) {
   render.ReadEnum("backend", rig.backend,
                   {{"osmesa", BackendKind::kOsMesa}, {"egl", BackendKind::kEgl}});
   double ambient = rig.scene.ambient, intensity = rig.scene.light_intensity,
@@ -299,17 +300,19 @@ void ParseRenderOptions(YamlMap& render, RigSpec& rig) {
   render.RejectUnknownKeys();
 }
 
-std::optional<SpecProblem> CheckCameraPlacement(const worlds::World& world, const RigSpec& rig,
-                                                const SE3& world_from_robot) {
-  for (const CameraSpec& c : rig.cameras) {
+std::optional<OptionsProblem> CheckCameraPlacement(const worlds::World& world,
+                                                   const RigOptions& rig,
+                                                   const SE3& world_from_robot) {
+  for (const CameraOptions& c : rig.cameras) {
     if (!c.enabled) continue;
     const Vector3d p = (world_from_robot * c.mount.RobotFromCamera()).translation();
     for (const worlds::CollisionBox& box : world.collision_boxes) {
       if (((p - box.center).cwiseAbs() - box.half_extents).maxCoeff() < 0.0) {
-        return SpecProblem{c.id + ".mount",
-                           "the camera at (" + Num(p.x()) + ", " + Num(p.y()) + ", " + Num(p.z()) +
-                               ") m is inside a " + worlds::SemanticClassName(box.semantic_class) +
-                               " (instance " + std::to_string(box.instance_id) + ")"};
+        return OptionsProblem{c.id + ".mount", "the camera at (" + Num(p.x()) + ", " + Num(p.y()) +
+                                                   ", " + Num(p.z()) + ") m is inside a " +
+                                                   worlds::SemanticClassName(box.semantic_class) +
+                                                   " (instance " + std::to_string(box.instance_id) +
+                                                   ")"};
       }
     }
     bool inside = false;
@@ -324,9 +327,9 @@ std::optional<SpecProblem> CheckCameraPlacement(const worlds::World& world, cons
       if (door.room) inside |= door.room->footprint.contains(p.head<2>());
     }
     if (!inside) {
-      return SpecProblem{c.id + ".mount", "the camera at (" + Num(p.x()) + ", " + Num(p.y()) +
-                                              ", " + Num(p.z()) +
-                                              ") m is outside the corridor (in or behind a wall)"};
+      return OptionsProblem{c.id + ".mount",
+                            "the camera at (" + Num(p.x()) + ", " + Num(p.y()) + ", " + Num(p.z()) +
+                                ") m is outside the corridor (in or behind a wall)"};
     }
   }
   return std::nullopt;
@@ -334,8 +337,8 @@ std::optional<SpecProblem> CheckCameraPlacement(const worlds::World& world, cons
 
 // ---- CameraRenderer ----------------------------------------------------------------------------
 
-CameraRenderer::CameraRenderer(const CameraSpec& spec) : spec_(spec) {
-  if (IsUndistortedPinhole(spec_.model)) {
+CameraRenderer::CameraRenderer(const CameraOptions& options) : options_(options) {
+  if (IsUndistortedPinhole(options_.model)) {
     PlanPinholePass();
   } else {
     PlanRemapPasses();
@@ -344,7 +347,7 @@ CameraRenderer::CameraRenderer(const CameraSpec& spec) : spec_(spec) {
 }
 
 void CameraRenderer::PlanPinholePass() {
-  const auto& p = std::get<PinholeRadTan>(spec_.model);
+  const auto& p = std::get<PinholeRadTan>(options_.model);
   Pass pass;
   pass.view.width = p.width;
   pass.view.height = p.height;
@@ -356,15 +359,15 @@ void CameraRenderer::PlanPinholePass() {
 }
 
 void CameraRenderer::PlanRemapPasses() {
-  const PinholeRadTan p = PinholeOf(spec_.model);
-  const bool fisheye = std::holds_alternative<KannalaBrandt>(spec_.model);
+  const PinholeRadTan p = PinholeOf(options_.model);
+  const bool fisheye = std::holds_alternative<KannalaBrandt>(options_.model);
   const int w = p.width, h = p.height;
   // Unit bearings of every output pixel, and which face (or the single pass) each one uses.
   std::vector<Vector3d> bearings(static_cast<std::size_t>(w) * h);
   std::vector<int> face_of(bearings.size(), -1);
   for (int v = 0; v < h; ++v) {
     for (int u = 0; u < w; ++u) {
-      const Vector3d b = Unproject(spec_.model, Vector2d(u, v));
+      const Vector3d b = Unproject(options_.model, Vector2d(u, v));
       const std::size_t i = static_cast<std::size_t>(v) * w + u;
       bearings[i] = b;
       if (!b.allFinite() || b.norm() < 0.5) continue;
@@ -383,7 +386,7 @@ void CameraRenderer::PlanRemapPasses() {
   }
   // Pass intrinsics: a fisheye face spans 90 degrees at `face_px`; a distorted pinhole's single
   // pass keeps the camera's focal length.
-  int face_px = spec_.cube_face_px;
+  int face_px = options_.cube_face_px;
   if (face_px == 0) face_px = 2 * static_cast<int>(std::ceil(std::max(p.fx, p.fy)));
   const double f_face = face_px / 2.0;
   struct Extent {
@@ -425,7 +428,7 @@ void CameraRenderer::PlanRemapPasses() {
   }
   lut_.resize(bearings.size());
   remap_.resize(bearings.size());
-  if (spec_.depth) depth_scale_.assign(bearings.size(), 0.0f);
+  if (options_.depth) depth_scale_.assign(bearings.size(), 0.0f);
   for (std::size_t i = 0; i < bearings.size(); ++i) {
     if (face_of[i] < 0) continue;
     const int f = face_of[i];
@@ -458,7 +461,7 @@ void CameraRenderer::PlanRemapPasses() {
     r.pass = e.pass;
     r.nearest = static_cast<std::uint8_t>((nx - x0) | (ny - y0) << 1);
     // Camera z of the point at pass depth 1 along this ray: camera z = pass z * b.z / q.z.
-    if (spec_.depth) depth_scale_[i] = static_cast<float>(bearings[i].z() / q.z());
+    if (options_.depth) depth_scale_[i] = static_cast<float>(bearings[i].z() / q.z());
   }
   PlanUnusedPixels();
 }
@@ -538,7 +541,7 @@ std::size_t CameraRenderer::pass_pixel_count() const {
 }
 
 std::optional<std::pair<int, Eigen::Vector2d>> CameraRenderer::Lookup(int u, int v) const {
-  const PinholeRadTan p = PinholeOf(spec_.model);
+  const PinholeRadTan p = PinholeOf(options_.model);
   if (u < 0 || v < 0 || u >= p.width || v >= p.height) return std::nullopt;
   if (lut_.empty()) return std::make_pair(0, Vector2d(u, v));
   const LutEntry& e = lut_[static_cast<std::size_t>(v) * p.width + u];
@@ -564,7 +567,7 @@ void CameraRenderer::Draw(const Scene& scene, Backend& backend, const SE3& world
   std::vector<std::vector<int>> visible(views.size());
   std::vector<DrawRequest> requests(views.size());
   for (std::size_t k = 0; k < views.size(); ++k) {
-    views[k].read_depth = spec_.depth;
+    views[k].read_depth = options_.depth;
     visible[k] = VisibleDrawables(scene, views[k]);
     requests[k] = DrawRequest{views[k], visible[k], lights, &rendered_[k], unused_pixels(k)};
   }
@@ -572,7 +575,7 @@ void CameraRenderer::Draw(const Scene& scene, Backend& backend, const SE3& world
 }
 
 void CameraRenderer::Finish(CameraFrame* frame) {
-  frame->camera_id = spec_.id;
+  frame->camera_id = options_.id;
   frame->world_from_camera = world_from_camera_;
   if (lut_.empty()) {
     // One exact pass: hand its buffers over (the frame's old buffers come back for reuse).
@@ -580,21 +583,21 @@ void CameraRenderer::Finish(CameraFrame* frame) {
     std::swap(frame->rgb, r.rgb);
     std::swap(frame->instance, r.instance);
     std::swap(frame->semantic, r.semantic);
-    if (spec_.depth) std::swap(frame->depth_m, r.depth_m);
+    if (options_.depth) std::swap(frame->depth_m, r.depth_m);
   } else {
     Compose(frame);
   }
 }
 
 void CameraRenderer::Compose(CameraFrame* frame) const {
-  const PinholeRadTan p = PinholeOf(spec_.model);
+  const PinholeRadTan p = PinholeOf(options_.model);
   const std::size_t n = static_cast<std::size_t>(p.width) * p.height;
   if (frame->rgb.width != p.width || frame->rgb.height != p.height || frame->rgb.channels != 3) {
     frame->rgb = Image8(p.width, p.height, 3);
   }
   frame->instance.resize(n);
   frame->semantic.resize(n);
-  if (spec_.depth) {
+  if (options_.depth) {
     frame->depth_m.width = p.width;
     frame->depth_m.height = p.height;
     frame->depth_m.data.resize(n);
@@ -604,19 +607,19 @@ void CameraRenderer::Compose(CameraFrame* frame) const {
   for (std::size_t k = 0; k < rendered_.size() && k < images.size(); ++k) {
     const RenderedView& r = rendered_[k];
     images[k] = {r.rgb.data.data(), r.instance.data(), r.semantic.data(),
-                 spec_.depth ? r.depth_m.data.data() : nullptr, std::size_t(r.rgb.width)};
+                 options_.depth ? r.depth_m.data.data() : nullptr, std::size_t(r.rgb.width)};
   }
-  detail::NearestLabels(remap_, images, spec_.depth ? depth_scale_.data() : nullptr,
+  detail::NearestLabels(remap_, images, options_.depth ? depth_scale_.data() : nullptr,
                         frame->instance.data(), frame->semantic.data(),
-                        spec_.depth ? frame->depth_m.data.data() : nullptr);
+                        options_.depth ? frame->depth_m.data.data() : nullptr);
   detail::BilinearRgb(remap_, images, frame->rgb.data.data());
 }
 
 // ---- Rig -------------------------------------------------------------------------------------
 
-Rig::Rig(const RigSpec& spec, const Scene& scene, Backend& backend)
+Rig::Rig(const RigOptions& options, const Scene& scene, Backend& backend)
     : scene_(scene), backend_(backend) {
-  for (const CameraSpec& c : spec.cameras) {
+  for (const CameraOptions& c : options.cameras) {
     if (c.enabled) cameras_.emplace_back(c);
   }
   started_.assign(cameras_.size(), false);
@@ -654,7 +657,7 @@ void Rig::StartCamera(std::size_t index, const SE3& world_from_robot, std::uint6
                       std::uint64_t frame_index, CameraFrame* frame) {
   CameraRenderer& camera = cameras_.at(index);
   if (started_.at(index)) Wait();  // its last frame's CPU stages still read the buffers Draw writes
-  camera.Draw(scene_, backend_, world_from_robot * camera.spec().mount.RobotFromCamera());
+  camera.Draw(scene_, backend_, world_from_robot * camera.options().mount.RobotFromCamera());
   if (camera.cpu_work() == 0) {
     FinishCamera(index, seed, frame_index, frame);
     return;
@@ -680,22 +683,22 @@ void Rig::FinishCamera(std::size_t index, std::uint64_t seed, std::uint64_t fram
                        CameraFrame* frame) {
   CameraRenderer& camera = cameras_[index];
   camera.Finish(frame);
-  if (camera.spec().depth) frame->noisy_depth_m = frame->depth_m;
-  if (camera.spec().noise) ApplyNoise(index, seed, frame_index, frame);
+  if (camera.options().depth) frame->noisy_depth_m = frame->depth_m;
+  if (camera.options().noise) ApplyNoise(index, seed, frame_index, frame);
 }
 
 void Rig::ApplyNoise(std::size_t index, std::uint64_t seed, std::uint64_t frame_index,
                      CameraFrame* frame) const {
-  const CameraSpec& spec = cameras_.at(index).spec();
+  const CameraOptions& camera = cameras_.at(index).options();
   // Truth, then noise (STYLE item 9): each camera and frame has its own stream.
   RandomStream rng =
-      RandomStream(seed, 0, "render.noise." + spec.id).Derive(std::to_string(frame_index));
+      RandomStream(seed, 0, "render.noise." + camera.id).Derive(std::to_string(frame_index));
   RandomStream depth_rng = rng.Derive("depth"), rgb_rng = rng.Derive("rgb");
-  if (spec.depth) {
-    ApplyDepthNoise(spec.depth_noise, std::get<PinholeRadTan>(spec.model), depth_rng,
+  if (camera.depth) {
+    ApplyDepthNoise(camera.depth_noise, std::get<PinholeRadTan>(camera.model), depth_rng,
                     &frame->noisy_depth_m);
   }
-  ApplyRgbNoise(spec.rgb_noise, rgb_rng, &frame->rgb);
+  ApplyRgbNoise(camera.rgb_noise, rgb_rng, &frame->rgb);
 }
 
 }  // namespace corridorsim::render

@@ -19,9 +19,9 @@
 #include "common/camera_models.h"
 #include "common/error.h"
 #include "common/image.h"
+#include "common/io/serial_worker.h"
+#include "common/io/yaml_reader.h"
 #include "common/pose.h"
-#include "common/serial_worker.h"
-#include "common/yaml_reader.h"
 #include "render/backend.h"
 #include "render/noise.h"
 #include "render/remap_kernel.h"
@@ -40,7 +40,7 @@ struct Mount {
   SE3 RobotFromCamera() const;
 };
 
-struct CameraSpec {
+struct CameraOptions {
   std::string id;  // "front", "lateral", "upward"
   bool enabled = true;
   double rate_hz = 10.0 / 3.0;    // frames per second (P1: a 300 ms sensor period)
@@ -55,28 +55,29 @@ struct CameraSpec {
   int cube_face_px = 0;  // fisheye: cube face resolution (0 = matched to the model's centre)
 };
 
-struct RigSpec {
-  std::vector<CameraSpec> cameras;  // in a fixed order: front, lateral, upward
+struct RigOptions {
+  std::vector<CameraOptions> cameras;  // in a fixed order: front, lateral, upward
   BackendKind backend = BackendKind::kOsMesa;
   SceneOptions scene;
 
   /// The defaults: front RGB-D (640x480, 58 x 45 deg), lateral web camera (640x480, 60 deg,
   /// facing left, 25 deg up), upward Kannala-Brandt fisheye (640x480, 110 deg, P3).
-  static RigSpec Default();
-  const CameraSpec* Find(const std::string& id) const;
+  static RigOptions Default();
+  const CameraOptions* Find(const std::string& id) const;
   /// The first problem (key relative to `sensors`, e.g. "upward.fov_deg"), or nothing.
-  std::optional<SpecProblem> Check() const;
+  std::optional<OptionsProblem> Check() const;
 };
 
 /// Reads a `sensors:` map onto `rig` (cameras by id; unknown ids are errors).
-void ParseSensors(YamlMap& sensors, RigSpec& rig);
+void ParseSensors(YamlMap& sensors, RigOptions& rig);
 /// Reads a `render:` map (backend, lighting) onto `rig`.
-void ParseRenderOptions(YamlMap& render, RigSpec& rig);
+void ParseRenderOptions(YamlMap& render, RigOptions& rig);
 
 /// A problem when a camera at `world_from_robot` would sit inside a wall or outside the walkable
 /// area (key "<camera>.mount").
-std::optional<SpecProblem> CheckCameraPlacement(const worlds::World& world, const RigSpec& rig,
-                                                const SE3& world_from_robot);
+std::optional<OptionsProblem> CheckCameraPlacement(const worlds::World& world,
+                                                   const RigOptions& rig,
+                                                   const SE3& world_from_robot);
 
 /// One camera's rendered frame. Rows top-down; pixel (0,0) is the centre of the top-left pixel.
 struct CameraFrame {
@@ -92,9 +93,9 @@ struct CameraFrame {
 /// Draws one camera: its pinhole passes and the remap table through its model.
 class CameraRenderer {
  public:
-  explicit CameraRenderer(const CameraSpec& spec);
+  explicit CameraRenderer(const CameraOptions& options);
 
-  const CameraSpec& spec() const { return spec_; }
+  const CameraOptions& options() const { return options_; }
   /// The pinhole passes for a camera at `world_from_camera`.
   std::vector<View> Passes(const SE3& world_from_camera) const;
   /// Renders the exact (noise-free) frame: Draw, then Finish.
@@ -108,8 +109,8 @@ class CameraRenderer {
   /// Rough CPU work after Draw (depth noise 3, colour noise 2, a remap 1 per pixel), 0 for
   /// none: the rig draws the cameras with the most of it first, so it overlaps the most drawing.
   int cpu_work() const {
-    const bool noise = spec_.noise;
-    return (noise && spec_.depth ? 3 : 0) + (noise && spec_.rgb_noise.Active() ? 2 : 0) +
+    const bool noise = options_.noise;
+    return (noise && options_.depth ? 3 : 0) + (noise && options_.rgb_noise.Active() ? 2 : 0) +
            (lut_.empty() ? 0 : 1);
   }
   std::size_t pass_pixel_count() const;
@@ -141,7 +142,7 @@ class CameraRenderer {
   void PlanRemapPasses();
   void Compose(CameraFrame* frame) const;
 
-  CameraSpec spec_;
+  CameraOptions options_;
   SE3 world_from_camera_;  // of the last Draw
   std::vector<Pass> passes_;
   std::vector<LutEntry> lut_;       // empty for a direct (undistorted pinhole) camera
@@ -160,7 +161,7 @@ class CameraRenderer {
 /// bytes never depend on the overlap.
 class Rig {
  public:
-  Rig(const RigSpec& spec, const Scene& scene, Backend& backend);
+  Rig(const RigOptions& options, const Scene& scene, Backend& backend);
   ~Rig();
   Rig(const Rig&) = delete;
   Rig& operator=(const Rig&) = delete;

@@ -337,7 +337,7 @@ std::optional<LampTruth> ReflectionInFrame(const Frame& frame, const worlds::Wor
 bool ColumnSeen(const Frame& frame, const worlds::World& world, const worlds::Doorway& door,
                 const Vector2d& column) {
   if (!frame.has_instance()) return true;
-  const Vector2d front = column + door.inward_normal * world.spec.doors.frame_protrusion_m;
+  const Vector2d front = column + door.inward_normal * world.options.doors.frame_protrusion_m;
   for (int k = 0; k <= kColumnSamples; ++k) {
     const double z = door.top_height_m * k / kColumnSamples;
     const std::optional<Vector2d> pixel = frame.Project(Vector3d(front.x(), front.y(), z));

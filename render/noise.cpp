@@ -1,6 +1,6 @@
 #include "render/noise.h"
 
-#include "common/spec_checker.h"
+#include "common/options_checker.h"
 
 #include <algorithm>
 #include <array>
@@ -17,7 +17,7 @@
 namespace corridorsim::render {
 namespace {
 
-using Checker = SpecChecker;
+using Checker = OptionsChecker;
 const auto& Num = FormatNumber;
 
 // Clean copies of the rows [y - halo, y + halo] of an image that is overwritten in place, row by
@@ -173,7 +173,7 @@ class AcosDegTable {
 
 }  // namespace
 
-std::optional<SpecProblem> DepthNoiseOptions::Check() const {
+std::optional<OptionsProblem> DepthNoiseOptions::Check() const {
   Checker c;
   c.NonNegative(min_m, "min_m");
   c.Require(max_m > min_m, "max_m", "must be greater than min_m (" + Num(min_m) + " m)");
@@ -318,7 +318,7 @@ void ApplyDepthNoise(const DepthNoiseOptions& options, const PinholeRadTan& intr
   }
 }
 
-std::optional<SpecProblem> RgbNoiseOptions::Check() const {
+std::optional<OptionsProblem> RgbNoiseOptions::Check() const {
   Checker c;
   c.Positive(exposure, "exposure");
   c.Fraction(vignetting, "vignetting");

@@ -13,8 +13,8 @@
 #include "common/camera_models.h"
 #include "common/error.h"
 #include "common/image.h"
+#include "common/io/yaml_reader.h"
 #include "common/random.h"
-#include "common/yaml_reader.h"
 
 namespace corridorsim::render {
 
@@ -52,7 +52,7 @@ struct DepthNoiseOptions {
   double random_dropout = 0.0;  // probability that any valid pixel becomes invalid, in [0, 1]
 
   /// The first invalid value (key relative to this struct and what is wrong), or nullopt.
-  std::optional<SpecProblem> Check() const;
+  std::optional<OptionsProblem> Check() const;
 };
 
 /// Reads the keys of DepthNoiseOptions present in `map` over `options`; unknown keys are errors.
@@ -106,7 +106,7 @@ struct RgbNoiseOptions {
   }
 
   /// The first invalid value (key relative to this struct and what is wrong), or nullopt.
-  std::optional<SpecProblem> Check() const;
+  std::optional<OptionsProblem> Check() const;
 };
 
 /// Reads the keys of RgbNoiseOptions present in `map` over `options`; unknown keys are errors.

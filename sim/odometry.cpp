@@ -5,12 +5,12 @@
 #include <numbers>
 #include <string>
 
-#include "common/spec_checker.h"
+#include "common/options_checker.h"
 
 namespace corridorsim::sim {
 
-std::optional<SpecProblem> OdometryOptions::Check() const {
-  SpecChecker c;
+std::optional<OptionsProblem> OdometryOptions::Check() const {
+  OptionsChecker c;
   c.Require(rate_hz > 0 && rate_hz <= 1000, "rate_hz",
             "must lie in (0, 1000] Hz (got " + FormatNumber(rate_hz) + ")");
   c.Require(ticks_per_revolution >= 0 && ticks_per_revolution <= 1'000'000, "ticks_per_revolution",

@@ -28,10 +28,10 @@
 #include <vector>
 
 #include "common/error.h"
+#include "common/io/yaml_reader.h"
 #include "common/random.h"
 #include "common/sensor_messages.h"
 #include "common/time.h"
-#include "common/yaml_reader.h"
 
 namespace corridorsim::sim {
 
@@ -52,7 +52,7 @@ struct OdometryOptions {
   double slip_mean_m = 0.02;     // mean extra distance a slipping wheel reports (m, exponential)
 
   /// The first invalid value (key relative to this struct, e.g. "diameter_ratio"), or nullopt.
-  std::optional<SpecProblem> Check() const;
+  std::optional<OptionsProblem> Check() const;
 };
 
 /// Reads the keys of OdometryOptions present in `map` over `options`; unknown keys are errors.

@@ -6,7 +6,7 @@
 
 #include <btBulletDynamicsCommon.h>
 
-#include "common/spec_checker.h"
+#include "common/options_checker.h"
 
 namespace corridorsim::sim {
 namespace {
@@ -43,8 +43,8 @@ btTransform ToBt(const SE3& pose) {
 
 }  // namespace
 
-std::optional<SpecProblem> RobotSpec::Check() const {
-  SpecChecker c;
+std::optional<OptionsProblem> RobotOptions::Check() const {
+  OptionsChecker c;
   c.InRange(body_length_m, 0.1, 3.0, "body_length_m");
   c.InRange(body_width_m, 0.1, 2.0, "body_width_m");
   c.InRange(body_height_m, 0.1, 2.0, "body_height_m");
@@ -65,32 +65,32 @@ std::optional<SpecProblem> RobotSpec::Check() const {
   c.Require(wheel_diameter_m < body_length_m, "wheel_diameter_m",
             "must be less than body_length_m");
   if (!c.problem()) {
-    if (auto p = odometry.Check()) return SpecProblem{"odometry." + p->key, p->message};
+    if (auto p = odometry.Check()) return OptionsProblem{"odometry." + p->key, p->message};
   }
   return c.problem();
 }
 
-void ParseRobotSpec(YamlMap& map, RobotSpec& spec) {
-  map.Read("body_length_m", spec.body_length_m);
-  map.Read("body_width_m", spec.body_width_m);
-  map.Read("body_height_m", spec.body_height_m);
-  map.Read("mass_kg", spec.mass_kg);
-  map.Read("wheel_diameter_m", spec.wheel_diameter_m);
-  map.Read("wheel_width_m", spec.wheel_width_m);
-  map.Read("wheelbase_m", spec.wheelbase_m);
-  map.Read("wheel_friction", spec.wheel_friction);
-  map.Read("max_wheel_torque_nm", spec.max_wheel_torque_nm);
-  map.Read("max_wheel_speed_rps", spec.max_wheel_speed_rps);
-  map.Read("physics_rate_hz", spec.physics_rate_hz);
-  map.Read("control_rate_hz", spec.control_rate_hz);
+void ParseRobotOptions(YamlMap& map, RobotOptions& options) {
+  map.Read("body_length_m", options.body_length_m);
+  map.Read("body_width_m", options.body_width_m);
+  map.Read("body_height_m", options.body_height_m);
+  map.Read("mass_kg", options.mass_kg);
+  map.Read("wheel_diameter_m", options.wheel_diameter_m);
+  map.Read("wheel_width_m", options.wheel_width_m);
+  map.Read("wheelbase_m", options.wheelbase_m);
+  map.Read("wheel_friction", options.wheel_friction);
+  map.Read("max_wheel_torque_nm", options.max_wheel_torque_nm);
+  map.Read("max_wheel_speed_rps", options.max_wheel_speed_rps);
+  map.Read("physics_rate_hz", options.physics_rate_hz);
+  map.Read("control_rate_hz", options.control_rate_hz);
   YamlMap odometry = map.Map("odometry");
-  ParseOdometryOptions(odometry, spec.odometry);
+  ParseOdometryOptions(odometry, options.odometry);
   map.RejectUnknownKeys();
 }
 
-Eigen::Vector2d WheelSpeedsFor(const RobotSpec& spec, double linear_mps, double angular_rps) {
-  const double radius = spec.wheel_diameter_m / 2;
-  const double half_base = spec.wheelbase_m / 2;
+Eigen::Vector2d WheelSpeedsFor(const RobotOptions& options, double linear_mps, double angular_rps) {
+  const double radius = options.wheel_diameter_m / 2;
+  const double half_base = options.wheelbase_m / 2;
   return {(linear_mps - angular_rps * half_base) / radius,
           (linear_mps + angular_rps * half_base) / radius};
 }
@@ -154,7 +154,7 @@ struct RobotPhysics::Impl {
   }
 };
 
-RobotPhysics::RobotPhysics(const worlds::World& world, const RobotSpec& spec,
+RobotPhysics::RobotPhysics(const worlds::World& world, const RobotOptions& options,
                            const SE2& world_from_robot_start)
     : impl_(std::make_unique<Impl>()) {
   Impl& m = *impl_;
@@ -167,9 +167,9 @@ RobotPhysics::RobotPhysics(const worlds::World& world, const RobotSpec& spec,
   m.dynamics.getSolverInfo().m_numIterations = 10;
   m.dynamics.getSolverInfo().m_solverMode |= SOLVER_RANDMIZE_ORDER;
   m.dynamics.setForceUpdateAllAabbs(false);  // the solids never move: update only the robot's
-  m.step_s = ToSeconds(spec.physics_step_ns());
-  m.max_wheel_speed_rps = spec.max_wheel_speed_rps;
-  m.max_impulse = spec.max_wheel_torque_nm * m.step_s;
+  m.step_s = ToSeconds(options.physics_step_ns());
+  m.max_wheel_speed_rps = options.max_wheel_speed_rps;
+  m.max_impulse = options.max_wheel_torque_nm * m.step_s;
 
   // The floor (rooms share it) and the world's solids.
   m.AddStatic(std::make_unique<btStaticPlaneShape>(btVector3(0, 0, 1), 0.0),
@@ -185,16 +185,16 @@ RobotPhysics::RobotPhysics(const worlds::World& world, const RobotSpec& spec,
 
   // The real wheels carry the systematic odometry errors (Borenstein's E_d and E_b).
   const WheelGeometry real =
-      RealWheelGeometry(spec.odometry, spec.wheel_diameter_m, spec.wheelbase_m);
+      RealWheelGeometry(options.odometry, options.wheel_diameter_m, options.wheelbase_m);
   const double r_left = real.left_diameter_m / 2, r_right = real.right_diameter_m / 2;
   const double half_base = real.wheelbase_m / 2;
 
   // Chassis masses and centre of mass, in the robot frame R.
   const double wheel_mass = kWheelMassKg;
-  const double chassis_mass = spec.mass_kg - 2 * wheel_mass - kCasterMassKg;
+  const double chassis_mass = options.mass_kg - 2 * wheel_mass - kCasterMassKg;
   const double body_bottom = kBodyClearanceM;
-  const double body_height = spec.body_height_m - body_bottom;
-  const double body_width = spec.wheelbase_m - spec.wheel_width_m - 0.01;
+  const double body_height = options.body_height_m - body_bottom;
+  const double body_width = options.wheelbase_m - options.wheel_width_m - 0.01;
   const Eigen::Vector3d body_center_in_robot(-kBodyBehindAxleM, 0, body_bottom + body_height / 2);
   const Eigen::Vector3d com_in_robot = body_center_in_robot;
   m.body_from_robot = SE3(Eigen::Quaterniond::Identity(), -com_in_robot);
@@ -202,17 +202,17 @@ RobotPhysics::RobotPhysics(const worlds::World& world, const RobotSpec& spec,
   // Chassis shape: the body box plus the wheels' footprint (so walls meet the real outline).
   m.chassis_shape = std::make_unique<btCompoundShape>();
   auto body_box = std::make_unique<btBoxShape>(
-      btVector3(spec.body_length_m / 2, body_width / 2, body_height / 2));
+      btVector3(options.body_length_m / 2, body_width / 2, body_height / 2));
   btTransform child = btTransform::getIdentity();
   child.setOrigin(Bt(body_center_in_robot - com_in_robot));
   m.chassis_shape->addChildShape(child, body_box.get());
-  const double fender_height = spec.wheel_diameter_m - kFenderClearanceM;
+  const double fender_height = options.wheel_diameter_m - kFenderClearanceM;
   const double outer_half_width =
-      std::max(spec.body_width_m / 2, half_base + spec.wheel_width_m / 2);
+      std::max(options.body_width_m / 2, half_base + options.wheel_width_m / 2);
   const double fender_width = outer_half_width - (body_width / 2);
   for (int side : {-1, 1}) {
     auto fender = std::make_unique<btBoxShape>(
-        btVector3(spec.wheel_diameter_m / 2, fender_width / 2, fender_height / 2));
+        btVector3(options.wheel_diameter_m / 2, fender_width / 2, fender_height / 2));
     btTransform at = btTransform::getIdentity();
     at.setOrigin(Bt(Eigen::Vector3d(0, side * (body_width / 2 + fender_width / 2),
                                     kFenderClearanceM + fender_height / 2) -
@@ -222,7 +222,7 @@ RobotPhysics::RobotPhysics(const worlds::World& world, const RobotSpec& spec,
   }
   m.shapes.push_back(std::move(body_box));
   btVector3 chassis_inertia;
-  btBoxShape(btVector3(spec.body_length_m / 2, spec.body_width_m / 2, body_height / 2))
+  btBoxShape(btVector3(options.body_length_m / 2, options.body_width_m / 2, body_height / 2))
       .calculateLocalInertia(chassis_mass, chassis_inertia);
 
   const SE3 world_from_robot = SE3::FromSE2(world_from_robot_start);
@@ -239,7 +239,7 @@ RobotPhysics::RobotPhysics(const worlds::World& world, const RobotSpec& spec,
     shape->calculateLocalInertia(wheel_mass, inertia);
     auto body = m.AddDynamic(shape.get(), wheel_mass, inertia,
                              world_pose(Eigen::Vector3d(0, side * half_base, radius)),
-                             spec.wheel_friction, kWheelGroup, kFloorGroup);
+                             options.wheel_friction, kWheelGroup, kFloorGroup);
     m.shapes.push_back(std::move(shape));
     return body;
   };

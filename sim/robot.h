@@ -20,16 +20,16 @@
 #include <Eigen/Core>
 
 #include "common/error.h"
+#include "common/io/yaml_reader.h"
 #include "common/pose.h"
 #include "common/time.h"
-#include "common/yaml_reader.h"
 #include "sim/odometry.h"
 #include "worlds/world.h"
 
 namespace corridorsim::sim {
 
 /// The robot's description (scenario key `robot`). Defaults: Pioneer 3-DX.
-struct RobotSpec {
+struct RobotOptions {
   double body_length_m = 0.455;     // overall, along x
   double body_width_m = 0.381;      // overall, wheels included
   double body_height_m = 0.237;     // floor to top plate
@@ -45,12 +45,12 @@ struct RobotSpec {
   OdometryOptions odometry;          // `robot.odometry`: encoders and their errors
 
   /// The first problem (key relative to `robot`, e.g. "wheelbase_m"), or nothing.
-  std::optional<SpecProblem> Check() const;
+  std::optional<OptionsProblem> Check() const;
   TimeNs physics_step_ns() const { return PeriodFromRateHz(physics_rate_hz); }
 };
 
-/// Reads a `robot:` map onto `spec` (odometry under `robot.odometry`).
-void ParseRobotSpec(YamlMap& map, RobotSpec& spec);
+/// Reads a `robot:` map onto `options` (odometry under `robot.odometry`).
+void ParseRobotOptions(YamlMap& map, RobotOptions& options);
 
 /// A contact of the robot's chassis with a world object (walls, doors, furniture).
 struct Contact {
@@ -73,9 +73,9 @@ struct RobotState {
 class RobotPhysics {
  public:
   /// Builds the world's static collision boxes and a floor plane, and the robot standing at
-  /// `world_from_robot_start` (planar). The robot's real wheels follow `spec.odometry`'s
+  /// `world_from_robot_start` (planar). The robot's real wheels follow `options.odometry`'s
   /// systematic errors (RealWheelGeometry); the nominal values stay what the controller uses.
-  RobotPhysics(const worlds::World& world, const RobotSpec& spec,
+  RobotPhysics(const worlds::World& world, const RobotOptions& options,
                const SE2& world_from_robot_start);
   ~RobotPhysics();
   RobotPhysics(const RobotPhysics&) = delete;
@@ -102,6 +102,6 @@ class RobotPhysics {
 
 /// Wheel speeds (rad/s, left and right) that drive the nominal robot at `linear_mps`,
 /// `angular_rps` (inverse differential-drive kinematics with the nominal geometry).
-Eigen::Vector2d WheelSpeedsFor(const RobotSpec& spec, double linear_mps, double angular_rps);
+Eigen::Vector2d WheelSpeedsFor(const RobotOptions& options, double linear_mps, double angular_rps);
 
 }  // namespace corridorsim::sim

@@ -14,7 +14,7 @@ namespace {
 constexpr TimeNs kSafetyMarginNs = 60 * kNanosecondsPerSecond;
 
 // The time a perfectly followed path takes at cruise speed and turn rate, ramps left out.
-double NominalDurationS(const Path& path, const PathOptions& options) {
+double NominalDurationS(const RobotPath& path, const RobotPathOptions& options) {
   double s = path.length_m() / options.speed_mps +
              path.total_turn_rad() / (options.turn_rate_dps * std::numbers::pi / 180.0);
   for (const VelocityCommand& c : path.commands) s += c.duration_s;
@@ -59,34 +59,34 @@ std::string TumLine(TimeNs stamp_ns, const SE3& pose) {
   return buf;
 }
 
-Simulation::Simulation(const worlds::World& world, const SimulationOptions& options, Path path,
-                       render::Rig* rig, const render::RigSpec* rig_spec)
+Simulation::Simulation(const worlds::World& world, const SimulationOptions& options, RobotPath path,
+                       render::Rig* rig, const render::RigOptions* rig_options)
     : world_(world),
       options_(options),
       rig_(rig),
       path_(std::move(path)),
       odometer_(options.robot.odometry, options.robot.wheel_diameter_m, options.seed),
       odometry_clock_(PeriodFromRateHz(options.robot.odometry.rate_hz), 0) {
-  follower_ = std::make_unique<PathFollower>(path_, options_.path);
+  follower_ = std::make_unique<PathFollower>(path_, options_.robot_path);
   physics_ = std::make_unique<RobotPhysics>(world, options_.robot, path_.world_from_start);
   step_ns_ = options_.robot.physics_step_ns();
   steps_per_control_ = std::max<std::int64_t>(
       1, std::llround(options_.robot.physics_rate_hz / options_.robot.control_rate_hz));
-  if (rig_spec) {
-    for (const render::CameraSpec& c : rig_spec->cameras) {
-      if (c.enabled) camera_specs_.push_back(c);
+  if (rig_options) {
+    for (const render::CameraOptions& c : rig_options->cameras) {
+      if (c.enabled) camera_options_.push_back(c);
     }
   }
-  CheckOrDie(!rig_ || rig_spec, "sim::Simulation", "a rig needs the spec it was built from");
+  CheckOrDie(!rig_ || rig_options, "sim::Simulation", "a rig needs the options it was built from");
   if (rig_) {
-    for (const render::CameraSpec& c : camera_specs_) {
+    for (const render::CameraOptions& c : camera_options_) {
       camera_clocks_.emplace_back(PeriodFromRateHz(c.rate_hz), FromSeconds(c.phase_s));
       drop_rngs_.emplace_back(options.seed, 0, "sim.clock.drop." + c.id);
     }
   }
   end_ns_ = options_.max_duration_ns > 0
                 ? options_.max_duration_ns
-                : 2 * FromSeconds(NominalDurationS(path_, options_.path)) + kSafetyMarginNs;
+                : 2 * FromSeconds(NominalDurationS(path_, options_.robot_path)) + kSafetyMarginNs;
 
   output_.truth.stamp_ns = 0;
   output_.truth.state = physics_->state();
@@ -127,10 +127,10 @@ TruthSample Simulation::Interpolate(const TruthSample& a, const TruthSample& b,
 
 void Simulation::FillTruth(TruthSample* sample) const {
   sample->world_from_robot_2d = Planar(sample->state.world_from_robot);
-  sample->world_from_camera.resize(camera_specs_.size());
-  for (std::size_t k = 0; k < camera_specs_.size(); ++k) {
+  sample->world_from_camera.resize(camera_options_.size());
+  for (std::size_t k = 0; k < camera_options_.size(); ++k) {
     sample->world_from_camera[k] =
-        sample->state.world_from_robot * camera_specs_[k].mount.RobotFromCamera();
+        sample->state.world_from_robot * camera_options_[k].mount.RobotFromCamera();
   }
 }
 
@@ -161,12 +161,12 @@ void Simulation::EmitDue(const TruthSample& before, const TruthSample& after) {
     SensorClock& clock = camera_clocks_[k];
     while (clock.next_ns() <= now) {
       // A lost frame: one draw per stamp and camera, only when frames can be lost.
-      if (camera_specs_[k].drop_probability > 0 &&
-          drop_rngs_[k].Bernoulli(camera_specs_[k].drop_probability)) {
+      if (camera_options_[k].drop_probability > 0 &&
+          drop_rngs_[k].Bernoulli(camera_options_[k].drop_probability)) {
         Event e;
         e.stamp_ns = clock.next_ns();
         e.kind = EventKind::kFrameDropped;
-        e.camera_id = camera_specs_[k].id;
+        e.camera_id = camera_options_[k].id;
         output_.events.push_back(e);
         clock.Advance();
         continue;
@@ -192,8 +192,8 @@ void Simulation::EmitDue(const TruthSample& before, const TruthSample& after) {
   for (CameraMessage& message : started) {
     render::FrameTruthInput input;
     input.world = &world_;
-    input.camera_id = camera_specs_[message.camera].id;
-    input.model = camera_specs_[message.camera].model;
+    input.camera_id = camera_options_[message.camera].id;
+    input.model = camera_options_[message.camera].model;
     input.world_from_camera = message.frame.world_from_camera;
     input.world_from_robot = message.world_from_robot;
     input.instance = &message.frame.instance;

@@ -22,8 +22,8 @@
 #include "render/camera_rig.h"
 #include "render/frame_truth.h"
 #include "sim/odometry.h"
-#include "sim/path.h"
 #include "sim/robot.h"
+#include "sim/robot_path.h"
 #include "worlds/world.h"
 
 namespace corridorsim::sim {
@@ -47,7 +47,7 @@ struct TruthSample {
   TimeNs stamp_ns = 0;
   SE2 world_from_robot_2d;  // the planar pose (x, y, yaw of the robot's x axis)
   RobotState state;         // full 3D pose, velocities, wheel angles
-  // world_from_camera of every enabled camera of the rig spec (its order), if one was given
+  // world_from_camera of every enabled camera of the rig options (its order), if one was given
   std::vector<SE3> world_from_camera;
 };
 
@@ -84,8 +84,8 @@ struct Event {
 };
 
 struct SimulationOptions {
-  RobotSpec robot;
-  PathOptions path;
+  RobotOptions robot;
+  RobotPathOptions robot_path;
   std::uint64_t seed = 1;
   TimeNs max_duration_ns = 0;  // 0: until the path is done (with a safety timeout, see below)
 };
@@ -100,12 +100,12 @@ struct StepOutput {
 
 class Simulation {
  public:
-  /// Drives `path` (BuildPath of options.path in `world`). With `rig_spec`, the truth carries
-  /// every enabled camera's pose; `rig` (optional, built from `rig_spec`) renders the cameras at
-  /// their rates; without it no camera messages are emitted. The world and rig must outlive the
-  /// simulation.
-  Simulation(const worlds::World& world, const SimulationOptions& options, Path path,
-             render::Rig* rig = nullptr, const render::RigSpec* rig_spec = nullptr);
+  /// Drives `path` (BuildRobotPath of options.robot_path in `world`). With `rig_options`, the truth
+  /// carries every enabled camera's pose; `rig` (optional, built from `rig_options`) renders the
+  /// cameras at their rates; without it no camera messages are emitted. The world and rig must
+  /// outlive the simulation.
+  Simulation(const worlds::World& world, const SimulationOptions& options, RobotPath path,
+             render::Rig* rig = nullptr, const render::RigOptions* rig_options = nullptr);
   ~Simulation();
 
   /// Advances one physics step and returns what became due.
@@ -116,7 +116,7 @@ class Simulation {
   bool path_done() const { return path_done_; }
   TimeNs now_ns() const { return now_ns_; }
   const TruthSample& truth() const { return output_.truth; }
-  const Path& path() const { return path_; }
+  const RobotPath& path() const { return path_; }
   double progress() const;
   /// Wall-clock seconds spent rendering camera frames and computing their truth (for the
   /// run's cost split; never part of an output that must be deterministic).
@@ -131,8 +131,9 @@ class Simulation {
   const worlds::World& world_;
   SimulationOptions options_;
   render::Rig* rig_;
-  std::vector<render::CameraSpec> camera_specs_;  // the rig spec's enabled cameras, in order
-  Path path_;
+  std::vector<render::CameraOptions>
+      camera_options_;  // the rig options's enabled cameras, in order
+  RobotPath path_;
   std::unique_ptr<PathFollower> follower_;
   std::unique_ptr<RobotPhysics> physics_;
   WheelOdometer odometer_;

@@ -1,12 +1,12 @@
 #include "slam/odometry_pipeline.h"
 
-#include "common/spec_checker.h"
+#include "common/options_checker.h"
 #include "common/wheel_odometry_model.h"
 
 namespace corridorsim::slam {
 
-std::optional<SpecProblem> OdometryPipelineOptions::Check() const {
-  SpecChecker c;
+std::optional<OptionsProblem> OdometryPipelineOptions::Check() const {
+  OptionsChecker c;
   c.InRange(k_m, 0.0, 0.1, "k_m");
   return c.problem();
 }

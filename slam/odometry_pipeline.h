@@ -7,7 +7,7 @@
 #include <optional>
 
 #include "common/error.h"
-#include "common/yaml_reader.h"
+#include "common/io/yaml_reader.h"
 #include "slam/pipeline.h"
 
 namespace corridorsim::slam {
@@ -17,7 +17,7 @@ struct OdometryPipelineOptions {
   // k of P1 eq. 17: each wheel's distance has variance k |s| (m^2 per m). Matching the
   // simulated robot's `robot.odometry.random_k_m` makes the filter consistent (NEES in band).
   double k_m = 1e-4;
-  std::optional<SpecProblem> Check() const;
+  std::optional<OptionsProblem> Check() const;
 };
 void ParseOdometryPipelineOptions(YamlMap& map, OdometryPipelineOptions& options);
 

@@ -8,7 +8,7 @@ namespace {
 class OdometryConfig : public PipelineConfig {
  public:
   void Parse(YamlMap& options) override { ParseOdometryPipelineOptions(options, options_); }
-  std::optional<SpecProblem> Check() const override { return options_.Check(); }
+  std::optional<OptionsProblem> Check() const override { return options_.Check(); }
   std::unique_ptr<Pipeline> Create(const Calibration& calibration) const override {
     return std::make_unique<OdometryPipeline>(options_, calibration);
   }

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "common/error.h"
-#include "common/yaml_reader.h"
+#include "common/io/yaml_reader.h"
 #include "slam/pipeline.h"
 
 namespace corridorsim::slam {
@@ -21,7 +21,7 @@ class PipelineConfig {
   /// unknown keys are errors.
   virtual void Parse(YamlMap& options) = 0;
   /// The first problem (key relative to the pipeline's map), or nothing.
-  virtual std::optional<SpecProblem> Check() const = 0;
+  virtual std::optional<OptionsProblem> Check() const = 0;
   virtual std::unique_ptr<Pipeline> Create(const Calibration& calibration) const = 0;
 };
 

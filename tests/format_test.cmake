@@ -5,7 +5,7 @@ file(GLOB_RECURSE files
   "${SOURCE_DIR}/render/*.h" "${SOURCE_DIR}/render/*.cpp"
   "${SOURCE_DIR}/sim/*.h" "${SOURCE_DIR}/sim/*.cpp"
   "${SOURCE_DIR}/slam/*.h" "${SOURCE_DIR}/slam/*.cpp"
-  "${SOURCE_DIR}/scenarios/*.h" "${SOURCE_DIR}/scenarios/*.cpp"
+  "${SOURCE_DIR}/harness/*.h" "${SOURCE_DIR}/harness/*.cpp"
   "${SOURCE_DIR}/tests/*.h" "${SOURCE_DIR}/tests/*.cpp"
   "${SOURCE_DIR}/bench/*.h" "${SOURCE_DIR}/bench/*.cpp")
 execute_process(COMMAND "${CLANG_FORMAT}" --dry-run --Werror ${files}

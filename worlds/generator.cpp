@@ -1,4 +1,4 @@
-// worlds::Generate: WorldSpec + seed -> World. Each concern draws from its own random stream
+// worlds::Generate: WorldOptions + seed -> World. Each concern draws from its own random stream
 // (worlds.doors, worlds.plates, ...), so changing one option does not reshuffle the others.
 
 #include <algorithm>
@@ -53,20 +53,20 @@ std::string Id(const char* prefix, int id) {
 
 class Builder {
  public:
-  Builder(const WorldSpec& spec, std::uint64_t seed)
-      : s_(spec),
+  Builder(const WorldOptions& options, std::uint64_t seed)
+      : s_(options),
         doors_rng_(seed, 0, "worlds.doors"),
         plates_rng_(seed, 0, "worlds.plates"),
         lamps_rng_(seed, 0, "worlds.lamps"),
         ceiling_rng_(seed, 0, "worlds.ceiling"),
         distractors_rng_(seed, 0, "worlds.distractors"),
         textures_rng_(seed, 0, "worlds.textures") {
-    w_.spec = spec;
+    w_.options = options;
     w_.seed = seed;
   }
 
   World Build() {
-    if (auto problem = PlanLayout(s_, next_id_, &plan_)) throw SpecError(*problem);
+    if (auto problem = PlanLayout(s_, next_id_, &plan_)) throw OptionsError(*problem);
     next_id_ += static_cast<int>(plan_.segments.size() + plan_.walls.size());
     w_.segments = plan_.segments;
     w_.walls = plan_.walls;
@@ -764,7 +764,7 @@ class Builder {
   }
 
   struct DistractorKind {
-    const char* key;  // spec key, for errors
+    const char* key;  // options key, for errors
     SemanticClass cls;
     int count;
   };
@@ -811,8 +811,9 @@ class Builder {
     }
     const auto slot = FindSlot(size.x(), 0.15);
     if (!slot) {
-      throw SpecError({kind.key, "only " + std::to_string(n) + " of " + std::to_string(kind.count) +
-                                     " fit on the free wall stretches of this world"});
+      throw OptionsError({kind.key, "only " + std::to_string(n) + " of " +
+                                        std::to_string(kind.count) +
+                                        " fit on the free wall stretches of this world"});
     }
     const Wall& wall = w_.walls[slot->wall];
     const double s0 = slot->s0, s1 = s0 + size.x();
@@ -875,7 +876,7 @@ class Builder {
         sprinkler, mirror, extinguisher, furniture, metal, lamp_on, lamp_off;
   };
 
-  const WorldSpec& s_;
+  const WorldOptions& s_;
   World w_;
   LayoutPlan plan_;
   int next_id_ = 1;  // 0 is "nothing" in label images
@@ -894,9 +895,9 @@ class Builder {
 
 }  // namespace
 
-World Generate(const WorldSpec& spec, std::uint64_t seed) {
-  if (auto problem = spec.Check()) throw SpecError(*problem);
-  return Builder(spec, seed).Build();
+World Generate(const WorldOptions& options, std::uint64_t seed) {
+  if (auto problem = options.Check()) throw OptionsError(*problem);
+  return Builder(options, seed).Build();
 }
 
 }  // namespace corridorsim::worlds

@@ -17,7 +17,7 @@ std::string Metres(double v) {
 }
 
 // Centre lines of the corridors of each layout (frame W: first corridor along +x from the origin).
-std::vector<std::pair<Vector2d, Vector2d>> CentreLines(const WorldSpec& s) {
+std::vector<std::pair<Vector2d, Vector2d>> CentreLines(const WorldOptions& s) {
   const double l = s.length_m, l2 = s.second_length_m;
   switch (s.layout) {
     case Layout::kStraight:
@@ -34,7 +34,7 @@ std::vector<std::pair<Vector2d, Vector2d>> CentreLines(const WorldSpec& s) {
 
 // Walkable rectangle of a centre line. Segments that start or end at a corner are extended by
 // half a width there so that corners are covered; the first corridor's start is the origin.
-AlignedBox2d SegmentRect(const WorldSpec& s, const Vector2d& a, const Vector2d& b,
+AlignedBox2d SegmentRect(const WorldOptions& s, const Vector2d& a, const Vector2d& b,
                          bool extend_start, bool extend_end) {
   const Vector2d dir = (b - a).normalized();
   const Vector2d side(-dir.y(), dir.x());
@@ -121,30 +121,32 @@ std::vector<Wall> UnionBoundary(const std::vector<AlignedBox2d>& rects,
 
 }  // namespace
 
-double UsableWallLength(const Wall& wall, const WorldSpec& spec) {
-  return std::max(0.0, wall.length() - 2 * spec.doors.min_gap_m);
+double UsableWallLength(const Wall& wall, const WorldOptions& options) {
+  return std::max(0.0, wall.length() - 2 * options.doors.min_gap_m);
 }
 
-std::optional<SpecProblem> PlanLayout(const WorldSpec& spec, int first_id, LayoutPlan* plan) {
+std::optional<OptionsProblem> PlanLayout(const WorldOptions& options, int first_id,
+                                         LayoutPlan* plan) {
   *plan = LayoutPlan();
   int next_id = first_id;
-  const auto lines = CentreLines(spec);
+  const auto lines = CentreLines(options);
   for (std::size_t k = 0; k < lines.size(); ++k) {
     CorridorSegment seg;
     seg.id = next_id++;
     seg.start = lines[k].first;
     seg.end = lines[k].second;
-    seg.width_m = spec.width_m;
-    seg.height_m = spec.height_m;
+    seg.width_m = options.width_m;
+    seg.height_m = options.height_m;
     plan->segments.push_back(seg);
-    const bool corner_start = k > 0 && spec.layout != Layout::kTJunction;
+    const bool corner_start = k > 0 && options.layout != Layout::kTJunction;
     const bool corner_end =
-        spec.layout == Layout::kLoop || (spec.layout == Layout::kLTurn && k == 0);
-    plan->segment_rects.push_back(SegmentRect(spec, seg.start, seg.end, corner_start, corner_end));
+        options.layout == Layout::kLoop || (options.layout == Layout::kLTurn && k == 0);
+    plan->segment_rects.push_back(
+        SegmentRect(options, seg.start, seg.end, corner_start, corner_end));
   }
   // The T's branch starts on the main corridor's centre line: extend it across the main corridor.
-  if (spec.layout == Layout::kTJunction)
-    plan->segment_rects[1].extend(Vector2d(spec.length_m / 2, 0));
+  if (options.layout == Layout::kTJunction)
+    plan->segment_rects[1].extend(Vector2d(options.length_m / 2, 0));
 
   plan->walls = UnionBoundary(plan->segment_rects, &plan->floor_cells);
   for (Wall& w : plan->walls) {
@@ -164,39 +166,39 @@ std::optional<SpecProblem> PlanLayout(const WorldSpec& spec, int first_id, Layou
   }
 
   // Doorways per side wall: D'Hondt allocation by usable length, bounded by each wall's capacity.
-  const double f = spec.doors.width_m + 2 * spec.doors.frame_width_m;
+  const double f = options.doors.width_m + 2 * options.doors.frame_width_m;
   plan->door_footprint_m = f;
-  const double g = spec.doors.min_gap_m;
+  const double g = options.doors.min_gap_m;
   plan->doors_per_wall.assign(plan->walls.size(), 0);
   std::vector<int> capacity(plan->walls.size(), 0);
   double longest_usable = 0.0;
   int total_capacity = 0;
   for (std::size_t k = 0; k < plan->walls.size(); ++k) {
     if (!plan->walls[k].side_wall) continue;
-    const double usable = UsableWallLength(plan->walls[k], spec);
+    const double usable = UsableWallLength(plan->walls[k], options);
     longest_usable = std::max(longest_usable, usable);
     capacity[k] =
         usable + 1e-9 >= f ? static_cast<int>(std::floor((usable - f) / (f + g) + 1e-9)) + 1 : 0;
     total_capacity += capacity[k];
   }
-  if (spec.doors.count > 0 && longest_usable + 1e-9 < f) {
-    return SpecProblem{"doors.width_m",
-                       "a doorway of " + Metres(f) + " with its frame is wider than every wall " +
-                           "segment (longest usable wall: " + Metres(longest_usable) + ")"};
+  if (options.doors.count > 0 && longest_usable + 1e-9 < f) {
+    return OptionsProblem{
+        "doors.width_m", "a doorway of " + Metres(f) + " with its frame is wider than every wall " +
+                             "segment (longest usable wall: " + Metres(longest_usable) + ")"};
   }
-  if (spec.doors.count > total_capacity) {
-    return SpecProblem{"doors.count", std::to_string(spec.doors.count) +
-                                          " doorways do not fit on the side walls: at most " +
-                                          std::to_string(total_capacity) + " fit with width_m " +
-                                          Metres(spec.doors.width_m) + " and min_gap_m " +
-                                          Metres(g)};
+  if (options.doors.count > total_capacity) {
+    return OptionsProblem{"doors.count", std::to_string(options.doors.count) +
+                                             " doorways do not fit on the side walls: at most " +
+                                             std::to_string(total_capacity) + " fit with width_m " +
+                                             Metres(options.doors.width_m) + " and min_gap_m " +
+                                             Metres(g)};
   }
-  for (int placed = 0; placed < spec.doors.count; ++placed) {
+  for (int placed = 0; placed < options.doors.count; ++placed) {
     int best = -1;
     double best_quotient = -1.0;
     for (std::size_t k = 0; k < plan->walls.size(); ++k) {
       if (plan->doors_per_wall[k] >= capacity[k]) continue;
-      const double q = UsableWallLength(plan->walls[k], spec) / (plan->doors_per_wall[k] + 1);
+      const double q = UsableWallLength(plan->walls[k], options) / (plan->doors_per_wall[k] + 1);
       if (q > best_quotient + 1e-12) {
         best_quotient = q;
         best = static_cast<int>(k);

@@ -1,7 +1,7 @@
 #pragma once
-// The deterministic floor plan of a WorldSpec: corridor segments, the walls that bound their
-// union, and how many doorways each side wall carries. No randomness: WorldSpec::Check() uses it
-// to reject specs whose doors cannot fit, and the generator places the doors it allocates.
+// The deterministic floor plan of a WorldOptions: corridor segments, the walls that bound their
+// union, and how many doorways each side wall carries. No randomness: WorldOptions::Check() uses it
+// to reject all_options whose doors cannot fit, and the generator places the doors it allocates.
 
 #include <optional>
 #include <vector>
@@ -21,11 +21,12 @@ struct LayoutPlan {
   double door_footprint_m = 0.0;                   // opening plus both frame columns
 };
 
-/// Builds the plan of `spec`, assigning ids from `first_id` upwards (segments, then walls).
+/// Builds the plan of `options`, assigning ids from `first_id` upwards (segments, then walls).
 /// Returns a problem when the doorways cannot be placed.
-std::optional<SpecProblem> PlanLayout(const WorldSpec& spec, int first_id, LayoutPlan* plan);
+std::optional<OptionsProblem> PlanLayout(const WorldOptions& options, int first_id,
+                                         LayoutPlan* plan);
 
 /// Usable interval of a wall for doorways and wall objects: [margin, length - margin].
-double UsableWallLength(const Wall& wall, const WorldSpec& spec);
+double UsableWallLength(const Wall& wall, const WorldOptions& options);
 
 }  // namespace corridorsim::worlds

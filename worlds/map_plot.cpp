@@ -69,7 +69,8 @@ cv::Point Rounded(const Vector2d& px) { return {cvRound(px.x()), cvRound(px.y())
 Vector2d Perpendicular(const Vector2d& d) { return {-d.y(), d.x()}; }  // d turned left
 
 double WallThicknessM(const World& world) {
-  return world.spec.wall_thickness_m > 0.0 ? world.spec.wall_thickness_m : kDefaultWallThicknessM;
+  return world.options.wall_thickness_m > 0.0 ? world.options.wall_thickness_m
+                                              : kDefaultWallThicknessM;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -310,7 +311,7 @@ std::vector<TitleLine> TitleLines(const World& world, double px_per_m, int max_w
   const TextStyle body{kTextScale, 1, kText, false};
   std::vector<TitleLine> lines;
   for (const std::string& text :
-       Wrap({"corridorsim world", "layout " + LayoutName(world.spec.layout),
+       Wrap({"corridorsim world", "layout " + LayoutName(world.options.layout),
              "seed " + std::to_string(world.seed), Format("%.1f px/m", px_per_m)},
             "  |  ", heading, max_width_px)) {
     lines.push_back({text, heading});

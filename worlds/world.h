@@ -15,7 +15,7 @@
 #include <Eigen/Geometry>
 
 #include "common/image.h"
-#include "worlds/world_spec.h"
+#include "worlds/world_options.h"
 
 namespace corridorsim::worlds {
 
@@ -182,7 +182,7 @@ struct Distractor {
 };
 
 struct World {
-  WorldSpec spec;
+  WorldOptions options;
   std::uint64_t seed = 0;
 
   std::vector<Texture> textures;
@@ -206,8 +206,8 @@ struct World {
   std::size_t triangle_count() const;
 };
 
-/// Generates the world of `spec` and `seed` (Check() must pass; throws SpecError otherwise or
-/// when the seeded layout cannot place what the spec asks for).
-World Generate(const WorldSpec& spec, std::uint64_t seed);
+/// Generates the world of `options` and `seed` (Check() must pass; throws OptionsError otherwise or
+/// when the seeded layout cannot place what the options asks for).
+World Generate(const WorldOptions& options, std::uint64_t seed);
 
 }  // namespace corridorsim::worlds

@@ -12,7 +12,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "common/atomic_file.h"
+#include "common/io/atomic_file.h"
 #include "worlds/image_io.h"
 #include "worlds/map_plot.h"
 
@@ -275,7 +275,7 @@ std::string ObjText(const World& world) {
   }
   std::string out;
   out.reserve(vertex_total * 100 + index_total * 12 + 1024);
-  out += "# corridorsim world: layout " + LayoutName(world.spec.layout) + ", seed " +
+  out += "# corridorsim world: layout " + LayoutName(world.options.layout) + ", seed " +
          std::to_string(world.seed) + "\n# frame W: x along the corridor, y left, z up; metres\n";
   out += "mtllib world.mtl\n";
 
@@ -326,7 +326,7 @@ std::string ObjText(const World& world) {
 nlohmann::ordered_json GroundTruthJson(const World& world) {
   Json j;
   j["seed"] = world.seed;
-  j["layout"] = LayoutName(world.spec.layout);
+  j["layout"] = LayoutName(world.options.layout);
   if (world.bounds.isEmpty()) {
     j["bounds"] = nullptr;
   } else {

@@ -43,10 +43,10 @@ TEST_CASE("mounts point the optical axis by yaw and pitch, image x horizontal", 
 
 TEST_CASE("the default rig is P1's front RGB-D and lateral camera plus P3's upward fisheye",
           "[render][rig]") {
-  const RigSpec rig = RigSpec::Default();
+  const RigOptions rig = RigOptions::Default();
   REQUIRE(rig.cameras.size() == 3);
   CHECK_FALSE(rig.Check());
-  const CameraSpec& front = *rig.Find("front");
+  const CameraOptions& front = *rig.Find("front");
   CHECK(front.depth);
   const auto& fp = std::get<PinholeRadTan>(front.model);
   CHECK(fp.width == 640);
@@ -60,9 +60,9 @@ TEST_CASE("the default rig is P1's front RGB-D and lateral camera plus P3's upwa
 TEST_CASE("each fisheye pixel samples the pass pixel that sees along the same ray",
           "[render][rig]") {
   for (const double fov : {110.0, 130.0}) {
-    CameraSpec spec = RigSpec::Default().cameras[2];
-    spec.model = KannalaBrandt::FromFov(320, 240, fov * kDeg);
-    const CameraRenderer renderer(spec);
+    CameraOptions camera_options = RigOptions::Default().cameras[2];
+    camera_options.model = KannalaBrandt::FromFov(320, 240, fov * kDeg);
+    const CameraRenderer renderer(camera_options);
     const std::vector<View> passes = renderer.Passes(SE3());
     CHECK(passes.size() >= 5);  // the up face and the four side faces it reaches into
     for (int v = 0; v < 240; v += 7) {
@@ -77,7 +77,7 @@ TEST_CASE("each fisheye pixel samples the pass pixel that sees along the same ra
         CHECK(q.y() <= pass.height - 1);
         const Vector3d ray_in_pass((q.x() - pass.cx) / pass.fx, (q.y() - pass.cy) / pass.fy, 1.0);
         const Vector3d ray = (pass.world_from_camera.rotation() * ray_in_pass).normalized();
-        const Vector3d expected = Unproject(spec.model, Vector2d(u, v)).normalized();
+        const Vector3d expected = Unproject(camera_options.model, Vector2d(u, v)).normalized();
         CHECK((ray - expected).norm() < 1e-5);
       }
     }
@@ -85,7 +85,7 @@ TEST_CASE("each fisheye pixel samples the pass pixel that sees along the same ra
 }
 
 TEST_CASE("an undistorted pinhole camera is drawn in one exact pass", "[render][rig]") {
-  const CameraRenderer renderer(RigSpec::Default().cameras[0]);
+  const CameraRenderer renderer(RigOptions::Default().cameras[0]);
   const std::vector<View> passes = renderer.Passes(SE3());
   REQUIRE(passes.size() == 1);
   CHECK(passes[0].width == 640);
@@ -95,12 +95,12 @@ TEST_CASE("an undistorted pinhole camera is drawn in one exact pass", "[render][
 }
 
 TEST_CASE("a distorted pinhole camera samples one wider pass along its rays", "[render][rig]") {
-  CameraSpec spec = RigSpec::Default().cameras[1];
-  auto& p = std::get<PinholeRadTan>(spec.model);
+  CameraOptions camera_options = RigOptions::Default().cameras[1];
+  auto& p = std::get<PinholeRadTan>(camera_options.model);
   p.k1 = -0.28;
   p.k2 = 0.07;
   p.p1 = 1e-4;
-  const CameraRenderer renderer(spec);
+  const CameraRenderer renderer(camera_options);
   const std::vector<View> passes = renderer.Passes(SE3());
   REQUIRE(passes.size() == 1);
   for (const auto& [u, v] : {std::pair{0, 0}, {639, 479}, {320, 240}, {10, 400}}) {
@@ -110,13 +110,13 @@ TEST_CASE("a distorted pinhole camera samples one wider pass along its rays", "[
     const Vector3d ray =
         Vector3d((hit->second.x() - pass.cx) / pass.fx, (hit->second.y() - pass.cy) / pass.fy, 1.0)
             .normalized();
-    CHECK((ray - Unproject(spec.model, Vector2d(u, v)).normalized()).norm() < 1e-5);
+    CHECK((ray - Unproject(camera_options.model, Vector2d(u, v)).normalized()).norm() < 1e-5);
   }
 }
 
 TEST_CASE("the rig rejects impossible cameras naming the key", "[render][rig]") {
   {
-    RigSpec rig = RigSpec::Default();
+    RigOptions rig = RigOptions::Default();
     rig.cameras[2].model = KannalaBrandt::FromFov(640, 480, 179.0 * kDeg);
     CHECK_FALSE(rig.Check());
     auto& k = std::get<KannalaBrandt>(rig.cameras[2].model);
@@ -125,31 +125,31 @@ TEST_CASE("the rig rejects impossible cameras naming the key", "[render][rig]") 
     CHECK(rig.Check()->key == "upward.fov_deg");
   }
   {
-    RigSpec rig = RigSpec::Default();
+    RigOptions rig = RigOptions::Default();
     rig.cameras[0].model = PinholeRadTan::FromFov(640, 480, 150.0 * kDeg);
     REQUIRE(rig.Check());
     CHECK(rig.Check()->key == "front.fov_deg");
   }
   {
-    RigSpec rig = RigSpec::Default();
+    RigOptions rig = RigOptions::Default();
     std::get<PinholeRadTan>(rig.cameras[1].model).width = 0;
     REQUIRE(rig.Check());
     CHECK(rig.Check()->key == "lateral.width");
   }
   {  // sizes whose passes or remap tables could not be allocated
-    RigSpec rig = RigSpec::Default();
+    RigOptions rig = RigOptions::Default();
     std::get<PinholeRadTan>(rig.cameras[0].model).width = 100000;
     REQUIRE(rig.Check());
     CHECK(rig.Check()->key == "front.width");
-    RigSpec rig2 = RigSpec::Default();
+    RigOptions rig2 = RigOptions::Default();
     std::get<KannalaBrandt>(rig2.cameras[2].model).fx = 1e10;
     REQUIRE(rig2.Check());
     CHECK(rig2.Check()->key == "upward.fx");
-    RigSpec rig3 = RigSpec::Default();
+    RigOptions rig3 = RigOptions::Default();
     rig3.cameras[0].rgb_noise.motion_blur_px = 1e5;
     REQUIRE(rig3.Check());
     CHECK(rig3.Check()->key == "front.noise.rgb.motion_blur_px");
-    RigSpec rig4 = RigSpec::Default();
+    RigOptions rig4 = RigOptions::Default();
     rig4.cameras[0].rgb_noise.exposure = 1e30;
     REQUIRE(rig4.Check());
     CHECK(rig4.Check()->key == "front.noise.rgb.exposure");
@@ -159,7 +159,7 @@ TEST_CASE("the rig rejects impossible cameras naming the key", "[render][rig]") 
 TEST_CASE("changing a camera's model needs its field of view too", "[render][rig]") {
   const auto doc = YamlDocument::FromString("lateral:\n  model: kannala_brandt\n", "m.yaml");
   YamlMap map(doc, doc.root, "sensors", nullptr);
-  RigSpec rig = RigSpec::Default();
+  RigOptions rig = RigOptions::Default();
   const InputError e = test::InputErrorOf([&] { ParseSensors(map, rig); });
   CHECK(std::string(e.what()).rfind("m.yaml:2:3: sensors.lateral.model: changing the camera model",
                                     0) == 0);
@@ -180,7 +180,7 @@ TEST_CASE("sensors are parsed from YAML; unknown cameras and keys are errors", "
       "lateral:\n"
       "  enabled: false\n",
       "s.yaml");
-  RigSpec rig = RigSpec::Default();
+  RigOptions rig = RigOptions::Default();
   YamlMap map(doc, doc.root, "sensors", nullptr);
   ParseSensors(map, rig);
   CHECK(rig.Find("front")->rate_hz == 5);
@@ -197,21 +197,21 @@ TEST_CASE("sensors are parsed from YAML; unknown cameras and keys are errors", "
 
   const auto bad = YamlDocument::FromString("rear:\n  enabled: true\n", "bad.yaml");
   YamlMap bad_map(bad, bad.root, "sensors", nullptr);
-  RigSpec rig2 = RigSpec::Default();
+  RigOptions rig2 = RigOptions::Default();
   const InputError e = test::InputErrorOf([&] { ParseSensors(bad_map, rig2); });
   CHECK(std::string(e.what()).rfind("bad.yaml:1:1: sensors.rear: unknown key", 0) == 0);
 
   const auto short_distortion =
       YamlDocument::FromString("upward:\n  distortion: [0.1]\n", "d.yaml");
   YamlMap d_map(short_distortion, short_distortion.root, "sensors", nullptr);
-  RigSpec rig3 = RigSpec::Default();
+  RigOptions rig3 = RigOptions::Default();
   const InputError e2 = test::InputErrorOf([&] { ParseSensors(d_map, rig3); });
   CHECK(std::string(e2.what()).rfind("d.yaml:2:3: sensors.upward.distortion:", 0) == 0);
 }
 
 TEST_CASE("a camera mounted inside a wall is rejected at its mount", "[render][rig]") {
-  const worlds::World world = worlds::Generate(worlds::WorldSpec{}, 7);
-  RigSpec rig = RigSpec::Default();
+  const worlds::World world = worlds::Generate(worlds::WorldOptions{}, 7);
+  RigOptions rig = RigOptions::Default();
   const SE3 robot = SE3::FromSE2(SE2(10.0, 0.0, 0.0));
   CHECK_FALSE(CheckCameraPlacement(world, rig, robot));
   rig.cameras[1].mount.y_m = 1.25;  // 5 cm into the left wall (inner face at y = 1.2)

@@ -32,7 +32,7 @@ using test::kFrameTruthRad;
 constexpr double kPi = std::numbers::pi;
 
 const worlds::World& GeneratedWorld() {
-  static const worlds::World world = worlds::Generate(worlds::WorldSpec{}, 7);
+  static const worlds::World world = worlds::Generate(worlds::WorldOptions{}, 7);
   return world;
 }
 

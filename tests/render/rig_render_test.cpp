@@ -26,7 +26,7 @@ using Eigen::Vector3d;
 constexpr double kDeg = std::numbers::pi / 180.0;
 
 struct Fixture {
-  worlds::World world = worlds::Generate(worlds::WorldSpec{}, 7);
+  worlds::World world = worlds::Generate(worlds::WorldOptions{}, 7);
   Scene scene = BuildScene(world);
   std::unique_ptr<Backend> backend = CreateBackend(BackendKind::kOsMesa);
   Fixture() { backend->Upload(scene); }
@@ -37,25 +37,26 @@ Fixture& Shared() {
   return f;
 }
 
-CameraSpec Exact(CameraSpec spec) {
-  spec.noise = false;
-  return spec;
+CameraOptions Exact(CameraOptions camera_options) {
+  camera_options.noise = false;
+  return camera_options;
 }
 
 // A camera with a forward pinhole at `world_from_camera`, rendered exactly.
-CameraFrame RenderWith(const CameraSpec& spec, const SE3& world_from_camera) {
-  CameraRenderer camera(Exact(spec));
+CameraFrame RenderWith(const CameraOptions& camera_options, const SE3& world_from_camera) {
+  CameraRenderer camera(Exact(camera_options));
   CameraFrame frame;
   camera.Render(Shared().scene, *Shared().backend, world_from_camera, &frame);
   return frame;
 }
 
 // The ground truth of a rendered frame, with its labels for occlusion.
-FrameTruth TruthOf(const CameraSpec& spec, const CameraFrame& frame, const SE3& world_from_robot) {
+FrameTruth TruthOf(const CameraOptions& camera_options, const CameraFrame& frame,
+                   const SE3& world_from_robot) {
   FrameTruthInput input;
   input.world = &Shared().world;
-  input.camera_id = spec.id;
-  input.model = spec.model;
+  input.camera_id = camera_options.id;
+  input.model = camera_options.model;
   input.world_from_camera = frame.world_from_camera;
   input.world_from_robot = world_from_robot;
   input.instance = &frame.instance;
@@ -74,12 +75,12 @@ double DepthToPlane(const PinholeRadTan& k, const SE3& world_from_camera, double
 
 TEST_CASE("noise-free depth equals the distance to the known walls within 1 mm", "[render][gl]") {
   const worlds::World& world = Shared().world;
-  const CameraSpec spec = RigSpec::Default().cameras[0];
-  const auto& k = std::get<PinholeRadTan>(spec.model);
+  const CameraOptions camera_options = RigOptions::Default().cameras[0];
+  const auto& k = std::get<PinholeRadTan>(camera_options.model);
   // A robot at x = 20 looking along +x; the camera is 0.45 m up.
   const SE3 world_from_robot = SE3::FromSE2(SE2(20.0, 0.0, 0.0));
-  const SE3 world_from_camera = world_from_robot * spec.mount.RobotFromCamera();
-  const CameraFrame frame = RenderWith(spec, world_from_camera);
+  const SE3 world_from_camera = world_from_robot * camera_options.mount.RobotFromCamera();
+  const CameraFrame frame = RenderWith(camera_options, world_from_camera);
   REQUIRE(frame.depth_m.width == k.width);
   int checked = 0;
   for (int v = 0; v < k.height; v += 9) {
@@ -90,15 +91,16 @@ TEST_CASE("noise-free depth equals the distance to the known walls within 1 mm",
       if (cls == worlds::SemanticClass::kFloor) {
         expected = DepthToPlane(k, world_from_camera, u, v, Vector3d::UnitZ(), 0.0);
       } else if (cls == worlds::SemanticClass::kCeiling) {
-        expected = DepthToPlane(k, world_from_camera, u, v, Vector3d::UnitZ(), world.spec.height_m);
+        expected =
+            DepthToPlane(k, world_from_camera, u, v, Vector3d::UnitZ(), world.options.height_m);
       } else if (cls == worlds::SemanticClass::kWall) {
         // Side walls at y = +-width/2 (their faces); the end wall at x = length.
         const Vector3d ray =
             world_from_camera.rotation() * Vector3d((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0);
         const Vector3d c = world_from_camera.translation();
-        const double tl = (world.spec.width_m / 2 - c.y()) / ray.y();
-        const double tr = (-world.spec.width_m / 2 - c.y()) / ray.y();
-        const double te = (world.spec.length_m - c.x()) / ray.x();
+        const double tl = (world.options.width_m / 2 - c.y()) / ray.y();
+        const double tr = (-world.options.width_m / 2 - c.y()) / ray.y();
+        const double te = (world.options.length_m - c.x()) / ray.x();
         double t = 1e9;
         for (const double cand : {tl, tr, te}) {
           if (cand > 0 && cand < t) t = cand;
@@ -116,10 +118,11 @@ TEST_CASE("noise-free depth equals the distance to the known walls within 1 mm",
 }
 
 TEST_CASE("label images agree with the geometry", "[render][gl]") {
-  const CameraSpec spec = RigSpec::Default().cameras[0];
-  const auto& k = std::get<PinholeRadTan>(spec.model);
-  const SE3 world_from_camera = SE3::FromSE2(SE2(20.0, 0.0, 0.0)) * spec.mount.RobotFromCamera();
-  const CameraFrame frame = RenderWith(spec, world_from_camera);
+  const CameraOptions camera_options = RigOptions::Default().cameras[0];
+  const auto& k = std::get<PinholeRadTan>(camera_options.model);
+  const SE3 world_from_camera =
+      SE3::FromSE2(SE2(20.0, 0.0, 0.0)) * camera_options.mount.RobotFromCamera();
+  const CameraFrame frame = RenderWith(camera_options, world_from_camera);
   const std::size_t centre = static_cast<std::size_t>(k.height / 2) * k.width + k.width / 2;
   // Straight ahead, the robot sees the end wall of the corridor ...
   CHECK(frame.semantic[centre] == static_cast<std::uint8_t>(worlds::SemanticClass::kWall));
@@ -156,9 +159,9 @@ TEST_CASE("a door plate seen straight on appears where its corners project, with
           "[render][gl]") {
   const worlds::World& world = Shared().world;
   const worlds::DoorPlate& plate = world.plates.front();
-  CameraSpec spec = RigSpec::Default().cameras[1];
-  spec.model = PinholeRadTan::FromFov(640, 480, 60 * kDeg);
-  const auto& k = std::get<PinholeRadTan>(spec.model);
+  CameraOptions camera_options = RigOptions::Default().cameras[1];
+  camera_options.model = PinholeRadTan::FromFov(640, 480, 60 * kDeg);
+  const auto& k = std::get<PinholeRadTan>(camera_options.model);
   // Camera 1.0 m in front of the plate, at its height, looking at it.
   const Vector3d n = plate.normal;
   const Vector3d c = plate.center + 1.0 * n;
@@ -167,8 +170,8 @@ TEST_CASE("a door plate seen straight on appears where its corners project, with
   r.col(1) = -Vector3d::UnitZ();
   r.col(0) = r.col(1).cross(r.col(2));
   const SE3 world_from_camera(r, c);
-  const CameraFrame frame = RenderWith(spec, world_from_camera);
-  const FrameTruth truth = TruthOf(spec, frame, world_from_camera);
+  const CameraFrame frame = RenderWith(camera_options, world_from_camera);
+  const FrameTruth truth = TruthOf(camera_options, frame, world_from_camera);
   const PlateTruth* seen = nullptr;
   for (const auto& p : truth.plates) {
     if (p.id == plate.id) seen = &p;
@@ -199,9 +202,9 @@ TEST_CASE("a lamp seen by the upward fisheye appears where the camera model puts
           "[render][gl]") {
   const worlds::World& world = Shared().world;
   for (const double fov : {110.0, 130.0}) {
-    CameraSpec spec = RigSpec::Default().cameras[2];
-    spec.model = KannalaBrandt::FromFov(640, 480, fov * kDeg);
-    const CameraRenderer renderer(spec);
+    CameraOptions camera_options = RigOptions::Default().cameras[2];
+    camera_options.model = KannalaBrandt::FromFov(640, 480, fov * kDeg);
+    const CameraRenderer renderer(camera_options);
     int checked = 0;
     for (const worlds::Lamp& lamp : world.lamps) {
       if (lamp.shape != worlds::LampShape::kCircular || lamp.room_door_id >= 0) continue;
@@ -209,9 +212,9 @@ TEST_CASE("a lamp seen by the upward fisheye appears where the camera model puts
       // The camera 1.2 m along the corridor from the lamp, 0.4 m above the floor, looking up:
       // the lamp is well off-axis.
       const SE3 world_from_robot = SE3::FromSE2(SE2(lamp.center.x() - 1.2, 0.0, 0.0));
-      const SE3 world_from_camera = world_from_robot * spec.mount.RobotFromCamera();
-      const CameraFrame frame = RenderWith(spec, world_from_camera);
-      const FrameTruth truth = TruthOf(spec, frame, world_from_robot);
+      const SE3 world_from_camera = world_from_robot * camera_options.mount.RobotFromCamera();
+      const CameraFrame frame = RenderWith(camera_options, world_from_camera);
+      const FrameTruth truth = TruthOf(camera_options, frame, world_from_robot);
       const LampTruth* seen = nullptr;
       for (const auto& l : truth.lamps) {
         if (l.id == lamp.id && !l.reflection) seen = &l;
@@ -231,7 +234,7 @@ TEST_CASE("a lamp seen by the upward fisheye appears where the camera model puts
           if (q.norm() > 1) continue;
           const Vector3d p = lamp.center + Vector3d(q.x(), q.y(), 0) * lamp.radius_m;
           Eigen::Matrix<double, 2, 3> J;
-          const auto px = Project(spec.model, camera_from_world * p, &J);
+          const auto px = Project(camera_options.model, camera_from_world * p, &J);
           REQUIRE(px);
           const double w = std::abs((J * d_camera_d_disc).determinant());
           weighted += w * *px;
@@ -255,11 +258,12 @@ TEST_CASE("a lamp seen by the upward fisheye appears where the camera model puts
 
 TEST_CASE("every pixel of the upward fisheye sees something inside the corridor", "[render][gl]") {
   for (const double fov : {110.0, 130.0}) {
-    CameraSpec spec = RigSpec::Default().cameras[2];
-    spec.model = KannalaBrandt::FromFov(320, 240, fov * kDeg);
+    CameraOptions camera_options = RigOptions::Default().cameras[2];
+    camera_options.model = KannalaBrandt::FromFov(320, 240, fov * kDeg);
     for (const SE2& pose : {SE2(5, 0, 0), SE2(39, -0.3, 0), SE2(27, 0.4, 1.2)}) {
-      const CameraFrame frame = RenderWith(spec, SE3::FromSE2(pose) * spec.mount.RobotFromCamera());
-      const CameraRenderer renderer(spec);
+      const CameraFrame frame =
+          RenderWith(camera_options, SE3::FromSE2(pose) * camera_options.mount.RobotFromCamera());
+      const CameraRenderer renderer(camera_options);
       int empty = 0, valid = 0;
       for (int v = 0; v < 240; ++v) {
         for (int u = 0; u < 320; ++u) {
@@ -280,11 +284,11 @@ TEST_CASE("a fisheye leaves unshaded only pass pixels its remap never reads", "[
     return r.x0 <= x && x < r.x1 && r.y0 <= y && y < r.y1;
   };
   for (const double fov : {110.0, 130.0}) {
-    CameraSpec spec = Exact(RigSpec::Default().cameras[2]);
-    spec.model = KannalaBrandt::FromFov(320, 240, fov * kDeg);
-    const CameraRenderer camera(spec);
+    CameraOptions camera_options = Exact(RigOptions::Default().cameras[2]);
+    camera_options.model = KannalaBrandt::FromFov(320, 240, fov * kDeg);
+    const CameraRenderer camera(camera_options);
     const std::vector<View> views =
-        camera.Passes(SE3::FromSE2(SE2(9, 0.2, 0.4)) * spec.mount.RobotFromCamera());
+        camera.Passes(SE3::FromSE2(SE2(9, 0.2, 0.4)) * camera_options.mount.RobotFromCamera());
     INFO("fov " << fov);
     // Every output pixel's bilinear block lies outside its pass's unused rectangles.
     std::size_t unused_pixels = 0, read_in_unused = 0;
@@ -334,13 +338,14 @@ TEST_CASE("a fisheye leaves unshaded only pass pixels its remap never reads", "[
     }
   }
   // A pinhole draws every pixel of its one pass.
-  CHECK(CameraRenderer(RigSpec::Default().cameras[0]).unused_pixels(0).empty());
+  CHECK(CameraRenderer(RigOptions::Default().cameras[0]).unused_pixels(0).empty());
 }
 
 TEST_CASE("unused rectangles outside the view are rejected before drawing", "[render][gl]") {
-  CameraSpec spec = Exact(RigSpec::Default().cameras[2]);
-  const CameraRenderer camera(spec);
-  const View view = camera.Passes(SE3::FromSE2(SE2(9, 0, 0)) * spec.mount.RobotFromCamera())[0];
+  CameraOptions camera_options = Exact(RigOptions::Default().cameras[2]);
+  const CameraRenderer camera(camera_options);
+  const View view =
+      camera.Passes(SE3::FromSE2(SE2(9, 0, 0)) * camera_options.mount.RobotFromCamera())[0];
   RenderedView out;
   for (const PixelRect bad :
        {PixelRect{0, 0, view.width + 1, 4}, PixelRect{5, 5, 5, 9}, PixelRect{-1, 0, 3, 3}}) {
@@ -354,10 +359,10 @@ TEST_CASE("unused rectangles outside the view are rejected before drawing", "[re
 TEST_CASE("with back faces culled no pixel looks through a seam into the void", "[render][gl]") {
   // Every pinhole pixel inside a closed corridor hits a surface: a pixel with no instance would
   // be a face culled from where it can be seen, or a seam that touches instead of crossing.
-  RigSpec rig = RigSpec::Default();
-  for (CameraSpec& c : rig.cameras) c = Exact(c);
+  RigOptions rig = RigOptions::Default();
+  for (CameraOptions& c : rig.cameras) c = Exact(c);
   for (const std::uint64_t seed : {2u, 5u}) {
-    const worlds::World world = worlds::Generate(worlds::WorldSpec{}, seed);
+    const worlds::World world = worlds::Generate(worlds::WorldOptions{}, seed);
     const Scene scene = BuildScene(world);
     Shared().backend->Upload(scene);
     Rig renderer(rig, scene, *Shared().backend);
@@ -388,7 +393,7 @@ TEST_CASE("the nearest-mip texture filter changes colours only, and only a littl
   const Scene nearest_mip = BuildScene(Shared().world, options);
   const std::unique_ptr<Backend> backend = CreateBackend(BackendKind::kOsMesa);
   backend->Upload(nearest_mip);
-  const CameraSpec front = Exact(RigSpec::Default().cameras[0]);
+  const CameraOptions front = Exact(RigOptions::Default().cameras[0]);
   const SE3 pose = SE3::FromSE2(SE2(6, 0.2, 0.1)) * front.mount.RobotFromCamera();
   CameraRenderer camera(front);
   CameraFrame fast, again;
@@ -411,8 +416,8 @@ TEST_CASE("the nearest-mip texture filter changes colours only, and only a littl
 }
 
 TEST_CASE("rendering the same frame twice gives identical bytes", "[render][gl][determinism]") {
-  const RigSpec spec = RigSpec::Default();
-  Rig rig(spec, Shared().scene, *Shared().backend);
+  const RigOptions rig_options = RigOptions::Default();
+  Rig rig(rig_options, Shared().scene, *Shared().backend);
   std::vector<CameraFrame> a, b;
   const SE3 pose = SE3::FromSE2(SE2(12.0, 0.3, 0.2));
   rig.Render(pose, 5, 3, &a);
@@ -432,12 +437,12 @@ TEST_CASE("rendering the same frame twice gives identical bytes", "[render][gl][
 
 TEST_CASE("the whole rig, its noise overlapped with rendering, equals each camera rendered alone",
           "[render][gl][determinism]") {
-  RigSpec spec = RigSpec::Default();
-  spec.cameras[0].rgb_noise.full_well_electrons = 6000;  // noise on every camera
-  spec.cameras[1].rgb_noise.full_well_electrons = 6000;
-  spec.cameras[2].rgb_noise.read_noise_electrons = 6;
-  spec.cameras[2].rgb_noise.full_well_electrons = 6000;
-  Rig rig(spec, Shared().scene, *Shared().backend);
+  RigOptions rig_options = RigOptions::Default();
+  rig_options.cameras[0].rgb_noise.full_well_electrons = 6000;  // noise on every camera
+  rig_options.cameras[1].rgb_noise.full_well_electrons = 6000;
+  rig_options.cameras[2].rgb_noise.read_noise_electrons = 6;
+  rig_options.cameras[2].rgb_noise.full_well_electrons = 6000;
+  Rig rig(rig_options, Shared().scene, *Shared().backend);
   std::vector<CameraFrame> together;
   const SE3 pose = SE3::FromSE2(SE2(20.0, -0.2, 2.9));
   rig.Render(pose, 11, 7, &together);
@@ -462,12 +467,12 @@ long ResidentKiB() {
 }
 
 TEST_CASE("memory does not grow over ten thousand frames", "[render][gl][slow]") {
-  RigSpec spec = RigSpec::Default();
+  RigOptions rig_options = RigOptions::Default();
   // Small images keep the test short; the per-frame code paths are the same.
-  spec.cameras[0].model = PinholeRadTan::FromFov(64, 48, 58 * kDeg);
-  spec.cameras[1].model = PinholeRadTan::FromFov(64, 48, 60 * kDeg);
-  spec.cameras[2].model = KannalaBrandt::FromFov(64, 48, 110 * kDeg);
-  Rig rig(spec, Shared().scene, *Shared().backend);
+  rig_options.cameras[0].model = PinholeRadTan::FromFov(64, 48, 58 * kDeg);
+  rig_options.cameras[1].model = PinholeRadTan::FromFov(64, 48, 60 * kDeg);
+  rig_options.cameras[2].model = KannalaBrandt::FromFov(64, 48, 110 * kDeg);
+  Rig rig(rig_options, Shared().scene, *Shared().backend);
   std::vector<CameraFrame> frames;
   // Warm-up: llvmpipe keeps the scenes and heap pages a batch of passes needs up to a high-water
   // mark that depends on how far its threads lag behind (on the machine's load); then ten

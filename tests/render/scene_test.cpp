@@ -13,7 +13,7 @@ namespace {
 using Eigen::Vector3d;
 
 const worlds::World& DefaultWorld() {
-  static const worlds::World world = worlds::Generate(worlds::WorldSpec{}, 7);
+  static const worlds::World world = worlds::Generate(worlds::WorldOptions{}, 7);
   return world;
 }
 
@@ -109,9 +109,9 @@ TEST_CASE("baked lighting sums every lit lamp's Lambert term with distance fall-
 }
 
 TEST_CASE("switched-off lamps give no light", "[render][scene]") {
-  worlds::WorldSpec spec;
-  spec.lamps.off_fraction = 0.5;
-  const worlds::World world = worlds::Generate(spec, 3);
+  worlds::WorldOptions world_options;
+  world_options.lamps.off_fraction = 0.5;
+  const worlds::World world = worlds::Generate(world_options, 3);
   const Scene scene = BuildScene(world);
   std::size_t on = 0;
   for (const auto& l : world.lamps) on += l.on;
@@ -169,7 +169,7 @@ TEST_CASE("culling drops what is behind the camera", "[render][scene]") {
 }
 
 TEST_CASE("a 1 km corridor costs no more per view than the 55 m one", "[render][scene]") {
-  worlds::WorldSpec km;
+  worlds::WorldOptions km;
   km.length_m = 1000;
   km.doors.count = 290;
   km.plates.count = 254;

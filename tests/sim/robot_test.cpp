@@ -17,12 +17,12 @@ namespace {
 // A 12 m straight corridor, 2.4 m wide (walls at y = +-1.2), without doors or furniture.
 const worlds::World& Corridor() {
   static const worlds::World world = [] {
-    worlds::WorldSpec spec;
-    spec.length_m = 12.0;
-    spec.doors.count = 0;
-    spec.plates.count = 0;
-    spec.distractors = worlds::DistractorOptions{0, 0, 0, 0, 0};
-    return worlds::Generate(spec, 3);
+    worlds::WorldOptions options;
+    options.length_m = 12.0;
+    options.doors.count = 0;
+    options.plates.count = 0;
+    options.distractors = worlds::DistractorOptions{0, 0, 0, 0, 0};
+    return worlds::Generate(options, 3);
   }();
   return world;
 }
@@ -38,8 +38,8 @@ double Yaw(const SE3& pose) {
 }
 
 TEST_CASE("the robot stands still on the floor with its frame at floor level", "[sim]") {
-  RobotSpec spec;
-  RobotPhysics robot(Corridor(), spec, SE2(2.0, 0.0, 0.0));
+  RobotOptions options;
+  RobotPhysics robot(Corridor(), options, SE2(2.0, 0.0, 0.0));
   StepFor(robot, 2.0);
   const SE3& pose = robot.state().world_from_robot;
   CHECK(std::abs(pose.translation().z()) < 2e-3);
@@ -50,15 +50,15 @@ TEST_CASE("the robot stands still on the floor with its frame at floor level", "
 }
 
 TEST_CASE("equal forward wheel speeds drive straight ahead at wheel radius times speed", "[sim]") {
-  RobotSpec spec;
-  RobotPhysics robot(Corridor(), spec, SE2(2.0, 0.0, 0.0));
+  RobotOptions options;
+  RobotPhysics robot(Corridor(), options, SE2(2.0, 0.0, 0.0));
   const double wheel_rps = 3.0;
   robot.SetWheelSpeeds(wheel_rps, wheel_rps);
   StepFor(robot, 1.0);  // accelerate
   const RobotState a = robot.state();
   StepFor(robot, 2.0);
   const RobotState b = robot.state();
-  const double radius = spec.wheel_diameter_m / 2;
+  const double radius = options.wheel_diameter_m / 2;
   const double dx = b.world_from_robot.translation().x() - a.world_from_robot.translation().x();
   CHECK(dx == Approx(wheel_rps * radius * 2.0).epsilon(0.005));
   CHECK(std::abs(b.world_from_robot.translation().y()) < 1e-3);
@@ -69,9 +69,9 @@ TEST_CASE("equal forward wheel speeds drive straight ahead at wheel radius times
 }
 
 TEST_CASE("a faster right wheel turns the robot counter-clockwise", "[sim]") {
-  RobotSpec spec;
-  RobotPhysics robot(Corridor(), spec, SE2(4.0, 0.0, 0.0));
-  const Eigen::Vector2d wheels = WheelSpeedsFor(spec, 0.0, 0.5);  // turn in place, 0.5 rad/s
+  RobotOptions options;
+  RobotPhysics robot(Corridor(), options, SE2(4.0, 0.0, 0.0));
+  const Eigen::Vector2d wheels = WheelSpeedsFor(options, 0.0, 0.5);  // turn in place, 0.5 rad/s
   CHECK(wheels.x() < 0);
   CHECK(wheels.y() > 0);
   robot.SetWheelSpeeds(wheels.x(), wheels.y());
@@ -85,9 +85,9 @@ TEST_CASE("a faster right wheel turns the robot counter-clockwise", "[sim]") {
 }
 
 TEST_CASE("a wall stops the robot, is reported as a contact and is never passed through", "[sim]") {
-  RobotSpec spec;
+  RobotOptions options;
   // Facing the left wall (y = +1.2) from the corridor axis, full speed ahead for 8 s.
-  RobotPhysics robot(Corridor(), spec, SE2(6.0, 0.0, std::numbers::pi / 2));
+  RobotPhysics robot(Corridor(), options, SE2(6.0, 0.0, std::numbers::pi / 2));
   robot.SetWheelSpeeds(4.0, 4.0);
   bool touched_wall = false;
   double max_front_y = -1e9;
@@ -95,7 +95,7 @@ TEST_CASE("a wall stops the robot, is reported as a contact and is never passed 
     robot.Step();
     const SE3& pose = robot.state().world_from_robot;
     // The front face of the body, 0.19 m ahead of the axle (body length 0.455, 0.035 behind).
-    const Eigen::Vector3d front = pose * Eigen::Vector3d(spec.body_length_m / 2 - 0.035, 0, 0.1);
+    const Eigen::Vector3d front = pose * Eigen::Vector3d(options.body_length_m / 2 - 0.035, 0, 0.1);
     max_front_y = std::max(max_front_y, front.y());
     for (const Contact& c : robot.contacts()) {
       touched_wall |= c.semantic_class == worlds::SemanticClass::kWall;
@@ -109,10 +109,10 @@ TEST_CASE("a wall stops the robot, is reported as a contact and is never passed 
 
 TEST_CASE("physics steps are deterministic: two robots given the same commands agree bit for bit",
           "[sim]") {
-  RobotSpec spec;
-  spec.odometry.diameter_ratio = 1.02;
-  RobotPhysics a(Corridor(), spec, SE2(2.0, 0.3, 0.1));
-  RobotPhysics b(Corridor(), spec, SE2(2.0, 0.3, 0.1));
+  RobotOptions options;
+  options.odometry.diameter_ratio = 1.02;
+  RobotPhysics a(Corridor(), options, SE2(2.0, 0.3, 0.1));
+  RobotPhysics b(Corridor(), options, SE2(2.0, 0.3, 0.1));
   for (int i = 0; i < 3000; ++i) {
     const double t = i * 1e-3;
     a.SetWheelSpeeds(3.0 + std::sin(t), 3.0 - std::sin(t));
@@ -128,21 +128,21 @@ TEST_CASE("physics steps are deterministic: two robots given the same commands a
   CHECK(a.state().left_wheel_angle_rad == b.state().left_wheel_angle_rad);
 }
 
-TEST_CASE("a robot spec with wheels wider than its body is rejected naming the key", "[sim]") {
-  RobotSpec spec;
-  CHECK_FALSE(spec.Check());
-  spec.wheelbase_m = 0.5;
-  const auto problem = spec.Check();
+TEST_CASE("a robot options with wheels wider than its body is rejected naming the key", "[sim]") {
+  RobotOptions options;
+  CHECK_FALSE(options.Check());
+  options.wheelbase_m = 0.5;
+  const auto problem = options.Check();
   REQUIRE(problem);
   CHECK(problem->key == "body_width_m");
-  spec = RobotSpec{};
-  spec.odometry.diameter_ratio = -1;
-  REQUIRE(spec.Check());
-  CHECK(spec.Check()->key == "odometry.diameter_ratio");
-  spec = RobotSpec{};
-  spec.control_rate_hz = 2000;
-  REQUIRE(spec.Check());
-  CHECK(spec.Check()->key == "control_rate_hz");
+  options = RobotOptions{};
+  options.odometry.diameter_ratio = -1;
+  REQUIRE(options.Check());
+  CHECK(options.Check()->key == "odometry.diameter_ratio");
+  options = RobotOptions{};
+  options.control_rate_hz = 2000;
+  REQUIRE(options.Check());
+  CHECK(options.Check()->key == "control_rate_hz");
 }
 
 }  // namespace

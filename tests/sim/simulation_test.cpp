@@ -30,12 +30,12 @@ constexpr double kRoundTripReturnM = 0.2;
 
 // A straight corridor `length_m` long without doors or furniture (walls at y = +-1.2).
 worlds::World Corridor(double length_m) {
-  worlds::WorldSpec spec;
-  spec.length_m = length_m;
-  spec.doors.count = 0;
-  spec.plates.count = 0;
-  spec.distractors = worlds::DistractorOptions{0, 0, 0, 0, 0};
-  return worlds::Generate(spec, 5);
+  worlds::WorldOptions world_options;
+  world_options.length_m = length_m;
+  world_options.doors.count = 0;
+  world_options.plates.count = 0;
+  world_options.distractors = worlds::DistractorOptions{0, 0, 0, 0, 0};
+  return worlds::Generate(world_options, 5);
 }
 
 // What a run leaves behind: dead reckoning from the odometry messages next to the truth.
@@ -51,7 +51,7 @@ struct Run {
   bool path_done = false;
 };
 
-Run Drive(const worlds::World& world, const SimulationOptions& options, Path path,
+Run Drive(const worlds::World& world, const SimulationOptions& options, RobotPath path,
           bool keep_truth = false) {
   Simulation simulation(world, options, std::move(path));
   Run run;
@@ -81,8 +81,8 @@ Run Drive(const worlds::World& world, const SimulationOptions& options, Path pat
 }
 
 // Straight ahead `length_m` from (1, 0) along +x, then stop.
-Path StraightPath(double length_m) {
-  Path path;
+RobotPath StraightPath(double length_m) {
+  RobotPath path;
   path.kind = PathKind::kRoundTrip;
   path.world_from_start = SE2(1.0, 0.0, 0.0);
   path.waypoints.push_back(Waypoint{Eigen::Vector2d(1.0 + length_m, 0.0), 0.0});
@@ -105,7 +105,7 @@ TEST_CASE("error-free odometry follows ground truth within 0.1 % over 10 m of st
 TEST_CASE("error-free odometry follows a full in-place turn within 0.5 degrees", "[sim]") {
   const worlds::World world = Corridor(8.0);
   SimulationOptions options;
-  Path path;
+  RobotPath path;
   path.world_from_start = SE2(2.0, 0.0, 0.0);
   path.waypoints.push_back(Waypoint{Eigen::Vector2d(2.3, 0.0), 2 * std::numbers::pi});
   const Run run = Drive(world, options, path);
@@ -138,12 +138,12 @@ TEST_CASE("a wheel-diameter error E_d curves the odometry of a straight drive as
 TEST_CASE("the round trip returns to within 0.2 m of its start without touching a wall", "[sim]") {
   const worlds::World world = Corridor(16.0);
   SimulationOptions options;
-  const Path path = BuildPath(world, options.path);
+  const RobotPath path = BuildRobotPath(world, options.robot_path);
   const SE2 start = path.world_from_start;
   const Run run = Drive(world, options, path, true);
   REQUIRE(run.path_done);
   CHECK((run.truth_end.translation() - start.translation()).norm() < kRoundTripReturnM);
-  CHECK(run.distance_m > 2 * (16.0 - 2 * options.path.end_margin_m) - 0.1);
+  CHECK(run.distance_m > 2 * (16.0 - 2 * options.robot_path.end_margin_m) - 0.1);
   for (const Event& e : run.events) {
     CHECK(e.kind != EventKind::kCollisionBegin);
   }
@@ -158,7 +158,7 @@ TEST_CASE("the round trip returns to within 0.2 m of its start without touching 
 TEST_CASE("driving into the end wall reports a collision and never passes through it", "[sim]") {
   const worlds::World world = Corridor(6.0);
   SimulationOptions options;
-  Path path;
+  RobotPath path;
   path.kind = PathKind::kScript;
   path.world_from_start = SE2(4.0, 0.0, 0.0);
   path.commands.push_back(VelocityCommand{12.0, 0.3, 0.0});  // 3.6 m ahead: the wall is at 6 m
@@ -221,21 +221,21 @@ TEST_CASE("two simulations with one seed give bit-identical odometry and truth",
 TEST_CASE("camera frames are stamped phase + n / rate and rendered at the true pose of the stamp",
           "[sim][gl]") {
   const worlds::World world = Corridor(14.0);
-  render::RigSpec rig_spec = render::RigSpec::Default();
-  for (render::CameraSpec& c : rig_spec.cameras) {
+  render::RigOptions rig_options = render::RigOptions::Default();
+  for (render::CameraOptions& c : rig_options.cameras) {
     c.enabled = c.id == "front";
     c.rate_hz = 30.0;
     c.phase_s = 0.005;
     c.noise = false;
     c.model = PinholeRadTan::FromFov(64, 48, 58.0 * kDeg);
   }
-  const render::Scene scene = render::BuildScene(world, rig_spec.scene);
-  std::unique_ptr<render::Backend> backend = render::CreateBackend(rig_spec.backend);
+  const render::Scene scene = render::BuildScene(world, rig_options.scene);
+  std::unique_ptr<render::Backend> backend = render::CreateBackend(rig_options.backend);
   backend->Upload(scene);
-  render::Rig rig(rig_spec, scene, *backend);
+  render::Rig rig(rig_options, scene, *backend);
   SimulationOptions options;
   options.max_duration_ns = kNanosecondsPerSecond;
-  Simulation simulation(world, options, StraightPath(10.0), &rig, &rig_spec);
+  Simulation simulation(world, options, StraightPath(10.0), &rig, &rig_options);
   std::vector<CameraMessage> frames;
   TruthSample before = simulation.truth();
   while (!simulation.finished()) {
@@ -265,22 +265,22 @@ TEST_CASE("camera frames are stamped phase + n / rate and rendered at the true p
 
 TEST_CASE("dropped frames are neither rendered nor delivered and each is an event", "[sim][gl]") {
   const worlds::World world = Corridor(14.0);
-  render::RigSpec rig_spec = render::RigSpec::Default();
-  for (render::CameraSpec& c : rig_spec.cameras) {
+  render::RigOptions rig_options = render::RigOptions::Default();
+  for (render::CameraOptions& c : rig_options.cameras) {
     c.enabled = c.id == "front";
     c.rate_hz = 50.0;
     c.noise = false;
     c.drop_probability = 0.3;
     c.model = PinholeRadTan::FromFov(32, 24, 58.0 * kDeg);
   }
-  const render::Scene scene = render::BuildScene(world, rig_spec.scene);
-  std::unique_ptr<render::Backend> backend = render::CreateBackend(rig_spec.backend);
+  const render::Scene scene = render::BuildScene(world, rig_options.scene);
+  std::unique_ptr<render::Backend> backend = render::CreateBackend(rig_options.backend);
   backend->Upload(scene);
-  render::Rig rig(rig_spec, scene, *backend);
+  render::Rig rig(rig_options, scene, *backend);
   SimulationOptions options;
   options.max_duration_ns = 4 * kNanosecondsPerSecond;
   auto run = [&](std::vector<TimeNs>* delivered, std::vector<TimeNs>* dropped) {
-    Simulation simulation(world, options, StraightPath(10.0), &rig, &rig_spec);
+    Simulation simulation(world, options, StraightPath(10.0), &rig, &rig_options);
     while (!simulation.finished()) {
       const StepOutput& out = simulation.Step();
       for (const CameraMessage& m : out.frames) delivered->push_back(m.stamp_ns);

@@ -1,6 +1,6 @@
 // Catching the errors of bad input in tests: InputErrorOf(f) returns the InputError that `f`
-// throws (file, line, column, key, message), SpecErrorOf(f) the SpecProblem of a SpecError. Both
-// fail the test when `f` throws nothing or something else.
+// throws (file, line, column, key, message), OptionsErrorOf(f) the OptionsProblem of a
+// OptionsError. Both fail the test when `f` throws nothing or something else.
 #pragma once
 
 #include <stdexcept>
@@ -25,13 +25,13 @@ InputError InputErrorOf(F&& f) {
 }
 
 template <class F>
-SpecProblem SpecErrorOf(F&& f) {
+OptionsProblem OptionsErrorOf(F&& f) {
   try {
     std::forward<F>(f)();
-  } catch (const SpecError& e) {
+  } catch (const OptionsError& e) {
     return e.problem();
   }
-  FAIL("no SpecError thrown");
+  FAIL("no OptionsError thrown");
   throw std::logic_error("unreachable");
 }
 

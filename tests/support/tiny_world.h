@@ -33,11 +33,11 @@ inline worlds::World TinyWorld() {
   using Ids = TinyWorldIds;
   worlds::World world;
   world.seed = 7;
-  world.spec.layout = worlds::Layout::kStraight;
-  world.spec.length_m = 6.0;
-  world.spec.width_m = 2.4;
-  world.spec.height_m = 2.7;
-  world.spec.wall_thickness_m = 0.15;
+  world.options.layout = worlds::Layout::kStraight;
+  world.options.length_m = 6.0;
+  world.options.width_m = 2.4;
+  world.options.height_m = 2.7;
+  world.options.wall_thickness_m = 0.15;
 
   // Plate texture: white with a black border and three dark digit-like bars.
   worlds::Texture plate_texture{"plate_101", Image8(64, 32, 3)};

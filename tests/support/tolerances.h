@@ -28,7 +28,7 @@ inline constexpr double kRoundTripBearing = 1e-12;
 // Field of view computed from the model against the one it was built from (rad).
 inline constexpr double kFovRad = 1e-12;
 
-// Worlds: positions the generator and the floor plan compute in double from spec lengths agree
+// Worlds: positions the generator and the floor plan compute in double from options lengths agree
 // to rounding (m, m^2); mesh data is float, so unit normals and positions agree to float rounding.
 inline constexpr double kGeomTolM = 1e-9;
 inline constexpr double kFloatTol = 1e-5;

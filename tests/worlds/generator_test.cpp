@@ -37,47 +37,47 @@ constexpr double kPlateMaxOffsetM = 0.01;  // a plate's front face stands this c
 
 struct GeneratedCase {
   std::string name;  // layout and seed, for failure messages
-  WorldSpec spec;
+  WorldOptions options;
   std::uint64_t seed = 0;
   World world;
   LayoutPlan plan;  // the floor plan the world was built on
   std::map<std::string, const Mesh*> mesh_by_name;
 };
 
-// The specs of the four layouts, with the sizes of the shipped scenarios.
-std::vector<WorldSpec> LayoutSpecs() {
-  std::vector<WorldSpec> specs(4);
-  specs[0].layout = Layout::kStraight;  // the defaults: 55 m, 16 doors, 14 plates
-  specs[1].layout = Layout::kLTurn;
-  specs[1].length_m = 30;
-  specs[1].second_length_m = 20;
-  specs[1].doors.count = 14;
-  specs[1].plates.count = 12;
-  specs[2].layout = Layout::kTJunction;
-  specs[2].length_m = 40;
-  specs[2].second_length_m = 15;
-  specs[2].doors.count = 14;
-  specs[2].plates.count = 12;
-  specs[3].layout = Layout::kLoop;
-  specs[3].length_m = 30;
-  specs[3].second_length_m = 16;
-  specs[3].doors.count = 20;
-  specs[3].plates.count = 18;
-  return specs;
+// The all_options of the four layouts, with the sizes of the shipped scenarios.
+std::vector<WorldOptions> LayoutOptions() {
+  std::vector<WorldOptions> all_options(4);
+  all_options[0].layout = Layout::kStraight;  // the defaults: 55 m, 16 doors, 14 plates
+  all_options[1].layout = Layout::kLTurn;
+  all_options[1].length_m = 30;
+  all_options[1].second_length_m = 20;
+  all_options[1].doors.count = 14;
+  all_options[1].plates.count = 12;
+  all_options[2].layout = Layout::kTJunction;
+  all_options[2].length_m = 40;
+  all_options[2].second_length_m = 15;
+  all_options[2].doors.count = 14;
+  all_options[2].plates.count = 12;
+  all_options[3].layout = Layout::kLoop;
+  all_options[3].length_m = 30;
+  all_options[3].second_length_m = 16;
+  all_options[3].doors.count = 20;
+  all_options[3].plates.count = 18;
+  return all_options;
 }
 
 // Every layout with seeds 1..5, generated once per test process.
 const std::vector<GeneratedCase>& Cases() {
   static const std::vector<GeneratedCase> cases = [] {
     std::vector<GeneratedCase> out;
-    for (const WorldSpec& spec : LayoutSpecs()) {
+    for (const WorldOptions& options : LayoutOptions()) {
       for (std::uint64_t seed = 1; seed <= 5; ++seed) {
         GeneratedCase c;
-        c.name = LayoutName(spec.layout) + " seed " + std::to_string(seed);
-        c.spec = spec;
+        c.name = LayoutName(options.layout) + " seed " + std::to_string(seed);
+        c.options = options;
         c.seed = seed;
-        c.world = Generate(spec, seed);
-        REQUIRE_FALSE(PlanLayout(spec, 1, &c.plan));
+        c.world = Generate(options, seed);
+        REQUIRE_FALSE(PlanLayout(options, 1, &c.plan));
         out.push_back(std::move(c));
       }
     }
@@ -198,19 +198,19 @@ TEST_CASE("doorways on one wall keep min_gap_m between them and from the wall en
   for (const GeneratedCase& c : Cases()) {
     INFO(c.name);
     const World& w = c.world;
-    REQUIRE(static_cast<int>(w.doors.size()) == c.spec.doors.count);
+    REQUIRE(static_cast<int>(w.doors.size()) == c.options.doors.count);
     std::map<int, std::vector<Span>> spans;
     for (const Doorway& d : w.doors) spans[d.wall_id].push_back(DoorSpan(w, d));
     for (auto& [wall_id, list] : spans) {
       INFO("wall " << wall_id);
       const Wall& wall = WallOf(w, wall_id);
       std::sort(list.begin(), list.end(), [](const Span& a, const Span& b) { return a.lo < b.lo; });
-      CHECK(list.front().lo >= c.spec.doors.min_gap_m - kGeomTolM);
-      CHECK(list.back().hi <= wall.length() - c.spec.doors.min_gap_m + kGeomTolM);
+      CHECK(list.front().lo >= c.options.doors.min_gap_m - kGeomTolM);
+      CHECK(list.back().hi <= wall.length() - c.options.doors.min_gap_m + kGeomTolM);
       for (std::size_t i = 1; i < list.size(); ++i) {
         INFO("doorway spans [" << list[i - 1].lo << ", " << list[i - 1].hi << "] and ["
                                << list[i].lo << ", " << list[i].hi << "]");
-        CHECK(list[i].lo - list[i - 1].hi >= c.spec.doors.min_gap_m - kGeomTolM);
+        CHECK(list[i].lo - list[i - 1].hi >= c.options.doors.min_gap_m - kGeomTolM);
       }
     }
   }
@@ -221,7 +221,7 @@ TEST_CASE("every doorway has two columns on a side wall face and a frame of mesh
   for (const GeneratedCase& c : Cases()) {
     INFO(c.name);
     const World& w = c.world;
-    const DoorOptions& spec = c.spec.doors;
+    const DoorOptions& options = c.options.doors;
     for (const Doorway& d : w.doors) {
       INFO("door " << d.id);
       const Wall& wall = WallOf(w, d.wall_id);
@@ -234,11 +234,11 @@ TEST_CASE("every doorway has two columns on a side wall face and a frame of mesh
       CHECK((d.column_b - d.column_a).norm() ==
             Approx(d.width_m + d.column_width_m).margin(kGeomTolM));
       CHECK((d.inward_normal - wall.inward_normal).norm() < kGeomTolM);
-      CHECK(d.width_m == spec.width_m);
-      CHECK(d.column_width_m == spec.frame_width_m);
-      CHECK(d.top_height_m == spec.height_m);
+      CHECK(d.width_m == options.width_m);
+      CHECK(d.column_width_m == options.frame_width_m);
+      CHECK(d.top_height_m == options.height_m);
 
-      const double bar_top = spec.height_m + spec.bar_height_m;
+      const double bar_top = options.height_m + options.bar_height_m;
       for (const char* part : {"door_column_a_", "door_column_b_", "door_bar_"}) {
         const std::string name = part + std::to_string(d.id);
         INFO(name);
@@ -249,7 +249,7 @@ TEST_CASE("every doorway has two columns on a side wall face and a frame of mesh
         CHECK(m.instance_id == d.id);
         CHECK(m.bounds.max().z() == Approx(bar_top).margin(kFloatTol));
         if (std::string(part) == "door_bar_") {
-          CHECK(m.bounds.min().z() == Approx(spec.height_m).margin(kFloatTol));
+          CHECK(m.bounds.min().z() == Approx(options.height_m).margin(kFloatTol));
         } else {
           // Columns stand on the floor and run a little below it (no seam onto the void).
           CHECK(m.bounds.min().z() <= 0.0f);
@@ -285,13 +285,13 @@ TEST_CASE("room numbers are unique across doors", "[worlds][generator]") {
 
 // ---- door plates -----------------------------------------------------------------------------
 
-TEST_CASE("each door plate is on its door's wall, beside the frame, at the spec height",
+TEST_CASE("each door plate is on its door's wall, beside the frame, at the options height",
           "[worlds][generator]") {
   for (const GeneratedCase& c : Cases()) {
     INFO(c.name);
     const World& w = c.world;
-    const PlateOptions& spec = c.spec.plates;
-    CHECK(static_cast<int>(w.plates.size()) == spec.count);
+    const PlateOptions& options = c.options.plates;
+    CHECK(static_cast<int>(w.plates.size()) == options.count);
     std::set<std::string> numbers;
     std::set<int> doors_with_plates;
     for (const DoorPlate& p : w.plates) {
@@ -308,12 +308,13 @@ TEST_CASE("each door plate is on its door's wall, beside the frame, at the spec 
       CHECK(offset < kPlateMaxOffsetM);
       CHECK((p.normal - Vector3d(wall.inward_normal.x(), wall.inward_normal.y(), 0)).norm() <
             kGeomTolM);
-      CHECK(p.center.z() == Approx(spec.center_height_m).margin(kGeomTolM));
+      CHECK(p.center.z() == Approx(options.center_height_m).margin(kGeomTolM));
 
       // Size within the jitter, aspect ratio kept.
-      CHECK(p.size_m.x() >= spec.width_m * (1 - spec.size_jitter) - kGeomTolM);
-      CHECK(p.size_m.x() <= spec.width_m * (1 + spec.size_jitter) + kGeomTolM);
-      CHECK(p.size_m.x() / p.size_m.y() == Approx(spec.width_m / spec.height_m).margin(kGeomTolM));
+      CHECK(p.size_m.x() >= options.width_m * (1 - options.size_jitter) - kGeomTolM);
+      CHECK(p.size_m.x() <= options.width_m * (1 + options.size_jitter) + kGeomTolM);
+      CHECK(p.size_m.x() / p.size_m.y() ==
+            Approx(options.width_m / options.height_m).margin(kGeomTolM));
 
       // Beside the door: gap_from_frame_m from the nearer column's outer edge, inside the wall.
       const Span door_span = DoorSpan(w, door), plate = PlateSpan(w, p);
@@ -321,7 +322,7 @@ TEST_CASE("each door plate is on its door's wall, beside the frame, at the spec 
           plate.hi <= door_span.lo ? door_span.lo - plate.hi : plate.lo - door_span.hi;
       INFO("plate [" << plate.lo << ", " << plate.hi << "], door [" << door_span.lo << ", "
                      << door_span.hi << "]");
-      CHECK(gap == Approx(spec.gap_from_frame_m).margin(kGeomTolM));
+      CHECK(gap == Approx(options.gap_from_frame_m).margin(kGeomTolM));
       CHECK(plate.lo > 0);
       CHECK(plate.hi < wall.length());
 
@@ -360,7 +361,7 @@ TEST_CASE("corridor lamps hang from the ceiling inside the corridor; room lamps 
   for (const GeneratedCase& c : Cases()) {
     INFO(c.name);
     const World& w = c.world;
-    const LampOptions& spec = c.spec.lamps;
+    const LampOptions& options = c.options.lamps;
     int corridor_lamps = 0;
     std::map<int, int> lamps_per_room;
     for (const Lamp& lamp : w.lamps) {
@@ -370,19 +371,19 @@ TEST_CASE("corridor lamps hang from the ceiling inside the corridor; room lamps 
                                                                    : SemanticClass::kLampPanel;
       CHECK(HasMesh(w, lamp.id, cls));
       if (lamp.shape == LampShape::kCircular) {
-        CHECK(lamp.radius_m >= spec.radius_min_m);
-        CHECK(lamp.radius_m <= spec.radius_max_m);
+        CHECK(lamp.radius_m >= options.radius_min_m);
+        CHECK(lamp.radius_m <= options.radius_max_m);
       }
       if (lamp.room_door_id < 0) {
         ++corridor_lamps;
-        CHECK(lamp.center.z() == Approx(c.spec.height_m - kLampDropM).margin(kGeomTolM));
+        CHECK(lamp.center.z() == Approx(c.options.height_m - kLampDropM).margin(kGeomTolM));
         // The whole emitting face lies in the walkable area of one segment.
         const Vector2d half = lamp.shape == LampShape::kCircular
                                   ? Vector2d(lamp.radius_m, lamp.radius_m)
                                   : Vector2d(lamp.size_m / 2);
         if (lamp.shape == LampShape::kPanel) {
-          CHECK(lamp.size_m.maxCoeff() == spec.panel_length_m);
-          CHECK(lamp.size_m.minCoeff() == spec.panel_width_m);
+          CHECK(lamp.size_m.maxCoeff() == options.panel_length_m);
+          CHECK(lamp.size_m.minCoeff() == options.panel_width_m);
         }
         CHECK(InsideAny(c.plan.segment_rects, AlignedBox2d(xy - half, xy + half)));
       } else {
@@ -398,7 +399,7 @@ TEST_CASE("corridor lamps hang from the ceiling inside the corridor; room lamps 
     CHECK(corridor_lamps > 0);
     // Every room has its ceiling lamp.
     for (const Doorway& d : w.doors) {
-      if (d.room) CHECK(lamps_per_room[d.id] == (spec.room_lamps ? 1 : 0));
+      if (d.room) CHECK(lamps_per_room[d.id] == (options.room_lamps ? 1 : 0));
     }
   }
 }
@@ -437,14 +438,14 @@ TEST_CASE("rooms behind doorways overlap neither each other, the corridor nor a 
   for (const GeneratedCase& c : Cases()) {
     INFO(c.name);
     const World& w = c.world;
-    const double t = c.spec.wall_thickness_m;
+    const double t = c.options.wall_thickness_m;
     std::vector<std::pair<int, AlignedBox2d>> rooms;  // door id, footprint with its walls
     for (const Doorway& d : w.doors) {
       if (!d.room) continue;
       const Wall& wall = WallOf(w, d.wall_id);
-      // Behind the doorway's wall, at the spec's size.
+      // Behind the doorway's wall, at the options's size.
       CHECK(Across(wall, d.room->footprint.center()) < -t);
-      CHECK(d.room->ceiling_height_m == c.spec.doors.room_height_m);
+      CHECK(d.room->ceiling_height_m == c.options.doors.room_height_m);
       rooms.emplace_back(d.id, Inflated(d.room->footprint, t));
     }
     for (std::size_t i = 0; i < rooms.size(); ++i) {
@@ -461,7 +462,7 @@ TEST_CASE("rooms behind doorways overlap neither each other, the corridor nor a 
         const Span s = CentredSpan(wall, r.center, r.size_m.x());
         AlignedBox2d mirror(wall.start + (s.lo - t) * wall.tangent());
         mirror.extend(wall.start + (s.hi + t) * wall.tangent() -
-                      (c.spec.width_m + t) * wall.inward_normal);
+                      (c.options.width_m + t) * wall.inward_normal);
         INFO("reflector " << r.id);
         CHECK_FALSE(Overlap(rooms[i].second, mirror));
       }
@@ -476,7 +477,7 @@ TEST_CASE("ceiling corner points lie on the ceiling inside the corridor; vents g
   for (const GeneratedCase& c : Cases()) {
     INFO(c.name);
     const World& w = c.world;
-    const double H = c.spec.height_m;
+    const double H = c.options.height_m;
     std::map<CornerKind, int> counts;
     std::vector<Vector3d> vent_corners;
     for (const CornerPoint& p : w.corner_points) {
@@ -491,7 +492,7 @@ TEST_CASE("ceiling corner points lie on the ceiling inside the corridor; vents g
     CHECK(counts[CornerKind::kTileSeam] > 0);
     REQUIRE(vent_corners.size() % 4 == 0);
     // Each vent's four corners are a square of vent_size_m in one horizontal plane.
-    const double size = c.spec.ceiling.vent_size_m;
+    const double size = c.options.ceiling.vent_size_m;
     for (std::size_t i = 0; i < vent_corners.size(); i += 4) {
       AlignedBox3d box(vent_corners[i]);
       for (std::size_t k = 1; k < 4; ++k) box.extend(vent_corners[i + k]);
@@ -508,12 +509,12 @@ TEST_CASE("ceiling corner points lie on the ceiling inside the corridor; vents g
 
 // ---- distractors -----------------------------------------------------------------------------
 
-TEST_CASE("distractors come in the classes and counts the spec asks for, against side walls",
+TEST_CASE("distractors come in the classes and counts the options asks for, against side walls",
           "[worlds][generator]") {
   for (const GeneratedCase& c : Cases()) {
     INFO(c.name);
     const World& w = c.world;
-    const DistractorOptions& x = c.spec.distractors;
+    const DistractorOptions& x = c.options.distractors;
     std::map<SemanticClass, int> counts;
     for (const Distractor& d : w.distractors) {
       INFO(SemanticClassName(d.semantic_class) << " " << d.id);
@@ -528,7 +529,7 @@ TEST_CASE("distractors come in the classes and counts the spec asks for, against
       CHECK(s.lo > 0);
       CHECK(s.hi < wall.length());
       CHECK(d.center.z() - d.size_m.z() / 2 >= -kGeomTolM);
-      CHECK(d.center.z() + d.size_m.z() / 2 <= c.spec.height_m);
+      CHECK(d.center.z() + d.size_m.z() / 2 <= c.options.height_m);
       CHECK(HasMesh(w, d.id, d.semantic_class));
       const bool has_text = d.semantic_class == SemanticClass::kPoster ||
                             d.semantic_class == SemanticClass::kNoticeBoard;
@@ -702,11 +703,11 @@ void CheckIdentical(const World& a, const World& b) {
   }
 }
 
-TEST_CASE("generating twice with the same spec and seed gives identical worlds",
+TEST_CASE("generating twice with the same options and seed gives identical worlds",
           "[worlds][generator][determinism]") {
-  for (const WorldSpec& spec : LayoutSpecs()) {
-    INFO(LayoutName(spec.layout));
-    CheckIdentical(Generate(spec, 3), Generate(spec, 3));
+  for (const WorldOptions& options : LayoutOptions()) {
+    INFO(LayoutName(options.layout));
+    CheckIdentical(Generate(options, 3), Generate(options, 3));
   }
 }
 
@@ -720,10 +721,10 @@ std::vector<Vector2d> DoorColumns(const World& w) {
 }
 
 TEST_CASE("another seed gives another layout of doors", "[worlds][generator][determinism]") {
-  for (const WorldSpec& spec : LayoutSpecs()) {
-    INFO(LayoutName(spec.layout));
-    const std::vector<Vector2d> a = DoorColumns(Generate(spec, 1)),
-                                b = DoorColumns(Generate(spec, 2));
+  for (const WorldOptions& options : LayoutOptions()) {
+    INFO(LayoutName(options.layout));
+    const std::vector<Vector2d> a = DoorColumns(Generate(options, 1)),
+                                b = DoorColumns(Generate(options, 2));
     REQUIRE(a.size() == b.size());
     double largest_move = 0.0;
     for (std::size_t i = 0; i < a.size(); ++i)
@@ -734,14 +735,14 @@ TEST_CASE("another seed gives another layout of doors", "[worlds][generator][det
 
 TEST_CASE("changing the number of posters moves no door, plate or lamp",
           "[worlds][generator][determinism]") {
-  for (const WorldSpec& base : LayoutSpecs()) {
+  for (const WorldOptions& base : LayoutOptions()) {
     INFO(LayoutName(base.layout));
-    WorldSpec more = base;
+    WorldOptions more = base;
     more.distractors.posters = base.distractors.posters + 3;
-    WorldSpec none = base;
+    WorldOptions none = base;
     none.distractors.posters = 0;
     const World reference = Generate(base, 4);
-    for (const WorldSpec& changed : {more, none}) {
+    for (const WorldOptions& changed : {more, none}) {
       INFO("posters " << changed.distractors.posters);
       const World other = Generate(changed, 4);
       CHECK(DoorColumns(other) == DoorColumns(reference));
@@ -767,9 +768,10 @@ TEST_CASE("changing the number of posters moves no door, plate or lamp",
   }
 }
 
-// ---- specs the generator cannot place ----------------------------------------------------------
+// ---- all_options the generator cannot place
+// ----------------------------------------------------------
 
-TEST_CASE("more distractors than fit on the walls throw a SpecError naming the kind",
+TEST_CASE("more distractors than fit on the walls throw a OptionsError naming the kind",
           "[worlds][generator]") {
   struct Case {
     const char* key;
@@ -780,19 +782,19 @@ TEST_CASE("more distractors than fit on the walls throw a SpecError naming the k
         Case{"distractors.bookshelves", &DistractorOptions::bookshelves},
         Case{"distractors.fire_extinguishers", &DistractorOptions::fire_extinguishers}}) {
     INFO(k.key);
-    WorldSpec spec;
-    spec.distractors.*k.field = 300;
-    REQUIRE_FALSE(spec.Check());  // the spec is valid; only the generated walls are too short
-    const SpecProblem p = test::SpecErrorOf([&] { Generate(spec, 1); });
+    WorldOptions options;
+    options.distractors.*k.field = 300;
+    REQUIRE_FALSE(options.Check());  // the options is valid; only the generated walls are too short
+    const OptionsProblem p = test::OptionsErrorOf([&] { Generate(options, 1); });
     CHECK(p.key == k.key);
     CHECK(test::Contains(p.message, " of 300 fit on the free wall stretches"));
   }
 }
 
-TEST_CASE("Generate rejects a spec that fails Check with its problem", "[worlds][generator]") {
-  WorldSpec spec;
-  spec.plates.count = 20;
-  const SpecProblem p = test::SpecErrorOf([&] { Generate(spec, 1); });
+TEST_CASE("Generate rejects a options that fails Check with its problem", "[worlds][generator]") {
+  WorldOptions options;
+  options.plates.count = 20;
+  const OptionsProblem p = test::OptionsErrorOf([&] { Generate(options, 1); });
   CHECK(p.key == "plates.count");
 }
 
@@ -800,15 +802,15 @@ TEST_CASE("lamps near the far end of a corridor stay inside it", "[worlds][gener
   // The last lamp slot of a 40.6 m corridor with 3 m spacing is at 40.5 m, 0.1 m before the end
   // wall; panel lamps reach 0.6 m along the axis from their centre.
   for (const Layout layout : {Layout::kStraight, Layout::kTJunction, Layout::kLTurn}) {
-    WorldSpec spec;
-    spec.layout = layout;
-    spec.length_m = 40.6;
-    spec.second_length_m = 16.6;
-    spec.lamps.circular_fraction = 0.0;
+    WorldOptions options;
+    options.layout = layout;
+    options.length_m = 40.6;
+    options.second_length_m = 16.6;
+    options.lamps.circular_fraction = 0.0;
     LayoutPlan plan;
-    REQUIRE_FALSE(PlanLayout(spec, 1, &plan));
+    REQUIRE_FALSE(PlanLayout(options, 1, &plan));
     for (std::uint64_t seed = 1; seed <= 5; ++seed) {
-      const World w = Generate(spec, seed);
+      const World w = Generate(options, seed);
       for (const Lamp& lamp : w.lamps) {
         if (lamp.room_door_id >= 0) continue;
         const Vector2d xy = lamp.center.head<2>();

@@ -18,21 +18,21 @@ namespace {
 
 using Eigen::AlignedBox2d;
 using Eigen::Vector2d;
-constexpr double kPlanTolM = test::kGeomTolM;  // plan coordinates are sums of spec lengths
+constexpr double kPlanTolM = test::kGeomTolM;  // plan coordinates are sums of options lengths
 
-WorldSpec SpecOf(Layout layout, double length_m, double second_length_m, int doors) {
-  WorldSpec spec;
-  spec.layout = layout;
-  spec.length_m = length_m;
-  spec.second_length_m = second_length_m;
-  spec.doors.count = doors;
-  spec.plates.count = std::min(spec.plates.count, doors);
-  return spec;
+WorldOptions OptionsOf(Layout layout, double length_m, double second_length_m, int doors) {
+  WorldOptions options;
+  options.layout = layout;
+  options.length_m = length_m;
+  options.second_length_m = second_length_m;
+  options.doors.count = doors;
+  options.plates.count = std::min(options.plates.count, doors);
+  return options;
 }
 
-LayoutPlan Plan(const WorldSpec& spec, int first_id = 1) {
+LayoutPlan Plan(const WorldOptions& options, int first_id = 1) {
   LayoutPlan plan;
-  const auto problem = PlanLayout(spec, first_id, &plan);
+  const auto problem = PlanLayout(options, first_id, &plan);
   INFO((problem ? problem->key + ": " + problem->message : std::string("no problem")));
   REQUIRE_FALSE(problem);
   return plan;
@@ -52,16 +52,17 @@ int SideWalls(const LayoutPlan& plan) {
 }
 
 // The doorway capacity of a side wall: n footprints and n - 1 gaps in its usable length.
-int Capacity(const Wall& wall, const WorldSpec& spec, double footprint) {
-  const double usable = UsableWallLength(wall, spec);
+int Capacity(const Wall& wall, const WorldOptions& options, double footprint) {
+  const double usable = UsableWallLength(wall, options);
   if (usable + kPlanTolM < footprint) return 0;
   return static_cast<int>(
-             std::floor((usable - footprint) / (footprint + spec.doors.min_gap_m) + 1e-9)) +
+             std::floor((usable - footprint) / (footprint + options.doors.min_gap_m) + 1e-9)) +
          1;
 }
 
 // The checks every plan must pass, whatever its layout.
-void CheckPlanInvariants(const WorldSpec& spec, const LayoutPlan& plan, double corridor_area_m2) {
+void CheckPlanInvariants(const WorldOptions& options, const LayoutPlan& plan,
+                         double corridor_area_m2) {
   REQUIRE(plan.segment_rects.size() == plan.segments.size());
   REQUIRE(plan.doors_per_wall.size() == plan.walls.size());
 
@@ -106,22 +107,22 @@ void CheckPlanInvariants(const WorldSpec& spec, const LayoutPlan& plan, double c
     total += plan.doors_per_wall[k];
     CHECK(plan.doors_per_wall[k] >= 0);
     if (!w.side_wall) CHECK(plan.doors_per_wall[k] == 0);
-    CHECK(plan.doors_per_wall[k] <= Capacity(w, spec, plan.door_footprint_m));
+    CHECK(plan.doors_per_wall[k] <= Capacity(w, options, plan.door_footprint_m));
   }
-  CHECK(total == spec.doors.count);
+  CHECK(total == options.doors.count);
   CHECK(plan.door_footprint_m ==
-        Approx(spec.doors.width_m + 2 * spec.doors.frame_width_m).margin(kPlanTolM));
+        Approx(options.doors.width_m + 2 * options.doors.frame_width_m).margin(kPlanTolM));
 }
 
 TEST_CASE("a straight corridor has one segment, two side walls and two end caps",
           "[worlds][layout]") {
-  const WorldSpec spec;  // defaults: 55 m x 2.4 m, 16 doors
-  const LayoutPlan plan = Plan(spec);
+  const WorldOptions options;  // defaults: 55 m x 2.4 m, 16 doors
+  const LayoutPlan plan = Plan(options);
   REQUIRE(plan.segments.size() == 1);
   CHECK(plan.segments[0].start.isApprox(Vector2d(0, 0)));
   CHECK(plan.segments[0].end.isApprox(Vector2d(55, 0)));
-  CHECK(plan.segments[0].width_m == spec.width_m);
-  CHECK(plan.segments[0].height_m == spec.height_m);
+  CHECK(plan.segments[0].width_m == options.width_m);
+  CHECK(plan.segments[0].height_m == options.height_m);
   REQUIRE(plan.walls.size() == 4);
   int side = 0, caps = 0;
   for (const Wall& w : plan.walls) {
@@ -140,7 +141,7 @@ TEST_CASE("a straight corridor has one segment, two side walls and two end caps"
   }
   CHECK(side == 2);
   CHECK(caps == 2);
-  CheckPlanInvariants(spec, plan, 55.0 * 2.4);
+  CheckPlanInvariants(options, plan, 55.0 * 2.4);
   // 16 doors on two equal walls: 8 each.
   for (std::size_t k = 0; k < plan.walls.size(); ++k) {
     CHECK(plan.doors_per_wall[k] == (plan.walls[k].side_wall ? 8 : 0));
@@ -148,30 +149,30 @@ TEST_CASE("a straight corridor has one segment, two side walls and two end caps"
 }
 
 TEST_CASE("an L-turn has two segments and six walls", "[worlds][layout]") {
-  const WorldSpec spec = SpecOf(Layout::kLTurn, 30, 20, 14);
-  const LayoutPlan plan = Plan(spec);
+  const WorldOptions options = OptionsOf(Layout::kLTurn, 30, 20, 14);
+  const LayoutPlan plan = Plan(options);
   REQUIRE(plan.segments.size() == 2);
   CHECK(plan.segments[0].end.isApprox(plan.segments[1].start));
   CHECK(plan.segments[1].end.isApprox(Vector2d(30, 20)));  // the second leg turns left (+y)
   CHECK(plan.walls.size() == 6);
   CHECK(SideWalls(plan) == 4);
-  CheckPlanInvariants(spec, plan, (30.0 + 20.0) * 2.4);
+  CheckPlanInvariants(options, plan, (30.0 + 20.0) * 2.4);
 }
 
 TEST_CASE("a T-junction has two segments and eight walls", "[worlds][layout]") {
-  const WorldSpec spec = SpecOf(Layout::kTJunction, 40, 15, 14);
-  const LayoutPlan plan = Plan(spec);
+  const WorldOptions options = OptionsOf(Layout::kTJunction, 40, 15, 14);
+  const LayoutPlan plan = Plan(options);
   REQUIRE(plan.segments.size() == 2);
   CHECK(plan.segments[1].start.isApprox(Vector2d(20, 0)));  // the branch leaves from the middle
   CHECK(plan.segments[1].end.isApprox(Vector2d(20, 15)));
   CHECK(plan.walls.size() == 8);
   // Main corridor plus the branch, minus the half width the branch shares with it.
-  CheckPlanInvariants(spec, plan, 40.0 * 2.4 + 15.0 * 2.4 - 2.4 * 1.2);
+  CheckPlanInvariants(options, plan, 40.0 * 2.4 + 15.0 * 2.4 - 2.4 * 1.2);
 }
 
 TEST_CASE("a loop has four segments, four outer and four inner walls", "[worlds][layout]") {
-  const WorldSpec spec = SpecOf(Layout::kLoop, 30, 16, 20);
-  const LayoutPlan plan = Plan(spec);
+  const WorldOptions options = OptionsOf(Layout::kLoop, 30, 16, 20);
+  const LayoutPlan plan = Plan(options);
   REQUIRE(plan.segments.size() == 4);
   CHECK(plan.segments[3].end.isApprox(plan.segments[0].start));  // closed
   REQUIRE(plan.walls.size() == 8);
@@ -189,11 +190,11 @@ TEST_CASE("a loop has four segments, four outer and four inner walls", "[worlds]
   }
   CHECK(outer == 4);
   CHECK(inner == 4);
-  CheckPlanInvariants(spec, plan, 2 * (30.0 + 16.0) * 2.4);
+  CheckPlanInvariants(options, plan, 2 * (30.0 + 16.0) * 2.4);
 }
 
 TEST_CASE("plan ids run from first_id: segments first, then walls", "[worlds][layout]") {
-  const LayoutPlan plan = Plan(SpecOf(Layout::kLoop, 30, 16, 20), 100);
+  const LayoutPlan plan = Plan(OptionsOf(Layout::kLoop, 30, 16, 20), 100);
   int expected = 100;
   for (const CorridorSegment& s : plan.segments) CHECK(s.id == expected++);
   for (const Wall& w : plan.walls) CHECK(w.id == expected++);
@@ -201,8 +202,8 @@ TEST_CASE("plan ids run from first_id: segments first, then walls", "[worlds][la
 
 TEST_CASE("doors are shared between side walls by their usable length", "[worlds][layout]") {
   // L-turn 30 + 20: the long legs' walls get more doors than the short ones.
-  const WorldSpec spec = SpecOf(Layout::kLTurn, 30, 20, 14);
-  const LayoutPlan plan = Plan(spec);
+  const WorldOptions options = OptionsOf(Layout::kLTurn, 30, 20, 14);
+  const LayoutPlan plan = Plan(options);
   for (std::size_t i = 0; i < plan.walls.size(); ++i) {
     for (std::size_t j = 0; j < plan.walls.size(); ++j) {
       if (!plan.walls[i].side_wall || !plan.walls[j].side_wall) continue;
@@ -214,17 +215,17 @@ TEST_CASE("doors are shared between side walls by their usable length", "[worlds
 }
 
 TEST_CASE("zero doors leave every wall without a doorway", "[worlds][layout]") {
-  const WorldSpec spec = SpecOf(Layout::kTJunction, 40, 15, 0);
-  const LayoutPlan plan = Plan(spec);
+  const WorldOptions options = OptionsOf(Layout::kTJunction, 40, 15, 0);
+  const LayoutPlan plan = Plan(options);
   for (const int n : plan.doors_per_wall) CHECK(n == 0);
 }
 
 TEST_CASE("more doors than the side walls hold are a problem with doors.count",
           "[worlds][layout]") {
-  WorldSpec spec;
-  spec.doors.count = 200;
+  WorldOptions options;
+  options.doors.count = 200;
   LayoutPlan plan;
-  const auto problem = PlanLayout(spec, 1, &plan);
+  const auto problem = PlanLayout(options, 1, &plan);
   REQUIRE(problem);
   CHECK(problem->key == "doors.count");
   CHECK(test::Contains(problem->message, "200 doorways do not fit"));
@@ -233,34 +234,34 @@ TEST_CASE("more doors than the side walls hold are a problem with doors.count",
 }
 
 TEST_CASE("exactly as many doors as fit are accepted", "[worlds][layout]") {
-  WorldSpec spec;
-  spec.doors.count = 46;
-  CheckPlanInvariants(spec, Plan(spec), 55.0 * 2.4);
-  spec.doors.count = 47;
+  WorldOptions options;
+  options.doors.count = 46;
+  CheckPlanInvariants(options, Plan(options), 55.0 * 2.4);
+  options.doors.count = 47;
   LayoutPlan plan;
-  const auto problem = PlanLayout(spec, 1, &plan);
+  const auto problem = PlanLayout(options, 1, &plan);
   REQUIRE(problem);
   CHECK(problem->key == "doors.count");
 }
 
 TEST_CASE("a door wider than every wall is a problem with doors.width_m", "[worlds][layout]") {
-  WorldSpec spec;
-  spec.doors.width_m = 60;
+  WorldOptions options;
+  options.doors.width_m = 60;
   LayoutPlan plan;
-  const auto problem = PlanLayout(spec, 1, &plan);
+  const auto problem = PlanLayout(options, 1, &plan);
   REQUIRE(problem);
   CHECK(problem->key == "doors.width_m");
   CHECK(test::Contains(problem->message, "wider than every wall segment"));
 }
 
 TEST_CASE("usable wall length keeps min_gap_m free at both ends", "[worlds][layout]") {
-  WorldSpec spec;
+  WorldOptions options;
   Wall wall;
   wall.start = Vector2d(0, 0);
   wall.end = Vector2d(10, 0);
-  CHECK(UsableWallLength(wall, spec) == Approx(10 - 2 * spec.doors.min_gap_m));
+  CHECK(UsableWallLength(wall, options) == Approx(10 - 2 * options.doors.min_gap_m));
   wall.end = Vector2d(2, 0);
-  CHECK(UsableWallLength(wall, spec) == 0.0);
+  CHECK(UsableWallLength(wall, options) == 0.0);
 }
 
 }  // namespace

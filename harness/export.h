@@ -1,0 +1,96 @@
+#pragma once
+// The dataset export (`corridorsim run --export DIR`): a run written in the layouts other SLAM
+// systems read (docs/export.md describes every file):
+//   tum_rgbd/        the front camera as TUM RGB-D (rgb/, depth/ from the noisy depth, rgb.txt,
+//                    depth.txt, associations.txt, groundtruth.txt of world_from_camera) and an
+//                    ORB-SLAM2/3 settings file (orb_slam.yaml);
+//   euroc/mav0/      the upward camera as cam0/ and the lateral camera as cam1/ (EuRoC/ASL:
+//                    data/<t_ns>.png, data.csv, sensor.yaml), and state_groundtruth_estimate0/;
+//   odometry.csv     the wheel odometry messages;
+//   labels/<camera>/ per frame: 16-bit labels (as EncodeLabels) and the frame truth as JSON;
+//   coco/plates.json door plate boxes and room numbers of the front and lateral images.
+// Timestamps are int64 nanoseconds in every file name; TUM files give seconds with nine
+// decimals formatted from the integer. Images are written as frames arrive, index files and
+// YAMLs once in Finish(); every file is written atomically and none twice. Cameras that are
+// disabled, or whose messages carry no images, write nothing.
+
+#include <cstddef>
+#include <filesystem>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "common/pose.h"
+#include "common/sensor_messages.h"
+#include "common/time.h"
+#include "render/camera_rig.h"
+#include "sim/simulation.h"
+
+namespace corridorsim {
+
+class DatasetExporter {
+ public:
+  /// Creates `dir` (and its parents) and checks it is writable. Throws std::runtime_error naming
+  /// the folder when it cannot, or when `dir` already holds a file or folder the export writes
+  /// (an export never mixes with an earlier one). `rig` gives each camera's model, mount and rate;
+  /// `wheelbase_m` is the nominal wheelbase the odometry is meant for.
+  DatasetExporter(const std::filesystem::path& dir, const render::RigOptions& rig,
+                  double wheelbase_m);
+
+  /// Writes the frame's images, labels and truth JSON (and keeps what the index files need). A
+  /// message without images (the simulation did not render) writes nothing. Throws
+  /// std::invalid_argument for a camera the rig does not enable, images of the wrong size, a
+  /// negative stamp or one not after the camera's previous frame.
+  void AddFrame(const sim::CameraMessage& message, const std::string& camera_id);
+  /// One odometry message; stamps must increase (std::invalid_argument otherwise).
+  void AddOdometry(const WheelOdometry& odometry);
+  /// The robot's true pose (body frame R) at `stamp_ns`; stamps must increase.
+  void AddTruth(TimeNs stamp_ns, const SE3& world_from_robot);
+  /// Writes the index files, YAMLs, ground truth, odometry CSV and COCO JSON. Adding anything
+  /// or finishing again afterwards throws std::logic_error.
+  void Finish();
+
+ private:
+  enum class Layout { kTumRgbd, kEurocCam0, kEurocCam1, kLabelsOnly };
+  struct PlateBox {
+    int plate_id = 0;
+    std::string room_number;
+    double x = 0, y = 0, w = 0, h = 0;  // COCO bbox: pixel edges, (0, 0) = top-left image corner
+    double visible_fraction = 0;
+    bool fully_in_image = false;
+  };
+  struct CocoImage {
+    TimeNs stamp_ns = 0;
+    std::size_t camera_order = 0;  // in the rig
+    std::string file_name;         // relative to the export root
+    int width = 0, height = 0;
+    std::vector<PlateBox> plates;
+  };
+  struct CameraOutput {
+    render::CameraOptions options;
+    std::size_t order = 0;  // in the rig
+    Layout layout = Layout::kLabelsOnly;
+    std::filesystem::path image_dir;  // where the RGB images go (relative to the root)
+    std::vector<TimeNs> stamps;       // of the frames written, increasing
+    std::vector<std::pair<TimeNs, SE3>> world_from_camera;  // front camera: per frame
+  };
+
+  CameraOutput& Camera(const std::string& camera_id);
+  void MakeDir(const std::filesystem::path& relative) const;
+  void CheckOpen(const char* what) const;
+  void FinishTum(const CameraOutput& camera) const;
+  void FinishEuroc(const CameraOutput& camera) const;
+  void FinishGroundTruth() const;
+  void FinishOdometry() const;
+  void FinishCoco() const;
+
+  std::filesystem::path dir_;
+  double wheelbase_m_;
+  std::vector<CameraOutput> cameras_;          // the rig's enabled cameras, in rig order
+  std::vector<std::pair<TimeNs, SE3>> truth_;  // world_from_robot
+  std::vector<WheelOdometry> odometry_;
+  std::vector<CocoImage> coco_images_;
+  bool finished_ = false;
+};
+
+}  // namespace corridorsim

@@ -1,0 +1,80 @@
+#pragma once
+// A scenario file: the seed, the world, the sensors, the robot and its path, the SLAM pipelines
+// that run on the sensor stream and the expectations on their metrics. Loading is strict: see
+// docs/scenarios.md.
+
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "common/io/yaml_reader.h"
+#include "harness/metrics.h"
+#include "render/camera_rig.h"
+#include "sim/robot.h"
+#include "sim/robot_path.h"
+#include "slam/registry.h"
+#include "worlds/world.h"
+#include "worlds/world_options.h"
+
+namespace corridorsim {
+
+struct Scenario {
+  std::string file;         // the file given on the command line
+  std::string name;         // optional human-readable name
+  std::string description;  // optional
+  std::uint64_t seed = 1;   // seed of every random stream of the run
+  worlds::WorldOptions world;
+  render::RigOptions rig = render::RigOptions::Default();  // `sensors:` and `render:`
+  sim::RobotOptions robot;           // `robot:` (odometry errors under `robot.odometry`)
+  sim::RobotPathOptions robot_path;  // `path:`
+  double duration_s = 0;  // `duration_s`: simulated time of a run; 0 = until the path is done
+  // `pipelines:` in order of first appearance (base files first); `enabled: false` drops one.
+  struct PipelineEntry {
+    std::string name;
+    std::shared_ptr<slam::PipelineConfig> config;
+    bool enabled = true;
+  };
+  std::vector<PipelineEntry> pipelines;
+  // `expectations:` as written (the last file that has the key wins), with where each was set.
+  std::vector<std::string> expectations;
+  std::vector<SourceLocation> expectation_locations;
+  SourceMap sources;                  // where each key was set, for errors found after parsing
+  SourceLocation world_location;      // the `world:` key of the last file that has one
+  SourceLocation sensors_location;    // the `sensors:` key of the last file that has one
+  SourceLocation robot_location;      // `robot:`
+  SourceLocation path_location;       // `path:`
+  SourceLocation pipelines_location;  // `pipelines:`
+};
+
+/// Loads `path` and its `include:` chain (base first) onto code defaults, then checks the
+/// result. Throws InputError naming file, line, column and key.
+Scenario LoadScenario(const std::string& path);
+
+/// Turns a problem found by a options's Check() or a generator into an InputError placed at the
+/// line that set the offending key (`section` is "world", "sensors", "robot", "path" or
+/// "pipelines").
+InputError LocateProblem(const Scenario& scenario, const std::string& section,
+                         const OptionsProblem& problem);
+
+/// Generates the scenario's world with `seed`, reporting generator problems as InputError.
+worlds::World GenerateWorld(const Scenario& scenario, std::uint64_t seed);
+
+/// The scenario file with its include chain merged (base first, the same key-by-key rules as
+/// loading), `include:` removed and `seed` set to `seed`: a single file that repeats the run.
+std::string ResolvedScenarioYaml(const std::string& path, std::uint64_t seed);
+
+/// Creates `dir` if needed and proves it writable, or throws InputError naming the command-line
+/// `option` ("--out", "--export") and the folder: every job checks its outputs before it runs.
+void EnsureOutputDirectory(const std::filesystem::path& dir, const std::string& option);
+
+/// The scenario's expectations, parsed and checked against its pipelines and the metric names.
+/// Throws InputError at the expectation's line for bad syntax, an unknown or disabled pipeline, or
+/// an unknown metric.
+std::vector<Expectation> ScenarioExpectations(const Scenario& scenario);
+
+/// The scenario's path in `world`, reporting a path that does not fit as InputError at `path:`.
+sim::RobotPath BuildScenarioRobotPath(const Scenario& scenario, const worlds::World& world);
+
+}  // namespace corridorsim

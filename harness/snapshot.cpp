@@ -1,0 +1,110 @@
+#include "harness/snapshot.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <numbers>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "common/error.h"
+#include "common/io/atomic_file.h"
+#include "harness/frame_io.h"
+#include "harness/scenario.h"
+#include "render/backend.h"
+#include "render/camera_rig.h"
+#include "render/frame_truth.h"
+#include "render/scene.h"
+#include "worlds/image_io.h"
+#include "worlds/world_io.h"
+
+namespace corridorsim {
+
+SE2 ParsePose(const std::string& text) {
+  std::vector<double> values;
+  std::stringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    char* end = nullptr;
+    const double v = std::strtod(item.c_str(), &end);
+    if (item.empty() || end != item.c_str() + item.size() || !std::isfinite(v)) {
+      throw InputError(SourceLocation{"command line", 0, 0}, "--pose",
+                       "expected x,y,yaw (metres, metres, degrees), got '" + text + "'");
+    }
+    values.push_back(v);
+  }
+  if (values.size() != 3) {
+    throw InputError(SourceLocation{"command line", 0, 0}, "--pose",
+                     "expected x,y,yaw (metres, metres, degrees), got '" + text + "'");
+  }
+  return SE2(values[0], values[1], values[2] * std::numbers::pi / 180.0);
+}
+
+void RunSnapshot(const SnapshotRequest& request) {
+  const Scenario scenario = LoadScenario(request.scenario_file);
+  const SE2 pose = ParsePose(request.pose_text);
+  const render::BackendKind backend_kind = ChooseBackend(scenario.rig.backend);
+  EnsureOutputDirectory(request.out_dir, "--out");
+  const std::uint64_t seed = request.seed.value_or(scenario.seed);
+  const worlds::World world = GenerateWorld(scenario, seed);
+  const SE3 world_from_robot = SE3::FromSE2(pose);
+  if (auto problem = render::CheckCameraPlacement(world, scenario.rig, world_from_robot)) {
+    throw LocateProblem(scenario, "sensors", *problem);
+  }
+
+  const auto t0 = std::chrono::steady_clock::now();
+  const render::Scene scene = render::BuildScene(world, scenario.rig.scene);
+  std::unique_ptr<render::Backend> backend = render::CreateBackend(backend_kind);
+  backend->Upload(scene);
+  render::Rig rig(scenario.rig, scene, *backend);
+  std::vector<render::CameraFrame> frames;
+  rig.Render(world_from_robot, seed, 0, &frames);
+  const double ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+
+  nlohmann::ordered_json truth_json;
+  truth_json["seed"] = seed;
+  truth_json["world_from_robot"] = PoseJson(world_from_robot);
+  truth_json["cameras"] = nlohmann::ordered_json::object();
+  nlohmann::ordered_json intrinsics = nlohmann::ordered_json::object();
+  std::printf("snapshot: %s backend, robot at (%.2f, %.2f) yaw %.1f deg, %zu cameras in %.0f ms\n",
+              render::BackendName(backend_kind).c_str(), pose.x(), pose.y(),
+              pose.yaw() * 180.0 / std::numbers::pi, frames.size(), ms);
+  for (std::size_t k = 0; k < frames.size(); ++k) {
+    const render::CameraFrame& frame = frames[k];
+    const render::CameraOptions& options = rig.cameras()[k].options();
+    const std::string& id = frame.camera_id;
+    render::FrameTruthInput input;
+    input.world = &world;
+    input.camera_id = id;
+    input.model = options.model;
+    input.world_from_camera = frame.world_from_camera;
+    input.world_from_robot = world_from_robot;
+    input.instance = &frame.instance;
+    input.semantic = &frame.semantic;
+    const render::FrameTruth truth = render::ComputeFrameTruth(input);
+    truth_json["cameras"][id] = render::FrameTruthJson(truth);
+    intrinsics[id] = IntrinsicsJson(options);
+
+    const std::filesystem::path dir = request.out_dir;
+    WriteFileAtomic(dir / (id + "_rgb.png"), EncodePng(frame.rgb, id + "_rgb.png"));
+    WriteFileAtomic(dir / (id + "_labels.png"),
+                    EncodeLabels(frame, frame.rgb.width, frame.rgb.height));
+    WriteFileAtomic(dir / (id + "_overlay.png"),
+                    EncodePng(DrawOverlay(frame.rgb, truth), id + "_overlay.png"));
+    if (options.depth) {
+      WriteFileAtomic(dir / (id + "_depth.png"),
+                      EncodeDepth(frame.noisy_depth_m, id + "_depth.png"));
+    }
+    std::printf("  %-8s %dx%d  plates %zu, lamps %zu, doors %zu, corners %zu%s\n", id.c_str(),
+                frame.rgb.width, frame.rgb.height, truth.plates.size(), truth.lamps.size(),
+                truth.doors.size(), truth.corners.size(), options.depth ? ", depth" : "");
+  }
+  WriteFileAtomic(request.out_dir / "frame_ground_truth.json", truth_json.dump(2) + "\n");
+  WriteFileAtomic(request.out_dir / "intrinsics.json", intrinsics.dump(2) + "\n");
+  std::printf("wrote %s\n", request.out_dir.string().c_str());
+}
+
+}  // namespace corridorsim

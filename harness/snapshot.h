@@ -1,0 +1,28 @@
+#pragma once
+// `corridorsim snapshot`: the robot placed at one pose, every camera of the rig rendered, and
+// per camera the image, labels, an overlay of the ground truth, depth, plus the frame's ground
+// truth and the intrinsics.
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+
+#include "common/pose.h"
+
+namespace corridorsim {
+
+struct SnapshotRequest {
+  std::string scenario_file;
+  std::string pose_text;              // "x,y,yaw_deg" as given on the command line
+  std::optional<std::uint64_t> seed;  // overrides the scenario's seed
+  std::filesystem::path out_dir = "out/snapshot";
+};
+
+/// Parses "x,y,yaw" (metres, metres, degrees). Throws InputError naming `--pose`.
+SE2 ParsePose(const std::string& text);
+
+/// Runs the snapshot; prints a summary. Throws InputError for bad input.
+void RunSnapshot(const SnapshotRequest& request);
+
+}  // namespace corridorsim

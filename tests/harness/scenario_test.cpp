@@ -1,0 +1,459 @@
+// Tests scenarios/scenario.cpp: every shipped scenario loads and generates; bad input gives an
+// InputError with the exact `file:line:column: key: message`; include chains override key by key
+// and report problems in the file that set the key.
+#include "harness/scenario.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <catch2/catch.hpp>
+
+#include "tests/support/expect_input_error.h"
+
+namespace corridorsim {
+namespace {
+
+namespace fs = std::filesystem;
+using test::Contains;
+using test::InputErrorOf;
+
+// A fresh folder for YAML fixtures under the system temp folder, removed at the end of the test.
+class FixtureDir {
+ public:
+  FixtureDir()
+      : path_(fs::temp_directory_path() /
+              ("corridorsim_scenario_test_" + std::to_string(::getpid()) + "_" +
+               std::to_string(counter_++))) {
+    fs::remove_all(path_);
+    fs::create_directories(path_);
+  }
+  ~FixtureDir() {
+    std::error_code ignored;
+    fs::remove_all(path_, ignored);
+  }
+  FixtureDir(const FixtureDir&) = delete;
+  FixtureDir& operator=(const FixtureDir&) = delete;
+
+  // Writes `text` to `name` in this folder and returns its path.
+  std::string Write(const std::string& name, const std::string& text) const {
+    const fs::path path = path_ / name;
+    std::ofstream out(path, std::ios::binary);
+    out << text;
+    REQUIRE(out.good());
+    return path.string();
+  }
+  std::string Path(const std::string& name) const { return (path_ / name).string(); }
+
+ private:
+  static inline int counter_ = 0;
+  fs::path path_;
+};
+
+// The full message of the InputError that loading `text` as a scenario throws.
+std::string LoadError(const std::string& text) {
+  const FixtureDir dir;
+  const std::string path = dir.Write("s.yaml", text);
+  const InputError e = InputErrorOf([&] { LoadScenario(path); });
+  const std::string what = e.what();
+  // Every message starts with the file; tests below compare what follows it.
+  REQUIRE(what.rfind(path + ":", 0) == 0);
+  return what.substr(path.size());
+}
+
+// ---- shipped scenarios
+// ---------------------------------------------------------------------------
+
+std::vector<fs::path> ShippedScenarios() {
+  std::vector<fs::path> files;
+  for (const auto& entry : fs::directory_iterator(CORRIDORSIM_SOURCE_DIR "/scenarios")) {
+    if (entry.is_regular_file() && entry.path().extension() == ".yaml")
+      files.push_back(entry.path());
+  }
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+TEST_CASE("every shipped scenario loads and generates its world", "[scenarios]") {
+  const std::vector<fs::path> files = ShippedScenarios();
+  // The seven of docs/scenarios.md at least; new files are covered automatically.
+  CHECK(files.size() >= 7);
+  for (const fs::path& file : files) {
+    INFO(file.string());
+    const Scenario scenario = LoadScenario(file.string());
+    CHECK_FALSE(scenario.name.empty());
+    const worlds::World world = GenerateWorld(scenario, scenario.seed);
+    CHECK(static_cast<int>(world.doors.size()) == scenario.world.doors.count);
+    CHECK(static_cast<int>(world.plates.size()) == scenario.world.plates.count);
+    CHECK_FALSE(world.meshes.empty());
+  }
+}
+
+TEST_CASE("the default scenario is P1's corridor", "[scenarios]") {
+  const Scenario s = LoadScenario(CORRIDORSIM_SOURCE_DIR "/scenarios/default.yaml");
+  CHECK(s.seed == 1);
+  CHECK(s.world.layout == worlds::Layout::kStraight);
+  CHECK(s.world.length_m == 55.0);
+  CHECK(s.world.width_m == 2.4);
+  CHECK(s.world.height_m == 2.7);
+  CHECK(s.world.plates.count == 14);
+}
+
+// ---- bad input: the exact location, key and message ---------------------------------------------
+
+TEST_CASE("an unknown top-level key is an error at that key", "[scenarios]") {
+  const std::string msg = LoadError(
+      "seed: 3\n"
+      "wrld:\n"
+      "  length_m: 30\n");
+  CHECK(msg ==
+        ":2:1: wrld: unknown key (known keys here: description, duration_s, expectations, "
+        "include, name, path, pipelines, render, robot, seed, sensors, world)");
+}
+
+TEST_CASE("an unknown nested key is an error naming its full key", "[scenarios]") {
+  const std::string msg = LoadError(
+      "world:\n"
+      "  doors:\n"
+      "    count: 10\n"
+      "    colour: red\n");
+  CHECK(msg.rfind(":4:5: world.doors.colour: unknown key (known keys here: ", 0) == 0);
+  CHECK(Contains(msg, "width_m"));
+}
+
+TEST_CASE("a duplicate key is an error at its second occurrence", "[scenarios]") {
+  const std::string msg = LoadError(
+      "world:\n"
+      "  length_m: 30\n"
+      "  width_m: 2.4\n"
+      "  length_m: 40\n");
+  CHECK(msg == ":4:3: world.length_m: duplicate key");
+}
+
+TEST_CASE("a value of the wrong type is an error at its key", "[scenarios]") {
+  CHECK(LoadError("world:\n  length_m: long\n") ==
+        ":2:3: world.length_m: expected a finite number, got 'long'");
+  CHECK(LoadError("seed: -4\n") == ":1:1: seed: expected a non-negative integer, got '-4'");
+  CHECK(LoadError("world:\n  layout: spiral\n") ==
+        ":2:3: world.layout: unknown value 'spiral' (expected one of: straight, l_turn, "
+        "t_junction, loop)");
+  CHECK(LoadError("world: [1, 2]\n") == ":1:1: world: expected a map of keys");
+}
+
+TEST_CASE("render.texture_filter picks the mip filter; other values are errors", "[scenarios]") {
+  const FixtureDir dir;
+  CHECK(LoadScenario(dir.Write("a.yaml", "name: a\n")).rig.scene.texture_filter ==
+        render::TextureFilter::kTrilinear);
+  CHECK(LoadScenario(dir.Write("b.yaml", "render:\n  texture_filter: nearest_mip\n"))
+            .rig.scene.texture_filter == render::TextureFilter::kNearestMip);
+  CHECK(LoadError("render:\n  texture_filter: anisotropic\n") ==
+        ":2:3: render.texture_filter: unknown value 'anisotropic' (expected one of: trilinear, "
+        "nearest_mip)");
+}
+
+TEST_CASE("a negative size is an error at its line", "[scenarios]") {
+  const std::string msg = LoadError(
+      "name: negative\n"
+      "world:\n"
+      "  width_m: -2.4\n");
+  CHECK(msg == ":3:3: world.width_m: must be greater than 0 (got -2.4)");
+}
+
+TEST_CASE("a zero size is an error at its line", "[scenarios]") {
+  const std::string msg = LoadError(
+      "world:\n"
+      "  plates:\n"
+      "    count: 4\n"
+      "    height_m: 0\n");
+  CHECK(msg == ":4:5: world.plates.height_m: must be greater than 0 (got 0)");
+}
+
+TEST_CASE("a door wider than its wall is an error at doors.width_m", "[scenarios]") {
+  const std::string msg = LoadError(
+      "world:\n"
+      "  length_m: 5\n"
+      "  doors: {width_m: 3}\n");
+  CHECK(msg ==
+        ":3:11: world.doors.width_m: a doorway of 3.16 m with its frame is wider than every wall "
+        "segment (longest usable wall: 2.60 m)");
+}
+
+TEST_CASE("more plates than doors is an error at plates.count", "[scenarios]") {
+  const std::string msg = LoadError(
+      "world:\n"
+      "  doors:\n"
+      "    count: 16\n"
+      "  plates:\n"
+      "    count: 17\n");
+  CHECK(msg ==
+        ":5:5: world.plates.count: 17 plates need a door each, but there are only 16 doors "
+        "(doors.count)");
+}
+
+TEST_CASE("more doors than fit is an error at doors.count", "[scenarios]") {
+  const std::string msg = LoadError(
+      "world:\n"
+      "  length_m: 20\n"
+      "  doors:\n"
+      "    count: 30\n");
+  CHECK(msg.rfind(":4:5: world.doors.count: 30 doorways do not fit on the side walls", 0) == 0);
+}
+
+TEST_CASE("a ceiling lower than a door is an error at height_m", "[scenarios]") {
+  const std::string msg = LoadError(
+      "world:\n"
+      "  height_m: 2.0\n");
+  CHECK(msg ==
+        ":2:3: world.height_m: the ceiling (2 m) is lower than the doors with their top bar "
+        "(2.18 m)");
+}
+
+TEST_CASE("a problem with a key nobody set is reported at the world section", "[scenarios]") {
+  // plates.count keeps its default 14, but only 10 doors are asked for.
+  const std::string msg = LoadError(
+      "seed: 2\n"
+      "world:\n"
+      "  doors:\n"
+      "    count: 10\n");
+  CHECK(msg.rfind(":2:1: world.plates.count: 14 plates need a door each", 0) == 0);
+}
+
+TEST_CASE("a missing included file is an error at the include line", "[scenarios]") {
+  const FixtureDir dir;
+  const std::string path = dir.Write("child.yaml",
+                                     "name: child\n"
+                                     "include: nowhere.yaml\n");
+  const InputError e = InputErrorOf([&] { LoadScenario(path); });
+  CHECK(std::string(e.what()) ==
+        path + ":2:10: include: included file '" + dir.Path("nowhere.yaml") + "' does not exist");
+}
+
+TEST_CASE("an include cycle is an error at the include that closes it", "[scenarios]") {
+  const FixtureDir dir;
+  const std::string a = dir.Write("a.yaml", "include: b.yaml\n");
+  dir.Write("b.yaml",
+            "seed: 4\n"
+            "include: a.yaml\n");
+  const InputError e = InputErrorOf([&] { LoadScenario(a); });
+  CHECK(std::string(e.what()) ==
+        dir.Path("b.yaml") + ":2:10: include: include cycle through '" + a + "'");
+}
+
+TEST_CASE("a file that includes itself is a cycle", "[scenarios]") {
+  const FixtureDir dir;
+  const std::string self = dir.Write("self.yaml", "include: self.yaml\n");
+  const InputError e = InputErrorOf([&] { LoadScenario(self); });
+  CHECK(e.key() == "include");
+  CHECK(e.location().line == 1);
+  CHECK(Contains(e.message(), "include cycle"));
+}
+
+TEST_CASE("a file that is not valid YAML is an error at the syntax error", "[scenarios]") {
+  const std::string msg = LoadError(
+      "world:\n"
+      "  doors: [1, 2\n"
+      "  length_m: 3\n");
+  // yaml-cpp finds the unclosed list where the next key starts; its wording is its own.
+  CHECK(msg.rfind(":3:11: invalid YAML: ", 0) == 0);
+}
+
+TEST_CASE("a YAML document that is not a map is an error", "[scenarios]") {
+  CHECK(LoadError("- seed\n- 3\n") == ":1:1: the document must be a map of keys");
+}
+
+TEST_CASE("an empty file loads with the defaults", "[scenarios]") {
+  const FixtureDir dir;
+  for (const char* text : {"", "# only a comment\n", "\n\n"}) {
+    const std::string path = dir.Write("empty.yaml", text);
+    const Scenario s = LoadScenario(path);
+    const worlds::WorldOptions defaults;
+    CHECK(s.seed == 1);
+    CHECK(s.name.empty());
+    CHECK(s.world.layout == defaults.layout);
+    CHECK(s.world.length_m == defaults.length_m);
+    CHECK(s.world.doors.count == defaults.doors.count);
+    CHECK(s.world.plates.count == defaults.plates.count);
+    CHECK(GenerateWorld(s, s.seed).plates.size() == 14);
+  }
+}
+
+TEST_CASE("a scenario path that does not exist is an error naming it", "[scenarios]") {
+  const FixtureDir dir;
+  const std::string path = dir.Path("absent.yaml");
+  CHECK(std::string(InputErrorOf([&] { LoadScenario(path); }).what()) ==
+        path + ": cannot open the file");
+}
+
+TEST_CASE("a scenario path that is a folder is an input error naming it", "[scenarios]") {
+  const FixtureDir dir;
+  const std::string folder = dir.Path("sub.yaml");
+  fs::create_directories(folder);
+  const InputError e = InputErrorOf([&] { LoadScenario(folder); });
+  CHECK(e.location().file == folder);
+}
+
+TEST_CASE("an include naming a folder is an input error at the include line", "[scenarios]") {
+  const FixtureDir dir;
+  fs::create_directories(dir.Path("base"));
+  const std::string child = dir.Write("child.yaml",
+                                      "seed: 2\n"
+                                      "include: base\n");
+  const InputError e = InputErrorOf([&] { LoadScenario(child); });
+  CHECK(e.key() == "include");
+  CHECK(e.location().file == child);
+  CHECK(e.location().line == 2);
+  CHECK(e.location().column == 10);
+}
+
+TEST_CASE("distractors that do not fit are an error at their key when the world is generated",
+          "[scenarios]") {
+  const FixtureDir dir;
+  const std::string path = dir.Write("crowded.yaml",
+                                     "world:\n"
+                                     "  length_m: 20\n"
+                                     "  doors: {count: 6}\n"
+                                     "  plates: {count: 4}\n"
+                                     "  distractors:\n"
+                                     "    posters: 100\n");
+  const Scenario s = LoadScenario(path);  // valid as a spec; the generated walls are too short
+  const InputError e = InputErrorOf([&] { GenerateWorld(s, 1); });
+  CHECK(std::string(e.what()).rfind(path + ":6:5: world.distractors.posters: only ", 0) == 0);
+  CHECK(Contains(e.message(), "of 100 fit"));
+}
+
+// ---- include chains
+// ------------------------------------------------------------------------------
+
+TEST_CASE("a child overriding one nested key keeps the base's other keys", "[scenarios]") {
+  const FixtureDir dir;
+  dir.Write("base.yaml",
+            "name: base\n"
+            "seed: 9\n"
+            "world:\n"
+            "  length_m: 40\n"
+            "  doors:\n"
+            "    count: 12\n"
+            "    width_m: 1.0\n"
+            "  plates:\n"
+            "    count: 10\n");
+  const std::string child = dir.Write("child.yaml",
+                                      "include: base.yaml\n"
+                                      "name: child\n"
+                                      "world:\n"
+                                      "  doors:\n"
+                                      "    count: 14\n");
+  const Scenario s = LoadScenario(child);
+  CHECK(s.name == "child");
+  CHECK(s.seed == 9);
+  CHECK(s.world.length_m == 40);
+  CHECK(s.world.doors.count == 14);
+  CHECK(s.world.doors.width_m == 1.0);
+  CHECK(s.world.plates.count == 10);
+  CHECK(s.file == child);
+  // Where each key was set: the child for what it overrides, the base for the rest.
+  const SourceLocation count = s.sources.Find("world.doors.count", SourceLocation{});
+  CHECK(count.file == child);
+  CHECK(count.line == 5);
+  const SourceLocation width = s.sources.Find("world.doors.width_m", SourceLocation{});
+  CHECK(width.file == dir.Path("base.yaml"));
+  CHECK(width.line == 7);
+}
+
+TEST_CASE("an error in the base file is reported with the base file's name", "[scenarios]") {
+  const FixtureDir dir;
+  dir.Write("base.yaml",
+            "world:\n"
+            "  length_m: 40\n"
+            "  lamps:\n"
+            "    brightness: 3\n");
+  const std::string child = dir.Write("child.yaml",
+                                      "include: base.yaml\n"
+                                      "world:\n"
+                                      "  length_m: 30\n");
+  const InputError e = InputErrorOf([&] { LoadScenario(child); });
+  CHECK(std::string(e.what()).rfind(
+            dir.Path("base.yaml") + ":4:5: world.lamps.brightness: unknown key", 0) == 0);
+}
+
+TEST_CASE("a problem caused by a key set in the base is reported at the base file's line",
+          "[scenarios]") {
+  const FixtureDir dir;
+  dir.Write("base.yaml",
+            "seed: 3\n"
+            "world:\n"
+            "  height_m: 2.0\n");
+  const std::string child = dir.Write("child.yaml",
+                                      "include: base.yaml\n"
+                                      "world:\n"
+                                      "  length_m: 30\n");
+  const InputError e = InputErrorOf([&] { LoadScenario(child); });
+  CHECK(e.location().file == dir.Path("base.yaml"));
+  CHECK(e.location().line == 3);
+  CHECK(e.location().column == 3);
+  CHECK(e.key() == "world.height_m");
+}
+
+TEST_CASE("a problem between keys of two files is reported where the offending key was set",
+          "[scenarios]") {
+  // The base asks for 12 plates; the child lowers the doors to 10: plates.count is wrong, set
+  // in the base.
+  const FixtureDir dir;
+  dir.Write("base.yaml",
+            "world:\n"
+            "  doors:\n"
+            "    count: 14\n"
+            "  plates:\n"
+            "    count: 12\n");
+  const std::string child = dir.Write("child.yaml",
+                                      "include: base.yaml\n"
+                                      "world:\n"
+                                      "  doors:\n"
+                                      "    count: 10\n");
+  const InputError e = InputErrorOf([&] { LoadScenario(child); });
+  CHECK(std::string(e.what()) ==
+        dir.Path("base.yaml") +
+            ":5:5: world.plates.count: 12 plates need a door each, but there are only 10 doors "
+            "(doors.count)");
+}
+
+TEST_CASE("a child may fix a problem of its base", "[scenarios]") {
+  const FixtureDir dir;
+  dir.Write("base.yaml", "world:\n  height_m: 2.0\n");
+  const std::string child = dir.Write("child.yaml",
+                                      "include: base.yaml\n"
+                                      "world:\n"
+                                      "  height_m: 2.8\n");
+  CHECK(LoadScenario(child).world.height_m == 2.8);
+}
+
+TEST_CASE("includes chain through several files, base first", "[scenarios]") {
+  const FixtureDir dir;
+  dir.Write("a.yaml", "seed: 1\nworld:\n  length_m: 30\n  width_m: 2.2\n");
+  dir.Write("b.yaml", "include: a.yaml\nseed: 2\nworld:\n  length_m: 35\n");
+  const std::string c = dir.Write("c.yaml", "include: b.yaml\nseed: 3\n");
+  const Scenario s = LoadScenario(c);
+  CHECK(s.seed == 3);
+  CHECK(s.world.length_m == 35);
+  CHECK(s.world.width_m == 2.2);
+}
+
+TEST_CASE("pipelines are read by name with their options, and an unknown one is an error",
+          "[scenarios]") {
+  const std::string msg = LoadError(
+      "pipelines:\n"
+      "  odometry: {k_m: 0.0002}\n"
+      "  orb_slam9: {}\n");
+  CHECK(msg == ":3:3: pipelines.orb_slam9: unknown pipeline (known: odometry)");
+  const std::string bad = LoadError(
+      "pipelines:\n"
+      "  odometry:\n"
+      "    k_m: -1\n");
+  CHECK(bad.rfind(":3:5: pipelines.odometry.k_m: must lie in", 0) == 0);
+}
+
+}  // namespace
+}  // namespace corridorsim

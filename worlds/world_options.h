@@ -1,0 +1,103 @@
+#pragma once
+// WorldOptions: everything that shapes a procedurally generated corridor world. Defaults in code
+// reproduce P1's corridor (55 m long, 2.4 m wide, 2.7 m high, 14 door plates); a scenario's
+// `world:` section overrides what it names.
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "common/error.h"
+#include "common/io/yaml_reader.h"
+
+namespace corridorsim::worlds {
+
+enum class Layout { kStraight, kLTurn, kTJunction, kLoop };
+
+struct DoorOptions {
+  int count = 16;                    // doorways along the side walls, both sides together
+  double width_m = 0.9;              // clear opening between the two frame columns
+  double height_m = 2.1;             // top of the opening = underside of the top bar
+  double frame_width_m = 0.08;       // width of each column along the wall
+  double bar_height_m = 0.08;        // height of the top bar above the opening
+  double frame_protrusion_m = 0.03;  // how far columns and bar stand out of the wall face
+  double min_gap_m = 1.2;            // minimum wall between two doorways, and from wall ends
+  double open_weight = 0.3;          // relative frequency of open doors (leaf swung into the room)
+  double closed_weight = 0.5;        // relative frequency of closed doors (leaf in the opening)
+  double empty_weight = 0.2;         // relative frequency of doorways without a leaf
+  double room_depth_m = 3.5;         // rooms behind open and empty doorways
+  double room_width_m = 3.0;
+  double room_height_m = 2.6;  // room ceiling height (may differ from the corridor's)
+};
+
+struct PlateOptions {
+  int count = 14;                // door plates, each beside its own door (P1: 14)
+  double center_height_m = 1.6;  // height of the plate centre above the floor
+  double width_m = 0.22;         // nominal plate size; each plate varies by +-size_jitter
+  double height_m = 0.12;
+  double size_jitter = 0.15;      // relative size variation, in [0, 0.5)
+  double gap_from_frame_m = 0.1;  // wall between the door frame and the plate edge
+  int first_floor = 0;            // floor digit of room numbers; 0 draws it from the seed
+};
+
+struct LampOptions {
+  double spacing_m = 3.0;          // mean distance between ceiling lamps along a corridor axis
+  double spacing_jitter_m = 0.3;   // uniform jitter of each lamp's position along the axis
+  double circular_fraction = 0.7;  // circular lamps (P3's lamp feature); the rest are panels
+  double radius_min_m = 0.15;      // circular lamp radius range (P3)
+  double radius_max_m = 0.3;
+  double panel_length_m = 1.2;  // rectangular panel lamps (rejected by P3's detector)
+  double panel_width_m = 0.3;
+  double off_fraction = 0.0;  // lamps switched off (dark scenarios)
+  double reflector_fraction =
+      0.15;  // circular lamps mirrored by a reflective wall strip (P3 Fig. 3)
+  double reflector_height_m = 1.5;  // polished wall panel reaching down from the ceiling
+  double reflector_length_m = 2.0;  // its length along the wall, centred on the lamp
+  bool room_lamps = true;           // one circular lamp in the ceiling of every room
+};
+
+struct CeilingOptions {
+  double tile_size_m = 0.6;     // ceiling tiles; their seam crossings are corner features
+  double vent_spacing_m = 8.0;  // mean spacing of square vents along each corridor axis
+  double vent_size_m = 0.45;
+  double smoke_detector_spacing_m = 10.0;
+  double sprinkler_spacing_m = 3.6;
+};
+
+struct DistractorOptions {
+  int posters = 4;        // posters with digits on the walls
+  int notice_boards = 2;  // cork boards with notes carrying numbers
+  int bookshelves = 2;    // door-like candidates standing against walls
+  int cabinets = 2;
+  int fire_extinguishers = 3;
+};
+
+struct WorldOptions {
+  Layout layout = Layout::kStraight;
+  // Corridor centre-line lengths. straight: length_m. L-turn: first leg length_m, second leg
+  // (turning left) second_length_m. T-junction: main corridor length_m, branch to the left from
+  // its middle second_length_m. loop: rectangle of length_m (x) by second_length_m (y).
+  double length_m = 55.0;
+  double second_length_m = 20.0;
+  double width_m = 2.4;   // wall to wall
+  double height_m = 2.7;  // floor to ceiling
+  double wall_thickness_m = 0.15;
+  int texture_px_per_m = 200;  // resolution of wall, floor and ceiling textures
+  DoorOptions doors;
+  PlateOptions plates;
+  LampOptions lamps;
+  CeilingOptions ceiling;
+  DistractorOptions distractors;
+
+  /// The first problem that makes this options impossible to generate, or nothing.
+  std::optional<OptionsProblem> Check() const;
+};
+
+/// Reads the keys present in a `world:` map onto `options` (STYLE item 4). Unknown keys, wrong
+/// types: InputError. Call `Check()` after all files of an include chain are applied.
+void ParseWorldOptions(YamlMap& map, WorldOptions& options);
+
+std::string LayoutName(Layout layout);
+
+}  // namespace corridorsim::worlds
