@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <utility>
 
 namespace corridorsim {
 
@@ -47,6 +48,19 @@ std::string Progress::Line(TimeNs sim_ns, double fraction, const std::string& ex
   std::snprintf(buf, sizeof(buf), "%s: sim %7.1f s  %5.1f %%  real-time factor %6.1fx  ETA %4.0f s",
                 job_.c_str(), sim, 100 * fraction, rtf, eta);
   return extra.empty() ? std::string(buf) : std::string(buf) + "  " + extra;
+}
+
+ProgressLine::ProgressLine(std::string job, const sim::Simulation& simulation,
+                           std::function<std::string()> extra)
+    : progress_(std::move(job)),
+      simulation_(simulation),
+      extra_(std::move(extra)),
+      period_ns_(PeriodFromRateHz(10.0)) {}
+
+void ProgressLine::OnStepEnd(const sim::TruthSample& truth, bool last) {
+  if (truth.stamp_ns % period_ns_ != 0 && !last) return;
+  progress_.Update(truth.stamp_ns, simulation_.progress(), extra_ ? extra_() : std::string());
+  if (last) progress_.Finish();
 }
 
 }  // namespace corridorsim

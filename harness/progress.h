@@ -3,9 +3,11 @@
 // plain log line at every 10 % of progress or every 10 s otherwise (CI logs, Slurm output).
 
 #include <chrono>
+#include <functional>
 #include <string>
 
 #include "common/time.h"
+#include "harness/sensor_bus.h"
 
 namespace corridorsim {
 
@@ -29,6 +31,22 @@ class Progress {
   bool tty_;
   Clock::time_point start_, last_;
   int last_decile_ = 0;
+};
+
+/// The live line as a bus consumer: updated every 0.1 s of simulated time and at the end, with
+/// the simulation's progress and `extra()` (e.g. each pipeline's current error).
+class ProgressLine : public BusConsumer {
+ public:
+  ProgressLine(std::string job, const sim::Simulation& simulation,
+               std::function<std::string()> extra = {});
+  void OnStepEnd(const sim::TruthSample& truth, bool last) override;
+  double wall_s() const { return progress_.wall_s(); }
+
+ private:
+  Progress progress_;
+  const sim::Simulation& simulation_;
+  std::function<std::string()> extra_;
+  TimeNs period_ns_;
 };
 
 }  // namespace corridorsim

@@ -1,0 +1,58 @@
+#pragma once
+// The pipelines of a run as one bus consumer: every enabled pipeline of the scenario, created
+// with the robot's nominal calibration, receives the same sensor stream (so their comparison is
+// paired); its estimate is recorded at every odometry message, its detections at every frame,
+// and Finish() collects its map, innovations and health for the metrics.
+
+#include <filesystem>
+#include <memory>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "harness/metrics.h"
+#include "harness/scenario.h"
+#include "harness/sensor_bus.h"
+#include "harness/truth_recorder.h"
+#include "slam/pipeline.h"
+
+namespace corridorsim {
+
+class PipelineRunner : public BusConsumer {
+ public:
+  /// Creates the scenario's enabled pipelines. A pipeline that reads a camera the calibration
+  /// does not have is an InputError at `pipelines:`.
+  PipelineRunner(const Scenario& scenario, const slam::Calibration& calibration);
+  ~PipelineRunner() override;
+
+  /// The cameras any pipeline reads.
+  const std::set<std::string>& cameras_used() const { return cameras_used_; }
+  std::size_t size() const { return records_.size(); }
+  /// "name, name, ..." in scenario order.
+  std::string Names() const;
+
+  /// Starts every estimate at the known start pose (P1's runs share it).
+  void Initialize(TimeNs stamp_ns, const SE2& world_from_robot);
+
+  void OnOdometry(const WheelOdometry& odometry) override;
+  void OnCameraSet(const CameraSet& set) override;
+
+  /// Ends the run: final maps, innovations, stage times and health go into the records.
+  void Finish();
+  /// One record per pipeline, scenario order.
+  const std::vector<PipelineRecord>& records() const { return records_; }
+  /// Each pipeline's current position error against `truth`: "name 0.123 m  ...".
+  std::string ErrorsLine(const TruthRecorder& truth) const;
+  /// Writes each pipeline's maps into `dir/<pipeline>/`; prints where.
+  void WriteMaps(const std::filesystem::path& dir) const;
+  /// Wall seconds spent inside the pipelines.
+  double seconds() const;
+
+ private:
+  struct Run;
+  std::vector<Run> runs_;
+  std::vector<PipelineRecord> records_;
+  std::set<std::string> cameras_used_;
+};
+
+}  // namespace corridorsim

@@ -1,0 +1,112 @@
+#include "harness/run_folder.h"
+
+#include <cstdio>
+#include <cstdlib>
+#include <sstream>
+
+#include "common/io/atomic_file.h"
+#include "harness/run_io.h"
+#include "harness/scenario.h"
+#include "worlds/world_io.h"
+
+namespace corridorsim {
+namespace {
+
+std::string Fixed(double v, int decimals) {
+  char buf[64];
+  std::snprintf(buf, sizeof(buf), "%.*f", decimals, v);
+  return buf;
+}
+
+// A number from metrics.json for the closing table ("-" when absent).
+std::string Cell(const nlohmann::ordered_json& m, const char* key, int decimals) {
+  if (!m.contains(key) || !m[key].is_number()) return "-";
+  return Fixed(m[key].get<double>(), decimals);
+}
+
+}  // namespace
+
+ScoredRun ScoreRun(const MetricsInput& input, const std::vector<Expectation>& expectations) {
+  ScoredRun scored;
+  scored.metrics = ComputeMetrics(input);
+  scored.results = CheckExpectations(scored.metrics, expectations);
+  nlohmann::ordered_json& metrics = scored.metrics;
+  metrics["run"] = {{"sim_seconds", metrics["run"]["sim_seconds"]}};
+  scored.timing["pipelines"] = nlohmann::ordered_json::object();
+  for (auto& [name, m] : metrics["pipelines"].items()) {
+    if (m.contains("timing")) {
+      scored.timing["pipelines"][name] = m["timing"];
+      m.erase("timing");
+    }
+  }
+  nlohmann::ordered_json expectation_json = nlohmann::ordered_json::array();
+  for (const ExpectationResult& r : scored.results) {
+    scored.all_passed = scored.all_passed && r.passed;
+    nlohmann::ordered_json j;
+    j["text"] = r.expectation.text;
+    j["measured"] = r.measured ? nlohmann::ordered_json(*r.measured) : nlohmann::ordered_json();
+    j["passed"] = r.passed;
+    expectation_json.push_back(std::move(j));
+  }
+  metrics["expectations"] = std::move(expectation_json);
+  return scored;
+}
+
+void WriteRunFolder(const std::filesystem::path& out, const std::string& scenario_file,
+                    std::uint64_t seed, const worlds::World& world, const TruthRecorder& truth,
+                    const PipelineRunner& pipelines, const nlohmann::ordered_json& metrics,
+                    const std::string& events_json) {
+  WriteFileAtomic(out / "scenario.yaml", ResolvedScenarioYaml(scenario_file, seed));
+  WriteFileAtomic(out / "world.json", worlds::GroundTruthJson(world).dump(2) + "\n");
+  WriteFileAtomic(out / "ground_truth.tum",
+                  truth.Tum("ground truth: world_from_robot at 100 Hz", /*planar=*/true));
+  for (const PipelineRecord& record : pipelines.records()) {
+    std::ostringstream tum, cov;
+    tum << "# " << record.name << ": estimated world_from_robot\n"
+        << "# timestamp tx ty tz qx qy qz qw\n";
+    cov << "# " << record.name << ": estimate with covariance (OpenVINS ov_eval)\n"
+        << OvEvalHeader();
+    for (const EstimateSample& e : record.estimates) {
+      tum << sim::TumLine(e.stamp_ns, SE3::FromSE2(e.world_from_robot)) << "\n";
+      cov << OvEvalLine(e.stamp_ns, e.world_from_robot, e.covariance) << "\n";
+    }
+    WriteFileAtomic(out / (record.name + ".tum"), tum.str());
+    WriteFileAtomic(out / (record.name + "_cov.txt"), cov.str());
+    WriteFileAtomic(out / (record.name + "_errors.csv"), ErrorSeriesCsv(truth.poses(), record));
+  }
+  pipelines.WriteMaps(out / "maps");
+  WriteFileAtomic(out / "metrics.json", metrics.dump(2) + "\n");
+  WriteFileAtomic(out / "events.json", events_json);
+}
+
+void PrintClosingTable(const nlohmann::ordered_json& metrics,
+                       const std::vector<ExpectationResult>& results) {
+  std::printf("\n%-22s %10s %12s %12s %10s %12s\n", "pipeline", "ATE rmse m", "ATE aligned",
+              "final err m", "NEES mean", "NEES in band");
+  if (metrics.contains("pipelines")) {
+    for (const auto& [name, m] : metrics["pipelines"].items()) {
+      std::printf("%-22s %10s %12s %12s %10s %12s\n", name.c_str(),
+                  Cell(m, "ate_rmse_m", 3).c_str(), Cell(m, "ate_aligned_rmse_m", 3).c_str(),
+                  Cell(m, "final_position_error_m", 3).c_str(), Cell(m, "nees_mean", 2).c_str(),
+                  Cell(m, "nees_in_band_fraction", 3).c_str());
+    }
+  }
+  if (results.empty()) return;
+  std::printf("\nexpectations:\n");
+  for (const ExpectationResult& r : results) {
+    const std::string measured = r.measured ? Fixed(*r.measured, 4) : "missing";
+    std::printf("  %s  %-45s measured %s\n", r.passed ? "PASS" : "FAIL", r.expectation.text.c_str(),
+                measured.c_str());
+  }
+}
+
+std::optional<std::string> MakePlots(const std::filesystem::path& out) {
+  const std::filesystem::path script =
+      std::filesystem::path(CORRIDORSIM_SCRIPTS_DIR) / "plot_run.py";
+  const std::string command = "python3 '" + script.string() + "' '" + out.string() + "'";
+  const int rc = std::system(command.c_str());
+  if (rc != 0) return "plots failed (" + command + " exited " + std::to_string(rc) + ")";
+  return std::nullopt;
+}
+
+}  // namespace corridorsim

@@ -1,0 +1,57 @@
+#include "harness/simulation_setup.h"
+
+#include <algorithm>
+
+#include "common/error.h"
+#include "harness/frame_io.h"
+
+namespace corridorsim {
+
+SimulationSetup::SimulationSetup(const Scenario& scenario, std::uint64_t seed,
+                                 bool check_camera_placement)
+    : scenario_(scenario),
+      seed_(seed),
+      backend_kind_(ChooseBackend(scenario.rig.backend)),  // a bad override fails before the world
+      world_(GenerateWorld(scenario, seed)) {
+  robot_path_.emplace(BuildScenarioRobotPath(scenario, world_));
+  if (check_camera_placement) {
+    const SE3 start = SE3::FromSE2(robot_path_->world_from_start);
+    if (auto problem = render::CheckCameraPlacement(world_, scenario.rig, start)) {
+      throw LocateProblem(scenario, "sensors", *problem);
+    }
+  }
+}
+
+SimulationSetup::~SimulationSetup() = default;
+
+const sim::RobotPath& SimulationSetup::robot_path() const {
+  return simulation_ ? simulation_->path() : *robot_path_;
+}
+
+void SimulationSetup::Start(const std::set<std::string>& render_cameras) {
+  CheckOrDie(!simulation_, "SimulationSetup::Start", "called twice");
+  // Render only what somebody reads.
+  rig_options_ = scenario_.rig;
+  for (render::CameraOptions& c : rig_options_.cameras) {
+    c.enabled = c.enabled && render_cameras.count(c.id) > 0;
+  }
+  const bool render_any = std::any_of(rig_options_.cameras.begin(), rig_options_.cameras.end(),
+                                      [](const render::CameraOptions& c) { return c.enabled; });
+  if (render_any) {
+    scene_ = render::BuildScene(world_, rig_options_.scene);
+    backend_ = render::CreateBackend(backend_kind_);
+    backend_->Upload(*scene_);
+    rig_ = std::make_unique<render::Rig>(rig_options_, *scene_, *backend_);
+    for (const render::CameraRenderer& c : rig_->cameras()) camera_ids_.push_back(c.options().id);
+  }
+  sim::SimulationOptions options;
+  options.robot = scenario_.robot;
+  options.robot_path = scenario_.robot_path;
+  options.seed = seed_;
+  options.max_duration_ns = FromSeconds(scenario_.duration_s);
+  simulation_ = std::make_unique<sim::Simulation>(world_, options, std::move(*robot_path_),
+                                                  rig_.get(), &rig_options_);
+  robot_path_.reset();
+}
+
+}  // namespace corridorsim

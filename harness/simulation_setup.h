@@ -1,0 +1,63 @@
+#pragma once
+// The build step of every job that simulates (docs/architecture.md, "How a run is made"):
+// scenario + seed -> world, robot path, camera placement check; then, for the cameras somebody
+// reads, the render scene, GL backend and rig; then the Simulation. `drive`, `run` and `study`
+// build through it and differ only in the consumers they put on the sensor bus.
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "harness/scenario.h"
+#include "render/backend.h"
+#include "render/camera_rig.h"
+#include "render/scene.h"
+#include "sim/robot_path.h"
+#include "sim/simulation.h"
+#include "worlds/world.h"
+
+namespace corridorsim {
+
+class SimulationSetup {
+ public:
+  /// Generates the world and the robot path of `scenario` with `seed`; with
+  /// `check_camera_placement`, checks that every enabled camera of the scenario sits inside the
+  /// corridor at the start pose. Problems are InputErrors at the scenario line that caused them.
+  SimulationSetup(const Scenario& scenario, std::uint64_t seed, bool check_camera_placement);
+  SimulationSetup(const SimulationSetup&) = delete;
+  SimulationSetup& operator=(const SimulationSetup&) = delete;
+  ~SimulationSetup();
+
+  /// Builds the renderer for the enabled cameras named in `render_cameras` (none: no GL context
+  /// is created) and the Simulation. Call once.
+  void Start(const std::set<std::string>& render_cameras);
+
+  std::uint64_t seed() const { return seed_; }
+  const worlds::World& world() const { return world_; }
+  /// The robot path (before Start; afterwards the simulation's).
+  const sim::RobotPath& robot_path() const;
+  sim::Simulation& simulation() { return *simulation_; }
+  const sim::Simulation& simulation() const { return *simulation_; }
+  /// The scenario's rig with only the rendered cameras enabled (valid after Start).
+  const render::RigOptions& rig_options() const { return rig_options_; }
+  /// Ids of the rendered cameras in the rig's order: CameraMessage::camera indexes them.
+  const std::vector<std::string>& camera_ids() const { return camera_ids_; }
+
+ private:
+  const Scenario& scenario_;
+  std::uint64_t seed_;
+  render::BackendKind backend_kind_;
+  worlds::World world_;
+  std::optional<sim::RobotPath> robot_path_;  // until Start moves it into the simulation
+  render::RigOptions rig_options_;
+  std::vector<std::string> camera_ids_;
+  std::optional<render::Scene> scene_;
+  std::unique_ptr<render::Backend> backend_;
+  std::unique_ptr<render::Rig> rig_;
+  std::unique_ptr<sim::Simulation> simulation_;
+};
+
+}  // namespace corridorsim

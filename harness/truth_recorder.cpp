@@ -1,0 +1,66 @@
+#include "harness/truth_recorder.h"
+
+#include <algorithm>
+#include <sstream>
+#include <utility>
+
+#include "harness/run_io.h"
+
+namespace corridorsim {
+
+TruthRecorder::TruthRecorder(std::set<std::string> frame_cameras)
+    : frame_cameras_(std::move(frame_cameras)), period_ns_(PeriodFromRateHz(kTruthFileRateHz)) {}
+
+void TruthRecorder::Record(const sim::TruthSample& truth) {
+  poses_.push_back({truth.stamp_ns, truth.world_from_robot_2d});
+  poses_3d_.push_back(truth.state.world_from_robot);
+}
+
+void TruthRecorder::OnStart(const sim::TruthSample& truth) { Record(truth); }
+
+void TruthRecorder::OnCameraSet(const CameraSet& set) {
+  for (const CameraSlot& slot : set.cameras) {
+    if (slot.message && frame_cameras_.count(slot.camera_id)) {
+      frames_.push_back({slot.message->stamp_ns, slot.message->truth});
+    }
+  }
+}
+
+void TruthRecorder::OnStepEnd(const sim::TruthSample& truth, bool last) {
+  if (truth.stamp_ns % period_ns_ == 0 || last) Record(truth);
+}
+
+const TruthPose* TruthRecorder::At(TimeNs stamp) const {
+  auto it = std::upper_bound(poses_.begin(), poses_.end(), stamp,
+                             [](TimeNs t, const TruthPose& p) { return t < p.stamp_ns; });
+  return it == poses_.begin() ? nullptr : &*(it - 1);
+}
+
+std::string TruthRecorder::Tum(const std::string& what, bool planar) const {
+  std::ostringstream tum;
+  tum << "# " << what << "\n# timestamp tx ty tz qx qy qz qw\n";
+  for (std::size_t i = 0; i < poses_.size(); ++i) {
+    const SE3 pose = planar ? SE3::FromSE2(poses_[i].world_from_robot) : poses_3d_[i];
+    tum << sim::TumLine(poses_[i].stamp_ns, pose) << "\n";
+  }
+  return tum.str();
+}
+
+void EventLog::OnEvent(const sim::Event& event) {
+  events_.push_back(EventJson(event));
+  kinds_.push_back(event.kind);
+}
+
+int EventLog::count(sim::EventKind kind) const {
+  return static_cast<int>(std::count(kinds_.begin(), kinds_.end(), kind));
+}
+
+std::string EventLog::Json(std::uint64_t seed, TimeNs duration_ns) const {
+  nlohmann::ordered_json j;
+  j["seed"] = seed;
+  j["duration_s"] = ToSeconds(duration_ns);
+  j["events"] = events_;
+  return j.dump(2) + "\n";
+}
+
+}  // namespace corridorsim

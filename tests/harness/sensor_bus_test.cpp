@@ -1,0 +1,174 @@
+#include "harness/sensor_bus.h"
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <catch2/catch.hpp>
+
+#include "sim/robot_path.h"
+#include "sim/simulation.h"
+#include "worlds/world.h"
+
+namespace corridorsim {
+namespace {
+
+sim::CameraMessage Frame(TimeNs stamp, std::size_t camera) {
+  sim::CameraMessage m;
+  m.stamp_ns = stamp;
+  m.camera = camera;
+  return m;
+}
+
+sim::Event Drop(TimeNs stamp, const std::string& camera_id) {
+  sim::Event e;
+  e.stamp_ns = stamp;
+  e.kind = sim::EventKind::kFrameDropped;
+  e.camera_id = camera_id;
+  return e;
+}
+
+WheelOdometry Odometry(TimeNs stamp) {
+  WheelOdometry o;
+  o.stamp_ns = stamp;
+  return o;
+}
+
+// Writes down every delivery as "<what>@<stamp>" (camera sets list their slots).
+class Recorder : public BusConsumer {
+ public:
+  explicit Recorder(std::vector<std::string>* log, std::string name = "")
+      : log_(log), name_(std::move(name)) {}
+  void OnOdometry(const WheelOdometry& o) override { Add("odometry", o.stamp_ns); }
+  void OnCameraSet(const CameraSet& set) override {
+    std::string slots;
+    for (const CameraSlot& s : set.cameras) slots += s.camera_id + (s.message ? "+" : "-");
+    Add("set[" + slots + "]", set.stamp_ns);
+  }
+  void OnEvent(const sim::Event& e) override { Add("event", e.stamp_ns); }
+  void OnStepEnd(const sim::TruthSample& truth, bool last) override {
+    Add(last ? "end(last)" : "end", truth.stamp_ns);
+  }
+
+ private:
+  void Add(const std::string& what, TimeNs stamp) {
+    log_->push_back(name_ + what + "@" + std::to_string(stamp));
+  }
+  std::vector<std::string>* log_;
+  std::string name_;
+};
+
+const std::vector<std::string> kCameras = {"front", "lateral", "upward"};
+
+}  // namespace
+
+TEST_CASE("frames due at one stamp arrive as one set in rig order, a dropped frame as a hole",
+          "[harness][bus]") {
+  sim::StepOutput step;
+  step.frames = {Frame(200, 2), Frame(100, 1), Frame(100, 0)};  // camera order, as emitted
+  step.events = {Drop(200, "lateral")};
+  const std::vector<CameraSet> sets = GroupCameraSets(step, kCameras);
+  REQUIRE(sets.size() == 2);
+  CHECK(sets[0].stamp_ns == 100);
+  REQUIRE(sets[0].cameras.size() == 2);
+  CHECK(sets[0].cameras[0].camera_id == "front");
+  CHECK(sets[0].cameras[0].message == &step.frames[2]);
+  CHECK(sets[0].cameras[1].camera_id == "lateral");
+  CHECK(sets[0].cameras[1].message == &step.frames[1]);
+  CHECK(sets[1].stamp_ns == 200);
+  REQUIRE(sets[1].cameras.size() == 2);
+  CHECK(sets[1].cameras[0].camera_id == "lateral");
+  CHECK(sets[1].cameras[0].message == nullptr);  // the hole
+  CHECK(sets[1].cameras[1].camera_id == "upward");
+  CHECK(sets[1].cameras[1].camera == 2);
+  REQUIRE(sets[1].Find("lateral") != nullptr);
+  CHECK(sets[1].Find("front") == nullptr);  // not due at 200
+}
+
+TEST_CASE("a set of dropped frames only still arrives, and drops of unrendered cameras do not",
+          "[harness][bus]") {
+  sim::StepOutput step;
+  step.events = {Drop(300, "front"), Drop(300, "rear")};
+  const std::vector<CameraSet> sets = GroupCameraSets(step, kCameras);
+  REQUIRE(sets.size() == 1);
+  REQUIRE(sets[0].cameras.size() == 1);
+  CHECK(sets[0].cameras[0].camera_id == "front");
+  CHECK(sets[0].cameras[0].message == nullptr);
+}
+
+TEST_CASE(
+    "the bus delivers a step in stamp order, odometry before frames before events, then "
+    "the step's truth",
+    "[harness][bus]") {
+  sim::StepOutput step;
+  step.truth.stamp_ns = 1000;
+  step.odometry = {Odometry(400), Odometry(900)};
+  step.frames = {Frame(400, 0), Frame(100, 1)};
+  step.events = {Drop(400, "upward"), sim::Event{}};
+  step.events[1].stamp_ns = 1000;
+  step.events[1].kind = sim::EventKind::kPathDone;
+  std::vector<std::string> log;
+  Recorder recorder(&log);
+  SensorBus bus(kCameras);
+  bus.Subscribe(&recorder);
+  bus.Publish(step, /*last=*/true);
+  const std::vector<std::string> expected = {
+      "set[lateral+]@100", "odometry@400", "set[front+upward-]@400", "event@400",
+      "odometry@900",      "event@1000",   "end(last)@1000"};
+  CHECK(log == expected);
+}
+
+TEST_CASE("consumers receive each message in the order they subscribed", "[harness][bus]") {
+  sim::StepOutput step;
+  step.truth.stamp_ns = 20;
+  step.odometry = {Odometry(10)};
+  std::vector<std::string> log;
+  Recorder a(&log, "a:"), b(&log, "b:");
+  SensorBus bus(kCameras);
+  bus.Subscribe(&a);
+  bus.Subscribe(&b);
+  bus.Publish(step, false);
+  const std::vector<std::string> expected = {"a:odometry@10", "b:odometry@10", "a:end@20",
+                                             "b:end@20"};
+  CHECK(log == expected);
+}
+
+TEST_CASE(
+    "a run on the bus sees the start, every odometry message once in stamp order and one "
+    "last step",
+    "[harness][bus]") {
+  worlds::WorldOptions world_options;
+  world_options.length_m = 8.0;
+  world_options.doors.count = 0;
+  world_options.plates.count = 0;
+  world_options.distractors = worlds::DistractorOptions{0, 0, 0, 0, 0};
+  const worlds::World world = worlds::Generate(world_options, 3);
+  sim::SimulationOptions options;
+  options.max_duration_ns = FromSeconds(2.0);
+  sim::Simulation simulation(world, options, sim::BuildRobotPath(world, options.robot_path));
+
+  class Checker : public BusConsumer {
+   public:
+    void OnStart(const sim::TruthSample& truth) override { starts.push_back(truth.stamp_ns); }
+    void OnOdometry(const WheelOdometry& o) override { stamps.push_back(o.stamp_ns); }
+    void OnStepEnd(const sim::TruthSample& truth, bool last) override {
+      if (last) lasts.push_back(truth.stamp_ns);
+      ++steps;
+    }
+    std::vector<TimeNs> starts, stamps, lasts;
+    int steps = 0;
+  } checker;
+  SensorBus bus({});
+  bus.Subscribe(&checker);
+  bus.Run(simulation);
+  CHECK(checker.starts == std::vector<TimeNs>{0});
+  CHECK(checker.lasts == std::vector<TimeNs>{simulation.now_ns()});
+  CHECK(checker.steps == 2000);  // 2 s at the default 1 kHz
+  // 50 Hz odometry from stamp 0 to 2 s inclusive.
+  REQUIRE(checker.stamps.size() == 101);
+  for (std::size_t i = 0; i < checker.stamps.size(); ++i) {
+    CHECK(checker.stamps[i] == static_cast<TimeNs>(i) * 20'000'000);
+  }
+}
+
+}  // namespace corridorsim
