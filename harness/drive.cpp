@@ -11,6 +11,7 @@
 #include "common/wheel_odometry_model.h"
 #include "harness/frame_writer.h"
 #include "harness/progress.h"
+#include "harness/run_folder.h"
 #include "harness/scenario.h"
 #include "harness/sensor_bus.h"
 #include "harness/simulation_setup.h"
@@ -18,12 +19,6 @@
 
 namespace corridorsim {
 namespace {
-
-std::string FormatFixed(double v) {
-  char buf[40];
-  std::snprintf(buf, sizeof(buf), "%.9f", v);
-  return buf;
-}
 
 // The raw odometry messages (CSV) and their dead reckoning (P1 eq. 13 with the nominal
 // wheelbase) from the true start pose (TUM), as a robot's own odometry would report them.
@@ -39,8 +34,9 @@ class OdometryLog : public BusConsumer {
     pose_ = ApplyWheelOdometry(pose_, o.left_distance_m, o.right_distance_m, wheelbase_m_);
     if (o.stamp_ns == 0) return;  // the start pose is already written
     tum_ << sim::TumLine(o.stamp_ns, SE3::FromSE2(pose_)) << "\n";
-    csv_ << o.stamp_ns << "," << FormatFixed(o.left_distance_m) << ","
-         << FormatFixed(o.right_distance_m) << "," << o.left_ticks << "," << o.right_ticks << "\n";
+    csv_ << o.stamp_ns << "," << FormatFixed(o.left_distance_m, 9) << ","
+         << FormatFixed(o.right_distance_m, 9) << "," << o.left_ticks << "," << o.right_ticks
+         << "\n";
   }
   const SE2& pose() const { return pose_; }
   std::string tum() const { return tum_.str(); }

@@ -1,21 +1,12 @@
 #include "harness/export_consumer.h"
 
-#include <chrono>
 #include <stdexcept>
 
 #include "common/error.h"
 #include "harness/run_io.h"
+#include "harness/stopwatch.h"
 
 namespace corridorsim {
-namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double Since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
-}  // namespace
 
 ExportConsumer::ExportConsumer(const std::filesystem::path& dir, const render::RigOptions& rig,
                                double wheelbase_m)
@@ -39,11 +30,11 @@ void ExportConsumer::OnOdometry(const WheelOdometry& odometry) {
 void ExportConsumer::OnCameraSet(const CameraSet& set) {
   for (const CameraSlot& slot : set.cameras) {
     if (!slot.message) continue;
-    const Clock::time_point t0 = Clock::now();
+    const WallClock::time_point t0 = WallClock::now();
     // The job holds a copy of the frame: the message lives only during the delivery.
     worker_.Submit(
         [this, message = *slot.message, id = slot.camera_id] { exporter_->AddFrame(message, id); });
-    wait_seconds_ += Since(t0);
+    wait_seconds_ += SecondsSince(t0);
   }
 }
 
@@ -56,10 +47,10 @@ void ExportConsumer::OnStepEnd(const sim::TruthSample& truth, bool last) {
 }
 
 void ExportConsumer::Finish() {
-  const Clock::time_point t0 = Clock::now();
+  const WallClock::time_point t0 = WallClock::now();
   worker_.Submit([this] { exporter_->Finish(); });
   worker_.Drain();
-  wait_seconds_ += Since(t0);
+  wait_seconds_ += SecondsSince(t0);
 }
 
 }  // namespace corridorsim

@@ -1,28 +1,13 @@
 #include "harness/pipeline_runner.h"
 
-#include <chrono>
 #include <cstdio>
 #include <utility>
 
 #include "common/error.h"
+#include "harness/run_folder.h"
+#include "harness/stopwatch.h"
 
 namespace corridorsim {
-namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double Since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
-std::string Fixed3(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof(buf), "%.3f", v);
-  return buf;
-}
-
-}  // namespace
-
 struct PipelineRunner::Run {
   std::unique_ptr<slam::Pipeline> pipeline;
   std::set<std::string> cameras;
@@ -66,10 +51,10 @@ void PipelineRunner::Initialize(TimeNs stamp_ns, const SE2& world_from_robot) {
 void PipelineRunner::OnOdometry(const WheelOdometry& odometry) {
   for (std::size_t i = 0; i < runs_.size(); ++i) {
     Run& run = runs_[i];
-    const Clock::time_point t0 = Clock::now();
+    const WallClock::time_point t0 = WallClock::now();
     run.pipeline->OnOdometry(odometry);
     const slam::PoseEstimate e = run.pipeline->Estimate();
-    run.seconds += Since(t0);
+    run.seconds += SecondsSince(t0);
     records_[i].estimates.push_back({odometry.stamp_ns, e.world_from_robot, e.covariance});
   }
 }
@@ -87,9 +72,9 @@ void PipelineRunner::OnCameraSet(const CameraSet& set) {
     for (std::size_t i = 0; i < runs_.size(); ++i) {
       Run& run = runs_[i];
       if (!run.cameras.count(slot.camera_id)) continue;
-      const Clock::time_point t0 = Clock::now();
+      const WallClock::time_point t0 = WallClock::now();
       run.pipeline->OnCamera(input);
-      run.seconds += Since(t0);
+      run.seconds += SecondsSince(t0);
       for (slam::Detection& d : run.pipeline->TakeDetections()) {
         records_[i].detections.push_back(std::move(d));
       }
@@ -118,7 +103,7 @@ std::string PipelineRunner::ErrorsLine(const TruthRecorder& truth) const {
     if (const TruthPose* t = truth.At(e.stamp_ns)) {
       const double error_m =
           (e.world_from_robot.translation() - t->world_from_robot.translation()).norm();
-      errors += record.name + " " + Fixed3(error_m) + " m  ";
+      errors += record.name + " " + FormatFixed(error_m, 3) + " m  ";
     }
   }
   return errors;

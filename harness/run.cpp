@@ -16,22 +16,13 @@
 #include "harness/scenario.h"
 #include "harness/sensor_bus.h"
 #include "harness/simulation_setup.h"
+#include "harness/stopwatch.h"
 #include "harness/truth_recorder.h"
 
 namespace corridorsim {
-namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double Since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
-}  // namespace
-
 // Build, loop, finish (docs/architecture.md, "How a run is made").
 int RunScenario(const RunRequest& request) {
-  const Clock::time_point run_start = Clock::now();
+  const WallClock::time_point run_start = WallClock::now();
   const Scenario scenario = LoadScenario(request.scenario_file);
   const std::vector<Expectation> expectations = ScenarioExpectations(scenario);
   const std::filesystem::path& out = request.out_dir;
@@ -82,12 +73,12 @@ int RunScenario(const RunRequest& request) {
   bus.Subscribe(&pipelines);
   bus.Subscribe(&events);
   bus.Subscribe(&progress);
-  const Clock::time_point loop_start = Clock::now();
+  const WallClock::time_point loop_start = WallClock::now();
   bus.Run(simulation);
 
   // Finish: pipelines, then metrics (deterministic) and timing (wall clock) in separate files.
   pipelines.Finish();
-  const Clock::time_point t_metrics = Clock::now();
+  const WallClock::time_point t_metrics = WallClock::now();
   MetricsInput input;
   input.world = &setup.world();
   input.truth = truth.poses();
@@ -95,12 +86,12 @@ int RunScenario(const RunRequest& request) {
   input.pipelines = pipelines.records();
   input.timing.sim_seconds = ToSeconds(simulation.now_ns());
   ScoredRun scored = ScoreRun(input, expectations);
-  const double metrics_seconds = Since(t_metrics);
+  const double metrics_seconds = SecondsSince(t_metrics);
 
-  const Clock::time_point t_write = Clock::now();
+  const WallClock::time_point t_write = WallClock::now();
   WriteRunFolder(out, request.scenario_file, setup.seed(), setup.world(), truth, pipelines,
                  scored.metrics, events.Json(setup.seed(), simulation.now_ns()));
-  const double write_seconds = Since(t_write);
+  const double write_seconds = SecondsSince(t_write);
   double export_seconds = 0.0, export_wait_seconds = 0.0;
   if (exporter) {
     exporter->Finish();
@@ -108,12 +99,12 @@ int RunScenario(const RunRequest& request) {
     export_wait_seconds = exporter->wait_seconds();
   }
   std::optional<std::string> plot_error;
-  const Clock::time_point t_plots = Clock::now();
+  const WallClock::time_point t_plots = WallClock::now();
   if (request.plots) plot_error = MakePlots(out);
-  const double plot_seconds = Since(t_plots);
+  const double plot_seconds = SecondsSince(t_plots);
 
   // Wall-clock cost by stage (physics = the simulation step minus its rendering), the whole run.
-  const double total = Since(run_start);
+  const double total = SecondsSince(run_start);
   const double sim_s = ToSeconds(simulation.now_ns());
   const double render_seconds = simulation.render_seconds();
   const double physics_seconds = bus.step_seconds() - render_seconds;

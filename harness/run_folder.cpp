@@ -10,18 +10,18 @@
 #include "worlds/world_io.h"
 
 namespace corridorsim {
-namespace {
-
-std::string Fixed(double v, int decimals) {
+std::string FormatFixed(double v, int decimals) {
   char buf[64];
   std::snprintf(buf, sizeof(buf), "%.*f", decimals, v);
   return buf;
 }
 
+namespace {
+
 // A number from metrics.json for the closing table ("-" when absent).
 std::string Cell(const nlohmann::ordered_json& m, const char* key, int decimals) {
   if (!m.contains(key) || !m[key].is_number()) return "-";
-  return Fixed(m[key].get<double>(), decimals);
+  return FormatFixed(m[key].get<double>(), decimals);
 }
 
 }  // namespace
@@ -94,7 +94,7 @@ void PrintClosingTable(const nlohmann::ordered_json& metrics,
   if (results.empty()) return;
   std::printf("\nexpectations:\n");
   for (const ExpectationResult& r : results) {
-    const std::string measured = r.measured ? Fixed(*r.measured, 4) : "missing";
+    const std::string measured = r.measured ? FormatFixed(*r.measured, 4) : "missing";
     std::printf("  %s  %-45s measured %s\n", r.passed ? "PASS" : "FAIL", r.expectation.text.c_str(),
                 measured.c_str());
   }

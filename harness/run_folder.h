@@ -34,6 +34,9 @@ void WriteRunFolder(const std::filesystem::path& out, const std::string& scenari
                     const PipelineRunner& pipelines, const nlohmann::ordered_json& metrics,
                     const std::string& events_json);
 
+/// `v` with `decimals` digits after the point ("%.*f"), for tables, live lines and CSV.
+std::string FormatFixed(double v, int decimals);
+
 /// The closing table: each pipeline's main metrics, then every expectation with its value.
 void PrintClosingTable(const nlohmann::ordered_json& metrics,
                        const std::vector<ExpectationResult>& results);

@@ -7,6 +7,14 @@
 
 namespace corridorsim {
 
+Renderer::Renderer(const worlds::World& world, const render::RigOptions& rig_options,
+                   render::BackendKind backend_kind)
+    : scene(render::BuildScene(world, rig_options.scene)),
+      backend(render::CreateBackend(backend_kind)) {
+  backend->Upload(scene);
+  rig = std::make_unique<render::Rig>(rig_options, scene, *backend);
+}
+
 SimulationSetup::SimulationSetup(const Scenario& scenario, std::uint64_t seed,
                                  bool check_camera_placement)
     : scenario_(scenario),
@@ -38,19 +46,19 @@ void SimulationSetup::Start(const std::set<std::string>& render_cameras) {
   const bool render_any = std::any_of(rig_options_.cameras.begin(), rig_options_.cameras.end(),
                                       [](const render::CameraOptions& c) { return c.enabled; });
   if (render_any) {
-    scene_ = render::BuildScene(world_, rig_options_.scene);
-    backend_ = render::CreateBackend(backend_kind_);
-    backend_->Upload(*scene_);
-    rig_ = std::make_unique<render::Rig>(rig_options_, *scene_, *backend_);
-    for (const render::CameraRenderer& c : rig_->cameras()) camera_ids_.push_back(c.options().id);
+    renderer_.emplace(world_, rig_options_, backend_kind_);
+    for (const render::CameraRenderer& c : renderer_->rig->cameras()) {
+      camera_ids_.push_back(c.options().id);
+    }
   }
   sim::SimulationOptions options;
   options.robot = scenario_.robot;
   options.robot_path = scenario_.robot_path;
   options.seed = seed_;
   options.max_duration_ns = FromSeconds(scenario_.duration_s);
-  simulation_ = std::make_unique<sim::Simulation>(world_, options, std::move(*robot_path_),
-                                                  rig_.get(), &rig_options_);
+  simulation_ =
+      std::make_unique<sim::Simulation>(world_, options, std::move(*robot_path_),
+                                        renderer_ ? renderer_->rig.get() : nullptr, &rig_options_);
   robot_path_.reset();
 }
 

@@ -21,6 +21,16 @@
 
 namespace corridorsim {
 
+/// The render scene of a world, uploaded once to a GL backend, and the rig of the enabled
+/// cameras of `rig_options` (snapshot renders through it; SimulationSetup::Start builds one).
+struct Renderer {
+  Renderer(const worlds::World& world, const render::RigOptions& rig_options,
+           render::BackendKind backend_kind);
+  render::Scene scene;
+  std::unique_ptr<render::Backend> backend;
+  std::unique_ptr<render::Rig> rig;
+};
+
 class SimulationSetup {
  public:
   /// Generates the world and the robot path of `scenario` with `seed`; with
@@ -54,9 +64,7 @@ class SimulationSetup {
   std::optional<sim::RobotPath> robot_path_;  // until Start moves it into the simulation
   render::RigOptions rig_options_;
   std::vector<std::string> camera_ids_;
-  std::optional<render::Scene> scene_;
-  std::unique_ptr<render::Backend> backend_;
-  std::unique_ptr<render::Rig> rig_;
+  std::optional<Renderer> renderer_;
   std::unique_ptr<sim::Simulation> simulation_;
 };
 

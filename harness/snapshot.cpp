@@ -13,6 +13,7 @@
 #include "common/io/atomic_file.h"
 #include "harness/frame_io.h"
 #include "harness/scenario.h"
+#include "harness/simulation_setup.h"
 #include "render/backend.h"
 #include "render/camera_rig.h"
 #include "render/frame_truth.h"
@@ -55,12 +56,10 @@ void RunSnapshot(const SnapshotRequest& request) {
   }
 
   const auto t0 = std::chrono::steady_clock::now();
-  const render::Scene scene = render::BuildScene(world, scenario.rig.scene);
-  std::unique_ptr<render::Backend> backend = render::CreateBackend(backend_kind);
-  backend->Upload(scene);
-  render::Rig rig(scenario.rig, scene, *backend);
+  const Renderer renderer(world, scenario.rig, backend_kind);
+  const render::Rig& rig = *renderer.rig;
   std::vector<render::CameraFrame> frames;
-  rig.Render(world_from_robot, seed, 0, &frames);
+  renderer.rig->Render(world_from_robot, seed, 0, &frames);
   const double ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 
