@@ -1,7 +1,6 @@
 # `corridorsim drive` as a user runs it: the files, TUM lines with 8 columns, byte-identical
 # reruns, saved frames, and exit code 2 with a clear message for bad robot and path input.
-file(REMOVE_RECURSE "${WORK_DIR}")
-file(MAKE_DIRECTORY "${WORK_DIR}")
+include("${CMAKE_CURRENT_LIST_DIR}/cli_support.cmake")
 
 # A short corridor with odometry errors and slips on, so determinism covers every stream.
 file(WRITE "${WORK_DIR}/short.yaml" "include: ${SOURCE_DIR}/scenarios/default.yaml
@@ -19,29 +18,14 @@ sensors:
 ")
 
 function(drive out)
-  execute_process(COMMAND "${CORRIDORSIM}" drive "${WORK_DIR}/short.yaml" --out "${out}" ${ARGN}
-                  WORKING_DIRECTORY "${SOURCE_DIR}" RESULT_VARIABLE rc OUTPUT_VARIABLE stdout
-                  ERROR_VARIABLE stderr)
-  if(NOT rc EQUAL 0)
-    message(FATAL_ERROR "drive exited ${rc}: ${stderr}")
-  endif()
-  if(NOT stdout MATCHES "real-time factor")
-    message(FATAL_ERROR "drive printed no progress line: ${stdout}")
-  endif()
+  cli_run(EXIT 0 WHAT "drive ${ARGN}" STDOUT "real-time factor"
+          ARGS drive "${WORK_DIR}/short.yaml" --out "${out}" ${ARGN})
 endfunction()
 
 drive("${WORK_DIR}/a")
 drive("${WORK_DIR}/b")
-foreach(f ground_truth.tum odometry.tum odometry.csv events.json)
-  if(NOT EXISTS "${WORK_DIR}/a/${f}")
-    message(FATAL_ERROR "missing ${f}")
-  endif()
-  file(SHA256 "${WORK_DIR}/a/${f}" ha)
-  file(SHA256 "${WORK_DIR}/b/${f}" hb)
-  if(NOT ha STREQUAL hb)
-    message(FATAL_ERROR "${f} differs between two runs of one scenario and seed")
-  endif()
-endforeach()
+cli_expect_same_files("${WORK_DIR}/a" "${WORK_DIR}/b" ground_truth.tum odometry.tum odometry.csv
+                      events.json)
 foreach(f ground_truth.tum odometry.tum)
   file(STRINGS "${WORK_DIR}/a/${f}" lines REGEX "^[^#]")
   list(LENGTH lines n)
@@ -83,26 +67,16 @@ endif()
 if(NOT EXISTS "${WORK_DIR}/frames/frames/front/rgb/0.300000000.png")
   message(FATAL_ERROR "the front camera's second frame is not stamped 0.3 s")
 endif()
-foreach(f frames/front/frames.json frames/upward/frames.json frames/intrinsics.json)
-  if(NOT EXISTS "${WORK_DIR}/frames/${f}")
-    message(FATAL_ERROR "missing ${f}")
-  endif()
-endforeach()
+cli_expect_files("${WORK_DIR}/frames" frames/front/frames.json frames/upward/frames.json
+                 frames/intrinsics.json)
 if(EXISTS "${WORK_DIR}/frames/frames/lateral")
   message(FATAL_ERROR "a disabled camera wrote frames")
 endif()
 
 # Bad input: exit code 2 and the key in the message.
 function(expect_bad name yaml pattern)
-  file(WRITE "${WORK_DIR}/${name}.yaml" "include: ${WORK_DIR}/short.yaml\n${yaml}")
-  execute_process(COMMAND "${CORRIDORSIM}" drive "${WORK_DIR}/${name}.yaml" --out "${WORK_DIR}/bad"
-                  RESULT_VARIABLE rc ERROR_VARIABLE stderr OUTPUT_QUIET)
-  if(NOT rc EQUAL 2)
-    message(FATAL_ERROR "${name}: exit ${rc}, expected 2 (${stderr})")
-  endif()
-  if(NOT stderr MATCHES "${pattern}")
-    message(FATAL_ERROR "${name}: unexpected message: ${stderr}")
-  endif()
+  cli_expect_bad(${name} "include: ${WORK_DIR}/short.yaml\n${yaml}" "${pattern}" drive
+                 --out "${WORK_DIR}/bad")
 endfunction()
 
 expect_bad(unknown_robot_key "robot:\n  wheels: 3\n" "unknown_robot_key.yaml:3:3: robot.wheels: unknown key")
@@ -117,8 +91,5 @@ expect_bad(bad_duration "duration_s: -3\n" "bad_duration.yaml:2:1: duration_s: m
 
 # An unwritable output folder is refused before the run.
 file(WRITE "${WORK_DIR}/not_a_dir" "x")
-execute_process(COMMAND "${CORRIDORSIM}" drive "${WORK_DIR}/short.yaml" --out "${WORK_DIR}/not_a_dir/out"
-                RESULT_VARIABLE rc ERROR_VARIABLE stderr OUTPUT_QUIET)
-if(NOT rc EQUAL 2 OR NOT stderr MATCHES "--out")
-  message(FATAL_ERROR "unwritable --out: exit ${rc}, ${stderr}")
-endif()
+cli_run(EXIT 2 WHAT "unwritable --out" STDERR "--out"
+        ARGS drive "${WORK_DIR}/short.yaml" --out "${WORK_DIR}/not_a_dir/out")

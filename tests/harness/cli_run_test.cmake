@@ -1,18 +1,10 @@
 # `corridorsim run` as a user runs it: bad input gets exit code 2 and one message naming the
 # file, line and key, before anything runs or any folder is written.
-file(REMOVE_RECURSE "${WORK_DIR}")
-file(MAKE_DIRECTORY "${WORK_DIR}")
+include("${CMAKE_CURRENT_LIST_DIR}/cli_support.cmake")
 
 function(expect_bad name yaml pattern)
-  file(WRITE "${WORK_DIR}/${name}.yaml" "include: ${SOURCE_DIR}/scenarios/default.yaml\n${yaml}")
-  execute_process(COMMAND "${CORRIDORSIM}" run "${WORK_DIR}/${name}.yaml" --out "${WORK_DIR}/out_${name}"
-                  RESULT_VARIABLE rc ERROR_VARIABLE stderr OUTPUT_QUIET)
-  if(NOT rc EQUAL 2)
-    message(FATAL_ERROR "${name}: exit ${rc}, expected 2 (${stderr})")
-  endif()
-  if(NOT stderr MATCHES "${pattern}")
-    message(FATAL_ERROR "${name}: unexpected message: ${stderr}")
-  endif()
+  cli_expect_bad(${name} "include: ${SOURCE_DIR}/scenarios/default.yaml\n${yaml}" "${pattern}" run
+                 --out "${WORK_DIR}/out_${name}")
   if(EXISTS "${WORK_DIR}/out_${name}")
     message(FATAL_ERROR "${name}: bad input still created the run folder")
   endif()
@@ -33,15 +25,7 @@ expect_bad(drop_one "sensors:\n  front: {drop_probability: 1.5}\n"
 
 # An unwritable output folder is refused before the run starts.
 file(WRITE "${WORK_DIR}/not_a_dir" "x")
-execute_process(COMMAND "${CORRIDORSIM}" run --out "${WORK_DIR}/not_a_dir/run"
-                WORKING_DIRECTORY "${SOURCE_DIR}" RESULT_VARIABLE rc ERROR_VARIABLE stderr
-                OUTPUT_VARIABLE stdout)
-if(NOT rc EQUAL 2 OR NOT stderr MATCHES "--out" OR stdout MATCHES "real-time factor")
-  message(FATAL_ERROR "unwritable --out: exit ${rc}, ${stderr}")
-endif()
-execute_process(COMMAND "${CORRIDORSIM}" run --out "${WORK_DIR}/ok" --export "${WORK_DIR}/not_a_dir/x"
-                WORKING_DIRECTORY "${SOURCE_DIR}" RESULT_VARIABLE rc ERROR_VARIABLE stderr
-                OUTPUT_VARIABLE stdout)
-if(NOT rc EQUAL 2 OR NOT stderr MATCHES "--export" OR stdout MATCHES "real-time factor")
-  message(FATAL_ERROR "unwritable --export: exit ${rc}, ${stderr}")
-endif()
+cli_run(EXIT 2 WHAT "unwritable --out" STDERR "--out" NOT_STDOUT "real-time factor"
+        ARGS run --out "${WORK_DIR}/not_a_dir/run")
+cli_run(EXIT 2 WHAT "unwritable --export" STDERR "--export" NOT_STDOUT "real-time factor"
+        ARGS run --out "${WORK_DIR}/ok" --export "${WORK_DIR}/not_a_dir/x")

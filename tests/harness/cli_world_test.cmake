@@ -1,58 +1,21 @@
 # `corridorsim world` as a user runs it: files, byte-identical reruns, exit code 2 on bad input.
-file(REMOVE_RECURSE "${WORK_DIR}")
-file(MAKE_DIRECTORY "${WORK_DIR}")
+include("${CMAKE_CURRENT_LIST_DIR}/cli_support.cmake")
 
-function(run_ok out)
-  execute_process(COMMAND "${CORRIDORSIM}" world --seed 7 --out "${out}"
-                  WORKING_DIRECTORY "${SOURCE_DIR}" RESULT_VARIABLE rc OUTPUT_VARIABLE stdout
-                  ERROR_VARIABLE stderr)
-  if(NOT rc EQUAL 0)
-    message(FATAL_ERROR "corridorsim world --seed 7 exited ${rc}: ${stderr}")
-  endif()
-  if(NOT stdout MATCHES "door plates 14")
-    message(FATAL_ERROR "summary does not report 14 door plates:\n${stdout}")
-  endif()
-endfunction()
-
-run_ok("${WORK_DIR}/a")
-run_ok("${WORK_DIR}/b")
-foreach(f world.obj world.mtl ground_truth.json map.png textures/wall.png textures/ceiling.png)
-  if(NOT EXISTS "${WORK_DIR}/a/${f}")
-    message(FATAL_ERROR "missing output ${f}")
-  endif()
+foreach(out a b)
+  cli_run(EXIT 0 WHAT "world --seed 7" STDOUT "door plates 14"
+          ARGS world --seed 7 --out "${WORK_DIR}/${out}")
 endforeach()
-file(GLOB_RECURSE files RELATIVE "${WORK_DIR}/a" "${WORK_DIR}/a/*")
-foreach(f ${files})
-  file(SHA256 "${WORK_DIR}/a/${f}" ha)
-  file(SHA256 "${WORK_DIR}/b/${f}" hb)
-  if(NOT ha STREQUAL hb)
-    message(FATAL_ERROR "${f} differs between two runs with the same seed")
-  endif()
-endforeach()
+cli_expect_files("${WORK_DIR}/a" world.obj world.mtl ground_truth.json map.png textures/wall.png
+                 textures/ceiling.png)
+cli_expect_same_files("${WORK_DIR}/a" "${WORK_DIR}/b")
 
 # Bad input: exit code 2 and one message naming file:line:column: key.
-file(WRITE "${WORK_DIR}/bad.yaml" "seed: 3\nworld:\n  width_m: -1\n")
-execute_process(COMMAND "${CORRIDORSIM}" world "${WORK_DIR}/bad.yaml" --out "${WORK_DIR}/c"
-                RESULT_VARIABLE rc ERROR_VARIABLE stderr OUTPUT_QUIET)
-if(NOT rc EQUAL 2)
-  message(FATAL_ERROR "bad input exited ${rc}, expected 2")
+cli_expect_bad(bad "seed: 3\nworld:\n  width_m: -1\n" "bad.yaml:3:3: world.width_m: " world
+               --out "${WORK_DIR}/c")
+cli_run(EXIT 2 WHAT "missing scenario" STDERR "missing.yaml: cannot open"
+        ARGS world "${WORK_DIR}/missing.yaml")
+cli_run(EXIT 0 WHAT "world --help" STDOUT "--seed" ARGS world --help)
+if(NOT CLI_STDOUT MATCHES "--out")
+  message(FATAL_ERROR "world --help does not name --out:\n${CLI_STDOUT}")
 endif()
-if(NOT stderr MATCHES "bad.yaml:3:3: world.width_m: ")
-  message(FATAL_ERROR "unexpected message for bad input: ${stderr}")
-endif()
-
-execute_process(COMMAND "${CORRIDORSIM}" world "${WORK_DIR}/missing.yaml" RESULT_VARIABLE rc
-                ERROR_VARIABLE stderr OUTPUT_QUIET)
-if(NOT rc EQUAL 2 OR NOT stderr MATCHES "missing.yaml: cannot open")
-  message(FATAL_ERROR "missing scenario: exit ${rc}, ${stderr}")
-endif()
-
-execute_process(COMMAND "${CORRIDORSIM}" world --help RESULT_VARIABLE rc OUTPUT_VARIABLE stdout)
-if(NOT rc EQUAL 0 OR NOT stdout MATCHES "--seed" OR NOT stdout MATCHES "--out")
-  message(FATAL_ERROR "world --help: exit ${rc}, ${stdout}")
-endif()
-
-execute_process(COMMAND "${CORRIDORSIM}" world --bogus RESULT_VARIABLE rc OUTPUT_QUIET ERROR_QUIET)
-if(NOT rc EQUAL 2)
-  message(FATAL_ERROR "unknown option exited ${rc}, expected 2")
-endif()
+cli_run(EXIT 2 WHAT "unknown option" ARGS world --bogus)
