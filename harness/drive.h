@@ -8,12 +8,11 @@
 #include <optional>
 #include <string>
 
+#include "harness/job.h"
+
 namespace corridorsim {
 
-struct DriveRequest {
-  std::string scenario_file;
-  std::optional<std::uint64_t> seed;  // overrides the scenario's seed
-  std::filesystem::path out_dir = "out/drive";
+struct DriveRequest : JobRequest {
   bool save_frames = false;
 };
 

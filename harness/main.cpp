@@ -8,12 +8,14 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include <CLI/CLI.hpp>
 
 #include "common/error.h"
 #include "common/io/atomic_file.h"
 #include "harness/drive.h"
+#include "harness/job.h"
 #include "harness/run.h"
 #include "harness/scenario.h"
 #include "harness/snapshot.h"
@@ -58,11 +60,11 @@ void PrintWorldSummary(const worlds::World& world, const std::filesystem::path& 
               out.string().c_str());
 }
 
-int RunWorld(const std::string& scenario_file, std::optional<std::uint64_t> seed,
-             const std::filesystem::path& out) {
-  const Scenario scenario = LoadScenario(scenario_file);
+int RunWorld(const JobRequest& request) {
+  const Scenario scenario = LoadScenario(request.scenario_file);
+  const std::filesystem::path& out = request.out_dir;
   EnsureOutputDirectory(out, "--out");
-  const std::uint64_t world_seed = seed.value_or(scenario.seed);
+  const std::uint64_t world_seed = request.seed.value_or(scenario.seed);
   const auto t0 = std::chrono::steady_clock::now();
   const worlds::World world = GenerateWorld(scenario, world_seed);
   const double ms =
@@ -71,6 +73,26 @@ int RunWorld(const std::string& scenario_file, std::optional<std::uint64_t> seed
   PrintWorldSummary(world, out, ms);
   return 0;
 }
+
+// The options of every scenario job: the scenario file, --seed and --out (its default shown in
+// --help; `out` holds the folder's text until Resolve).
+struct JobOptions {
+  JobRequest* request;
+  std::string out;
+
+  JobOptions(CLI::App* job, JobRequest* r, std::string default_out, const char* scenario_help,
+             const char* seed_help, const char* out_help)
+      : request(r), out(std::move(default_out)) {
+    job->add_option("scenario", request->scenario_file, scenario_help);
+    job->add_option("--seed", request->seed, seed_help);
+    job->add_option("--out", out, out_help)->capture_default_str();
+  }
+  // After parsing: the default scenario when none was given, the output folder.
+  void Resolve() const {
+    if (request->scenario_file.empty()) request->scenario_file = DefaultScenarioPath();
+    request->out_dir = out;
+  }
+};
 
 }  // namespace
 }  // namespace corridorsim
@@ -81,20 +103,15 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_help_all_flag("--help-all", "Show the help of every subcommand");
 
-  std::string scenario_file;
-  std::optional<std::uint64_t> seed;
-  std::string out_dir = "out/world";
+  JobRequest world_request;
   CLI::App* world = app.add_subcommand(
       "world", "Generate a corridor world and write its geometry, textures, ground truth and plan");
-  world->add_option("scenario", scenario_file,
-                    "Scenario YAML whose `world:` section and `seed` are used "
-                    "(default: scenarios/default.yaml)");
-  world->add_option("--seed", seed,
-                    "Seed of the world's random streams (default: the scenario's `seed`)");
-  world
-      ->add_option("--out", out_dir,
-                   "Output folder for world.obj, world.mtl, textures/, ground_truth.json, map.png")
-      ->capture_default_str();
+  const JobOptions world_options(
+      world, &world_request, "out/world",
+      "Scenario YAML whose `world:` section and `seed` are used (default: "
+      "scenarios/default.yaml)",
+      "Seed of the world's random streams (default: the scenario's `seed`)",
+      "Output folder for world.obj, world.mtl, textures/, ground_truth.json, map.png");
   world->footer(
       "Writes world.obj + world.mtl + textures/*.png (open in MeshLab or Blender), "
       "ground_truth.json (door plates, lamps, doors, corridor segments, corner points, "
@@ -102,17 +119,16 @@ int main(int argc, char** argv) {
       "Exit codes: 0 success, 2 bad input (file:line:column: key: message), 1 other failures.");
 
   SnapshotRequest snapshot_request;
-  std::string snapshot_out = "out/snapshot";
   CLI::App* snapshot = app.add_subcommand(
       "snapshot", "Place the robot at one pose and render every camera of the rig");
-  snapshot->add_option("scenario", snapshot_request.scenario_file,
-                       "Scenario YAML (world, sensors, render); default: scenarios/default.yaml");
+  const JobOptions snapshot_options(
+      snapshot, &snapshot_request, "out/snapshot",
+      "Scenario YAML (world, sensors, render); default: scenarios/default.yaml",
+      "Seed of the world and the sensor noise", "Output folder");
   snapshot
       ->add_option("--pose", snapshot_request.pose_text,
                    "Robot pose x,y,yaw: metres in the world frame and degrees (0 = along +x)")
       ->required();
-  snapshot->add_option("--seed", snapshot_request.seed, "Seed of the world and the sensor noise");
-  snapshot->add_option("--out", snapshot_out, "Output folder")->capture_default_str();
   snapshot->footer(
       "Writes per camera <camera>_rgb.png, <camera>_labels.png (16-bit RGB: R = semantic class, "
       "G = instance id >> 16, B = instance id & 0xffff), <camera>_overlay.png (ground truth drawn "
@@ -123,16 +139,14 @@ int main(int argc, char** argv) {
       "Exit codes: 0 success, 2 bad input, 1 other failures (e.g. no GL context).");
 
   RunRequest run_request;
-  std::string run_out = "out/run";
   std::string run_export;
   bool no_plots = false;
   CLI::App* run = app.add_subcommand(
       "run",
       "Run a scenario closed loop, score every pipeline against ground truth, write the run");
-  run->add_option("scenario", run_request.scenario_file,
-                  "Scenario YAML (default: scenarios/default.yaml)");
-  run->add_option("--seed", run_request.seed, "Seed of every random stream of the run");
-  run->add_option("--out", run_out, "Run folder")->capture_default_str();
+  const JobOptions run_options(run, &run_request, "out/run",
+                               "Scenario YAML (default: scenarios/default.yaml)",
+                               "Seed of every random stream of the run", "Run folder");
   run->add_option("--export", run_export,
                   "Also write a dataset: TUM RGB-D (front), EuRoC/ASL (upward, lateral), "
                   "odometry CSV, labels and COCO plate boxes (docs/export.md)");
@@ -146,14 +160,12 @@ int main(int argc, char** argv) {
       "Exit codes: 0 success, 3 an expectation failed, 2 bad input, 1 other failures.");
 
   DriveRequest drive_request;
-  std::string drive_out = "out/drive";
   CLI::App* drive = app.add_subcommand(
       "drive", "Drive the scenario's path closed loop and write trajectories, odometry and events");
-  drive->add_option("scenario", drive_request.scenario_file,
-                    "Scenario YAML (world, robot, path, sensors); default: scenarios/default.yaml");
-  drive->add_option("--seed", drive_request.seed,
-                    "Seed of the world, the odometry errors and the sensor noise");
-  drive->add_option("--out", drive_out, "Output folder")->capture_default_str();
+  const JobOptions drive_options(
+      drive, &drive_request, "out/drive",
+      "Scenario YAML (world, robot, path, sensors); default: scenarios/default.yaml",
+      "Seed of the world, the odometry errors and the sensor noise", "Output folder");
   drive->add_flag("--save-frames", drive_request.save_frames,
                   "Render the cameras at their rates and write every frame");
   drive->footer(
@@ -178,27 +190,24 @@ int main(int argc, char** argv) {
 
   try {
     if (snapshot->parsed()) {
-      if (snapshot_request.scenario_file.empty())
-        snapshot_request.scenario_file = DefaultScenarioPath();
-      snapshot_request.out_dir = snapshot_out;
+      snapshot_options.Resolve();
       RunSnapshot(snapshot_request);
       return 0;
     }
     if (run->parsed()) {
-      if (run_request.scenario_file.empty()) run_request.scenario_file = DefaultScenarioPath();
-      run_request.out_dir = run_out;
+      run_options.Resolve();
       if (!run_export.empty()) run_request.export_dir = run_export;
       run_request.plots = !no_plots;
       return RunScenario(run_request);
     }
     if (drive->parsed()) {
-      if (drive_request.scenario_file.empty()) drive_request.scenario_file = DefaultScenarioPath();
-      drive_request.out_dir = drive_out;
+      drive_options.Resolve();
       RunDrive(drive_request);
       return 0;
     }
     if (world->parsed()) {
-      return RunWorld(scenario_file.empty() ? DefaultScenarioPath() : scenario_file, seed, out_dir);
+      world_options.Resolve();
+      return RunWorld(world_request);
     }
   } catch (const InputError& e) {
     std::fprintf(stderr, "corridorsim: error: %s\n", e.what());

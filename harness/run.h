@@ -8,12 +8,11 @@
 #include <optional>
 #include <string>
 
+#include "harness/job.h"
+
 namespace corridorsim {
 
-struct RunRequest {
-  std::string scenario_file;
-  std::optional<std::uint64_t> seed;  // overrides the scenario's seed
-  std::filesystem::path out_dir = "out/run";
+struct RunRequest : JobRequest {
   std::optional<std::filesystem::path> export_dir;  // --export: a dataset for other systems
   bool plots = true;                                // --no-plots skips plots/
   bool check_only = false;  // --check: load, build the world, path, pipelines and rig; run nothing

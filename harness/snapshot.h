@@ -10,13 +10,12 @@
 
 #include "common/pose.h"
 
+#include "harness/job.h"
+
 namespace corridorsim {
 
-struct SnapshotRequest {
-  std::string scenario_file;
-  std::string pose_text;              // "x,y,yaw_deg" as given on the command line
-  std::optional<std::uint64_t> seed;  // overrides the scenario's seed
-  std::filesystem::path out_dir = "out/snapshot";
+struct SnapshotRequest : JobRequest {
+  std::string pose_text;  // "x,y,yaw_deg" as given on the command line
 };
 
 /// Parses "x,y,yaw" (metres, metres, degrees). Throws InputError naming `--pose`.

@@ -1,0 +1,18 @@
+#pragma once
+// What every `corridorsim` job that reads a scenario is asked for (world, snapshot, drive, run,
+// and the coming study).
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+
+namespace corridorsim {
+
+struct JobRequest {
+  std::string scenario_file;          // empty: scenarios/default.yaml
+  std::optional<std::uint64_t> seed;  // overrides the scenario's seed
+  std::filesystem::path out_dir;      // the job's output folder
+};
+
+}  // namespace corridorsim
