@@ -210,26 +210,22 @@ void Simulation::TrackContacts() {
     return std::any_of(list.begin(), list.end(),
                        [&](const Contact& c) { return c.instance_id == id; });
   };
-  for (const Contact& c : now) {
-    if (has(touching_, c.instance_id)) continue;
+  // A contact that begins carries its penetration depth; one that ends, none.
+  auto emit = [this](EventKind kind, const Contact& c) {
     Event e;
     e.stamp_ns = now_ns_;
-    e.kind = EventKind::kCollisionBegin;
+    e.kind = kind;
     e.instance_id = c.instance_id;
     e.semantic_class = c.semantic_class;
     e.position_in_world = c.position_in_world;
-    e.depth_m = c.depth_m;
+    if (kind == EventKind::kCollisionBegin) e.depth_m = c.depth_m;
     output_.events.push_back(e);
+  };
+  for (const Contact& c : now) {
+    if (!has(touching_, c.instance_id)) emit(EventKind::kCollisionBegin, c);
   }
   for (const Contact& c : touching_) {
-    if (has(now, c.instance_id)) continue;
-    Event e;
-    e.stamp_ns = now_ns_;
-    e.kind = EventKind::kCollisionEnd;
-    e.instance_id = c.instance_id;
-    e.semantic_class = c.semantic_class;
-    e.position_in_world = c.position_in_world;
-    output_.events.push_back(e);
+    if (!has(now, c.instance_id)) emit(EventKind::kCollisionEnd, c);
   }
   touching_ = now;
 }
