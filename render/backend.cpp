@@ -3,20 +3,16 @@
 #include <cstdlib>
 #include <stdexcept>
 
+#include "common/enum_names.h"
 #include "render/gl_context.h"
 #include "render/gl_renderer.h"
 
 namespace corridorsim::render {
 
-std::string BackendName(BackendKind kind) {
-  switch (kind) {
-    case BackendKind::kOsMesa:
-      return "osmesa";
-    case BackendKind::kEgl:
-      return "egl";
-  }
-  return "unknown";
-}
+constexpr EnumName<BackendKind> kBackendKindNames[] = {{BackendKind::kOsMesa, "osmesa"},
+                                                       {BackendKind::kEgl, "egl"}};
+
+std::string BackendName(BackendKind kind) { return NameOf(kBackendKindNames, kind); }
 
 void PinSoftwareRasterizer() {
   // llvmpipe only: softpipe gives different images, and so would a hardware driver picked up

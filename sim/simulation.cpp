@@ -1,5 +1,6 @@
 #include "sim/simulation.h"
 
+#include "common/enum_names.h"
 #include "common/error.h"
 
 #include <algorithm>
@@ -28,23 +29,14 @@ SE2 Planar(const SE3& pose) {
 
 }  // namespace
 
-std::string EventKindName(EventKind kind) {
-  switch (kind) {
-    case EventKind::kCollisionBegin:
-      return "collision_begin";
-    case EventKind::kCollisionEnd:
-      return "collision_end";
-    case EventKind::kSlip:
-      return "slip";
-    case EventKind::kPathDone:
-      return "path_done";
-    case EventKind::kTimeout:
-      return "timeout";
-    case EventKind::kFrameDropped:
-      return "frame_dropped";
-  }
-  return "unknown";
-}
+constexpr EnumName<EventKind> kEventKindNames[] = {{EventKind::kCollisionBegin, "collision_begin"},
+                                                   {EventKind::kCollisionEnd, "collision_end"},
+                                                   {EventKind::kSlip, "slip"},
+                                                   {EventKind::kPathDone, "path_done"},
+                                                   {EventKind::kTimeout, "timeout"},
+                                                   {EventKind::kFrameDropped, "frame_dropped"}};
+
+std::string EventKindName(EventKind kind) { return NameOf(kEventKindNames, kind); }
 
 std::string TumLine(TimeNs stamp_ns, const SE3& pose) {
   const Eigen::Quaterniond& q = pose.quaternion();

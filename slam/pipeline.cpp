@@ -1,21 +1,16 @@
 #include "slam/pipeline.h"
 
+#include "common/enum_names.h"
+
 namespace corridorsim::slam {
 
-std::string LandmarkTypeName(LandmarkType type) {
-  switch (type) {
-    case LandmarkType::kDoorPlate:
-      return "door_plate";
-    case LandmarkType::kCorner:
-      return "corner";
-    case LandmarkType::kLamp:
-      return "lamp";
-    case LandmarkType::kDoor:
-      return "door";
-    case LandmarkType::kVanishingPoint:
-      return "vanishing_point";
-  }
-  return "unknown";
-}
+constexpr EnumName<LandmarkType> kLandmarkTypeNames[] = {
+    {LandmarkType::kDoorPlate, "door_plate"},
+    {LandmarkType::kCorner, "corner"},
+    {LandmarkType::kLamp, "lamp"},
+    {LandmarkType::kDoor, "door"},
+    {LandmarkType::kVanishingPoint, "vanishing_point"}};
+
+std::string LandmarkTypeName(LandmarkType type) { return NameOf(kLandmarkTypeNames, type); }
 
 }  // namespace corridorsim::slam

@@ -1,78 +1,45 @@
 #include "worlds/world.h"
 
+#include "common/enum_names.h"
+
 namespace corridorsim::worlds {
 
-std::string SemanticClassName(SemanticClass c) {
-  switch (c) {
-    case SemanticClass::kUnknown:
-      return "unknown";
-    case SemanticClass::kFloor:
-      return "floor";
-    case SemanticClass::kWall:
-      return "wall";
-    case SemanticClass::kCeiling:
-      return "ceiling";
-    case SemanticClass::kDoorFrame:
-      return "door_frame";
-    case SemanticClass::kDoorLeaf:
-      return "door_leaf";
-    case SemanticClass::kDoorPlate:
-      return "door_plate";
-    case SemanticClass::kLampCircular:
-      return "lamp_circular";
-    case SemanticClass::kLampPanel:
-      return "lamp_panel";
-    case SemanticClass::kReflector:
-      return "reflector";
-    case SemanticClass::kVent:
-      return "vent";
-    case SemanticClass::kSmokeDetector:
-      return "smoke_detector";
-    case SemanticClass::kSprinkler:
-      return "sprinkler";
-    case SemanticClass::kPoster:
-      return "poster";
-    case SemanticClass::kNoticeBoard:
-      return "notice_board";
-    case SemanticClass::kBookshelf:
-      return "bookshelf";
-    case SemanticClass::kCabinet:
-      return "cabinet";
-    case SemanticClass::kFireExtinguisher:
-      return "fire_extinguisher";
-    case SemanticClass::kRoom:
-      return "room";
-  }
-  return "unknown";
-}
+constexpr EnumName<SemanticClass> kSemanticClassNames[] = {
+    {SemanticClass::kUnknown, "unknown"},
+    {SemanticClass::kFloor, "floor"},
+    {SemanticClass::kWall, "wall"},
+    {SemanticClass::kCeiling, "ceiling"},
+    {SemanticClass::kDoorFrame, "door_frame"},
+    {SemanticClass::kDoorLeaf, "door_leaf"},
+    {SemanticClass::kDoorPlate, "door_plate"},
+    {SemanticClass::kLampCircular, "lamp_circular"},
+    {SemanticClass::kLampPanel, "lamp_panel"},
+    {SemanticClass::kReflector, "reflector"},
+    {SemanticClass::kVent, "vent"},
+    {SemanticClass::kSmokeDetector, "smoke_detector"},
+    {SemanticClass::kSprinkler, "sprinkler"},
+    {SemanticClass::kPoster, "poster"},
+    {SemanticClass::kNoticeBoard, "notice_board"},
+    {SemanticClass::kBookshelf, "bookshelf"},
+    {SemanticClass::kCabinet, "cabinet"},
+    {SemanticClass::kFireExtinguisher, "fire_extinguisher"},
+    {SemanticClass::kRoom, "room"}};
 
-std::string DoorStateName(DoorState s) {
-  switch (s) {
-    case DoorState::kClosed:
-      return "closed";
-    case DoorState::kOpen:
-      return "open";
-    case DoorState::kEmpty:
-      return "empty";
-  }
-  return "?";
-}
+std::string SemanticClassName(SemanticClass c) { return NameOf(kSemanticClassNames, c); }
+
+constexpr EnumName<DoorState> kDoorStateNames[] = {
+    {DoorState::kClosed, "closed"}, {DoorState::kOpen, "open"}, {DoorState::kEmpty, "empty"}};
+
+std::string DoorStateName(DoorState s) { return NameOf(kDoorStateNames, s); }
 
 std::string LampShapeName(LampShape s) { return s == LampShape::kCircular ? "circular" : "panel"; }
 
-std::string CornerKindName(CornerKind k) {
-  switch (k) {
-    case CornerKind::kTileSeam:
-      return "tile_seam";
-    case CornerKind::kVent:
-      return "vent";
-    case CornerKind::kSmokeDetector:
-      return "smoke_detector";
-    case CornerKind::kSprinkler:
-      return "sprinkler";
-  }
-  return "?";
-}
+constexpr EnumName<CornerKind> kCornerKindNames[] = {{CornerKind::kTileSeam, "tile_seam"},
+                                                     {CornerKind::kVent, "vent"},
+                                                     {CornerKind::kSmokeDetector, "smoke_detector"},
+                                                     {CornerKind::kSprinkler, "sprinkler"}};
+
+std::string CornerKindName(CornerKind k) { return NameOf(kCornerKindNames, k); }
 
 std::size_t World::triangle_count() const {
   std::size_t n = 0;
