@@ -97,25 +97,16 @@ nlohmann::ordered_json PoseJson(const SE3& pose) {
 }
 
 nlohmann::ordered_json IntrinsicsJson(const render::CameraOptions& options) {
+  const CameraIntrinsics in = options.model.intrinsics();
   nlohmann::ordered_json j;
-  std::visit(
-      [&](const auto& m) {
-        using M = std::decay_t<decltype(m)>;
-        const bool pinhole = std::is_same_v<M, PinholeRadTan>;
-        j["model"] = pinhole ? "pinhole_radtan" : "kannala_brandt";
-        j["width"] = m.width;
-        j["height"] = m.height;
-        j["fx"] = m.fx;
-        j["fy"] = m.fy;
-        j["cx"] = m.cx;
-        j["cy"] = m.cy;
-        if constexpr (std::is_same_v<M, PinholeRadTan>) {
-          j["distortion"] = {m.k1, m.k2, m.p1, m.p2, m.k3};
-        } else {
-          j["distortion"] = {m.k1, m.k2, m.k3, m.k4};
-        }
-      },
-      options.model);
+  j["model"] = in.model;
+  j["width"] = in.width;
+  j["height"] = in.height;
+  j["fx"] = in.fx;
+  j["fy"] = in.fy;
+  j["cx"] = in.cx;
+  j["cy"] = in.cy;
+  j["distortion"] = in.distortion;
   const SE3 robot_from_camera = options.mount.RobotFromCamera();
   j["robot_from_camera"] = PoseJson(robot_from_camera);
   if (options.depth) j["depth_scale"] = kDepthScale;
