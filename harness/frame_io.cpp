@@ -8,6 +8,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "common/error.h"
+#include "common/io/camera_json.h"
 #include "worlds/image_io.h"
 
 namespace corridorsim {
@@ -97,16 +98,7 @@ nlohmann::ordered_json PoseJson(const SE3& pose) {
 }
 
 nlohmann::ordered_json IntrinsicsJson(const render::CameraOptions& options) {
-  const CameraIntrinsics in = options.model.intrinsics();
-  nlohmann::ordered_json j;
-  j["model"] = in.model;
-  j["width"] = in.width;
-  j["height"] = in.height;
-  j["fx"] = in.fx;
-  j["fy"] = in.fy;
-  j["cx"] = in.cx;
-  j["cy"] = in.cy;
-  j["distortion"] = in.distortion;
+  nlohmann::ordered_json j = CameraModelToJson(options.model);
   const SE3 robot_from_camera = options.mount.RobotFromCamera();
   j["robot_from_camera"] = PoseJson(robot_from_camera);
   if (options.depth) j["depth_scale"] = kDepthScale;
