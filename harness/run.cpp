@@ -15,6 +15,7 @@
 #include "common/error.h"
 #include "common/io/atomic_file.h"
 #include "common/io/serial_worker.h"
+#include "harness/calibration.h"
 #include "harness/export.h"
 #include "harness/frame_io.h"
 #include "harness/metrics.h"
@@ -35,18 +36,6 @@ using Clock = std::chrono::steady_clock;
 
 double Since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
-// What a robot knows about itself: the nominal robot and the cameras as configured.
-slam::Calibration CalibrationOf(const Scenario& scenario) {
-  slam::Calibration calibration;
-  calibration.wheelbase_m = scenario.robot.wheelbase_m;
-  calibration.wheel_diameter_m = scenario.robot.wheel_diameter_m;
-  for (const render::CameraOptions& c : scenario.rig.cameras) {
-    if (!c.enabled) continue;
-    calibration.cameras.push_back({c.id, c.model, c.mount.RobotFromCamera(), c.depth});
-  }
-  return calibration;
 }
 
 // One pipeline with everything the metrics need, recorded as the run goes.
