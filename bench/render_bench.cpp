@@ -197,7 +197,7 @@ int main(int argc, char** argv) {
       ImageF depth = frame.depth_m;
       RandomStream rng(1, 0, "bench.depth_noise");
       const auto t0 = Clock::now();
-      render::ApplyDepthNoise(front.depth_noise, std::get<PinholeRadTan>(front.model), rng, &depth);
+      render::ApplyDepthNoise(front.depth_noise, *front.model.pinhole(), rng, &depth);
       ms.push_back(Ms(t0, Clock::now()));
     }
     std::printf("  depth noise %5.2f ms per front frame (median, one thread)\n",

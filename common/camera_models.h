@@ -1,11 +1,18 @@
 // Camera projection models in the OpenCV optical frame: x right, y down, z forward (m).
 // Pixel coordinates follow OpenCV: (0, 0) is the centre of the top-left pixel, so the image covers
 // [-0.5, width - 0.5) x [-0.5, height - 0.5).
+//
+// The parameter structs (PinholeRadTan, KannalaBrandt) are plain data; CameraModel wraps one of
+// them behind one interface (as COLMAP's camera models and OpenVINS' CamBase): Project and
+// Unproject with their Jacobians, the field of view, Check(), and the intrinsics as calibration
+// files write them. A CameraModel is immutable: build the parameters, then assign them.
 #pragma once
 
 #include <optional>
 #include <string>
+#include <string_view>
 #include <variant>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -15,6 +22,8 @@ namespace corridorsim {
 //   x = X/Z, y = Y/Z, r^2 = x^2 + y^2, radial = 1 + k1 r^2 + k2 r^4 + k3 r^6,
 //   x_d = x radial + 2 p1 x y + p2 (r^2 + 2 x^2), y_d = y radial + p1 (r^2 + 2 y^2) + 2 p2 x y,
 //   u = fx x_d + cx, v = fy y_d + cy.
+// Points project when z > 0 and the normalised radius lies before the first turning point of the
+// radial distortion r * radial(r), where the model folds back onto the image.
 struct PinholeRadTan {
   int width = 0;    // px
   int height = 0;   // px
@@ -32,26 +41,7 @@ struct PinholeRadTan {
   // (from column -0.5 to width - 0.5), principal point at the image centre.
   static PinholeRadTan FromFov(int width, int height, double horizontal_fov_rad);
 
-  // Pixel of `p_in_camera` and, if asked for, its Jacobian (px/m). nullopt when z <= 0 or when the
-  // normalised radius lies beyond the first turning point of the radial distortion r * radial(r),
-  // where the model folds back onto the image.
-  std::optional<Eigen::Vector2d> Project(
-      const Eigen::Vector3d& p_in_camera,
-      Eigen::Matrix<double, 2, 3>* d_pixel_d_point = nullptr) const;
-  // Unit bearing in the camera frame; Gauss-Newton undistortion converged to ~1e-15 in normalised
-  // coordinates for pixels inside the model's valid range.
-  Eigen::Vector3d Unproject(const Eigen::Vector2d& pixel) const;
-
-  // Angle (rad) between the bearings of the left and right image edges, on the principal row.
-  double HorizontalFovRad() const;
-  // Angle (rad) between the bearings of the top and bottom image edges, on the principal column.
-  double VerticalFovRad() const;
-  // The larger of HorizontalFovRad() and VerticalFovRad(); Check() requires it below 150 deg.
-  double FieldOfViewRad() const;
-
-  bool IsInImage(const Eigen::Vector2d& pixel) const;
-  // What is wrong with the parameters, or nullopt when they are valid.
-  std::optional<std::string> Check() const;
+  bool operator==(const PinholeRadTan&) const = default;
 };
 
 // Kannala-Brandt equidistant fisheye as in OpenCV cv::fisheye and Kalibr "pinhole-equidistant":
@@ -77,33 +67,83 @@ struct KannalaBrandt {
   // its smaller dimension. Principal point at the image centre.
   static KannalaBrandt FromFov(int width, int height, double fov_rad);
 
-  // Pixel of `p_in_camera` and, if asked for, its Jacobian (px/m). nullopt when theta is outside
-  // the valid range (see above) or the point is at the origin.
+  bool operator==(const KannalaBrandt&) const = default;
+};
+
+enum class CameraModelKind { kPinholeRadTan, kKannalaBrandt };
+
+/// "pinhole_radtan" or "kannala_brandt": the `model` of intrinsics.json.
+std::string_view CameraModelKindName(CameraModelKind kind);
+
+/// A model's intrinsics as calibration files hold them.
+struct CameraIntrinsics {
+  std::string model;  // CameraModelKindName: "pinhole_radtan" or "kannala_brandt"
+  int width = 0;      // px
+  int height = 0;     // px
+  double fx = 0.0;    // px (fisheye: px per rad of theta_d)
+  double fy = 0.0;    // px
+  double cx = 0.0;    // px, principal point column
+  double cy = 0.0;    // px, principal point row
+  // pinhole_radtan: k1, k2, p1, p2, k3 (OpenCV's order; Kalibr's radial-tangential takes the
+  // first four); kannala_brandt: k1, k2, k3, k4 (cv::fisheye, Kalibr's equidistant).
+  std::vector<double> distortion;
+};
+
+/// One camera's projection model: a PinholeRadTan or a KannalaBrandt and what follows from its
+/// parameters (the valid range, computed once). Copyable and immutable.
+class CameraModel {
+ public:
+  /// An empty pinhole (0 x 0 px); Check() reports it.
+  CameraModel();
+  CameraModel(const PinholeRadTan& pinhole);         // NOLINT(google-explicit-constructor)
+  CameraModel(const KannalaBrandt& kannala_brandt);  // NOLINT(google-explicit-constructor)
+
+  CameraModelKind kind() const;
+  /// CameraModelKindName(kind()).
+  std::string_view name() const { return CameraModelKindName(kind()); }
+  /// The parameters, or nullptr when the model is of the other kind.
+  const PinholeRadTan* pinhole() const { return std::get_if<PinholeRadTan>(&params_); }
+  const KannalaBrandt* kannala_brandt() const { return std::get_if<KannalaBrandt>(&params_); }
+
+  int width() const;   // px
+  int height() const;  // px
+  CameraIntrinsics intrinsics() const;
+  /// The largest incidence angle (rad from the optical axis) the model projects: the first
+  /// turning point of the radial distortion for the pinhole (at most pi/2), of theta_d(theta) for
+  /// the fisheye (at most pi). Points at or beyond it do not project.
+  double max_incidence_rad() const { return max_incidence_rad_; }
+
+  /// Pixel of `p_in_camera` and, if asked for, its Jacobian (px/m). nullopt outside the valid
+  /// range (pinhole: also at or behind the image plane) or at the origin.
   std::optional<Eigen::Vector2d> Project(
       const Eigen::Vector3d& p_in_camera,
       Eigen::Matrix<double, 2, 3>* d_pixel_d_point = nullptr) const;
-  // Unit bearing in the camera frame; Newton solve of theta_d(theta), theta clamped to [0, pi].
-  Eigen::Vector3d Unproject(const Eigen::Vector2d& pixel) const;
+  /// Unit bearing in the camera frame of `pixel` and, if asked for, its Jacobian (1/px), for
+  /// pixels inside the valid range. Pinhole: Newton on the distortion, converged to ~1e-15 in
+  /// normalised coordinates; fisheye: Newton on theta_d(theta), theta clamped to [0, pi].
+  Eigen::Vector3d Unproject(const Eigen::Vector2d& pixel,
+                            Eigen::Matrix<double, 3, 2>* d_bearing_d_pixel = nullptr) const;
+  bool IsInImage(const Eigen::Vector2d& pixel) const;
 
-  // Angle (rad) swept from the left to the right image edge, on the principal row (may exceed pi).
+  /// Angle (rad) between the bearings of the left and right image edges, on the principal row
+  /// (a fisheye's may exceed pi).
   double HorizontalFovRad() const;
-  // Angle (rad) swept from the top to the bottom image edge, on the principal column.
+  /// Angle (rad) between the bearings of the top and bottom image edges, on the principal column.
   double VerticalFovRad() const;
-  // Angle swept across the smaller image dimension (as FromFov); Check() requires it below 180 deg.
+  /// Pinhole: the larger of the two, below 150 deg for Check(); fisheye: the angle across the
+  /// smaller image dimension (as FromFov), below 180 deg for Check().
   double FieldOfViewRad() const;
 
-  bool IsInImage(const Eigen::Vector2d& pixel) const;
-  // What is wrong with the parameters, or nullopt when they are valid.
+  /// What is wrong with the parameters, or nullopt when they are valid.
   std::optional<std::string> Check() const;
+
+  bool operator==(const CameraModel& other) const { return params_ == other.params_; }
+
+ private:
+  std::variant<PinholeRadTan, KannalaBrandt> params_;
+  // Pinhole: squared normalised radius of the distortion's first turning point (+inf if none).
+  double max_squared_radius_;
+  double max_incidence_rad_;
 };
-
-using CameraModel = std::variant<PinholeRadTan, KannalaBrandt>;
-
-std::optional<Eigen::Vector2d> Project(const CameraModel& camera,
-                                       const Eigen::Vector3d& p_in_camera,
-                                       Eigen::Matrix<double, 2, 3>* d_pixel_d_point = nullptr);
-Eigen::Vector3d Unproject(const CameraModel& camera, const Eigen::Vector2d& pixel);
-bool IsInImage(const CameraModel& camera, const Eigen::Vector2d& pixel);
-std::optional<std::string> Check(const CameraModel& camera);
 
 }  // namespace corridorsim

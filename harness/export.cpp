@@ -69,32 +69,13 @@ std::string RealList(const std::vector<double>& values) {
 
 double Round4(double v) { return std::round(v * 1e4) / 1e4; }
 
-struct Intrinsics {
+// The model's intrinsics (CameraModel::intrinsics()) and whether it is the fisheye.
+struct Intrinsics : CameraIntrinsics {
   bool fisheye = false;
-  int width = 0, height = 0;
-  double fx = 0, fy = 0, cx = 0, cy = 0;
-  std::vector<double> distortion;  // pinhole: k1, k2, p1, p2, k3; fisheye: k1..k4
 };
 
 Intrinsics IntrinsicsOf(const CameraModel& model) {
-  Intrinsics in;
-  std::visit(
-      [&](const auto& m) {
-        in.width = m.width;
-        in.height = m.height;
-        in.fx = m.fx;
-        in.fy = m.fy;
-        in.cx = m.cx;
-        in.cy = m.cy;
-        if constexpr (std::is_same_v<std::decay_t<decltype(m)>, PinholeRadTan>) {
-          in.distortion = {m.k1, m.k2, m.p1, m.p2, m.k3};
-        } else {
-          in.fisheye = true;
-          in.distortion = {m.k1, m.k2, m.k3, m.k4};
-        }
-      },
-      model);
-  return in;
+  return Intrinsics{{model.intrinsics()}, model.kannala_brandt() != nullptr};
 }
 
 // ORB-SLAM2's Examples/RGB-D/TUM1.yaml keys with ORB-SLAM3's (pre-1.0 settings) Camera.type,

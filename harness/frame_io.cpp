@@ -8,6 +8,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "common/error.h"
+#include "common/io/camera_json.h"
 #include "worlds/image_io.h"
 
 namespace corridorsim {
@@ -97,25 +98,7 @@ nlohmann::ordered_json PoseJson(const SE3& pose) {
 }
 
 nlohmann::ordered_json IntrinsicsJson(const render::CameraOptions& options) {
-  nlohmann::ordered_json j;
-  std::visit(
-      [&](const auto& m) {
-        using M = std::decay_t<decltype(m)>;
-        const bool pinhole = std::is_same_v<M, PinholeRadTan>;
-        j["model"] = pinhole ? "pinhole_radtan" : "kannala_brandt";
-        j["width"] = m.width;
-        j["height"] = m.height;
-        j["fx"] = m.fx;
-        j["fy"] = m.fy;
-        j["cx"] = m.cx;
-        j["cy"] = m.cy;
-        if constexpr (std::is_same_v<M, PinholeRadTan>) {
-          j["distortion"] = {m.k1, m.k2, m.p1, m.p2, m.k3};
-        } else {
-          j["distortion"] = {m.k1, m.k2, m.k3, m.k4};
-        }
-      },
-      options.model);
+  nlohmann::ordered_json j = CameraModelToJson(options.model);
   const SE3 robot_from_camera = options.mount.RobotFromCamera();
   j["robot_from_camera"] = PoseJson(robot_from_camera);
   if (options.depth) j["depth_scale"] = kDepthScale;

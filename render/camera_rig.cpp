@@ -20,7 +20,7 @@ constexpr double kDegToRad = std::numbers::pi / 180.0;
 const auto& Num = FormatNumber;
 
 bool IsUndistortedPinhole(const CameraModel& model) {
-  const auto* p = std::get_if<PinholeRadTan>(&model);
+  const PinholeRadTan* p = model.pinhole();
   return p && p->k1 == 0 && p->k2 == 0 && p->p1 == 0 && p->p2 == 0 && p->k3 == 0;
 }
 
@@ -84,19 +84,6 @@ SE3 Mount::RobotFromCamera() const {
   return SE3(r, Vector3d(x_m, y_m, z_m));
 }
 
-PinholeRadTan PinholeOf(const CameraModel& model) {
-  if (const auto* p = std::get_if<PinholeRadTan>(&model)) return *p;
-  const auto& k = std::get<KannalaBrandt>(model);
-  PinholeRadTan p;
-  p.width = k.width;
-  p.height = k.height;
-  p.fx = k.fx;
-  p.fy = k.fy;
-  p.cx = k.cx;
-  p.cy = k.cy;
-  return p;
-}
-
 RigOptions RigOptions::Default() {
   RigOptions rig;
   CameraOptions front;
@@ -140,8 +127,8 @@ std::optional<OptionsProblem> RigOptions::Check() const {
       return OptionsProblem{k + "phase_s",
                             "must lie in [0, 1 / rate_hz) (got " + FormatNumber(c.phase_s) + " s)"};
     }
-    const bool pinhole = std::holds_alternative<PinholeRadTan>(c.model);
-    const PinholeRadTan p = PinholeOf(c.model);
+    const bool pinhole = c.model.pinhole() != nullptr;
+    const CameraIntrinsics p = c.model.intrinsics();
     if (p.width <= 0 || p.height <= 0) {
       return OptionsProblem{k + (p.width <= 0 ? "width" : "height"),
                             "the image size must be positive (got " + std::to_string(p.width) +
@@ -160,12 +147,9 @@ std::optional<OptionsProblem> RigOptions::Check() const {
       return OptionsProblem{k + "fx", "focal lengths above " + Num(max_focal) +
                                           " px are not supported for this model"};
     }
-    const double fov_deg = (pinhole ? std::get<PinholeRadTan>(c.model).FieldOfViewRad()
-                                    : std::get<KannalaBrandt>(c.model).FieldOfViewRad()) /
-                           kDegToRad;
+    const double fov_deg = c.model.FieldOfViewRad() / kDegToRad;
     if (auto problem = FovProblem(pinhole, fov_deg)) return OptionsProblem{k + "fov_deg", *problem};
-    if (auto problem = corridorsim::Check(c.model))
-      return OptionsProblem{k + "distortion", *problem};
+    if (auto problem = c.model.Check()) return OptionsProblem{k + "distortion", *problem};
     if (c.depth && !pinhole) {
       return OptionsProblem{k + "depth", "depth images need a pinhole camera"};
     }
@@ -189,7 +173,7 @@ void ParseCamera(YamlMap& map, CameraOptions& c) {
   map.Read("rate_hz", c.rate_hz);
   map.Read("phase_s", c.phase_s);
   map.Read("drop_probability", c.drop_probability);
-  bool pinhole = std::holds_alternative<PinholeRadTan>(c.model);
+  bool pinhole = c.model.pinhole() != nullptr;
   if (map.Has("model")) {
     std::string model;
     map.ReadEnum(
@@ -197,7 +181,7 @@ void ParseCamera(YamlMap& map, CameraOptions& c) {
         {{"pinhole", std::string("pinhole")}, {"kannala_brandt", std::string("kannala_brandt")}});
     pinhole = model == "pinhole";
   }
-  PinholeRadTan p = PinholeOf(c.model);
+  const CameraIntrinsics p = c.model.intrinsics();
   // Size and field of view rebuild the intrinsics; explicit fx/fy/cx/cy override them.
   int width = p.width, height = p.height;
   map.Read("width", width);
@@ -205,17 +189,14 @@ void ParseCamera(YamlMap& map, CameraOptions& c) {
   double fov_deg = 0.0;
   const bool has_fov = map.Read("fov_deg", fov_deg);
   const bool resized = width != p.width || height != p.height;
-  const bool model_changed = pinhole != std::holds_alternative<PinholeRadTan>(c.model);
+  const bool model_changed = pinhole != (c.model.pinhole() != nullptr);
   if (model_changed && !has_fov) {
     // A pinhole's fov_deg is horizontal, a fisheye's spans the smaller image side: say which.
     map.Fail("model", "changing the camera model needs fov_deg as well");
   }
   if (has_fov || resized || model_changed) {
     if (!has_fov) {
-      fov_deg = (std::holds_alternative<PinholeRadTan>(c.model)
-                     ? std::get<PinholeRadTan>(c.model).FieldOfViewRad()
-                     : std::get<KannalaBrandt>(c.model).FieldOfViewRad()) /
-                kDegToRad;
+      fov_deg = c.model.FieldOfViewRad() / kDegToRad;
     }
     // An impossible field of view is reported here, at its key, before it shapes a model.
     if (auto problem = FovProblem(pinhole, fov_deg)) map.Fail("fov_deg", *problem);
@@ -225,24 +206,32 @@ void ParseCamera(YamlMap& map, CameraOptions& c) {
       c.model = KannalaBrandt::FromFov(width, height, fov_deg * kDegToRad);
     }
   }
-  std::visit(
-      [&](auto& m) {
-        map.Read("fx", m.fx);
-        map.Read("fy", m.fy);
-        map.Read("cx", m.cx);
-        map.Read("cy", m.cy);
-      },
-      c.model);
+  // The model is immutable: its parameters are read into a copy, which replaces it.
+  const auto read_intrinsics = [&](auto m) {
+    map.Read("fx", m.fx);
+    map.Read("fy", m.fy);
+    map.Read("cx", m.cx);
+    map.Read("cy", m.cy);
+    return m;
+  };
+  if (const PinholeRadTan* pm = c.model.pinhole()) {
+    c.model = read_intrinsics(*pm);
+  } else {
+    c.model = read_intrinsics(*c.model.kannala_brandt());
+  }
   std::vector<double> distortion;
   if (map.Read("distortion", distortion)) {
-    if (auto* pm = std::get_if<PinholeRadTan>(&c.model)) {
+    if (const PinholeRadTan* current = c.model.pinhole()) {
+      PinholeRadTan pm = *current;
       if (distortion.size() != 5) map.Fail("distortion", "a pinhole needs [k1, k2, p1, p2, k3]");
-      pm->k1 = distortion[0], pm->k2 = distortion[1], pm->p1 = distortion[2];
-      pm->p2 = distortion[3], pm->k3 = distortion[4];
+      pm.k1 = distortion[0], pm.k2 = distortion[1], pm.p1 = distortion[2];
+      pm.p2 = distortion[3], pm.k3 = distortion[4];
+      c.model = pm;
     } else {
-      auto& km = std::get<KannalaBrandt>(c.model);
+      KannalaBrandt km = *c.model.kannala_brandt();
       if (distortion.size() != 4) map.Fail("distortion", "a fisheye needs [k1, k2, k3, k4]");
       km.k1 = distortion[0], km.k2 = distortion[1], km.k3 = distortion[2], km.k4 = distortion[3];
+      c.model = km;
     }
   }
   YamlMap mount = map.Map("mount");
@@ -347,7 +336,7 @@ CameraRenderer::CameraRenderer(const CameraOptions& options) : options_(options)
 }
 
 void CameraRenderer::PlanPinholePass() {
-  const auto& p = std::get<PinholeRadTan>(options_.model);
+  const PinholeRadTan& p = *options_.model.pinhole();
   Pass pass;
   pass.view.width = p.width;
   pass.view.height = p.height;
@@ -359,15 +348,15 @@ void CameraRenderer::PlanPinholePass() {
 }
 
 void CameraRenderer::PlanRemapPasses() {
-  const PinholeRadTan p = PinholeOf(options_.model);
-  const bool fisheye = std::holds_alternative<KannalaBrandt>(options_.model);
+  const CameraIntrinsics p = options_.model.intrinsics();
+  const bool fisheye = options_.model.kannala_brandt() != nullptr;
   const int w = p.width, h = p.height;
   // Unit bearings of every output pixel, and which face (or the single pass) each one uses.
   std::vector<Vector3d> bearings(static_cast<std::size_t>(w) * h);
   std::vector<int> face_of(bearings.size(), -1);
   for (int v = 0; v < h; ++v) {
     for (int u = 0; u < w; ++u) {
-      const Vector3d b = Unproject(options_.model, Vector2d(u, v));
+      const Vector3d b = options_.model.Unproject(Vector2d(u, v));
       const std::size_t i = static_cast<std::size_t>(v) * w + u;
       bearings[i] = b;
       if (!b.allFinite() || b.norm() < 0.5) continue;
@@ -541,10 +530,10 @@ std::size_t CameraRenderer::pass_pixel_count() const {
 }
 
 std::optional<std::pair<int, Eigen::Vector2d>> CameraRenderer::Lookup(int u, int v) const {
-  const PinholeRadTan p = PinholeOf(options_.model);
-  if (u < 0 || v < 0 || u >= p.width || v >= p.height) return std::nullopt;
+  const int width = options_.model.width();
+  if (u < 0 || v < 0 || u >= width || v >= options_.model.height()) return std::nullopt;
   if (lut_.empty()) return std::make_pair(0, Vector2d(u, v));
-  const LutEntry& e = lut_[static_cast<std::size_t>(v) * p.width + u];
+  const LutEntry& e = lut_[static_cast<std::size_t>(v) * width + u];
   if (!e.valid) return std::nullopt;
   return std::make_pair(static_cast<int>(e.pass), Vector2d(e.x, e.y));
 }
@@ -590,16 +579,16 @@ void CameraRenderer::Finish(CameraFrame* frame) {
 }
 
 void CameraRenderer::Compose(CameraFrame* frame) const {
-  const PinholeRadTan p = PinholeOf(options_.model);
-  const std::size_t n = static_cast<std::size_t>(p.width) * p.height;
-  if (frame->rgb.width != p.width || frame->rgb.height != p.height || frame->rgb.channels != 3) {
-    frame->rgb = Image8(p.width, p.height, 3);
+  const int width = options_.model.width(), height = options_.model.height();
+  const std::size_t n = static_cast<std::size_t>(width) * height;
+  if (frame->rgb.width != width || frame->rgb.height != height || frame->rgb.channels != 3) {
+    frame->rgb = Image8(width, height, 3);
   }
   frame->instance.resize(n);
   frame->semantic.resize(n);
   if (options_.depth) {
-    frame->depth_m.width = p.width;
-    frame->depth_m.height = p.height;
+    frame->depth_m.width = width;
+    frame->depth_m.height = height;
     frame->depth_m.data.resize(n);
   }
   // Per pass: where its images start (up to 6 cube faces).
@@ -695,8 +684,7 @@ void Rig::ApplyNoise(std::size_t index, std::uint64_t seed, std::uint64_t frame_
       RandomStream(seed, 0, "render.noise." + camera.id).Derive(std::to_string(frame_index));
   RandomStream depth_rng = rng.Derive("depth"), rgb_rng = rng.Derive("rgb");
   if (camera.depth) {
-    ApplyDepthNoise(camera.depth_noise, std::get<PinholeRadTan>(camera.model), depth_rng,
-                    &frame->noisy_depth_m);
+    ApplyDepthNoise(camera.depth_noise, *camera.model.pinhole(), depth_rng, &frame->noisy_depth_m);
   }
   ApplyRgbNoise(camera.rgb_noise, rgb_rng, &frame->rgb);
 }

@@ -205,8 +205,4 @@ class Rig {
   std::vector<bool> started_;  // per camera: a frame whose stages may still run
 };
 
-/// The pinhole intrinsics of a model (a fisheye's fx, fy, cx, cy with no distortion), for noise
-/// models and overlays.
-PinholeRadTan PinholeOf(const CameraModel& model);
-
 }  // namespace corridorsim::render

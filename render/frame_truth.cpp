@@ -5,7 +5,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <numbers>
-#include <variant>
 
 namespace corridorsim::render {
 namespace {
@@ -25,23 +24,6 @@ constexpr int kColumnSearchPx = 2;        // door column: label search half-widt
 // world +z: the axis' world z component exceeds cos(45 deg).
 constexpr double kUpwardMinAxisZ = std::numbers::sqrt2 / 2;
 
-// Image size, focal length and principal point of either model.
-struct Intrinsics {
-  int width = 0;
-  int height = 0;
-  double fx = 0.0;
-  double cx = 0.0;
-  double cy = 0.0;
-};
-
-Intrinsics IntrinsicsOf(const CameraModel& model) {
-  return std::visit(
-      [](const auto& m) {
-        return Intrinsics{m.width, m.height, m.fx, m.cx, m.cy};
-      },
-      model);
-}
-
 // Yaw of a frame whose z is (nearly) up: angle of its x axis in the world x-y plane.
 double YawOf(const SE3& world_from_frame) {
   const Eigen::Matrix3d r = world_from_frame.rotation();
@@ -55,7 +37,7 @@ class Frame {
       : input_(input),
         camera_from_world_(input.world_from_camera.Inverse()),
         camera_in_world_(input.world_from_camera.translation()),
-        intrinsics_(IntrinsicsOf(input.model)),
+        intrinsics_(input.model.intrinsics()),
         robot_yaw_(YawOf(input.world_from_robot)),
         max_range_squared_(input.max_range_m * input.max_range_m),
         upward_(input.world_from_camera.rotation()(2, 2) > kUpwardMinAxisZ) {
@@ -68,7 +50,7 @@ class Frame {
                "semantic image size differs from the camera's width * height");
   }
 
-  const Intrinsics& intrinsics() const { return intrinsics_; }
+  const CameraIntrinsics& intrinsics() const { return intrinsics_; }
   const Vector3d& camera_in_world() const { return camera_in_world_; }
   double robot_yaw() const { return robot_yaw_; }
   const SE3& camera_from_world() const { return camera_from_world_; }
@@ -82,12 +64,12 @@ class Frame {
 
   // nullopt behind the camera or outside the model's valid angle.
   std::optional<Vector2d> Project(const Vector3d& p_in_world) const {
-    return corridorsim::Project(input_.model, camera_from_world_ * p_in_world);
+    return input_.model.Project(camera_from_world_ * p_in_world);
   }
   std::optional<Vector2d> ProjectDirection(const Vector3d& direction_in_camera) const {
-    return corridorsim::Project(input_.model, direction_in_camera);
+    return input_.model.Project(direction_in_camera);
   }
-  bool InImage(const Vector2d& pixel) const { return IsInImage(input_.model, pixel); }
+  bool InImage(const Vector2d& pixel) const { return input_.model.IsInImage(pixel); }
 
   // Label-image index of an in-image pixel (nearest pixel centre).
   std::size_t Index(const Vector2d& pixel) const {
@@ -131,7 +113,7 @@ class Frame {
   const FrameTruthInput& input_;
   SE3 camera_from_world_;
   Vector3d camera_in_world_;
-  Intrinsics intrinsics_;
+  CameraIntrinsics intrinsics_;
   double robot_yaw_;
   double max_range_squared_;
   bool upward_;  // the optical axis points up: the papers' polar image coordinates apply
@@ -375,7 +357,7 @@ std::optional<DoorTruth> DoorInFrame(const Frame& frame, const worlds::World& wo
   // P2 eq. 8: z_theta = pi/2 - atan2(c_y - r_y, c_x - r_x) + r_theta.
   truth.p2_theta_a_rad = NormalizeAngle(kPi / 2 - truth.bearing_a_rad);
   truth.p2_theta_b_rad = NormalizeAngle(kPi / 2 - truth.bearing_b_rad);
-  const Intrinsics& k = frame.intrinsics();
+  const CameraIntrinsics& k = frame.intrinsics();
   truth.image_angle_a_rad = std::atan2(pixel_a->y() - k.cy, pixel_a->x() - k.cx);
   truth.image_angle_b_rad = std::atan2(pixel_b->y() - k.cy, pixel_b->x() - k.cx);
   truth.visible = a_in && b_in && ColumnSeen(frame, world, door, door.column_a) &&

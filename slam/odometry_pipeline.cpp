@@ -18,7 +18,10 @@ void ParseOdometryPipelineOptions(YamlMap& map, OdometryPipelineOptions& options
 
 OdometryPipeline::OdometryPipeline(const OdometryPipelineOptions& options,
                                    const Calibration& calibration)
-    : options_(options), wheelbase_m_(calibration.wheelbase_m) {}
+    : options_(options), wheelbase_m_(calibration.wheelbase_m) {
+  // The harness builds the calibration from checked options: an invalid one is a bug.
+  CheckOrDie(!calibration.Check(), "slam::OdometryPipeline", "the calibration fails its Check()");
+}
 
 void OdometryPipeline::Initialize(TimeNs stamp_ns, const SE2& world_from_robot) {
   estimate_.stamp_ns = stamp_ns;

@@ -23,6 +23,7 @@ void ParseOdometryPipelineOptions(YamlMap& map, OdometryPipelineOptions& options
 
 class OdometryPipeline : public Pipeline {
  public:
+  /// `calibration` must pass Check(); the pipeline uses its nominal wheelbase.
   OdometryPipeline(const OdometryPipelineOptions& options, const Calibration& calibration);
   std::string name() const override { return "odometry"; }
   void Initialize(TimeNs stamp_ns, const SE2& world_from_robot) override;

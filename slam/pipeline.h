@@ -15,29 +15,46 @@
 #include <Eigen/Core>
 
 #include "common/camera_models.h"
+#include "common/error.h"
 #include "common/pose.h"
 #include "common/sensor_messages.h"
 #include "common/time.h"
 
 namespace corridorsim::slam {
 
-/// What a robot knows about itself (nominal values, never the simulator's real ones).
-struct CameraCalibration {
-  std::string id;  // "front", "lateral", "upward"
-  CameraModel model;
-  SE3 robot_from_camera;
-  bool depth = false;  // registered depth arrives with the colour image
+/// A depth sensor's valid range (m): it reports 0 (invalid) for depths outside [min_m, max_m].
+struct DepthRange {
+  double min_m;  // nearest valid depth
+  double max_m;  // farthest valid depth
 };
+
+/// What a robot knows about one of its cameras: intrinsics and mount, as calibrated.
+struct CameraCalibration {
+  std::string id;                   // "front", "lateral", "upward"
+  CameraModel model;                // intrinsics (common/camera_models.h)
+  SE3 robot_from_camera;            // mount: the optical frame in the robot frame R
+  std::optional<DepthRange> depth;  // depth cameras: registered depth arrives with the colour
+                                    // image, valid in this range; nothing for colour-only ones
+};
+
+/// What a robot knows about itself, as its calibration file holds it: nominal values, never the
+/// simulator's real ones. The fields have no defaults: whoever builds a Calibration fills every
+/// one (the harness from the scenario's options, harness/calibration.h).
 struct Calibration {
-  double wheelbase_m = 0.33;  // nominal distance between the wheels (B of P1 eq. 13)
-  double wheel_diameter_m = 0.195;
+  double wheelbase_m;        // nominal distance between the wheels' contact points (B, P1 eq. 13)
+  double wheel_diameter_m;   // nominal wheel diameter
+  int ticks_per_revolution;  // encoder counts per wheel revolution; 0 = distances unquantised
   std::vector<CameraCalibration> cameras;
+
   const CameraCalibration* Find(const std::string& id) const {
     for (const CameraCalibration& c : cameras) {
       if (c.id == id) return &c;
     }
     return nullptr;
   }
+  /// The first problem (key relative to the calibration, e.g. "wheelbase_m" or
+  /// "cameras.front.depth.max_m"), or nothing.
+  std::optional<OptionsProblem> Check() const;
 };
 
 /// A camera frame as a pipeline receives it: the colour image and, for a depth camera, the

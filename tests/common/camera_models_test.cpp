@@ -7,7 +7,6 @@
 #include <random>
 #include <string>
 #include <utility>
-#include <variant>
 #include <vector>
 
 #include <catch2/catch.hpp>
@@ -20,6 +19,7 @@ namespace {
 
 using test::CheckJacobian;
 using test::kFovRad;
+using test::kJacobianRelTol;
 using test::kRoundTripBearing;
 using test::kRoundTripPx;
 using test::NumericalJacobian;
@@ -55,13 +55,12 @@ double AngleFromAxis(const Eigen::Vector3d& bearing) {
 }
 
 // Largest incidence angle seen by the image: the corners.
-template <class Camera>
-double CornerThetaRad(const Camera& camera) {
+double CornerThetaRad(const CameraModel& camera) {
   double max_theta = 0.0;
   for (const Eigen::Vector2d& corner :
-       {Eigen::Vector2d(-0.5, -0.5), Eigen::Vector2d(camera.width - 0.5, -0.5),
-        Eigen::Vector2d(-0.5, camera.height - 0.5),
-        Eigen::Vector2d(camera.width - 0.5, camera.height - 0.5)}) {
+       {Eigen::Vector2d(-0.5, -0.5), Eigen::Vector2d(camera.width() - 0.5, -0.5),
+        Eigen::Vector2d(-0.5, camera.height() - 0.5),
+        Eigen::Vector2d(camera.width() - 0.5, camera.height() - 0.5)}) {
     max_theta = std::max(max_theta, AngleFromAxis(camera.Unproject(corner)));
   }
   return max_theta;
@@ -112,34 +111,24 @@ std::vector<std::pair<std::string, CameraModel>> TestCameras() {
           {"fisheye 130 deg", Fisheye130()}};
 }
 
-int Width(const CameraModel& camera) {
-  return std::visit([](const auto& model) { return model.width; }, camera);
-}
-int Height(const CameraModel& camera) {
-  return std::visit([](const auto& model) { return model.height; }, camera);
-}
-double MaxThetaInImage(const CameraModel& camera) {
-  return std::visit([](const auto& model) { return CornerThetaRad(model); }, camera);
-}
-
 TEST_CASE("test cameras are valid", "[camera]") {
   for (const auto& [name, camera] : TestCameras()) {
-    INFO(name << ": " << Check(camera).value_or("ok"));
-    CHECK_FALSE(Check(camera).has_value());
+    INFO(name << ": " << camera.Check().value_or("ok"));
+    CHECK_FALSE(camera.Check().has_value());
   }
 }
 
 TEST_CASE("Project(Unproject(pixel)) returns the pixel over the whole image", "[camera]") {
   for (const auto& [name, camera] : TestCameras()) {
-    const double right = Width(camera) - 0.5;
-    const double bottom = Height(camera) - 0.5;
+    const double right = camera.width() - 0.5;
+    const double bottom = camera.height() - 0.5;
     for (const double v : GridWithEnds(-0.5, bottom, 8.0)) {
       for (const double u : GridWithEnds(-0.5, right, 8.0)) {
         const Eigen::Vector2d pixel(u, v);
         INFO(name << ", pixel " << pixel.transpose());
-        const Eigen::Vector3d bearing = Unproject(camera, pixel);
+        const Eigen::Vector3d bearing = camera.Unproject(pixel);
         REQUIRE(std::abs(bearing.norm() - 1.0) <= kRoundTripBearing);
-        const std::optional<Eigen::Vector2d> reprojected = Project(camera, bearing);
+        const std::optional<Eigen::Vector2d> reprojected = camera.Project(bearing);
         REQUIRE(reprojected.has_value());
         REQUIRE((*reprojected - pixel).norm() <= kRoundTripPx);
       }
@@ -151,13 +140,13 @@ TEST_CASE("Unproject(Project(p)) returns the bearing of random points seen by th
           "[camera]") {
   std::mt19937_64 rng(20240611);
   for (const auto& [name, camera] : TestCameras()) {
-    const double max_theta = MaxThetaInImage(camera);
+    const double max_theta = CornerThetaRad(camera);
     for (int i = 0; i < kRandomPoints; ++i) {
       const Eigen::Vector3d p_in_camera = RandomPoint(rng, max_theta);
       INFO(name << ", point " << p_in_camera.transpose());
-      const std::optional<Eigen::Vector2d> pixel = Project(camera, p_in_camera);
+      const std::optional<Eigen::Vector2d> pixel = camera.Project(p_in_camera);
       REQUIRE(pixel.has_value());
-      const Eigen::Vector3d bearing = Unproject(camera, *pixel);
+      const Eigen::Vector3d bearing = camera.Unproject(*pixel);
       REQUIRE((bearing - p_in_camera.normalized()).norm() <= kRoundTripBearing);
     }
   }
@@ -165,7 +154,8 @@ TEST_CASE("Unproject(Project(p)) returns the bearing of random points seen by th
 
 TEST_CASE("fisheye 130 deg sees points at and beyond its edge, behind the image plane",
           "[camera]") {
-  const KannalaBrandt camera = Fisheye130();
+  const CameraModel camera = Fisheye130();
+  const KannalaBrandt& k = *camera.kannala_brandt();
   // The corners of a 130 deg (across the height) 4:3 fisheye look behind the image plane.
   REQUIRE(CornerThetaRad(camera) > 100.0 * kRadPerDeg);
   for (const double theta_deg : {64.0, 65.0, 66.0, 80.0, 89.9, 90.0, 90.1, 95.0, 105.0}) {
@@ -178,7 +168,7 @@ TEST_CASE("fisheye 130 deg sees points at and beyond its edge, behind the image 
       const std::optional<Eigen::Vector2d> pixel = camera.Project(p_in_camera);
       REQUIRE(pixel.has_value());
       // The pixel lies in the azimuth direction of the point.
-      const Eigen::Vector2d offset(pixel->x() - camera.cx, pixel->y() - camera.cy);
+      const Eigen::Vector2d offset(pixel->x() - k.cx, pixel->y() - k.cy);
       CHECK(std::atan2(offset.y(), offset.x()) ==
             Approx(std::atan2(std::sin(phi), std::cos(phi))).margin(1e-9));
       CHECK((camera.Unproject(*pixel) - p_in_camera.normalized()).norm() <= kRoundTripBearing);
@@ -190,7 +180,7 @@ TEST_CASE("analytic projection Jacobians match central differences at random poi
           "[camera][jacobian]") {
   std::mt19937_64 rng(7);
   for (const auto& [name, camera] : TestCameras()) {
-    const double max_theta = MaxThetaInImage(camera);
+    const double max_theta = CornerThetaRad(camera);
     std::vector<Eigen::Vector3d> points = {Eigen::Vector3d(0, 0, 2), Eigen::Vector3d(1e-12, 0, 2),
                                            Eigen::Vector3d(0, -3e-7, 0.5),
                                            Eigen::Vector3d(1e-4, 2e-4, 1)};
@@ -198,19 +188,19 @@ TEST_CASE("analytic projection Jacobians match central differences at random poi
     for (const Eigen::Vector3d& p_in_camera : points) {
       INFO(name << ", point " << p_in_camera.transpose());
       Eigen::Matrix<double, 2, 3> d_pixel_d_point;
-      const std::optional<Eigen::Vector2d> pixel = Project(camera, p_in_camera, &d_pixel_d_point);
+      const std::optional<Eigen::Vector2d> pixel = camera.Project(p_in_camera, &d_pixel_d_point);
       REQUIRE(pixel.has_value());
       // The Jacobian output must not change the pixel.
-      REQUIRE((*pixel - Project(camera, p_in_camera).value()).norm() == 0.0);
+      REQUIRE((*pixel - camera.Project(p_in_camera).value()).norm() == 0.0);
       const Eigen::Matrix<double, 2, 3> numerical = NumericalJacobian<2, 3>(
-          [&](const Eigen::Vector3d& p) { return Project(camera, p).value(); }, p_in_camera);
+          [&](const Eigen::Vector3d& p) { return camera.Project(p).value(); }, p_in_camera);
       CheckJacobian(d_pixel_d_point, numerical);
     }
   }
 }
 
 TEST_CASE("pinhole does not project points at or behind the image plane", "[camera]") {
-  const PinholeRadTan camera = DistortedPinhole();
+  const CameraModel camera = DistortedPinhole();
   CHECK_FALSE(camera.Project(Eigen::Vector3d(0.1, 0.2, 0.0)).has_value());
   CHECK_FALSE(camera.Project(Eigen::Vector3d(0.1, 0.2, -1.0)).has_value());
   CHECK_FALSE(camera.Project(Eigen::Vector3d(0.0, 0.0, -1.0)).has_value());
@@ -220,9 +210,11 @@ TEST_CASE("pinhole does not project points at or behind the image plane", "[came
 TEST_CASE("pinhole does not project points beyond the turning point of its distortion",
           "[camera]") {
   // r (1 - 0.5 r^2) turns at r = sqrt(2/3); beyond, points would fold back into the image.
-  PinholeRadTan camera = PinholeRadTan::FromFov(640, 480, 60.0 * kRadPerDeg);
-  camera.k1 = -0.5;
+  PinholeRadTan params = PinholeRadTan::FromFov(640, 480, 60.0 * kRadPerDeg);
+  params.k1 = -0.5;
+  const CameraModel camera = params;
   const double turning_r = std::sqrt(2.0 / 3.0);
+  CHECK(camera.max_incidence_rad() == Approx(std::atan(turning_r)).epsilon(1e-14));
   CHECK(camera.Project(Eigen::Vector3d(0.98 * turning_r, 0.0, 1.0)).has_value());
   CHECK_FALSE(camera.Project(Eigen::Vector3d(1.02 * turning_r, 0.0, 1.0)).has_value());
   CHECK_FALSE(camera.Project(Eigen::Vector3d(0.0, 3.0, 1.0)).has_value());
@@ -231,14 +223,17 @@ TEST_CASE("pinhole does not project points beyond the turning point of its disto
 TEST_CASE("fisheye does not project points beyond the turning point of theta_d or at theta = pi",
           "[camera]") {
   // theta (1 - 0.3 theta^2) turns at theta = sqrt(1/0.9) = 1.054 rad.
-  KannalaBrandt camera = KannalaBrandt::FromFov(640, 480, 90.0 * kRadPerDeg);
-  camera.k1 = -0.3;
+  KannalaBrandt params = KannalaBrandt::FromFov(640, 480, 90.0 * kRadPerDeg);
+  params.k1 = -0.3;
+  const CameraModel camera = params;
+  CHECK(camera.max_incidence_rad() == Approx(std::sqrt(1.0 / 0.9)).epsilon(1e-14));
   const auto point_at = [](double theta) {
     return Eigen::Vector3d(std::sin(theta), 0.0, std::cos(theta));
   };
   CHECK(camera.Project(point_at(1.0)).has_value());
   CHECK_FALSE(camera.Project(point_at(1.1)).has_value());
-  const KannalaBrandt equidistant = KannalaBrandt::FromFov(640, 480, 130.0 * kRadPerDeg);
+  const CameraModel equidistant = KannalaBrandt::FromFov(640, 480, 130.0 * kRadPerDeg);
+  CHECK(equidistant.max_incidence_rad() == kPi);
   CHECK(equidistant.Project(point_at(3.0)).has_value());
   CHECK_FALSE(equidistant.Project(Eigen::Vector3d(0.0, 0.0, -1.0)).has_value());
   CHECK_FALSE(equidistant.Project(Eigen::Vector3d::Zero()).has_value());
@@ -248,10 +243,11 @@ TEST_CASE("pinhole FromFov spans the horizontal field of view edge to edge", "[c
   for (const double fov_deg : {40.0, 90.0, 120.0, 149.0}) {
     for (const auto& [width, height] : {std::pair{640, 480}, std::pair{480, 640}}) {
       INFO(width << "x" << height << " at " << fov_deg << " deg");
-      const PinholeRadTan camera = PinholeRadTan::FromFov(width, height, fov_deg * kRadPerDeg);
+      const CameraModel camera = PinholeRadTan::FromFov(width, height, fov_deg * kRadPerDeg);
       CHECK(camera.HorizontalFovRad() == Approx(fov_deg * kRadPerDeg).margin(kFovRad));
       // The left edge of column 0 is at -fov/2.
-      const Eigen::Vector3d left_edge = camera.Unproject(Eigen::Vector2d(-0.5, camera.cy));
+      const Eigen::Vector3d left_edge =
+          camera.Unproject(Eigen::Vector2d(-0.5, camera.pinhole()->cy));
       CHECK(std::atan2(left_edge.x(), left_edge.z()) ==
             Approx(-0.5 * fov_deg * kRadPerDeg).margin(kFovRad));
       CHECK(camera.FieldOfViewRad() ==
@@ -266,7 +262,7 @@ TEST_CASE("fisheye FromFov spans the field of view across the smaller image dime
     for (const auto& [width, height] : {std::pair{640, 480}, std::pair{480, 640}}) {
       INFO(width << "x" << height << " at " << fov_deg << " deg");
       const double fov = fov_deg * kRadPerDeg;
-      const KannalaBrandt camera = KannalaBrandt::FromFov(width, height, fov);
+      const CameraModel camera = KannalaBrandt::FromFov(width, height, fov);
       CHECK(camera.FieldOfViewRad() == Approx(fov).margin(kFovRad));
       const double smaller_fov =
           width < height ? camera.HorizontalFovRad() : camera.VerticalFovRad();
@@ -276,8 +272,9 @@ TEST_CASE("fisheye FromFov spans the field of view across the smaller image dime
       const Eigen::Vector3d p_in_camera = width < height
                                               ? Eigen::Vector3d(std::sin(half), 0, std::cos(half))
                                               : Eigen::Vector3d(0, std::sin(half), std::cos(half));
-      const Eigen::Vector2d edge = width < height ? Eigen::Vector2d(width - 0.5, camera.cy)
-                                                  : Eigen::Vector2d(camera.cx, height - 0.5);
+      const KannalaBrandt& k = *camera.kannala_brandt();
+      const Eigen::Vector2d edge =
+          width < height ? Eigen::Vector2d(width - 0.5, k.cy) : Eigen::Vector2d(k.cx, height - 0.5);
       CHECK((camera.Project(p_in_camera).value() - edge).norm() <= kRoundTripPx);
     }
   }
@@ -285,38 +282,41 @@ TEST_CASE("fisheye FromFov spans the field of view across the smaller image dime
 
 TEST_CASE("Check rejects a zero or negative image size", "[camera]") {
   PinholeRadTan pinhole = PinholeRadTan::FromFov(640, 480, 90.0 * kRadPerDeg);
-  REQUIRE_FALSE(pinhole.Check().has_value());
+  REQUIRE_FALSE(CameraModel(pinhole).Check().has_value());
   pinhole.width = 0;
-  CHECK(pinhole.Check().has_value());
+  CHECK(CameraModel(pinhole).Check().has_value());
   KannalaBrandt fisheye = KannalaBrandt::FromFov(640, 480, 120.0 * kRadPerDeg);
-  REQUIRE_FALSE(fisheye.Check().has_value());
+  REQUIRE_FALSE(CameraModel(fisheye).Check().has_value());
   fisheye.height = -480;
-  CHECK(fisheye.Check().has_value());
+  CHECK(CameraModel(fisheye).Check().has_value());
+  CHECK(CameraModel().Check().has_value());
 }
 
 TEST_CASE("Check rejects non-positive or non-finite focal lengths", "[camera]") {
   PinholeRadTan pinhole = DistortedPinhole();
   pinhole.fy = 0.0;
-  CHECK(pinhole.Check().has_value());
+  CHECK(CameraModel(pinhole).Check().has_value());
   KannalaBrandt fisheye = Fisheye130();
   fisheye.fx = std::nan("");
-  CHECK(fisheye.Check().has_value());
+  CHECK(CameraModel(fisheye).Check().has_value());
 }
 
 TEST_CASE("Check rejects a pinhole field of view of 150 deg or more", "[camera]") {
-  CHECK_FALSE(PinholeRadTan::FromFov(640, 480, 149.0 * kRadPerDeg).Check().has_value());
+  CHECK_FALSE(
+      CameraModel(PinholeRadTan::FromFov(640, 480, 149.0 * kRadPerDeg)).Check().has_value());
   const std::optional<std::string> problem =
-      PinholeRadTan::FromFov(640, 480, 150.0 * kRadPerDeg).Check();
+      CameraModel(PinholeRadTan::FromFov(640, 480, 150.0 * kRadPerDeg)).Check();
   REQUIRE(problem.has_value());
   CHECK_THAT(*problem, Catch::Contains("field of view"));
   // Portrait: the vertical field of view is the wider one.
-  CHECK(PinholeRadTan::FromFov(300, 640, 130.0 * kRadPerDeg).Check().has_value());
+  CHECK(CameraModel(PinholeRadTan::FromFov(300, 640, 130.0 * kRadPerDeg)).Check().has_value());
 }
 
 TEST_CASE("Check rejects a fisheye field of view of 180 deg or more", "[camera]") {
-  CHECK_FALSE(KannalaBrandt::FromFov(640, 480, 179.0 * kRadPerDeg).Check().has_value());
+  CHECK_FALSE(
+      CameraModel(KannalaBrandt::FromFov(640, 480, 179.0 * kRadPerDeg)).Check().has_value());
   const std::optional<std::string> problem =
-      KannalaBrandt::FromFov(640, 480, 180.0 * kRadPerDeg).Check();
+      CameraModel(KannalaBrandt::FromFov(640, 480, 180.0 * kRadPerDeg)).Check();
   REQUIRE(problem.has_value());
   CHECK_THAT(*problem, Catch::Contains("field of view"));
 }
@@ -324,27 +324,29 @@ TEST_CASE("Check rejects a fisheye field of view of 180 deg or more", "[camera]"
 TEST_CASE("Check rejects distortion that turns over inside the image", "[camera]") {
   PinholeRadTan camera = PinholeRadTan::FromFov(640, 480, 100.0 * kRadPerDeg);
   camera.k1 = -0.5;
-  const std::optional<std::string> problem = camera.Check();
+  const std::optional<std::string> problem = CameraModel(camera).Check();
   REQUIRE(problem.has_value());
   CHECK_THAT(*problem, Catch::Contains("corner"));
 }
 
 TEST_CASE("IsInImage covers pixel centres from 0 to size - 1 plus half a pixel", "[camera]") {
   const CameraModel camera = PinholeRadTan::FromFov(640, 480, 90.0 * kRadPerDeg);
-  CHECK(IsInImage(camera, Eigen::Vector2d(-0.5, -0.5)));
-  CHECK(IsInImage(camera, Eigen::Vector2d(639.49, 479.49)));
-  CHECK_FALSE(IsInImage(camera, Eigen::Vector2d(639.5, 10.0)));
-  CHECK_FALSE(IsInImage(camera, Eigen::Vector2d(10.0, -0.51)));
+  CHECK(camera.IsInImage(Eigen::Vector2d(-0.5, -0.5)));
+  CHECK(camera.IsInImage(Eigen::Vector2d(639.49, 479.49)));
+  CHECK_FALSE(camera.IsInImage(Eigen::Vector2d(639.5, 10.0)));
+  CHECK_FALSE(camera.IsInImage(Eigen::Vector2d(10.0, -0.51)));
 }
 
-TEST_CASE("CameraModel visitors dispatch to the held model", "[camera]") {
+TEST_CASE("CameraModel holds one kind and gives its parameters back", "[camera]") {
   const KannalaBrandt fisheye = Fisheye110();
   const CameraModel camera = fisheye;
-  const Eigen::Vector3d p_in_camera(0.4, -0.3, 1.2);
-  CHECK((Project(camera, p_in_camera).value() - fisheye.Project(p_in_camera).value()).norm() ==
-        0.0);
-  const Eigen::Vector2d pixel(100.0, 50.0);
-  CHECK((Unproject(camera, pixel) - fisheye.Unproject(pixel)).norm() == 0.0);
+  CHECK(camera.kind() == CameraModelKind::kKannalaBrandt);
+  CHECK(camera.name() == "kannala_brandt");
+  REQUIRE(camera.kannala_brandt() != nullptr);
+  CHECK(*camera.kannala_brandt() == fisheye);
+  CHECK(camera.pinhole() == nullptr);
+  CHECK(camera.width() == 640);
+  CHECK(camera.height() == 480);
   // A pinhole with the same intrinsics projects the same point elsewhere.
   PinholeRadTan pinhole;
   pinhole.width = fisheye.width;
@@ -353,8 +355,94 @@ TEST_CASE("CameraModel visitors dispatch to the held model", "[camera]") {
   pinhole.fy = fisheye.fy;
   pinhole.cx = fisheye.cx;
   pinhole.cy = fisheye.cy;
-  CHECK((Project(CameraModel(pinhole), p_in_camera).value() - Project(camera, p_in_camera).value())
-            .norm() > 1.0);
+  const CameraModel other = pinhole;
+  CHECK(other.kind() == CameraModelKind::kPinholeRadTan);
+  CHECK(other.name() == "pinhole_radtan");
+  CHECK(other.kannala_brandt() == nullptr);
+  const Eigen::Vector3d p_in_camera(0.4, -0.3, 1.2);
+  CHECK((other.Project(p_in_camera).value() - camera.Project(p_in_camera).value()).norm() > 1.0);
+  CHECK_FALSE(other == camera);
+  // A default model is an empty pinhole.
+  CHECK(CameraModel().kind() == CameraModelKind::kPinholeRadTan);
+  CHECK(CameraModel().width() == 0);
+}
+
+TEST_CASE("intrinsics() lists the distortion in OpenCV's order", "[camera]") {
+  const CameraIntrinsics pinhole = CameraModel(DistortedPinhole()).intrinsics();
+  CHECK(pinhole.model == "pinhole_radtan");
+  CHECK(pinhole.width == 640);
+  CHECK(pinhole.height == 480);
+  CHECK(pinhole.fx == 525.0);
+  CHECK(pinhole.fy == 523.0);
+  CHECK(pinhole.cx == 319.2);
+  CHECK(pinhole.cy == 240.7);
+  CHECK(pinhole.distortion == std::vector<double>{-0.28, 0.07, 1e-4, -2e-4, -0.005});
+  const KannalaBrandt k = Fisheye110();
+  const CameraIntrinsics fisheye = CameraModel(k).intrinsics();
+  CHECK(fisheye.model == "kannala_brandt");
+  CHECK(fisheye.fx == k.fx);
+  CHECK(fisheye.fy == k.fy);
+  CHECK(fisheye.cx == k.cx);
+  CHECK(fisheye.cy == k.cy);
+  CHECK(fisheye.distortion == std::vector<double>{k.k1, k.k2, k.k3, k.k4});
+}
+
+TEST_CASE("analytic unprojection Jacobians match central differences at random pixels",
+          "[camera][jacobian]") {
+  std::mt19937_64 rng(11);
+  for (const auto& [name, camera] : TestCameras()) {
+    const KannalaBrandt* k = camera.kannala_brandt();
+    const PinholeRadTan* p = camera.pinhole();
+    const Eigen::Vector2d principal =
+        k != nullptr ? Eigen::Vector2d(k->cx, k->cy) : Eigen::Vector2d(p->cx, p->cy);
+    const double focal = k != nullptr ? k->fx : p->fx;
+    std::vector<Eigen::Vector2d> pixels = {
+        principal, principal + Eigen::Vector2d(1e-7, 0), principal + Eigen::Vector2d(0.3, -0.2),
+        Eigen::Vector2d(-0.5, -0.5), Eigen::Vector2d(camera.width() - 0.5, camera.height() - 0.5)};
+    for (int i = 0; i < kRandomPoints; ++i) {
+      pixels.emplace_back(Uniform(rng, -0.5, camera.width() - 0.5),
+                          Uniform(rng, -0.5, camera.height() - 0.5));
+    }
+    for (const Eigen::Vector2d& pixel : pixels) {
+      INFO(name << ", pixel " << pixel.transpose());
+      Eigen::Matrix<double, 3, 2> d_bearing_d_pixel;
+      const Eigen::Vector3d bearing = camera.Unproject(pixel, &d_bearing_d_pixel);
+      // The Jacobian output must not change the bearing.
+      REQUIRE((bearing - camera.Unproject(pixel)).norm() == 0.0);
+      const Eigen::Matrix<double, 3, 2> numerical = NumericalJacobian<3, 2>(
+          [&](const Eigen::Vector2d& q) { return camera.Unproject(q); }, pixel);
+      // Compared per focal length (d bearing / d (pixel / fx), entries of order 1): per pixel the
+      // entries are ~1/fx, below the helper's absolute floor.
+      CheckJacobian(focal * d_bearing_d_pixel, focal * numerical);
+      // A unit bearing moves perpendicular to itself.
+      CHECK((bearing.transpose() * focal * d_bearing_d_pixel).norm() <= kJacobianRelTol);
+    }
+  }
+}
+
+TEST_CASE("the valid range is the first turning point of the distortion", "[camera]") {
+  // d(r radial(r)) / dr = 1 + 3 k1 r^2 + 5 k2 r^4 = 1 - 1.5 r^2 + 0.5 r^4 for k1 = -0.5,
+  // k2 = 0.1: zero at r^2 = 1 and r^2 = 2. The first one counts, although the slope is positive
+  // again beyond r^2 = 2.
+  PinholeRadTan pinhole = PinholeRadTan::FromFov(640, 480, 60.0 * kRadPerDeg);
+  pinhole.k1 = -0.5;
+  pinhole.k2 = 0.1;
+  const CameraModel camera = pinhole;
+  CHECK(camera.max_incidence_rad() == Approx(kPi / 4).epsilon(1e-14));
+  CHECK(camera.Project(Eigen::Vector3d(0.999, 0.0, 1.0)).has_value());
+  CHECK_FALSE(camera.Project(Eigen::Vector3d(1.001, 0.0, 1.0)).has_value());
+  CHECK_FALSE(camera.Project(Eigen::Vector3d(0.0, 3.0, 1.0)).has_value());
+  // A negative leading coefficient turns over somewhere; without distortion every point in front
+  // projects.
+  CHECK(CameraModel(DistortedPinhole()).max_incidence_rad() < kPi / 2);
+  const CameraModel undistorted = PinholeRadTan::FromFov(640, 480, 60.0 * kRadPerDeg);
+  CHECK(undistorted.max_incidence_rad() == kPi / 2);
+  CHECK(undistorted.Project(Eigen::Vector3d(1e6, 0.0, 1.0)).has_value());
+  // The fisheye's slope d theta_d / d theta with the same k1, k2 is zero at theta^2 = 1 and 2.
+  KannalaBrandt fisheye = KannalaBrandt::FromFov(640, 480, 90.0 * kRadPerDeg);
+  fisheye.k1 = -0.5;
+  fisheye.k2 = 0.1;
+  CHECK(CameraModel(fisheye).max_incidence_rad() == Approx(1.0).epsilon(1e-14));
 }
 
 }  // namespace

@@ -321,7 +321,7 @@ TEST_CASE("the ORB-SLAM settings file reads back with cv::FileStorage", "[export
   CHECK(ReadText(path).rfind("%YAML:1.0\n", 0) == 0);
   cv::FileStorage settings(path.string(), cv::FileStorage::READ);
   REQUIRE(settings.isOpened());
-  const auto& k = std::get<PinholeRadTan>(Frames().rig.Find("front")->model);
+  const PinholeRadTan& k = *Frames().rig.Find("front")->model.pinhole();
   CHECK(settings["Camera.type"].string() == "PinHole");
   // ORB-SLAM3 reads these with isReal() / isInt().
   for (const char* key :
@@ -392,12 +392,12 @@ TEST_CASE("the upward and lateral cameras are exported in EuRoC layout", "[expor
     const std::vector<double> intrinsics = Doubles(sensor["intrinsics"]);
     const std::vector<double> distortion = Doubles(sensor["distortion_coefficients"]);
     if (camera_id == std::string("upward")) {
-      const auto& m = std::get<KannalaBrandt>(options.model);
+      const KannalaBrandt& m = *options.model.kannala_brandt();
       CHECK(sensor["distortion_model"].as<std::string>() == "equidistant");
       CHECK(intrinsics == std::vector<double>{m.fx, m.fy, m.cx, m.cy});
       CHECK(distortion == std::vector<double>{m.k1, m.k2, m.k3, m.k4});
     } else {
-      const auto& m = std::get<PinholeRadTan>(options.model);
+      const PinholeRadTan& m = *options.model.pinhole();
       CHECK(sensor["distortion_model"].as<std::string>() == "radial-tangential");
       CHECK(intrinsics == std::vector<double>{m.fx, m.fy, m.cx, m.cy});
       CHECK(distortion == std::vector<double>{m.k1, m.k2, m.p1, m.p2});

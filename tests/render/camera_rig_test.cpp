@@ -48,12 +48,13 @@ TEST_CASE("the default rig is P1's front RGB-D and lateral camera plus P3's upwa
   CHECK_FALSE(rig.Check());
   const CameraOptions& front = *rig.Find("front");
   CHECK(front.depth);
-  const auto& fp = std::get<PinholeRadTan>(front.model);
-  CHECK(fp.width == 640);
-  CHECK(fp.height == 480);
-  CHECK(fp.HorizontalFovRad() / kDeg == Approx(58).margin(1e-9));
-  CHECK(fp.VerticalFovRad() / kDeg == Approx(45).margin(1.5));
-  const auto& up = std::get<KannalaBrandt>(rig.Find("upward")->model);
+  REQUIRE(front.model.pinhole() != nullptr);
+  CHECK(front.model.width() == 640);
+  CHECK(front.model.height() == 480);
+  CHECK(front.model.HorizontalFovRad() / kDeg == Approx(58).margin(1e-9));
+  CHECK(front.model.VerticalFovRad() / kDeg == Approx(45).margin(1.5));
+  const CameraModel& up = rig.Find("upward")->model;
+  REQUIRE(up.kannala_brandt() != nullptr);
   CHECK(up.FieldOfViewRad() / kDeg == Approx(110).margin(1e-9));
 }
 
@@ -77,7 +78,7 @@ TEST_CASE("each fisheye pixel samples the pass pixel that sees along the same ra
         CHECK(q.y() <= pass.height - 1);
         const Vector3d ray_in_pass((q.x() - pass.cx) / pass.fx, (q.y() - pass.cy) / pass.fy, 1.0);
         const Vector3d ray = (pass.world_from_camera.rotation() * ray_in_pass).normalized();
-        const Vector3d expected = Unproject(camera_options.model, Vector2d(u, v)).normalized();
+        const Vector3d expected = camera_options.model.Unproject(Vector2d(u, v)).normalized();
         CHECK((ray - expected).norm() < 1e-5);
       }
     }
@@ -96,10 +97,11 @@ TEST_CASE("an undistorted pinhole camera is drawn in one exact pass", "[render][
 
 TEST_CASE("a distorted pinhole camera samples one wider pass along its rays", "[render][rig]") {
   CameraOptions camera_options = RigOptions::Default().cameras[1];
-  auto& p = std::get<PinholeRadTan>(camera_options.model);
+  PinholeRadTan p = *camera_options.model.pinhole();
   p.k1 = -0.28;
   p.k2 = 0.07;
   p.p1 = 1e-4;
+  camera_options.model = p;
   const CameraRenderer renderer(camera_options);
   const std::vector<View> passes = renderer.Passes(SE3());
   REQUIRE(passes.size() == 1);
@@ -110,7 +112,7 @@ TEST_CASE("a distorted pinhole camera samples one wider pass along its rays", "[
     const Vector3d ray =
         Vector3d((hit->second.x() - pass.cx) / pass.fx, (hit->second.y() - pass.cy) / pass.fy, 1.0)
             .normalized();
-    CHECK((ray - Unproject(camera_options.model, Vector2d(u, v)).normalized()).norm() < 1e-5);
+    CHECK((ray - camera_options.model.Unproject(Vector2d(u, v)).normalized()).norm() < 1e-5);
   }
 }
 
@@ -119,8 +121,9 @@ TEST_CASE("the rig rejects impossible cameras naming the key", "[render][rig]") 
     RigOptions rig = RigOptions::Default();
     rig.cameras[2].model = KannalaBrandt::FromFov(640, 480, 179.0 * kDeg);
     CHECK_FALSE(rig.Check());
-    auto& k = std::get<KannalaBrandt>(rig.cameras[2].model);
+    KannalaBrandt k = *rig.cameras[2].model.kannala_brandt();
     k.fx = k.fy = 480 / std::numbers::pi;  // 180 degrees
+    rig.cameras[2].model = k;
     REQUIRE(rig.Check());
     CHECK(rig.Check()->key == "upward.fov_deg");
   }
@@ -132,17 +135,23 @@ TEST_CASE("the rig rejects impossible cameras naming the key", "[render][rig]") 
   }
   {
     RigOptions rig = RigOptions::Default();
-    std::get<PinholeRadTan>(rig.cameras[1].model).width = 0;
+    PinholeRadTan p = *rig.cameras[1].model.pinhole();
+    p.width = 0;
+    rig.cameras[1].model = p;
     REQUIRE(rig.Check());
     CHECK(rig.Check()->key == "lateral.width");
   }
   {  // sizes whose passes or remap tables could not be allocated
     RigOptions rig = RigOptions::Default();
-    std::get<PinholeRadTan>(rig.cameras[0].model).width = 100000;
+    PinholeRadTan p = *rig.cameras[0].model.pinhole();
+    p.width = 100000;
+    rig.cameras[0].model = p;
     REQUIRE(rig.Check());
     CHECK(rig.Check()->key == "front.width");
     RigOptions rig2 = RigOptions::Default();
-    std::get<KannalaBrandt>(rig2.cameras[2].model).fx = 1e10;
+    KannalaBrandt k = *rig2.cameras[2].model.kannala_brandt();
+    k.fx = 1e10;
+    rig2.cameras[2].model = k;
     REQUIRE(rig2.Check());
     CHECK(rig2.Check()->key == "upward.fx");
     RigOptions rig3 = RigOptions::Default();
@@ -184,12 +193,14 @@ TEST_CASE("sensors are parsed from YAML; unknown cameras and keys are errors", "
   YamlMap map(doc, doc.root, "sensors", nullptr);
   ParseSensors(map, rig);
   CHECK(rig.Find("front")->rate_hz == 5);
-  const auto& f = std::get<PinholeRadTan>(rig.Find("front")->model);
-  CHECK(f.width == 320);
+  const CameraModel& f = rig.Find("front")->model;
+  REQUIRE(f.pinhole() != nullptr);
+  CHECK(f.width() == 320);
   CHECK(f.HorizontalFovRad() / kDeg == Approx(60));
   CHECK(rig.Find("front")->mount.x_m == 0.3);
   CHECK(rig.Find("front")->mount.z_m == 0.5);
-  const auto& k = std::get<KannalaBrandt>(rig.Find("upward")->model);
+  REQUIRE(rig.Find("upward")->model.kannala_brandt() != nullptr);
+  const KannalaBrandt& k = *rig.Find("upward")->model.kannala_brandt();
   CHECK(k.fx == Approx(480 / (130 * kDeg)));  // fov_deg sets the focal length before distortion
   CHECK(k.k1 == 0.01);
   CHECK_FALSE(rig.Find("lateral")->enabled);

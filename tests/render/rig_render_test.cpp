@@ -76,7 +76,7 @@ double DepthToPlane(const PinholeRadTan& k, const SE3& world_from_camera, double
 TEST_CASE("noise-free depth equals the distance to the known walls within 1 mm", "[render][gl]") {
   const worlds::World& world = Shared().world;
   const CameraOptions camera_options = RigOptions::Default().cameras[0];
-  const auto& k = std::get<PinholeRadTan>(camera_options.model);
+  const PinholeRadTan& k = *camera_options.model.pinhole();
   // A robot at x = 20 looking along +x; the camera is 0.45 m up.
   const SE3 world_from_robot = SE3::FromSE2(SE2(20.0, 0.0, 0.0));
   const SE3 world_from_camera = world_from_robot * camera_options.mount.RobotFromCamera();
@@ -119,7 +119,7 @@ TEST_CASE("noise-free depth equals the distance to the known walls within 1 mm",
 
 TEST_CASE("label images agree with the geometry", "[render][gl]") {
   const CameraOptions camera_options = RigOptions::Default().cameras[0];
-  const auto& k = std::get<PinholeRadTan>(camera_options.model);
+  const PinholeRadTan& k = *camera_options.model.pinhole();
   const SE3 world_from_camera =
       SE3::FromSE2(SE2(20.0, 0.0, 0.0)) * camera_options.mount.RobotFromCamera();
   const CameraFrame frame = RenderWith(camera_options, world_from_camera);
@@ -161,7 +161,7 @@ TEST_CASE("a door plate seen straight on appears where its corners project, with
   const worlds::DoorPlate& plate = world.plates.front();
   CameraOptions camera_options = RigOptions::Default().cameras[1];
   camera_options.model = PinholeRadTan::FromFov(640, 480, 60 * kDeg);
-  const auto& k = std::get<PinholeRadTan>(camera_options.model);
+  const PinholeRadTan& k = *camera_options.model.pinhole();
   // Camera 1.0 m in front of the plate, at its height, looking at it.
   const Vector3d n = plate.normal;
   const Vector3d c = plate.center + 1.0 * n;
@@ -234,7 +234,7 @@ TEST_CASE("a lamp seen by the upward fisheye appears where the camera model puts
           if (q.norm() > 1) continue;
           const Vector3d p = lamp.center + Vector3d(q.x(), q.y(), 0) * lamp.radius_m;
           Eigen::Matrix<double, 2, 3> J;
-          const auto px = Project(camera_options.model, camera_from_world * p, &J);
+          const auto px = camera_options.model.Project(camera_from_world * p, &J);
           REQUIRE(px);
           const double w = std::abs((J * d_camera_d_disc).determinant());
           weighted += w * *px;

@@ -1,0 +1,22 @@
+#pragma once
+// Camera models as JSON, in the form of the per-camera entries of intrinsics.json
+// (docs/frames.md), which OpenCV- and Kalibr-style tools read:
+//   {"model": "pinhole_radtan" | "kannala_brandt", "width": px, "height": px, "fx": px,
+//    "fy": px, "cx": px, "cy": px, "distortion": [k1, k2, p1, p2, k3] | [k1, k2, k3, k4]}
+
+#include <nlohmann/json.hpp>
+
+#include "common/camera_models.h"
+
+namespace corridorsim {
+
+/// The model as the object above, keys in that order.
+nlohmann::ordered_json CameraModelToJson(const CameraModel& model);
+
+/// The model an object of the form above describes. Throws OptionsError naming the key (a
+/// missing, unknown or mistyped key, a distortion of the wrong length, an unknown model name) or,
+/// with the key "model", what CameraModel::Check() finds wrong with the parameters.
+CameraModel CameraModelFromJson(const nlohmann::ordered_json& json);
+CameraModel CameraModelFromJson(const nlohmann::json& json);
+
+}  // namespace corridorsim

@@ -1,0 +1,108 @@
+// Tests common/io/camera_json.cpp: camera models to JSON and back, in intrinsics.json's form.
+#include "common/io/camera_json.h"
+
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include <catch2/catch.hpp>
+
+#include "common/error.h"
+
+namespace corridorsim {
+namespace {
+
+constexpr double kRadPerDeg = std::numbers::pi / 180.0;
+
+PinholeRadTan DistortedPinhole() {
+  PinholeRadTan camera = PinholeRadTan::FromFov(640, 480, 58.0 * kRadPerDeg);
+  camera.fy *= 1.001;
+  camera.k1 = -0.28;
+  camera.k2 = 0.07;
+  camera.p1 = 1e-4;
+  camera.p2 = -2e-4;
+  camera.k3 = -0.005;
+  return camera;
+}
+
+KannalaBrandt Fisheye() {
+  KannalaBrandt camera = KannalaBrandt::FromFov(640, 480, 110.0 * kRadPerDeg);
+  camera.cx += 1.3;
+  camera.k1 = 0.02;
+  camera.k2 = -0.005;
+  camera.k3 = 0.001;
+  camera.k4 = -0.0002;
+  return camera;
+}
+
+// The problem CameraModelFromJson reports for `text` (fails the test if it accepts it).
+OptionsProblem ProblemOf(const std::string& text) {
+  try {
+    CameraModelFromJson(nlohmann::json::parse(text));
+  } catch (const OptionsError& e) {
+    return e.problem();
+  }
+  FAIL("no OptionsError for " << text);
+  return {};
+}
+
+const char* const kFisheyeJson =
+    R"({"model": "kannala_brandt", "width": 64, "height": 48, "fx": 25.0, "fy": 25.0, )"
+    R"("cx": 31.5, "cy": 23.5, "distortion": [0.01, 0, 0, 0]})";
+
+TEST_CASE("camera models survive JSON text and back bit for bit", "[camera][json]") {
+  for (const CameraModel& model : {CameraModel(DistortedPinhole()), CameraModel(Fisheye()),
+                                   CameraModel(PinholeRadTan::FromFov(64, 48, 1.0))}) {
+    INFO(CameraModelToJson(model).dump());
+    CHECK(CameraModelFromJson(CameraModelToJson(model)) == model);
+    CHECK(CameraModelFromJson(nlohmann::json::parse(CameraModelToJson(model).dump())) == model);
+  }
+}
+
+TEST_CASE("CameraModelToJson writes intrinsics.json's keys in their order", "[camera][json]") {
+  PinholeRadTan pinhole;
+  pinhole.width = 64;
+  pinhole.height = 48;
+  pinhole.fx = pinhole.fy = 50.0;
+  pinhole.cx = 31.5;
+  pinhole.cy = 23.5;
+  pinhole.k1 = -0.1;
+  CHECK(CameraModelToJson(pinhole).dump() ==
+        R"({"model":"pinhole_radtan","width":64,"height":48,"fx":50.0,"fy":50.0,"cx":31.5,)"
+        R"("cy":23.5,"distortion":[-0.1,0.0,0.0,0.0,0.0]})");
+  const CameraModel fisheye = CameraModelFromJson(nlohmann::json::parse(kFisheyeJson));
+  REQUIRE(fisheye.kannala_brandt() != nullptr);
+  CHECK(fisheye.kannala_brandt()->k1 == 0.01);
+  CHECK(CameraModelToJson(fisheye).dump() ==
+        R"({"model":"kannala_brandt","width":64,"height":48,"fx":25.0,"fy":25.0,"cx":31.5,)"
+        R"("cy":23.5,"distortion":[0.01,0.0,0.0,0.0]})");
+}
+
+TEST_CASE("CameraModelFromJson rejects malformed models naming the key", "[camera][json]") {
+  const auto with = [](const std::string& from, const std::string& to) {
+    std::string text = kFisheyeJson;
+    const std::size_t at = text.find(from);
+    REQUIRE(at != std::string::npos);
+    return text.replace(at, from.size(), to);
+  };
+  CHECK(ProblemOf("[1, 2]").key == "camera");
+  CHECK(ProblemOf(with(R"("width": 64, )", "")).key == "width");
+  CHECK(ProblemOf(with(R"("width": 64)", R"("width": 64.5)")).key == "width");
+  CHECK(ProblemOf(with(R"("width": 64)", R"("width": -64)")).key == "width");
+  CHECK(ProblemOf(with(R"("fx": 25.0)", R"("fx": "25")")).key == "fx");
+  CHECK(ProblemOf(with(R"("cy": 23.5, )", R"("cy": 23.5, "k1": 0.1, )")).key == "k1");
+  const OptionsProblem model = ProblemOf(with("kannala_brandt", "fisheye"));
+  CHECK(model.key == "model");
+  CHECK_THAT(model.message, Catch::Contains("\"pinhole_radtan\" or \"kannala_brandt\""));
+  const OptionsProblem length = ProblemOf(with("[0.01, 0, 0, 0]", "[0.01, 0, 0, 0, 0]"));
+  CHECK(length.key == "distortion");
+  CHECK_THAT(length.message, Catch::Contains("[k1, k2, k3, k4]"));
+  CHECK(ProblemOf(with("[0.01, 0, 0, 0]", R"([0.01, 0, null, 0])")).key == "distortion");
+  // Well-formed but impossible: CameraModel::Check()'s message under "model".
+  const OptionsProblem check = ProblemOf(with(R"("width": 64)", R"("width": 0)"));
+  CHECK(check.key == "model");
+  CHECK_THAT(check.message, Catch::Contains("image size must be positive"));
+}
+
+}  // namespace
+}  // namespace corridorsim

@@ -1,0 +1,51 @@
+// Tests harness/calibration.cpp: the calibration a pipeline gets is the scenario's nominal robot,
+// encoders and enabled cameras.
+#include "harness/calibration.h"
+
+#include <catch2/catch.hpp>
+
+namespace corridorsim {
+namespace {
+
+TEST_CASE("the calibration holds the scenario's nominal robot, encoders and cameras", "[harness]") {
+  Scenario scenario;
+  scenario.robot.wheelbase_m = 0.4;
+  scenario.robot.wheel_diameter_m = 0.2;
+  scenario.robot.odometry.ticks_per_revolution = 1000;
+  scenario.robot.odometry.wheelbase_ratio = 1.01;  // the real robot's, not the calibration's
+  scenario.rig.cameras[0].depth_noise.min_m = 0.6;
+  scenario.rig.cameras[0].depth_noise.max_m = 6.0;
+  scenario.rig.cameras[1].enabled = false;
+  const slam::Calibration calibration = CalibrationOf(scenario);
+  CHECK_FALSE(calibration.Check());
+  CHECK(calibration.wheelbase_m == 0.4);
+  CHECK(calibration.wheel_diameter_m == 0.2);
+  CHECK(calibration.ticks_per_revolution == 1000);
+  REQUIRE(calibration.cameras.size() == 2);
+  CHECK(calibration.Find("lateral") == nullptr);
+  const slam::CameraCalibration& front = *calibration.Find("front");
+  const render::CameraOptions& front_options = scenario.rig.cameras[0];
+  CHECK(front.model == front_options.model);
+  CHECK(front.robot_from_camera.translation() ==
+        front_options.mount.RobotFromCamera().translation());
+  CHECK(front.robot_from_camera.rotation() == front_options.mount.RobotFromCamera().rotation());
+  REQUIRE(front.depth.has_value());
+  CHECK(front.depth->min_m == 0.6);
+  CHECK(front.depth->max_m == 6.0);
+  const slam::CameraCalibration& upward = *calibration.Find("upward");
+  CHECK(upward.model == scenario.rig.cameras[2].model);
+  CHECK_FALSE(upward.depth.has_value());
+}
+
+TEST_CASE("the default scenario's calibration is the Pioneer 3-DX's", "[harness]") {
+  const Scenario scenario;
+  const slam::Calibration calibration = CalibrationOf(scenario);
+  CHECK_FALSE(calibration.Check());
+  CHECK(calibration.wheelbase_m == sim::RobotOptions{}.wheelbase_m);
+  CHECK(calibration.wheel_diameter_m == sim::RobotOptions{}.wheel_diameter_m);
+  CHECK(calibration.ticks_per_revolution == sim::OdometryOptions{}.ticks_per_revolution);
+  CHECK(calibration.cameras.size() == scenario.rig.cameras.size());
+}
+
+}  // namespace
+}  // namespace corridorsim
