@@ -242,6 +242,20 @@ void GlBackend::CheckGlError(const char* where) {
   if (!errors.empty()) Fail(std::string("GL error after ") + where + ": " + errors);
 }
 
+namespace {
+
+// The info log of a shader or program (GL's glGet*iv and glGet*InfoLog of the same object).
+template <class GetIv, class GetLog>
+std::string InfoLog(GLuint id, GetIv get_iv, GetLog get_log) {
+  GLint length = 0;
+  get_iv(id, GL_INFO_LOG_LENGTH, &length);
+  std::string log(std::size_t(std::max(length, 1)), '\0');
+  get_log(id, GLsizei(log.size()), nullptr, log.data());
+  return log.c_str();  // up to the terminating zero GL wrote
+}
+
+}  // namespace
+
 GLuint GlBackend::LinkProgram(const std::string& vertex_source,
                               const std::string& fragment_source) {
   auto compile = [&](GLenum type, const std::string& source, const char* name) {
@@ -252,12 +266,9 @@ GLuint GlBackend::LinkProgram(const std::string& vertex_source,
     GLint ok = GL_FALSE;
     gl_.GetShaderiv(shader, GL_COMPILE_STATUS, &ok);
     if (ok != GL_TRUE) {
-      GLint length = 0;
-      gl_.GetShaderiv(shader, GL_INFO_LOG_LENGTH, &length);
-      std::string log(std::size_t(std::max(length, 1)), '\0');
-      gl_.GetShaderInfoLog(shader, GLsizei(log.size()), nullptr, log.data());
+      const std::string log = InfoLog(shader, gl_.GetShaderiv, gl_.GetShaderInfoLog);
       gl_.DeleteShader(shader);
-      Fail(std::string(name) + " shader does not compile: " + log.c_str());
+      Fail(std::string(name) + " shader does not compile: " + log);
     }
     return shader;
   };
@@ -278,12 +289,9 @@ GLuint GlBackend::LinkProgram(const std::string& vertex_source,
   GLint ok = GL_FALSE;
   gl_.GetProgramiv(id, GL_LINK_STATUS, &ok);
   if (ok != GL_TRUE) {
-    GLint length = 0;
-    gl_.GetProgramiv(id, GL_INFO_LOG_LENGTH, &length);
-    std::string log(std::size_t(std::max(length, 1)), '\0');
-    gl_.GetProgramInfoLog(id, GLsizei(log.size()), nullptr, log.data());
+    const std::string log = InfoLog(id, gl_.GetProgramiv, gl_.GetProgramInfoLog);
     gl_.DeleteProgram(id);
-    Fail(std::string("shader program does not link: ") + log.c_str());
+    Fail(std::string("shader program does not link: ") + log);
   }
   return id;
 }

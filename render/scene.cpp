@@ -98,6 +98,22 @@ void BakeLighting(Scene* scene) {
   }
 }
 
+// Calls f(cell index) for every culling-grid cell that the rectangle [x0, x1] x [y0, y1] (world
+// frame, m) touches, the rectangle clamped to the grid.
+template <class F>
+void ForEachGridCell(const Scene& scene, double x0, double y0, double x1, double y1, F&& f) {
+  auto cell_of = [&](double v, double origin, int n) {
+    return std::clamp(static_cast<int>(std::floor((v - origin) / scene.grid_cell_m)), 0, n - 1);
+  };
+  const int ix0 = cell_of(x0, scene.grid_origin.x(), scene.grid_nx);
+  const int ix1 = cell_of(x1, scene.grid_origin.x(), scene.grid_nx);
+  const int iy0 = cell_of(y0, scene.grid_origin.y(), scene.grid_ny);
+  const int iy1 = cell_of(y1, scene.grid_origin.y(), scene.grid_ny);
+  for (int iy = iy0; iy <= iy1; ++iy) {
+    for (int ix = ix0; ix <= ix1; ++ix) f(static_cast<std::size_t>(iy) * scene.grid_nx + ix);
+  }
+}
+
 }  // namespace
 
 Scene BuildScene(const worlds::World& world, const SceneOptions& options) {
@@ -181,21 +197,11 @@ Scene BuildScene(const worlds::World& world, const SceneOptions& options) {
   scene.grid_nx = std::max(1, static_cast<int>(std::ceil(extent.x() / scene.grid_cell_m)));
   scene.grid_ny = std::max(1, static_cast<int>(std::ceil(extent.y() / scene.grid_cell_m)));
   scene.grid_cells.assign(static_cast<std::size_t>(scene.grid_nx) * scene.grid_ny, {});
-  auto cell_of = [&](double v, double origin, int n) {
-    return std::clamp(static_cast<int>(std::floor((v - origin) / scene.grid_cell_m)), 0, n - 1);
-  };
   for (std::size_t i = 0; i < scene.drawables.size(); ++i) {
     const auto& b = scene.drawables[i].bounds;
-    const int ix0 = cell_of(b.min().x(), scene.grid_origin.x(), scene.grid_nx);
-    const int ix1 = cell_of(b.max().x(), scene.grid_origin.x(), scene.grid_nx);
-    const int iy0 = cell_of(b.min().y(), scene.grid_origin.y(), scene.grid_ny);
-    const int iy1 = cell_of(b.max().y(), scene.grid_origin.y(), scene.grid_ny);
-    for (int iy = iy0; iy <= iy1; ++iy) {
-      for (int ix = ix0; ix <= ix1; ++ix) {
-        scene.grid_cells[static_cast<std::size_t>(iy) * scene.grid_nx + ix].push_back(
-            static_cast<int>(i));
-      }
-    }
+    ForEachGridCell(
+        scene, b.min().x(), b.min().y(), b.max().x(), b.max().y(),
+        [&](std::size_t cell) { scene.grid_cells[cell].push_back(static_cast<int>(i)); });
   }
   return scene;
 }
@@ -206,20 +212,10 @@ std::vector<int> VisibleDrawables(const Scene& scene, const View& view) {
   const Frustum f = MakeFrustum(view);
   Eigen::AlignedBox2d footprint(view.world_from_camera.translation().head<2>());
   for (const auto& corner : f.corners) footprint.extend(corner.head<2>());
-  auto cell_of = [&](double v, double origin, int n) {
-    return std::clamp(static_cast<int>(std::floor((v - origin) / scene.grid_cell_m)), 0, n - 1);
-  };
-  const int ix0 = cell_of(footprint.min().x(), scene.grid_origin.x(), scene.grid_nx);
-  const int ix1 = cell_of(footprint.max().x(), scene.grid_origin.x(), scene.grid_nx);
-  const int iy0 = cell_of(footprint.min().y(), scene.grid_origin.y(), scene.grid_ny);
-  const int iy1 = cell_of(footprint.max().y(), scene.grid_origin.y(), scene.grid_ny);
-  for (int iy = iy0; iy <= iy1; ++iy) {
-    for (int ix = ix0; ix <= ix1; ++ix) {
-      for (const int i : scene.grid_cells[static_cast<std::size_t>(iy) * scene.grid_nx + ix]) {
-        out.push_back(i);
-      }
-    }
-  }
+  ForEachGridCell(scene, footprint.min().x(), footprint.min().y(), footprint.max().x(),
+                  footprint.max().y(), [&](std::size_t cell) {
+                    for (const int i : scene.grid_cells[cell]) out.push_back(i);
+                  });
   std::sort(out.begin(), out.end());
   out.erase(std::unique(out.begin(), out.end()), out.end());
   std::erase_if(out, [&](int i) { return !f.MayIntersect(scene.drawables[i].bounds); });
