@@ -12,6 +12,8 @@
 #include <Eigen/Cholesky>
 #include <boost/math/distributions/chi_squared.hpp>
 
+#include "common/io/stable_json.h"
+
 namespace corridorsim {
 namespace {
 
@@ -44,11 +46,8 @@ void CheckOrDie(bool ok, const char* what) {
 
 // ---- Rounding: fixed steps per unit so the JSON is byte-stable --------------------------------
 
-// Rounds to a multiple of 1 / inverse_step (a power of ten); dividing gives the double nearest to
-// the decimal, which prints short. Adding 0.0 turns -0 into 0.
-double RoundDiv(double value, double inverse_step) {
-  return std::round(value * inverse_step) / inverse_step + 0.0;
-}
+// The project's stable JSON rounding (common/io/stable_json.h).
+double RoundDiv(double value, double steps_per_unit) { return RoundToStep(value, steps_per_unit); }
 Json Metres(double v) { return RoundDiv(v, 1e6); }
 Json Rad(double v) { return RoundDiv(v, 1e8); }
 Json Px(double v) { return RoundDiv(v, 1e4); }
