@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "common/io/atomic_file.h"
+#include "common/io/stable_json.h"
 #include "harness/frame_io.h"
 #include "render/frame_truth.h"
 #include "worlds/image_io.h"
@@ -67,7 +68,8 @@ std::string RealList(const std::vector<double>& values) {
   return text + "]";
 }
 
-double Round4(double v) { return std::round(v * 1e4) / 1e4; }
+// COCO boxes and areas in pixels (common/io/stable_json.h).
+double Round4(double v) { return RoundToStep(v, json_steps::kPx); }
 
 // The model's intrinsics (CameraModel::intrinsics()) and whether it is the fisheye.
 struct Intrinsics : CameraIntrinsics {
@@ -319,7 +321,7 @@ void DatasetExporter::AddFrame(const sim::CameraMessage& message, const std::str
       box.y = y0;
       box.w = Round4(x1 - x0);
       box.h = Round4(y1 - y0);
-      box.visible_fraction = std::round(p.visible_fraction * 1e6) / 1e6;
+      box.visible_fraction = RoundToStep(p.visible_fraction, json_steps::kRatio);
       box.fully_in_image = p.fully_in_image;
       image.plates.push_back(std::move(box));
     }

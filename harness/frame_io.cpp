@@ -91,12 +91,6 @@ Image8 DrawOverlay(const Image8& rgb, const render::FrameTruth& truth) {
   return out;
 }
 
-nlohmann::ordered_json PoseJson(const SE3& pose) {
-  const Eigen::Quaterniond q = pose.quaternion();
-  return {{"t", {pose.translation().x(), pose.translation().y(), pose.translation().z()}},
-          {"q", {q.x(), q.y(), q.z(), q.w()}}};
-}
-
 nlohmann::ordered_json IntrinsicsJson(const render::CameraOptions& options) {
   nlohmann::ordered_json j = CameraModelToJson(options.model);
   const SE3 robot_from_camera = options.mount.RobotFromCamera();

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "common/image.h"
+#include "common/io/stable_json.h"  // PoseJson: the one pose convention of every JSON file
 #include "common/pose.h"
 #include "render/backend.h"
 #include "render/camera_rig.h"
@@ -28,9 +29,6 @@ std::string EncodeDepth(const ImageF& depth, const std::string& what);
 
 /// The ground truth drawn on the image, for a person to check at a glance.
 Image8 DrawOverlay(const Image8& rgb, const render::FrameTruth& truth);
-
-/// {"t": [x, y, z], "q": [qx, qy, qz, qw]}.
-nlohmann::ordered_json PoseJson(const SE3& pose);
 
 /// Model, size, fx, fy, cx, cy, distortion, robot_from_camera, and depth_scale for depth cameras.
 nlohmann::ordered_json IntrinsicsJson(const render::CameraOptions& options);

@@ -3,9 +3,15 @@
 #include <cmath>
 #include <cstdio>
 
+#include "common/io/stable_json.h"
 #include "worlds/world.h"
 
 namespace corridorsim {
+namespace {
+
+constexpr double kSlipStepsPerM = 1e9;  // slips are often far below a micrometre
+
+}  // namespace
 
 nlohmann::ordered_json EventJson(const sim::Event& e) {
   nlohmann::ordered_json j;
@@ -17,15 +23,15 @@ nlohmann::ordered_json EventJson(const sim::Event& e) {
     case sim::EventKind::kCollisionEnd: {
       j["object_id"] = e.instance_id;
       j["object_class"] = worlds::SemanticClassName(e.semantic_class);
-      const auto r = [](double v) { return std::round(v * 1e6) / 1e6; };
-      j["position"] = {r(e.position_in_world.x()), r(e.position_in_world.y()),
-                       r(e.position_in_world.z())};
-      if (e.kind == sim::EventKind::kCollisionBegin) j["depth_m"] = r(e.depth_m);
+      j["position"] = RoundedJson(e.position_in_world, json_steps::kMetres);
+      if (e.kind == sim::EventKind::kCollisionBegin) {
+        j["depth_m"] = RoundToStep(e.depth_m, json_steps::kMetres);
+      }
       break;
     }
     case sim::EventKind::kSlip:
       j["wheel"] = e.left_wheel ? "left" : "right";
-      j["extra_distance_m"] = std::round(e.distance_m * 1e9) / 1e9;
+      j["extra_distance_m"] = RoundToStep(e.distance_m, kSlipStepsPerM);
       break;
     case sim::EventKind::kFrameDropped:
       j["camera"] = e.camera_id;

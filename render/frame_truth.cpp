@@ -6,6 +6,8 @@
 #include <cstdlib>
 #include <numbers>
 
+#include "common/io/stable_json.h"
+
 namespace corridorsim::render {
 namespace {
 
@@ -425,31 +427,14 @@ std::optional<CornerTruth> CornerInFrame(const Frame& frame, const worlds::Corne
 
 // ---- JSON -------------------------------------------------------------------------------------
 
-// Rounds to a multiple of 1 / inverse_step (a power of ten); dividing (not multiplying by the
-// step) gives the double nearest to the decimal, which prints short. Adding 0.0 turns -0 into 0.
-double RoundDiv(double value, double inverse_step) {
-  return std::round(value * inverse_step) / inverse_step + 0.0;
-}
-double Px(double v) { return RoundDiv(v, 1e4); }
-double Metres(double v) { return RoundDiv(v, 1e6); }
-double Rad(double v) { return RoundDiv(v, 1e8); }
-double Deg(double v) { return RoundDiv(v, 1e6); }
-double Fraction(double v) { return RoundDiv(v, 1e6); }
+// Fixed rounding steps (common/io/stable_json.h) so that equal truth prints equal bytes.
+double Px(double v) { return RoundToStep(v, json_steps::kPx); }
+double Metres(double v) { return RoundToStep(v, json_steps::kMetres); }
+double Rad(double v) { return RoundToStep(v, json_steps::kRad); }
+double Deg(double v) { return RoundToStep(v, json_steps::kDeg); }
+double Fraction(double v) { return RoundToStep(v, json_steps::kRatio); }
 
-nlohmann::ordered_json PixelJson(const Vector2d& p) { return {Px(p.x()), Px(p.y())}; }
-
-nlohmann::ordered_json PoseJson(const SE3& pose) {
-  const Vector3d& t = pose.translation();
-  // q and -q are the same rotation: write the one with qw >= 0.
-  const Eigen::Vector4d q = pose.quaternion().w() < 0.0
-                                ? Eigen::Vector4d(-pose.quaternion().coeffs())
-                                : Eigen::Vector4d(pose.quaternion().coeffs());
-  nlohmann::ordered_json json;
-  json["t"] = {Metres(t.x()), Metres(t.y()), Metres(t.z())};
-  json["q"] = {RoundDiv(q.x(), 1e9), RoundDiv(q.y(), 1e9), RoundDiv(q.z(), 1e9),
-               RoundDiv(q.w(), 1e9)};  // Eigen coeffs() order: x, y, z, w
-  return json;
-}
+nlohmann::ordered_json PixelJson(const Vector2d& p) { return RoundedJson(p, json_steps::kPx); }
 
 void AddPolar(nlohmann::ordered_json& json, const std::optional<UpwardPolar>& polar) {
   if (!polar) return;
@@ -548,8 +533,7 @@ nlohmann::ordered_json FrameTruthJson(const FrameTruth& truth) {
   for (const VanishingPointTruth& v : truth.vanishing_points) {
     nlohmann::ordered_json e;
     e["segment_id"] = v.segment_id;
-    e["direction"] = {RoundDiv(v.direction_in_world.x(), 1e9),
-                      RoundDiv(v.direction_in_world.y(), 1e9)};
+    e["direction"] = RoundedJson(v.direction_in_world, json_steps::kUnitVector);
     e["pixel"] = PixelJson(v.pixel);
     e["in_image"] = v.in_image;
     e["camera_in_segment"] = v.camera_in_segment;

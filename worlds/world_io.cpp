@@ -13,6 +13,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "common/io/atomic_file.h"
+#include "common/io/stable_json.h"
 #include "worlds/image_io.h"
 #include "worlds/map_plot.h"
 
@@ -24,19 +25,13 @@ using Json = nlohmann::ordered_json;
 // ---------------------------------------------------------------------------------------------
 // ground_truth.json
 
-// Rounds to kGroundTruthResolutionM; -0 becomes 0 so equal worlds print equal text. Dividing the
-// integer count of steps by the exact step count per metre gives the double nearest the decimal
-// value, which JSON prints in its shortest form (2.3, not 2.3000000000000003).
-double Rounded(double v) {
-  static const double steps_per_m = std::round(1.0 / kGroundTruthResolutionM);
-  const double r = std::round(v * steps_per_m) / steps_per_m;
-  return r == 0.0 ? 0.0 : r;
-}
+// Rounds to kGroundTruthResolutionM with the project's stable JSON rounding (-0 becomes 0, the
+// shortest decimal text), so equal worlds print equal bytes.
+static_assert(1.0 / json_steps::kMetres == kGroundTruthResolutionM);
+double Rounded(double v) { return RoundToStep(v, json_steps::kMetres); }
 
-Json Vec(const Eigen::Vector2d& v) { return Json::array({Rounded(v.x()), Rounded(v.y())}); }
-Json Vec(const Eigen::Vector3d& v) {
-  return Json::array({Rounded(v.x()), Rounded(v.y()), Rounded(v.z())});
-}
+Json Vec(const Eigen::Vector2d& v) { return RoundedJson(v, json_steps::kMetres); }
+Json Vec(const Eigen::Vector3d& v) { return RoundedJson(v, json_steps::kMetres); }
 
 Json PlateJson(const World& world, const DoorPlate& plate) {
   Json j;

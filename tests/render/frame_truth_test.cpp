@@ -516,6 +516,9 @@ TEST_CASE("frame truth JSON names every field, rounds numbers and is stable",
   CHECK(json["world_from_camera"]["t"][2].get<double>() == Approx(t.z()).margin(1e-6));
   CHECK(std::abs(json["world_from_camera"]["q"][3].get<double>()) ==
         Approx(std::abs(world_from_camera.quaternion().w())).margin(1e-9));
+  // The JSON pose convention (common/io/stable_json.h): qw >= 0.
+  CHECK(json["world_from_camera"]["q"][3].get<double>() >= 0.0);
+  CHECK(json["world_from_robot"]["q"][3].get<double>() >= 0.0);
 
   const auto entry = std::find_if(json["plates"].begin(), json["plates"].end(),
                                   [&](const auto& p) { return p["id"] == plate.id; });

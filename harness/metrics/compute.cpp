@@ -1,0 +1,129 @@
+#include "harness/metrics/compute.h"
+
+#include <map>
+#include <string>
+
+#include "common/error.h"
+#include "harness/metrics/association.h"
+#include "harness/metrics/consistency.h"
+#include "harness/metrics/detection.h"
+#include "harness/metrics/map.h"
+#include "harness/metrics/matching.h"
+#include "harness/metrics/registry.h"
+#include "harness/metrics/trajectory.h"
+
+namespace corridorsim {
+namespace {
+
+using Json = nlohmann::ordered_json;
+using metrics::MetricScope;
+using metrics::MetricWriter;
+
+void AddTimingMetrics(const PipelineRecord& pipeline, const metrics::PipelineContext& context,
+                      const MetricWriter& out) {
+  // Frames the pipeline processed: distinct (camera, stamp) of the cameras it used.
+  const std::size_t frames = context.frames.size();
+  const std::size_t steps = pipeline.estimates.size();
+  double total_s = 0.0;
+  for (const auto& [stage, seconds] : pipeline.stage_seconds) total_s += seconds;
+  const MetricWriter t = out.Sub("timing");
+  t.Count("frames", frames);
+  t.Count("steps", steps);
+  t.Map("stage_seconds");
+  for (const auto& [stage, seconds] : pipeline.stage_seconds) {
+    t.MapValue("stage_seconds", stage, seconds);
+  }
+  if (frames > 0) {
+    t.Map("stage_ms_per_frame");
+    for (const auto& [stage, seconds] : pipeline.stage_seconds) {
+      t.MapValue("stage_ms_per_frame", stage, seconds * 1e3 / static_cast<double>(frames));
+    }
+    t.Set("total_ms_per_frame", total_s * 1e3 / static_cast<double>(frames));
+  } else {
+    t.Null("total_ms_per_frame");
+  }
+  if (steps > 0) {
+    t.Set("total_ms_per_step", total_s * 1e3 / static_cast<double>(steps));
+  } else {
+    t.Null("total_ms_per_step");
+  }
+}
+
+Json PipelineMetrics(const MetricsInput& input, const PipelineRecord& pipeline) {
+  const metrics::PipelineContext context = metrics::MakeContext(input, pipeline);
+  Json object;
+  const MetricWriter out(object, MetricScope::kPipeline);
+
+  const metrics::MatchedTrajectory matched = metrics::MatchToTruth(input.truth, pipeline.estimates);
+  metrics::AddTrajectoryMetrics(matched, out);
+  metrics::AddNeesMetrics(matched, out);
+  const std::size_t malformed_innovations = metrics::AddNisMetrics(pipeline.innovations, out);
+
+  // Map and association per type; map.<type> comes first, so "map" precedes "data_association".
+  for (const slam::LandmarkType type : metrics::kMapTypes) {
+    if (!metrics::HasType(pipeline, type)) continue;
+    const metrics::MapMatch map = metrics::AddMapMetrics(pipeline, context, type, out);
+    if (!context.frames.empty() && metrics::HasDetections(pipeline, type)) {
+      metrics::AddAssociationMetrics(pipeline, context, type, map, out);
+    }
+  }
+  metrics::AddDetectionMetrics(pipeline, context, out);
+  AddTimingMetrics(pipeline, context, out);
+
+  // The pipeline's own health, then the malformed output the metrics met (absent when none).
+  const MetricWriter health = out.Sub("health");
+  health.Count("non_positive_covariance",
+               static_cast<std::size_t>(pipeline.health.non_positive_covariance));
+  health.Count("rejected_updates", static_cast<std::size_t>(pipeline.health.rejected_updates));
+  health.Count("malformed_innovations", malformed_innovations);
+  health.Count("non_finite_covariances", matched.non_finite_covariances);
+  health.Count("non_finite_estimates", matched.non_finite_estimates);
+  return object;
+}
+
+void AddRunMetrics(const MetricsInput& input, const MetricWriter& out) {
+  const MetricWriter run = out.Sub("run");
+  double wall_total_s = 0.0;
+  for (const auto& [stage, seconds] : input.timing.wall_seconds) wall_total_s += seconds;
+  run.Set("sim_seconds", input.timing.sim_seconds);
+  run.Map("wall_seconds");
+  for (const auto& [stage, seconds] : input.timing.wall_seconds) {
+    run.MapValue("wall_seconds", stage, seconds);
+  }
+  run.Set("wall_total_s", wall_total_s);
+  if (wall_total_s > 0.0) {
+    run.Set("real_time_factor", input.timing.sim_seconds / wall_total_s);
+    run.Map("wall_fraction");
+    for (const auto& [stage, seconds] : input.timing.wall_seconds) {
+      run.MapValue("wall_fraction", stage, seconds / wall_total_s);
+    }
+  } else {
+    run.Null("real_time_factor");
+  }
+}
+
+}  // namespace
+
+nlohmann::ordered_json ComputeMetrics(const MetricsInput& input) {
+  CheckOrDie(input.world != nullptr, "ComputeMetrics", "input.world is null");
+  Json out;
+  out["schema_version"] = 1;
+  const MetricWriter root(out, MetricScope::kRun);
+  AddRunMetrics(input, root);
+  std::map<std::string, std::size_t> frames_per_camera;
+  for (const FrameTruthSample& f : input.frames) ++frames_per_camera[f.truth.camera_id];
+  root.Count("frames.count", input.frames.size());
+  root.Map("frames.per_camera");
+  for (const auto& [camera, count] : frames_per_camera) {
+    root.MapCount("frames.per_camera", camera, count);
+  }
+  Json pipelines = Json::object();
+  for (const PipelineRecord& pipeline : input.pipelines) {
+    CheckOrDie(!pipelines.contains(pipeline.name), "ComputeMetrics", "two pipelines share a name");
+    pipelines[pipeline.name] = PipelineMetrics(input, pipeline);
+  }
+  out["pipelines"] = std::move(pipelines);
+  return out;
+}
+
+}  // namespace corridorsim

@@ -1,0 +1,133 @@
+#include "harness/metrics/consistency.h"
+
+#include <cmath>
+#include <cstdio>
+
+#include <Eigen/Cholesky>
+
+#include "common/io/stable_json.h"
+#include "harness/metrics/stats.h"
+
+namespace corridorsim {
+namespace metrics {
+
+using Eigen::Matrix3d;
+using Eigen::Vector3d;
+using slam::LandmarkType;
+
+std::optional<double> Nees(const Vector3d& error, const Matrix3d& covariance) {
+  if (!covariance.allFinite()) return std::nullopt;
+  const Eigen::LLT<Matrix3d> llt(covariance);
+  if (llt.info() != Eigen::Success) return std::nullopt;
+  // LLT accepts some matrices with a zero pivot; require a strictly positive diagonal of L.
+  const Matrix3d l = llt.matrixL();
+  if ((l.diagonal().array() <= 0.0).any()) return std::nullopt;
+  return error.dot(llt.solve(error));
+}
+
+void AddNeesMetrics(const MatchedTrajectory& matched, const MetricWriter& out) {
+  const std::vector<MatchedSample>& samples = matched.samples;
+  if (samples.empty()) return;
+  // Samples whose covariance is not positive definite (the shared start pose has a zero
+  // covariance) are skipped and counted.
+  const double sample_low = ChiSquareQuantile(3, kBandLowerTail);
+  const double sample_high = ChiSquareQuantile(3, kBandUpperTail);
+  std::size_t used = 0;
+  std::size_t in_band = 0;
+  double sum = 0.0;
+  for (const MatchedSample& s : samples) {
+    const std::optional<double> nees = Nees(PoseError(s.estimate, s.truth), s.covariance);
+    if (!nees) continue;
+    ++used;
+    sum += *nees;
+    if (*nees >= sample_low && *nees <= sample_high) ++in_band;
+  }
+  out.Count("nees_samples", used);
+  out.Count("nees_skipped", samples.size() - used);
+  if (used == 0) {
+    out.Null("nees_mean");
+    out.Null("nees_in_band_fraction");
+    out.Null("nees_mean_band_low");
+    out.Null("nees_mean_band_high");
+    return;
+  }
+  const double n = static_cast<double>(used);
+  out.Set("nees_mean", sum / n);
+  out.Fraction("nees_in_band_fraction", in_band, used);
+  // The average of N independent NEES values times N is chi2(3N).
+  out.Set("nees_mean_band_low", ChiSquareQuantile(3 * n, kBandLowerTail) / n);
+  out.Set("nees_mean_band_high", ChiSquareQuantile(3 * n, kBandUpperTail) / n);
+}
+
+std::size_t AddNisMetrics(const std::vector<slam::Innovation>& innovations,
+                          const MetricWriter& out) {
+  std::size_t malformed = 0;
+  for (const LandmarkType type : kAllTypes) {
+    std::size_t count = 0;
+    std::size_t gated = 0;
+    std::size_t in_band = 0;
+    double sum = 0.0;
+    double dof_sum = 0.0;
+    for (const slam::Innovation& innovation : innovations) {
+      if (innovation.type != type) continue;
+      if (innovation.dof < 1 || !std::isfinite(innovation.nis) || innovation.nis < 0.0) {
+        ++malformed;
+        continue;
+      }
+      if (!innovation.accepted) {
+        ++gated;
+        continue;
+      }
+      ++count;
+      sum += innovation.nis;
+      dof_sum += innovation.dof;
+      if (innovation.nis >= ChiSquareQuantile(innovation.dof, kBandLowerTail) &&
+          innovation.nis <= ChiSquareQuantile(innovation.dof, kBandUpperTail)) {
+        ++in_band;
+      }
+    }
+    if (count == 0 && gated == 0) continue;
+    const MetricWriter t = out.Sub("nis").Sub(slam::LandmarkTypeName(type));
+    t.Count("count", count);
+    t.Count("gated", gated);
+    if (count == 0) {
+      t.Null("mean");
+      t.Null("in_band_fraction");
+      t.Null("mean_band_low");
+      t.Null("mean_band_high");
+    } else {
+      const double n = static_cast<double>(count);
+      t.Set("mean", sum / n);
+      t.Fraction("in_band_fraction", in_band, count);
+      // The sum of independent chi2(d_i) is chi2(sum d_i).
+      t.Set("mean_band_low", ChiSquareQuantile(dof_sum, kBandLowerTail) / n);
+      t.Set("mean_band_high", ChiSquareQuantile(dof_sum, kBandUpperTail) / n);
+    }
+  }
+  return malformed;
+}
+
+}  // namespace metrics
+
+std::string ErrorSeriesCsv(const std::vector<TruthPose>& truth, const PipelineRecord& pipeline) {
+  using metrics::MatchedSample;
+  std::string csv = "t,ex_m,ey_m,eyaw_rad,sigma_x_m,sigma_y_m,sigma_yaw_rad,nees\n";
+  char line[256];
+  const auto m = [](double v) { return RoundToStep(v, json_steps::kMetres); };
+  const auto rad = [](double v) { return RoundToStep(v, json_steps::kRad); };
+  for (const MatchedSample& s : metrics::MatchToTruth(truth, pipeline.estimates).samples) {
+    const Eigen::Vector3d e = metrics::PoseError(s.estimate, s.truth);
+    const Eigen::Vector3d sigma = s.covariance.diagonal().cwiseMax(0.0).cwiseSqrt();
+    std::snprintf(line, sizeof(line), "%.9f,%.6f,%.6f,%.8f,%.6f,%.6f,%.8f,", ToSeconds(s.stamp_ns),
+                  m(e.x()), m(e.y()), rad(e.z()), m(sigma.x()), m(sigma.y()), rad(sigma.z()));
+    csv += line;
+    if (const std::optional<double> nees = metrics::Nees(e, s.covariance)) {
+      std::snprintf(line, sizeof(line), "%.6f", RoundToStep(*nees, json_steps::kRatio));
+      csv += line;
+    }
+    csv += '\n';
+  }
+  return csv;
+}
+
+}  // namespace corridorsim

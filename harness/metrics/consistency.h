@@ -1,0 +1,39 @@
+#pragma once
+// Consistency metrics: NEES of the pose over (x, y, yaw) and NIS per landmark type, each against
+// its two-sided 95 % chi-square bands (docs/metrics.md); and the error series CSV that plots the
+// errors against their sigmas (P3 Fig. 18).
+
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "harness/metrics/input.h"
+#include "harness/metrics/registry.h"
+#include "harness/metrics/trajectory.h"
+
+namespace corridorsim {
+
+/// Per-time errors for plots: CSV "t,ex_m,ey_m,eyaw_rad,sigma_x_m,sigma_y_m,sigma_yaw_rad,nees",
+/// one row per estimate with truth at its stamp; t in s; errors estimate minus truth (world frame,
+/// yaw wrapped); sigmas from the covariance diagonal; NEES over 3 dof, empty where the covariance
+/// is not positive definite.
+std::string ErrorSeriesCsv(const std::vector<TruthPose>& truth, const PipelineRecord& pipeline);
+
+namespace metrics {
+
+/// NEES e^T P^-1 e over 3 dof, or none when P is not finite or not positive definite.
+std::optional<double> Nees(const Eigen::Vector3d& error, const Eigen::Matrix3d& covariance);
+
+/// nees_* into the pipeline's object (nothing without samples).
+void AddNeesMetrics(const MatchedTrajectory& matched, const MetricWriter& out);
+
+/// nis.<type> for the types with innovations. Returns the malformed innovations (dof < 1, a NIS
+/// that is negative or not finite): left out of the statistics, counted, never fatal.
+std::size_t AddNisMetrics(const std::vector<slam::Innovation>& innovations,
+                          const MetricWriter& out);
+
+}  // namespace metrics
+}  // namespace corridorsim

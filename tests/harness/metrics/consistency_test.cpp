@@ -1,0 +1,124 @@
+// Tests harness/metrics/consistency.cpp: NEES of the pose and NIS per landmark type against their
+// chi-square bands, and the error series CSV. Each case is constructed so that its answer is known
+// in closed form.
+#include "harness/metrics/consistency.h"
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <boost/math/distributions/chi_squared.hpp>
+#include <boost/math/distributions/normal.hpp>
+
+#include "common/random.h"
+
+#include <catch2/catch.hpp>
+
+#include "tests/harness/metrics/support.h"
+#include "tests/support/tolerances.h"
+
+namespace corridorsim::metrics_tests {
+namespace {
+
+// Estimates whose errors are drawn from `covariance_k` (x, y, yaw), reported with
+// covariance_k * reported_scale.
+PipelineRecord DrawnEstimates(const std::vector<TruthPose>& truth, double reported_scale) {
+  RandomStream random(7, 0, "tests.metrics.nees");
+  PipelineRecord record;
+  record.name = "drawn";
+  for (std::size_t k = 0; k < truth.size(); k += 2) {
+    // A covariance that changes along the run: its x-y axes turn with the robot.
+    const double yaw = truth[k].world_from_robot.yaw();
+    Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+    rotation.topLeftCorner<2, 2>() = Eigen::Rotation2Dd(yaw).toRotationMatrix();
+    const double grow = 1.0 + 0.001 * static_cast<double>(k);
+    const Vector3d sigma(0.2 * grow, 0.05 * grow, 0.03);
+    const Matrix3d covariance = rotation * sigma.cwiseAbs2().asDiagonal() * rotation.transpose();
+    const Matrix3d l = covariance.llt().matrixL();
+    const Vector3d z(random.Normal(), random.Normal(), random.Normal());
+    const Vector3d e = l * z;
+    const SE2& t = truth[k].world_from_robot;
+    record.estimates.push_back({truth[k].stamp_ns,
+                                SE2(t.x() + e.x(), t.y() + e.y(), t.yaw() + e.z()),
+                                covariance * reported_scale});
+  }
+  return record;
+}
+
+TEST_CASE("NEES of errors drawn from the covariance lands in band; an overconfident one does not",
+          "[metrics]") {
+  const worlds::World world;
+  const std::vector<TruthPose> truth = ArcTruth(40.0);
+  const Json good = RunOne(world, truth, DrawnEstimates(truth, 1.0));
+  const double n = good["nees_samples"].get<double>();
+  REQUIRE(n == 2001);
+  CHECK(good["nees_skipped"] == 0);
+  // The band of the mean: chi2(3N) / N, two-sided 95 %.
+  const boost::math::chi_squared_distribution<double> mean_dist(3 * n);
+  CHECK(Num(good["nees_mean_band_low"]) ==
+        Approx(boost::math::quantile(mean_dist, 0.025) / n).margin(test::kMetricsJsonRatio));
+  CHECK(Num(good["nees_mean_band_high"]) ==
+        Approx(boost::math::quantile(mean_dist, 0.975) / n).margin(test::kMetricsJsonRatio));
+  CHECK(Num(good["nees_mean"]) >= Num(good["nees_mean_band_low"]));
+  CHECK(Num(good["nees_mean"]) <= Num(good["nees_mean_band_high"]));
+  // About 95 % of the samples inside the per-sample interval (binomial bound).
+  const double z = boost::math::quantile(boost::math::normal(), 0.5 + test::kStatConfidence / 2);
+  const double bound = z * std::sqrt(0.95 * 0.05 / n);
+  CHECK(Num(good["nees_in_band_fraction"]) == Approx(0.95).margin(bound));
+
+  const Json overconfident = RunOne(world, truth, DrawnEstimates(truth, 0.25));
+  CHECK(Num(overconfident["nees_mean"]) > Num(overconfident["nees_mean_band_high"]));
+  CHECK(Num(overconfident["nees_in_band_fraction"]) < 0.95 - bound);
+}
+
+TEST_CASE("NIS is reported per landmark type over the accepted updates", "[metrics]") {
+  const worlds::World world;
+  const std::vector<TruthPose> truth = ArcTruth(1.0);
+  PipelineRecord record = Record("nis", truth, [](const SE2& p) { return p; });
+  // Lamps, 2 dof: 1, 2, 3 accepted (inside [0.0506, 7.38]), 0.01 accepted (below), 50 gated.
+  for (const double nis : {1.0, 2.0, 3.0, 0.01}) {
+    record.innovations.push_back({0, LandmarkType::kLamp, nis, 2, true});
+  }
+  record.innovations.push_back({0, LandmarkType::kLamp, 50.0, 2, false});
+  // Doors, 1 dof: one above the interval (5.02).
+  record.innovations.push_back({0, LandmarkType::kDoor, 6.0, 1, true});
+  const Json m = RunOne(world, truth, record);
+  REQUIRE(m.contains("nis"));
+  const Json& lamp = m["nis"]["lamp"];
+  CHECK(lamp["count"] == 4);
+  CHECK(lamp["gated"] == 1);
+  CHECK(Num(lamp["mean"]) == Approx(6.01 / 4).margin(test::kMetricsJsonRatio));
+  CHECK(Num(lamp["in_band_fraction"]) == Approx(0.75).margin(test::kMetricsJsonRatio));
+  const boost::math::chi_squared_distribution<double> lamp_mean(8);  // 4 updates x 2 dof
+  CHECK(Num(lamp["mean_band_low"]) ==
+        Approx(boost::math::quantile(lamp_mean, 0.025) / 4).margin(test::kMetricsJsonRatio));
+  CHECK(Num(lamp["mean_band_high"]) ==
+        Approx(boost::math::quantile(lamp_mean, 0.975) / 4).margin(test::kMetricsJsonRatio));
+  const Json& door = m["nis"]["door"];
+  CHECK(door["count"] == 1);
+  CHECK(Num(door["in_band_fraction"]) == 0.0);
+  CHECK_FALSE(m["nis"].contains("corner"));
+}
+
+TEST_CASE("the error series CSV has one row per estimate with errors, sigmas and NEES",
+          "[metrics]") {
+  const std::vector<TruthPose> truth = {
+      {0, SE2(0.0, 0.0, 0.0)}, {kGridNs, SE2(1.0, 0.0, 0.2)}, {2 * kGridNs, SE2(2.0, 0.0, 0.4)}};
+  PipelineRecord record;
+  record.name = "csv";
+  // At the start with a zero covariance (no NEES), then between grid points (truth interpolated:
+  // x 1.5, yaw 0.3), then after the truth ends (no row).
+  record.estimates.push_back({0, SE2(0.0, 0.0, 0.0), Matrix3d::Zero()});
+  const Matrix3d covariance = Vector3d(0.04, 0.09, 0.01).asDiagonal();
+  record.estimates.push_back({kGridNs + kGridNs / 2, SE2(1.6, -0.2, 0.35), covariance});
+  record.estimates.push_back({3 * kGridNs, SE2(3.0, 0.0, 0.6), covariance});
+  const std::string csv = ErrorSeriesCsv(truth, record);
+  CHECK(csv ==
+        "t,ex_m,ey_m,eyaw_rad,sigma_x_m,sigma_y_m,sigma_yaw_rad,nees\n"
+        "0.000000000,0.000000,0.000000,0.00000000,0.000000,0.000000,0.00000000,\n"
+        // NEES = 0.1^2/0.04 + 0.2^2/0.09 + 0.05^2/0.01
+        "0.015000000,0.100000,-0.200000,0.05000000,0.200000,0.300000,0.10000000,0.944444\n");
+}
+
+}  // namespace
+}  // namespace corridorsim::metrics_tests
