@@ -45,9 +45,9 @@ void SensorBus::Subscribe(BusConsumer* consumer) { consumers_.push_back(consumer
 void SensorBus::Publish(const sim::StepOutput& step, bool last) {
   const std::vector<CameraSet> sets = GroupCameraSets(step, camera_ids_);
   // (stamp, kind, index): odometry 0, camera sets 1, events 2; at one stamp in that order, and
-  // within one kind in the order the simulation emitted them.
-  std::vector<std::tuple<TimeNs, int, std::size_t>> order;
-  order.reserve(step.odometry.size() + sets.size() + step.events.size());
+  // within one kind in the order the simulation emitted them. The buffer is reused step to step.
+  std::vector<std::tuple<TimeNs, int, std::size_t>>& order = order_;
+  order.clear();
   for (std::size_t i = 0; i < step.odometry.size(); ++i) {
     order.emplace_back(step.odometry[i].stamp_ns, 0, i);
   }

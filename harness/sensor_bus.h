@@ -13,6 +13,7 @@
 
 #include <cstddef>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "common/sensor_messages.h"
@@ -79,6 +80,7 @@ class SensorBus {
  private:
   std::vector<std::string> camera_ids_;
   std::vector<BusConsumer*> consumers_;
+  std::vector<std::tuple<TimeNs, int, std::size_t>> order_;  // (stamp, kind, index) of a step
   double step_seconds_ = 0.0;
 };
 
