@@ -666,11 +666,16 @@ TEST_CASE("the robot can drive along every corridor centre line", "[worlds][gene
 // ---- determinism and random streams
 // --------------------------------------------------------------
 
+// REQUIREs that `a` and `b` have the same size, then calls `check(a[i], b[i])` for each i.
+template <class T, class Check>
+void CheckEachPair(const std::vector<T>& a, const std::vector<T>& b, Check&& check) {
+  REQUIRE(a.size() == b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) check(a[i], b[i]);
+}
+
 void CheckIdentical(const World& a, const World& b) {
   CHECK(GroundTruthJson(a).dump() == GroundTruthJson(b).dump());
-  REQUIRE(a.meshes.size() == b.meshes.size());
-  for (std::size_t i = 0; i < a.meshes.size(); ++i) {
-    const Mesh &ma = a.meshes[i], &mb = b.meshes[i];
+  CheckEachPair(a.meshes, b.meshes, [](const Mesh& ma, const Mesh& mb) {
     INFO("mesh " << ma.name);
     CHECK(ma.name == mb.name);
     CHECK(ma.material == mb.material);
@@ -680,27 +685,25 @@ void CheckIdentical(const World& a, const World& b) {
     CHECK(ma.normals == mb.normals);
     CHECK(ma.uvs == mb.uvs);
     CHECK(ma.indices == mb.indices);
-  }
-  REQUIRE(a.textures.size() == b.textures.size());
-  for (std::size_t i = 0; i < a.textures.size(); ++i) {
-    INFO("texture " << a.textures[i].name);
-    CHECK(a.textures[i].name == b.textures[i].name);
-    CHECK(a.textures[i].image.width == b.textures[i].image.width);
-    CHECK(a.textures[i].image.height == b.textures[i].image.height);
-    CHECK(a.textures[i].image.data == b.textures[i].image.data);
-  }
-  REQUIRE(a.materials.size() == b.materials.size());
-  for (std::size_t i = 0; i < a.materials.size(); ++i) {
-    CHECK(a.materials[i].name == b.materials[i].name);
-    CHECK(a.materials[i].texture == b.materials[i].texture);
-    CHECK(a.materials[i].diffuse == b.materials[i].diffuse);
-    CHECK(a.materials[i].emission == b.materials[i].emission);
-  }
-  REQUIRE(a.collision_boxes.size() == b.collision_boxes.size());
-  for (std::size_t i = 0; i < a.collision_boxes.size(); ++i) {
-    CHECK(a.collision_boxes[i].center == b.collision_boxes[i].center);
-    CHECK(a.collision_boxes[i].half_extents == b.collision_boxes[i].half_extents);
-  }
+  });
+  CheckEachPair(a.textures, b.textures, [](const Texture& ta, const Texture& tb) {
+    INFO("texture " << ta.name);
+    CHECK(ta.name == tb.name);
+    CHECK(ta.image.width == tb.image.width);
+    CHECK(ta.image.height == tb.image.height);
+    CHECK(ta.image.data == tb.image.data);
+  });
+  CheckEachPair(a.materials, b.materials, [](const Material& ma, const Material& mb) {
+    CHECK(ma.name == mb.name);
+    CHECK(ma.texture == mb.texture);
+    CHECK(ma.diffuse == mb.diffuse);
+    CHECK(ma.emission == mb.emission);
+  });
+  CheckEachPair(a.collision_boxes, b.collision_boxes,
+                [](const CollisionBox& ba, const CollisionBox& bb) {
+                  CHECK(ba.center == bb.center);
+                  CHECK(ba.half_extents == bb.half_extents);
+                });
 }
 
 TEST_CASE("generating twice with the same options and seed gives identical worlds",
@@ -746,21 +749,18 @@ TEST_CASE("changing the number of posters moves no door, plate or lamp",
       INFO("posters " << changed.distractors.posters);
       const World other = Generate(changed, 4);
       CHECK(DoorColumns(other) == DoorColumns(reference));
-      REQUIRE(other.doors.size() == reference.doors.size());
-      for (std::size_t i = 0; i < other.doors.size(); ++i) {
-        CHECK(other.doors[i].state == reference.doors[i].state);
-        CHECK(other.doors[i].room_number == reference.doors[i].room_number);
-      }
-      REQUIRE(other.plates.size() == reference.plates.size());
-      for (std::size_t i = 0; i < other.plates.size(); ++i) {
-        CHECK(other.plates[i].center == reference.plates[i].center);
-        CHECK(other.plates[i].size_m == reference.plates[i].size_m);
-      }
-      REQUIRE(other.lamps.size() == reference.lamps.size());
-      for (std::size_t i = 0; i < other.lamps.size(); ++i) {
-        CHECK(other.lamps[i].center == reference.lamps[i].center);
-        CHECK(other.lamps[i].on == reference.lamps[i].on);
-      }
+      CheckEachPair(other.doors, reference.doors, [](const Doorway& da, const Doorway& db) {
+        CHECK(da.state == db.state);
+        CHECK(da.room_number == db.room_number);
+      });
+      CheckEachPair(other.plates, reference.plates, [](const DoorPlate& pa, const DoorPlate& pb) {
+        CHECK(pa.center == pb.center);
+        CHECK(pa.size_m == pb.size_m);
+      });
+      CheckEachPair(other.lamps, reference.lamps, [](const Lamp& la, const Lamp& lb) {
+        CHECK(la.center == lb.center);
+        CHECK(la.on == lb.on);
+      });
       CHECK(static_cast<int>(other.distractors.size()) ==
             static_cast<int>(reference.distractors.size()) + changed.distractors.posters -
                 base.distractors.posters);
