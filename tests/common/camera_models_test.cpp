@@ -367,12 +367,23 @@ void CheckIntrinsics(const CameraIntrinsics& actual, const CameraIntrinsics& exp
 
 TEST_CASE("intrinsics() lists the distortion in OpenCV's order", "[camera]") {
   CheckIntrinsics(CameraModel(DistortedPinhole()).intrinsics(),
-                  {"pinhole_radtan", 640, 480, 525.0, 523.0, 319.2, 240.7,
-                   std::vector<double>{-0.28, 0.07, 1e-4, -2e-4, -0.005}});
+                  {.model = "pinhole_radtan",
+                   .width = 640,
+                   .height = 480,
+                   .fx = 525.0,
+                   .fy = 523.0,
+                   .cx = 319.2,
+                   .cy = 240.7,
+                   .distortion = {-0.28, 0.07, 1e-4, -2e-4, -0.005}});
   const KannalaBrandt k = Fisheye110();
-  CheckIntrinsics(
-      CameraModel(k).intrinsics(),
-      {"kannala_brandt", k.width, k.height, k.fx, k.fy, k.cx, k.cy, {k.k1, k.k2, k.k3, k.k4}});
+  CheckIntrinsics(CameraModel(k).intrinsics(), {.model = "kannala_brandt",
+                                                .width = k.width,
+                                                .height = k.height,
+                                                .fx = k.fx,
+                                                .fy = k.fy,
+                                                .cx = k.cx,
+                                                .cy = k.cy,
+                                                .distortion = {k.k1, k.k2, k.k3, k.k4}});
 }
 
 TEST_CASE("analytic unprojection Jacobians match central differences at random pixels",
