@@ -9,14 +9,12 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
-#include <memory>
 #include <string>
 
-#include "render/backend.h"
 #include "render/camera_rig.h"
-#include "render/scene.h"
 #include "sim/robot.h"
 #include "sim/simulation.h"
+#include "tests/support/uploaded_rig.h"
 #include "worlds/world.h"
 
 namespace {
@@ -24,8 +22,38 @@ namespace {
 using namespace corridorsim;
 using Clock = std::chrono::steady_clock;
 
-double Seconds(Clock::time_point a, Clock::time_point b) {
-  return std::chrono::duration<double>(b - a).count();
+// Wall-clock seconds that `work()` takes.
+template <class F>
+double WallSeconds(F&& work) {
+  const auto start = Clock::now();
+  work();
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// What DriveTimed measured: wall-clock seconds of the steps, and what they delivered.
+struct TimedDrive {
+  double wall_s = 0.0;
+  std::size_t odometry_messages = 0;
+  std::size_t frames = 0;
+};
+
+// Drives the world's default path for `simulated_s` (with `rig` drawing, if given), timing the
+// steps only.
+TimedDrive DriveTimed(const worlds::World& world, sim::SimulationOptions options,
+                      double simulated_s, render::Rig* rig = nullptr,
+                      const render::RigOptions* rig_options = nullptr) {
+  options.max_duration_ns = FromSeconds(simulated_s);
+  sim::Simulation simulation(world, options, sim::BuildRobotPath(world, options.robot_path), rig,
+                             rig_options);
+  TimedDrive drive;
+  drive.wall_s = WallSeconds([&] {
+    while (!simulation.finished()) {
+      const sim::StepOutput& out = simulation.Step();
+      drive.odometry_messages += out.odometry.size();
+      drive.frames += out.frames.size();
+    }
+  });
+  return drive;
 }
 
 }  // namespace
@@ -44,9 +72,9 @@ int main(int argc, char** argv) {
     sim::RobotPhysics robot(world, options.robot, SE2(1.0, 0.0, 0.0));
     robot.SetWheelSpeeds(3.4, 3.4);
     const auto steps = static_cast<long>(sim_s * options.robot.physics_rate_hz);
-    const auto t0 = Clock::now();
-    for (long i = 0; i < steps; ++i) robot.Step();
-    const double wall = Seconds(t0, Clock::now());
+    const double wall = WallSeconds([&] {
+      for (long i = 0; i < steps; ++i) robot.Step();
+    });
     std::printf("  physics alone (%.0f Hz):     %6.2f us/step   real-time factor %7.1fx\n",
                 options.robot.physics_rate_hz, 1e6 * wall / static_cast<double>(steps),
                 sim_s / wall);
@@ -54,38 +82,26 @@ int main(int argc, char** argv) {
 
   // 2. The loop without cameras.
   if (run("loop")) {
-    options.max_duration_ns = FromSeconds(sim_s);
-    sim::Simulation simulation(world, options, sim::BuildRobotPath(world, options.robot_path));
-    const auto t0 = Clock::now();
-    std::size_t messages = 0;
-    while (!simulation.finished()) messages += simulation.Step().odometry.size();
-    const double wall = Seconds(t0, Clock::now());
+    const TimedDrive drive = DriveTimed(world, options, sim_s);
     std::printf(
         "  loop without cameras:       %6.2f us/step   real-time factor %7.1fx  (%zu "
         "odometry messages)\n",
-        1e6 * wall / (sim_s * options.robot.physics_rate_hz), sim_s / wall, messages);
+        1e6 * drive.wall_s / (sim_s * options.robot.physics_rate_hz), sim_s / drive.wall_s,
+        drive.odometry_messages);
   }
 
   // 3. The closed loop with the full rig at 10 Hz.
   if (run("rig")) {
     render::RigOptions rig_options = render::RigOptions::Default();
     for (render::CameraOptions& c : rig_options.cameras) c.rate_hz = 10.0;
-    const render::Scene scene = render::BuildScene(world, rig_options.scene);
-    std::unique_ptr<render::Backend> backend = render::CreateBackend(rig_options.backend);
-    backend->Upload(scene);
-    render::Rig rig(rig_options, scene, *backend);
+    test::UploadedRig uploaded(world, rig_options);
     const double rig_s = sim_s / 4;  // rendering dominates: a shorter run gives the same rate
-    options.max_duration_ns = FromSeconds(rig_s);
-    sim::Simulation simulation(world, options, sim::BuildRobotPath(world, options.robot_path), &rig,
-                               &rig_options);
-    const auto t0 = Clock::now();
-    std::size_t frames = 0;
-    while (!simulation.finished()) frames += simulation.Step().frames.size();
-    const double wall = Seconds(t0, Clock::now());
+    const TimedDrive drive = DriveTimed(world, options, rig_s, &uploaded.rig(), &rig_options);
     std::printf(
         "  closed loop, full rig 10 Hz: %zu frames, real-time factor %6.2fx, %.1f ms "
         "per rig frame (physics and everything else included)\n",
-        frames, rig_s / wall, 1e3 * wall / (static_cast<double>(frames) / 3.0));
+        drive.frames, rig_s / drive.wall_s,
+        1e3 * drive.wall_s / (static_cast<double>(drive.frames) / 3.0));
   }
   return 0;
 }

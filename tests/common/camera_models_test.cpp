@@ -12,6 +12,7 @@
 #include <catch2/catch.hpp>
 
 #include "tests/support/jacobian_check.h"
+#include "tests/support/test_cameras.h"
 #include "tests/support/tolerances.h"
 
 namespace corridorsim {
@@ -68,19 +69,8 @@ double CornerThetaRad(const CameraModel& camera) {
 
 // 640x480 camera with distortion typical of a calibrated wide webcam / RGB-D colour camera.
 PinholeRadTan DistortedPinhole() {
-  PinholeRadTan camera;
-  camera.width = 640;
-  camera.height = 480;
-  camera.fx = 525.0;
-  camera.fy = 523.0;
-  camera.cx = 319.2;
-  camera.cy = 240.7;
-  camera.k1 = -0.28;
-  camera.k2 = 0.07;
-  camera.p1 = 1e-4;
-  camera.p2 = -2e-4;
-  camera.k3 = -0.005;
-  return camera;
+  return test::WithWebcamDistortion(
+      {.width = 640, .height = 480, .fx = 525.0, .fy = 523.0, .cx = 319.2, .cy = 240.7});
 }
 
 // 640x480 fisheyes spanning 110 and 130 deg across the image height, with small k1..k4.
@@ -89,11 +79,7 @@ KannalaBrandt Fisheye110() {
   camera.fy *= 1.002;
   camera.cx += 1.3;
   camera.cy -= 0.8;
-  camera.k1 = 0.02;
-  camera.k2 = -0.005;
-  camera.k3 = 0.001;
-  camera.k4 = -0.0002;
-  return camera;
+  return test::WithSmallFisheyeDistortion(camera);
 }
 
 KannalaBrandt Fisheye130() {
@@ -301,24 +287,24 @@ TEST_CASE("Check rejects non-positive or non-finite focal lengths", "[camera]") 
   CHECK(CameraModel(fisheye).Check().has_value());
 }
 
-TEST_CASE("Check rejects a pinhole field of view of 150 deg or more", "[camera]") {
-  CHECK_FALSE(
-      CameraModel(PinholeRadTan::FromFov(640, 480, 149.0 * kRadPerDeg)).Check().has_value());
-  const std::optional<std::string> problem =
-      CameraModel(PinholeRadTan::FromFov(640, 480, 150.0 * kRadPerDeg)).Check();
+// `just_below` passes Check; `at_limit` fails it with a problem about the field of view.
+void CheckFovLimit(const CameraModel& just_below, const CameraModel& at_limit) {
+  CHECK_FALSE(just_below.Check().has_value());
+  const std::optional<std::string> problem = at_limit.Check();
   REQUIRE(problem.has_value());
   CHECK_THAT(*problem, Catch::Contains("field of view"));
+}
+
+TEST_CASE("Check rejects a pinhole field of view of 150 deg or more", "[camera]") {
+  CheckFovLimit(PinholeRadTan::FromFov(640, 480, 149.0 * kRadPerDeg),
+                PinholeRadTan::FromFov(640, 480, 150.0 * kRadPerDeg));
   // Portrait: the vertical field of view is the wider one.
   CHECK(CameraModel(PinholeRadTan::FromFov(300, 640, 130.0 * kRadPerDeg)).Check().has_value());
 }
 
 TEST_CASE("Check rejects a fisheye field of view of 180 deg or more", "[camera]") {
-  CHECK_FALSE(
-      CameraModel(KannalaBrandt::FromFov(640, 480, 179.0 * kRadPerDeg)).Check().has_value());
-  const std::optional<std::string> problem =
-      CameraModel(KannalaBrandt::FromFov(640, 480, 180.0 * kRadPerDeg)).Check();
-  REQUIRE(problem.has_value());
-  CHECK_THAT(*problem, Catch::Contains("field of view"));
+  CheckFovLimit(KannalaBrandt::FromFov(640, 480, 179.0 * kRadPerDeg),
+                KannalaBrandt::FromFov(640, 480, 180.0 * kRadPerDeg));
 }
 
 TEST_CASE("Check rejects distortion that turns over inside the image", "[camera]") {
@@ -367,24 +353,37 @@ TEST_CASE("CameraModel holds one kind and gives its parameters back", "[camera]"
   CHECK(CameraModel().width() == 0);
 }
 
+// CHECKs every field of `actual` against `expected`.
+void CheckIntrinsics(const CameraIntrinsics& actual, const CameraIntrinsics& expected) {
+  CHECK(actual.model == expected.model);
+  CHECK(actual.width == expected.width);
+  CHECK(actual.height == expected.height);
+  CHECK(actual.fx == expected.fx);
+  CHECK(actual.fy == expected.fy);
+  CHECK(actual.cx == expected.cx);
+  CHECK(actual.cy == expected.cy);
+  CHECK(actual.distortion == expected.distortion);
+}
+
 TEST_CASE("intrinsics() lists the distortion in OpenCV's order", "[camera]") {
-  const CameraIntrinsics pinhole = CameraModel(DistortedPinhole()).intrinsics();
-  CHECK(pinhole.model == "pinhole_radtan");
-  CHECK(pinhole.width == 640);
-  CHECK(pinhole.height == 480);
-  CHECK(pinhole.fx == 525.0);
-  CHECK(pinhole.fy == 523.0);
-  CHECK(pinhole.cx == 319.2);
-  CHECK(pinhole.cy == 240.7);
-  CHECK(pinhole.distortion == std::vector<double>{-0.28, 0.07, 1e-4, -2e-4, -0.005});
+  CheckIntrinsics(CameraModel(DistortedPinhole()).intrinsics(),
+                  {.model = "pinhole_radtan",
+                   .width = 640,
+                   .height = 480,
+                   .fx = 525.0,
+                   .fy = 523.0,
+                   .cx = 319.2,
+                   .cy = 240.7,
+                   .distortion = {-0.28, 0.07, 1e-4, -2e-4, -0.005}});
   const KannalaBrandt k = Fisheye110();
-  const CameraIntrinsics fisheye = CameraModel(k).intrinsics();
-  CHECK(fisheye.model == "kannala_brandt");
-  CHECK(fisheye.fx == k.fx);
-  CHECK(fisheye.fy == k.fy);
-  CHECK(fisheye.cx == k.cx);
-  CHECK(fisheye.cy == k.cy);
-  CHECK(fisheye.distortion == std::vector<double>{k.k1, k.k2, k.k3, k.k4});
+  CheckIntrinsics(CameraModel(k).intrinsics(), {.model = "kannala_brandt",
+                                                .width = k.width,
+                                                .height = k.height,
+                                                .fx = k.fx,
+                                                .fy = k.fy,
+                                                .cx = k.cx,
+                                                .cy = k.cy,
+                                                .distortion = {k.k1, k.k2, k.k3, k.k4}});
 }
 
 TEST_CASE("analytic unprojection Jacobians match central differences at random pixels",

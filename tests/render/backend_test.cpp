@@ -18,6 +18,7 @@
 
 #include "render/backend.h"
 #include "render/gl_context.h"
+#include "tests/support/hand_built_scene.h"
 
 namespace corridorsim::render {
 namespace {
@@ -77,27 +78,16 @@ void AddQuad(Scene* scene, const std::array<Eigen::Vector3d, 4>& corners_in_came
   const Eigen::Vector3d n_in_world = world_from_camera.rotation() * n_in_camera;
   constexpr float kUv[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
   const auto first_vertex = std::uint32_t(scene->vertices.size());
-  Drawable drawable;
-  drawable.first_index = std::uint32_t(scene->indices.size());
+  const auto first_index = std::uint32_t(scene->indices.size());
+  Eigen::AlignedBox3f bounds;
   for (int i = 0; i < 4; ++i) {
-    const Eigen::Vector3d p = world_from_camera * corners_in_camera[i];
-    SceneVertex v{};
-    for (int k = 0; k < 3; ++k) {
-      v.position[k] = float(p[k]);
-      v.normal[k] = float(n_in_world[k]);
-    }
-    v.uv[0] = kUv[i][0];
-    v.uv[1] = kUv[i][1];
-    v.irradiance = scene->options.ambient;  // unlit surfaces get the ambient term
-    scene->vertices.push_back(v);
-    drawable.bounds.extend(p.cast<float>());
+    const Eigen::Vector3f p = (world_from_camera * corners_in_camera[i]).cast<float>();
+    scene->vertices.push_back(
+        test::UnlitVertex(*scene, p, n_in_world.cast<float>(), kUv[i][0], kUv[i][1]));
+    bounds.extend(p);
   }
   for (std::uint32_t i : {0u, 1u, 2u, 0u, 2u, 3u}) scene->indices.push_back(first_vertex + i);
-  drawable.index_count = 6;
-  drawable.material = material;
-  drawable.instance_id = instance_id;
-  drawable.semantic_class = semantic_class;
-  scene->drawables.push_back(drawable);
+  test::AppendDrawable(scene, first_index, bounds, material, instance_id, semantic_class);
 }
 
 // Wall (drawable 0, textured: top half red, bottom half green), lamp quad (drawable 1, emissive),
@@ -207,29 +197,23 @@ void CheckTestImage(const RenderedView& image) {
 
   // Edges land where the pinhole model puts them: the first covered column c has its centre
   // (u = c) right of the projected edge and the one before it left of it.
-  auto first_column_with = [&](int row, std::uint32_t id) {
-    for (int x = 0; x < kWidth; ++x) {
-      if (image.instance[Index(x, row)] == id) return x;
+  // Walks from pixel (x, y) in steps (dx, dy) to the image border; the walked coordinate of the
+  // first pixel showing `id`, or -1.
+  auto first_along = [&](int x, int y, int dx, int dy, std::uint32_t id) {
+    for (; x >= 0 && x < kWidth && y >= 0 && y < kHeight; x += dx, y += dy) {
+      if (image.instance[Index(x, y)] == id) return dx != 0 ? x : y;
     }
     return -1;
   };
+  auto first_column_with = [&](int row, std::uint32_t id) { return first_along(0, row, 1, 0, id); };
   auto last_column_with = [&](int row, std::uint32_t id) {
-    for (int x = kWidth - 1; x >= 0; --x) {
-      if (image.instance[Index(x, row)] == id) return x;
-    }
-    return -1;
+    return first_along(kWidth - 1, row, -1, 0, id);
   };
   auto first_row_with = [&](int column, std::uint32_t id) {
-    for (int y = 0; y < kHeight; ++y) {
-      if (image.instance[Index(column, y)] == id) return y;
-    }
-    return -1;
+    return first_along(column, 0, 0, 1, id);
   };
   auto last_row_with = [&](int column, std::uint32_t id) {
-    for (int y = kHeight - 1; y >= 0; --y) {
-      if (image.instance[Index(column, y)] == id) return y;
-    }
-    return -1;
+    return first_along(column, kHeight - 1, 0, -1, id);
   };
   for (int row : {150, 240, 330}) {
     INFO("row " << row);

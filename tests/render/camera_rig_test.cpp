@@ -3,7 +3,9 @@
 #include "render/camera_rig.h"
 
 #include <cmath>
+#include <functional>
 #include <numbers>
+#include <string>
 #include <vector>
 
 #include <catch2/catch.hpp>
@@ -116,52 +118,68 @@ TEST_CASE("a distorted pinhole camera samples one wider pass along its rays", "[
   }
 }
 
+// Changes the pinhole parameters of `camera`'s model.
+void ChangePinhole(CameraOptions& camera, const std::function<void(PinholeRadTan&)>& change) {
+  PinholeRadTan p = *camera.model.pinhole();
+  change(p);
+  camera.model = p;
+}
+
+// Changes the fisheye parameters of `camera`'s model.
+void ChangeFisheye(CameraOptions& camera, const std::function<void(KannalaBrandt&)>& change) {
+  KannalaBrandt k = *camera.model.kannala_brandt();
+  change(k);
+  camera.model = k;
+}
+
 TEST_CASE("the rig rejects impossible cameras naming the key", "[render][rig]") {
-  {
-    RigOptions rig = RigOptions::Default();
+  const auto fisheye_179_deg = [](RigOptions& rig) {
     rig.cameras[2].model = KannalaBrandt::FromFov(640, 480, 179.0 * kDeg);
+  };
+  {
+    RigOptions rig = RigOptions::Default();
+    fisheye_179_deg(rig);
     CHECK_FALSE(rig.Check());
-    KannalaBrandt k = *rig.cameras[2].model.kannala_brandt();
-    k.fx = k.fy = 480 / std::numbers::pi;  // 180 degrees
-    rig.cameras[2].model = k;
-    REQUIRE(rig.Check());
-    CHECK(rig.Check()->key == "upward.fov_deg");
   }
-  {
+  struct ImpossibleCamera {
+    std::function<void(RigOptions&)> change;  // applied to the default rig
+    std::string key;                          // that Check names
+  };
+  const std::vector<ImpossibleCamera> cases = {
+      {[&](RigOptions& rig) {
+         fisheye_179_deg(rig);
+         ChangeFisheye(rig.cameras[2],
+                       [](KannalaBrandt& k) { k.fx = k.fy = 480 / std::numbers::pi; });  // 180 deg
+       },
+       "upward.fov_deg"},
+      {[](RigOptions& rig) {
+         rig.cameras[0].model = PinholeRadTan::FromFov(640, 480, 150.0 * kDeg);
+       },
+       "front.fov_deg"},
+      {[](RigOptions& rig) {
+         ChangePinhole(rig.cameras[1], [](PinholeRadTan& p) { p.width = 0; });
+       },
+       "lateral.width"},
+      // Sizes whose passes or remap tables could not be allocated.
+      {[](RigOptions& rig) {
+         ChangePinhole(rig.cameras[0], [](PinholeRadTan& p) { p.width = 100000; });
+       },
+       "front.width"},
+      {[](RigOptions& rig) {
+         ChangeFisheye(rig.cameras[2], [](KannalaBrandt& k) { k.fx = 1e10; });
+       },
+       "upward.fx"},
+      {[](RigOptions& rig) { rig.cameras[0].rgb_noise.motion_blur_px = 1e5; },
+       "front.noise.rgb.motion_blur_px"},
+      {[](RigOptions& rig) { rig.cameras[0].rgb_noise.exposure = 1e30; },
+       "front.noise.rgb.exposure"},
+  };
+  for (const ImpossibleCamera& impossible : cases) {
+    INFO("expected key " << impossible.key);
     RigOptions rig = RigOptions::Default();
-    rig.cameras[0].model = PinholeRadTan::FromFov(640, 480, 150.0 * kDeg);
+    impossible.change(rig);
     REQUIRE(rig.Check());
-    CHECK(rig.Check()->key == "front.fov_deg");
-  }
-  {
-    RigOptions rig = RigOptions::Default();
-    PinholeRadTan p = *rig.cameras[1].model.pinhole();
-    p.width = 0;
-    rig.cameras[1].model = p;
-    REQUIRE(rig.Check());
-    CHECK(rig.Check()->key == "lateral.width");
-  }
-  {  // sizes whose passes or remap tables could not be allocated
-    RigOptions rig = RigOptions::Default();
-    PinholeRadTan p = *rig.cameras[0].model.pinhole();
-    p.width = 100000;
-    rig.cameras[0].model = p;
-    REQUIRE(rig.Check());
-    CHECK(rig.Check()->key == "front.width");
-    RigOptions rig2 = RigOptions::Default();
-    KannalaBrandt k = *rig2.cameras[2].model.kannala_brandt();
-    k.fx = 1e10;
-    rig2.cameras[2].model = k;
-    REQUIRE(rig2.Check());
-    CHECK(rig2.Check()->key == "upward.fx");
-    RigOptions rig3 = RigOptions::Default();
-    rig3.cameras[0].rgb_noise.motion_blur_px = 1e5;
-    REQUIRE(rig3.Check());
-    CHECK(rig3.Check()->key == "front.noise.rgb.motion_blur_px");
-    RigOptions rig4 = RigOptions::Default();
-    rig4.cameras[0].rgb_noise.exposure = 1e30;
-    REQUIRE(rig4.Check());
-    CHECK(rig4.Check()->key == "front.noise.rgb.exposure");
+    CHECK(rig.Check()->key == impossible.key);
   }
 }
 

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "render/backend.h"
+#include "tests/support/hand_built_scene.h"
 
 namespace {
 
@@ -57,23 +58,17 @@ void AddSurface(Scene* scene, const Eigen::Vector3f& origin, const Eigen::Vector
   const Eigen::Vector3f centre = origin + 0.5f * (axis_s + axis_t);
   const Eigen::Vector3f inward(0, -centre.y(), float(kHeightM / 2) - centre.z());
   if (normal.dot(inward) < 0) normal = -normal;
-  Drawable drawable;
-  drawable.first_index = std::uint32_t(scene->indices.size());
+  const auto first_index = std::uint32_t(scene->indices.size());
   const auto first_vertex = std::uint32_t(scene->vertices.size());
+  Eigen::AlignedBox3f bounds;
   for (int j = 0; j <= cells_t; ++j) {
     for (int i = 0; i <= cells_s; ++i) {
       const float s = float(i) / float(cells_s), t = float(j) / float(cells_t);
       const Eigen::Vector3f p = origin + s * axis_s + t * axis_t;
-      SceneVertex v{};
-      for (int k = 0; k < 3; ++k) {
-        v.position[k] = p[k];
-        v.normal[k] = normal[k];
-      }
-      v.uv[0] = s * axis_s.norm();  // one texture repeat per metre
-      v.uv[1] = t * axis_t.norm();
-      v.irradiance = scene->options.ambient;  // unlit surfaces get the ambient term
-      scene->vertices.push_back(v);
-      drawable.bounds.extend(p);
+      // One texture repeat per metre.
+      scene->vertices.push_back(
+          corridorsim::test::UnlitVertex(*scene, p, normal, s * axis_s.norm(), t * axis_t.norm()));
+      bounds.extend(p);
     }
   }
   for (int j = 0; j < cells_t; ++j) {
@@ -83,11 +78,8 @@ void AddSurface(Scene* scene, const Eigen::Vector3f& origin, const Eigen::Vector
       for (std::uint32_t index : {a, b, d, a, d, c}) scene->indices.push_back(index);
     }
   }
-  drawable.index_count = std::uint32_t(scene->indices.size()) - drawable.first_index;
-  drawable.material = material;
-  drawable.instance_id = instance_id;
-  drawable.semantic_class = semantic_class;
-  scene->drawables.push_back(drawable);
+  corridorsim::test::AppendDrawable(scene, first_index, bounds, material, instance_id,
+                                    semantic_class);
 }
 
 Scene CorridorScene() {

@@ -15,8 +15,8 @@
 #include <catch2/catch.hpp>
 
 #include "common/wheel_odometry_model.h"
-#include "render/backend.h"
-#include "render/scene.h"
+#include "render/camera_rig.h"
+#include "tests/support/uploaded_rig.h"
 #include "worlds/world.h"
 
 namespace corridorsim::sim {
@@ -218,24 +218,29 @@ TEST_CASE("two simulations with one seed give bit-identical odometry and truth",
   CHECK(c.odometry_end.x() != a.odometry_end.x());
 }
 
-TEST_CASE("camera frames are stamped phase + n / rate and rendered at the true pose of the stamp",
-          "[sim][gl]") {
-  const worlds::World world = Corridor(14.0);
+// The default rig with only the front camera on: noise-free, at `rate_hz` from `phase_s`, with
+// `model`'s images.
+render::RigOptions FrontCameraOnly(double rate_hz, double phase_s, const PinholeRadTan& model) {
   render::RigOptions rig_options = render::RigOptions::Default();
   for (render::CameraOptions& c : rig_options.cameras) {
     c.enabled = c.id == "front";
-    c.rate_hz = 30.0;
-    c.phase_s = 0.005;
+    c.rate_hz = rate_hz;
+    c.phase_s = phase_s;
     c.noise = false;
-    c.model = PinholeRadTan::FromFov(64, 48, 58.0 * kDeg);
+    c.model = model;
   }
-  const render::Scene scene = render::BuildScene(world, rig_options.scene);
-  std::unique_ptr<render::Backend> backend = render::CreateBackend(rig_options.backend);
-  backend->Upload(scene);
-  render::Rig rig(rig_options, scene, *backend);
+  return rig_options;
+}
+
+TEST_CASE("camera frames are stamped phase + n / rate and rendered at the true pose of the stamp",
+          "[sim][gl]") {
+  const worlds::World world = Corridor(14.0);
+  const render::RigOptions rig_options =
+      FrontCameraOnly(30.0, 0.005, PinholeRadTan::FromFov(64, 48, 58.0 * kDeg));
+  test::UploadedRig uploaded(world, rig_options);
   SimulationOptions options;
   options.max_duration_ns = kNanosecondsPerSecond;
-  Simulation simulation(world, options, StraightPath(10.0), &rig, &rig_options);
+  Simulation simulation(world, options, StraightPath(10.0), &uploaded.rig(), &rig_options);
   std::vector<CameraMessage> frames;
   TruthSample before = simulation.truth();
   while (!simulation.finished()) {
@@ -265,22 +270,14 @@ TEST_CASE("camera frames are stamped phase + n / rate and rendered at the true p
 
 TEST_CASE("dropped frames are neither rendered nor delivered and each is an event", "[sim][gl]") {
   const worlds::World world = Corridor(14.0);
-  render::RigOptions rig_options = render::RigOptions::Default();
-  for (render::CameraOptions& c : rig_options.cameras) {
-    c.enabled = c.id == "front";
-    c.rate_hz = 50.0;
-    c.noise = false;
-    c.drop_probability = 0.3;
-    c.model = PinholeRadTan::FromFov(32, 24, 58.0 * kDeg);
-  }
-  const render::Scene scene = render::BuildScene(world, rig_options.scene);
-  std::unique_ptr<render::Backend> backend = render::CreateBackend(rig_options.backend);
-  backend->Upload(scene);
-  render::Rig rig(rig_options, scene, *backend);
+  render::RigOptions rig_options =
+      FrontCameraOnly(50.0, 0.0, PinholeRadTan::FromFov(32, 24, 58.0 * kDeg));
+  for (render::CameraOptions& c : rig_options.cameras) c.drop_probability = 0.3;
+  test::UploadedRig uploaded(world, rig_options);
   SimulationOptions options;
   options.max_duration_ns = 4 * kNanosecondsPerSecond;
   auto run = [&](std::vector<TimeNs>* delivered, std::vector<TimeNs>* dropped) {
-    Simulation simulation(world, options, StraightPath(10.0), &rig, &rig_options);
+    Simulation simulation(world, options, StraightPath(10.0), &uploaded.rig(), &rig_options);
     while (!simulation.finished()) {
       const StepOutput& out = simulation.Step();
       for (const CameraMessage& m : out.frames) delivered->push_back(m.stamp_ns);

@@ -9,18 +9,12 @@
 
 #include "common/random.h"
 #include "common/wheel_odometry_model.h"
+#include "tests/support/pioneer_calibration.h"
 
 namespace corridorsim::slam {
 namespace {
 
-// A Pioneer 3-DX-like robot's calibration, without cameras.
-Calibration Robot() {
-  Calibration calibration;
-  calibration.wheelbase_m = 0.33;
-  calibration.wheel_diameter_m = 0.195;
-  calibration.ticks_per_revolution = 39400;
-  return calibration;
-}
+using test::PioneerCalibration;
 
 WheelOdometry Message(TimeNs stamp, double left_m, double right_m) {
   WheelOdometry m;
@@ -31,7 +25,7 @@ WheelOdometry Message(TimeNs stamp, double left_m, double right_m) {
 }
 
 TEST_CASE("the odometry pipeline starts at the given pose with zero covariance", "[slam]") {
-  OdometryPipeline pipeline(OdometryPipelineOptions{}, Robot());
+  OdometryPipeline pipeline(OdometryPipelineOptions{}, PioneerCalibration());
   pipeline.Initialize(5, SE2(1.0, 2.0, 0.5));
   const PoseEstimate e = pipeline.Estimate();
   CHECK(e.stamp_ns == 5);
@@ -45,7 +39,7 @@ TEST_CASE("straight driving grows the along-track variance by k s / 2 and bends 
           "[slam]") {
   OdometryPipelineOptions options;
   options.k_m = 2e-4;
-  OdometryPipeline pipeline(options, Robot());
+  OdometryPipeline pipeline(options, PioneerCalibration());
   pipeline.Initialize(0, SE2(0, 0, 0));
   const int n = 100;
   const double step = 0.01;  // 1 m in all
@@ -56,7 +50,7 @@ TEST_CASE("straight driving grows the along-track variance by k s / 2 and bends 
   // Along track: x = sum (s_l + s_r) / 2, each wheel variance k s: var x = n * 2 k s / 4.
   CHECK(e.covariance(0, 0) == Approx(n * 2 * options.k_m * step / 4).epsilon(1e-9));
   // Heading: var yaw = n * 2 k s / B^2.
-  const double b = Robot().wheelbase_m;
+  const double b = PioneerCalibration().wheelbase_m;
   CHECK(e.covariance(2, 2) == Approx(n * 2 * options.k_m * step / (b * b)).epsilon(1e-9));
   // Cross track grows through the heading (F couples y and yaw): positive, correlated with yaw.
   CHECK(e.covariance(1, 1) > 0);
@@ -71,7 +65,7 @@ TEST_CASE("the propagated covariance matches the spread of simulated wheel noise
   options.k_m = 1e-4;
   const int messages = 200, runs = 3000;
   const double left = 0.0095, right = 0.0105;
-  OdometryPipeline reference(options, Robot());
+  OdometryPipeline reference(options, PioneerCalibration());
   reference.Initialize(0, SE2());
   for (int i = 1; i <= messages; ++i) reference.OnOdometry(Message(i, left, right));
   const PoseEstimate expected = reference.Estimate();
@@ -82,7 +76,7 @@ TEST_CASE("the propagated covariance matches the spread of simulated wheel noise
     for (int i = 1; i <= messages; ++i) {
       const double l = left + rng.Normal(0, std::sqrt(options.k_m * left));
       const double rr = right + rng.Normal(0, std::sqrt(options.k_m * right));
-      pose = ApplyWheelOdometry(pose, l, rr, Robot().wheelbase_m);
+      pose = ApplyWheelOdometry(pose, l, rr, PioneerCalibration().wheelbase_m);
     }
     Eigen::Vector3d d(pose.x() - expected.world_from_robot.x(),
                       pose.y() - expected.world_from_robot.y(),

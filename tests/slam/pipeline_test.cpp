@@ -3,29 +3,24 @@
 
 #include <catch2/catch.hpp>
 
+#include "tests/support/pioneer_calibration.h"
+
 namespace corridorsim::slam {
 namespace {
 
-// A Pioneer 3-DX-like robot's calibration, without cameras.
-Calibration Robot() {
-  Calibration calibration;
-  calibration.wheelbase_m = 0.33;
-  calibration.wheel_diameter_m = 0.195;
-  calibration.ticks_per_revolution = 39400;
-  return calibration;
-}
+using test::PioneerCalibration;
 
 TEST_CASE("a calibration names its first missing or impossible value", "[slam]") {
-  CHECK_FALSE(Robot().Check());
-  Calibration calibration = Robot();
+  CHECK_FALSE(PioneerCalibration().Check());
+  Calibration calibration = PioneerCalibration();
   calibration.wheelbase_m = 0.0;
   REQUIRE(calibration.Check());
   CHECK(calibration.Check()->key == "wheelbase_m");
-  calibration = Robot();
+  calibration = PioneerCalibration();
   calibration.ticks_per_revolution = -1;
   REQUIRE(calibration.Check());
   CHECK(calibration.Check()->key == "ticks_per_revolution");
-  calibration = Robot();
+  calibration = PioneerCalibration();
   CameraCalibration camera;
   camera.id = "front";
   camera.model = PinholeRadTan::FromFov(640, 480, 1.0);

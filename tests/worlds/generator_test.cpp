@@ -89,6 +89,15 @@ const std::vector<GeneratedCase>& Cases() {
   return cases;
 }
 
+// Calls `check(c, c.world)` for every case c, naming the case in failure messages.
+template <class Check>
+void ForEachCase(Check&& check) {
+  for (const GeneratedCase& c : Cases()) {
+    INFO(c.name);
+    check(c, c.world);
+  }
+}
+
 // ---- wall geometry ---------------------------------------------------------------------------
 
 struct Span {
@@ -195,9 +204,7 @@ bool HasMesh(const World& world, int instance_id, SemanticClass cls) {
 
 TEST_CASE("doorways on one wall keep min_gap_m between them and from the wall ends",
           "[worlds][generator]") {
-  for (const GeneratedCase& c : Cases()) {
-    INFO(c.name);
-    const World& w = c.world;
+  ForEachCase([&](const GeneratedCase& c, const World& w) {
     REQUIRE(static_cast<int>(w.doors.size()) == c.options.doors.count);
     std::map<int, std::vector<Span>> spans;
     for (const Doorway& d : w.doors) spans[d.wall_id].push_back(DoorSpan(w, d));
@@ -213,14 +220,12 @@ TEST_CASE("doorways on one wall keep min_gap_m between them and from the wall en
         CHECK(list[i].lo - list[i - 1].hi >= c.options.doors.min_gap_m - kGeomTolM);
       }
     }
-  }
+  });
 }
 
 TEST_CASE("every doorway has two columns on a side wall face and a frame of meshes",
           "[worlds][generator]") {
-  for (const GeneratedCase& c : Cases()) {
-    INFO(c.name);
-    const World& w = c.world;
+  ForEachCase([&](const GeneratedCase& c, const World& w) {
     const DoorOptions& options = c.options.doors;
     for (const Doorway& d : w.doors) {
       INFO("door " << d.id);
@@ -269,27 +274,24 @@ TEST_CASE("every doorway has two columns on a side wall face and a frame of mesh
       CHECK(has_leaf == (d.state != DoorState::kEmpty));
       if (d.state == DoorState::kClosed) CHECK_FALSE(d.room);
     }
-  }
+  });
 }
 
 TEST_CASE("room numbers are unique across doors", "[worlds][generator]") {
-  for (const GeneratedCase& c : Cases()) {
-    INFO(c.name);
+  ForEachCase([&](const GeneratedCase&, const World& w) {
     std::set<std::string> numbers;
-    for (const Doorway& d : c.world.doors) {
+    for (const Doorway& d : w.doors) {
       CHECK_FALSE(d.room_number.empty());
       CHECK(numbers.insert(d.room_number).second);
     }
-  }
+  });
 }
 
 // ---- door plates -----------------------------------------------------------------------------
 
 TEST_CASE("each door plate is on its door's wall, beside the frame, at the options height",
           "[worlds][generator]") {
-  for (const GeneratedCase& c : Cases()) {
-    INFO(c.name);
-    const World& w = c.world;
+  ForEachCase([&](const GeneratedCase& c, const World& w) {
     const PlateOptions& options = c.options.plates;
     CHECK(static_cast<int>(w.plates.size()) == options.count);
     std::set<std::string> numbers;
@@ -337,7 +339,7 @@ TEST_CASE("each door plate is on its door's wall, beside the frame, at the optio
             static_cast<std::size_t>(tex.image.width) * tex.image.height * tex.image.channels);
       CHECK(p.font.rfind("hershey_", 0) == 0);  // the seeded style is recorded
     }
-  }
+  });
 }
 
 TEST_CASE("plate styles vary with the seed: several fonts and designs appear",
@@ -358,9 +360,7 @@ TEST_CASE("plate styles vary with the seed: several fonts and designs appear",
 
 TEST_CASE("corridor lamps hang from the ceiling inside the corridor; room lamps in their room",
           "[worlds][generator]") {
-  for (const GeneratedCase& c : Cases()) {
-    INFO(c.name);
-    const World& w = c.world;
+  ForEachCase([&](const GeneratedCase& c, const World& w) {
     const LampOptions& options = c.options.lamps;
     int corridor_lamps = 0;
     std::map<int, int> lamps_per_room;
@@ -401,14 +401,12 @@ TEST_CASE("corridor lamps hang from the ceiling inside the corridor; room lamps 
     for (const Doorway& d : w.doors) {
       if (d.room) CHECK(lamps_per_room[d.id] == (options.room_lamps ? 1 : 0));
     }
-  }
+  });
 }
 
 TEST_CASE("reflectors mirror a lit circular lamp in their wall's plane", "[worlds][generator]") {
   int reflectors = 0;
-  for (const GeneratedCase& c : Cases()) {
-    INFO(c.name);
-    const World& w = c.world;
+  ForEachCase([&](const GeneratedCase&, const World& w) {
     for (const Reflector& r : w.reflectors) {
       ++reflectors;
       INFO("reflector " << r.id);
@@ -427,7 +425,7 @@ TEST_CASE("reflectors mirror a lit circular lamp in their wall's plane", "[world
       CHECK(r.apparent_lamp_center.z() == lamp->center.z());
       CHECK(HasMesh(w, r.id, SemanticClass::kReflector));
     }
-  }
+  });
   CHECK(reflectors > 0);  // the default reflector_fraction places some over 20 worlds
 }
 
@@ -435,9 +433,7 @@ TEST_CASE("reflectors mirror a lit circular lamp in their wall's plane", "[world
 
 TEST_CASE("rooms behind doorways overlap neither each other, the corridor nor a mirror",
           "[worlds][generator]") {
-  for (const GeneratedCase& c : Cases()) {
-    INFO(c.name);
-    const World& w = c.world;
+  ForEachCase([&](const GeneratedCase& c, const World& w) {
     const double t = c.options.wall_thickness_m;
     std::vector<std::pair<int, AlignedBox2d>> rooms;  // door id, footprint with its walls
     for (const Doorway& d : w.doors) {
@@ -467,16 +463,14 @@ TEST_CASE("rooms behind doorways overlap neither each other, the corridor nor a 
         CHECK_FALSE(Overlap(rooms[i].second, mirror));
       }
     }
-  }
+  });
 }
 
 // ---- ceiling corner points ---------------------------------------------------------------------
 
 TEST_CASE("ceiling corner points lie on the ceiling inside the corridor; vents give four each",
           "[worlds][generator]") {
-  for (const GeneratedCase& c : Cases()) {
-    INFO(c.name);
-    const World& w = c.world;
+  ForEachCase([&](const GeneratedCase& c, const World& w) {
     const double H = c.options.height_m;
     std::map<CornerKind, int> counts;
     std::vector<Vector3d> vent_corners;
@@ -504,16 +498,14 @@ TEST_CASE("ceiling corner points lie on the ceiling inside the corridor; vents g
         distinct.insert({vent_corners[i + k].x(), vent_corners[i + k].y()});
       CHECK(distinct.size() == 4);
     }
-  }
+  });
 }
 
 // ---- distractors -----------------------------------------------------------------------------
 
 TEST_CASE("distractors come in the classes and counts the options asks for, against side walls",
           "[worlds][generator]") {
-  for (const GeneratedCase& c : Cases()) {
-    INFO(c.name);
-    const World& w = c.world;
+  ForEachCase([&](const GeneratedCase& c, const World& w) {
     const DistractorOptions& x = c.options.distractors;
     std::map<SemanticClass, int> counts;
     for (const Distractor& d : w.distractors) {
@@ -542,14 +534,13 @@ TEST_CASE("distractors come in the classes and counts the options asks for, agai
     CHECK(counts[SemanticClass::kCabinet] == x.cabinets);
     CHECK(counts[SemanticClass::kFireExtinguisher] == x.fire_extinguishers);
     CHECK(counts.size() == 5);
-  }
+  });
 }
 
 TEST_CASE("doorways, plates, reflectors and distractors never overlap along a wall",
           "[worlds][generator]") {
-  for (const GeneratedCase& c : Cases()) {
-    INFO(c.name);
-    for (const auto& [wall_id, items] : WallItems(c.world)) {
+  ForEachCase([&](const GeneratedCase&, const World& w) {
+    for (const auto& [wall_id, items] : WallItems(w)) {
       for (std::size_t i = 0; i < items.size(); ++i) {
         for (std::size_t j = i + 1; j < items.size(); ++j) {
           INFO("wall " << wall_id << ": " << items[i].what << " [" << items[i].span.lo << ", "
@@ -559,16 +550,14 @@ TEST_CASE("doorways, plates, reflectors and distractors never overlap along a wa
         }
       }
     }
-  }
+  });
 }
 
 // ---- ids, meshes, collision boxes
 // ----------------------------------------------------------------
 
 TEST_CASE("ids are unique across every kind of ground truth entry", "[worlds][generator]") {
-  for (const GeneratedCase& c : Cases()) {
-    INFO(c.name);
-    const World& w = c.world;
+  ForEachCase([&](const GeneratedCase& c, const World& w) {
     std::map<int, std::string> owner;
     auto add = [&](int id, const std::string& what) {
       const auto [it, inserted] = owner.emplace(id, what);
@@ -586,13 +575,11 @@ TEST_CASE("ids are unique across every kind of ground truth entry", "[worlds][ge
     for (const auto& x : w.distractors) add(x.id, "distractor");
     // Mesh names are unique too (they name the OBJ groups).
     CHECK(c.mesh_by_name.size() == w.meshes.size());
-  }
+  });
 }
 
 TEST_CASE("meshes have indices in range, unit normals and valid materials", "[worlds][generator]") {
-  for (const GeneratedCase& c : Cases()) {
-    INFO(c.name);
-    const World& w = c.world;
+  ForEachCase([&](const GeneratedCase&, const World& w) {
     for (const Mesh& m : w.meshes) {
       INFO("mesh " << m.name);
       REQUIRE_FALSE(m.positions.empty());
@@ -614,25 +601,22 @@ TEST_CASE("meshes have indices in range, unit normals and valid materials", "[wo
       CHECK(tex >= -1);
       CHECK(tex < static_cast<int>(w.textures.size()));
     }
-  }
+  });
 }
 
 TEST_CASE("collision boxes have positive half extents", "[worlds][generator]") {
-  for (const GeneratedCase& c : Cases()) {
-    INFO(c.name);
-    for (const CollisionBox& b : c.world.collision_boxes) {
+  ForEachCase([&](const GeneratedCase&, const World& w) {
+    for (const CollisionBox& b : w.collision_boxes) {
       INFO(SemanticClassName(b.semantic_class)
            << " " << b.instance_id << " at " << b.center.transpose());
       CHECK((b.half_extents.array() > 0).all());
     }
-  }
+  });
 }
 
 TEST_CASE("the robot can drive along every corridor centre line", "[worlds][generator]") {
   constexpr double kHalfWidthM = 0.3, kZLowM = 0.05, kZHighM = 0.5;
-  for (const GeneratedCase& c : Cases()) {
-    INFO(c.name);
-    const World& w = c.world;
+  ForEachCase([&](const GeneratedCase&, const World& w) {
     // The ground slab: floor class, top at z = 0.
     const auto ground = std::find_if(
         w.collision_boxes.begin(), w.collision_boxes.end(),
@@ -660,17 +644,22 @@ TEST_CASE("the robot can drive along every corridor centre line", "[worlds][gene
         CHECK_FALSE(blocks);
       }
     }
-  }
+  });
 }
 
 // ---- determinism and random streams
 // --------------------------------------------------------------
 
+// REQUIREs that `a` and `b` have the same size, then calls `check(a[i], b[i])` for each i.
+template <class T, class Check>
+void CheckEachPair(const std::vector<T>& a, const std::vector<T>& b, Check&& check) {
+  REQUIRE(a.size() == b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) check(a[i], b[i]);
+}
+
 void CheckIdentical(const World& a, const World& b) {
   CHECK(GroundTruthJson(a).dump() == GroundTruthJson(b).dump());
-  REQUIRE(a.meshes.size() == b.meshes.size());
-  for (std::size_t i = 0; i < a.meshes.size(); ++i) {
-    const Mesh &ma = a.meshes[i], &mb = b.meshes[i];
+  CheckEachPair(a.meshes, b.meshes, [](const Mesh& ma, const Mesh& mb) {
     INFO("mesh " << ma.name);
     CHECK(ma.name == mb.name);
     CHECK(ma.material == mb.material);
@@ -680,27 +669,25 @@ void CheckIdentical(const World& a, const World& b) {
     CHECK(ma.normals == mb.normals);
     CHECK(ma.uvs == mb.uvs);
     CHECK(ma.indices == mb.indices);
-  }
-  REQUIRE(a.textures.size() == b.textures.size());
-  for (std::size_t i = 0; i < a.textures.size(); ++i) {
-    INFO("texture " << a.textures[i].name);
-    CHECK(a.textures[i].name == b.textures[i].name);
-    CHECK(a.textures[i].image.width == b.textures[i].image.width);
-    CHECK(a.textures[i].image.height == b.textures[i].image.height);
-    CHECK(a.textures[i].image.data == b.textures[i].image.data);
-  }
-  REQUIRE(a.materials.size() == b.materials.size());
-  for (std::size_t i = 0; i < a.materials.size(); ++i) {
-    CHECK(a.materials[i].name == b.materials[i].name);
-    CHECK(a.materials[i].texture == b.materials[i].texture);
-    CHECK(a.materials[i].diffuse == b.materials[i].diffuse);
-    CHECK(a.materials[i].emission == b.materials[i].emission);
-  }
-  REQUIRE(a.collision_boxes.size() == b.collision_boxes.size());
-  for (std::size_t i = 0; i < a.collision_boxes.size(); ++i) {
-    CHECK(a.collision_boxes[i].center == b.collision_boxes[i].center);
-    CHECK(a.collision_boxes[i].half_extents == b.collision_boxes[i].half_extents);
-  }
+  });
+  CheckEachPair(a.textures, b.textures, [](const Texture& ta, const Texture& tb) {
+    INFO("texture " << ta.name);
+    CHECK(ta.name == tb.name);
+    CHECK(ta.image.width == tb.image.width);
+    CHECK(ta.image.height == tb.image.height);
+    CHECK(ta.image.data == tb.image.data);
+  });
+  CheckEachPair(a.materials, b.materials, [](const Material& ma, const Material& mb) {
+    CHECK(ma.name == mb.name);
+    CHECK(ma.texture == mb.texture);
+    CHECK(ma.diffuse == mb.diffuse);
+    CHECK(ma.emission == mb.emission);
+  });
+  CheckEachPair(a.collision_boxes, b.collision_boxes,
+                [](const CollisionBox& ba, const CollisionBox& bb) {
+                  CHECK(ba.center == bb.center);
+                  CHECK(ba.half_extents == bb.half_extents);
+                });
 }
 
 TEST_CASE("generating twice with the same options and seed gives identical worlds",
@@ -746,21 +733,18 @@ TEST_CASE("changing the number of posters moves no door, plate or lamp",
       INFO("posters " << changed.distractors.posters);
       const World other = Generate(changed, 4);
       CHECK(DoorColumns(other) == DoorColumns(reference));
-      REQUIRE(other.doors.size() == reference.doors.size());
-      for (std::size_t i = 0; i < other.doors.size(); ++i) {
-        CHECK(other.doors[i].state == reference.doors[i].state);
-        CHECK(other.doors[i].room_number == reference.doors[i].room_number);
-      }
-      REQUIRE(other.plates.size() == reference.plates.size());
-      for (std::size_t i = 0; i < other.plates.size(); ++i) {
-        CHECK(other.plates[i].center == reference.plates[i].center);
-        CHECK(other.plates[i].size_m == reference.plates[i].size_m);
-      }
-      REQUIRE(other.lamps.size() == reference.lamps.size());
-      for (std::size_t i = 0; i < other.lamps.size(); ++i) {
-        CHECK(other.lamps[i].center == reference.lamps[i].center);
-        CHECK(other.lamps[i].on == reference.lamps[i].on);
-      }
+      CheckEachPair(other.doors, reference.doors, [](const Doorway& da, const Doorway& db) {
+        CHECK(da.state == db.state);
+        CHECK(da.room_number == db.room_number);
+      });
+      CheckEachPair(other.plates, reference.plates, [](const DoorPlate& pa, const DoorPlate& pb) {
+        CHECK(pa.center == pb.center);
+        CHECK(pa.size_m == pb.size_m);
+      });
+      CheckEachPair(other.lamps, reference.lamps, [](const Lamp& la, const Lamp& lb) {
+        CHECK(la.center == lb.center);
+        CHECK(la.on == lb.on);
+      });
       CHECK(static_cast<int>(other.distractors.size()) ==
             static_cast<int>(reference.distractors.size()) + changed.distractors.posters -
                 base.distractors.posters);

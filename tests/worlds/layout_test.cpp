@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -36,6 +37,14 @@ LayoutPlan Plan(const WorldOptions& options, int first_id = 1) {
   INFO((problem ? problem->key + ": " + problem->message : std::string("no problem")));
   REQUIRE_FALSE(problem);
   return plan;
+}
+
+// The problem PlanLayout reports for `options` (fails the test when it plans them).
+OptionsProblem PlanProblem(const WorldOptions& options) {
+  LayoutPlan plan;
+  const std::optional<OptionsProblem> problem = PlanLayout(options, 1, &plan);
+  REQUIRE(problem);
+  return *problem;
 }
 
 bool InsideAnyCell(const LayoutPlan& plan, const Vector2d& p) {
@@ -224,13 +233,11 @@ TEST_CASE("more doors than the side walls hold are a problem with doors.count",
           "[worlds][layout]") {
   WorldOptions options;
   options.doors.count = 200;
-  LayoutPlan plan;
-  const auto problem = PlanLayout(options, 1, &plan);
-  REQUIRE(problem);
-  CHECK(problem->key == "doors.count");
-  CHECK(test::Contains(problem->message, "200 doorways do not fit"));
+  const OptionsProblem problem = PlanProblem(options);
+  CHECK(problem.key == "doors.count");
+  CHECK(test::Contains(problem.message, "200 doorways do not fit"));
   // 55 m walls, 52.6 m usable, 1.06 m doors with 1.2 m gaps: 23 per wall.
-  CHECK(test::Contains(problem->message, "at most 46 fit"));
+  CHECK(test::Contains(problem.message, "at most 46 fit"));
 }
 
 TEST_CASE("exactly as many doors as fit are accepted", "[worlds][layout]") {
@@ -238,20 +245,15 @@ TEST_CASE("exactly as many doors as fit are accepted", "[worlds][layout]") {
   options.doors.count = 46;
   CheckPlanInvariants(options, Plan(options), 55.0 * 2.4);
   options.doors.count = 47;
-  LayoutPlan plan;
-  const auto problem = PlanLayout(options, 1, &plan);
-  REQUIRE(problem);
-  CHECK(problem->key == "doors.count");
+  CHECK(PlanProblem(options).key == "doors.count");
 }
 
 TEST_CASE("a door wider than every wall is a problem with doors.width_m", "[worlds][layout]") {
   WorldOptions options;
   options.doors.width_m = 60;
-  LayoutPlan plan;
-  const auto problem = PlanLayout(options, 1, &plan);
-  REQUIRE(problem);
-  CHECK(problem->key == "doors.width_m");
-  CHECK(test::Contains(problem->message, "wider than every wall segment"));
+  const OptionsProblem problem = PlanProblem(options);
+  CHECK(problem.key == "doors.width_m");
+  CHECK(test::Contains(problem.message, "wider than every wall segment"));
 }
 
 TEST_CASE("usable wall length keeps min_gap_m free at both ends", "[worlds][layout]") {

@@ -8,6 +8,7 @@
 #include <catch2/catch.hpp>
 
 #include "common/error.h"
+#include "tests/support/test_cameras.h"
 
 namespace corridorsim {
 namespace {
@@ -17,22 +18,13 @@ constexpr double kRadPerDeg = std::numbers::pi / 180.0;
 PinholeRadTan DistortedPinhole() {
   PinholeRadTan camera = PinholeRadTan::FromFov(640, 480, 58.0 * kRadPerDeg);
   camera.fy *= 1.001;
-  camera.k1 = -0.28;
-  camera.k2 = 0.07;
-  camera.p1 = 1e-4;
-  camera.p2 = -2e-4;
-  camera.k3 = -0.005;
-  return camera;
+  return test::WithWebcamDistortion(camera);
 }
 
 KannalaBrandt Fisheye() {
   KannalaBrandt camera = KannalaBrandt::FromFov(640, 480, 110.0 * kRadPerDeg);
   camera.cx += 1.3;
-  camera.k1 = 0.02;
-  camera.k2 = -0.005;
-  camera.k3 = 0.001;
-  camera.k4 = -0.0002;
-  return camera;
+  return test::WithSmallFisheyeDistortion(camera);
 }
 
 // The problem CameraModelFromJson reports for `text` (fails the test if it accepts it).
@@ -60,13 +52,8 @@ TEST_CASE("camera models survive JSON text and back bit for bit", "[camera][json
 }
 
 TEST_CASE("CameraModelToJson writes intrinsics.json's keys in their order", "[camera][json]") {
-  PinholeRadTan pinhole;
-  pinhole.width = 64;
-  pinhole.height = 48;
-  pinhole.fx = pinhole.fy = 50.0;
-  pinhole.cx = 31.5;
-  pinhole.cy = 23.5;
-  pinhole.k1 = -0.1;
+  const PinholeRadTan pinhole{
+      .width = 64, .height = 48, .fx = 50.0, .fy = 50.0, .cx = 31.5, .cy = 23.5, .k1 = -0.1};
   CHECK(CameraModelToJson(pinhole).dump() ==
         R"({"model":"pinhole_radtan","width":64,"height":48,"fx":50.0,"fy":50.0,"cx":31.5,)"
         R"("cy":23.5,"distortion":[-0.1,0.0,0.0,0.0,0.0]})");
