@@ -206,7 +206,7 @@ const OptionTable<WorldOptions>& WorldOptionsTable() {
         .Range(0, 20)
         .Note("above the doors with their top bar");
     t.Add("wall_thickness_m", &W::wall_thickness_m, "m", "").Greater(0).Range(0.02, 1);
-    t.Add("texture_px_per_m", &W::texture_px_per_m, "1/m",
+    t.Add("texture_px_per_m", &W::texture_px_per_m, "px/m",
           "resolution of wall, floor and ceiling textures")
         .Range(20, 1000);
     t.AddSection("doors", &W::doors, DoorOptionsTable(), "doorways, their frames and rooms");
