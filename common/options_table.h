@@ -151,6 +151,9 @@ constexpr OptionKind OptionKindOf() {
 /// Each Add returns the new field, to chain its bounds; it stays valid until the next Add.
 template <class T>
 class OptionTable : public OptionTableBase {
+  template <class Access>
+  using Member = std::remove_reference_t<std::invoke_result_t<Access, T&>>;
+
  public:
   template <class Access>
   OptionField& Add(std::string key, Access access, std::string unit, std::string doc) {
@@ -161,10 +164,12 @@ class OptionTable : public OptionTableBase {
     return f;
   }
 
-  template <class Access, class E>
+  /// An enum member and its names: {{"straight", Layout::kStraight}, ...}.
+  template <class Access>
   OptionField& AddEnum(std::string key, Access access,
-                       std::vector<std::pair<std::string, E>> choices, std::string doc) {
-    static_assert(std::is_same_v<Member<Access>, E>);
+                       std::vector<std::pair<std::string, Member<Access>>> choices,
+                       std::string doc) {
+    using E = Member<Access>;
     OptionField& f = New(std::move(key), OptionKind::kEnum, "", std::move(doc));
     std::vector<E> values;
     for (auto& [name, value] : choices) {
@@ -238,9 +243,6 @@ class OptionTable : public OptionTableBase {
   }
 
  private:
-  template <class Access>
-  using Member = std::remove_reference_t<std::invoke_result_t<Access, T&>>;
-
   template <class Access>
   static std::function<void*(void*)> Pointer(Access access) {
     return

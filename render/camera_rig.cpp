@@ -294,8 +294,7 @@ const OptionTable<SceneOptions>& SceneRenderOptionsTable() {
         .Range(0, 16, "must lie in [0, 16]");
     t.AddEnum(
         "texture_filter", &S::texture_filter,
-        std::vector<std::pair<std::string, TextureFilter>>{
-            {"trilinear", TextureFilter::kTrilinear}, {"nearest_mip", TextureFilter::kNearestMip}},
+        {{"trilinear", TextureFilter::kTrilinear}, {"nearest_mip", TextureFilter::kNearestMip}},
         "how textures are filtered where they are minified (below)");
   });
 }
@@ -343,8 +342,7 @@ const OptionTable<RigOptions>& SensorsOptionsTable() {
 const OptionTable<RigOptions>& RenderOptionsTable() {
   return StaticOptionTable<RigOptions>([](OptionTable<RigOptions>& t) {
     t.AddEnum("backend", &RigOptions::backend,
-              std::vector<std::pair<std::string, BackendKind>>{{"osmesa", BackendKind::kOsMesa},
-                                                               {"egl", BackendKind::kEgl}},
+              {{"osmesa", BackendKind::kOsMesa}, {"egl", BackendKind::kEgl}},
               "`egl` is EGL surfaceless; the environment variable `CORRIDORSIM_RENDER_BACKEND` "
               "overrides it");
     t.AddSection("", &RigOptions::scene, SceneRenderOptionsTable(), "lighting and textures");

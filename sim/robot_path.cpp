@@ -238,11 +238,11 @@ const OptionTable<RobotPathOptions>& RobotPathOptionsTable() {
   return StaticOptionTable<RobotPathOptions>([](OptionTable<RobotPathOptions>& t) {
     using P = RobotPathOptions;
     t.AddEnum("kind", &P::kind,
-              std::vector<std::pair<std::string, PathKind>>{{"round_trip", PathKind::kRoundTrip},
-                                                            {"loop", PathKind::kLoop},
-                                                            {"umbmark_cw", PathKind::kUmbmarkCw},
-                                                            {"umbmark_ccw", PathKind::kUmbmarkCcw},
-                                                            {"script", PathKind::kScript}},
+              {{"round_trip", PathKind::kRoundTrip},
+               {"loop", PathKind::kLoop},
+               {"umbmark_cw", PathKind::kUmbmarkCw},
+               {"umbmark_ccw", PathKind::kUmbmarkCcw},
+               {"script", PathKind::kScript}},
               "what the robot drives (below)");
     t.Add("speed_mps", &P::speed_mps, "m/s",
           "cruise speed on straight legs (P1: 0.34 m/s; P3 drove at 0.30)")

@@ -186,10 +186,10 @@ const OptionTable<WorldOptions>& WorldOptionsTable() {
   return StaticOptionTable<WorldOptions>([](OptionTable<WorldOptions>& t) {
     using W = WorldOptions;
     t.AddEnum("layout", &W::layout,
-              std::vector<std::pair<std::string, Layout>>{{"straight", Layout::kStraight},
-                                                          {"l_turn", Layout::kLTurn},
-                                                          {"t_junction", Layout::kTJunction},
-                                                          {"loop", Layout::kLoop}},
+              {{"straight", Layout::kStraight},
+               {"l_turn", Layout::kLTurn},
+               {"t_junction", Layout::kTJunction},
+               {"loop", Layout::kLoop}},
               "the corridor's shape (see docs/frames.md)");
     t.Add("length_m", &W::length_m, "m",
           "straight: length; L: first leg; T: main corridor; loop: extent along x (centre line)")

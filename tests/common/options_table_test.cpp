@@ -40,10 +40,8 @@ const OptionTable<Outer>& OuterTable() {
     OptionTable<Outer> t;
     t.Add("rate_hz", &Outer::rate_hz, "Hz", "a rate").RangeOpenLow(0, 1000, "(0, 1000] Hz ({})");
     t.Add("jitter", &Outer::jitter, "", "a fraction").RangeOpenHigh(0, 0.5).Note("< rate_hz");
-    t.AddEnum(
-        "colour", &Outer::colour,
-        std::vector<std::pair<std::string, Colour>>{{"red", Colour::kRed}, {"blue", Colour::kBlue}},
-        "a colour");
+    t.AddEnum("colour", &Outer::colour, {{"red", Colour::kRed}, {"blue", Colour::kBlue}},
+              "a colour");
     t.AddSection("inner", &Outer::inner, InnerTable(), "a section");
     t.AddNamedSections(
         "", &Outer::named, InnerTable(),

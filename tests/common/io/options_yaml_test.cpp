@@ -50,9 +50,7 @@ const OptionTable<Thing>& ThingTable() {
     t.Add("count", &Thing::count, "", "a count");
     t.Add("seed", &Thing::seed, "", "a seed");
     t.Add("name", &Thing::name, "", "a | name");
-    t.AddEnum("shape", &Thing::shape,
-              std::vector<std::pair<std::string, Shape>>{{"round", Shape::kRound},
-                                                         {"square", Shape::kSquare}},
+    t.AddEnum("shape", &Thing::shape, {{"round", Shape::kRound}, {"square", Shape::kSquare}},
               "a shape");
     t.Add("weights", &Thing::weights, "", "a list");
     t.AddSection("part", &Thing::part, PartTable(), "a section");
