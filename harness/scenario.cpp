@@ -2,10 +2,8 @@
 
 #include <algorithm>
 
-#include <yaml-cpp/yaml.h>
-
 #include "common/io/atomic_file.h"
-#include "common/options_checker.h"
+#include "common/io/options_yaml.h"
 
 namespace corridorsim {
 
@@ -28,11 +26,84 @@ void ParsePipelines(YamlMap& pipelines, Scenario& scenario) {
       entry = scenario.pipelines.end() - 1;
     }
     options.Read("enabled", entry->enabled);
-    entry->config->Parse(options);
+    ReadOptionFields(options, entry->config->table(), entry->config->options());
+    options.RejectUnknownKeys();
   }
 }
 
+void EchoPipelines(const Scenario& scenario, OptionsYamlWriter& out) {
+  out.BeginMap("pipelines");
+  for (const Scenario::PipelineEntry& entry : scenario.pipelines) {
+    out.BeginMap(entry.name);
+    out.Scalar("enabled", entry.enabled ? "true" : "false");
+    WriteOptions(out, entry.config->table(), entry.config->options());
+    out.EndMap();
+  }
+  out.EndMap();
+}
+
+void EchoExpectations(const Scenario& scenario, OptionsYamlWriter& out) {
+  std::string list;
+  for (const std::string& e : scenario.expectations) {
+    list += (list.empty() ? "" : ", ") + YamlString(e);
+  }
+  out.Scalar("expectations", "[" + list + "]");
+}
+
 }  // namespace
+
+const OptionTable<Scenario>& ScenarioOptionsTable() {
+  return StaticOptionTable<Scenario>([](OptionTable<Scenario>& t) {
+    using S = Scenario;
+    t.AddCustom(
+        "include", "", [](YamlMap& root, S&) { root.Accept("include"); },
+        [](const S&, OptionsYamlWriter&) {},  // the echo has every key: it includes nothing
+        [](const S&) {
+          return std::vector<OptionDocRow>{
+              {"include", "", "", "",
+               "a base scenario (path relative to this file); this file overrides it"}};
+        });
+    t.Add("name", &S::name, "", "free text");
+    t.Add("description", &S::description, "", "free text");
+    t.Add("seed", &S::seed, "",
+          "seed of every random stream of the run (world layout, noise, ...)");
+    t.AddSection("world", &S::world, worlds::WorldOptionsTable(), "the world",
+                 &worlds::WorldOptions::Check);
+    auto rig = [](S& s) -> render::RigOptions& { return s.rig; };
+    t.AddSection("sensors", rig, render::SensorsOptionsTable(), "the cameras",
+                 &render::RigOptions::Check);
+    t.AddSection("render", rig, render::RenderOptionsTable(), "how the cameras are drawn");
+    t.AddSection("robot", &S::robot, sim::RobotOptionsTable(), "the robot and its odometry errors",
+                 &sim::RobotOptions::Check);
+    t.AddSection("path", &S::robot_path, sim::RobotPathOptionsTable(), "what the robot drives",
+                 &sim::RobotPathOptions::Check);
+    t.Add("duration_s", &S::duration_s, "s", "simulated time of a run; 0 = until the path is done")
+        .Range(0, 1e6, "must lie in [0, 1e+06] s (got {})");
+    t.AddCustom(
+        "pipelines", "",
+        [](YamlMap& root, S& s) {
+          YamlMap pipelines = root.Map("pipelines");
+          ParsePipelines(pipelines, s);
+        },
+        &EchoPipelines,
+        [](const S&) {
+          return std::vector<OptionDocRow>{
+              {"pipelines", "", "`{}`", "",
+               "the SLAM pipelines that run on the sensor stream, by name, each with its options "
+               "(below)"}};
+        });
+    t.AddCustom(
+        "expectations", "",
+        [](YamlMap& root, S& s) {
+          root.Read("expectations", s.expectations, &s.expectation_locations);
+        },
+        &EchoExpectations,
+        [](const S&) {
+          return std::vector<OptionDocRow>{
+              {"expectations", "", "`[]`", "", "assertions on the run's metrics (below)"}};
+        });
+  });
+}
 
 Scenario LoadScenario(const std::string& path) {
   Scenario scenario;
@@ -46,35 +117,27 @@ Scenario LoadScenario(const std::string& path) {
   const std::vector<YamlDocument> chain = LoadWithIncludes(path);
   for (const YamlDocument& doc : chain) {
     YamlMap root(doc, doc.root, "", &scenario.sources);
-    root.Accept("include");
-    root.Read("name", scenario.name);
-    root.Read("description", scenario.description);
-    root.Read("seed", scenario.seed);
-    if (root.Has("world")) scenario.world_location = root.LocationOfKey("world");
-    YamlMap world = root.Map("world");
-    worlds::ParseWorldOptions(world, scenario.world);
-    if (root.Has("sensors")) scenario.sensors_location = root.LocationOfKey("sensors");
-    YamlMap sensors = root.Map("sensors");
-    render::ParseSensors(sensors, scenario.rig);
-    YamlMap render = root.Map("render");
-    render::ParseRenderOptions(render, scenario.rig);
-    if (root.Has("robot")) scenario.robot_location = root.LocationOfKey("robot");
-    YamlMap robot = root.Map("robot");
-    sim::ParseRobotOptions(robot, scenario.robot);
-    if (root.Has("path")) scenario.path_location = root.LocationOfKey("path");
-    YamlMap path_map = root.Map("path");
-    sim::ParseRobotPathOptions(path_map, scenario.robot_path);
-    root.Read("duration_s", scenario.duration_s);
-    if (root.Has("pipelines")) scenario.pipelines_location = root.LocationOfKey("pipelines");
-    YamlMap pipelines = root.Map("pipelines");
-    ParsePipelines(pipelines, scenario);
-    root.Read("expectations", scenario.expectations, &scenario.expectation_locations);
-    root.RejectUnknownKeys();
+    for (auto [key, location] : {std::pair{"world", &scenario.world_location},
+                                 {"sensors", &scenario.sensors_location},
+                                 {"robot", &scenario.robot_location},
+                                 {"path", &scenario.path_location},
+                                 {"pipelines", &scenario.pipelines_location}}) {
+      if (root.Has(key)) *location = root.LocationOfKey(key);
+    }
+    ReadOptions(root, ScenarioOptionsTable(), scenario);
   }
-  if (auto problem = scenario.world.Check()) throw LocateProblem(scenario, "world", *problem);
-  if (auto problem = scenario.rig.Check()) throw LocateProblem(scenario, "sensors", *problem);
-  if (auto problem = scenario.robot.Check()) throw LocateProblem(scenario, "robot", *problem);
-  if (auto problem = scenario.robot_path.Check()) throw LocateProblem(scenario, "path", *problem);
+  // Bounds and each section's Check(), in table order: world, sensors, render, robot, path,
+  // duration_s.
+  if (auto problem = CheckOptionBounds(ScenarioOptionsTable(), scenario)) {
+    const std::string& key = problem->key;
+    const auto dot = key.find('.');
+    if (dot == std::string::npos) {
+      throw InputError(scenario.sources.Find(key, SourceLocation{path, 0, 0}), key,
+                       problem->message);
+    }
+    throw LocateProblem(scenario, key.substr(0, dot),
+                        OptionsProblem{key.substr(dot + 1), problem->message});
+  }
   for (const Scenario::PipelineEntry& entry : scenario.pipelines) {
     if (auto problem = entry.config->Check()) {
       throw LocateProblem(scenario, "pipelines",
@@ -82,10 +145,6 @@ Scenario LoadScenario(const std::string& path) {
     }
   }
   ScenarioExpectations(scenario);  // checked here so that every command rejects a bad one
-  if (!(scenario.duration_s >= 0 && scenario.duration_s <= 1e6)) {
-    throw InputError(scenario.sources.Find("duration_s", SourceLocation{path, 0, 0}), "duration_s",
-                     "must lie in [0, 1e+06] s (got " + FormatNumber(scenario.duration_s) + ")");
-  }
   return scenario;
 }
 
@@ -108,40 +167,26 @@ worlds::World GenerateWorld(const Scenario& scenario, std::uint64_t seed) {
   }
 }
 
-namespace {
-
-// `over` on top of `base`: maps merge key by key, anything else replaces.
-YAML::Node MergeNodes(const YAML::Node& base, const YAML::Node& over) {
-  if (!base.IsMap() || !over.IsMap()) return YAML::Clone(over);
-  YAML::Node out(YAML::NodeType::Map);
-  for (const auto& kv : base) {
-    const std::string key = kv.first.Scalar();
-    const YAML::Node& o = over;
-    out[key] = o[key] ? MergeNodes(kv.second, o[key]) : YAML::Clone(kv.second);
-  }
-  for (const auto& kv : over) {
-    const std::string key = kv.first.Scalar();
-    const YAML::Node& b = base;
-    if (!b[key]) out[key] = YAML::Clone(kv.second);
-  }
-  return out;
+std::string ResolvedScenarioYaml(const std::string& path, std::uint64_t seed) {
+  Scenario scenario = LoadScenario(path);
+  scenario.seed = seed;
+  return "# The scenario of this run: " + path +
+         " resolved: its include chain merged, every key with the value the run used (defaults "
+         "included) and the seed used.\n" +
+         OptionsYaml(ScenarioOptionsTable(), scenario);
 }
 
-}  // namespace
-
-std::string ResolvedScenarioYaml(const std::string& path, std::uint64_t seed) {
-  YAML::Node merged(YAML::NodeType::Map);
-  for (const YamlDocument& doc : LoadWithIncludes(path)) {
-    if (doc.root.IsMap()) merged = MergeNodes(merged, doc.root);
+std::vector<OptionsDocBlock> ScenarioDocBlocks() {
+  const Scenario defaults;
+  std::vector<OptionsDocBlock> blocks =
+      OptionsDocBlocks(ScenarioOptionsTable(), &defaults, "scenario");
+  for (const slam::PipelineType& type : slam::PipelineTypes()) {
+    const std::unique_ptr<slam::PipelineConfig> config = type.new_config();
+    const std::vector<OptionsDocBlock> more =
+        OptionsDocBlocks(config->table(), config->options(), "pipelines." + type.name);
+    blocks.insert(blocks.end(), more.begin(), more.end());
   }
-  merged.remove("include");
-  merged["seed"] = seed;
-  YAML::Emitter out;
-  out << merged;
-  return "# The scenario of this run: " + path +
-         " with its include chain merged and the seed used.\n# Keys not written here keep "
-         "corridorsim's defaults (docs/scenarios.md).\n" +
-         std::string(out.c_str()) + "\n";
+  return blocks;
 }
 
 void EnsureOutputDirectory(const std::filesystem::path& dir, const std::string& option) {

@@ -9,7 +9,9 @@
 #include <string>
 #include <vector>
 
+#include "common/io/options_yaml.h"
 #include "common/io/yaml_reader.h"
+#include "common/options_table.h"
 #include "harness/metrics.h"
 #include "render/camera_rig.h"
 #include "sim/robot.h"
@@ -48,6 +50,15 @@ struct Scenario {
   SourceLocation pipelines_location;  // `pipelines:`
 };
 
+/// The scenario file's keys: the top-level ones and every section through its table (parsing,
+/// checks, the echo and docs/scenarios.md's key tables).
+const OptionTable<Scenario>& ScenarioOptionsTable();
+
+/// docs/scenarios.md's generated key tables: every section of ScenarioOptionsTable() with the
+/// defaults ("scenario", "world", "world.doors", ..., "sensors", "render", ...) and each shipped
+/// pipeline's options ("pipelines.odometry").
+std::vector<OptionsDocBlock> ScenarioDocBlocks();
+
 /// Loads `path` and its `include:` chain (base first) onto code defaults, then checks the
 /// result. Throws InputError naming file, line, column and key.
 Scenario LoadScenario(const std::string& path);
@@ -61,8 +72,9 @@ InputError LocateProblem(const Scenario& scenario, const std::string& section,
 /// Generates the scenario's world with `seed`, reporting generator problems as InputError.
 worlds::World GenerateWorld(const Scenario& scenario, std::uint64_t seed);
 
-/// The scenario file with its include chain merged (base first, the same key-by-key rules as
-/// loading), `include:` removed and `seed` set to `seed`: a single file that repeats the run.
+/// The loaded scenario echoed through its tables with `seed` set to `seed`: every key with its
+/// resolved value (defaults included), no `include:`: a single file that repeats the run, and
+/// whose own echo is itself.
 std::string ResolvedScenarioYaml(const std::string& path, std::uint64_t seed);
 
 /// Creates `dir` if needed and proves it writable, or throws InputError naming the command-line

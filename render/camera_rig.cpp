@@ -1,5 +1,6 @@
 #include "render/camera_rig.h"
 
+#include "common/io/options_yaml.h"
 #include "common/options_checker.h"
 
 #include <algorithm>
@@ -114,15 +115,216 @@ const CameraOptions* RigOptions::Find(const std::string& id) const {
   return nullptr;
 }
 
+namespace {
+
+// The camera model's keys depend on each other (a size or a field of view rebuilds the
+// intrinsics, explicit fx/fy/cx/cy override them, a model switch needs fov_deg), so one hook
+// reads them. The model's parameters are built here and assigned to c.model once.
+void ParseCameraModel(YamlMap& map, CameraOptions& c) {
+  const CameraModel& current = c.model;
+  const bool was_pinhole = current.pinhole() != nullptr;
+  bool pinhole = was_pinhole;
+  std::string model_name;
+  if (map.ReadEnum("model", model_name,
+                   {{"pinhole", std::string("pinhole")},
+                    {"kannala_brandt", std::string("kannala_brandt")}})) {
+    pinhole = model_name == "pinhole";
+  }
+  const CameraIntrinsics p = current.intrinsics();
+  // Size and field of view rebuild the intrinsics; explicit fx/fy/cx/cy override them.
+  int width = p.width, height = p.height;
+  map.Read("width", width);
+  map.Read("height", height);
+  double fov_deg = 0.0;
+  const bool has_fov = map.Read("fov_deg", fov_deg);
+  const bool resized = width != p.width || height != p.height;
+  const bool model_changed = pinhole != was_pinhole;
+  if (model_changed && !has_fov) {
+    // A pinhole's fov_deg is horizontal, a fisheye's spans the smaller image side: say which.
+    map.Fail("model", "changing the camera model needs fov_deg as well");
+  }
+  PinholeRadTan pinhole_params = was_pinhole ? *current.pinhole() : PinholeRadTan{};
+  KannalaBrandt fisheye_params = was_pinhole ? KannalaBrandt{} : *current.kannala_brandt();
+  if (has_fov || resized || model_changed) {
+    if (!has_fov) {
+      fov_deg = current.FieldOfViewRad() / kDegToRad;
+    }
+    // An impossible field of view is reported here, at its key, before it shapes a model.
+    if (auto problem = FovProblem(pinhole, fov_deg)) map.Fail("fov_deg", *problem);
+    if (pinhole) {
+      pinhole_params = PinholeRadTan::FromFov(width, height, fov_deg * kDegToRad);
+    } else {
+      fisheye_params = KannalaBrandt::FromFov(width, height, fov_deg * kDegToRad);
+    }
+  }
+  auto read_intrinsics = [&](auto& m) {
+    map.Read("fx", m.fx);
+    map.Read("fy", m.fy);
+    map.Read("cx", m.cx);
+    map.Read("cy", m.cy);
+  };
+  std::vector<double> distortion;
+  if (pinhole) {
+    read_intrinsics(pinhole_params);
+    if (map.Read("distortion", distortion)) {
+      if (distortion.size() != 5) map.Fail("distortion", "a pinhole needs [k1, k2, p1, p2, k3]");
+      PinholeRadTan& m = pinhole_params;
+      m.k1 = distortion[0], m.k2 = distortion[1], m.p1 = distortion[2];
+      m.p2 = distortion[3], m.k3 = distortion[4];
+    }
+    c.model = pinhole_params;
+  } else {
+    read_intrinsics(fisheye_params);
+    if (map.Read("distortion", distortion)) {
+      if (distortion.size() != 4) map.Fail("distortion", "a fisheye needs [k1, k2, k3, k4]");
+      KannalaBrandt& m = fisheye_params;
+      m.k1 = distortion[0], m.k2 = distortion[1], m.k3 = distortion[2], m.k4 = distortion[3];
+    }
+    c.model = fisheye_params;
+  }
+}
+
+double FovDegOf(const CameraModel& model) { return model.FieldOfViewRad() / kDegToRad; }
+
+// Every model key, so that the echo reads back as the same model (fov_deg first rebuilds it,
+// then the explicit intrinsics and distortion set it exactly).
+void EchoCameraModel(const CameraOptions& c, OptionsYamlWriter& out) {
+  const CameraIntrinsics p = c.model.intrinsics();
+  out.Scalar("model", c.model.pinhole() ? "pinhole" : "kannala_brandt");
+  out.Scalar("width", std::to_string(p.width));
+  out.Scalar("height", std::to_string(p.height));
+  out.Scalar("fov_deg", YamlNumber(FovDegOf(c.model)));
+  out.Scalar("fx", YamlNumber(p.fx));
+  out.Scalar("fy", YamlNumber(p.fy));
+  out.Scalar("cx", YamlNumber(p.cx));
+  out.Scalar("cy", YamlNumber(p.cy));
+  out.Scalar("distortion", YamlList(p.distortion));
+}
+
+std::vector<OptionDocRow> CameraModelDocRows(const CameraOptions& c) {
+  const CameraIntrinsics p = c.model.intrinsics();
+  const bool pinhole = c.model.pinhole() != nullptr;
+  std::string distortion;
+  for (const double k : p.distortion) distortion += (distortion.empty() ? "" : ", ") + Num(k);
+  return {
+      {"model", "", pinhole ? "`pinhole`" : "`kannala_brandt`", "`pinhole`, `kannala_brandt`",
+       "`pinhole` (radial-tangential) or `kannala_brandt` (equidistant fisheye); a change needs "
+       "`fov_deg` too"},
+      {"width", "px", std::to_string(p.width), "(0, 8192]", "image width"},
+      {"height", "px", std::to_string(p.height), "(0, 8192]", "image height"},
+      {"fov_deg", "deg", Num(FovDegOf(c.model)), "pinhole < 150, fisheye < 180",
+       "pinhole: horizontal field of view; fisheye: across the smaller image dimension. Sets "
+       "fx = fy and the principal point at the centre"},
+      {"fx", "px", Num(p.fx), "> 0; fisheye <= 2048, pinhole <= 1e5",
+       "explicit focal length, overriding the one from `fov_deg`"},
+      {"fy", "px", Num(p.fy), "> 0", ""},
+      {"cx", "px", Num(p.cx), "", "explicit principal point"},
+      {"cy", "px", Num(p.cy), "", ""},
+      {"distortion", "", "`[" + distortion + "]`", "",
+       "pinhole `[k1, k2, p1, p2, k3]`, fisheye `[k1, k2, k3, k4]`"},
+  };
+}
+
+const OptionTable<Mount>& MountOptionsTable() {
+  return StaticOptionTable<Mount>([](OptionTable<Mount>& t) {
+    t.Add("x_m", &Mount::x_m, "m", "position in the robot frame (x forward)");
+    t.Add("y_m", &Mount::y_m, "m", "y left");
+    t.Add("z_m", &Mount::z_m, "m", "z up; the camera must sit inside the corridor");
+    t.Add("yaw_deg", &Mount::yaw_deg, "deg", "heading of the optical axis (0 forward, 90 left)");
+    t.Add("pitch_deg", &Mount::pitch_deg, "deg", "elevation (0 horizontal, 90 straight up)");
+    t.Add("roll_deg", &Mount::roll_deg, "deg", "turns the image about the optical axis");
+  });
+}
+
+// `noise:` holds the camera's noise switch and its two noise models.
+const OptionTable<CameraOptions>& CameraNoiseOptionsTable() {
+  return StaticOptionTable<CameraOptions>([](OptionTable<CameraOptions>& t) {
+    using C = CameraOptions;
+    t.Add("enabled", &C::noise, "", "false gives exact images");
+    t.AddSection("depth", &C::depth_noise, DepthNoiseOptionsTable(),
+                 "structured-light depth noise (depth cameras)", &DepthNoiseOptions::Check);
+    t.AddSection("rgb", &C::rgb_noise, RgbNoiseOptionsTable(), "colour camera noise",
+                 &RgbNoiseOptions::Check);
+  });
+}
+
+const OptionTable<SceneOptions>& SceneRenderOptionsTable() {
+  return StaticOptionTable<SceneOptions>([](OptionTable<SceneOptions>& t) {
+    using S = SceneOptions;
+    t.Add("ambient", &S::ambient, "", "uniform ambient light").Range(0, 1, "must lie in [0, 1]");
+    t.Add("light_intensity", &S::light_intensity, "", "scale of every lamp's point light")
+        .AtLeast(0, "must not be negative");
+    t.Add("light_falloff_m", &S::light_falloff_m, "m",
+          "distance at which a lamp's light has halved")
+        .Greater(0, "must be greater than 0");
+    t.Add("bake_lighting", &S::bake_lighting, "",
+          "lamps' light baked per vertex when the scene is built (every lamp within 15 m, no "
+          "per-pixel cost); false lights each pixel from the nearest `max_lights` lamps");
+    t.Add("max_lights", &S::max_lights, "",
+          "per-pixel lighting only: lamps that light one pass (the nearest to the camera); each "
+          "costs about 1.4 ms per 640x480 pass")
+        .Range(0, 16, "must lie in [0, 16]");
+    t.AddEnum(
+        "texture_filter", &S::texture_filter,
+        {{"trilinear", TextureFilter::kTrilinear}, {"nearest_mip", TextureFilter::kNearestMip}},
+        "how textures are filtered where they are minified (below)");
+  });
+}
+
+}  // namespace
+
+const OptionTable<CameraOptions>& CameraOptionsTable() {
+  return StaticOptionTable<CameraOptions>([](OptionTable<CameraOptions>& t) {
+    using C = CameraOptions;
+    t.Add("enabled", &C::enabled, "", "false leaves the camera out of the rig");
+    t.Add("rate_hz", &C::rate_hz, "Hz", "frames per second (P1: a 300 ms period)")
+        .Greater(0, "must be greater than 0")
+        .AtMost(1000, "must not exceed 1000");
+    t.Add("phase_s", &C::phase_s, "s",
+          "time of the first frame; frames are stamped at `phase_s + k / rate_hz`, rounded to the "
+          "nanosecond")
+        .Note("[0, 1 / rate_hz)");
+    t.Add("drop_probability", &C::drop_probability, "",
+          "each frame is lost with this probability: neither rendered nor delivered, and "
+          "`events.json` records it (`frame_dropped`); one draw per stamp from the camera's own "
+          "stream `sim.clock.drop.<camera>`")
+        .RangeOpenHigh(0, 1);
+    t.AddCustom("model", "the camera model and its intrinsics", &ParseCameraModel, &EchoCameraModel,
+                &CameraModelDocRows);
+    t.AddSection("mount", &C::mount, MountOptionsTable(),
+                 "where the camera sits on the robot (docs/frames.md)");
+    t.Add("depth", &C::depth, "", "a registered depth image").Note("pinhole only");
+    t.Add("cube_face_px", &C::cube_face_px, "px",
+          "fisheye: resolution of the cube faces it is drawn from (0 = matched to the model's "
+          "centre)")
+        .Range(0, 4096, "must lie in [0, 4096] (0 = automatic)");
+    t.AddSection(
+        "noise", [](C& c) -> C& { return c; }, CameraNoiseOptionsTable(), "the noise models");
+  });
+}
+
+const OptionTable<RigOptions>& SensorsOptionsTable() {
+  return StaticOptionTable<RigOptions>([](OptionTable<RigOptions>& t) {
+    t.AddNamedSections(
+        "", &RigOptions::cameras, CameraOptionsTable(), [](const CameraOptions& c) { return c.id; },
+        "the cameras, by id");
+  });
+}
+
+const OptionTable<RigOptions>& RenderOptionsTable() {
+  return StaticOptionTable<RigOptions>([](OptionTable<RigOptions>& t) {
+    t.AddEnum("backend", &RigOptions::backend,
+              {{"osmesa", BackendKind::kOsMesa}, {"egl", BackendKind::kEgl}},
+              "`egl` is EGL surfaceless; the environment variable `CORRIDORSIM_RENDER_BACKEND` "
+              "overrides it");
+    t.AddSection("", &RigOptions::scene, SceneRenderOptionsTable(), "lighting and textures");
+  });
+}
+
 std::optional<OptionsProblem> RigOptions::Check() const {
+  if (auto problem = CheckOptionBounds(SensorsOptionsTable(), *this)) return problem;
   for (const CameraOptions& c : cameras) {
     const std::string k = c.id + ".";
-    if (!(c.rate_hz > 0)) return OptionsProblem{k + "rate_hz", "must be greater than 0"};
-    if (c.rate_hz > 1000) return OptionsProblem{k + "rate_hz", "must not exceed 1000"};
-    if (!(c.drop_probability >= 0 && c.drop_probability < 1)) {
-      return OptionsProblem{k + "drop_probability",
-                            "must lie in [0, 1) (got " + FormatNumber(c.drop_probability) + ")"};
-    }
     if (!(c.phase_s >= 0 && c.phase_s * c.rate_hz < 1)) {
       return OptionsProblem{k + "phase_s",
                             "must lie in [0, 1 / rate_hz) (got " + FormatNumber(c.phase_s) + " s)"};
@@ -147,146 +349,26 @@ std::optional<OptionsProblem> RigOptions::Check() const {
       return OptionsProblem{k + "fx", "focal lengths above " + Num(max_focal) +
                                           " px are not supported for this model"};
     }
-    const double fov_deg = c.model.FieldOfViewRad() / kDegToRad;
-    if (auto problem = FovProblem(pinhole, fov_deg)) return OptionsProblem{k + "fov_deg", *problem};
+    if (auto problem = FovProblem(pinhole, FovDegOf(c.model))) {
+      return OptionsProblem{k + "fov_deg", *problem};
+    }
     if (auto problem = c.model.Check()) return OptionsProblem{k + "distortion", *problem};
     if (c.depth && !pinhole) {
       return OptionsProblem{k + "depth", "depth images need a pinhole camera"};
-    }
-    if (c.cube_face_px < 0 || c.cube_face_px > 4096) {
-      return OptionsProblem{k + "cube_face_px", "must lie in [0, 4096] (0 = automatic)"};
-    }
-    if (auto problem = c.depth_noise.Check()) {
-      return OptionsProblem{k + "noise.depth." + problem->key, problem->message};
-    }
-    if (auto problem = c.rgb_noise.Check()) {
-      return OptionsProblem{k + "noise.rgb." + problem->key, problem->message};
     }
   }
   return std::nullopt;
 }
 
-namespace {
-
-void ParseCamera(YamlMap& map, CameraOptions& c) {
-  map.Read("enabled", c.enabled);
-  map.Read("rate_hz", c.rate_hz);
-  map.Read("phase_s", c.phase_s);
-  map.Read("drop_probability", c.drop_probability);
-  bool pinhole = c.model.pinhole() != nullptr;
-  if (map.Has("model")) {
-    std::string model;
-    map.ReadEnum(
-        "model", model,
-        {{"pinhole", std::string("pinhole")}, {"kannala_brandt", std::string("kannala_brandt")}});
-    pinhole = model == "pinhole";
-  }
-  const CameraIntrinsics p = c.model.intrinsics();
-  // Size and field of view rebuild the intrinsics; explicit fx/fy/cx/cy override them.
-  int width = p.width, height = p.height;
-  map.Read("width", width);
-  map.Read("height", height);
-  double fov_deg = 0.0;
-  const bool has_fov = map.Read("fov_deg", fov_deg);
-  const bool resized = width != p.width || height != p.height;
-  const bool model_changed = pinhole != (c.model.pinhole() != nullptr);
-  if (model_changed && !has_fov) {
-    // A pinhole's fov_deg is horizontal, a fisheye's spans the smaller image side: say which.
-    map.Fail("model", "changing the camera model needs fov_deg as well");
-  }
-  if (has_fov || resized || model_changed) {
-    if (!has_fov) {
-      fov_deg = c.model.FieldOfViewRad() / kDegToRad;
-    }
-    // An impossible field of view is reported here, at its key, before it shapes a model.
-    if (auto problem = FovProblem(pinhole, fov_deg)) map.Fail("fov_deg", *problem);
-    if (pinhole) {
-      c.model = PinholeRadTan::FromFov(width, height, fov_deg * kDegToRad);
-    } else {
-      c.model = KannalaBrandt::FromFov(width, height, fov_deg * kDegToRad);
-    }
-  }
-  // The model is immutable: its parameters are read into a copy, which replaces it.
-  const auto read_intrinsics = [&](auto m) {
-    map.Read("fx", m.fx);
-    map.Read("fy", m.fy);
-    map.Read("cx", m.cx);
-    map.Read("cy", m.cy);
-    return m;
-  };
-  if (const PinholeRadTan* pm = c.model.pinhole()) {
-    c.model = read_intrinsics(*pm);
-  } else {
-    c.model = read_intrinsics(*c.model.kannala_brandt());
-  }
-  std::vector<double> distortion;
-  if (map.Read("distortion", distortion)) {
-    if (const PinholeRadTan* current = c.model.pinhole()) {
-      PinholeRadTan pm = *current;
-      if (distortion.size() != 5) map.Fail("distortion", "a pinhole needs [k1, k2, p1, p2, k3]");
-      pm.k1 = distortion[0], pm.k2 = distortion[1], pm.p1 = distortion[2];
-      pm.p2 = distortion[3], pm.k3 = distortion[4];
-      c.model = pm;
-    } else {
-      KannalaBrandt km = *c.model.kannala_brandt();
-      if (distortion.size() != 4) map.Fail("distortion", "a fisheye needs [k1, k2, k3, k4]");
-      km.k1 = distortion[0], km.k2 = distortion[1], km.k3 = distortion[2], km.k4 = distortion[3];
-      c.model = km;
-    }
-  }
-  YamlMap mount = map.Map("mount");
-  mount.Read("x_m", c.mount.x_m);
-  mount.Read("y_m", c.mount.y_m);
-  mount.Read("z_m", c.mount.z_m);
-  mount.Read("yaw_deg", c.mount.yaw_deg);
-  mount.Read("pitch_deg", c.mount.pitch_deg);
-  mount.Read("roll_deg", c.mount.roll_deg);
-  mount.RejectUnknownKeys();
-  map.Read("depth", c.depth);
-  map.Read("cube_face_px", c.cube_face_px);
-  YamlMap noise = map.Map("noise");
-  noise.Read("enabled", c.noise);
-  YamlMap depth_noise = noise.Map("depth");
-  ParseDepthNoiseOptions(depth_noise, c.depth_noise);
-  YamlMap rgb_noise = noise.Map("rgb");
-  ParseRgbNoiseOptions(rgb_noise, c.rgb_noise);
-  noise.RejectUnknownKeys();
-  map.RejectUnknownKeys();
-}
-
-}  // namespace
-
 void ParseSensors(YamlMap& sensors, RigOptions& rig) {
-  for (CameraOptions& c : rig.cameras) {
-    YamlMap camera = sensors.Map(c.id);
-    ParseCamera(camera, c);
-  }
-  sensors.RejectUnknownKeys();
+  ReadOptions(sensors, SensorsOptionsTable(), rig);
 }
 
 void ParseRenderOptions(YamlMap& render, RigOptions& rig) {
-  render.ReadEnum("backend", rig.backend,
-                  {{"osmesa", BackendKind::kOsMesa}, {"egl", BackendKind::kEgl}});
-  double ambient = rig.scene.ambient, intensity = rig.scene.light_intensity,
-         falloff = rig.scene.light_falloff_m;
-  render.Read("ambient", ambient);
-  render.Read("light_intensity", intensity);
-  render.Read("light_falloff_m", falloff);
-  render.Read("bake_lighting", rig.scene.bake_lighting);
-  render.Read("max_lights", rig.scene.max_lights);
-  render.ReadEnum(
-      "texture_filter", rig.scene.texture_filter,
-      {{"trilinear", TextureFilter::kTrilinear}, {"nearest_mip", TextureFilter::kNearestMip}});
-  if (rig.scene.max_lights < 0 || rig.scene.max_lights > 16) {
-    render.Fail("max_lights", "must lie in [0, 16]");
+  ReadOptions(render, RenderOptionsTable(), rig);
+  if (auto problem = CheckOptionBounds(RenderOptionsTable(), rig)) {
+    render.Fail(problem->key, problem->message);
   }
-  if (ambient < 0 || ambient > 1) render.Fail("ambient", "must lie in [0, 1]");
-  if (intensity < 0) render.Fail("light_intensity", "must not be negative");
-  if (!(falloff > 0)) render.Fail("light_falloff_m", "must be greater than 0");
-  rig.scene.ambient = static_cast<float>(ambient);
-  rig.scene.light_intensity = static_cast<float>(intensity);
-  rig.scene.light_falloff_m = static_cast<float>(falloff);
-  render.RejectUnknownKeys();
 }
 
 std::optional<OptionsProblem> CheckCameraPlacement(const worlds::World& world,

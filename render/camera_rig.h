@@ -21,6 +21,7 @@
 #include "common/image.h"
 #include "common/io/serial_worker.h"
 #include "common/io/yaml_reader.h"
+#include "common/options_table.h"
 #include "common/pose.h"
 #include "render/backend.h"
 #include "render/noise.h"
@@ -68,9 +69,16 @@ struct RigOptions {
   std::optional<OptionsProblem> Check() const;
 };
 
+/// The keys of one camera (`sensors.<id>`), of the `sensors:` map (the cameras by id) and of the
+/// `render:` map (backend, lighting): parsing, bounds, echo, docs.
+const OptionTable<CameraOptions>& CameraOptionsTable();
+const OptionTable<RigOptions>& SensorsOptionsTable();
+const OptionTable<RigOptions>& RenderOptionsTable();
+
 /// Reads a `sensors:` map onto `rig` (cameras by id; unknown ids are errors).
 void ParseSensors(YamlMap& sensors, RigOptions& rig);
-/// Reads a `render:` map (backend, lighting) onto `rig`.
+/// Reads a `render:` map (backend, lighting) onto `rig`; a value out of bounds is an error at its
+/// key.
 void ParseRenderOptions(YamlMap& render, RigOptions& rig);
 
 /// A problem when a camera at `world_from_robot` would sit inside a wall or outside the walkable

@@ -1,5 +1,6 @@
 #include "render/noise.h"
 
+#include "common/io/options_yaml.h"
 #include "common/options_checker.h"
 
 #include <algorithm>
@@ -173,44 +174,46 @@ class AcosDegTable {
 
 }  // namespace
 
+const OptionTable<DepthNoiseOptions>& DepthNoiseOptionsTable() {
+  return StaticOptionTable<DepthNoiseOptions>([](OptionTable<DepthNoiseOptions>& t) {
+    using D = DepthNoiseOptions;
+    t.Add("min_m", &D::min_m, "m", "nearest valid depth").AtLeast(0);
+    t.Add("max_m", &D::max_m, "m", "farthest valid depth").Range(0, 1000).Note("> min_m");
+    t.Add("quantise", &D::quantise, "", "disparity quantisation to 1 / subpixel px");
+    t.Add("baseline_m", &D::baseline_m, "m", "projector-camera baseline").Greater(0).Range(0, 10);
+    t.Add("subpixel", &D::subpixel, "", "disparity steps per px")
+        .AtLeast(1, "must be at least 1 (got {})")
+        .Range(1, 1024);
+    t.Add("axial", &D::axial, "",
+          "axial noise sigma_z = axial_a_m + axial_b (z - axial_z0_m)^2 (Nguyen 2012 eq. 6)");
+    t.Add("axial_a_m", &D::axial_a_m, "m", "sigma at z = axial_z0_m").AtLeast(0);
+    t.Add("axial_b", &D::axial_b, "1/m", "growth of sigma with (z - axial_z0_m)^2").AtLeast(0);
+    t.Add("axial_z0_m", &D::axial_z0_m, "m", "depth of the smallest sigma").AtLeast(0);
+    t.Add("lateral_sigma_px", &D::lateral_sigma_px, "px",
+          "lateral noise: a pixel takes the depth of one displaced by round(N(0, sigma)); 0 = off")
+        .Range(0, 10, "must lie in [0, 10] px (got {})");
+    t.Add("grazing", &D::grazing, "", "dropouts at grazing incidence");
+    t.Add("grazing_start_deg", &D::grazing_start_deg, "deg", "dropouts begin")
+        .Range(0, 90, "must lie in [0, 90] deg (got {})");
+    t.Add("grazing_max_deg", &D::grazing_max_deg, "deg", "everything beyond is invalid")
+        .Note("[grazing_start_deg, 90]");
+    t.Add("random_dropout", &D::random_dropout, "",
+          "probability that any valid pixel becomes invalid")
+        .Range(0, 1);
+  });
+}
+
 std::optional<OptionsProblem> DepthNoiseOptions::Check() const {
+  if (auto problem = CheckOptionBounds(DepthNoiseOptionsTable(), *this)) return problem;
   Checker c;
-  c.NonNegative(min_m, "min_m");
   c.Require(max_m > min_m, "max_m", "must be greater than min_m (" + Num(min_m) + " m)");
-  c.Positive(baseline_m, "baseline_m");
-  c.Require(subpixel >= 1, "subpixel", "must be at least 1 (got " + std::to_string(subpixel) + ")");
-  c.NonNegative(axial_a_m, "axial_a_m");
-  c.NonNegative(axial_b, "axial_b");
-  c.NonNegative(axial_z0_m, "axial_z0_m");
-  c.Require(lateral_sigma_px >= 0 && lateral_sigma_px <= 10, "lateral_sigma_px",
-            "must lie in [0, 10] px (got " + Num(lateral_sigma_px) + ")");
-  c.Require(grazing_start_deg >= 0 && grazing_start_deg <= 90, "grazing_start_deg",
-            "must lie in [0, 90] deg (got " + Num(grazing_start_deg) + ")");
   c.Require(grazing_max_deg >= grazing_start_deg && grazing_max_deg <= 90, "grazing_max_deg",
             "must lie in [grazing_start_deg, 90] deg (got " + Num(grazing_max_deg) + ")");
-  c.Fraction(random_dropout, "random_dropout");
-  c.InRange(max_m, 0.0, 1000.0, "max_m");
-  c.InRange(baseline_m, 0.0, 10.0, "baseline_m");
-  c.InRange(subpixel, 1, 1024, "subpixel");
   return c.problem();
 }
 
-void ParseDepthNoiseOptions(YamlMap& map, DepthNoiseOptions& o) {
-  map.Read("min_m", o.min_m);
-  map.Read("max_m", o.max_m);
-  map.Read("quantise", o.quantise);
-  map.Read("baseline_m", o.baseline_m);
-  map.Read("subpixel", o.subpixel);
-  map.Read("axial", o.axial);
-  map.Read("axial_a_m", o.axial_a_m);
-  map.Read("axial_b", o.axial_b);
-  map.Read("axial_z0_m", o.axial_z0_m);
-  map.Read("lateral_sigma_px", o.lateral_sigma_px);
-  map.Read("grazing", o.grazing);
-  map.Read("grazing_start_deg", o.grazing_start_deg);
-  map.Read("grazing_max_deg", o.grazing_max_deg);
-  map.Read("random_dropout", o.random_dropout);
-  map.RejectUnknownKeys();
+void ParseDepthNoiseOptions(YamlMap& map, DepthNoiseOptions& options) {
+  ReadOptions(map, DepthNoiseOptionsTable(), options);
 }
 
 void ApplyDepthNoise(const DepthNoiseOptions& options, const PinholeRadTan& intrinsics,
@@ -318,29 +321,40 @@ void ApplyDepthNoise(const DepthNoiseOptions& options, const PinholeRadTan& intr
   }
 }
 
+const OptionTable<RgbNoiseOptions>& RgbNoiseOptionsTable() {
+  return StaticOptionTable<RgbNoiseOptions>([](OptionTable<RgbNoiseOptions>& t) {
+    using R = RgbNoiseOptions;
+    t.Add("exposure", &R::exposure, "",
+          "gain on the collected signal (exposure time ratio); 1 = off")
+        .Greater(0)
+        .Range(0, 100);
+    t.Add("vignetting", &R::vignetting, "", "relative fall-off at the image corners; 0 = off")
+        .Range(0, 1);
+    t.Add("full_well_electrons", &R::full_well_electrons, "",
+          "electrons at 255 DN (shot noise); 0 = off, e.g. 6000 for a web camera")
+        .AtLeast(0)
+        .Range(0, 1e7);
+    t.Add("read_noise_electrons", &R::read_noise_electrons, "",
+          "read noise (std, electrons); 0 = off")
+        .AtLeast(0)
+        .Range(0, 1e4)
+        .Note("needs full_well_electrons > 0");
+    t.Add("motion_blur_px", &R::motion_blur_px, "px", "length of the linear motion blur; 0 = off")
+        .AtLeast(0)
+        .Range(0, 64);
+  });
+}
+
 std::optional<OptionsProblem> RgbNoiseOptions::Check() const {
+  if (auto problem = CheckOptionBounds(RgbNoiseOptionsTable(), *this)) return problem;
   Checker c;
-  c.Positive(exposure, "exposure");
-  c.Fraction(vignetting, "vignetting");
-  c.NonNegative(full_well_electrons, "full_well_electrons");
-  c.NonNegative(read_noise_electrons, "read_noise_electrons");
   c.Require(read_noise_electrons == 0 || full_well_electrons > 0, "read_noise_electrons",
             "needs full_well_electrons > 0 to convert electrons to DN");
-  c.NonNegative(motion_blur_px, "motion_blur_px");
-  c.InRange(motion_blur_px, 0.0, 64.0, "motion_blur_px");
-  c.InRange(exposure, 0.0, 100.0, "exposure");
-  c.InRange(full_well_electrons, 0.0, 1e7, "full_well_electrons");
-  c.InRange(read_noise_electrons, 0.0, 1e4, "read_noise_electrons");
   return c.problem();
 }
 
-void ParseRgbNoiseOptions(YamlMap& map, RgbNoiseOptions& o) {
-  map.Read("exposure", o.exposure);
-  map.Read("vignetting", o.vignetting);
-  map.Read("full_well_electrons", o.full_well_electrons);
-  map.Read("read_noise_electrons", o.read_noise_electrons);
-  map.Read("motion_blur_px", o.motion_blur_px);
-  map.RejectUnknownKeys();
+void ParseRgbNoiseOptions(YamlMap& map, RgbNoiseOptions& options) {
+  ReadOptions(map, RgbNoiseOptionsTable(), options);
 }
 
 namespace {

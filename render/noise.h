@@ -14,6 +14,7 @@
 #include "common/error.h"
 #include "common/image.h"
 #include "common/io/yaml_reader.h"
+#include "common/options_table.h"
 #include "common/random.h"
 
 namespace corridorsim::render {
@@ -54,6 +55,9 @@ struct DepthNoiseOptions {
   /// The first invalid value (key relative to this struct and what is wrong), or nullopt.
   std::optional<OptionsProblem> Check() const;
 };
+
+/// The keys of `noise.depth` (parsing, bounds, echo, docs).
+const OptionTable<DepthNoiseOptions>& DepthNoiseOptionsTable();
 
 /// Reads the keys of DepthNoiseOptions present in `map` over `options`; unknown keys are errors.
 void ParseDepthNoiseOptions(YamlMap& map, DepthNoiseOptions& options);
@@ -108,6 +112,9 @@ struct RgbNoiseOptions {
   /// The first invalid value (key relative to this struct and what is wrong), or nullopt.
   std::optional<OptionsProblem> Check() const;
 };
+
+/// The keys of `noise.rgb` (parsing, bounds, echo, docs).
+const OptionTable<RgbNoiseOptions>& RgbNoiseOptionsTable();
 
 /// Reads the keys of RgbNoiseOptions present in `map` over `options`; unknown keys are errors.
 void ParseRgbNoiseOptions(YamlMap& map, RgbNoiseOptions& options);

@@ -5,38 +5,46 @@
 #include <numbers>
 #include <string>
 
-#include "common/options_checker.h"
+#include "common/io/options_yaml.h"
 
 namespace corridorsim::sim {
 
-std::optional<OptionsProblem> OdometryOptions::Check() const {
-  OptionsChecker c;
-  c.Require(rate_hz > 0 && rate_hz <= 1000, "rate_hz",
-            "must lie in (0, 1000] Hz (got " + FormatNumber(rate_hz) + ")");
-  c.Require(ticks_per_revolution >= 0 && ticks_per_revolution <= 1'000'000, "ticks_per_revolution",
-            "must lie in [0, 1000000] (0 = no quantisation; got " +
-                std::to_string(ticks_per_revolution) + ")");
-  // Real robots stay within a few per cent of 1; beyond a factor 2 the wheels are not one model.
-  c.InRange(diameter_ratio, 0.5, 2.0, "diameter_ratio");
-  c.InRange(wheelbase_ratio, 0.5, 2.0, "wheelbase_ratio");
-  // k = 0.1 m is a 30 cm standard deviation after 1 m: far beyond any wheel.
-  c.InRange(random_k_m, 0.0, 0.1, "random_k_m");
-  // The slip count per message is drawn from this rate: the upper bound keeps it small.
-  c.InRange(slip_rate_per_m, 0.0, 100.0, "slip_rate_per_m");
-  c.Require(slip_mean_m > 0 && slip_mean_m <= 1.0, "slip_mean_m",
-            "must lie in (0, 1] m (got " + FormatNumber(slip_mean_m) + ")");
-  return c.problem();
+const OptionTable<OdometryOptions>& OdometryOptionsTable() {
+  return StaticOptionTable<OdometryOptions>([](OptionTable<OdometryOptions>& t) {
+    using O = OdometryOptions;
+    t.Add("rate_hz", &O::rate_hz, "Hz",
+          "odometry messages per second (stamps at n / rate_hz exactly)")
+        .RangeOpenLow(0, 1000, "must lie in (0, 1000] Hz (got {})");
+    t.Add("ticks_per_revolution", &O::ticks_per_revolution, "",
+          "encoder counts per wheel turn (0 = no quantisation)")
+        .Range(0, 1'000'000, "must lie in [0, 1000000] (0 = no quantisation; got {})");
+    // Real robots stay within a few per cent of 1; beyond a factor 2 the wheels are not one model.
+    t.Add("diameter_ratio", &O::diameter_ratio, "",
+          "Borenstein's E_d = D_R / D_L of the real wheels (their mean stays nominal)")
+        .Range(0.5, 2);
+    t.Add("wheelbase_ratio", &O::wheelbase_ratio, "", "E_b = real / nominal wheelbase")
+        .Range(0.5, 2);
+    // k = 0.1 m is a 30 cm standard deviation after 1 m: far beyond any wheel.
+    t.Add(
+         "random_k_m", &O::random_k_m, "m",
+         "k: each wheel's reported distance gets variance k |s| (m^2 per m, the form of P1 eq. 17)")
+        .Range(0, 0.1);
+    // The slip count per message is drawn from this rate: the upper bound keeps it small.
+    t.Add("slip_rate_per_m", &O::slip_rate_per_m, "1/m",
+          "slip events per metre travelled (Poisson)")
+        .Range(0, 100);
+    t.Add("slip_mean_m", &O::slip_mean_m, "m",
+          "mean extra distance a slipping wheel reports (exponential)")
+        .RangeOpenLow(0, 1, "must lie in (0, 1] m (got {})");
+  });
 }
 
-void ParseOdometryOptions(YamlMap& map, OdometryOptions& o) {
-  map.Read("rate_hz", o.rate_hz);
-  map.Read("ticks_per_revolution", o.ticks_per_revolution);
-  map.Read("diameter_ratio", o.diameter_ratio);
-  map.Read("wheelbase_ratio", o.wheelbase_ratio);
-  map.Read("random_k_m", o.random_k_m);
-  map.Read("slip_rate_per_m", o.slip_rate_per_m);
-  map.Read("slip_mean_m", o.slip_mean_m);
-  map.RejectUnknownKeys();
+std::optional<OptionsProblem> OdometryOptions::Check() const {
+  return CheckOptionBounds(OdometryOptionsTable(), *this);
+}
+
+void ParseOdometryOptions(YamlMap& map, OdometryOptions& options) {
+  ReadOptions(map, OdometryOptionsTable(), options);
 }
 
 WheelGeometry RealWheelGeometry(const OdometryOptions& options, double nominal_diameter_m,

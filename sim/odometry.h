@@ -29,6 +29,7 @@
 
 #include "common/error.h"
 #include "common/io/yaml_reader.h"
+#include "common/options_table.h"
 #include "common/random.h"
 #include "common/sensor_messages.h"
 #include "common/time.h"
@@ -54,6 +55,9 @@ struct OdometryOptions {
   /// The first invalid value (key relative to this struct, e.g. "diameter_ratio"), or nullopt.
   std::optional<OptionsProblem> Check() const;
 };
+
+/// The keys of `robot.odometry` (parsing, bounds, echo, docs).
+const OptionTable<OdometryOptions>& OdometryOptionsTable();
 
 /// Reads the keys of OdometryOptions present in `map` over `options`; unknown keys are errors.
 void ParseOdometryOptions(YamlMap& map, OdometryOptions& options);

@@ -6,6 +6,7 @@
 
 #include <btBulletDynamicsCommon.h>
 
+#include "common/io/options_yaml.h"
 #include "common/options_checker.h"
 
 namespace corridorsim::sim {
@@ -43,19 +44,44 @@ btTransform ToBt(const SE3& pose) {
 
 }  // namespace
 
+const OptionTable<RobotOptions>& RobotOptionsTable() {
+  return StaticOptionTable<RobotOptions>([](OptionTable<RobotOptions>& t) {
+    using R = RobotOptions;
+    t.Add("body_length_m", &R::body_length_m, "m", "overall length, wheels included")
+        .Range(0.1, 3)
+        .Note("longer than wheel_diameter_m");
+    t.Add("body_width_m", &R::body_width_m, "m", "overall width, wheels included")
+        .Range(0.1, 2)
+        .Note("at least wheelbase_m + wheel_width_m");
+    t.Add("body_height_m", &R::body_height_m, "m", "floor to top plate")
+        .Range(0.1, 2)
+        .Note("higher than wheel_diameter_m");
+    t.Add("mass_kg", &R::mass_kg, "kg", "whole robot").Range(2, 500);
+    t.Add("wheel_diameter_m", &R::wheel_diameter_m, "m",
+          "driven wheels, nominal (what odometry and the controller assume)")
+        .Range(0.02, 1);
+    t.Add("wheel_width_m", &R::wheel_width_m, "m", "").Range(0.005, 0.3);
+    t.Add("wheelbase_m", &R::wheelbase_m, "m",
+          "nominal distance between the wheels' mid-planes (B of P1 eq. 13)")
+        .Range(0.05, 2);
+    t.Add("wheel_friction", &R::wheel_friction, "",
+          "Coulomb coefficient of the wheel-floor contact (traction limit: wheels can slip)")
+        .Range(0.05, 3);
+    t.Add("max_wheel_torque_nm", &R::max_wheel_torque_nm, "N m", "per wheel motor")
+        .Range(0.01, 1000);
+    t.Add("max_wheel_speed_rps", &R::max_wheel_speed_rps, "rad/s", "per wheel motor")
+        .Range(0.1, 200);
+    t.Add("physics_rate_hz", &R::physics_rate_hz, "Hz", "fixed physics step").Range(100, 20000);
+    t.Add("control_rate_hz", &R::control_rate_hz, "Hz", "path follower and motor commands")
+        .Note("[1, physics_rate_hz]");
+    t.AddSection("odometry", &R::odometry, OdometryOptionsTable(),
+                 "the wheel encoders and their errors", &OdometryOptions::Check);
+  });
+}
+
 std::optional<OptionsProblem> RobotOptions::Check() const {
+  if (auto problem = CheckOptionBounds(RobotOptionsTable(), *this)) return problem;
   OptionsChecker c;
-  c.InRange(body_length_m, 0.1, 3.0, "body_length_m");
-  c.InRange(body_width_m, 0.1, 2.0, "body_width_m");
-  c.InRange(body_height_m, 0.1, 2.0, "body_height_m");
-  c.InRange(mass_kg, 2.0, 500.0, "mass_kg");
-  c.InRange(wheel_diameter_m, 0.02, 1.0, "wheel_diameter_m");
-  c.InRange(wheel_width_m, 0.005, 0.3, "wheel_width_m");
-  c.InRange(wheelbase_m, 0.05, 2.0, "wheelbase_m");
-  c.InRange(wheel_friction, 0.05, 3.0, "wheel_friction");
-  c.InRange(max_wheel_torque_nm, 0.01, 1000.0, "max_wheel_torque_nm");
-  c.InRange(max_wheel_speed_rps, 0.1, 200.0, "max_wheel_speed_rps");
-  c.InRange(physics_rate_hz, 100.0, 20000.0, "physics_rate_hz");
   c.InRange(control_rate_hz, 1.0, physics_rate_hz, "control_rate_hz");
   c.Require(wheelbase_m + wheel_width_m <= body_width_m + 1e-9, "body_width_m",
             "must hold the wheels: at least wheelbase_m + wheel_width_m = " +
@@ -64,28 +90,11 @@ std::optional<OptionsProblem> RobotOptions::Check() const {
             "must be less than body_height_m");
   c.Require(wheel_diameter_m < body_length_m, "wheel_diameter_m",
             "must be less than body_length_m");
-  if (!c.problem()) {
-    if (auto p = odometry.Check()) return OptionsProblem{"odometry." + p->key, p->message};
-  }
   return c.problem();
 }
 
 void ParseRobotOptions(YamlMap& map, RobotOptions& options) {
-  map.Read("body_length_m", options.body_length_m);
-  map.Read("body_width_m", options.body_width_m);
-  map.Read("body_height_m", options.body_height_m);
-  map.Read("mass_kg", options.mass_kg);
-  map.Read("wheel_diameter_m", options.wheel_diameter_m);
-  map.Read("wheel_width_m", options.wheel_width_m);
-  map.Read("wheelbase_m", options.wheelbase_m);
-  map.Read("wheel_friction", options.wheel_friction);
-  map.Read("max_wheel_torque_nm", options.max_wheel_torque_nm);
-  map.Read("max_wheel_speed_rps", options.max_wheel_speed_rps);
-  map.Read("physics_rate_hz", options.physics_rate_hz);
-  map.Read("control_rate_hz", options.control_rate_hz);
-  YamlMap odometry = map.Map("odometry");
-  ParseOdometryOptions(odometry, options.odometry);
-  map.RejectUnknownKeys();
+  ReadOptions(map, RobotOptionsTable(), options);
 }
 
 Eigen::Vector2d WheelSpeedsFor(const RobotOptions& options, double linear_mps, double angular_rps) {

@@ -21,6 +21,7 @@
 
 #include "common/error.h"
 #include "common/io/yaml_reader.h"
+#include "common/options_table.h"
 #include "common/pose.h"
 #include "common/time.h"
 #include "sim/odometry.h"
@@ -48,6 +49,9 @@ struct RobotOptions {
   std::optional<OptionsProblem> Check() const;
   TimeNs physics_step_ns() const { return PeriodFromRateHz(physics_rate_hz); }
 };
+
+/// The keys of `robot:` (parsing, bounds, echo, docs).
+const OptionTable<RobotOptions>& RobotOptionsTable();
 
 /// Reads a `robot:` map onto `options` (odometry under `robot.odometry`).
 void ParseRobotOptions(YamlMap& map, RobotOptions& options);

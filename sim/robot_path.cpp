@@ -7,6 +7,7 @@
 #include <numbers>
 #include <utility>
 
+#include "common/io/options_yaml.h"
 #include "common/options_checker.h"
 
 namespace corridorsim::sim {
@@ -233,16 +234,71 @@ std::string PathKindName(PathKind kind) {
   return "?";
 }
 
+const OptionTable<RobotPathOptions>& RobotPathOptionsTable() {
+  return StaticOptionTable<RobotPathOptions>([](OptionTable<RobotPathOptions>& t) {
+    using P = RobotPathOptions;
+    t.AddEnum("kind", &P::kind,
+              {{"round_trip", PathKind::kRoundTrip},
+               {"loop", PathKind::kLoop},
+               {"umbmark_cw", PathKind::kUmbmarkCw},
+               {"umbmark_ccw", PathKind::kUmbmarkCcw},
+               {"script", PathKind::kScript}},
+              "what the robot drives (below)");
+    t.Add("speed_mps", &P::speed_mps, "m/s",
+          "cruise speed on straight legs (P1: 0.34 m/s; P3 drove at 0.30)")
+        .Range(0.01, kMaxSpeedMps);
+    t.Add("acceleration_mps2", &P::acceleration_mps2, "m/s^2",
+          "speed ramps up and down (before every turn and the goal)")
+        .Range(0.01, 10);
+    t.Add("turn_rate_dps", &P::turn_rate_dps, "deg/s", "yaw rate of in-place turns")
+        .Range(1, kMaxTurnRateDps);
+    t.Add("turn_acceleration_dps2", &P::turn_acceleration_dps2, "deg/s^2",
+          "yaw-rate ramps of in-place turns")
+        .Range(1, 3000);
+    t.Add("lateral_offset_m", &P::lateral_offset_m, "m",
+          "straight legs run this far to the left of the direction of travel (negative: right); "
+          "UMBmark: moves the whole square left")
+        .Range(-100, 100);
+    t.Add("end_margin_m", &P::end_margin_m, "m",
+          "where the robot starts and turns, measured from the corridor ends (loop: where it "
+          "starts along the first side)")
+        .Range(0, 1000);
+    t.Add("laps", &P::laps, "", "`round_trip`: repetitions; `loop`: laps; UMBmark: squares")
+        .Range(1, 1000);
+    t.Add("umbmark_side_m", &P::umbmark_side_m, "m",
+          "side of the UMBmark square (Borenstein's 4 m needs a corridor 4.7 m wide)")
+        .Range(0.1, 100);
+    t.AddCustom(
+        "commands", "`script` only: rows [duration_s, linear_mps, angular_dps]",
+        [](YamlMap& map, P& options) {
+          std::vector<std::vector<double>> rows;
+          if (map.Read("commands", rows, 3)) {
+            options.commands.clear();
+            for (const std::vector<double>& row : rows)
+              options.commands.push_back({row[0], row[1], row[2]});
+          }
+        },
+        [](const P& options, OptionsYamlWriter& out) {
+          std::string rows;
+          for (const VelocityCommand& c : options.commands) {
+            rows +=
+                (rows.empty() ? "" : ", ") + YamlList({c.duration_s, c.linear_mps, c.angular_dps});
+          }
+          out.Scalar("commands", "[" + rows + "]");
+        },
+        [](const P&) {
+          return std::vector<OptionDocRow>{
+              {"commands", "s, m/s, deg/s", "`[]`",
+               "duration_s in (0, 1e6], linear_mps in [-1.2, 1.2], angular_dps in [-300, 300]",
+               "`script` only: rows `[duration_s, linear_mps, angular_dps]`, e.g. `[[10, 0.3, 0], "
+               "[3, 0, 30]]`, driven in order (angular_dps positive counter-clockwise)"}};
+        });
+  });
+}
+
 std::optional<OptionsProblem> RobotPathOptions::Check() const {
+  if (auto problem = CheckOptionBounds(RobotPathOptionsTable(), *this)) return problem;
   OptionsChecker c;
-  c.InRange(speed_mps, 0.01, kMaxSpeedMps, "speed_mps");
-  c.InRange(acceleration_mps2, 0.01, 10.0, "acceleration_mps2");
-  c.InRange(turn_rate_dps, 1.0, kMaxTurnRateDps, "turn_rate_dps");
-  c.InRange(turn_acceleration_dps2, 1.0, 3000.0, "turn_acceleration_dps2");
-  c.InRange(lateral_offset_m, -100.0, 100.0, "lateral_offset_m");
-  c.InRange(end_margin_m, 0.0, 1000.0, "end_margin_m");
-  c.InRange(laps, 1, 1000, "laps");
-  c.InRange(umbmark_side_m, 0.1, 100.0, "umbmark_side_m");
   if (kind == PathKind::kScript) {
     c.Require(!commands.empty(), "commands", "kind script needs at least one command");
   } else {
@@ -265,27 +321,7 @@ std::optional<OptionsProblem> RobotPathOptions::Check() const {
 }
 
 void ParseRobotPathOptions(YamlMap& map, RobotPathOptions& options) {
-  map.ReadEnum("kind", options.kind,
-               {{"round_trip", PathKind::kRoundTrip},
-                {"loop", PathKind::kLoop},
-                {"umbmark_cw", PathKind::kUmbmarkCw},
-                {"umbmark_ccw", PathKind::kUmbmarkCcw},
-                {"script", PathKind::kScript}});
-  map.Read("speed_mps", options.speed_mps);
-  map.Read("acceleration_mps2", options.acceleration_mps2);
-  map.Read("turn_rate_dps", options.turn_rate_dps);
-  map.Read("turn_acceleration_dps2", options.turn_acceleration_dps2);
-  map.Read("lateral_offset_m", options.lateral_offset_m);
-  map.Read("end_margin_m", options.end_margin_m);
-  map.Read("laps", options.laps);
-  map.Read("umbmark_side_m", options.umbmark_side_m);
-  std::vector<std::vector<double>> rows;
-  if (map.Read("commands", rows, 3)) {
-    options.commands.clear();
-    for (const std::vector<double>& row : rows)
-      options.commands.push_back({row[0], row[1], row[2]});
-  }
-  map.RejectUnknownKeys();
+  ReadOptions(map, RobotPathOptionsTable(), options);
 }
 
 double RobotPath::length_m() const {

@@ -17,6 +17,7 @@
 
 #include "common/error.h"
 #include "common/io/yaml_reader.h"
+#include "common/options_table.h"
 #include "common/pose.h"
 #include "common/time.h"
 #include "worlds/world.h"
@@ -57,6 +58,9 @@ struct RobotPathOptions {
   /// The first problem with these options on their own (the world is checked by BuildRobotPath).
   std::optional<OptionsProblem> Check() const;
 };
+
+/// The keys of `path:` (parsing, bounds, echo, docs).
+const OptionTable<RobotPathOptions>& RobotPathOptionsTable();
 
 /// Reads the keys present in a `path:` map onto `options`; unknown keys and wrong types are
 /// InputErrors. `commands` is a list of [duration_s, linear_mps, angular_dps] rows.

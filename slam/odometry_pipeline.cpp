@@ -1,19 +1,20 @@
 #include "slam/odometry_pipeline.h"
 
-#include "common/options_checker.h"
 #include "common/wheel_odometry_model.h"
 
 namespace corridorsim::slam {
 
-std::optional<OptionsProblem> OdometryPipelineOptions::Check() const {
-  OptionsChecker c;
-  c.InRange(k_m, 0.0, 0.1, "k_m");
-  return c.problem();
+const OptionTable<OdometryPipelineOptions>& OdometryPipelineOptionsTable() {
+  return StaticOptionTable<OdometryPipelineOptions>([](OptionTable<OdometryPipelineOptions>& t) {
+    t.Add("k_m", &OdometryPipelineOptions::k_m, "m",
+          "k of P1 eq. 17: Q = diag(k |s_l|, k |s_r|); set it to robot.odometry.random_k_m for a "
+          "consistent filter")
+        .Range(0, 0.1);
+  });
 }
 
-void ParseOdometryPipelineOptions(YamlMap& map, OdometryPipelineOptions& options) {
-  map.Read("k_m", options.k_m);
-  map.RejectUnknownKeys();
+std::optional<OptionsProblem> OdometryPipelineOptions::Check() const {
+  return CheckOptionBounds(OdometryPipelineOptionsTable(), *this);
 }
 
 OdometryPipeline::OdometryPipeline(const OdometryPipelineOptions& options,

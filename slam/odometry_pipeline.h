@@ -7,7 +7,7 @@
 #include <optional>
 
 #include "common/error.h"
-#include "common/io/yaml_reader.h"
+#include "common/options_table.h"
 #include "slam/pipeline.h"
 
 namespace corridorsim::slam {
@@ -19,7 +19,8 @@ struct OdometryPipelineOptions {
   double k_m = 1e-4;
   std::optional<OptionsProblem> Check() const;
 };
-void ParseOdometryPipelineOptions(YamlMap& map, OdometryPipelineOptions& options);
+/// The keys of `pipelines.odometry` (the harness parses and echoes them, the docs list them).
+const OptionTable<OdometryPipelineOptions>& OdometryPipelineOptionsTable();
 
 class OdometryPipeline : public Pipeline {
  public:

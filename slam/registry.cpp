@@ -5,24 +5,51 @@
 namespace corridorsim::slam {
 namespace {
 
-class OdometryConfig : public PipelineConfig {
+// The configuration of a pipeline type `P` whose options struct `Options` has a table and a
+// Check(), and which is constructed from (options, calibration).
+template <class Options, class P>
+class TypedConfig : public PipelineConfig {
  public:
-  void Parse(YamlMap& options) override { ParseOdometryPipelineOptions(options, options_); }
+  explicit TypedConfig(const OptionTable<Options>& table) : table_(table) {}
+  const OptionTableBase& table() const override { return table_; }
+  void* options() override { return &options_; }
+  const void* options() const override { return &options_; }
   std::optional<OptionsProblem> Check() const override { return options_.Check(); }
   std::unique_ptr<Pipeline> Create(const Calibration& calibration) const override {
-    return std::make_unique<OdometryPipeline>(options_, calibration);
+    return std::make_unique<P>(options_, calibration);
   }
 
  private:
-  OdometryPipelineOptions options_;
+  const OptionTable<Options>& table_;
+  Options options_;
 };
+
+template <class Options, class P>
+PipelineType Type(std::string name, const OptionTable<Options>& (*table)()) {
+  return {std::move(name), [table]() -> std::unique_ptr<PipelineConfig> {
+            return std::make_unique<TypedConfig<Options, P>>(table());
+          }};
+}
 
 }  // namespace
 
-std::vector<std::string> PipelineNames() { return {"odometry"}; }
+const std::vector<PipelineType>& PipelineTypes() {
+  static const std::vector<PipelineType> types = {
+      Type<OdometryPipelineOptions, OdometryPipeline>("odometry", &OdometryPipelineOptionsTable),
+  };
+  return types;
+}
+
+std::vector<std::string> PipelineNames() {
+  std::vector<std::string> names;
+  for (const PipelineType& type : PipelineTypes()) names.push_back(type.name);
+  return names;
+}
 
 std::unique_ptr<PipelineConfig> NewPipelineConfig(const std::string& name) {
-  if (name == "odometry") return std::make_unique<OdometryConfig>();
+  for (const PipelineType& type : PipelineTypes()) {
+    if (type.name == name) return type.new_config();
+  }
   return nullptr;
 }
 

@@ -1,29 +1,43 @@
 #pragma once
-// The pipelines this build ships, by the names scenarios use under `pipelines:`. Each name has a
-// configuration object that reads its options (include chains apply base first, so a child
-// file's keys override the base's), checks them and creates the pipeline for a calibration.
+// The pipelines this build ships, by the names scenarios use under `pipelines:`. Each pipeline
+// type has an options struct with its table (common/options_table.h) and a factory: the harness
+// reads `pipelines.<name>` through the table (include chains apply base first, so a child file's
+// keys override the base's), checks the options and creates the pipeline for a calibration. slam/
+// never sees YAML.
 
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "common/error.h"
-#include "common/io/yaml_reader.h"
+#include "common/options_table.h"
 #include "slam/pipeline.h"
 
 namespace corridorsim::slam {
 
+/// One pipeline's options as a scenario sets them: its type's options struct behind its table.
 class PipelineConfig {
  public:
   virtual ~PipelineConfig() = default;
-  /// Reads the keys present in `options` (the map under `pipelines.<name>`) onto this config;
-  /// unknown keys are errors.
-  virtual void Parse(YamlMap& options) = 0;
+  /// The options' table and the options it describes (for parsing, the echo and the docs).
+  virtual const OptionTableBase& table() const = 0;
+  virtual void* options() = 0;
+  virtual const void* options() const = 0;
   /// The first problem (key relative to the pipeline's map), or nothing.
   virtual std::optional<OptionsProblem> Check() const = 0;
   virtual std::unique_ptr<Pipeline> Create(const Calibration& calibration) const = 0;
 };
+
+/// A shipped pipeline type: its name and a factory of configurations with default options.
+struct PipelineType {
+  std::string name;
+  std::function<std::unique_ptr<PipelineConfig>()> new_config;
+};
+
+/// The shipped pipeline types, in a fixed order.
+const std::vector<PipelineType>& PipelineTypes();
 
 /// Names of the shipped pipelines, in a fixed order.
 std::vector<std::string> PipelineNames();

@@ -10,6 +10,7 @@
 
 #include "common/error.h"
 #include "common/io/yaml_reader.h"
+#include "common/options_table.h"
 
 namespace corridorsim::worlds {
 
@@ -93,6 +94,9 @@ struct WorldOptions {
   /// The first problem that makes this options impossible to generate, or nothing.
   std::optional<OptionsProblem> Check() const;
 };
+
+/// The keys of a `world:` map: parsing, bounds, the echo and docs/scenarios.md's tables.
+const OptionTable<WorldOptions>& WorldOptionsTable();
 
 /// Reads the keys present in a `world:` map onto `options` (STYLE item 4). Unknown keys, wrong
 /// types: InputError. Call `Check()` after all files of an include chain are applied.

@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -91,6 +92,72 @@ TEST_CASE("every shipped scenario loads and generates its world", "[scenarios]")
     CHECK(static_cast<int>(world.plates.size()) == scenario.world.plates.count);
     CHECK_FALSE(world.meshes.empty());
   }
+}
+
+// The echo of a loaded scenario through its tables, without the comment line naming the file.
+std::string EchoOf(const std::string& path, std::uint64_t seed) {
+  const std::string resolved = ResolvedScenarioYaml(path, seed);
+  REQUIRE(resolved.rfind("# ", 0) == 0);
+  return resolved.substr(resolved.find('\n') + 1);
+}
+
+TEST_CASE("every shipped scenario's resolved echo is a fixed point with the same options",
+          "[scenarios]") {
+  const FixtureDir dir;
+  for (const fs::path& file : ShippedScenarios()) {
+    INFO(file.string());
+    const Scenario original = LoadScenario(file.string());
+    const std::string echo = EchoOf(file.string(), original.seed);
+    CHECK(echo == OptionsYaml(ScenarioOptionsTable(), original));
+    CHECK_FALSE(Contains(echo, "include:"));
+    const std::string copy = dir.Write(file.filename().string(), "# echo\n" + echo);
+    const Scenario again = LoadScenario(copy);
+    CHECK(OptionsYaml(ScenarioOptionsTable(), again) == echo);
+    CHECK(EchoOf(copy, again.seed) == echo);
+    // A few options directly, models included (the echo could hide a key it does not write).
+    CHECK(again.seed == original.seed);
+    CHECK(again.world.length_m == original.world.length_m);
+    CHECK(again.robot.odometry.random_k_m == original.robot.odometry.random_k_m);
+    REQUIRE(again.rig.cameras.size() == original.rig.cameras.size());
+    for (std::size_t i = 0; i < again.rig.cameras.size(); ++i) {
+      const render::CameraOptions& a = again.rig.cameras[i];
+      const render::CameraOptions& b = original.rig.cameras[i];
+      CHECK(a.model.kind() == b.model.kind());
+      const CameraIntrinsics pa = a.model.intrinsics(), pb = b.model.intrinsics();
+      CHECK(pa.width == pb.width);
+      CHECK(pa.height == pb.height);
+      CHECK(pa.fx == pb.fx);
+      CHECK(pa.fy == pb.fy);
+      CHECK(pa.cx == pb.cx);
+      CHECK(pa.cy == pb.cy);
+      CHECK(pa.distortion == pb.distortion);
+      CHECK(a.enabled == b.enabled);
+      CHECK(a.rate_hz == b.rate_hz);
+    }
+    REQUIRE(again.pipelines.size() == original.pipelines.size());
+    CHECK(again.expectations == original.expectations);
+  }
+}
+
+TEST_CASE("the resolved scenario sets the run's seed and merges the include chain", "[scenarios]") {
+  const FixtureDir dir;
+  dir.Write("base.yaml",
+            "seed: 4\nworld:\n  length_m: 50\n  doors: {count: 15}\nsensors:\n  upward:\n"
+            "    model: pinhole\n    fov_deg: 100\npipelines:\n  odometry: {k_m: 0.0002}\n");
+  const std::string child = dir.Write(
+      "child.yaml", "include: base.yaml\nname: \"a: child\"\nworld:\n  doors: {width_m: 1.0}\n");
+  const std::string resolved = ResolvedScenarioYaml(child, 77);
+  const std::string copy = dir.Write("resolved.yaml", resolved);
+  const Scenario s = LoadScenario(copy);
+  CHECK(s.seed == 77);
+  CHECK(s.name == "a: child");
+  CHECK(s.world.length_m == 50);
+  CHECK(s.world.doors.count == 15);
+  CHECK(s.world.doors.width_m == 1.0);
+  CHECK(s.rig.Find("upward")->model.pinhole() != nullptr);
+  REQUIRE(s.pipelines.size() == 1);
+  CHECK(Contains(resolved, "  odometry:\n    enabled: true\n    k_m: 0.0002\n"));
+  CHECK(EchoOf(copy, 77) == resolved.substr(resolved.find('\n') + 1));
 }
 
 TEST_CASE("the default scenario is P1's corridor", "[scenarios]") {

@@ -249,11 +249,13 @@ std::string ReadFile(const std::string& path) {
   return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
-TEST_CASE("docs/metrics.md's metric tables are the registry's (metrics_docs --write updates them)",
-          "[metrics][registry]") {
+TEST_CASE(
+    "docs/metrics.md's metric tables are the registry's (corridorsim_docs --write docs updates "
+    "them)",
+    "[metrics][registry]") {
   const std::string docs = ReadFile(std::string(CORRIDORSIM_SOURCE_DIR) + "/docs/metrics.md");
   const std::string updated = metrics::UpdateMetricsDocs(docs);
-  INFO("regenerate with: build/bin/metrics_docs --write docs/metrics.md");
+  INFO("regenerate with: build/bin/corridorsim_docs --write docs");
   CHECK(updated == docs);
   // Every declared pattern stands in the docs.
   for (const MetricSpec& spec : MetricRegistry()) {
