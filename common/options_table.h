@@ -25,6 +25,7 @@
 #include <utility>
 #include <vector>
 
+#include "common/enum_names.h"
 #include "common/error.h"
 
 namespace corridorsim {
@@ -187,6 +188,15 @@ class OptionTable : public OptionTableBase {
       std::invoke(access, *static_cast<T*>(object)) = values.at(static_cast<std::size_t>(i));
     };
     return f;
+  }
+
+  /// An enum member named by its enum's name table (common/enum_names.h).
+  template <class Access, std::size_t N>
+  OptionField& AddEnum(std::string key, Access access, const EnumName<Member<Access>> (&names)[N],
+                       std::string doc) {
+    std::vector<std::pair<std::string, Member<Access>>> choices;
+    for (const auto& n : names) choices.emplace_back(std::string(n.name), n.value);
+    return AddEnum(std::move(key), access, std::move(choices), std::move(doc));
   }
 
   /// A member struct with its own table under `key` ("" reads its keys from this map). `check`

@@ -9,9 +9,6 @@
 
 namespace corridorsim::render {
 
-constexpr EnumName<BackendKind> kBackendKindNames[] = {{BackendKind::kOsMesa, "osmesa"},
-                                                       {BackendKind::kEgl, "egl"}};
-
 std::string BackendName(BackendKind kind) { return NameOf(kBackendKindNames, kind); }
 
 void PinSoftwareRasterizer() {

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "common/enum_names.h"
 #include "common/image.h"
 #include "render/scene.h"
 
@@ -24,6 +25,8 @@ struct RenderedView {
 };
 
 enum class BackendKind { kOsMesa, kEgl };
+inline constexpr EnumName<BackendKind> kBackendKindNames[] = {{BackendKind::kOsMesa, "osmesa"},
+                                                              {BackendKind::kEgl, "egl"}};
 std::string BackendName(BackendKind kind);  // "osmesa", "egl"
 
 /// A context or GL resource that cannot be created: names the backend and what is missing.

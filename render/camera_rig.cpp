@@ -313,8 +313,7 @@ const OptionTable<RigOptions>& SensorsOptionsTable() {
 
 const OptionTable<RigOptions>& RenderOptionsTable() {
   return StaticOptionTable<RigOptions>([](OptionTable<RigOptions>& t) {
-    t.AddEnum("backend", &RigOptions::backend,
-              {{"osmesa", BackendKind::kOsMesa}, {"egl", BackendKind::kEgl}},
+    t.AddEnum("backend", &RigOptions::backend, kBackendKindNames,
               "`egl` is EGL surfaceless; the environment variable `CORRIDORSIM_RENDER_BACKEND` "
               "overrides it");
     t.AddSection("", &RigOptions::scene, SceneRenderOptionsTable(), "lighting and textures");
