@@ -18,7 +18,7 @@ PipelineRunner::PipelineRunner(const Scenario& scenario, const slam::Calibration
   for (const Scenario::PipelineEntry& entry : scenario.pipelines) {
     if (!entry.enabled) continue;
     Run run;
-    run.pipeline = entry.config->Create(calibration);
+    run.pipeline = entry.options->Create(calibration);
     PipelineRecord record;
     record.name = entry.name;
     record.cameras_used = run.pipeline->cameras_used();

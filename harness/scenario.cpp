@@ -12,22 +12,22 @@ namespace {
 // `pipelines:` maps pipeline names to their options; options accumulate over the include chain.
 void ParsePipelines(YamlMap& pipelines, Scenario& scenario) {
   for (const std::string& name : pipelines.Keys()) {
-    YamlMap options = pipelines.Map(name);
+    YamlMap map = pipelines.Map(name);
     auto entry = std::find_if(scenario.pipelines.begin(), scenario.pipelines.end(),
                               [&](const Scenario::PipelineEntry& e) { return e.name == name; });
     if (entry == scenario.pipelines.end()) {
-      std::shared_ptr<slam::PipelineConfig> config = slam::NewPipelineConfig(name);
-      if (!config) {
+      std::shared_ptr<slam::PipelineOptions> options = slam::NewPipelineOptions(name);
+      if (!options) {
         std::string known;
         for (const std::string& n : slam::PipelineNames()) known += (known.empty() ? "" : ", ") + n;
         pipelines.Fail(name, "unknown pipeline (known: " + known + ")");
       }
-      scenario.pipelines.push_back({name, std::move(config), true});
+      scenario.pipelines.push_back({name, std::move(options), true});
       entry = scenario.pipelines.end() - 1;
     }
-    options.Read("enabled", entry->enabled);
-    ReadOptionFields(options, entry->config->table(), entry->config->options());
-    options.RejectUnknownKeys();
+    map.Read("enabled", entry->enabled);
+    ReadOptionFields(map, entry->options->table(), entry->options->options());
+    map.RejectUnknownKeys();
   }
 }
 
@@ -36,7 +36,7 @@ void EchoPipelines(const Scenario& scenario, OptionsYamlWriter& out) {
   for (const Scenario::PipelineEntry& entry : scenario.pipelines) {
     out.BeginMap(entry.name);
     out.Scalar("enabled", entry.enabled ? "true" : "false");
-    WriteOptions(out, entry.config->table(), entry.config->options());
+    WriteOptions(out, entry.options->table(), entry.options->options());
     out.EndMap();
   }
   out.EndMap();
@@ -139,7 +139,7 @@ Scenario LoadScenario(const std::string& path) {
                         OptionsProblem{key.substr(dot + 1), problem->message});
   }
   for (const Scenario::PipelineEntry& entry : scenario.pipelines) {
-    if (auto problem = entry.config->Check()) {
+    if (auto problem = entry.options->Check()) {
       throw LocateProblem(scenario, "pipelines",
                           OptionsProblem{entry.name + "." + problem->key, problem->message});
     }
@@ -181,9 +181,9 @@ std::vector<OptionsDocBlock> ScenarioDocBlocks() {
   std::vector<OptionsDocBlock> blocks =
       OptionsDocBlocks(ScenarioOptionsTable(), &defaults, "scenario");
   for (const slam::PipelineType& type : slam::PipelineTypes()) {
-    const std::unique_ptr<slam::PipelineConfig> config = type.new_config();
+    const std::unique_ptr<slam::PipelineOptions> options = type.new_options();
     const std::vector<OptionsDocBlock> more =
-        OptionsDocBlocks(config->table(), config->options(), "pipelines." + type.name);
+        OptionsDocBlocks(options->table(), options->options(), "pipelines." + type.name);
     blocks.insert(blocks.end(), more.begin(), more.end());
   }
   return blocks;

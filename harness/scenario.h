@@ -35,7 +35,7 @@ struct Scenario {
   // `pipelines:` in order of first appearance (base files first); `enabled: false` drops one.
   struct PipelineEntry {
     std::string name;
-    std::shared_ptr<slam::PipelineConfig> config;
+    std::shared_ptr<slam::PipelineOptions> options;
     bool enabled = true;
   };
   std::vector<PipelineEntry> pipelines;

@@ -5,12 +5,12 @@
 namespace corridorsim::slam {
 namespace {
 
-// The configuration of a pipeline type `P` whose options struct `Options` has a table and a
+// The options of a pipeline type `P` whose options struct `Options` has a table and a
 // Check(), and which is constructed from (options, calibration).
 template <class Options, class P>
-class TypedConfig : public PipelineConfig {
+class TypedOptions : public PipelineOptions {
  public:
-  explicit TypedConfig(const OptionTable<Options>& table) : table_(table) {}
+  explicit TypedOptions(const OptionTable<Options>& table) : table_(table) {}
   const OptionTableBase& table() const override { return table_; }
   void* options() override { return &options_; }
   const void* options() const override { return &options_; }
@@ -26,8 +26,8 @@ class TypedConfig : public PipelineConfig {
 
 template <class Options, class P>
 PipelineType Type(std::string name, const OptionTable<Options>& (*table)()) {
-  return {std::move(name), [table]() -> std::unique_ptr<PipelineConfig> {
-            return std::make_unique<TypedConfig<Options, P>>(table());
+  return {std::move(name), [table]() -> std::unique_ptr<PipelineOptions> {
+            return std::make_unique<TypedOptions<Options, P>>(table());
           }};
 }
 
@@ -46,9 +46,9 @@ std::vector<std::string> PipelineNames() {
   return names;
 }
 
-std::unique_ptr<PipelineConfig> NewPipelineConfig(const std::string& name) {
+std::unique_ptr<PipelineOptions> NewPipelineOptions(const std::string& name) {
   for (const PipelineType& type : PipelineTypes()) {
-    if (type.name == name) return type.new_config();
+    if (type.name == name) return type.new_options();
   }
   return nullptr;
 }

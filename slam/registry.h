@@ -18,9 +18,9 @@
 namespace corridorsim::slam {
 
 /// One pipeline's options as a scenario sets them: its type's options struct behind its table.
-class PipelineConfig {
+class PipelineOptions {
  public:
-  virtual ~PipelineConfig() = default;
+  virtual ~PipelineOptions() = default;
   /// The options' table and the options it describes (for parsing, the echo and the docs).
   virtual const OptionTableBase& table() const = 0;
   virtual void* options() = 0;
@@ -30,10 +30,10 @@ class PipelineConfig {
   virtual std::unique_ptr<Pipeline> Create(const Calibration& calibration) const = 0;
 };
 
-/// A shipped pipeline type: its name and a factory of configurations with default options.
+/// A shipped pipeline type: its name and a factory of its default options.
 struct PipelineType {
   std::string name;
-  std::function<std::unique_ptr<PipelineConfig>()> new_config;
+  std::function<std::unique_ptr<PipelineOptions>()> new_options;
 };
 
 /// The shipped pipeline types, in a fixed order.
@@ -42,7 +42,7 @@ const std::vector<PipelineType>& PipelineTypes();
 /// Names of the shipped pipelines, in a fixed order.
 std::vector<std::string> PipelineNames();
 
-/// A configuration with default options for pipeline `name`, or nullptr for an unknown name.
-std::unique_ptr<PipelineConfig> NewPipelineConfig(const std::string& name);
+/// The default options of pipeline `name`, or nullptr for an unknown name.
+std::unique_ptr<PipelineOptions> NewPipelineOptions(const std::string& name);
 
 }  // namespace corridorsim::slam
