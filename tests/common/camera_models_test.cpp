@@ -353,37 +353,25 @@ TEST_CASE("CameraModel holds one kind and gives its parameters back", "[camera]"
   CHECK(CameraModel().width() == 0);
 }
 
-// CHECKs every field of `actual` against `expected`.
-void CheckIntrinsics(const CameraIntrinsics& actual, const CameraIntrinsics& expected) {
-  CHECK(actual.model == expected.model);
-  CHECK(actual.width == expected.width);
-  CHECK(actual.height == expected.height);
-  CHECK(actual.fx == expected.fx);
-  CHECK(actual.fy == expected.fy);
-  CHECK(actual.cx == expected.cx);
-  CHECK(actual.cy == expected.cy);
-  CHECK(actual.distortion == expected.distortion);
-}
-
 TEST_CASE("intrinsics() lists the distortion in OpenCV's order", "[camera]") {
-  CheckIntrinsics(CameraModel(DistortedPinhole()).intrinsics(),
-                  {.model = "pinhole_radtan",
-                   .width = 640,
-                   .height = 480,
-                   .fx = 525.0,
-                   .fy = 523.0,
-                   .cx = 319.2,
-                   .cy = 240.7,
-                   .distortion = {-0.28, 0.07, 1e-4, -2e-4, -0.005}});
+  test::CheckIntrinsics(CameraModel(DistortedPinhole()).intrinsics(),
+                        {.model = "pinhole_radtan",
+                         .width = 640,
+                         .height = 480,
+                         .fx = 525.0,
+                         .fy = 523.0,
+                         .cx = 319.2,
+                         .cy = 240.7,
+                         .distortion = {-0.28, 0.07, 1e-4, -2e-4, -0.005}});
   const KannalaBrandt k = Fisheye110();
-  CheckIntrinsics(CameraModel(k).intrinsics(), {.model = "kannala_brandt",
-                                                .width = k.width,
-                                                .height = k.height,
-                                                .fx = k.fx,
-                                                .fy = k.fy,
-                                                .cx = k.cx,
-                                                .cy = k.cy,
-                                                .distortion = {k.k1, k.k2, k.k3, k.k4}});
+  test::CheckIntrinsics(CameraModel(k).intrinsics(), {.model = "kannala_brandt",
+                                                      .width = k.width,
+                                                      .height = k.height,
+                                                      .fx = k.fx,
+                                                      .fy = k.fy,
+                                                      .cx = k.cx,
+                                                      .cy = k.cy,
+                                                      .distortion = {k.k1, k.k2, k.k3, k.k4}});
 }
 
 TEST_CASE("analytic unprojection Jacobians match central differences at random pixels",

@@ -15,6 +15,7 @@
 #include <catch2/catch.hpp>
 
 #include "tests/support/expect_input_error.h"
+#include "tests/support/test_cameras.h"
 
 namespace corridorsim {
 namespace {
@@ -122,15 +123,7 @@ TEST_CASE("every shipped scenario's resolved echo is a fixed point with the same
     for (std::size_t i = 0; i < again.rig.cameras.size(); ++i) {
       const render::CameraOptions& a = again.rig.cameras[i];
       const render::CameraOptions& b = original.rig.cameras[i];
-      CHECK(a.model.kind() == b.model.kind());
-      const CameraIntrinsics pa = a.model.intrinsics(), pb = b.model.intrinsics();
-      CHECK(pa.width == pb.width);
-      CHECK(pa.height == pb.height);
-      CHECK(pa.fx == pb.fx);
-      CHECK(pa.fy == pb.fy);
-      CHECK(pa.cx == pb.cx);
-      CHECK(pa.cy == pb.cy);
-      CHECK(pa.distortion == pb.distortion);
+      test::CheckIntrinsics(a.model.intrinsics(), b.model.intrinsics());
       CHECK(a.enabled == b.enabled);
       CHECK(a.rate_hz == b.rate_hz);
     }

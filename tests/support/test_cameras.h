@@ -1,7 +1,9 @@
-// Distortion for the cameras of the tests: the same coefficients wherever a test needs "a
+// Cameras for the tests. Distortion: the same coefficients wherever a test needs "a
 // distorted pinhole" or "a slightly distorted fisheye", so that tests of projection and of its
 // files see the same models.
 #pragma once
+
+#include <catch2/catch.hpp>
 
 #include "common/camera_models.h"
 
@@ -25,6 +27,18 @@ inline KannalaBrandt WithSmallFisheyeDistortion(KannalaBrandt camera) {
   camera.k3 = 0.001;
   camera.k4 = -0.0002;
   return camera;
+}
+
+/// CHECKs every field of `actual` against `expected`.
+inline void CheckIntrinsics(const CameraIntrinsics& actual, const CameraIntrinsics& expected) {
+  CHECK(actual.model == expected.model);
+  CHECK(actual.width == expected.width);
+  CHECK(actual.height == expected.height);
+  CHECK(actual.fx == expected.fx);
+  CHECK(actual.fy == expected.fy);
+  CHECK(actual.cx == expected.cx);
+  CHECK(actual.cy == expected.cy);
+  CHECK(actual.distortion == expected.distortion);
 }
 
 }  // namespace corridorsim::test
