@@ -168,18 +168,19 @@ GlBackend::GlBackend(std::unique_ptr<GlContext> context) : context_(std::move(co
   gl_.BindBuffer(GL_ARRAY_BUFFER, vbo_);
   gl_.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, ibo_);
   constexpr auto kStride = GLsizei(sizeof(SceneVertex));
-  gl_.EnableVertexAttribArray(0);
-  gl_.VertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, kStride,
-                          reinterpret_cast<const void*>(offsetof(SceneVertex, position)));
-  gl_.EnableVertexAttribArray(1);
-  gl_.VertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, kStride,
-                          reinterpret_cast<const void*>(offsetof(SceneVertex, normal)));
-  gl_.EnableVertexAttribArray(2);
-  gl_.VertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, kStride,
-                          reinterpret_cast<const void*>(offsetof(SceneVertex, uv)));
-  gl_.EnableVertexAttribArray(3);
-  gl_.VertexAttribPointer(3, 1, GL_FLOAT, GL_FALSE, kStride,
-                          reinterpret_cast<const void*>(offsetof(SceneVertex, irradiance)));
+  struct Attribute {
+    GLuint location;
+    GLint floats;
+    std::size_t offset;
+  };
+  for (const Attribute& a :
+       {Attribute{0, 3, offsetof(SceneVertex, position)},
+        Attribute{1, 3, offsetof(SceneVertex, normal)}, Attribute{2, 2, offsetof(SceneVertex, uv)},
+        Attribute{3, 1, offsetof(SceneVertex, irradiance)}}) {
+    gl_.EnableVertexAttribArray(a.location);
+    gl_.VertexAttribPointer(a.location, a.floats, GL_FLOAT, GL_FALSE, kStride,
+                            reinterpret_cast<const void*>(a.offset));
+  }
 
   mask_program_ = LinkProgram(kMaskVertexShader, kMaskFragmentShader);
   gl_.GenVertexArrays(1, &mask_vao_);

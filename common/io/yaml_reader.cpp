@@ -181,17 +181,22 @@ bool YamlMap::Read(const std::string& key, double& value) {
   return true;
 }
 
-bool YamlMap::Read(const std::string& key, std::int64_t& value) {
+template <class Integer>
+bool YamlMap::ReadInteger(const std::string& key, Integer& value, const char* what) {
   const YAML::Node node = Get(key);
   if (!node) return false;
-  const std::string text = ScalarOrFail(key, node, "an integer");
-  std::int64_t parsed = 0;
+  const std::string text = ScalarOrFail(key, node, what);
+  Integer parsed = 0;
   const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), parsed);
   if (ec != std::errc() || end != text.data() + text.size()) {
-    Fail(key, "expected an integer, got '" + text + "'");
+    Fail(key, std::string("expected ") + what + ", got '" + text + "'");
   }
   value = parsed;
   return true;
+}
+
+bool YamlMap::Read(const std::string& key, std::int64_t& value) {
+  return ReadInteger(key, value, "an integer");
 }
 
 bool YamlMap::Read(const std::string& key, int& value) {
@@ -205,16 +210,7 @@ bool YamlMap::Read(const std::string& key, int& value) {
 }
 
 bool YamlMap::Read(const std::string& key, std::uint64_t& value) {
-  const YAML::Node node = Get(key);
-  if (!node) return false;
-  const std::string text = ScalarOrFail(key, node, "a non-negative integer");
-  std::uint64_t parsed = 0;
-  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), parsed);
-  if (ec != std::errc() || end != text.data() + text.size()) {
-    Fail(key, "expected a non-negative integer, got '" + text + "'");
-  }
-  value = parsed;
-  return true;
+  return ReadInteger(key, value, "a non-negative integer");
 }
 
 bool YamlMap::Read(const std::string& key, bool& value) {

@@ -115,6 +115,9 @@ class YamlMap {
   YAML::Node Get(const std::string& key);
   std::string ScalarOrFail(const std::string& key, const YAML::Node& value,
                            const char* expected) const;
+  /// An integer scalar parsed exactly (std::from_chars); `what` names the type in messages.
+  template <class Integer>
+  bool ReadInteger(const std::string& key, Integer& value, const char* what);
 
   const YamlDocument* doc_;
   YAML::Node node_;
