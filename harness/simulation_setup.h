@@ -36,6 +36,7 @@ class SimulationSetup {
   /// Generates the world and the robot path of `scenario` with `seed`; with
   /// `check_camera_placement`, checks that every enabled camera of the scenario sits inside the
   /// corridor at the start pose. Problems are InputErrors at the scenario line that caused them.
+  /// `scenario` must outlive the setup; the simulation keeps references to the world and rig.
   SimulationSetup(const Scenario& scenario, std::uint64_t seed, bool check_camera_placement);
   SimulationSetup(const SimulationSetup&) = delete;
   SimulationSetup& operator=(const SimulationSetup&) = delete;
