@@ -4,7 +4,6 @@
 // its name in one place.
 
 #include <cstddef>
-#include <optional>
 #include <string>
 #include <string_view>
 
@@ -23,15 +22,6 @@ std::string NameOf(const EnumName<E> (&names)[N], E value) {
     if (n.value == value) return std::string(n.name);
   }
   return "unknown";
-}
-
-/// The value named `name`, or nothing.
-template <class E, std::size_t N>
-std::optional<E> ValueOf(const EnumName<E> (&names)[N], std::string_view name) {
-  for (const EnumName<E>& n : names) {
-    if (n.name == name) return n.value;
-  }
-  return std::nullopt;
 }
 
 }  // namespace corridorsim

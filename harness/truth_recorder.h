@@ -28,8 +28,6 @@ class TruthRecorder : public BusConsumer {
 
   /// Planar truth at 0, every grid point (kTruthFileRateHz) and the run's last instant.
   const std::vector<TruthPose>& poses() const { return poses_; }
-  /// The full 3D pose at the same stamps.
-  const std::vector<SE3>& poses_3d() const { return poses_3d_; }
   const std::vector<FrameTruthSample>& frames() const { return frames_; }
   /// The truth at `stamp`: the last recorded pose not after it (null before the first).
   const TruthPose* At(TimeNs stamp) const;

@@ -363,13 +363,6 @@ void ParseSensors(YamlMap& sensors, RigOptions& rig) {
   ReadOptions(sensors, SensorsOptionsTable(), rig);
 }
 
-void ParseRenderOptions(YamlMap& render, RigOptions& rig) {
-  ReadOptions(render, RenderOptionsTable(), rig);
-  if (auto problem = CheckOptionBounds(RenderOptionsTable(), rig)) {
-    render.Fail(problem->key, problem->message);
-  }
-}
-
 std::optional<OptionsProblem> CheckCameraPlacement(const worlds::World& world,
                                                    const RigOptions& rig,
                                                    const SE3& world_from_robot) {

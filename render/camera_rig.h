@@ -77,9 +77,6 @@ const OptionTable<RigOptions>& RenderOptionsTable();
 
 /// Reads a `sensors:` map onto `rig` (cameras by id; unknown ids are errors).
 void ParseSensors(YamlMap& sensors, RigOptions& rig);
-/// Reads a `render:` map (backend, lighting) onto `rig`; a value out of bounds is an error at its
-/// key.
-void ParseRenderOptions(YamlMap& render, RigOptions& rig);
 
 /// A problem when a camera at `world_from_robot` would sit inside a wall or outside the walkable
 /// area (key "<camera>.mount").

@@ -93,10 +93,6 @@ std::optional<OptionsProblem> RobotOptions::Check() const {
   return c.problem();
 }
 
-void ParseRobotOptions(YamlMap& map, RobotOptions& options) {
-  ReadOptions(map, RobotOptionsTable(), options);
-}
-
 Eigen::Vector2d WheelSpeedsFor(const RobotOptions& options, double linear_mps, double angular_rps) {
   const double radius = options.wheel_diameter_m / 2;
   const double half_base = options.wheelbase_m / 2;

@@ -53,9 +53,6 @@ struct RobotOptions {
 /// The keys of `robot:` (parsing, bounds, echo, docs).
 const OptionTable<RobotOptions>& RobotOptionsTable();
 
-/// Reads a `robot:` map onto `options` (odometry under `robot.odometry`).
-void ParseRobotOptions(YamlMap& map, RobotOptions& options);
-
 /// A contact of the robot's chassis with a world object (walls, doors, furniture).
 struct Contact {
   int instance_id = 0;  // World id of the object
