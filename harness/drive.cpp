@@ -105,10 +105,10 @@ void RunDrive(const DriveRequest& request) {
   if (frames) bus.Subscribe(&*frames);
   bus.Run(simulation);
 
-  WriteFileAtomic(out / "ground_truth.tum",
-                  truth.Tum("ground truth: world_from_robot (robot frame R: floor, between the "
-                            "wheels)",
-                            /*planar=*/false));
+  // ground_truth.tum means what it means in a run folder (the planar truth the metrics score);
+  // the physics' full 3D pose has a name of its own.
+  WriteFileAtomic(out / "ground_truth.tum", truth.PlanarTum());
+  WriteFileAtomic(out / "ground_truth_3d.tum", truth.FullPoseTum());
   WriteFileAtomic(out / "odometry.tum", odometry.tum());
   WriteFileAtomic(out / "odometry.csv", odometry.csv());
   WriteFileAtomic(out / "events.json", events.Json(setup.seed(), simulation.now_ns()));
@@ -131,8 +131,10 @@ void RunDrive(const DriveRequest& request) {
               events.count(sim::EventKind::kCollisionBegin), events.count(sim::EventKind::kSlip),
               frames ? frames->frames_written() : 0,
               simulation.path_done() ? "" : "  (the path was not finished: see events.json)");
-  std::printf("wrote %s/{ground_truth.tum, odometry.tum, odometry.csv, events.json%s}\n",
-              out.string().c_str(), request.save_frames ? ", frames/" : "");
+  std::printf(
+      "wrote %s/{ground_truth.tum, ground_truth_3d.tum, odometry.tum, odometry.csv, "
+      "events.json%s}\n",
+      out.string().c_str(), request.save_frames ? ", frames/" : "");
 }
 
 }  // namespace corridorsim

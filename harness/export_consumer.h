@@ -23,7 +23,7 @@ class ExportConsumer : public BusConsumer {
   void OnStart(const sim::TruthSample& truth) override;
   void OnOdometry(const WheelOdometry& odometry) override;
   void OnCameraSet(const CameraSet& set) override;
-  void OnStepEnd(const sim::TruthSample& truth, bool last) override;
+  void OnTruth(const sim::TruthSample& truth) override;
 
   /// Writes the index files and waits for the worker to finish everything.
   void Finish();

@@ -58,8 +58,7 @@ void WriteRunFolder(const std::filesystem::path& out, const std::string& scenari
                     const std::string& events_json) {
   WriteFileAtomic(out / "scenario.yaml", ResolvedScenarioYaml(scenario_file, seed));
   WriteFileAtomic(out / "world.json", worlds::GroundTruthJson(world).dump(2) + "\n");
-  WriteFileAtomic(out / "ground_truth.tum",
-                  truth.Tum("ground truth: world_from_robot at 100 Hz", /*planar=*/true));
+  WriteFileAtomic(out / "ground_truth.tum", truth.PlanarTum());
   for (const PipelineRecord& record : pipelines.records()) {
     std::ostringstream tum, cov;
     tum << "# " << record.name << ": estimated world_from_robot\n"

@@ -44,25 +44,32 @@ void SensorBus::Subscribe(BusConsumer* consumer) { consumers_.push_back(consumer
 
 void SensorBus::Publish(const sim::StepOutput& step, bool last) {
   const std::vector<CameraSet> sets = GroupCameraSets(step, camera_ids_);
-  // (stamp, kind, index): odometry 0, camera sets 1, events 2; at one stamp in that order, and
-  // within one kind in the order the simulation emitted them. The buffer is reused step to step.
+  // (stamp, kind, index): truth 0, odometry 1, camera sets 2, events 3; at one stamp in that
+  // order, and within one kind in the order the simulation emitted them. The buffer is reused
+  // step to step.
   std::vector<std::tuple<TimeNs, int, std::size_t>>& order = order_;
   order.clear();
-  for (std::size_t i = 0; i < step.odometry.size(); ++i) {
-    order.emplace_back(step.odometry[i].stamp_ns, 0, i);
+  for (std::size_t i = 0; i < step.truth_samples.size(); ++i) {
+    order.emplace_back(step.truth_samples[i].stamp_ns, 0, i);
   }
-  for (std::size_t i = 0; i < sets.size(); ++i) order.emplace_back(sets[i].stamp_ns, 1, i);
+  for (std::size_t i = 0; i < step.odometry.size(); ++i) {
+    order.emplace_back(step.odometry[i].stamp_ns, 1, i);
+  }
+  for (std::size_t i = 0; i < sets.size(); ++i) order.emplace_back(sets[i].stamp_ns, 2, i);
   for (std::size_t i = 0; i < step.events.size(); ++i) {
-    order.emplace_back(step.events[i].stamp_ns, 2, i);
+    order.emplace_back(step.events[i].stamp_ns, 3, i);
   }
   std::sort(order.begin(), order.end());
   for (const auto& [stamp, kind, index] : order) {
     for (BusConsumer* consumer : consumers_) {
       switch (kind) {
         case 0:
-          consumer->OnOdometry(step.odometry[index]);
+          consumer->OnTruth(step.truth_samples[index]);
           break;
         case 1:
+          consumer->OnOdometry(step.odometry[index]);
+          break;
+        case 2:
           consumer->OnCameraSet(sets[index]);
           break;
         default:

@@ -5,9 +5,10 @@
 // in stamp order. No consumer drives the loop; `drive`, `run` and `study` only choose which
 // consumers listen (Cartographer's sensor::Collator is the model).
 //
-// Within a step, messages are delivered in stamp order; at one stamp odometry comes first, then
-// the camera set, then events. After the step's messages every consumer sees the truth at the
-// step's end. Frames of several cameras due at one stamp arrive as one CameraSet, so a pipeline
+// Within a step, messages are delivered in stamp order; at one stamp the truth comes first
+// (on the truth grid and at odometry stamps, whatever the physics rate), then odometry, then the
+// camera set, then events. After the step's messages every consumer sees the truth at the step's
+// end. Frames of several cameras due at one stamp arrive as one CameraSet, so a pipeline
 // that fuses cameras sees them together; a frame that was due but dropped
 // (`sensors.<camera>.drop_probability`) leaves its slot in the set with no message.
 
@@ -45,6 +46,9 @@ class BusConsumer {
   virtual ~BusConsumer() = default;
   /// The truth before the first step (stamp 0).
   virtual void OnStart(const sim::TruthSample& truth) { (void)truth; }
+  /// The truth at a truth-grid or odometry stamp inside a step (sim::StepOutput::truth_samples),
+  /// before the messages of that stamp. Never stamp 0 (OnStart has it).
+  virtual void OnTruth(const sim::TruthSample& truth) { (void)truth; }
   // Sensor messages: what a real robot would receive.
   virtual void OnOdometry(const WheelOdometry& odometry) { (void)odometry; }
   virtual void OnCameraSet(const CameraSet& set) { (void)set; }

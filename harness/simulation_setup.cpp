@@ -4,6 +4,7 @@
 
 #include "common/error.h"
 #include "harness/frame_io.h"
+#include "harness/run_io.h"
 
 namespace corridorsim {
 
@@ -56,6 +57,7 @@ void SimulationSetup::Start(const std::set<std::string>& render_cameras) {
   options.robot_path = scenario_.robot_path;
   options.seed = seed_;
   options.max_duration_ns = FromSeconds(scenario_.duration_s);
+  options.truth_rate_hz = kTruthFileRateHz;
   simulation_ =
       std::make_unique<sim::Simulation>(world_, options, std::move(*robot_path_),
                                         renderer_ ? renderer_->rig.get() : nullptr, &rig_options_);

@@ -4,19 +4,24 @@
 #include <sstream>
 #include <utility>
 
+#include "common/error.h"
 #include "harness/run_io.h"
 
 namespace corridorsim {
 
 TruthRecorder::TruthRecorder(std::set<std::string> frame_cameras)
-    : frame_cameras_(std::move(frame_cameras)), period_ns_(PeriodFromRateHz(kTruthFileRateHz)) {}
+    : frame_cameras_(std::move(frame_cameras)) {}
 
 void TruthRecorder::Record(const sim::TruthSample& truth) {
+  CheckOrDie(poses_.empty() || truth.stamp_ns > poses_.back().stamp_ns, "TruthRecorder",
+             "truth out of stamp order");
   poses_.push_back({truth.stamp_ns, truth.world_from_robot_2d});
   poses_3d_.push_back(truth.state.world_from_robot);
 }
 
 void TruthRecorder::OnStart(const sim::TruthSample& truth) { Record(truth); }
+
+void TruthRecorder::OnTruth(const sim::TruthSample& truth) { Record(truth); }
 
 void TruthRecorder::OnCameraSet(const CameraSet& set) {
   for (const CameraSlot& slot : set.cameras) {
@@ -26,22 +31,28 @@ void TruthRecorder::OnCameraSet(const CameraSet& set) {
   }
 }
 
-void TruthRecorder::OnStepEnd(const sim::TruthSample& truth, bool last) {
-  if (truth.stamp_ns % period_ns_ == 0 || last) Record(truth);
-}
-
 const TruthPose* TruthRecorder::At(TimeNs stamp) const {
   auto it = std::upper_bound(poses_.begin(), poses_.end(), stamp,
                              [](TimeNs t, const TruthPose& p) { return t < p.stamp_ns; });
   return it == poses_.begin() ? nullptr : &*(it - 1);
 }
 
-std::string TruthRecorder::Tum(const std::string& what, bool planar) const {
+std::string TruthRecorder::PlanarTum() const {
   std::ostringstream tum;
-  tum << "# " << what << "\n# timestamp tx ty tz qx qy qz qw\n";
+  tum << "# ground truth: planar world_from_robot (x, y, yaw; z = 0, no roll or pitch) at "
+         "100 Hz and every odometry stamp\n# timestamp tx ty tz qx qy qz qw\n";
+  for (const TruthPose& p : poses_) {
+    tum << sim::TumLine(p.stamp_ns, SE3::FromSE2(p.world_from_robot)) << "\n";
+  }
+  return tum.str();
+}
+
+std::string TruthRecorder::FullPoseTum() const {
+  std::ostringstream tum;
+  tum << "# ground truth: world_from_robot in 3D (robot frame R: floor, between the wheels) at "
+         "100 Hz and every odometry stamp\n# timestamp tx ty tz qx qy qz qw\n";
   for (std::size_t i = 0; i < poses_.size(); ++i) {
-    const SE3 pose = planar ? SE3::FromSE2(poses_[i].world_from_robot) : poses_3d_[i];
-    tum << sim::TumLine(poses_[i].stamp_ns, pose) << "\n";
+    tum << sim::TumLine(poses_[i].stamp_ns, poses_3d_[i]) << "\n";
   }
   return tum.str();
 }

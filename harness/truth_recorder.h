@@ -1,7 +1,8 @@
 #pragma once
 // Bus consumers that keep what the metrics and the run folder need of the ground truth: the
-// robot's pose on the 100 Hz grid (TruthRecorder, with the camera frames' truth for detector
-// scores) and the simulation's events (EventLog, events.json).
+// robot's pose on the 100 Hz grid and at every odometry stamp, whatever the physics rate
+// (TruthRecorder, with the camera frames' truth for detector scores), and the simulation's
+// events (EventLog, events.json).
 
 #include <cstdint>
 #include <filesystem>
@@ -23,24 +24,29 @@ class TruthRecorder : public BusConsumer {
   explicit TruthRecorder(std::set<std::string> frame_cameras = {});
 
   void OnStart(const sim::TruthSample& truth) override;
+  void OnTruth(const sim::TruthSample& truth) override;
   void OnCameraSet(const CameraSet& set) override;
-  void OnStepEnd(const sim::TruthSample& truth, bool last) override;
 
-  /// Planar truth at 0, every grid point (kTruthFileRateHz) and the run's last instant.
+  /// Planar truth at 0, every truth-grid point (kTruthFileRateHz) and every odometry stamp, in
+  /// stamp order, each stamp once, whatever the physics rate: every estimate (stamped by its
+  /// odometry message) has its exact truth here, and a run of a given duration has the same rows
+  /// at any physics rate.
   const std::vector<TruthPose>& poses() const { return poses_; }
   const std::vector<FrameTruthSample>& frames() const { return frames_; }
   /// The truth at `stamp`: the last recorded pose not after it (null before the first).
   const TruthPose* At(TimeNs stamp) const;
 
-  /// TUM trajectory ("t x y z qx qy qz qw"), two comment lines first: `what` and the columns.
-  /// `planar`: the planar pose lifted to 3D (what the metrics score), else the full 3D pose.
-  std::string Tum(const std::string& what, bool planar) const;
+  /// ground_truth.tum of `drive` and `run` alike: poses() as TUM lines ("t x y z qx qy qz qw"),
+  /// the planar pose lifted to 3D (z = 0, no roll or pitch): what the metrics score.
+  std::string PlanarTum() const;
+  /// ground_truth_3d.tum of `drive`: the full 3D pose of the physics (the chassis' height,
+  /// roll and pitch included) at the same stamps.
+  std::string FullPoseTum() const;
 
  private:
   void Record(const sim::TruthSample& truth);
 
   std::set<std::string> frame_cameras_;
-  TimeNs period_ns_;
   std::vector<TruthPose> poses_;
   std::vector<SE3> poses_3d_;
   std::vector<FrameTruthSample> frames_;

@@ -22,6 +22,13 @@ double NominalDurationS(const RobotPath& path, const RobotPathOptions& options) 
   return s;
 }
 
+// The truth grid's period: a rate the harness sets, never user input, so a bad one is a bug.
+TimeNs TruthGridPeriodNs(double rate_hz) {
+  CheckOrDie(rate_hz >= 1e-3 && rate_hz <= 1e6, "sim::Simulation",
+             "the truth grid's rate must lie in [1e-3, 1e6] Hz");
+  return PeriodFromRateHz(rate_hz);
+}
+
 SE2 Planar(const SE3& pose) {
   const Eigen::Vector3d x_axis = pose.rotation().col(0);
   return SE2(pose.translation().x(), pose.translation().y(), std::atan2(x_axis.y(), x_axis.x()));
@@ -58,7 +65,9 @@ Simulation::Simulation(const worlds::World& world, const SimulationOptions& opti
       rig_(rig),
       path_(std::move(path)),
       odometer_(options.robot.odometry, options.robot.wheel_diameter_m, options.seed),
-      odometry_clock_(PeriodFromRateHz(options.robot.odometry.rate_hz), 0) {
+      odometry_clock_(PeriodFromRateHz(options.robot.odometry.rate_hz), 0),
+      truth_clock_(TruthGridPeriodNs(options.truth_rate_hz), 0) {
+  truth_clock_.Advance();  // the truth at 0 is the start truth
   follower_ = std::make_unique<PathFollower>(path_, options_.robot_path);
   physics_ = std::make_unique<RobotPhysics>(world, options_.robot, path_.world_from_start);
   step_ns_ = options_.robot.physics_step_ns();
@@ -128,9 +137,25 @@ void Simulation::FillTruth(TruthSample* sample) const {
 
 void Simulation::EmitDue(const TruthSample& before, const TruthSample& after) {
   const TimeNs now = after.stamp_ns;
+  // The truth on its grid and at the odometry stamps, merged in stamp order (each stamp once).
+  // Stamps at or before the step's start were reported before (0: the start truth).
+  auto add_truth = [&](TruthSample sample) {
+    if (sample.stamp_ns <= before.stamp_ns) return;
+    std::vector<TruthSample>& out = output_.truth_samples;
+    auto it =
+        std::lower_bound(out.begin(), out.end(), sample.stamp_ns,
+                         [](const TruthSample& s, TimeNs stamp) { return s.stamp_ns < stamp; });
+    if (it != out.end() && it->stamp_ns == sample.stamp_ns) return;
+    out.insert(it, std::move(sample));
+  };
+  while (truth_clock_.next_ns() <= now) {
+    add_truth(Interpolate(before, after, truth_clock_.next_ns()));
+    truth_clock_.Advance();
+  }
   // Odometry.
   while (odometry_clock_.next_ns() <= now) {
     const TruthSample at = Interpolate(before, after, odometry_clock_.next_ns());
+    add_truth(at);
     std::vector<SlipEvent> slips;
     output_.odometry.push_back(odometer_.Measure(at.stamp_ns, at.state.left_wheel_angle_rad,
                                                  at.state.right_wheel_angle_rad, &slips));
@@ -224,6 +249,7 @@ void Simulation::TrackContacts() {
 
 const StepOutput& Simulation::Step() {
   const TruthSample before = output_.truth;
+  output_.truth_samples.clear();
   output_.odometry.clear();
   output_.frames.clear();
   output_.events.clear();

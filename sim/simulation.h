@@ -6,7 +6,8 @@
 // Time is int64 nanoseconds: physics step k ends at k * step_ns; a sensor with period T and
 // phase p is stamped at p + n T exactly. A stamp that falls between two physics steps takes the
 // state interpolated between them (wheel angles linearly, the pose by slerp), so stamps never
-// snap to the physics grid.
+// snap to the physics grid. The truth is reported the same way: at every point of the truth grid
+// (n / truth_rate_hz) and every odometry stamp, whatever the physics rate.
 
 #include <chrono>
 #include <cstdint>
@@ -87,12 +88,17 @@ struct SimulationOptions {
   RobotOptions robot;
   RobotPathOptions robot_path;
   std::uint64_t seed = 1;
-  TimeNs max_duration_ns = 0;  // 0: until the path is done (with a safety timeout, see below)
+  TimeNs max_duration_ns = 0;    // 0: until the path is done (with a safety timeout, see below)
+  double truth_rate_hz = 100.0;  // the truth grid: StepOutput::truth_samples at n / rate (Hz)
 };
 
 /// What became due during one Step(), in stamp order per kind.
 struct StepOutput {
   TruthSample truth;  // at the end of the step
+  // The truth at every truth-grid stamp and every odometry stamp inside the step (after its
+  // start, up to its end; the truth at 0 is Simulation::truth() before the first step), each
+  // stamp once, interpolated between the physics steps around it.
+  std::vector<TruthSample> truth_samples;
   std::vector<WheelOdometry> odometry;
   std::vector<CameraMessage> frames;
   std::vector<Event> events;
@@ -138,6 +144,7 @@ class Simulation {
   std::unique_ptr<RobotPhysics> physics_;
   WheelOdometer odometer_;
   SensorClock odometry_clock_;
+  SensorClock truth_clock_;  // the truth grid (SimulationOptions::truth_rate_hz)
   std::vector<SensorClock> camera_clocks_;
   std::vector<RandomStream> drop_rngs_;  // per camera: "sim.clock.drop.<camera>"
   TimeNs step_ns_ = 0;

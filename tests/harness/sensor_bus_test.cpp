@@ -39,6 +39,7 @@ class Recorder : public BusConsumer {
  public:
   explicit Recorder(std::vector<std::string>* log, std::string name = "")
       : log_(log), name_(std::move(name)) {}
+  void OnTruth(const sim::TruthSample& t) override { Add("truth", t.stamp_ns); }
   void OnOdometry(const WheelOdometry& o) override { Add("odometry", o.stamp_ns); }
   void OnCameraSet(const CameraSet& set) override {
     std::string slots;
@@ -118,6 +119,28 @@ TEST_CASE(
   CHECK(log == expected);
 }
 
+sim::TruthSample Truth(TimeNs stamp) {
+  sim::TruthSample t;
+  t.stamp_ns = stamp;
+  return t;
+}
+
+TEST_CASE("the truth of a stamp arrives before the messages of that stamp", "[harness][bus]") {
+  sim::StepOutput step;
+  step.truth.stamp_ns = 1000;
+  step.truth_samples = {Truth(400), Truth(500)};
+  step.odometry = {Odometry(400)};
+  step.frames = {Frame(400, 0)};
+  std::vector<std::string> log;
+  Recorder recorder(&log);
+  SensorBus bus(kCameras);
+  bus.Subscribe(&recorder);
+  bus.Publish(step, /*last=*/false);
+  const std::vector<std::string> expected = {"truth@400", "odometry@400", "set[front+]@400",
+                                             "truth@500", "end@1000"};
+  CHECK(log == expected);
+}
+
 TEST_CASE("consumers receive each message in the order they subscribed", "[harness][bus]") {
   sim::StepOutput step;
   step.truth.stamp_ns = 20;
@@ -150,12 +173,13 @@ TEST_CASE(
   class Checker : public BusConsumer {
    public:
     void OnStart(const sim::TruthSample& truth) override { starts.push_back(truth.stamp_ns); }
+    void OnTruth(const sim::TruthSample& truth) override { truths.push_back(truth.stamp_ns); }
     void OnOdometry(const WheelOdometry& o) override { stamps.push_back(o.stamp_ns); }
     void OnStepEnd(const sim::TruthSample& truth, bool last) override {
       if (last) lasts.push_back(truth.stamp_ns);
       ++steps;
     }
-    std::vector<TimeNs> starts, stamps, lasts;
+    std::vector<TimeNs> starts, truths, stamps, lasts;
     int steps = 0;
   } checker;
   SensorBus bus({});
@@ -168,6 +192,11 @@ TEST_CASE(
   REQUIRE(checker.stamps.size() == 101);
   for (std::size_t i = 0; i < checker.stamps.size(); ++i) {
     CHECK(checker.stamps[i] == static_cast<TimeNs>(i) * 20'000'000);
+  }
+  // The truth on the 100 Hz grid after the start (the odometry stamps lie on it).
+  REQUIRE(checker.truths.size() == 200);
+  for (std::size_t i = 0; i < checker.truths.size(); ++i) {
+    CHECK(checker.truths[i] == static_cast<TimeNs>(i + 1) * 10'000'000);
   }
 }
 

@@ -191,6 +191,91 @@ TEST_CASE("odometry stamps are exact multiples of the period and cover the run",
   }
 }
 
+// The truth samples of a run (StepOutput::truth_samples), with each step's end truth.
+struct TruthRun {
+  std::vector<TruthSample> samples;
+  std::vector<TruthSample> step_ends;
+  std::vector<TimeNs> odometry_stamps;
+};
+
+TruthRun DriveForTruth(const worlds::World& world, const SimulationOptions& options) {
+  Simulation simulation(world, options, StraightPath(10.0));
+  TruthRun run;
+  while (!simulation.finished()) {
+    const StepOutput& out = simulation.Step();
+    run.samples.insert(run.samples.end(), out.truth_samples.begin(), out.truth_samples.end());
+    run.step_ends.push_back(out.truth);
+    for (const WheelOdometry& m : out.odometry) run.odometry_stamps.push_back(m.stamp_ns);
+  }
+  return run;
+}
+
+TEST_CASE("the truth comes at every grid and odometry stamp whatever the physics rate", "[sim]") {
+  // A physics step that does not divide 10 ms (1001 Hz: 999,001 ns; 333.3 Hz: 3,000,300 ns) once
+  // kept the truth only where a step happened to end on the grid: 2 rows instead of 201.
+  const worlds::World world = Corridor(14.0);
+  const TimeNs grid = PeriodFromRateHz(100.0);
+  for (const double physics_hz : {1000.0, 1001.0, 333.3}) {
+    for (const double odometry_hz : {50.0, 30.0}) {
+      CAPTURE(physics_hz, odometry_hz);
+      SimulationOptions options;
+      options.robot.physics_rate_hz = physics_hz;
+      options.robot.odometry.rate_hz = odometry_hz;
+      options.max_duration_ns = 2 * kNanosecondsPerSecond;
+      const TruthRun run = DriveForTruth(world, options);
+      // Expected: the grid and the odometry stamps in (0, end], each once, in order.
+      const TimeNs end = run.step_ends.back().stamp_ns;
+      std::vector<TimeNs> expected;
+      for (TimeNs t = grid; t <= end; t += grid) expected.push_back(t);
+      for (const TimeNs t : run.odometry_stamps) {
+        if (t > 0) expected.push_back(t);
+      }
+      std::sort(expected.begin(), expected.end());
+      expected.erase(std::unique(expected.begin(), expected.end()), expected.end());
+      std::vector<TimeNs> stamps;
+      for (const TruthSample& s : run.samples) stamps.push_back(s.stamp_ns);
+      REQUIRE(stamps == expected);
+      CHECK(std::count_if(stamps.begin(), stamps.end(), [&](TimeNs t) { return t % grid == 0; }) ==
+            end / grid);
+      // Each sample lies between the physics states around its stamp (interpolated, not snapped).
+      std::size_t k = 0;
+      for (const TruthSample& s : run.samples) {
+        while (run.step_ends[k].stamp_ns < s.stamp_ns) ++k;
+        const TruthSample& after = run.step_ends[k];
+        if (after.stamp_ns == s.stamp_ns) {
+          CHECK(s.state.world_from_robot.translation() ==
+                after.state.world_from_robot.translation());
+          continue;
+        }
+        REQUIRE(k > 0);
+        const TruthSample& before = run.step_ends[k - 1];
+        const double t = static_cast<double>(s.stamp_ns - before.stamp_ns) /
+                         static_cast<double>(after.stamp_ns - before.stamp_ns);
+        const Eigen::Vector3d expected_p = (1 - t) * before.state.world_from_robot.translation() +
+                                           t * after.state.world_from_robot.translation();
+        CHECK((s.state.world_from_robot.translation() - expected_p).norm() < 1e-12);
+        CHECK(s.world_from_robot_2d.x() == s.state.world_from_robot.translation().x());
+      }
+    }
+  }
+}
+
+TEST_CASE("the truth at 1001 Hz physics follows the 1000 Hz truth within a millimetre", "[sim]") {
+  const worlds::World world = Corridor(14.0);
+  SimulationOptions options;
+  options.max_duration_ns = 4 * kNanosecondsPerSecond;
+  const TruthRun reference = DriveForTruth(world, options);
+  options.robot.physics_rate_hz = 1001.0;
+  const TruthRun other = DriveForTruth(world, options);
+  REQUIRE(other.samples.size() == reference.samples.size());
+  for (std::size_t k = 0; k < reference.samples.size(); ++k) {
+    REQUIRE(other.samples[k].stamp_ns == reference.samples[k].stamp_ns);
+    CHECK((other.samples[k].world_from_robot_2d.translation() -
+           reference.samples[k].world_from_robot_2d.translation())
+              .norm() < 1e-3);
+  }
+}
+
 TEST_CASE("two simulations with one seed give bit-identical odometry and truth", "[sim]") {
   const worlds::World world = Corridor(14.0);
   SimulationOptions options;
