@@ -5,6 +5,7 @@
 #include "common/error.h"
 #include "harness/frame_io.h"
 #include "harness/run_io.h"
+#include "sim/placement.h"
 
 namespace corridorsim {
 
@@ -23,11 +24,10 @@ SimulationSetup::SimulationSetup(const Scenario& scenario, std::uint64_t seed,
       backend_kind_(ChooseBackend(scenario.rig.backend)),  // a bad override fails before the world
       world_(GenerateWorld(scenario, seed)) {
   robot_path_.emplace(BuildScenarioRobotPath(scenario, world_));
-  if (check_camera_placement) {
-    const SE3 start = SE3::FromSE2(robot_path_->world_from_start);
-    if (auto problem = render::CheckCameraPlacement(world_, scenario.rig, start)) {
-      throw LocateProblem(scenario, "sensors", *problem);
-    }
+  // Physical sanity along the whole path: the body always, the cameras when they are checked.
+  if (auto problem = sim::CheckPathPlacement(world_, scenario.robot, *robot_path_,
+                                             check_camera_placement ? &scenario.rig : nullptr)) {
+    throw LocateProblem(scenario, problem->section, problem->problem);
   }
 }
 

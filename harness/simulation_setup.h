@@ -1,8 +1,8 @@
 #pragma once
 // The build step of every job that simulates (docs/architecture.md, "How a run is made"):
-// scenario + seed -> world, robot path, camera placement check; then, for the cameras somebody
-// reads, the render scene, GL backend and rig; then the Simulation. `drive`, `run` and `study`
-// build through it and differ only in the consumers they put on the sensor bus.
+// scenario + seed -> world, robot path, placement check along the path; then, for the cameras
+// somebody reads, the render scene, GL backend and rig; then the Simulation. `drive`, `run` and
+// `study` build through it and differ only in the consumers they put on the sensor bus.
 
 #include <cstdint>
 #include <memory>
@@ -33,9 +33,11 @@ struct Renderer {
 
 class SimulationSetup {
  public:
-  /// Generates the world and the robot path of `scenario` with `seed`; with
-  /// `check_camera_placement`, checks that every enabled camera of the scenario sits inside the
-  /// corridor at the start pose. Problems are InputErrors at the scenario line that caused them.
+  /// Generates the world and the robot path of `scenario` with `seed` and sweeps the robot's
+  /// chassis along the whole path against the world's solids (sim::CheckPathPlacement); with
+  /// `check_camera_placement`, also every enabled camera of the scenario (inside the corridor or a
+  /// room, below the ceiling, in no solid, anywhere along the path). Problems are InputErrors at
+  /// the scenario line that caused them (robot.body_*, sensors.<camera>.mount, path).
   /// `scenario` must outlive the setup; the simulation keeps references to the world and rig.
   SimulationSetup(const Scenario& scenario, std::uint64_t seed, bool check_camera_placement);
   SimulationSetup(const SimulationSetup&) = delete;

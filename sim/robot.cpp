@@ -93,6 +93,31 @@ std::optional<OptionsProblem> RobotOptions::Check() const {
   return c.problem();
 }
 
+std::vector<ChassisBox> ChassisBoxes(const RobotOptions& options) {
+  const double body_bottom = kBodyClearanceM;
+  const double body_height = options.body_height_m - body_bottom;
+  const double body_width = options.wheelbase_m - options.wheel_width_m - 0.01;
+  std::vector<ChassisBox> boxes;
+  boxes.push_back({Eigen::Vector3d(-kBodyBehindAxleM, 0, body_bottom + body_height / 2),
+                   Eigen::Vector3d(options.body_length_m / 2, body_width / 2, body_height / 2)});
+  // The real wheels' footprint (their wheelbase carries E_b) out to the robot's full width.
+  const double half_base =
+      RealWheelGeometry(options.odometry, options.wheel_diameter_m, options.wheelbase_m)
+          .wheelbase_m /
+      2;
+  const double fender_height = options.wheel_diameter_m - kFenderClearanceM;
+  const double outer_half_width =
+      std::max(options.body_width_m / 2, half_base + options.wheel_width_m / 2);
+  const double fender_width = outer_half_width - (body_width / 2);
+  for (int side : {-1, 1}) {
+    boxes.push_back(
+        {Eigen::Vector3d(0, side * (body_width / 2 + fender_width / 2),
+                         kFenderClearanceM + fender_height / 2),
+         Eigen::Vector3d(options.wheel_diameter_m / 2, fender_width / 2, fender_height / 2)});
+  }
+  return boxes;
+}
+
 Eigen::Vector2d WheelSpeedsFor(const RobotOptions& options, double linear_mps, double angular_rps) {
   const double radius = options.wheel_diameter_m / 2;
   const double half_base = options.wheelbase_m / 2;
@@ -197,35 +222,19 @@ RobotPhysics::RobotPhysics(const worlds::World& world, const RobotOptions& optio
   // Chassis masses and centre of mass, in the robot frame R.
   const double wheel_mass = kWheelMassKg;
   const double chassis_mass = options.mass_kg - 2 * wheel_mass - kCasterMassKg;
-  const double body_bottom = kBodyClearanceM;
-  const double body_height = options.body_height_m - body_bottom;
-  const double body_width = options.wheelbase_m - options.wheel_width_m - 0.01;
-  const Eigen::Vector3d body_center_in_robot(-kBodyBehindAxleM, 0, body_bottom + body_height / 2);
-  const Eigen::Vector3d com_in_robot = body_center_in_robot;
-  m.body_from_robot = SE3(Eigen::Quaterniond::Identity(), -com_in_robot);
-
+  const double body_height = options.body_height_m - kBodyClearanceM;
   // Chassis shape: the body box plus the wheels' footprint (so walls meet the real outline).
+  const std::vector<ChassisBox> boxes = ChassisBoxes(options);
+  const Eigen::Vector3d com_in_robot = boxes.front().center_in_robot;  // the body's centre
+  m.body_from_robot = SE3(Eigen::Quaterniond::Identity(), -com_in_robot);
   m.chassis_shape = std::make_unique<btCompoundShape>();
-  auto body_box = std::make_unique<btBoxShape>(
-      btVector3(options.body_length_m / 2, body_width / 2, body_height / 2));
-  btTransform child = btTransform::getIdentity();
-  child.setOrigin(Bt(body_center_in_robot - com_in_robot));
-  m.chassis_shape->addChildShape(child, body_box.get());
-  const double fender_height = options.wheel_diameter_m - kFenderClearanceM;
-  const double outer_half_width =
-      std::max(options.body_width_m / 2, half_base + options.wheel_width_m / 2);
-  const double fender_width = outer_half_width - (body_width / 2);
-  for (int side : {-1, 1}) {
-    auto fender = std::make_unique<btBoxShape>(
-        btVector3(options.wheel_diameter_m / 2, fender_width / 2, fender_height / 2));
+  for (const ChassisBox& box : boxes) {
+    auto shape = std::make_unique<btBoxShape>(Bt(box.half_extents));
     btTransform at = btTransform::getIdentity();
-    at.setOrigin(Bt(Eigen::Vector3d(0, side * (body_width / 2 + fender_width / 2),
-                                    kFenderClearanceM + fender_height / 2) -
-                    com_in_robot));
-    m.chassis_shape->addChildShape(at, fender.get());
-    m.shapes.push_back(std::move(fender));
+    at.setOrigin(Bt(box.center_in_robot - com_in_robot));
+    m.chassis_shape->addChildShape(at, shape.get());
+    m.shapes.push_back(std::move(shape));
   }
-  m.shapes.push_back(std::move(body_box));
   btVector3 chassis_inertia;
   btBoxShape(btVector3(options.body_length_m / 2, options.body_width_m / 2, body_height / 2))
       .calculateLocalInertia(chassis_mass, chassis_inertia);

@@ -53,6 +53,16 @@ struct RobotOptions {
 /// The keys of `robot:` (parsing, bounds, echo, docs).
 const OptionTable<RobotOptions>& RobotOptionsTable();
 
+/// One box of the chassis' collision shape, axis-aligned in the robot frame R (m).
+struct ChassisBox {
+  Eigen::Vector3d center_in_robot = Eigen::Vector3d::Zero();
+  Eigen::Vector3d half_extents = Eigen::Vector3d::Zero();
+};
+
+/// The boxes RobotPhysics builds the chassis from (the body, then the right and left wheels'
+/// footprint): what meets the world's solids (the placement check sweeps them along the path).
+std::vector<ChassisBox> ChassisBoxes(const RobotOptions& options);
+
 /// A contact of the robot's chassis with a world object (walls, doors, furniture).
 struct Contact {
   int instance_id = 0;  // World id of the object
