@@ -70,7 +70,7 @@ file(WRITE "${WORK_DIR}/long.yaml"
      "include: ${SOURCE_DIR}/tests/data/scenarios/odometry_consistency.yaml
 path: {kind: script, commands: [[100000, 0, 0]]}\n")
 execute_process(COMMAND "${CORRIDORSIM}" run "${WORK_DIR}/long.yaml" --out "${run}" --no-plots
-                --force TIMEOUT 3 RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE stderr)
+                --force TIMEOUT 5 RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE stderr)
 if(rc EQUAL 0 OR rc EQUAL 2)
   message(FATAL_ERROR "the long run was not killed (exit ${rc}):\n${stderr}")
 endif()

@@ -77,7 +77,7 @@ TEST_CASE("ParseCommandLine returns help text with the exit codes", "[harness]")
   CHECK_THAT(ParseCommandLine({"--help-all"}).help_text, Catch::Contains("--save-frames"));
 }
 
-TEST_CASE("--seed takes a decimal uint64 and nothing else", "[harness]") {
+TEST_CASE("a seed on the command line is a decimal uint64 and nothing else", "[harness]") {
   for (const char* bad : {"-1", "18446744073709551616", "99999999999999999999999", "12abc", "0x10",
                           "", " 1", "1 ", "+1", "1e3", "1.0", "inf", "nan", "007", "１"}) {
     INFO("--seed '" << bad << "'");
@@ -90,7 +90,7 @@ TEST_CASE("--seed takes a decimal uint64 and nothing else", "[harness]") {
   CHECK(ParseSeedArgument("42", "--seed") == 42);
 }
 
-TEST_CASE("--pose takes three bounded decimal numbers", "[harness]") {
+TEST_CASE("a pose on the command line is three bounded decimal numbers", "[harness]") {
   for (const char* bad :
        {"1,2,3,4",   "1,2",     "1,,3",      "1,2,",     ",1,2",      ",,",
         "0x10,0,0",  "inf,0,0", "0,nan,0",   "0,0,-inf", "1e400,0,0", "100001,0,0",
