@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <numbers>
 #include <optional>
 #include <set>
@@ -71,8 +72,10 @@ class Odometer : public BusConsumer {
 
 void RunDrive(const DriveRequest& request) {
   const Scenario scenario = LoadScenario(request.scenario_file);
-  const std::filesystem::path& out = request.out_dir;
-  EnsureOutputDirectory(out, "--out");
+  // Written into a staging folder that replaces --out whole at the end (harness/run_folder.h).
+  const std::unique_ptr<StagedDirectory> folder =
+      StageOutputFolder(request.out_dir, "--out", request.force);
+  const std::filesystem::path out = folder->path();
   // Rendering only when frames are saved: nothing else consumes them in a drive.
   SimulationSetup setup(scenario, request.seed.value_or(scenario.seed), request.save_frames);
   std::set<std::string> render_cameras;
@@ -113,6 +116,7 @@ void RunDrive(const DriveRequest& request) {
   WriteFileAtomic(out / "odometry.csv", odometry.csv());
   WriteFileAtomic(out / "events.json", events.Json(setup.seed(), simulation.now_ns()));
   if (frames) frames->Finish();
+  folder->Commit();
 
   const SE2 truth_end = simulation.truth().world_from_robot_2d;
   const SE2& dead_reckoning = odometry.pose();
@@ -134,7 +138,7 @@ void RunDrive(const DriveRequest& request) {
   std::printf(
       "wrote %s/{ground_truth.tum, ground_truth_3d.tum, odometry.tum, odometry.csv, "
       "events.json%s}\n",
-      out.string().c_str(), request.save_frames ? ", frames/" : "");
+      folder->path().string().c_str(), request.save_frames ? ", frames/" : "");
 }
 
 }  // namespace corridorsim

@@ -10,9 +10,10 @@
 namespace corridorsim {
 
 struct JobRequest {
-  std::string scenario_file;          // empty: scenarios/default.yaml
+  std::string scenario_file;          // empty: none given (main picks the default)
   std::optional<std::uint64_t> seed;  // overrides the scenario's seed
   std::filesystem::path out_dir;      // the job's output folder
+  bool force = false;                 // --force: replace a non-empty output folder (whole)
 };
 
 }  // namespace corridorsim

@@ -1,22 +1,23 @@
-// The corridorsim command. Subcommands: run (the main job), world, snapshot, drive. Exit
-// codes: 0 success, 2 bad input (one message naming file, line and key), 1 any other failure.
+// The corridorsim command. Subcommands: run (the main job), world, snapshot, drive. The command
+// line is parsed by ParseCommandLine (harness/cli.h); this file only dispatches. Exit codes: 0
+// success, 2 bad input (one message naming file, line and key, or the command-line flag), 3 an
+// expectation failed, 4 a run's results are written but an extra failed, 1 any other failure.
 
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
-#include <iostream>
 #include <map>
-#include <optional>
+#include <memory>
 #include <string>
-#include <utility>
-
-#include <CLI/CLI.hpp>
+#include <vector>
 
 #include "common/error.h"
 #include "common/io/atomic_file.h"
+#include "harness/cli.h"
 #include "harness/drive.h"
 #include "harness/job.h"
 #include "harness/run.h"
+#include "harness/run_folder.h"
 #include "harness/scenario.h"
 #include "harness/snapshot.h"
 #include "worlds/world_io.h"
@@ -24,11 +25,19 @@
 namespace corridorsim {
 namespace {
 
-constexpr int kExitBadInput = 2;
-
-std::string DefaultScenarioPath() {
-  if (std::filesystem::exists("scenarios/default.yaml")) return "scenarios/default.yaml";
-  return std::string(CORRIDORSIM_SCENARIO_DIR) + "/default.yaml";
+// No scenario given: ./scenarios/default.yaml when the current folder has one (a checkout), else
+// the shipped one. Says which file it is, since the two may differ.
+void ResolveDefaultScenario(JobRequest* request) {
+  if (!request->scenario_file.empty()) return;
+  std::error_code error;
+  std::filesystem::path path = "scenarios/default.yaml";
+  if (!std::filesystem::is_regular_file(path, error)) {
+    path = std::filesystem::path(CORRIDORSIM_SCENARIO_DIR) / "default.yaml";
+  }
+  std::filesystem::path shown = std::filesystem::weakly_canonical(path, error);
+  if (error) shown = std::filesystem::absolute(path, error);
+  std::fprintf(stderr, "corridorsim: no scenario given; using %s\n", shown.string().c_str());
+  request->scenario_file = path.string();
 }
 
 void PrintWorldSummary(const worlds::World& world, const std::filesystem::path& out, double ms) {
@@ -62,159 +71,60 @@ void PrintWorldSummary(const worlds::World& world, const std::filesystem::path& 
 
 int RunWorld(const JobRequest& request) {
   const Scenario scenario = LoadScenario(request.scenario_file);
-  const std::filesystem::path& out = request.out_dir;
-  EnsureOutputDirectory(out, "--out");
+  // Written into a staging folder that replaces --out whole at the end (harness/run_folder.h).
+  const std::unique_ptr<StagedDirectory> folder =
+      StageOutputFolder(request.out_dir, "--out", request.force);
   const std::uint64_t world_seed = request.seed.value_or(scenario.seed);
   const auto t0 = std::chrono::steady_clock::now();
   const worlds::World world = GenerateWorld(scenario, world_seed);
   const double ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-  worlds::WriteWorldFiles(world, out);
-  PrintWorldSummary(world, out, ms);
-  return 0;
+  worlds::WriteWorldFiles(world, folder->path());
+  folder->Commit();
+  PrintWorldSummary(world, folder->path(), ms);
+  return kExitSuccess;
 }
 
-// The options of every scenario job: the scenario file, --seed and --out (its default shown in
-// --help; `out` holds the folder's text until Resolve).
-struct JobOptions {
-  JobRequest* request;
-  std::string out;
-
-  JobOptions(CLI::App* job, JobRequest* r, std::string default_out, const char* scenario_help,
-             const char* seed_help, const char* out_help)
-      : request(r), out(std::move(default_out)) {
-    job->add_option("scenario", request->scenario_file, scenario_help);
-    job->add_option("--seed", request->seed, seed_help);
-    job->add_option("--out", out, out_help)->capture_default_str();
+int Dispatch(CommandLine& command) {
+  switch (command.job) {
+    case CommandLine::Job::kHelp:
+      std::fputs(command.help_text.c_str(), stdout);
+      return kExitSuccess;
+    case CommandLine::Job::kWorld:
+      ResolveDefaultScenario(&command.world);
+      return RunWorld(command.world);
+    case CommandLine::Job::kSnapshot:
+      ResolveDefaultScenario(&command.snapshot);
+      RunSnapshot(command.snapshot);
+      return kExitSuccess;
+    case CommandLine::Job::kRun:
+      ResolveDefaultScenario(&command.run);
+      return RunScenario(command.run);
+    case CommandLine::Job::kDrive:
+      ResolveDefaultScenario(&command.drive);
+      RunDrive(command.drive);
+      return kExitSuccess;
   }
-  // After parsing: the default scenario when none was given, the output folder.
-  void Resolve() const {
-    if (request->scenario_file.empty()) request->scenario_file = DefaultScenarioPath();
-    request->out_dir = out;
-  }
-};
+  return kExitFailure;
+}
 
 }  // namespace
 }  // namespace corridorsim
 
 int main(int argc, char** argv) {
   using namespace corridorsim;
-  CLI::App app{"corridorsim: a simulation harness for corridor SLAM"};
-  app.require_subcommand(1);
-  app.set_help_all_flag("--help-all", "Show the help of every subcommand");
-
-  JobRequest world_request;
-  CLI::App* world = app.add_subcommand(
-      "world", "Generate a corridor world and write its geometry, textures, ground truth and plan");
-  const JobOptions world_options(
-      world, &world_request, "out/world",
-      "Scenario YAML whose `world:` section and `seed` are used (default: "
-      "scenarios/default.yaml)",
-      "Seed of the world's random streams (default: the scenario's `seed`)",
-      "Output folder for world.obj, world.mtl, textures/, ground_truth.json, map.png");
-  world->footer(
-      "Writes world.obj + world.mtl + textures/*.png (open in MeshLab or Blender), "
-      "ground_truth.json (door plates, lamps, doors, corridor segments, corner points, "
-      "distractors; metres, world frame) and map.png (top-down plan).\n"
-      "Exit codes: 0 success, 2 bad input (file:line:column: key: message), 1 other failures.");
-
-  SnapshotRequest snapshot_request;
-  CLI::App* snapshot = app.add_subcommand(
-      "snapshot", "Place the robot at one pose and render every camera of the rig");
-  const JobOptions snapshot_options(
-      snapshot, &snapshot_request, "out/snapshot",
-      "Scenario YAML (world, sensors, render); default: scenarios/default.yaml",
-      "Seed of the world and the sensor noise", "Output folder");
-  snapshot
-      ->add_option("--pose", snapshot_request.pose_text,
-                   "Robot pose x,y,yaw: metres in the world frame and degrees (0 = along +x)")
-      ->required();
-  snapshot->footer(
-      "Writes per camera <camera>_rgb.png, <camera>_labels.png (16-bit RGB: R = semantic class, "
-      "G = instance id >> 16, B = instance id & 0xffff), <camera>_overlay.png (ground truth drawn "
-      "on the image), front_depth.png (16-bit, 5000 per metre, 0 = invalid), plus "
-      "frame_ground_truth.json and intrinsics.json.\n"
-      "Environment: CORRIDORSIM_RENDER_BACKEND=osmesa|egl overrides the scenario's "
-      "render.backend.\n"
-      "Exit codes: 0 success, 2 bad input, 1 other failures (e.g. no GL context).");
-
-  RunRequest run_request;
-  std::string run_export;
-  bool no_plots = false;
-  CLI::App* run = app.add_subcommand(
-      "run",
-      "Run a scenario closed loop, score every pipeline against ground truth, write the run");
-  const JobOptions run_options(run, &run_request, "out/run",
-                               "Scenario YAML (default: scenarios/default.yaml)",
-                               "Seed of every random stream of the run", "Run folder");
-  run->add_option("--export", run_export,
-                  "Also write a dataset: TUM RGB-D (front), EuRoC/ASL (upward, lateral), "
-                  "odometry CSV, labels and COCO plate boxes (docs/export.md)");
-  run->add_flag("--no-plots", no_plots, "Skip plots/ (matplotlib)");
-  run->add_flag("--check", run_request.check_only,
-                "Only check the scenario: load it, build its world, path and pipelines, and exit");
-  run->footer(
-      "Writes scenario.yaml (resolved, with the seed), world.json, ground_truth.tum, "
-      "<pipeline>.tum, <pipeline>_cov.txt (ov_eval), <pipeline>_errors.csv, metrics.json "
-      "(docs/metrics.md), timing.json, events.json, maps/, plots/.\n"
-      "Exit codes: 0 success, 3 an expectation failed, 2 bad input, 1 other failures.");
-
-  DriveRequest drive_request;
-  CLI::App* drive = app.add_subcommand(
-      "drive", "Drive the scenario's path closed loop and write trajectories, odometry and events");
-  const JobOptions drive_options(
-      drive, &drive_request, "out/drive",
-      "Scenario YAML (world, robot, path, sensors); default: scenarios/default.yaml",
-      "Seed of the world, the odometry errors and the sensor noise", "Output folder");
-  drive->add_flag("--save-frames", drive_request.save_frames,
-                  "Render the cameras at their rates and write every frame");
-  drive->footer(
-      "Writes ground_truth.tum (world_from_robot at 100 Hz) and odometry.tum (wheel odometry dead "
-      "reckoning from the true start pose), both TUM format: t x y z qx qy qz qw, seconds; "
-      "odometry.csv (the raw messages: per-wheel distances and ticks); events.json (collisions, "
-      "slips, path done or timeout). With --save-frames: frames/<camera>/{rgb,labels,depth}/"
-      "<t>.png, frames/<camera>/frames.json (pose and visible landmarks per frame) and "
-      "frames/intrinsics.json.\n"
-      "Exit codes: 0 success, 2 bad input, 1 other failures.");
-
   try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::CallForAllHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::ParseError& e) {
-    app.exit(e);
-    return kExitBadInput;
-  }
-
-  try {
-    if (snapshot->parsed()) {
-      snapshot_options.Resolve();
-      RunSnapshot(snapshot_request);
-      return 0;
-    }
-    if (run->parsed()) {
-      run_options.Resolve();
-      if (!run_export.empty()) run_request.export_dir = run_export;
-      run_request.plots = !no_plots;
-      return RunScenario(run_request);
-    }
-    if (drive->parsed()) {
-      drive_options.Resolve();
-      RunDrive(drive_request);
-      return 0;
-    }
-    if (world->parsed()) {
-      world_options.Resolve();
-      return RunWorld(world_request);
-    }
+    const std::vector<std::string> args =
+        argc > 1 ? std::vector<std::string>(argv + 1, argv + argc) : std::vector<std::string>();
+    CommandLine command = ParseCommandLine(args);
+    return Dispatch(command);
   } catch (const InputError& e) {
+    std::fflush(stdout);
     std::fprintf(stderr, "corridorsim: error: %s\n", e.what());
     return kExitBadInput;
   } catch (const std::exception& e) {
+    std::fflush(stdout);
     std::fprintf(stderr, "corridorsim: error: %s\n", e.what());
-    return 1;
+    return kExitFailure;
   }
-  return 0;
 }

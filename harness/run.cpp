@@ -1,12 +1,17 @@
 #include "harness/run.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <memory>
 #include <optional>
 #include <set>
+#include <stdexcept>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "common/error.h"
 #include "common/io/atomic_file.h"
 #include "harness/calibration.h"
 #include "harness/export_consumer.h"
@@ -20,17 +25,47 @@
 #include "harness/truth_recorder.h"
 
 namespace corridorsim {
+namespace {
+
+// --export and --out are separate folders: neither may hold the other (each replaces its folder
+// whole when committed).
+void CheckSeparateFolders(const std::filesystem::path& out, const std::filesystem::path& dataset) {
+  std::filesystem::path a, b;
+  try {
+    a = NormalOutputFolder(out);
+    b = NormalOutputFolder(dataset);
+  } catch (const std::runtime_error&) {
+    return;  // StageOutputFolder reports the unusable one
+  }
+  std::error_code error;
+  a = std::filesystem::weakly_canonical(a, error);
+  b = std::filesystem::weakly_canonical(b, error);
+  const auto within = [](const std::filesystem::path& outer, const std::filesystem::path& inner) {
+    const auto [o, i] = std::mismatch(outer.begin(), outer.end(), inner.begin(), inner.end());
+    return o == outer.end();
+  };
+  if (within(a, b) || within(b, a)) {
+    throw InputError(SourceLocation{"command line", 0, 0}, "--export",
+                     "'" + dataset.string() + "' and the run folder --out '" + out.string() +
+                         "' must be separate folders (neither inside the other)");
+  }
+}
+
+}  // namespace
+
 // Build, loop, finish (docs/architecture.md, "How a run is made").
 int RunScenario(const RunRequest& request) {
   const WallClock::time_point run_start = WallClock::now();
   const Scenario scenario = LoadScenario(request.scenario_file);
   const std::vector<Expectation> expectations = ScenarioExpectations(scenario);
-  const std::filesystem::path& out = request.out_dir;
-  // Output folders are checked before anything runs: a run never ends unable to write.
+  // Output folders are checked and staged before anything runs: a run never ends unable to
+  // write, and never leaves a folder with files of two runs.
+  std::unique_ptr<StagedDirectory> out, dataset;
   if (!request.check_only) {
-    EnsureOutputDirectory(out, "--out");
-    if (request.plots) EnsureOutputDirectory(out / "plots", "--out");
-    if (request.export_dir) EnsureOutputDirectory(*request.export_dir, "--export");
+    if (request.export_dir) CheckSeparateFolders(request.out_dir, *request.export_dir);
+    out = StageOutputFolder(request.out_dir, "--out", request.force);
+    if (request.export_dir)
+      dataset = StageOutputFolder(*request.export_dir, "--export", request.force);
   }
 
   // Build: the pipelines (all on the same stream), then the world, path and cameras they need.
@@ -53,9 +88,7 @@ int RunScenario(const RunRequest& request) {
   setup.Start(render_cameras);
   sim::Simulation& simulation = setup.simulation();
   std::optional<ExportConsumer> exporter;
-  if (request.export_dir) {
-    exporter.emplace(*request.export_dir, setup.rig_options(), scenario.robot.wheelbase_m);
-  }
+  if (dataset) exporter.emplace(dataset->path(), setup.rig_options(), scenario.robot.wheelbase_m);
   std::printf("run: %s, seed %llu, %zu pipeline(s)%s, path %s (%.1f m)%s\n",
               scenario.name.empty() ? request.scenario_file.c_str() : scenario.name.c_str(),
               static_cast<unsigned long long>(setup.seed()), pipelines.size(),
@@ -88,41 +121,63 @@ int RunScenario(const RunRequest& request) {
   ScoredRun scored = ScoreRun(input, expectations);
   const double metrics_seconds = SecondsSince(t_metrics);
 
-  const WallClock::time_point t_write = WallClock::now();
-  WriteRunFolder(out, request.scenario_file, setup.seed(), setup.world(), truth, pipelines,
-                 scored.metrics, events.Json(setup.seed(), simulation.now_ns()));
-  const double write_seconds = SecondsSince(t_write);
-  double export_seconds = 0.0, export_wait_seconds = 0.0;
-  if (exporter) {
-    exporter->Finish();
-    export_seconds = exporter->busy_seconds();
-    export_wait_seconds = exporter->wait_seconds();
-  }
-  std::optional<std::string> plot_error;
-  const WallClock::time_point t_plots = WallClock::now();
-  if (request.plots) plot_error = MakePlots(out);
-  const double plot_seconds = SecondsSince(t_plots);
-
-  // Wall-clock cost by stage (physics = the simulation step minus its rendering), the whole run.
-  const double total = SecondsSince(run_start);
+  // Wall-clock cost by stage (physics = the simulation step minus its rendering), the whole run;
+  // written with the results, and again with the extras' seconds once they ran.
   const double sim_s = ToSeconds(simulation.now_ns());
   const double render_seconds = simulation.render_seconds();
   const double physics_seconds = bus.step_seconds() - render_seconds;
+  double write_seconds = 0.0, export_seconds = 0.0, export_wait_seconds = 0.0, plot_seconds = 0.0;
+  double total = 0.0;
   nlohmann::ordered_json& timing = scored.timing;
-  timing["sim_seconds"] = sim_s;
-  timing["wall_seconds"] = total;
-  timing["real_time_factor"] = total > 0 ? sim_s / total : 0.0;
-  timing["stages_seconds"] = {
-      {"setup", std::chrono::duration<double>(loop_start - run_start).count()},
-      {"physics", physics_seconds},
-      {"rendering", render_seconds},
-      {"pipelines", pipelines.seconds()},
-      {"metrics", metrics_seconds},
-      {"writing", write_seconds},
-      {"export", export_seconds},
-      {"export_wait", export_wait_seconds},
-      {"plots", plot_seconds}};
-  WriteFileAtomic(out / "timing.json", timing.dump(2) + "\n");
+  const auto timing_json = [&] {
+    total = SecondsSince(run_start);
+    timing["sim_seconds"] = sim_s;
+    timing["wall_seconds"] = total;
+    timing["real_time_factor"] = total > 0 ? sim_s / total : 0.0;
+    timing["stages_seconds"] = {
+        {"setup", std::chrono::duration<double>(loop_start - run_start).count()},
+        {"physics", physics_seconds},
+        {"rendering", render_seconds},
+        {"pipelines", pipelines.seconds()},
+        {"metrics", metrics_seconds},
+        {"writing", write_seconds},
+        {"export", export_seconds},
+        {"export_wait", export_wait_seconds},
+        {"plots", plot_seconds}};
+    return timing.dump(2) + "\n";
+  };
+
+  // Results first (committed as one folder), then the extras: a failing extra costs only itself.
+  const auto write_results = [&](const std::filesystem::path& folder) {
+    const WallClock::time_point t_write = WallClock::now();
+    WriteRunFolder(folder, request.scenario_file, setup.seed(), setup.world(), truth, pipelines,
+                   scored.metrics, events.Json(setup.seed(), simulation.now_ns()));
+    write_seconds = SecondsSince(t_write);
+    WriteFileAtomic(folder / "timing.json", timing_json());
+  };
+  bool plots_written = false;
+  std::vector<RunExtra> extras;
+  extras.push_back({"maps/", [&] { pipelines.WriteMaps(out->path() / "maps"); }});
+  if (exporter) {
+    extras.push_back({"--export dataset", [&] {
+                        exporter->Finish();
+                        export_seconds = exporter->busy_seconds();
+                        export_wait_seconds = exporter->wait_seconds();
+                        dataset->Commit();
+                      }});
+  }
+  if (request.plots) {
+    extras.push_back({"plots/", [&] {
+                        const WallClock::time_point t_plots = WallClock::now();
+                        const std::optional<std::string> error = MakePlots(out->path());
+                        plot_seconds = SecondsSince(t_plots);
+                        if (error) throw std::runtime_error(*error);
+                        plots_written = true;
+                      }});
+  }
+  extras.push_back(
+      {"timing.json", [&] { WriteFileAtomic(out->path() / "timing.json", timing_json()); }});
+  const int extras_failed = CommitResultsThenExtras(*out, write_results, extras);
 
   PrintClosingTable(scored.metrics, scored.results);
   std::printf(
@@ -134,13 +189,17 @@ int RunScenario(const RunRequest& request) {
   std::printf(
       "wrote %s/{scenario.yaml, world.json, ground_truth.tum, <pipeline>.tum, "
       "<pipeline>_cov.txt, <pipeline>_errors.csv, metrics.json, timing.json, events.json%s}%s\n",
-      out.string().c_str(), request.plots ? ", plots/" : "",
-      request.export_dir ? (" and the dataset in " + request.export_dir->string()).c_str() : "");
+      out->path().string().c_str(), plots_written ? ", plots/" : "",
+      dataset && dataset->committed() ? (" and the dataset in " + dataset->path().string()).c_str()
+                                      : "");
   if (!simulation.path_done()) {
     std::printf("warning: the path was not finished (see events.json)\n");
   }
-  if (plot_error) throw std::runtime_error(*plot_error);
-  return scored.all_passed ? 0 : kExitExpectationsFailed;
+  if (extras_failed > 0) {
+    std::printf("warning: %d extra(s) failed (see the messages above); the results are written\n",
+                extras_failed);
+  }
+  return RunExitCode(scored.all_passed, extras_failed);
 }
 
 }  // namespace corridorsim

@@ -20,9 +20,13 @@ struct RunRequest : JobRequest {
 
 /// Exit code of a run whose expectations did not all pass (0 success, 1 failure, 2 bad input).
 inline constexpr int kExitExpectationsFailed = 3;
+/// Exit code of a run whose results are written and committed but an extra (maps/, plots/, the
+/// --export dataset) failed. kExitExpectationsFailed takes precedence.
+inline constexpr int kExitExtraFailed = 4;
 
-/// Runs the scenario; prints progress and a closing table. Returns 0, or kExitExpectationsFailed
-/// when an expectation failed. Throws InputError for bad input (before anything runs).
+/// Runs the scenario; prints progress and a closing table. Returns 0, kExitExpectationsFailed
+/// when an expectation failed, or kExitExtraFailed when an extra failed (and every expectation
+/// passed). Throws InputError for bad input (before anything runs).
 int RunScenario(const RunRequest& request);
 
 }  // namespace corridorsim

@@ -1,10 +1,12 @@
 #include "harness/run_folder.h"
 
 #include <cstdio>
-#include <cstdlib>
 #include <sstream>
 
+#include "common/error.h"
 #include "common/io/atomic_file.h"
+#include "common/io/child_process.h"
+#include "harness/run.h"
 #include "harness/run_io.h"
 #include "harness/scenario.h"
 #include "worlds/world_io.h"
@@ -73,7 +75,6 @@ void WriteRunFolder(const std::filesystem::path& out, const std::string& scenari
     WriteFileAtomic(out / (record.name + "_cov.txt"), cov.str());
     WriteFileAtomic(out / (record.name + "_errors.csv"), ErrorSeriesCsv(truth.poses(), record));
   }
-  pipelines.WriteMaps(out / "maps");
   WriteFileAtomic(out / "metrics.json", metrics.dump(2) + "\n");
   WriteFileAtomic(out / "events.json", events_json);
 }
@@ -102,10 +103,48 @@ void PrintClosingTable(const nlohmann::ordered_json& metrics,
 std::optional<std::string> MakePlots(const std::filesystem::path& out) {
   const std::filesystem::path script =
       std::filesystem::path(CORRIDORSIM_SCRIPTS_DIR) / "plot_run.py";
-  const std::string command = "python3 '" + script.string() + "' '" + out.string() + "'";
-  const int rc = std::system(command.c_str());
-  if (rc != 0) return "plots failed (" + command + " exited " + std::to_string(rc) + ")";
-  return std::nullopt;
+  const ChildStatus status = RunChildProcess({"python3", script.string(), out.string()});
+  if (status.succeeded()) return std::nullopt;
+  return "python3 '" + script.string() + "' '" + out.string() + "' " + DescribeChildStatus(status);
+}
+
+std::unique_ptr<StagedDirectory> StageOutputFolder(const std::filesystem::path& dir,
+                                                   const std::string& option, bool force) {
+  const SourceLocation command_line{"command line", 0, 0};
+  try {
+    return std::make_unique<StagedDirectory>(dir, force);
+  } catch (const FolderNotEmptyError&) {
+    throw InputError(command_line, option,
+                     "'" + dir.string() +
+                         "' is not empty (a previous run?): pass --force to replace it whole, "
+                         "or choose another folder");
+  } catch (const std::exception& e) {
+    throw InputError(command_line, option, e.what());
+  }
+}
+
+int CommitResultsThenExtras(StagedDirectory& folder,
+                            const std::function<void(const std::filesystem::path&)>& write_results,
+                            const std::vector<RunExtra>& extras) {
+  write_results(folder.path());
+  folder.Commit();
+  int failed = 0;
+  for (const RunExtra& extra : extras) {
+    try {
+      extra.write();
+    } catch (const std::exception& e) {
+      ++failed;
+      std::fflush(stdout);
+      std::fprintf(stderr, "corridorsim: error: %s: %s; the results are written in %s\n",
+                   extra.name.c_str(), e.what(), folder.path().string().c_str());
+    }
+  }
+  return failed;
+}
+
+int RunExitCode(bool all_expectations_passed, int extras_failed) {
+  if (!all_expectations_passed) return kExitExpectationsFailed;
+  return extras_failed > 0 ? kExitExtraFailed : 0;
 }
 
 }  // namespace corridorsim

@@ -4,12 +4,15 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "common/io/atomic_file.h"
 #include "harness/metrics.h"
 #include "harness/pipeline_runner.h"
 #include "harness/truth_recorder.h"
@@ -28,7 +31,8 @@ struct ScoredRun {
 ScoredRun ScoreRun(const MetricsInput& input, const std::vector<Expectation>& expectations);
 
 /// Writes scenario.yaml, world.json, ground_truth.tum, each pipeline's .tum, _cov.txt,
-/// _errors.csv and maps, metrics.json and events.json into `out` (atomically, file by file).
+/// _errors.csv, metrics.json and events.json into `out` (atomically, file by file). Maps are an
+/// extra (RunExtra), written after the folder is committed.
 void WriteRunFolder(const std::filesystem::path& out, const std::string& scenario_file,
                     std::uint64_t seed, const worlds::World& world, const TruthRecorder& truth,
                     const PipelineRunner& pipelines, const nlohmann::ordered_json& metrics,
@@ -41,7 +45,33 @@ std::string FormatFixed(double v, int decimals);
 void PrintClosingTable(const nlohmann::ordered_json& metrics,
                        const std::vector<ExpectationResult>& results);
 
-/// Runs scripts/plot_run.py on the run folder. Returns an error message, or nothing.
+/// Runs `python3 scripts/plot_run.py <out>` (python3 found on PATH; no shell: the folder's name
+/// is one argument whatever it holds). Returns an error message, or nothing.
 std::optional<std::string> MakePlots(const std::filesystem::path& out);
+
+/// A job's output folder (`option`: "--out", "--export"), staged (StagedDirectory): a path that
+/// names no usable folder, and a folder that holds files without `force`, are InputError at
+/// `command line: <option>`, before anything runs.
+std::unique_ptr<StagedDirectory> StageOutputFolder(const std::filesystem::path& dir,
+                                                   const std::string& option, bool force);
+
+/// Something a run writes after its results are committed: maps/, the --export dataset, plots/.
+/// `write` throws (any std::exception) on failure.
+struct RunExtra {
+  std::string name;  // in the message: "maps/", "plots/", "--export dataset"
+  std::function<void()> write;
+};
+
+/// Results first, extras after: `write_results` writes into the staging folder, the folder is
+/// committed (a failure there throws: the previous folder is left as it was), then every extra
+/// runs in order; an extra that fails is reported on stderr (`corridorsim: error: <name>: ...;
+/// the results are written`) and the next still runs. Returns how many extras failed.
+int CommitResultsThenExtras(StagedDirectory& folder,
+                            const std::function<void(const std::filesystem::path&)>& write_results,
+                            const std::vector<RunExtra>& extras);
+
+/// A finished run's exit code: kExitExpectationsFailed (3) when an expectation failed, else
+/// kExitExtraFailed (4) when an extra failed, else 0.
+int RunExitCode(bool all_expectations_passed, int extras_failed);
 
 }  // namespace corridorsim

@@ -3,15 +3,16 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
+#include <memory>
 #include <numbers>
-#include <sstream>
 
 #include <nlohmann/json.hpp>
 
 #include "common/error.h"
 #include "common/io/atomic_file.h"
+#include "common/pose.h"
 #include "harness/frame_io.h"
+#include "harness/run_folder.h"
 #include "harness/scenario.h"
 #include "harness/simulation_setup.h"
 #include "render/backend.h"
@@ -23,31 +24,14 @@
 
 namespace corridorsim {
 
-SE2 ParsePose(const std::string& text) {
-  std::vector<double> values;
-  std::stringstream in(text);
-  std::string item;
-  while (std::getline(in, item, ',')) {
-    char* end = nullptr;
-    const double v = std::strtod(item.c_str(), &end);
-    if (item.empty() || end != item.c_str() + item.size() || !std::isfinite(v)) {
-      throw InputError(SourceLocation{"command line", 0, 0}, "--pose",
-                       "expected x,y,yaw (metres, metres, degrees), got '" + text + "'");
-    }
-    values.push_back(v);
-  }
-  if (values.size() != 3) {
-    throw InputError(SourceLocation{"command line", 0, 0}, "--pose",
-                     "expected x,y,yaw (metres, metres, degrees), got '" + text + "'");
-  }
-  return SE2(values[0], values[1], values[2] * std::numbers::pi / 180.0);
-}
-
 void RunSnapshot(const SnapshotRequest& request) {
   const Scenario scenario = LoadScenario(request.scenario_file);
-  const SE2 pose = ParsePose(request.pose_text);
+  const SE2 pose(request.x_m, request.y_m, request.yaw_deg * std::numbers::pi / 180.0);
   const render::BackendKind backend_kind = ChooseBackend(scenario.rig.backend);
-  EnsureOutputDirectory(request.out_dir, "--out");
+  // Written into a staging folder that replaces --out whole at the end (harness/run_folder.h).
+  const std::unique_ptr<StagedDirectory> folder =
+      StageOutputFolder(request.out_dir, "--out", request.force);
+  const std::filesystem::path dir = folder->path();
   const std::uint64_t seed = request.seed.value_or(scenario.seed);
   const worlds::World world = GenerateWorld(scenario, seed);
   const SE3 world_from_robot = SE3::FromSE2(pose);
@@ -87,7 +71,6 @@ void RunSnapshot(const SnapshotRequest& request) {
     truth_json["cameras"][id] = render::FrameTruthJson(truth);
     intrinsics[id] = IntrinsicsJson(options);
 
-    const std::filesystem::path dir = request.out_dir;
     WriteFileAtomic(dir / (id + "_rgb.png"), EncodePng(frame.rgb, id + "_rgb.png"));
     WriteFileAtomic(dir / (id + "_labels.png"),
                     EncodeLabels(frame, frame.rgb.width, frame.rgb.height));
@@ -101,9 +84,10 @@ void RunSnapshot(const SnapshotRequest& request) {
                 frame.rgb.width, frame.rgb.height, truth.plates.size(), truth.lamps.size(),
                 truth.doors.size(), truth.corners.size(), options.depth ? ", depth" : "");
   }
-  WriteFileAtomic(request.out_dir / "frame_ground_truth.json", truth_json.dump(2) + "\n");
-  WriteFileAtomic(request.out_dir / "intrinsics.json", intrinsics.dump(2) + "\n");
-  std::printf("wrote %s\n", request.out_dir.string().c_str());
+  WriteFileAtomic(dir / "frame_ground_truth.json", truth_json.dump(2) + "\n");
+  WriteFileAtomic(dir / "intrinsics.json", intrinsics.dump(2) + "\n");
+  folder->Commit();
+  std::printf("wrote %s\n", folder->path().string().c_str());
 }
 
 }  // namespace corridorsim

@@ -8,18 +8,16 @@
 #include <optional>
 #include <string>
 
-#include "common/pose.h"
-
 #include "harness/job.h"
 
 namespace corridorsim {
 
 struct SnapshotRequest : JobRequest {
-  std::string pose_text;  // "x,y,yaw_deg" as given on the command line
+  // --pose x,y,yaw (ParsePoseArgument, harness/cli.h): the robot's pose in the world frame.
+  double x_m = 0.0;      // m
+  double y_m = 0.0;      // m
+  double yaw_deg = 0.0;  // degrees, 0 = along +x
 };
-
-/// Parses "x,y,yaw" (metres, metres, degrees). Throws InputError naming `--pose`.
-SE2 ParsePose(const std::string& text);
 
 /// Runs the snapshot; prints a summary. Throws InputError for bad input.
 void RunSnapshot(const SnapshotRequest& request);

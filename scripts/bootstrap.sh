@@ -26,7 +26,7 @@ case "$mode" in
     ;;
   run)
     configure_and_build build -DCMAKE_BUILD_TYPE=Release
-    build/bin/corridorsim run scenarios/default.yaml --out out/run
+    build/bin/corridorsim run scenarios/default.yaml --out out/run --force
     ;;
   test)
     configure_and_build build -DCMAKE_BUILD_TYPE=Release

@@ -1,9 +1,12 @@
 #include "common/io/atomic_file.h"
 
+#include <fcntl.h>
+#include <signal.h>
 #include <unistd.h>
 
 #include <atomic>
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <stdexcept>
@@ -81,6 +84,152 @@ void EnsureWritableDirectory(const std::filesystem::path& dir) {
     throw std::runtime_error("output folder " + Quoted(dir) + ": cannot remove probe file " +
                              Quoted(probe) + ": " + error.message());
   }
+}
+
+namespace {
+
+bool IsEmptyDirectory(const std::filesystem::path& dir) {
+  return std::filesystem::directory_iterator(dir) == std::filesystem::directory_iterator();
+}
+
+// `parent` is `child` or one of its ancestors (both absolute and normal).
+bool IsSameOrAncestor(const std::filesystem::path& parent, const std::filesystem::path& child) {
+  auto p = parent.begin();
+  auto c = child.begin();
+  for (; p != parent.end(); ++p, ++c) {
+    if (c == child.end() || *p != *c) return false;
+  }
+  return true;
+}
+
+// Removes `.<name>.partial-<pid>[.old]` folders beside the target whose process no longer runs (a
+// killed job's staging folder, or the previous folder a killed Commit did not get to remove).
+void RemoveStaleStaging(const std::filesystem::path& parent, const std::string& name) {
+  const std::string prefix = "." + name + ".partial-";
+  std::error_code error;
+  std::filesystem::directory_iterator it(parent, error);
+  if (error) return;
+  for (const std::filesystem::directory_entry& entry : it) {
+    const std::string entry_name = entry.path().filename().string();
+    if (entry_name.compare(0, prefix.size(), prefix) != 0) continue;
+    std::string digits = entry_name.substr(prefix.size());
+    if (digits.size() > 4 && digits.compare(digits.size() - 4, 4, ".old") == 0) {
+      digits.resize(digits.size() - 4);
+    }
+    if (digits.empty() || digits.size() > 9 ||
+        digits.find_first_not_of("0123456789") != std::string::npos) {
+      continue;
+    }
+    const pid_t pid = static_cast<pid_t>(std::stol(digits));
+    const bool ours = pid == ::getpid();  // left by an earlier process with this pid
+    if (ours || (::kill(pid, 0) != 0 && errno == ESRCH)) {
+      std::error_code ignored;
+      std::filesystem::remove_all(entry.path(), ignored);
+    }
+  }
+}
+
+}  // namespace
+
+std::filesystem::path NormalOutputFolder(const std::filesystem::path& dir) {
+  if (dir.empty()) throw std::runtime_error("the output folder is an empty path");
+  std::error_code error;
+  std::filesystem::path normal = std::filesystem::absolute(dir, error).lexically_normal();
+  if (error) {
+    throw std::runtime_error("output folder " + Quoted(dir) + ": " + error.message());
+  }
+  if (normal.filename().empty()) normal = normal.parent_path();  // "out/run/"
+  if (normal.filename().empty() || normal == normal.root_path()) {
+    throw std::runtime_error("output folder " + Quoted(dir) + " names no folder of its own");
+  }
+  return normal;
+}
+
+StagedDirectory::StagedDirectory(const std::filesystem::path& target, bool replace_existing)
+    : target_(NormalOutputFolder(target)), replace_existing_(replace_existing) {
+  namespace fs = std::filesystem;
+  std::error_code error;
+  const fs::path cwd = fs::current_path(error).lexically_normal();
+  const fs::path resolved = fs::weakly_canonical(target_, error);
+  if (!error && IsSameOrAncestor(resolved, cwd)) {
+    throw std::runtime_error("output folder " + Quoted(target) +
+                             " is the current folder or contains it; choose a folder below it");
+  }
+  const fs::file_status status = fs::status(target_, error);
+  if (fs::exists(status)) {
+    if (!fs::is_directory(status)) {
+      throw std::runtime_error("output folder " + Quoted(target) + " is not a directory");
+    }
+    if (!replace_existing_ && !IsEmptyDirectory(target_)) {
+      throw FolderNotEmptyError("output folder " + Quoted(target) + " is not empty");
+    }
+  }
+  fs::create_directories(target_.parent_path(), error);
+  if (error) {
+    throw std::runtime_error("cannot create output folder " + Quoted(target) + ": " +
+                             error.message());
+  }
+  const std::string name = target_.filename().string();
+  RemoveStaleStaging(target_.parent_path(), name);
+  staging_ = target_.parent_path() / ("." + name + ".partial-" + std::to_string(::getpid()));
+  if (!fs::create_directory(staging_, error) || error) {
+    const std::string reason = error ? error.message() : "it exists";
+    staging_.clear();
+    throw std::runtime_error("output folder " + Quoted(target) + ": cannot create " +
+                             "the staging folder beside it: " + reason);
+  }
+  try {
+    EnsureWritableDirectory(staging_);
+  } catch (...) {
+    fs::remove_all(staging_, error);
+    staging_.clear();
+    throw;
+  }
+}
+
+StagedDirectory::~StagedDirectory() {
+  if (committed_ || staging_.empty()) return;
+  std::error_code ignored;
+  std::filesystem::remove_all(staging_, ignored);
+}
+
+void StagedDirectory::Commit() {
+  namespace fs = std::filesystem;
+  if (committed_) throw std::logic_error("StagedDirectory::Commit twice");
+  std::error_code error;
+  const bool target_exists = fs::exists(fs::symlink_status(target_, error));
+  if (target_exists && !replace_existing_ && fs::is_directory(target_, error) &&
+      !IsEmptyDirectory(target_)) {
+    throw FolderNotEmptyError("output folder " + Quoted(target_) + " got files while the job ran");
+  }
+  const auto fail = [&](const std::string& what, int err) {
+    throw std::runtime_error("cannot move " + Quoted(staging_) + " to " + Quoted(target_) + ": " +
+                             what + ": " + std::strerror(err));
+  };
+  fs::path previous;  // where the previous folder ends up
+  if (target_exists) {
+    // One atomic swap: the target is the new folder, the staging name the previous one.
+    previous = staging_;
+    if (::renameat2(AT_FDCWD, staging_.c_str(), AT_FDCWD, target_.c_str(), RENAME_EXCHANGE) != 0) {
+      if (errno != EINVAL && errno != ENOSYS) fail("exchange", errno);
+      // A file system without RENAME_EXCHANGE: move the previous folder aside first.
+      previous = staging_.string() + ".old";
+      if (::rename(target_.c_str(), previous.c_str()) != 0)
+        fail("moving the previous aside", errno);
+      if (::rename(staging_.c_str(), target_.c_str()) != 0) {
+        const int err = errno;
+        ::rename(previous.c_str(), target_.c_str());
+        fail("rename", err);
+      }
+    }
+  } else if (::renameat2(AT_FDCWD, staging_.c_str(), AT_FDCWD, target_.c_str(), RENAME_NOREPLACE) !=
+             0) {
+    if (errno != EINVAL && errno != ENOSYS) fail("rename", errno);
+    if (::rename(staging_.c_str(), target_.c_str()) != 0) fail("rename", errno);
+  }
+  committed_ = true;
+  // A previous folder left here by a killed process is removed by the next job.
+  if (!previous.empty()) fs::remove_all(previous, error);
 }
 
 }  // namespace corridorsim

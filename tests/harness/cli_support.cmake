@@ -7,7 +7,8 @@ file(MAKE_DIRECTORY "${WORK_DIR}")
 # cli_run(EXIT <code> WHAT <name> ARGS <corridorsim arguments...> [ENV <VAR=value>]
 #         [STDOUT <regex>] [STDERR <regex>] [NOT_STDOUT <regex>] [NOT_EXISTS <path>])
 # Runs corridorsim in SOURCE_DIR; fails unless it exits <code>, its output matches, and
-# NOT_EXISTS (e.g. an output folder bad input must not create) is absent. CLI_STDOUT gets stdout.
+# NOT_EXISTS (e.g. an output folder bad input must not create) is absent. CLI_STDOUT gets stdout,
+# CLI_STDERR stderr.
 function(cli_run)
   cmake_parse_arguments(ARG "" "EXIT;WHAT;ENV;STDOUT;STDERR;NOT_STDOUT;NOT_EXISTS" "ARGS" ${ARGN})
   set(command "${CORRIDORSIM}" ${ARG_ARGS})
@@ -32,6 +33,7 @@ function(cli_run)
     message(FATAL_ERROR "${ARG_WHAT}: ${ARG_NOT_EXISTS} was created")
   endif()
   set(CLI_STDOUT "${stdout}" PARENT_SCOPE)
+  set(CLI_STDERR "${stderr}" PARENT_SCOPE)
 endfunction()
 
 # cli_expect_bad(<name> <yaml text> <stderr regex> <subcommand> [arguments...]): WORK_DIR/<name>.yaml

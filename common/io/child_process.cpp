@@ -1,0 +1,62 @@
+#include "common/io/child_process.h"
+
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <stdexcept>
+
+extern char** environ;
+
+namespace corridorsim {
+
+ChildStatus RunChildProcess(const std::vector<std::string>& argv) {
+  if (argv.empty()) throw std::invalid_argument("RunChildProcess: no program");
+  std::vector<char*> args;
+  args.reserve(argv.size() + 1);
+  for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+  args.push_back(nullptr);
+
+  std::fflush(nullptr);  // what this process printed comes before the child's output
+  ChildStatus status;
+  posix_spawn_file_actions_t actions;
+  if (int e = posix_spawn_file_actions_init(&actions); e != 0) {
+    status.error = std::strerror(e);
+    return status;
+  }
+  int e = posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
+  pid_t pid = -1;
+  if (e == 0) e = posix_spawnp(&pid, args[0], &actions, nullptr, args.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  if (e != 0) {
+    status.error = std::strerror(e);
+    return status;
+  }
+  status.started = true;
+  int wstatus = 0;
+  while (::waitpid(pid, &wstatus, 0) < 0) {
+    if (errno != EINTR) {
+      status.error = std::string("waitpid failed: ") + std::strerror(errno);
+      return status;
+    }
+  }
+  if (WIFEXITED(wstatus)) status.exit_code = WEXITSTATUS(wstatus);
+  if (WIFSIGNALED(wstatus)) status.signal = WTERMSIG(wstatus);
+  return status;
+}
+
+std::string DescribeChildStatus(const ChildStatus& status) {
+  if (!status.started) return "could not be started: " + status.error;
+  if (!status.error.empty()) return status.error;
+  if (status.signal != 0) {
+    return "was killed by signal " + std::to_string(status.signal) + " (" +
+           ::strsignal(status.signal) + ")";
+  }
+  return "exited " + std::to_string(status.exit_code);
+}
+
+}  // namespace corridorsim

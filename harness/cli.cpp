@@ -1,0 +1,317 @@
+#include "harness/cli.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <iterator>
+#include <limits>
+#include <memory>
+#include <utility>
+
+#include <CLI/CLI.hpp>
+
+#include "common/error.h"
+
+namespace corridorsim {
+namespace {
+
+const SourceLocation kCommandLine{"command line", 0, 0};
+
+// Longest number text accepted (a double needs at most ~25 characters).
+constexpr std::size_t kMaxNumberChars = 64;
+
+[[noreturn]] void Fail(const std::string& flag, const std::string& message) {
+  throw InputError(kCommandLine, flag, message);
+}
+
+// The text as it was given, quoted and cut for a message (the input may be long or binary).
+std::string Quoted(const std::string& text) {
+  std::string shown;
+  for (char c : text.substr(0, 80)) {
+    const auto u = static_cast<unsigned char>(c);
+    shown += (u < 0x20 || u == 0x7f) ? '?' : c;
+  }
+  return "'" + shown + (text.size() > 80 ? "...'" : "'");
+}
+std::string Got(const std::string& text) { return "(got " + Quoted(text) + ")"; }
+
+// The string options of every job: the scenario file, --seed, --out and --force (the folder's
+// default shown in --help).
+struct JobOptions {
+  std::string scenario;
+  std::string seed;
+  std::string out;
+  bool force = false;
+  CLI::Option* scenario_option = nullptr;
+  CLI::Option* seed_option = nullptr;
+
+  JobOptions(CLI::App* job, std::string default_out, const char* scenario_help,
+             const char* seed_help, const char* out_help)
+      : out(std::move(default_out)) {
+    scenario_option = job->add_option("scenario", scenario, scenario_help);
+    seed_option = job->add_option("--seed", seed, seed_help)->type_name("UINT64");
+    job->add_option("--out", out, out_help)->capture_default_str();
+    job->add_flag("--force", force,
+                  "Replace a non-empty output folder (it is replaced whole, never mixed)")
+        ->disable_flag_override();
+  }
+
+  // Checks the strings and moves them into the request.
+  void Resolve(JobRequest* request) const {
+    if (scenario_option->count() > 0 && scenario.empty()) Fail("scenario", "an empty file name");
+    if (seed_option->count() > 0) request->seed = ParseSeedArgument(seed, "--seed");
+    if (out.empty()) Fail("--out", "an empty folder name");
+    request->scenario_file = scenario;
+    request->out_dir = out;
+    request->force = force;
+  }
+};
+
+constexpr const char* kDefaultScenarioHelp =
+    "(default: ./scenarios/default.yaml if it exists, else the shipped one; the file used is "
+    "printed)";
+
+constexpr const char* kFolderFooter =
+    "Output folder: written whole. Files go to a staging folder beside it (.<name>.partial-<pid>) "
+    "that replaces the folder when the job is done; a failed or killed job leaves the previous "
+    "folder as it was. A folder that holds files is refused (exit 2) unless --force.\n";
+
+}  // namespace
+
+std::uint64_t ParseSeedArgument(const std::string& text, const std::string& flag) {
+  const std::string expected = "expected a decimal integer in [0, 18446744073709551615] ";
+  if (text.empty()) Fail(flag, expected + "(got an empty value)");
+  if (text.find_first_not_of("0123456789") != std::string::npos) {
+    Fail(flag, expected + "of digits only: no sign, hex, spaces or other characters " + Got(text));
+  }
+  if (text.size() > 1 && text[0] == '0') {
+    Fail(flag, expected + "without leading zeros " + Got(text));
+  }
+  std::uint64_t value = 0;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (error == std::errc::result_out_of_range) Fail(flag, expected + Got(text) + ": too large");
+  if (error != std::errc() || end != text.data() + text.size()) Fail(flag, expected + Got(text));
+  return value;
+}
+
+double ParseNumberArgument(const std::string& text, double max_abs, const std::string& flag) {
+  const std::string expected = "expected a decimal number (e.g. -1.5, 12, 3e2) ";
+  if (text.empty()) Fail(flag, expected + "(got an empty value)");
+  if (text.size() > kMaxNumberChars) Fail(flag, expected + Got(text) + ": too long");
+  // [+-]? (digits [. digits?] | . digits) ([eE] [+-]? digits)?
+  std::size_t i = 0;
+  const auto digits = [&] {
+    const std::size_t start = i;
+    while (i < text.size() && text[i] >= '0' && text[i] <= '9') ++i;
+    return i - start;
+  };
+  if (text[i] == '+' || text[i] == '-') ++i;
+  const std::size_t mantissa_start = i;
+  std::size_t mantissa_digits = digits();
+  if (i < text.size() && text[i] == '.') {
+    ++i;
+    mantissa_digits += digits();
+  }
+  bool ok = mantissa_digits > 0;
+  if (ok && i < text.size() && (text[i] == 'e' || text[i] == 'E')) {
+    ++i;
+    if (i < text.size() && (text[i] == '+' || text[i] == '-')) ++i;
+    ok = digits() > 0;
+  }
+  if (!ok || i != text.size()) Fail(flag, expected + Got(text));
+  double value = 0.0;
+  // from_chars takes no '+'; the sign is applied here.
+  const char* first = text.data() + mantissa_start;
+  const auto [end, error] =
+      std::from_chars(first, text.data() + text.size(), value, std::chars_format::general);
+  const bool out_of_range = error == std::errc::result_out_of_range;
+  if (!out_of_range && (error != std::errc() || end != text.data() + text.size())) {
+    Fail(flag, expected + Got(text));
+  }
+  if (out_of_range) Fail(flag, "too large or too small for a double " + Got(text));
+  if (text[0] == '-') value = -value;
+  if (!std::isfinite(value) || std::abs(value) > max_abs) {
+    Fail(flag, "must lie in [-" + std::to_string(static_cast<long long>(max_abs)) + ", " +
+                   std::to_string(static_cast<long long>(max_abs)) + "] " + Got(text));
+  }
+  return value;
+}
+
+PoseArgument ParsePoseArgument(const std::string& text, const std::string& flag) {
+  const std::string expected = "expected x,y,yaw (metres, metres, degrees; e.g. 10,0.5,90) ";
+  std::vector<std::string> fields;
+  std::size_t start = 0;
+  while (fields.size() <= 3) {
+    const std::size_t comma = text.find(',', start);
+    fields.push_back(text.substr(start, comma == std::string::npos ? comma : comma - start));
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  if (fields.size() != 3) Fail(flag, expected + Got(text));
+  static const char* const kNames[3] = {"x", "y", "yaw"};
+  double values[3];
+  for (int k = 0; k < 3; ++k) {
+    const double bound = k < 2 ? kPoseMaxAbsMetres : kPoseMaxAbsYawDeg;
+    try {
+      values[k] = ParseNumberArgument(fields[k], bound, flag);
+    } catch (const InputError& e) {
+      Fail(flag, expected + Got(text) + ": " + kNames[k] + " " + e.message());
+    }
+  }
+  return PoseArgument{values[0], values[1], values[2]};
+}
+
+CommandLine ParseCommandLine(const std::vector<std::string>& args) {
+  CLI::App app{"corridorsim: a simulation harness for corridor SLAM", "corridorsim"};
+  app.require_subcommand(1);
+  app.set_help_all_flag("--help-all", "Show the help of every subcommand");
+  app.footer(
+      "Exit codes: 0 success, 2 bad input, 1 other failures; `run` also 3 (an expectation "
+      "failed) and 4 (results written, an extra failed). Run `corridorsim <subcommand> --help`.");
+
+  CommandLine parsed;
+
+  CLI::App* world = app.add_subcommand(
+      "world", "Generate a corridor world and write its geometry, textures, ground truth and plan");
+  JobOptions world_options(world, "out/world",
+                           "Scenario YAML whose `world:` section and `seed` are used "
+                           "(default: ./scenarios/default.yaml if it exists, else the shipped "
+                           "one; the file used is printed)",
+                           "Seed of the world's random streams (default: the scenario's `seed`)",
+                           "Output folder for world.obj, world.mtl, textures/, ground_truth.json, "
+                           "map.png");
+  world->footer(
+      std::string("Writes world.obj + world.mtl + textures/*.png (open in MeshLab or Blender), "
+                  "ground_truth.json (door plates, lamps, doors, corridor segments, corner "
+                  "points, distractors; metres, world frame) and map.png (top-down plan).\n") +
+      kFolderFooter +
+      "Exit codes: 0 success, 2 bad input (file:line:column: key: message, or command line: "
+      "--flag: message; nothing is written), 1 other failures.");
+
+  CLI::App* snapshot = app.add_subcommand(
+      "snapshot", "Place the robot at one pose and render every camera of the rig");
+  JobOptions snapshot_options(
+      snapshot, "out/snapshot",
+      (std::string("Scenario YAML (world, sensors, render) ") + kDefaultScenarioHelp).c_str(),
+      "Seed of the world and the sensor noise", "Output folder");
+  std::string pose_text;
+  snapshot
+      ->add_option("--pose", pose_text,
+                   "Robot pose x,y,yaw: metres in the world frame (|x|, |y| <= 100000) and "
+                   "degrees (0 = along +x, |yaw| <= 360)")
+      ->required()
+      ->type_name("X,Y,YAW");
+  snapshot->footer(
+      std::string(
+          "Writes per camera <camera>_rgb.png, <camera>_labels.png (16-bit RGB: R = semantic "
+          "class, G = instance id >> 16, B = instance id & 0xffff), <camera>_overlay.png (ground "
+          "truth drawn on the image), front_depth.png (16-bit, 5000 per metre, 0 = invalid), "
+          "plus frame_ground_truth.json and intrinsics.json.\n"
+          "Environment: CORRIDORSIM_RENDER_BACKEND=osmesa|egl overrides the scenario's "
+          "render.backend.\n") +
+      kFolderFooter +
+      "Exit codes: 0 success, 2 bad input (nothing is written), 1 other failures (e.g. no GL "
+      "context).");
+
+  CLI::App* run = app.add_subcommand(
+      "run",
+      "Run a scenario closed loop, score every pipeline against ground truth, write the run");
+  JobOptions run_options(run, "out/run",
+                         (std::string("Scenario YAML ") + kDefaultScenarioHelp).c_str(),
+                         "Seed of every random stream of the run", "Run folder");
+  std::string export_text;
+  CLI::Option* export_option =
+      run->add_option("--export", export_text,
+                      "Also write a dataset into this folder (outside the run folder): TUM RGB-D "
+                      "(front), EuRoC/ASL (upward, lateral), odometry CSV, labels and COCO plate "
+                      "boxes (docs/export.md); staged and replaced like --out");
+  bool no_plots = false;
+  run->add_flag("--no-plots", no_plots, "Skip plots/ (matplotlib)")->disable_flag_override();
+  run->add_flag("--check", parsed.run.check_only,
+                "Only check the scenario: load it, build its world, path and pipelines, and exit")
+      ->disable_flag_override();
+  run->footer(
+      std::string(
+          "Writes the results first: scenario.yaml (resolved, with the seed), world.json, "
+          "ground_truth.tum (the planar truth at 100 Hz and every odometry stamp, as drive "
+          "writes it), <pipeline>.tum, <pipeline>_cov.txt (ov_eval), "
+          "<pipeline>_errors.csv, metrics.json (docs/metrics.md), timing.json, events.json; then "
+          "the extras: maps/, the --export dataset, plots/ (python3 scripts/plot_run.py).\n") +
+      kFolderFooter +
+      "Exit codes: 0 success; 3 an expectation failed; 4 the results are written but an extra "
+      "(maps/, plots/, the --export dataset) failed (its message is on stderr); 3 takes "
+      "precedence over 4; 2 bad input (nothing is written); 1 other failures (the previous "
+      "folder is left as it was).");
+
+  CLI::App* drive = app.add_subcommand(
+      "drive", "Drive the scenario's path closed loop and write trajectories, odometry and events");
+  JobOptions drive_options(
+      drive, "out/drive",
+      (std::string("Scenario YAML (world, robot, path, sensors) ") + kDefaultScenarioHelp).c_str(),
+      "Seed of the world, the odometry errors and the sensor noise", "Output folder");
+  drive
+      ->add_flag("--save-frames", parsed.drive.save_frames,
+                 "Render the cameras at their rates and write every frame")
+      ->disable_flag_override();
+  drive->footer(
+      std::string(
+          "Writes ground_truth.tum (the planar truth world_from_robot: x, y, yaw with z = 0, at "
+          "100 Hz and every odometry stamp; the same file a run writes), ground_truth_3d.tum (the "
+          "physics' full 3D pose at the same stamps) and odometry.tum (wheel odometry dead "
+          "reckoning from the true start pose), all TUM format: t x y z qx qy qz qw, seconds; "
+          "odometry.csv (the raw messages: per-wheel distances and ticks); events.json "
+          "(collisions, slips, path done or timeout). With --save-frames: frames/<camera>/"
+          "{rgb,labels,depth}/<t>.png, frames/<camera>/frames.json (pose and visible landmarks "
+          "per frame) and frames/intrinsics.json.\n") +
+      kFolderFooter + "Exit codes: 0 success, 2 bad input (nothing is written), 1 other failures.");
+
+  static const char* const kJobs[] = {"world", "snapshot", "run", "drive"};
+  if (!args.empty() && !args[0].empty() && args[0][0] != '-' &&
+      std::find(std::begin(kJobs), std::end(kJobs), args[0]) == std::end(kJobs)) {
+    Fail("", "unknown subcommand " + Quoted(args[0]) +
+                 ": expected world, snapshot, run or drive (see corridorsim --help)");
+  }
+  // CLI11 takes the arguments last first.
+  std::vector<std::string> reversed(args.rbegin(), args.rend());
+  try {
+    app.parse(reversed);
+  } catch (const CLI::CallForHelp&) {
+    parsed.job = CommandLine::Job::kHelp;
+    parsed.help_text = app.help();
+    return parsed;
+  } catch (const CLI::CallForAllHelp&) {
+    parsed.job = CommandLine::Job::kHelp;
+    parsed.help_text = app.help("", CLI::AppFormatMode::All);
+    return parsed;
+  } catch (const CLI::ParseError& e) {
+    Fail("", std::string(e.what()) + " (see corridorsim --help)");
+  }
+
+  if (world->parsed()) {
+    parsed.job = CommandLine::Job::kWorld;
+    world_options.Resolve(&parsed.world);
+  } else if (snapshot->parsed()) {
+    parsed.job = CommandLine::Job::kSnapshot;
+    snapshot_options.Resolve(&parsed.snapshot);
+    const PoseArgument pose = ParsePoseArgument(pose_text, "--pose");
+    parsed.snapshot.x_m = pose.x_m;
+    parsed.snapshot.y_m = pose.y_m;
+    parsed.snapshot.yaw_deg = pose.yaw_deg;
+  } else if (run->parsed()) {
+    parsed.job = CommandLine::Job::kRun;
+    run_options.Resolve(&parsed.run);
+    if (export_option->count() > 0) {
+      if (export_text.empty()) Fail("--export", "an empty folder name");
+      parsed.run.export_dir = export_text;
+    }
+    parsed.run.plots = !no_plots;
+  } else if (drive->parsed()) {
+    parsed.job = CommandLine::Job::kDrive;
+    drive_options.Resolve(&parsed.drive);
+  } else {
+    Fail("", "a subcommand is required: world, snapshot, run or drive (see corridorsim --help)");
+  }
+  return parsed;
+}
+
+}  // namespace corridorsim

@@ -1,0 +1,128 @@
+// Tests harness/cli.cpp: the command line parsed strictly, without touching any file.
+#include "harness/cli.h"
+
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <catch2/catch.hpp>
+
+#include "common/error.h"
+
+namespace corridorsim {
+namespace {
+
+using Args = std::vector<std::string>;
+using Job = CommandLine::Job;
+
+// The message ParseCommandLine throws for `args` ("" when it throws none).
+std::string ErrorOf(const Args& args) {
+  try {
+    ParseCommandLine(args);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST_CASE("ParseCommandLine fills each job's request", "[harness]") {
+  const CommandLine run =
+      ParseCommandLine({"run", "s.yaml", "--seed", "18446744073709551615", "--out", "o", "--export",
+                        "e", "--no-plots", "--force"});
+  CHECK(run.job == Job::kRun);
+  CHECK(run.run.scenario_file == "s.yaml");
+  CHECK(run.run.seed == std::numeric_limits<std::uint64_t>::max());
+  CHECK(run.run.out_dir == "o");
+  CHECK(run.run.export_dir == std::filesystem::path("e"));
+  CHECK_FALSE(run.run.plots);
+  CHECK(run.run.force);
+  CHECK_FALSE(run.run.check_only);
+
+  const CommandLine defaults = ParseCommandLine({"run"});
+  CHECK(defaults.run.scenario_file.empty());  // none given: main picks and names the default
+  CHECK_FALSE(defaults.run.seed);
+  CHECK(defaults.run.out_dir == "out/run");
+  CHECK_FALSE(defaults.run.export_dir);
+  CHECK(defaults.run.plots);
+  CHECK_FALSE(defaults.run.force);
+
+  const CommandLine snapshot = ParseCommandLine({"snapshot", "--pose=-3.5,0.25,-90", "--seed=0"});
+  CHECK(snapshot.job == Job::kSnapshot);
+  CHECK(snapshot.snapshot.x_m == -3.5);
+  CHECK(snapshot.snapshot.y_m == 0.25);
+  CHECK(snapshot.snapshot.yaw_deg == -90.0);
+  CHECK(snapshot.snapshot.seed == std::uint64_t{0});
+  CHECK(snapshot.snapshot.out_dir == "out/snapshot");
+
+  const CommandLine drive = ParseCommandLine({"drive", "--save-frames", "--out", "d"});
+  CHECK(drive.job == Job::kDrive);
+  CHECK(drive.drive.save_frames);
+  CHECK(drive.drive.out_dir == "d");
+
+  const CommandLine world = ParseCommandLine({"world", "w.yaml", "--seed", "7"});
+  CHECK(world.job == Job::kWorld);
+  CHECK(world.world.seed == std::uint64_t{7});
+}
+
+TEST_CASE("ParseCommandLine returns help text with the exit codes", "[harness]") {
+  const CommandLine help = ParseCommandLine({"run", "--help"});
+  CHECK(help.job == Job::kHelp);
+  CHECK_THAT(help.help_text, Catch::Contains("--force"));
+  CHECK_THAT(help.help_text, Catch::Contains("4 the results are written but an extra"));
+  CHECK_THAT(help.help_text, Catch::Contains("3 takes precedence over 4"));
+  for (const char* job : {"world", "snapshot", "drive"}) {
+    CHECK_THAT(ParseCommandLine({job, "--help"}).help_text, Catch::Contains("Exit codes: 0"));
+  }
+  CHECK_THAT(ParseCommandLine({"--help-all"}).help_text, Catch::Contains("--save-frames"));
+}
+
+TEST_CASE("a seed on the command line is a decimal uint64 and nothing else", "[harness]") {
+  for (const char* bad : {"-1", "18446744073709551616", "99999999999999999999999", "12abc", "0x10",
+                          "", " 1", "1 ", "+1", "1e3", "1.0", "inf", "nan", "007", "１"}) {
+    INFO("--seed '" << bad << "'");
+    const std::string error = ErrorOf({"run", "--seed", bad});
+    CHECK_THAT(error, Catch::StartsWith("command line: --seed: expected a decimal integer"));
+  }
+  CHECK_THAT(ErrorOf({"drive", "--seed=18446744073709551616"}), Catch::Contains("too large"));
+  CHECK_THAT(ErrorOf({"world", "--seed", "-1"}), Catch::Contains("(got '-1')"));
+  CHECK(ParseSeedArgument("0", "--seed") == 0);
+  CHECK(ParseSeedArgument("42", "--seed") == 42);
+}
+
+TEST_CASE("a pose on the command line is three bounded decimal numbers", "[harness]") {
+  for (const char* bad :
+       {"1,2,3,4",   "1,2",     "1,,3",      "1,2,",     ",1,2",      ",,",
+        "0x10,0,0",  "inf,0,0", "0,nan,0",   "0,0,-inf", "1e400,0,0", "100001,0,0",
+        "0,-1e6,0",  "0,0,361", "0,0,1e308", "1 ,2,3",   "1;2;3",     "10,zero,0",
+        "1.2.3,0,0", "--1,0,0", "1e,0,0",    ".,0,0",    "+,0,0"}) {
+    INFO("--pose '" << bad << "'");
+    CHECK_THAT(ErrorOf({"snapshot", std::string("--pose=") + bad}),
+               Catch::StartsWith("command line: --pose: expected x,y,yaw"));
+  }
+  CHECK_THAT(ErrorOf({"snapshot", "--pose", "0,0,400"}), Catch::Contains("yaw must lie in"));
+  CHECK_THAT(ErrorOf({"snapshot", "--pose", "-1,-2,-3,-4"}),
+             Catch::Contains("(got '-1,-2,-3,-4')"));
+  CHECK_THAT(ErrorOf({"snapshot"}), Catch::Contains("--pose is required"));
+  CHECK_THAT(ErrorOf({"snapshot", "--pose="}), Catch::StartsWith("command line: --pose: "));
+  const PoseArgument pose = ParsePoseArgument("+1e2,.5,-360", "--pose");
+  CHECK(pose.x_m == 100.0);
+  CHECK(pose.y_m == 0.5);
+  CHECK(pose.yaw_deg == -360.0);
+  CHECK(ParsePoseArgument("100000,-100000,360", "--pose").x_m == kPoseMaxAbsMetres);
+}
+
+TEST_CASE("ParseCommandLine rejects what it does not know, naming it", "[harness]") {
+  CHECK_THAT(ErrorOf({}), Catch::StartsWith("command line: "));
+  CHECK_THAT(ErrorOf({"fly"}), Catch::StartsWith("command line: unknown subcommand 'fly'"));
+  CHECK_THAT(ErrorOf({"world", "--bogus"}), Catch::Contains("--bogus"));
+  CHECK_THAT(ErrorOf({"run", "a.yaml", "b.yaml"}), Catch::Contains("b.yaml"));
+  CHECK_THAT(ErrorOf({"run", "--force=yes"}), Catch::Contains("force"));
+  CHECK_THAT(ErrorOf({"run", ""}), Catch::StartsWith("command line: scenario: an empty"));
+  CHECK_THAT(ErrorOf({"run", "--out", ""}), Catch::StartsWith("command line: --out: an empty"));
+  CHECK_THAT(ErrorOf({"run", "--export="}), Catch::StartsWith("command line: --export: "));
+  CHECK_THAT(ErrorOf({"drive", "--pose", "1,2,3"}), Catch::Contains("--pose"));
+}
+
+}  // namespace
+}  // namespace corridorsim
