@@ -163,6 +163,15 @@ StagedDirectory::StagedDirectory(const std::filesystem::path& target, bool repla
     if (!replace_existing_ && !IsEmptyDirectory(target_)) {
       throw FolderNotEmptyError("output folder " + Quoted(target) + " is not empty");
     }
+    // Replacing deletes the previous folder: only one that a job of ours wrote whole.
+    if (replace_existing_ && !IsEmptyDirectory(target_) &&
+        !fs::is_regular_file(fs::symlink_status(target_ / kOutputFolderMarker, error))) {
+      throw std::runtime_error("output folder " + Quoted(target) +
+                               " holds files that no corridorsim job wrote (it has no " +
+                               std::string(kOutputFolderMarker) +
+                               "); --force replaces only corridorsim's own output folders: "
+                               "choose another folder");
+    }
   }
   fs::create_directories(target_.parent_path(), error);
   if (error) {
@@ -180,6 +189,9 @@ StagedDirectory::StagedDirectory(const std::filesystem::path& target, bool repla
   }
   try {
     EnsureWritableDirectory(staging_);
+    WriteFileAtomic(staging_ / kOutputFolderMarker,
+                    "This folder was written whole by one corridorsim job; `--force` may replace "
+                    "it whole.\n");
   } catch (...) {
     fs::remove_all(staging_, error);
     staging_.clear();

@@ -33,9 +33,13 @@ class FolderNotEmptyError : public std::runtime_error {
 /// when the next job stages the same target.
 class StagedDirectory {
  public:
+  /// The file every staged folder holds from its creation: `replace_existing` replaces only a
+  /// folder that has it (a folder some corridorsim job wrote), never one a user filled.
+  static constexpr const char* kOutputFolderMarker = ".corridorsim-output";
+
   /// Checks the target and creates the staging folder (and the target's parents). The target
   /// may be missing or an empty folder; a folder with files is replaced only when
-  /// `replace_existing` (else FolderNotEmptyError). Throws std::runtime_error naming the folder
+  /// `replace_existing` (else FolderNotEmptyError) and only when it holds kOutputFolderMarker. Throws std::runtime_error naming the folder
   /// when it is not a folder, is the current folder or contains it, or cannot be written.
   StagedDirectory(const std::filesystem::path& target, bool replace_existing);
   ~StagedDirectory();  // not committed: removes the staging folder

@@ -125,5 +125,14 @@ cli_run(EXIT 2 WHAT "--export inside --out" STDERR "--export: .*separate folders
         ARGS run "${WORK_DIR}/short.yaml" --out "${run}" --export "${run}/dataset" --force)
 cli_run(EXIT 2 WHAT "--out inside --export" STDERR "--export: .*separate folders"
         ARGS run "${WORK_DIR}/short.yaml" --out "${WORK_DIR}/d/run" --export "${WORK_DIR}/d")
+# 7. --force replaces only a folder a corridorsim job wrote: a user's folder is never deleted.
+set(mine "${WORK_DIR}/mine")
+file(WRITE "${mine}/notes.txt" "keep me")
+cli_run(EXIT 2 WHAT "--force over a user's folder" STDERR "--out: .*no corridorsim job wrote"
+        ARGS world "${WORK_DIR}/short.yaml" --out "${mine}" --force)
+file(READ "${mine}/notes.txt" kept)
+if(NOT kept STREQUAL "keep me")
+  message(FATAL_ERROR "--force touched a folder no corridorsim job wrote")
+endif()
 cli_run(EXIT 2 WHAT "--out the current folder" STDERR "--out: .*current folder"
         ARGS world "${WORK_DIR}/short.yaml" --out . --force)

@@ -113,13 +113,14 @@ TEST_CASE("StagedDirectory refuses a folder with files unless told to replace it
   StagedDirectory empty(target, false);
   WriteFileAtomic(empty.path() / "new.txt", "new");
   empty.Commit();
-  CHECK(Names(target) == std::set<std::string>{"new.txt"});
+  CHECK(Names(target) == std::set<std::string>{StagedDirectory::kOutputFolderMarker, "new.txt"});
 }
 
 TEST_CASE("StagedDirectory replaces a previous folder whole, never a mix", "[common]") {
   const test::ScratchDir dir("corridorsim_staged_replace");
   const fs::path target = dir.path() / "run";
   fs::create_directories(target / "plots");
+  WriteFileAtomic(target / StagedDirectory::kOutputFolderMarker, "");  // a previous job's folder
   WriteFileAtomic(target / "metrics.json", "old");
   WriteFileAtomic(target / "plots" / "old.png", "old");
   WriteFileAtomic(target / "only_in_old.tum", "old");
@@ -129,22 +130,42 @@ TEST_CASE("StagedDirectory replaces a previous folder whole, never a mix", "[com
     CHECK(FileBytes(target / "metrics.json") == "old");  // untouched until the commit
     staged.Commit();
   }
-  CHECK(Names(target) == std::set<std::string>{"metrics.json"});
+  CHECK(Names(target) ==
+        std::set<std::string>{StagedDirectory::kOutputFolderMarker, "metrics.json"});
   CHECK(FileBytes(target / "metrics.json") == "new");
   CHECK(Names(dir.path()) == std::set<std::string>{"run"});  // the previous folder is gone
+}
+
+TEST_CASE("StagedDirectory replaces only a folder that a corridorsim job wrote", "[common]") {
+  // `--force --out scenarios` (or any folder a user filled) must not delete it.
+  const test::ScratchDir dir("corridorsim_staged_foreign");
+  const fs::path target = dir.path() / "scenarios";
+  fs::create_directories(target);
+  WriteFileAtomic(target / "default.yaml", "mine");
+  CHECK_THROWS_WITH(StagedDirectory(target, /*replace_existing=*/true),
+                    Catch::Contains("no corridorsim job wrote") &&
+                        Catch::Contains(StagedDirectory::kOutputFolderMarker));
+  CHECK(Names(dir.path()) == std::set<std::string>{"scenarios"});
+  CHECK(Names(target) == std::set<std::string>{"default.yaml"});
+  // A folder whose marker is not a plain file is not ours either.
+  fs::create_directories(target / StagedDirectory::kOutputFolderMarker);
+  CHECK_THROWS(StagedDirectory(target, true));
+  CHECK(FileBytes(target / "default.yaml") == "mine");
 }
 
 TEST_CASE("StagedDirectory not committed leaves the previous folder untouched", "[common]") {
   const test::ScratchDir dir("corridorsim_staged_abandon");
   const fs::path target = dir.path() / "run";
   fs::create_directories(target);
+  WriteFileAtomic(target / StagedDirectory::kOutputFolderMarker, "");
   WriteFileAtomic(target / "metrics.json", "old");
   {
     StagedDirectory staged(target, true);
     WriteFileAtomic(staged.path() / "metrics.json", "half of a new run");
   }  // the job failed: no Commit
   CHECK(Names(dir.path()) == std::set<std::string>{"run"});
-  CHECK(Names(target) == std::set<std::string>{"metrics.json"});
+  CHECK(Names(target) ==
+        std::set<std::string>{StagedDirectory::kOutputFolderMarker, "metrics.json"});
   CHECK(FileBytes(target / "metrics.json") == "old");
 }
 
