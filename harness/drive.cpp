@@ -11,6 +11,7 @@
 #include "common/wheel_odometry_model.h"
 #include "harness/frame_writer.h"
 #include "harness/progress.h"
+#include "harness/provenance.h"
 #include "harness/run_folder.h"
 #include "harness/scenario.h"
 #include "harness/sensor_bus.h"
@@ -112,6 +113,11 @@ void RunDrive(const DriveRequest& request) {
   WriteFileAtomic(out / "odometry.tum", odometry.tum());
   WriteFileAtomic(out / "odometry.csv", odometry.csv());
   WriteFileAtomic(out / "events.json", events.Json(setup.seed(), simulation.now_ns()));
+  WriteFileAtomic(out / "provenance.json",
+                  ProvenanceJson(scenario.file, ResolvedScenarioYaml(scenario, setup.seed()),
+                                 setup.seed(), setup.backend())
+                          .dump(2) +
+                      "\n");
   if (frames) frames->Finish();
 
   const SE2 truth_end = simulation.truth().world_from_robot_2d;

@@ -25,6 +25,7 @@ int RunScenario(const RunRequest& request) {
   const WallClock::time_point run_start = WallClock::now();
   const Scenario scenario = LoadScenario(request.scenario_file);
   const std::vector<Expectation> expectations = ScenarioExpectations(scenario);
+  if (!request.export_dir) RequireScoredPipeline(scenario);  // else a run would score nothing
   const std::filesystem::path& out = request.out_dir;
   // Output folders are checked before anything runs: a run never ends unable to write.
   if (!request.check_only) {
@@ -89,8 +90,8 @@ int RunScenario(const RunRequest& request) {
   const double metrics_seconds = SecondsSince(t_metrics);
 
   const WallClock::time_point t_write = WallClock::now();
-  WriteRunFolder(out, request.scenario_file, setup.seed(), setup.world(), truth, pipelines,
-                 scored.metrics, events.Json(setup.seed(), simulation.now_ns()));
+  WriteRunFolder(out, scenario, setup.seed(), setup.world(), truth, pipelines, scored.metrics,
+                 events.Json(setup.seed(), simulation.now_ns()), setup.backend());
   const double write_seconds = SecondsSince(t_write);
   double export_seconds = 0.0, export_wait_seconds = 0.0;
   if (exporter) {

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "common/io/atomic_file.h"
+#include "harness/provenance.h"
 #include "harness/run_io.h"
 #include "harness/scenario.h"
 #include "worlds/world_io.h"
@@ -52,11 +53,14 @@ ScoredRun ScoreRun(const MetricsInput& input, const std::vector<Expectation>& ex
   return scored;
 }
 
-void WriteRunFolder(const std::filesystem::path& out, const std::string& scenario_file,
-                    std::uint64_t seed, const worlds::World& world, const TruthRecorder& truth,
+void WriteRunFolder(const std::filesystem::path& out, const Scenario& scenario, std::uint64_t seed,
+                    const worlds::World& world, const TruthRecorder& truth,
                     const PipelineRunner& pipelines, const nlohmann::ordered_json& metrics,
-                    const std::string& events_json) {
-  WriteFileAtomic(out / "scenario.yaml", ResolvedScenarioYaml(scenario_file, seed));
+                    const std::string& events_json, const render::Backend* backend) {
+  const std::string scenario_yaml = ResolvedScenarioYaml(scenario, seed);
+  WriteFileAtomic(out / "scenario.yaml", scenario_yaml);
+  WriteFileAtomic(out / "provenance.json",
+                  ProvenanceJson(scenario.file, scenario_yaml, seed, backend).dump(2) + "\n");
   WriteFileAtomic(out / "world.json", worlds::GroundTruthJson(world).dump(2) + "\n");
   WriteFileAtomic(out / "ground_truth.tum",
                   truth.Tum("ground truth: world_from_robot at 100 Hz", /*planar=*/true));
