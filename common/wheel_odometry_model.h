@@ -29,4 +29,9 @@ SE2 ApplyWheelOdometry(const SE2& pose, double left_m, double right_m, double wh
 /// travel) must not be negative.
 Eigen::Matrix2d WheelOdometryNoise(double left_m, double right_m, double k);
 
+/// The default k of P1 eq. 17 (m^2 per m): 1 cm standard deviation per metre of wheel travel, P1's
+/// used Pioneer. One value for both sides, so that a scenario that sets neither gets a simulated
+/// robot (`robot.odometry.random_k_m`) and a filter (`pipelines.odometry.k_m`) that agree.
+inline constexpr double kDefaultWheelNoiseK_m = 1e-4;
+
 }  // namespace corridorsim

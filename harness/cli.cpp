@@ -235,7 +235,8 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
           "Writes the results first: scenario.yaml (resolved, with the seed), world.json, "
           "ground_truth.tum (the planar truth at 100 Hz and every odometry stamp, as drive "
           "writes it), <pipeline>.tum, <pipeline>_cov.txt (ov_eval), "
-          "<pipeline>_errors.csv, metrics.json (docs/metrics.md), timing.json, events.json; then "
+          "<pipeline>_errors.csv, metrics.json (docs/metrics.md), timing.json, events.json, "
+          "provenance.json (what the bytes depend on: build, compiler, Mesa, backend); then "
           "the extras: maps/, the --export dataset, plots/ (python3 scripts/plot_run.py).\n") +
       kFolderFooter +
       "Exit codes: 0 success; 3 an expectation failed; 4 the results are written but an extra "
@@ -260,7 +261,7 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
           "physics' full 3D pose at the same stamps) and odometry.tum (wheel odometry dead "
           "reckoning from the true start pose), all TUM format: t x y z qx qy qz qw, seconds; "
           "odometry.csv (the raw messages: per-wheel distances and ticks); events.json "
-          "(collisions, slips, path done or timeout). With --save-frames: frames/<camera>/"
+          "(collisions, slips, path done or timeout); provenance.json. With --save-frames: frames/<camera>/"
           "{rgb,labels,depth}/<t>.png, frames/<camera>/frames.json (pose and visible landmarks "
           "per frame) and frames/intrinsics.json.\n") +
       kFolderFooter + "Exit codes: 0 success, 2 bad input (nothing is written), 1 other failures.");

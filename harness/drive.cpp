@@ -12,6 +12,7 @@
 #include "common/wheel_odometry_model.h"
 #include "harness/frame_writer.h"
 #include "harness/progress.h"
+#include "harness/provenance.h"
 #include "harness/run_folder.h"
 #include "harness/scenario.h"
 #include "harness/sensor_bus.h"
@@ -115,6 +116,11 @@ void RunDrive(const DriveRequest& request) {
   WriteFileAtomic(out / "odometry.tum", odometry.tum());
   WriteFileAtomic(out / "odometry.csv", odometry.csv());
   WriteFileAtomic(out / "events.json", events.Json(setup.seed(), simulation.now_ns()));
+  WriteFileAtomic(out / "provenance.json",
+                  ProvenanceJson(scenario.file, ResolvedScenarioYaml(scenario, setup.seed()),
+                                 setup.seed(), setup.backend())
+                          .dump(2) +
+                      "\n");
   if (frames) frames->Finish();
   folder->Commit();
 
@@ -136,7 +142,7 @@ void RunDrive(const DriveRequest& request) {
               frames ? frames->frames_written() : 0,
               simulation.path_done() ? "" : "  (the path was not finished: see events.json)");
   std::printf(
-      "wrote %s/{ground_truth.tum, ground_truth_3d.tum, odometry.tum, odometry.csv, "
+      "wrote %s/{ground_truth.tum, ground_truth_3d.tum, odometry.tum, odometry.csv, provenance.json, "
       "events.json%s}\n",
       folder->path().string().c_str(), request.save_frames ? ", frames/" : "");
 }

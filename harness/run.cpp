@@ -58,6 +58,7 @@ int RunScenario(const RunRequest& request) {
   const WallClock::time_point run_start = WallClock::now();
   const Scenario scenario = LoadScenario(request.scenario_file);
   const std::vector<Expectation> expectations = ScenarioExpectations(scenario);
+  if (!request.export_dir) RequireScoredPipeline(scenario);  // else a run would score nothing
   // Output folders are checked and staged before anything runs: a run never ends unable to
   // write, and never leaves a folder with files of two runs.
   std::unique_ptr<StagedDirectory> out, dataset;
@@ -150,8 +151,8 @@ int RunScenario(const RunRequest& request) {
   // Results first (committed as one folder), then the extras: a failing extra costs only itself.
   const auto write_results = [&](const std::filesystem::path& folder) {
     const WallClock::time_point t_write = WallClock::now();
-    WriteRunFolder(folder, request.scenario_file, setup.seed(), setup.world(), truth, pipelines,
-                   scored.metrics, events.Json(setup.seed(), simulation.now_ns()));
+    WriteRunFolder(folder, scenario, setup.seed(), setup.world(), truth, pipelines, scored.metrics,
+                   events.Json(setup.seed(), simulation.now_ns()), setup.backend());
     write_seconds = SecondsSince(t_write);
     WriteFileAtomic(folder / "timing.json", timing_json());
   };
@@ -188,7 +189,8 @@ int RunScenario(const RunRequest& request) {
       pipelines.seconds(), metrics_seconds, write_seconds, export_seconds, plot_seconds);
   std::printf(
       "wrote %s/{scenario.yaml, world.json, ground_truth.tum, <pipeline>.tum, "
-      "<pipeline>_cov.txt, <pipeline>_errors.csv, metrics.json, timing.json, events.json%s}%s\n",
+      "<pipeline>_cov.txt, <pipeline>_errors.csv, metrics.json, timing.json, events.json, "
+      "provenance.json%s}%s\n",
       out->path().string().c_str(), plots_written ? ", plots/" : "",
       dataset && dataset->committed() ? (" and the dataset in " + dataset->path().string()).c_str()
                                       : "");

@@ -7,6 +7,7 @@
 #include "common/io/atomic_file.h"
 #include "common/io/child_process.h"
 #include "harness/run.h"
+#include "harness/provenance.h"
 #include "harness/run_io.h"
 #include "harness/scenario.h"
 #include "worlds/world_io.h"
@@ -54,11 +55,14 @@ ScoredRun ScoreRun(const MetricsInput& input, const std::vector<Expectation>& ex
   return scored;
 }
 
-void WriteRunFolder(const std::filesystem::path& out, const std::string& scenario_file,
-                    std::uint64_t seed, const worlds::World& world, const TruthRecorder& truth,
+void WriteRunFolder(const std::filesystem::path& out, const Scenario& scenario, std::uint64_t seed,
+                    const worlds::World& world, const TruthRecorder& truth,
                     const PipelineRunner& pipelines, const nlohmann::ordered_json& metrics,
-                    const std::string& events_json) {
-  WriteFileAtomic(out / "scenario.yaml", ResolvedScenarioYaml(scenario_file, seed));
+                    const std::string& events_json, const render::Backend* backend) {
+  const std::string scenario_yaml = ResolvedScenarioYaml(scenario, seed);
+  WriteFileAtomic(out / "scenario.yaml", scenario_yaml);
+  WriteFileAtomic(out / "provenance.json",
+                  ProvenanceJson(scenario.file, scenario_yaml, seed, backend).dump(2) + "\n");
   WriteFileAtomic(out / "world.json", worlds::GroundTruthJson(world).dump(2) + "\n");
   WriteFileAtomic(out / "ground_truth.tum", truth.PlanarTum());
   for (const PipelineRecord& record : pipelines.records()) {

@@ -15,7 +15,9 @@
 #include "common/io/atomic_file.h"
 #include "harness/metrics.h"
 #include "harness/pipeline_runner.h"
+#include "harness/scenario.h"
 #include "harness/truth_recorder.h"
+#include "render/backend.h"
 #include "worlds/world.h"
 
 namespace corridorsim {
@@ -30,13 +32,14 @@ struct ScoredRun {
 };
 ScoredRun ScoreRun(const MetricsInput& input, const std::vector<Expectation>& expectations);
 
-/// Writes scenario.yaml, world.json, ground_truth.tum, each pipeline's .tum, _cov.txt,
-/// _errors.csv, metrics.json and events.json into `out` (atomically, file by file). Maps are an
-/// extra (RunExtra), written after the folder is committed.
-void WriteRunFolder(const std::filesystem::path& out, const std::string& scenario_file,
-                    std::uint64_t seed, const worlds::World& world, const TruthRecorder& truth,
+/// Writes scenario.yaml (the echo of `scenario` as loaded, with `seed`), provenance.json,
+/// world.json, ground_truth.tum, each pipeline's .tum, _cov.txt, _errors.csv, metrics.json and
+/// events.json into `out` (atomically, file by file). Maps are an extra (RunExtra), written after
+/// the folder is committed. `backend` is the GL backend the run rendered with, or null.
+void WriteRunFolder(const std::filesystem::path& out, const Scenario& scenario, std::uint64_t seed,
+                    const worlds::World& world, const TruthRecorder& truth,
                     const PipelineRunner& pipelines, const nlohmann::ordered_json& metrics,
-                    const std::string& events_json);
+                    const std::string& events_json, const render::Backend* backend);
 
 /// `v` with `decimals` digits after the point ("%.*f"), for tables, live lines and CSV.
 std::string FormatFixed(double v, int decimals);

@@ -116,6 +116,12 @@ Scenario LoadScenario(const std::string& path) {
   // Documents stay alive while their maps are read: YamlMap points into them.
   const std::vector<YamlDocument> chain = LoadWithIncludes(path);
   for (const YamlDocument& doc : chain) {
+    // A file without a key (0 bytes, only comments, `{}`) is a mistake, never "all defaults":
+    // it would run the default simulation with nothing to score.
+    if (doc.root.size() == 0) {
+      throw InputError(SourceLocation{doc.file, 0, 0}, "",
+                       "the scenario is empty (no keys: nothing but comments or blank lines)");
+    }
     YamlMap root(doc, doc.root, "", &scenario.sources);
     for (auto [key, location] : {std::pair{"world", &scenario.world_location},
                                  {"sensors", &scenario.sensors_location},
@@ -167,13 +173,30 @@ worlds::World GenerateWorld(const Scenario& scenario, std::uint64_t seed) {
   }
 }
 
-std::string ResolvedScenarioYaml(const std::string& path, std::uint64_t seed) {
-  Scenario scenario = LoadScenario(path);
-  scenario.seed = seed;
-  return "# The scenario of this run: " + path +
-         " resolved: its include chain merged, every key with the value the run used (defaults "
-         "included) and the seed used.\n" +
-         OptionsYaml(ScenarioOptionsTable(), scenario);
+std::string ResolvedScenarioYaml(const Scenario& scenario, std::uint64_t seed) {
+  Scenario resolved = scenario;
+  resolved.seed = seed;
+  // The header names no file: the echo of this file's own load is these bytes again
+  // (provenance.json records where the scenario came from).
+  return "# The scenario of a run, resolved: its include chain merged, every key with the value "
+         "the run used (defaults included) and the seed used.\n" +
+         OptionsYaml(ScenarioOptionsTable(), resolved);
+}
+
+void RequireScoredPipeline(const Scenario& scenario) {
+  for (const Scenario::PipelineEntry& entry : scenario.pipelines) {
+    if (entry.enabled) return;
+  }
+  std::string disabled;
+  for (const Scenario::PipelineEntry& entry : scenario.pipelines) {
+    disabled += (disabled.empty() ? "" : ", ") + entry.name;
+  }
+  std::string known;
+  for (const std::string& n : slam::PipelineNames()) known += (known.empty() ? "" : ", ") + n;
+  throw InputError(scenario.pipelines_location, "pipelines",
+                   "no pipeline is enabled, so the run would score nothing (" +
+                       (disabled.empty() ? std::string("none given") : "disabled: " + disabled) +
+                       "; known: " + known + "); enable one, or use `drive` or `run --export`");
 }
 
 std::vector<OptionsDocBlock> ScenarioDocBlocks() {
@@ -218,6 +241,12 @@ std::vector<Expectation> ScenarioExpectations(const Scenario& scenario) {
                        "'" + e.text + "': the pipeline '" + e.pipeline +
                            "' does not run in this scenario (running: " +
                            (known.empty() ? "none" : known) + ")");
+    }
+    // timing.* are wall-clock figures (timing.json): a bound on them passes or fails with the
+    // machine's load, never with the scenario.
+    if (e.metric.rfind("timing.", 0) == 0) {
+      throw InputError(where, "expectations",
+                       "'" + e.text + "': timing metrics are machine-dependent; see timing.json");
     }
     if (std::find(metric_names.begin(), metric_names.end(), e.metric) == metric_names.end()) {
       std::string known;

@@ -60,7 +60,9 @@ const OptionTable<Scenario>& ScenarioOptionsTable();
 std::vector<OptionsDocBlock> ScenarioDocBlocks();
 
 /// Loads `path` and its `include:` chain (base first) onto code defaults, then checks the
-/// result. Throws InputError naming file, line, column and key.
+/// result. Throws InputError naming file, line, column and key; a file of the chain with no key
+/// at all (empty, only comments) is an error. A section written with nothing after it
+/// (`world:`, YAML null) overrides nothing, as `world: {}`.
 Scenario LoadScenario(const std::string& path);
 
 /// Turns a problem found by a options's Check() or a generator into an InputError placed at the
@@ -72,18 +74,24 @@ InputError LocateProblem(const Scenario& scenario, const std::string& section,
 /// Generates the scenario's world with `seed`, reporting generator problems as InputError.
 worlds::World GenerateWorld(const Scenario& scenario, std::uint64_t seed);
 
-/// The loaded scenario echoed through its tables with `seed` set to `seed`: every key with its
-/// resolved value (defaults included), no `include:`: a single file that repeats the run, and
-/// whose own echo is itself.
-std::string ResolvedScenarioYaml(const std::string& path, std::uint64_t seed);
+/// `scenario` (as loaded at the start of a job: the file is never read again) echoed through its
+/// tables with `seed` set to `seed`: every key with its resolved value (defaults included), no
+/// `include:`, a header line that names no file. A single file that repeats the run: loading it
+/// gives the same options, and its own echo is these bytes.
+std::string ResolvedScenarioYaml(const Scenario& scenario, std::uint64_t seed);
+
+/// For `run` (without --export): throws InputError at `pipelines:` unless a pipeline is enabled,
+/// since a run without one scores nothing. `drive`, `snapshot` and `world` need none.
+void RequireScoredPipeline(const Scenario& scenario);
 
 /// Creates `dir` if needed and proves it writable, or throws InputError naming the command-line
 /// `option` ("--out", "--export") and the folder: every job checks its outputs before it runs.
 void EnsureOutputDirectory(const std::filesystem::path& dir, const std::string& option);
 
 /// The scenario's expectations, parsed and checked against its pipelines and the metric names.
-/// Throws InputError at the expectation's line for bad syntax, an unknown or disabled pipeline, or
-/// an unknown metric.
+/// Throws InputError at the expectation's line for bad syntax, an unknown or disabled pipeline, an
+/// unknown metric, or a `timing.*` metric (wall clock: it would pass or fail with the machine's
+/// load).
 std::vector<Expectation> ScenarioExpectations(const Scenario& scenario);
 
 /// The scenario's path in `world`, reporting a path that does not fit as InputError at `path:`.

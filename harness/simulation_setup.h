@@ -56,6 +56,8 @@ class SimulationSetup {
   const sim::Simulation& simulation() const { return *simulation_; }
   /// The scenario's rig with only the rendered cameras enabled (valid after Start).
   const render::RigOptions& rig_options() const { return rig_options_; }
+  /// The GL backend of the rendered cameras (valid after Start), or null when nothing renders.
+  const render::Backend* backend() const { return renderer_ ? renderer_->backend.get() : nullptr; }
   /// Ids of the rendered cameras in the rig's order: CameraMessage::camera indexes them.
   const std::vector<std::string>& camera_ids() const { return camera_ids_; }
 

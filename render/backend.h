@@ -52,10 +52,19 @@ struct DrawRequest {
   std::span<const PixelRect> unused = {};
 };
 
+/// The context's GL strings (glGetString), which the images depend on besides the scene: the
+/// renderer names llvmpipe and its LLVM, the version the Mesa release (provenance.json).
+struct BackendInfo {
+  std::string vendor;    // GL_VENDOR
+  std::string renderer;  // GL_RENDERER, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)"
+  std::string version;   // GL_VERSION, e.g. "4.5 (Core Profile) Mesa 22.3.6"
+};
+
 class Backend {
  public:
   virtual ~Backend() = default;
   virtual BackendKind kind() const = 0;
+  virtual BackendInfo info() const = 0;
   /// Uploads geometry, materials, textures (once per scene; replaces an earlier scene).
   virtual void Upload(const Scene& scene) = 0;
   /// Draws `drawables` (indices into the uploaded scene's drawables) from `view` into `out`,

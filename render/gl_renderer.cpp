@@ -149,6 +149,11 @@ GlBackend::GlBackend(std::unique_ptr<GlContext> context) : context_(std::move(co
   gl_ = LoadGlFunctions(*context_);
 
   const auto* version = reinterpret_cast<const char*>(gl_.GetString(GL_VERSION));
+  const auto gl_string = [&](GLenum name) {
+    const auto* text = reinterpret_cast<const char*>(gl_.GetString(name));
+    return std::string(text != nullptr ? text : "");
+  };
+  info_ = BackendInfo{gl_string(GL_VENDOR), gl_string(GL_RENDERER), gl_string(GL_VERSION)};
   GLint major = 0, minor = 0;
   gl_.GetIntegerv(GL_MAJOR_VERSION, &major);
   gl_.GetIntegerv(GL_MINOR_VERSION, &minor);

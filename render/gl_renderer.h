@@ -28,6 +28,7 @@ class GlBackend final : public Backend {
   GlBackend& operator=(const GlBackend&) = delete;
 
   BackendKind kind() const override { return context_->kind(); }
+  BackendInfo info() const override { return info_; }
   void Upload(const Scene& scene) override;
   void Draw(const View& view, std::span<const int> drawables, std::span<const int> lights,
             RenderedView* out) override;
@@ -73,6 +74,7 @@ class GlBackend final : public Backend {
 
   std::unique_ptr<GlContext> context_;  // declared first: destroyed after the GL objects
   GlFunctions gl_;
+  BackendInfo info_;
   std::array<Program, kMaxLightsPerDraw + 1> programs_{};  // by light count
   GLuint vao_ = 0, vbo_ = 0, ibo_ = 0;
   GLuint mask_program_ = 0, mask_vao_ = 0, mask_vbo_ = 0;  // DrawUnusedMask

@@ -33,11 +33,13 @@
 #include "common/random.h"
 #include "common/sensor_messages.h"
 #include "common/time.h"
+#include "common/wheel_odometry_model.h"
 
 namespace corridorsim::sim {
 
 /// Wheel encoder and odometry error options; the scenario key is `robot.odometry` (the caller
-/// maps it). The defaults are an error-free Pioneer 3-DX-like encoder.
+/// maps it). The defaults are a Pioneer 3-DX-like encoder with P1's random error (k = 1e-4, the
+/// odometry pipeline's default k_m too) and no systematic error or slip.
 struct OdometryOptions {
   double rate_hz = 50.0;  // odometry messages per second (read by the sensor clock)
   // Encoder ticks per wheel revolution; 0 = no quantisation (distances reported as measured).
@@ -48,7 +50,8 @@ struct OdometryOptions {
   int ticks_per_revolution = 39400;
   double diameter_ratio = 1.0;   // E_d = D_R / D_L of the real wheels (Borenstein UMBmark)
   double wheelbase_ratio = 1.0;  // E_b = real wheelbase / nominal wheelbase
-  double random_k_m = 0.0;       // k: variance k |s| per wheel (m^2 per m travelled, P1 eq. 17)
+  // k: variance k |s| per wheel (m^2 per m travelled, P1 eq. 17); the pipeline's default too.
+  double random_k_m = kDefaultWheelNoiseK_m;
   double slip_rate_per_m = 0.0;  // slip events per metre of mean wheel travel, 0 = none
   double slip_mean_m = 0.02;     // mean extra distance a slipping wheel reports (m, exponential)
 

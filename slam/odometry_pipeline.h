@@ -8,6 +8,7 @@
 
 #include "common/error.h"
 #include "common/options_table.h"
+#include "common/wheel_odometry_model.h"
 #include "slam/pipeline.h"
 
 namespace corridorsim::slam {
@@ -15,8 +16,9 @@ namespace corridorsim::slam {
 /// Scenario key `pipelines.odometry`.
 struct OdometryPipelineOptions {
   // k of P1 eq. 17: each wheel's distance has variance k |s| (m^2 per m). Matching the
-  // simulated robot's `robot.odometry.random_k_m` makes the filter consistent (NEES in band).
-  double k_m = 1e-4;
+  // simulated robot's `robot.odometry.random_k_m` makes the filter consistent (NEES in band);
+  // both default to kDefaultWheelNoiseK_m.
+  double k_m = kDefaultWheelNoiseK_m;
   std::optional<OptionsProblem> Check() const;
 };
 /// The keys of `pipelines.odometry` (the harness parses and echoes them, the docs list them).

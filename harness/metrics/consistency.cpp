@@ -35,11 +35,13 @@ void AddNeesMetrics(const MatchedTrajectory& matched, const MetricWriter& out) {
   std::size_t used = 0;
   std::size_t in_band = 0;
   double sum = 0.0;
+  double last = 0.0;
   for (const MatchedSample& s : samples) {
     const std::optional<double> nees = Nees(PoseError(s.estimate, s.truth), s.covariance);
     if (!nees) continue;
     ++used;
     sum += *nees;
+    last = *nees;
     if (*nees >= sample_low && *nees <= sample_high) ++in_band;
   }
   out.Count("nees_samples", used);
@@ -47,16 +49,18 @@ void AddNeesMetrics(const MatchedTrajectory& matched, const MetricWriter& out) {
   if (used == 0) {
     out.Null("nees_mean");
     out.Null("nees_in_band_fraction");
-    out.Null("nees_mean_band_low");
-    out.Null("nees_mean_band_high");
+    out.Null("nees_final");
     return;
   }
   const double n = static_cast<double>(used);
   out.Set("nees_mean", sum / n);
   out.Fraction("nees_in_band_fraction", in_band, used);
-  // The average of N independent NEES values times N is chi2(3N).
-  out.Set("nees_mean_band_low", ChiSquareQuantile(3 * n, kBandLowerTail) / n);
-  out.Set("nees_mean_band_high", ChiSquareQuantile(3 * n, kBandUpperTail) / n);
+  // No chi2(3N) / N band for the mean: consecutive NEES of one run are strongly correlated (the
+  // error and covariance change little between odometry messages), so N samples are far fewer
+  // independent ones and such a band would be far too narrow. The last sample alone is one
+  // honest chi2(3) draw; the mean's band is judged over seeds
+  // (tests/harness/scenario_runs_test.py).
+  out.Set("nees_final", last);
 }
 
 std::size_t AddNisMetrics(const std::vector<slam::Innovation>& innovations,

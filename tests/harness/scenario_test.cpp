@@ -16,6 +16,7 @@
 
 #include "tests/support/expect_input_error.h"
 #include "tests/support/test_cameras.h"
+#include "worlds/world_io.h"
 
 namespace corridorsim {
 namespace {
@@ -95,9 +96,9 @@ TEST_CASE("every shipped scenario loads and generates its world", "[scenarios]")
   }
 }
 
-// The echo of a loaded scenario through its tables, without the comment line naming the file.
+// The echo of a loaded scenario through its tables, without the comment line.
 std::string EchoOf(const std::string& path, std::uint64_t seed) {
-  const std::string resolved = ResolvedScenarioYaml(path, seed);
+  const std::string resolved = ResolvedScenarioYaml(LoadScenario(path), seed);
   REQUIRE(resolved.rfind("# ", 0) == 0);
   return resolved.substr(resolved.find('\n') + 1);
 }
@@ -139,7 +140,7 @@ TEST_CASE("the resolved scenario sets the run's seed and merges the include chai
             "    model: pinhole\n    fov_deg: 100\npipelines:\n  odometry: {k_m: 0.0002}\n");
   const std::string child = dir.Write(
       "child.yaml", "include: base.yaml\nname: \"a: child\"\nworld:\n  doors: {width_m: 1.0}\n");
-  const std::string resolved = ResolvedScenarioYaml(child, 77);
+  const std::string resolved = ResolvedScenarioYaml(LoadScenario(child), 77);
   const std::string copy = dir.Write("resolved.yaml", resolved);
   const Scenario s = LoadScenario(copy);
   CHECK(s.seed == 77);
@@ -325,20 +326,25 @@ TEST_CASE("a YAML document that is not a map is an error", "[scenarios]") {
   CHECK(LoadError("- seed\n- 3\n") == ":1:1: the document must be a map of keys");
 }
 
-TEST_CASE("an empty file loads with the defaults", "[scenarios]") {
+TEST_CASE("an empty scenario file is an error naming it, not a run of the defaults",
+          "[scenarios]") {
   const FixtureDir dir;
-  for (const char* text : {"", "# only a comment\n", "\n\n"}) {
+  for (const char* text : {"", "# only a comment\n", "\n\n", "{}\n", "---\n# nothing\n"}) {
+    INFO("'" << text << "'");
     const std::string path = dir.Write("empty.yaml", text);
-    const Scenario s = LoadScenario(path);
-    const worlds::WorldOptions defaults;
-    CHECK(s.seed == 1);
-    CHECK(s.name.empty());
-    CHECK(s.world.layout == defaults.layout);
-    CHECK(s.world.length_m == defaults.length_m);
-    CHECK(s.world.doors.count == defaults.doors.count);
-    CHECK(s.world.plates.count == defaults.plates.count);
-    CHECK(GenerateWorld(s, s.seed).plates.size() == 14);
+    CHECK(std::string(InputErrorOf([&] { LoadScenario(path); }).what()) ==
+          path + ": the scenario is empty (no keys: nothing but comments or blank lines)");
   }
+  // An empty file in the include chain too (a base that was meant to hold something).
+  const std::string base = dir.Write("base.yaml", "# nothing yet\n");
+  const std::string child = dir.Write("child.yaml", "include: base.yaml\nseed: 3\n");
+  CHECK(std::string(InputErrorOf([&] { LoadScenario(child); }).what()) ==
+        base + ": the scenario is empty (no keys: nothing but comments or blank lines)");
+}
+
+TEST_CASE("a file with one key is not empty", "[scenarios]") {
+  const FixtureDir dir;
+  CHECK(LoadScenario(dir.Write("seed.yaml", "seed: 4\n")).seed == 4);
 }
 
 TEST_CASE("a scenario path that does not exist is an error naming it", "[scenarios]") {
@@ -513,6 +519,144 @@ TEST_CASE("pipelines are read by name with their options, and an unknown one is 
       "  odometry:\n"
       "    k_m: -1\n");
   CHECK(bad.rfind(":3:5: pipelines.odometry.k_m: must lie in", 0) == 0);
+}
+
+// ---- the saved scenario repeats the run -------------------------------------------------------
+
+std::vector<fs::path> RepeatChains() {
+  std::vector<fs::path> files;
+  for (const auto& entry : fs::directory_iterator(CORRIDORSIM_TEST_DATA_DIR "/repeat")) {
+    if (entry.is_regular_file() && entry.path().extension() == ".yaml")
+      files.push_back(entry.path());
+  }
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+TEST_CASE(
+    "the echo of every shipped scenario and repeat chain loads as the same scenario and is "
+    "its own echo byte for byte",
+    "[scenarios]") {
+  std::vector<fs::path> files = ShippedScenarios();
+  const std::vector<fs::path> chains = RepeatChains();
+  CHECK(chains.size() >= 10);
+  files.insert(files.end(), chains.begin(), chains.end());
+  const FixtureDir dir;
+  for (const fs::path& file : files) {
+    INFO(file.string());
+    const Scenario loaded = LoadScenario(file.string());
+    const std::string echo = ResolvedScenarioYaml(loaded, loaded.seed);
+    // A different name and folder: the echo depends on neither.
+    const std::string copy = dir.Write("saved_" + file.filename().string(), echo);
+    const Scenario again = LoadScenario(copy);
+    CHECK(ResolvedScenarioYaml(again, again.seed) == echo);
+    // The same options, compared directly where the echo could hide a difference.
+    CHECK(again.seed == loaded.seed);
+    CHECK(again.name == loaded.name);
+    CHECK(again.description == loaded.description);
+    CHECK(again.duration_s == loaded.duration_s);
+    CHECK(OptionsYaml(worlds::WorldOptionsTable(), again.world) ==
+          OptionsYaml(worlds::WorldOptionsTable(), loaded.world));
+    REQUIRE(again.rig.cameras.size() == loaded.rig.cameras.size());
+    for (std::size_t i = 0; i < again.rig.cameras.size(); ++i) {
+      const render::CameraOptions& a = again.rig.cameras[i];
+      const render::CameraOptions& b = loaded.rig.cameras[i];
+      INFO(a.id);
+      CHECK((a.model.pinhole() != nullptr) == (b.model.pinhole() != nullptr));
+      const CameraIntrinsics ia = a.model.intrinsics(), ib = b.model.intrinsics();
+      CHECK(ia.width == ib.width);
+      CHECK(ia.height == ib.height);
+      CHECK(ia.fx == ib.fx);  // exactly: the echo writes round-trip digits
+      CHECK(ia.fy == ib.fy);
+      CHECK(ia.cx == ib.cx);
+      CHECK(ia.cy == ib.cy);
+      CHECK(ia.distortion == ib.distortion);
+      CHECK(a.enabled == b.enabled);
+    }
+    REQUIRE(again.pipelines.size() == loaded.pipelines.size());
+    for (std::size_t i = 0; i < again.pipelines.size(); ++i) {
+      CHECK(again.pipelines[i].name == loaded.pipelines[i].name);
+      CHECK(again.pipelines[i].enabled == loaded.pipelines[i].enabled);
+    }
+    CHECK(again.expectations == loaded.expectations);
+    // The same world, to the byte.
+    CHECK(worlds::GroundTruthJson(GenerateWorld(again, again.seed)).dump() ==
+          worlds::GroundTruthJson(GenerateWorld(loaded, loaded.seed)).dump());
+  }
+}
+
+TEST_CASE("the echo is of the scenario as loaded: files edited afterwards change nothing",
+          "[scenarios]") {
+  const FixtureDir dir;
+  const std::string base = dir.Write("base.yaml", "seed: 4\nworld:\n  length_m: 30\n");
+  const std::string child = dir.Write("child.yaml", "include: base.yaml\nname: child\n");
+  const Scenario loaded = LoadScenario(child);
+  const std::string before = ResolvedScenarioYaml(loaded, 4);
+  // The include is edited (and the child removed) while the run goes on.
+  dir.Write("base.yaml", "seed: 4\nworld:\n  length_m: 45\n");
+  fs::remove(child);
+  const std::string after = ResolvedScenarioYaml(loaded, 4);
+  CHECK(after == before);
+  CHECK(Contains(after, "  length_m: 30\n"));
+  CHECK_FALSE(Contains(after, child));  // the header names no file
+}
+
+TEST_CASE("a section with nothing after it overrides nothing, as an empty map", "[scenarios]") {
+  const FixtureDir dir;
+  dir.Write("base.yaml",
+            "seed: 6\nworld:\n  length_m: 30\n  doors: {count: 6}\n  plates: {count: 4}\n"
+            "sensors:\n  front: {fx: 300}\npipelines:\n  odometry: {k_m: 0.0003}\n");
+  const Scenario base = LoadScenario(dir.Path("base.yaml"));
+  const std::string null_child =
+      dir.Write("null.yaml", "include: base.yaml\nworld:\nsensors:\n  front:\npipelines:\n");
+  const std::string empty_child = dir.Write(
+      "empty.yaml", "include: base.yaml\nworld: {}\nsensors:\n  front: {}\npipelines: {}\n");
+  for (const std::string& child : {null_child, empty_child}) {
+    INFO(child);
+    const Scenario s = LoadScenario(child);
+    CHECK(ResolvedScenarioYaml(s, 6) == ResolvedScenarioYaml(base, 6));
+    CHECK(s.world.length_m == 30);
+    CHECK(s.rig.Find("front")->model.intrinsics().fx == 300);
+  }
+  // A null value of a key that is not a section stays an error.
+  CHECK(LoadError("seed:\n") == ":1:1: seed: expected a non-negative integer, got nothing");
+}
+
+TEST_CASE("an expectation on a timing metric is refused at its line", "[scenarios]") {
+  const std::string msg = LoadError(
+      "pipelines:\n"
+      "  odometry: {}\n"
+      "expectations:\n"
+      "  - odometry.ate_rmse_m < 5\n"
+      "  - odometry.timing.total_ms_per_step < 1\n");
+  CHECK(msg ==
+        ":5:5: expectations: 'odometry.timing.total_ms_per_step < 1': timing metrics are "
+        "machine-dependent; see timing.json");
+  // Every timing.* name, counts included: they live in timing.json, not metrics.json.
+  for (const std::string& metric : MetricNames()) {
+    if (metric.rfind("timing.", 0) != 0) continue;
+    INFO(metric);
+    CHECK(Contains(
+        LoadError("pipelines:\n  odometry: {}\nexpectations:\n  - odometry." + metric + " < 1\n"),
+        "timing metrics are machine-dependent"));
+  }
+}
+
+TEST_CASE("a run needs an enabled pipeline, at the pipelines key", "[scenarios]") {
+  const FixtureDir dir;
+  const Scenario none = LoadScenario(dir.Write("none.yaml", "seed: 2\n"));
+  const InputError e = InputErrorOf([&] { RequireScoredPipeline(none); });
+  CHECK(e.key() == "pipelines");
+  CHECK(e.location().file == dir.Path("none.yaml"));
+  CHECK(
+      Contains(e.message(), "no pipeline is enabled, so the run would score nothing (none given"));
+  const Scenario disabled = LoadScenario(
+      dir.Write("disabled.yaml", "seed: 2\npipelines:\n  odometry: {enabled: false}\n"));
+  const InputError d = InputErrorOf([&] { RequireScoredPipeline(disabled); });
+  CHECK(d.location().line == 2);
+  CHECK(Contains(d.message(), "disabled: odometry"));
+  const Scenario one = LoadScenario(dir.Write("one.yaml", "seed: 2\npipelines:\n  odometry: {}\n"));
+  RequireScoredPipeline(one);  // no throw
 }
 
 }  // namespace

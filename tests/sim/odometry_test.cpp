@@ -55,7 +55,12 @@ double WanderingRightAngle(int i) {
 double ForwardLeftAngle(int i) { return 0.5 * i + 0.2 * std::sin(0.3 * i); }
 double BackwardRightAngle(int i) { return -(0.3 * i + 0.1 * std::sin(0.5 * i)); }
 
-OdometryOptions ErrorFree() { return OdometryOptions{}; }
+// The defaults have P1's random error (k = 1e-4); error-free is explicit.
+OdometryOptions ErrorFree() {
+  OdometryOptions options;
+  options.random_k_m = 0.0;
+  return options;
+}
 
 TEST_CASE("an error-free odometer reports each interval's travel within one tick, in whole ticks",
           "[sim][odometry]") {
@@ -111,7 +116,7 @@ TEST_CASE("summed error-free reports never drift more than one tick over 10000 m
 
 TEST_CASE("without quantisation an error-free odometer reports the travel itself and no ticks",
           "[sim][odometry]") {
-  OdometryOptions options;
+  OdometryOptions options = ErrorFree();
   options.ticks_per_revolution = 0;
   WheelOdometer odometer(options, kDiameterM, 1);
   CHECK(odometer.tick_length_m() == 0.0);
@@ -234,7 +239,7 @@ SlipRun DriveWithSlips(const OdometryOptions& options, std::uint64_t seed, int m
 }
 
 OdometryOptions SlipsOnly() {
-  OdometryOptions options;
+  OdometryOptions options = ErrorFree();
   options.ticks_per_revolution = 0;
   options.slip_rate_per_m = 2.0;
   options.slip_mean_m = 0.02;
@@ -416,7 +421,7 @@ TEST_CASE("RealWheelGeometry splits the nominal diameter by E_d as Borenstein do
 
 TEST_CASE("the real geometry turns E_d into a curve and E_b into a heading error in odometry",
           "[sim][odometry]") {
-  OdometryOptions options;
+  OdometryOptions options = ErrorFree();
   options.ticks_per_revolution = 0;
   options.diameter_ratio = 1.01;
   options.wheelbase_ratio = 1.04;

@@ -93,6 +93,7 @@ TEST_CASE("error-free odometry follows ground truth within 0.1 % over 10 m of st
           "[sim]") {
   const worlds::World world = Corridor(14.0);
   SimulationOptions options;
+  options.robot.odometry.random_k_m = 0.0;  // no random error (the default has P1's)
   const Run run = Drive(world, options, StraightPath(10.0));
   REQUIRE(run.path_done);
   CHECK(run.distance_m == Approx(10.0).epsilon(0.01));
@@ -105,6 +106,7 @@ TEST_CASE("error-free odometry follows ground truth within 0.1 % over 10 m of st
 TEST_CASE("error-free odometry follows a full in-place turn within 0.5 degrees", "[sim]") {
   const worlds::World world = Corridor(8.0);
   SimulationOptions options;
+  options.robot.odometry.random_k_m = 0.0;  // no random error (the default has P1's)
   RobotPath path;
   path.world_from_start = SE2(2.0, 0.0, 0.0);
   path.waypoints.push_back(Waypoint{Eigen::Vector2d(2.3, 0.0), 2 * std::numbers::pi});
@@ -121,6 +123,7 @@ TEST_CASE("a wheel-diameter error E_d curves the odometry of a straight drive as
   // s (E_d+1)/2, so dead reckoning turns by (s_r - s_l)/b = s (E_d+1)/2 (1/E_d - 1)/b.
   const worlds::World world = Corridor(14.0);
   SimulationOptions options;
+  options.robot.odometry.random_k_m = 0.0;  // no random error (the default has P1's)
   const double e_d = 1.01;
   options.robot.odometry.diameter_ratio = e_d;
   const Run run = Drive(world, options, StraightPath(10.0));
