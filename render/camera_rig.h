@@ -72,9 +72,9 @@ struct RigOptions {
 /// What a camera costs, known from its options before anything is planned or allocated: the
 /// largest pass it is drawn in (an undistorted pinhole: its image; a distorted pinhole: the
 /// undistorted window its border reaches, from the border pixels alone; a fisheye: a cube face
-/// with its 2 px crop border and rounding, cube_face_px + 7) and an upper bound of the bytes its frames take
-/// (the GL targets and read-backs of up to six passes, the frame, the remap table and what
-/// planning it needs at once).
+/// with its 2 px crop border and rounding, cube_face_px + 7) and an upper bound of the bytes its
+/// frames take (the GL targets and read-backs of up to six passes, the frame, the remap table and
+/// what planning it needs at once).
 struct CameraBudget {
   int pass_width_px = 0;
   int pass_height_px = 0;
