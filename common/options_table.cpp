@@ -50,6 +50,7 @@ std::optional<OptionsProblem> CheckFields(const OptionTableBase& table, const vo
 }  // namespace
 
 bool OptionBound::Holds(double v) const {
+  if (or_zero && v == 0) return true;
   const bool above = lo_strict ? v > lo : v >= lo;
   const bool below = hi_strict ? v < hi : v <= hi;
   return above && below;  // false for NaN
@@ -63,7 +64,9 @@ std::string OptionBound::Message(const std::string& value) const {
   }
   const bool has_lo = std::isfinite(lo), has_hi = std::isfinite(hi);
   std::string what;
-  if (has_lo && has_hi) {
+  if (or_zero) {
+    what = "must be 0 or lie in " + Interval(*this);
+  } else if (has_lo && has_hi) {
     what = "must lie in " + Interval(*this);
   } else if (has_lo) {
     what = lo_strict ? "must be greater than " + Num(lo)
@@ -124,6 +127,13 @@ OptionField& OptionField::RangeOpenLow(double lo, double hi, std::string message
   return *this;
 }
 
+OptionField& OptionField::ZeroOr(double lo, double hi, std::string message) {
+  OptionBound b{lo, hi, false, false, std::move(message)};
+  b.or_zero = true;
+  bounds.push_back(std::move(b));
+  return *this;
+}
+
 OptionField& OptionField::Note(std::string bounds_text) {
   bounds_note = std::move(bounds_text);
   return *this;
@@ -136,9 +146,13 @@ std::optional<OptionsProblem> CheckOptionBounds(const OptionTableBase& table, co
 std::string OptionBoundsText(const OptionField& field) {
   std::string text;
   if (!field.bounds.empty()) {
-    // The intersection of the bounds: the values that pass every check.
+    // The intersection of the bounds: the values that pass every check (0 among them when every
+    // bound lets it pass).
     OptionBound all;
+    bool zero = true, or_zero = false;
     for (const OptionBound& b : field.bounds) {
+      zero = zero && b.Holds(0.0);
+      or_zero = or_zero || b.or_zero;
       if (b.lo > all.lo || (b.lo == all.lo && b.lo_strict))
         all.lo = b.lo, all.lo_strict = b.lo_strict;
       if (b.hi < all.hi || (b.hi == all.hi && b.hi_strict))
@@ -146,7 +160,7 @@ std::string OptionBoundsText(const OptionField& field) {
     }
     const bool has_lo = std::isfinite(all.lo), has_hi = std::isfinite(all.hi);
     if (has_lo && has_hi) {
-      text = Interval(all);
+      text = (or_zero && zero && !all.Holds(0.0) ? "0 or " : "") + Interval(all);
     } else if (has_lo) {
       text = (all.lo_strict ? "> " : ">= ") + Num(all.lo);
     } else if (has_hi) {

@@ -57,6 +57,7 @@ struct OptionBound {
   // The problem's message; "{}" stands for the value. Empty: the standard message ("must be
   // greater than 0 (got -1)", "must lie in [0, 5] (got 7)", ...).
   std::string message;
+  bool or_zero = false;  // 0 passes too (0 = off or automatic; the interval bounds the rest)
 
   bool Holds(double v) const;
   std::string Message(const std::string& value) const;
@@ -111,6 +112,9 @@ struct OptionField {
   OptionField& Range(double lo, double hi, std::string message = "");          // [lo, hi]
   OptionField& RangeOpenHigh(double lo, double hi, std::string message = "");  // [lo, hi)
   OptionField& RangeOpenLow(double lo, double hi, std::string message = "");   // (lo, hi]
+  /// v == 0 or lo <= v <= hi: a value whose 0 means off or automatic, and whose other values
+  /// must keep away from 0 (a duration that would round to 0 ns, a size of 1 px).
+  OptionField& ZeroOr(double lo, double hi, std::string message = "");  // 0 or [lo, hi]
   /// Bounds that Check() tests because they depend on other fields (docs only).
   OptionField& Note(std::string bounds_text);
 };
@@ -290,7 +294,7 @@ std::optional<OptionsProblem> CheckOptionBounds(const OptionTable<T>& table, con
   return CheckOptionBounds(static_cast<const OptionTableBase&>(table), &object);
 }
 
-/// A field's bounds for the docs: "> 0", "[0, 5]", "(0, 1000]", the note, or "".
+/// A field's bounds for the docs: "> 0", "[0, 5]", "(0, 1000]", "0 or [1, 10]", the note, or "".
 std::string OptionBoundsText(const OptionField& field);
 
 }  // namespace corridorsim

@@ -78,7 +78,7 @@ const OptionTable<Scenario>& ScenarioOptionsTable() {
     t.AddSection("path", &S::robot_path, sim::RobotPathOptionsTable(), "what the robot drives",
                  &sim::RobotPathOptions::Check);
     t.Add("duration_s", &S::duration_s, "s", "simulated time of a run; 0 = until the path is done")
-        .Range(0, 1e6, "must lie in [0, 1e+06] s (got {})");
+        .ZeroOr(1e-3, kMaxRunSeconds, "must lie in [0.001, 1e+06] s or be 0 (got {})");
     t.AddCustom(
         "pipelines", "",
         [](YamlMap& root, S& s) {

@@ -75,6 +75,9 @@ class Backend {
   /// backend may overlap one pass's drawing with the next one's submission. Every request is
   /// checked before anything is drawn.
   virtual void DrawPasses(std::span<const DrawRequest> requests) = 0;
+  /// The largest pass side (px) it draws: GL_MAX_RENDERBUFFER_SIZE and GL_MAX_VIEWPORT_DIMS,
+  /// queried once. The Rig refuses a camera that needs more when it is made, before any frame.
+  virtual int max_view_px() const = 0;
 };
 
 /// Creates a backend with its own off-screen context. Throws RenderError naming the backend and

@@ -2,6 +2,7 @@
 
 #include "common/io/options_yaml.h"
 #include "common/options_checker.h"
+#include "common/time.h"
 
 #include <algorithm>
 #include <array>
@@ -210,7 +211,8 @@ std::vector<OptionDocRow> CameraModelDocRows(const CameraOptions& c) {
       {"model", "", pinhole ? "`pinhole`" : "`kannala_brandt`", "`pinhole`, `kannala_brandt`",
        "`pinhole` (radial-tangential) or `kannala_brandt` (equidistant fisheye); a change needs "
        "`fov_deg` too"},
-      {"width", "px", std::to_string(p.width), "(0, 8192]", "image width"},
+      {"width", "px", std::to_string(p.width), "(0, 8192]; the rig's cameras at most 6 GiB",
+       "image width"},
       {"height", "px", std::to_string(p.height), "(0, 8192]", "image height"},
       {"fov_deg", "deg", Num(FovDegOf(c.model)), "pinhole < 150, fisheye < 180",
        "pinhole: horizontal field of view; fisheye: across the smaller image dimension. Sets "
@@ -220,7 +222,7 @@ std::vector<OptionDocRow> CameraModelDocRows(const CameraOptions& c) {
       {"fy", "px", Num(p.fy), "> 0", ""},
       {"cx", "px", Num(p.cx), "", "explicit principal point"},
       {"cy", "px", Num(p.cy), "", ""},
-      {"distortion", "", "`[" + distortion + "]`", "",
+      {"distortion", "", "`[" + distortion + "]`", "its undistorted pass at most 8192 px a side",
        "pinhole `[k1, k2, p1, p2, k3]`, fisheye `[k1, k2, k3, k4]`"},
   };
 }
@@ -277,9 +279,15 @@ const OptionTable<CameraOptions>& CameraOptionsTable() {
   return StaticOptionTable<CameraOptions>([](OptionTable<CameraOptions>& t) {
     using C = CameraOptions;
     t.Add("enabled", &C::enabled, "", "false leaves the camera out of the rig");
-    t.Add("rate_hz", &C::rate_hz, "Hz", "frames per second (P1: a 300 ms period)")
-        .Greater(0, "must be greater than 0")
-        .AtMost(1000, "must not exceed 1000");
+    // At most 100 Hz, the slowest physics rate: at most one frame per camera is in flight in a
+    // physics step, so the rig's memory bound (kMaxRigBytes) holds. At least 1e-6 Hz: a period of
+    // at most 1e6 s, the longest run.
+    t.Add("rate_hz", &C::rate_hz, "Hz",
+          "frames per second (P1: a 300 ms period); frames are stamped every 1 / rate_hz rounded "
+          "to the nanosecond")
+        .Range(kMinSensorRateHz, 100,
+               "must lie in [1e-06, 100] Hz: at most one frame per physics step, a period of at "
+               "most 1e+06 s (got {})");
     t.Add("phase_s", &C::phase_s, "s",
           "time of the first frame; frames are stamped at `phase_s + k / rate_hz`, rounded to the "
           "nanosecond")
@@ -356,7 +364,80 @@ std::optional<OptionsProblem> RigOptions::Check() const {
       return OptionsProblem{k + "depth", "depth images need a pinhole camera"};
     }
   }
+  // What the enabled cameras need, before anything is planned or allocated.
+  std::uint64_t rig_bytes = 0;
+  for (const CameraOptions& c : cameras) {
+    if (!c.enabled) continue;
+    const CameraBudget budget = CameraBudgetOf(c);
+    const bool fisheye = c.model.kannala_brandt() != nullptr;
+    if (budget.pass_width_px > kMaxPassPx || budget.pass_height_px > kMaxPassPx) {
+      return OptionsProblem{
+          c.id + (fisheye ? ".cube_face_px" : ".distortion"),
+          "the camera is drawn from a pass of " + std::to_string(budget.pass_width_px) + " x " +
+              std::to_string(budget.pass_height_px) + " px, more than the " +
+              std::to_string(kMaxPassPx) +
+              " px a pass may have on a side (a distorted pinhole's pass spans its undistorted "
+              "view: narrow fov_deg or weaken the distortion)"};
+    }
+    rig_bytes += budget.bytes;
+    if (rig_bytes > kMaxRigBytes) {
+      return OptionsProblem{c.id + ".width",
+                            "the enabled cameras need " + Num(double(rig_bytes) / (1 << 30)) +
+                                " GiB up to this one, more than the " +
+                                Num(double(kMaxRigBytes) / (1 << 30)) + " GiB a rig may use (got " +
+                                std::to_string(c.model.width()) + "x" +
+                                std::to_string(c.model.height()) + " px)"};
+    }
+  }
   return std::nullopt;
+}
+
+CameraBudget CameraBudgetOf(const CameraOptions& camera) {
+  const CameraModel& model = camera.model;
+  const CameraIntrinsics p = model.intrinsics();
+  const std::uint64_t pixels = std::uint64_t(std::max(p.width, 0)) * std::max(p.height, 0);
+  CameraBudget b;
+  if (IsUndistortedPinhole(model)) {
+    b.pass_width_px = p.width, b.pass_height_px = p.height, b.passes = 1;
+  } else if (model.kannala_brandt()) {
+    // A face spans 90 degrees at face_px (PlanRemapPasses); its crop keeps a 2 px border, and
+    // rounding the window's ends outwards adds up to 1 px each (a ray on a face's edge may lie
+    // a rounding error beyond it).
+    const double auto_face = 2 * std::ceil(std::max(p.fx, p.fy));
+    const double face = camera.cube_face_px > 0 ? camera.cube_face_px : auto_face;
+    b.pass_width_px = b.pass_height_px = int(std::min(face + 7, 1e9));
+    b.passes = 6;
+  } else {
+    // A distorted pinhole passing its Check() is invertible up to its image corners, so every
+    // pixel is valid and the undistorted window's extremes lie on the image border.
+    double u0 = 1e30, u1 = -1e30, v0 = 1e30, v1 = -1e30;
+    auto extend = [&](int u, int v) {
+      const Vector3d q = model.Unproject(Vector2d(u, v));
+      if (!q.allFinite() || q.norm() < 0.5 || !(q.z() > 1e-6)) return;
+      const double x = p.fx * q.x() / q.z(), y = p.fy * q.y() / q.z();
+      u0 = std::min(u0, x), u1 = std::max(u1, x), v0 = std::min(v0, y), v1 = std::max(v1, y);
+    };
+    for (int u = 0; u < p.width; ++u) extend(u, 0), extend(u, p.height - 1);
+    for (int v = 0; v < p.height; ++v) extend(0, v), extend(p.width - 1, v);
+    if (u0 <= u1 && v0 <= v1) {
+      // The crop of PlanRemapPasses: the used window plus 2 px, both ends included.
+      b.pass_width_px = int(std::min(std::ceil(u1) - std::floor(u0) + 5, 1e9));
+      b.pass_height_px = int(std::min(std::ceil(v1) - std::floor(v0) + 5, 1e9));
+    }
+    b.passes = 1;
+  }
+  // Bytes per pass pixel: the GL targets (RGBA8, R32UI, R8UI, R32F, depth 32F) and the
+  // read-back (RGB, instance, class, depth). Per output pixel: the frame (RGB, instance, class,
+  // exact and noisy depth) and, for a remapped camera, its tables (lookup 12, remap 8, depth
+  // scale 4) and the planning's bearings and faces (28).
+  const std::uint64_t pass_pixels =
+      std::uint64_t(b.pass_width_px) * std::uint64_t(b.pass_height_px) * std::uint64_t(b.passes);
+  const bool depth = camera.depth;
+  const std::uint64_t per_pass_px = 17 + 8 + (depth ? 4 : 0);
+  const std::uint64_t per_px =
+      8 + (depth ? 8 : 0) + (IsUndistortedPinhole(model) ? 0 : 12 + 8 + (depth ? 4 : 0) + 28);
+  b.bytes = pass_pixels * per_pass_px + pixels * per_px;
+  return b;
 }
 
 void ParseSensors(YamlMap& sensors, RigOptions& rig) {
@@ -682,6 +763,20 @@ void CameraRenderer::Compose(CameraFrame* frame) const {
 
 Rig::Rig(const RigOptions& options, const Scene& scene, Backend& backend)
     : scene_(scene), backend_(backend) {
+  // The backend's own limit (a GPU driver may have less than kMaxPassPx), before the remap
+  // tables are planned or a frame is drawn.
+  for (const CameraOptions& c : options.cameras) {
+    if (!c.enabled) continue;
+    const CameraBudget budget = CameraBudgetOf(c);
+    if (budget.pass_width_px > backend.max_view_px() ||
+        budget.pass_height_px > backend.max_view_px()) {
+      throw RenderError("render: sensors." + c.id + ": the camera is drawn from a pass of " +
+                        std::to_string(budget.pass_width_px) + " x " +
+                        std::to_string(budget.pass_height_px) + " px; the " +
+                        BackendName(backend.kind()) + " backend draws at most " +
+                        std::to_string(backend.max_view_px()) + " px on a side");
+    }
+  }
   for (const CameraOptions& c : options.cameras) {
     if (c.enabled) cameras_.emplace_back(c);
   }

@@ -69,6 +69,28 @@ struct RigOptions {
   std::optional<OptionsProblem> Check() const;
 };
 
+/// What a camera costs, known from its options before anything is planned or allocated: the
+/// largest pass it is drawn in (an undistorted pinhole: its image; a distorted pinhole: the
+/// undistorted window its border reaches, from the border pixels alone; a fisheye: a cube face
+/// with its 2 px crop border and rounding, cube_face_px + 7) and an upper bound of the bytes its
+/// frames take (the GL targets and read-backs of up to six passes, the frame, the remap table and
+/// what planning it needs at once).
+struct CameraBudget {
+  int pass_width_px = 0;
+  int pass_height_px = 0;
+  int passes = 0;  // at most this many passes (a fisheye: 6 cube faces)
+  std::uint64_t bytes = 0;
+};
+CameraBudget CameraBudgetOf(const CameraOptions& camera);
+
+/// The largest pass side (px) a camera may need: every backend (llvmpipe's renderbuffers reach
+/// 16384, but a 16384^2 R32F target is the 1 GiB llvmpipe refuses) draws it; RigOptions::Check
+/// refuses more at the camera's key.
+inline constexpr int kMaxPassPx = 8192;
+/// The most bytes the enabled cameras of a rig may need together (CameraBudget::bytes): a
+/// 8192 x 8192 depth camera needs 3 GB.
+inline constexpr std::uint64_t kMaxRigBytes = std::uint64_t{6} << 30;
+
 /// The keys of one camera (`sensors.<id>`), of the `sensors:` map (the cameras by id) and of the
 /// `render:` map (backend, lighting): parsing, bounds, echo, docs.
 const OptionTable<CameraOptions>& CameraOptionsTable();

@@ -162,6 +162,16 @@ GlBackend::GlBackend(std::unique_ptr<GlContext> context) : context_(std::move(co
          (version != nullptr ? version : "of unknown version"));
   }
 
+  // Size limits, once: a pass must fit a renderbuffer and the viewport, a texture the texture
+  // size.
+  GLint renderbuffer_px = 0, texture_px = 0;
+  GLint viewport_px[2] = {0, 0};
+  gl_.GetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &renderbuffer_px);
+  gl_.GetIntegerv(GL_MAX_VIEWPORT_DIMS, viewport_px);
+  gl_.GetIntegerv(GL_MAX_TEXTURE_SIZE, &texture_px);
+  max_view_px_ = std::min({renderbuffer_px, viewport_px[0], viewport_px[1]});
+  max_texture_px_ = texture_px;
+
   // The richest variant now, so that a shader that does not compile fails here; others on use.
   ProgramFor(kMaxLightsPerDraw);
   gl_.GenVertexArrays(1, &vao_);
@@ -370,6 +380,11 @@ void GlBackend::Upload(const Scene& scene) {
       throw std::invalid_argument("render scene: texture " + std::to_string(i) +
                                   " is empty, not 1/3/4 channels, or its data size is wrong");
     }
+    if (t.width > max_texture_px_ || t.height > max_texture_px_) {
+      Fail("texture " + std::to_string(i) + " of " + std::to_string(t.width) + " x " +
+           std::to_string(t.height) + " px exceeds GL_MAX_TEXTURE_SIZE " +
+           std::to_string(max_texture_px_) + " (world.texture_px_per_m sets texture sizes)");
+    }
   }
   if (!(scene.options.light_falloff_m > 0.0f)) {
     throw std::invalid_argument("render scene: options.light_falloff_m must be positive");
@@ -478,8 +493,7 @@ void GlBackend::Draw(const View& view, std::span<const int> drawables, std::span
 void GlBackend::DrawPasses(std::span<const DrawRequest> requests) {
   for (const DrawRequest& request : requests) Check(request);
   context_->MakeCurrent();
-  GLint max_size = 0;
-  gl_.GetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_size);
+  const int max_size = max_view_px_;
   for (const DrawRequest& request : requests) {
     if (request.view.width > max_size || request.view.height > max_size) {
       throw std::invalid_argument("render: view size " + std::to_string(request.view.width) +

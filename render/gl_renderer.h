@@ -33,6 +33,7 @@ class GlBackend final : public Backend {
   void Draw(const View& view, std::span<const int> drawables, std::span<const int> lights,
             RenderedView* out) override;
   void DrawPasses(std::span<const DrawRequest> requests) override;
+  int max_view_px() const override { return max_view_px_; }
 
  private:
   // What Draw needs of the uploaded scene.
@@ -76,6 +77,8 @@ class GlBackend final : public Backend {
   GlFunctions gl_;
   BackendInfo info_;
   std::array<Program, kMaxLightsPerDraw + 1> programs_{};  // by light count
+  int max_view_px_ = 0;     // GL_MAX_RENDERBUFFER_SIZE and GL_MAX_VIEWPORT_DIMS
+  int max_texture_px_ = 0;  // GL_MAX_TEXTURE_SIZE
   GLuint vao_ = 0, vbo_ = 0, ibo_ = 0;
   GLuint mask_program_ = 0, mask_vao_ = 0, mask_vbo_ = 0;  // DrawUnusedMask
   // Off-screen targets by size and batch slot: a rig alternates between pass sizes every frame,

@@ -12,9 +12,13 @@ namespace corridorsim::sim {
 const OptionTable<OdometryOptions>& OdometryOptionsTable() {
   return StaticOptionTable<OdometryOptions>([](OptionTable<OdometryOptions>& t) {
     using O = OdometryOptions;
+    // At least 1 Hz: the slips of one message are drawn one by one (at most slip_rate_per_m
+    // times the wheels' travel in a period: 100 / m * 100 m/s * 1 s), and real encoders report
+    // far faster.
     t.Add("rate_hz", &O::rate_hz, "Hz",
-          "odometry messages per second (stamps at n / rate_hz exactly)")
-        .RangeOpenLow(0, 1000, "must lie in (0, 1000] Hz (got {})");
+          "odometry messages per second; stamps at n periods, the period being 1 / rate_hz "
+          "rounded to the nanosecond")
+        .Range(1, 1000, "must lie in [1, 1000] Hz (got {})");
     t.Add("ticks_per_revolution", &O::ticks_per_revolution, "",
           "encoder counts per wheel turn (0 = no quantisation)")
         .Range(0, 1'000'000, "must lie in [0, 1000000] (0 = no quantisation; got {})");

@@ -21,6 +21,11 @@ constexpr double kEpsM = 1e-9;
 // Pioneer 3-DX limits (MobileRobots datasheet): 1.2 m/s, 300 deg/s.
 constexpr double kMaxSpeedMps = 1.2;
 constexpr double kMaxTurnRateDps = 300.0;
+// Script rows: each command holds for at least a millisecond (a physics step at 1 kHz; a
+// shorter one would round towards 0 ns and is never driven), and the rows together fit the
+// longest run.
+constexpr double kMinCommandS = 1e-3;
+constexpr std::size_t kMaxCommands = 10000;
 
 std::string Metres(double v) {
   char buf[32];
@@ -276,7 +281,8 @@ const OptionTable<RobotPathOptions>& RobotPathOptionsTable() {
         [](const P&) {
           return std::vector<OptionDocRow>{
               {"commands", "s, m/s, deg/s", "`[]`",
-               "duration_s in (0, 1e6], linear_mps in [-1.2, 1.2], angular_dps in [-300, 300]",
+               "at most 10000 rows; duration_s in [0.001, 1e6] (the rows' sum at most 1e6), "
+               "linear_mps in [-1.2, 1.2], angular_dps in [-300, 300]",
                "`script` only: rows `[duration_s, linear_mps, angular_dps]`, e.g. `[[10, 0.3, "
                "0], "
                "[3, 0, 30]]`, driven in order (angular_dps positive counter-clockwise)"}};
@@ -293,11 +299,20 @@ std::optional<OptionsProblem> RobotPathOptions::Check() const {
     c.Require(commands.empty(), "commands",
               "only kind script drives commands (kind is " + PathKindName(kind) + ")");
   }
-  for (std::size_t k = 0; k < commands.size(); ++k) {
+  c.Require(commands.size() <= kMaxCommands, "commands",
+            "at most " + std::to_string(kMaxCommands) + " rows (got " +
+                std::to_string(commands.size()) + ")");
+  double total_s = 0.0;
+  for (std::size_t k = 0; k < commands.size() && !c.problem(); ++k) {
     const VelocityCommand& cmd = commands[k];
     const std::string row = "row " + std::to_string(k + 1) + ": ";
-    c.Require(cmd.duration_s > 0 && cmd.duration_s <= 1e6, "commands",
-              row + "duration_s must lie in (0, 1e6] (got " + FormatNumber(cmd.duration_s) + ")");
+    c.Require(
+        cmd.duration_s >= kMinCommandS && cmd.duration_s <= kMaxRunSeconds, "commands",
+        row + "duration_s must lie in [0.001, 1e+06] s (got " + FormatNumber(cmd.duration_s) + ")");
+    total_s += cmd.duration_s;
+    c.Require(total_s <= kMaxRunSeconds, "commands",
+              row + "the commands up to here last " + FormatNumber(total_s) +
+                  " s, more than the longest run (1e+06 s)");
     c.Require(
         std::abs(cmd.linear_mps) <= kMaxSpeedMps, "commands",
         row + "linear_mps must lie in [-1.2, 1.2] (got " + FormatNumber(cmd.linear_mps) + ")");
@@ -437,6 +452,17 @@ RobotPath BuildRobotPath(const worlds::World& world, const RobotPathOptions& opt
 
   RobotPath path = OffsetRoute(legs, route_offset_m, options.laps);
   path.kind = options.kind;
+  // A run that ends with the path (duration_s 0) lasts about twice its nominal time: it must fit
+  // the longest run, as duration_s does.
+  const double nominal_s = path.length_m() / options.speed_mps +
+                           path.total_turn_rad() / (options.turn_rate_dps * kDegToRad);
+  if (!(nominal_s <= kMaxRunSeconds)) {
+    throw OptionsError(
+        {options.laps > 1 ? "laps" : "speed_mps",
+         "the path (" + Metres(path.length_m()) + " in " + std::to_string(options.laps) +
+             " laps) takes " + FormatNumber(nominal_s) + " s at speed_mps " +
+             FormatNumber(options.speed_mps) + ", more than the longest run (1e+06 s)"});
+  }
   if (const auto backward = BackwardLeg(path)) {
     throw OptionsError({umbmark ? "umbmark_side_m" : "end_margin_m", *backward});
   }

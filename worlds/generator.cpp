@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <numbers>
 #include <string>
 
@@ -482,7 +483,7 @@ class Builder {
             AddLamp(Vector3d(c.x(), c.y(), z), circular ? LampShape::kCircular : LampShape::kPanel,
                     radius, size, -1);
         lamp_segment_.push_back({id, static_cast<int>(k)});
-        ceiling_keepout_.push_back(
+        AddCeilingKeepout(
             circular ? AlignedBox2d(c - Vector2d(radius, radius), c + Vector2d(radius, radius))
                      : AlignedBox2d(c - size / 2, c + size / 2));
       }
@@ -632,8 +633,31 @@ class Builder {
 
   // ---- ceiling fixtures and corner points ---------------------------------------------------
   bool CeilingFree(const AlignedBox2d& box) const {
-    return std::none_of(ceiling_keepout_.begin(), ceiling_keepout_.end(),
-                        [&](const AlignedBox2d& k) { return Overlaps(Inflated(box, 0.05), k); });
+    // Only the keepouts filed under the cells the box touches can overlap it (an overlap shares
+    // an inner point, which lies in a cell both are filed under).
+    const AlignedBox2d query = Inflated(box, 0.05);
+    bool free = true;
+    ForKeepoutCells(query, [&](const std::pair<long, long>& cell) {
+      const auto it = keepout_cells_.find(cell);
+      if (it == keepout_cells_.end()) return;
+      for (const std::size_t i : it->second) free = free && !Overlaps(query, ceiling_keepout_[i]);
+    });
+    return free;
+  }
+
+  void AddCeilingKeepout(const AlignedBox2d& box) {
+    const std::size_t index = ceiling_keepout_.size();
+    ceiling_keepout_.push_back(box);
+    ForKeepoutCells(
+        box, [&](const std::pair<long, long>& cell) { keepout_cells_[cell].push_back(index); });
+  }
+
+  template <class Visit>
+  static void ForKeepoutCells(const AlignedBox2d& box, Visit visit) {
+    const auto cell = [](double v) { return static_cast<long>(std::floor(v / kKeepoutCellM)); };
+    for (long i = cell(box.min().x()); i <= cell(box.max().x()); ++i) {
+      for (long j = cell(box.min().y()); j <= cell(box.max().y()); ++j) visit({i, j});
+    }
   }
 
   void AddCorner(CornerKind kind, const Vector3d& p) {
@@ -660,7 +684,7 @@ class Builder {
         const double h = c.vent_size_m / 2;
         const AlignedBox2d box(p - Vector2d(h, h), p + Vector2d(h, h));
         if (OwnedByEarlierSegment(k, p, h) || !CeilingFree(box)) return;
-        ceiling_keepout_.push_back(box);
+        AddCeilingKeepout(box);
         const int id = next_id_++;
         AddHorizontalRect(NewMesh(Id("vent", id), mat_.vent, id, SemanticClass::kVent), box,
                           H - 0.004, false, c.vent_size_m, box.min());
@@ -687,7 +711,7 @@ class Builder {
                        SemanticClass cls, CornerKind kind) {
     const AlignedBox2d box(p - Vector2d(r, r), p + Vector2d(r, r));
     if (OwnedByEarlierSegment(k, p, r) || !CeilingFree(box)) return;
-    ceiling_keepout_.push_back(box);
+    AddCeilingKeepout(box);
     const int id = next_id_++;
     const std::string name = cls == SemanticClass::kSprinkler ? "sprinkler" : "smoke_detector";
     AddDisc(NewMesh(Id(name.c_str(), id), material, id, cls), Vector3d(p.x(), p.y(), z), r,
@@ -890,6 +914,10 @@ class Builder {
   std::vector<AlignedBox2d> room_areas_;               // rooms and mirror volumes, with walls
   std::vector<std::pair<int, int>> lamp_segment_;      // corridor lamps: (lamp id, segment index)
   std::vector<AlignedBox2d> ceiling_keepout_;          // lamps and fixtures on the ceiling
+  // The keepouts by grid cell (kKeepoutCellM): a tile corner or fixture tests its neighbours
+  // only, not every fixture of a kilometre of corridor.
+  static constexpr double kKeepoutCellM = 2.0;
+  std::map<std::pair<long, long>, std::vector<std::size_t>> keepout_cells_;
   Vector2d tile_offset_ = Vector2d::Zero();
 };
 

@@ -78,7 +78,7 @@ const OptionTable<PlateOptions>& PlateOptionsTable() {
     using P = PlateOptions;
     t.Add("count", &P::count, "", "door plates, each beside its own door")
         .AtLeast(0, "must not be negative")
-        .Note("at most doors.count");
+        .Note("at most doors.count; all textures at most 1 GiB");
     t.Add("center_height_m", &P::center_height_m, "m", "plate centre above the floor")
         .Note("plates between the floor and the ceiling");
     t.Add("width_m", &P::width_m, "m", "nominal plate size")
@@ -105,7 +105,8 @@ const OptionTable<LampOptions>& LampOptionsTable() {
     using L = LampOptions;
     t.Add("spacing_m", &L::spacing_m, "m",
           "mean distance between ceiling lamps along each corridor axis")
-        .Range(0.5, 100);
+        .Range(0.5, 100)
+        .Note("lamps, vents, sprinklers, smoke detectors at most 20000 together");
     t.Add("spacing_jitter_m", &L::spacing_jitter_m, "m",
           "uniform jitter of each lamp along the axis")
         .Note("[0, spacing_m / 4)");
@@ -144,7 +145,8 @@ const OptionTable<CeilingOptions>& CeilingOptionsTable() {
     using C = CeilingOptions;
     t.Add("tile_size_m", &C::tile_size_m, "m", "ceiling tiles; seam crossings are corner features")
         .AtLeast(0.1, "must be at least 0.1 m")
-        .Range(0.1, 2);
+        .Range(0.1, 2)
+        .Note("at most 1e6 tile corners over the corridors");
     t.Add("vent_spacing_m", &C::vent_spacing_m, "m",
           "square vents beside the lamps (4 corner features each)")
         .Greater(0)
@@ -169,7 +171,10 @@ const OptionTable<DistractorOptions>& DistractorOptionsTable() {
           {"bookshelves", &X::bookshelves, "door-like candidates standing against walls"},
           {"cabinets", &X::cabinets, "door-like candidates too"},
           {"fire_extinguishers", &X::fire_extinguishers, ""}}) {
-      t.Add(key, member, "", doc).AtLeast(0, "must not be negative").Range(0, 10000);
+      t.Add(key, member, "", doc)
+          .AtLeast(0, "must not be negative")
+          .Range(0, kMaxDistractors)
+          .Note("all kinds together at most 2000");
     }
   });
 }
@@ -276,8 +281,79 @@ std::optional<OptionsProblem> WorldOptions::Check() const {
             "a plate's width and height must lie within a factor of 10 of each other");
 
   if (c.problem()) return c.problem();
+
+  // Budgets: what the generator's loops and textures cost, before any of it runs.
+  const WorldBudget b = WorldBudgetOf(*this);
+  const DistractorOptions& x = distractors;
+  const double distractor_count =
+      double(x.posters) + x.notice_boards + x.bookshelves + x.cabinets + x.fire_extinguishers;
+  c.Require(b.tile_corners <= kMaxTileCorners, "ceiling.tile_size_m",
+            "the ceiling of " + Num(b.centre_line_m) + " m of corridor " + Num(width_m) +
+                " m wide has about " + Num(b.tile_corners) + " tile corners, more than " +
+                Num(kMaxTileCorners) + " (got tile_size_m " + Num(ce.tile_size_m) + ")");
+  const double min_spacing = std::min(
+      {l.spacing_m, ce.vent_spacing_m, ce.sprinkler_spacing_m, ce.smoke_detector_spacing_m});
+  const std::string spacing_key = min_spacing == l.spacing_m         ? "lamps.spacing_m"
+                                  : min_spacing == ce.vent_spacing_m ? "ceiling.vent_spacing_m"
+                                  : min_spacing == ce.sprinkler_spacing_m
+                                      ? "ceiling.sprinkler_spacing_m"
+                                      : "ceiling.smoke_detector_spacing_m";
+  c.Require(b.ceiling_fixtures <= kMaxCeilingFixtures, spacing_key,
+            "lamps, vents, sprinklers and smoke detectors along " + Num(b.centre_line_m) +
+                " m of corridor come to about " + Num(b.ceiling_fixtures) + ", more than " +
+                Num(kMaxCeilingFixtures) + " (got " + Num(min_spacing) + " m)");
+  c.Require(distractor_count <= kMaxDistractors, "distractors",
+            "at most " + Num(kMaxDistractors) + " distractors of all kinds together (got " +
+                Num(distractor_count) + ")");
+  c.Require(b.texture_bytes <= kMaxTextureBytes,
+            b.plate_texture_bytes > b.distractor_texture_bytes ? "plates.count" : "distractors",
+            "the textures (walls, floor, ceiling, " + std::to_string(p.count) + " plates, " +
+                Num(distractor_count) + " distractors) need " +
+                Num(b.texture_bytes / double(1 << 20)) + " MiB, more than " +
+                Num(kMaxTextureBytes / double(1 << 20)) + " MiB (got " +
+                (b.plate_texture_bytes > b.distractor_texture_bytes
+                     ? std::to_string(p.count) + " plates"
+                     : Num(distractor_count) + " distractors") +
+                ")");
+  if (c.problem()) return c.problem();
   LayoutPlan plan;
   return PlanLayout(*this, 1, &plan);
+}
+
+WorldBudget WorldBudgetOf(const WorldOptions& o) {
+  WorldBudget b;
+  const bool straight = o.layout == Layout::kStraight;
+  const double segments = straight ? 1 : o.layout == Layout::kLoop ? 4 : 2;
+  b.centre_line_m = o.layout == Layout::kLoop ? 2 * (o.length_m + o.second_length_m)
+                    : straight                ? o.length_m
+                                              : o.length_m + o.second_length_m;
+  // Tile seams every tile_size_m both ways over each segment's floor.
+  const double tile = o.ceiling.tile_size_m;
+  b.tile_corners = (b.centre_line_m / tile + segments) * (o.width_m / tile + 1);
+  // Each fixture kind along every segment (one more per segment for where the row starts), and a
+  // lamp per room.
+  for (const double spacing : {o.lamps.spacing_m, o.ceiling.vent_spacing_m,
+                               o.ceiling.sprinkler_spacing_m, o.ceiling.smoke_detector_spacing_m}) {
+    b.ceiling_fixtures += b.centre_line_m / spacing + segments;
+  }
+  if (o.lamps.room_lamps) b.ceiling_fixtures += o.doors.count;
+  // RGB texels: the base textures as the generator sizes them (worlds/generator.cpp), a plate
+  // texture 128 px high with its widest aspect, and each distractor's texture 256 px wide at
+  // the largest height its kind draws.
+  const double px = o.texture_px_per_m;
+  auto square = [](double side) { return side * side * 3; };
+  b.texture_bytes = 3 * square(std::floor(px * 2.0)) + square(std::floor(px * tile) * 4) +
+                    128 * 256 * 3 + square(96);
+  const double jitter = o.plates.size_jitter;
+  const double aspect = o.plates.width_m / o.plates.height_m * (1 + jitter) / (1 - jitter);
+  b.plate_texture_bytes = o.plates.count * 128 * std::max(32.0, std::ceil(128 * aspect) + 1) * 3;
+  const DistractorOptions& x = o.distractors;
+  b.distractor_texture_bytes =
+      256 * 3 *
+      (x.bookshelves * (256 * 2.0 / 0.8 + 1) + x.cabinets * (256 * 1.9 / 0.8 + 1) +
+       x.notice_boards * (256 * 0.9 / 1.2 + 1) + x.posters * (256 * 1.414 + 1));
+  b.texture_bytes += b.plate_texture_bytes + b.distractor_texture_bytes;
+  return b;
 }
 
 void ParseWorldOptions(YamlMap& map, WorldOptions& options) {

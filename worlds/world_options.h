@@ -95,6 +95,26 @@ struct WorldOptions {
   std::optional<OptionsProblem> Check() const;
 };
 
+/// What a world costs, estimated from its options before it is generated (upper bounds where
+/// the generator's counts depend on the seed). WorldOptions::Check refuses more than the
+/// budgets below, naming the key that sets the count.
+struct WorldBudget {
+  double centre_line_m = 0;             // corridor centre lines together
+  double tile_corners = 0;              // ceiling tile seam crossings (ground-truth corner points)
+  double ceiling_fixtures = 0;          // lamps, vents, sprinklers and smoke detectors
+  double texture_bytes = 0;             // RGB texels of every texture (base, plates, distractors)
+  double plate_texture_bytes = 0;       // of those, the door plates'
+  double distractor_texture_bytes = 0;  // and the distractors'
+};
+WorldBudget WorldBudgetOf(const WorldOptions& options);
+
+/// Budgets: the generator tests every tile corner and every fixture against the fixtures placed
+/// before it, and keeps every texture in memory (the renderer uploads a copy).
+inline constexpr double kMaxTileCorners = 1'000'000;
+inline constexpr double kMaxCeilingFixtures = 20'000;
+inline constexpr double kMaxDistractors = 2'000;  // all kinds together
+inline constexpr double kMaxTextureBytes = double(1 << 30);
+
 /// The keys of a `world:` map: parsing, bounds, the echo and docs/scenarios.md's tables.
 const OptionTable<WorldOptions>& WorldOptionsTable();
 

@@ -2,6 +2,7 @@
 // them, keys of sections and named sections, table order) and the docs text of bounds.
 #include "common/options_table.h"
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -102,6 +103,40 @@ TEST_CASE("standard messages for one-sided bounds", "[options]") {
   h.hi_strict = true;
   CHECK_FALSE(h.Holds(3));
   CHECK(h.Message("3") == "must be less than 3 (got 3)");
+}
+
+// A duration whose 0 means "off" and whose other values must not round to 0 ns.
+struct Timed {
+  double duration_s = 0.0;
+};
+
+const OptionTable<Timed>& TimedTable() {
+  static const OptionTable<Timed> table = [] {
+    OptionTable<Timed> t;
+    t.Add("duration_s", &Timed::duration_s, "s", "0 = off").ZeroOr(1e-3, 1e6);
+    return t;
+  }();
+  return table;
+}
+
+TEST_CASE("a ZeroOr bound passes 0 and its interval, nothing between or beyond", "[options]") {
+  Timed o;
+  for (const double ok : {0.0, 1e-3, 1.0, 1e6}) {
+    o.duration_s = ok;
+    CHECK_FALSE(CheckOptionBounds(TimedTable(), o));
+  }
+  for (const double bad :
+       {1e-12, -1e-12, 5e-4, -1.0, 1e6 * (1 + 1e-12), 1e300,
+        std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
+    o.duration_s = bad;
+    const auto p = CheckOptionBounds(TimedTable(), o);
+    REQUIRE(p);
+    CHECK(p->key == "duration_s");
+  }
+  o.duration_s = 1e-12;
+  CHECK(CheckOptionBounds(TimedTable(), o)->message ==
+        "must be 0 or lie in [0.001, 1e+06] (got 1e-12)");
+  CHECK(OptionBoundsText(TimedTable().fields()[0]) == "0 or [0.001, 1e+06]");
 }
 
 }  // namespace

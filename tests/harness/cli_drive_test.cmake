@@ -88,6 +88,14 @@ expect_bad(loop_on_straight "path:\n  kind: loop\n" "loop_on_straight.yaml:3:3: 
 expect_bad(offset_into_wall "path:\n  lateral_offset_m: 1.0\n"
            "offset_into_wall.yaml:3:3: path.lateral_offset_m:")
 expect_bad(bad_duration "duration_s: -3\n" "bad_duration.yaml:2:1: duration_s: must lie in")
+# Bounds on what becomes a time: a duration that would round to 0 ns, rates whose periods do not
+# fit int64 nanoseconds (they rendered forever, or ran out of memory).
+expect_bad(zero_ns_duration "duration_s: 1e-12\n" "zero_ns_duration.yaml:2:1: duration_s: must lie in .*got 1e-12")
+cli_expect_bad(slow_camera "include: ${WORK_DIR}/short.yaml\nsensors:\n  front:\n    rate_hz: 1e-10\n"
+               "slow_camera.yaml:4:5: sensors.front.rate_hz: must lie in .*got 1e-10" drive
+               --out "${WORK_DIR}/bad" --save-frames)
+expect_bad(slow_odometry "robot:\n  odometry:\n    rate_hz: 1e-10\n"
+           "slow_odometry.yaml:4:5: robot.odometry.rate_hz: must lie in .*got 1e-10")
 
 # An unwritable output folder is refused before the run.
 file(WRITE "${WORK_DIR}/not_a_dir" "x")

@@ -2,10 +2,13 @@
 // of distorted and fisheye cameras onto their pinhole passes.
 #include "render/camera_rig.h"
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <numbers>
+#include <span>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <catch2/catch.hpp>
@@ -180,6 +183,127 @@ TEST_CASE("the rig rejects impossible cameras naming the key", "[render][rig]") 
     impossible.change(rig);
     REQUIRE(rig.Check());
     CHECK(rig.Check()->key == impossible.key);
+  }
+}
+
+TEST_CASE("camera rates give periods that fit int64 ns and at most one frame per physics step",
+          "[render][rig]") {
+  for (const double bad : {1e-10, 0.0, -1.0, 101.0, 1000.0, std::nan("")}) {
+    INFO("rate_hz " << bad);
+    RigOptions rig = RigOptions::Default();
+    rig.cameras[0].rate_hz = bad;
+    const auto problem = rig.Check();
+    REQUIRE(problem);
+    CHECK(problem->key == "front.rate_hz");
+  }
+  RigOptions rig = RigOptions::Default();
+  rig.cameras[0].rate_hz = 1e-10;  // a period of 1e10 s overflowed int64 ns: drive never ended
+  CHECK(rig.Check()->message.find("(got 1e-10)") != std::string::npos);
+  for (const double ok : {1e-6, 0.5, 30.0, 100.0}) {
+    rig.cameras[0].rate_hz = ok;
+    CHECK_FALSE(rig.Check());
+  }
+  rig.cameras[0].rate_hz = 1e-6;  // the longest period, 1e6 s: the phase may reach it
+  rig.cameras[0].phase_s = 999999.0;
+  CHECK_FALSE(rig.Check());
+}
+
+// The largest pass each of `renderer`'s passes has, and how many.
+CameraBudget PlannedPasses(const CameraOptions& camera) {
+  const CameraRenderer renderer(camera);
+  CameraBudget b;
+  for (const View& v : renderer.Passes(SE3())) {
+    b.pass_width_px = std::max(b.pass_width_px, v.width);
+    b.pass_height_px = std::max(b.pass_height_px, v.height);
+    ++b.passes;
+  }
+  return b;
+}
+
+TEST_CASE("a camera's budget bounds the passes its renderer plans, before planning",
+          "[render][rig]") {
+  const RigOptions rig = RigOptions::Default();
+  // Undistorted pinhole: its image; distorted pinhole: exactly the window its rays reach.
+  const CameraBudget front = CameraBudgetOf(rig.cameras[0]);
+  CHECK(front.pass_width_px == 640);
+  CHECK(front.pass_height_px == 480);
+  for (const auto& [k1, k2, p1] : {std::tuple{-0.28, 0.07, 1e-4}, {0.1, 0.0, -2e-3}}) {
+    CameraOptions camera = rig.cameras[1];
+    ChangePinhole(camera, [&](PinholeRadTan& p) { p.k1 = k1, p.k2 = k2, p.p1 = p1; });
+    INFO("k1 " << k1);
+    REQUIRE_FALSE(camera.model.Check());
+    const CameraBudget planned = PlannedPasses(camera), budget = CameraBudgetOf(camera);
+    CHECK(planned.passes == 1);
+    CHECK(budget.pass_width_px == planned.pass_width_px);
+    CHECK(budget.pass_height_px == planned.pass_height_px);
+  }
+  // Fisheye: the crops of its cube faces, automatic or given.
+  for (const int face_px : {0, 300}) {
+    CameraOptions camera = rig.cameras[2];
+    camera.cube_face_px = face_px;
+    const CameraBudget planned = PlannedPasses(camera), budget = CameraBudgetOf(camera);
+    INFO("cube_face_px " << face_px);
+    CHECK(planned.passes <= budget.passes);
+    CHECK(planned.pass_width_px <= budget.pass_width_px);
+    CHECK(planned.pass_height_px <= budget.pass_height_px);
+    CHECK(budget.pass_width_px <= planned.pass_width_px + 8);  // tight: one face's full crop
+  }
+}
+
+TEST_CASE("a rig beyond the pass size or memory it may use is refused before it is planned",
+          "[render][rig]") {
+  // The largest undistorted pinhole renders (3 GB); three of them do not fit the rig's budget.
+  RigOptions rig = RigOptions::Default();
+  rig.cameras[0].model = PinholeRadTan::FromFov(8192, 8192, 90.0 * kDeg);
+  REQUIRE_FALSE(rig.Check());
+  CHECK(CameraBudgetOf(rig.cameras[0]).bytes < kMaxRigBytes);
+  rig.cameras[1].model = PinholeRadTan::FromFov(8192, 8192, 90.0 * kDeg);
+  REQUIRE_FALSE(rig.Check());
+  rig.cameras[2].model = KannalaBrandt::FromFov(6398, 6398, 179.0 * kDeg);
+  rig.cameras[2].cube_face_px = 4096;
+  auto problem = rig.Check();
+  REQUIRE(problem);
+  CHECK(problem->key == "upward.width");
+  CHECK(problem->message.find("GiB") != std::string::npos);
+  CHECK(problem->message.find("(got 6398x6398 px)") != std::string::npos);
+  rig.cameras[2].enabled = false;  // a disabled camera costs nothing
+  CHECK_FALSE(rig.Check());
+
+  // A barrel-distorted pinhole at the largest size: its undistorted pass is wider than any pass
+  // may be (it used to be planned for seconds, then fail to allocate).
+  rig = RigOptions::Default();
+  rig.cameras[0].model = PinholeRadTan::FromFov(8192, 8192, 130.0 * kDeg);
+  ChangePinhole(rig.cameras[0], [](PinholeRadTan& p) { p.k1 = -0.01; });
+  REQUIRE_FALSE(rig.cameras[0].model.Check());
+  problem = rig.Check();
+  REQUIRE(problem);
+  CHECK(problem->key == "front.distortion");
+  CHECK(problem->message.find("more than the 8192 px") != std::string::npos);
+}
+
+// A backend that draws nothing and has a small size limit (a GL driver with less than 8192 px).
+class SmallBackend final : public Backend {
+ public:
+  BackendKind kind() const override { return BackendKind::kEgl; }
+  void Upload(const Scene&) override {}
+  void Draw(const View&, std::span<const int>, std::span<const int>, RenderedView*) override {}
+  void DrawPasses(std::span<const DrawRequest>) override {}
+  int max_view_px() const override { return 512; }
+};
+
+TEST_CASE("a camera the backend cannot draw is refused when the rig is made", "[render][rig]") {
+  const Scene scene;
+  SmallBackend backend;
+  RigOptions rig = RigOptions::Default();
+  for (CameraOptions& c : rig.cameras) c.model = PinholeRadTan::FromFov(320, 240, 60.0 * kDeg);
+  CHECK_NOTHROW(Rig{rig, scene, backend});
+  rig.cameras[1].model = PinholeRadTan::FromFov(640, 480, 60.0 * kDeg);
+  try {
+    Rig refused(rig, scene, backend);
+    FAIL("a 640 px camera was accepted by a backend of 512 px");
+  } catch (const RenderError& e) {
+    CHECK(std::string(e.what()).find("sensors.lateral") != std::string::npos);
+    CHECK(std::string(e.what()).find("at most 512 px") != std::string::npos);
   }
 }
 

@@ -491,5 +491,36 @@ TEST_CASE("memory does not grow over ten thousand frames", "[render][gl][slow]")
   CHECK(end - after_warmup < 4096);
 }
 
+TEST_CASE("cameras at the largest pass side the rig allows render on the default backend",
+          "[render][gl]") {
+  // 8192 px (kMaxPassPx) along one side, few along the other: the GL limits are per side; the
+  // area is bounded by the rig's memory budget (an 8192 x 8192 depth camera, 3 GB, renders too).
+  CameraOptions wide = RigOptions::Default().cameras[0];
+  CameraOptions tall = wide;
+  wide.model = PinholeRadTan::FromFov(kMaxPassPx, 8, 90.0 * kDeg);
+  // 140 degrees vertically (a pinhole must see less than 150 on its widest side).
+  tall.model = PinholeRadTan::FromFov(8, kMaxPassPx, 2 * std::atan(4 * std::tan(70 * kDeg) / 4096));
+  // A fisheye's largest cube face: cube_face_px 4096 and its crop border.
+  CameraOptions fisheye = RigOptions::Default().cameras[2];
+  fisheye.model = KannalaBrandt::FromFov(64, 48, 110.0 * kDeg);
+  fisheye.cube_face_px = 4096;
+  RigOptions rig = RigOptions::Default();
+  rig.cameras = {wide, tall, fisheye};
+  rig.cameras[1].id = "lateral", rig.cameras[2].id = "upward";
+  const auto problem = rig.Check();
+  INFO((problem ? problem->key + ": " + problem->message : std::string()));
+  REQUIRE_FALSE(problem);
+  CHECK(CameraBudgetOf(fisheye).pass_width_px == 4103);
+  const SE3 world_from_robot = SE3::FromSE2(SE2(20.0, 0.0, 0.0));
+  for (const CameraOptions& camera : rig.cameras) {
+    INFO(camera.id);
+    const CameraFrame frame = RenderWith(camera, world_from_robot * camera.mount.RobotFromCamera());
+    REQUIRE(frame.rgb.width == camera.model.width());
+    REQUIRE(frame.rgb.height == camera.model.height());
+    // Walls, floor and ceiling everywhere the corridor is seen: every pixel hits something.
+    CHECK(std::count(frame.instance.begin(), frame.instance.end(), 0u) == 0);
+  }
+}
+
 }  // namespace
 }  // namespace corridorsim::render

@@ -468,6 +468,10 @@ TEST_CASE("Check accepts the defaults and names the first bad odometry value", "
       {[](OdometryOptions& o) { o.rate_hz = -50; }, "rate_hz"},
       {[](OdometryOptions& o) { o.rate_hz = 1e6; }, "rate_hz"},
       {[](OdometryOptions& o) { o.rate_hz = std::nan(""); }, "rate_hz"},
+      // A period that overflows int64 ns (ran out of memory), or one whose slips per message
+      // would be drawn by the million.
+      {[](OdometryOptions& o) { o.rate_hz = 1e-10; }, "rate_hz"},
+      {[](OdometryOptions& o) { o.rate_hz = 0.5; }, "rate_hz"},
       {[](OdometryOptions& o) { o.ticks_per_revolution = -1; }, "ticks_per_revolution"},
       {[](OdometryOptions& o) { o.ticks_per_revolution = 2'000'000; }, "ticks_per_revolution"},
       {[](OdometryOptions& o) { o.diameter_ratio = 0; }, "diameter_ratio"},

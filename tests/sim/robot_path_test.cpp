@@ -584,6 +584,46 @@ TEST_CASE("RobotPathOptions::Check names the bad option", "[sim][path]") {
   CHECK(Contains(p.message, "row 1: angular_dps"));
 }
 
+TEST_CASE("script rows are bounded: each lasts at least 1 ms, together at most the longest run",
+          "[sim][path]") {
+  auto problem_of = [](std::vector<VelocityCommand> commands) {
+    RobotPathOptions options;
+    options.kind = PathKind::kScript;
+    options.commands = std::move(commands);
+    return options.Check();
+  };
+  // 1e-12 s rounds to 0 ns: a command that is never driven.
+  auto p = problem_of({{1.0, 0.1, 0.0}, {1e-12, 0.1, 0.0}});
+  REQUIRE(p);
+  CHECK(p->key == "commands");
+  CHECK(Contains(p->message, "row 2: duration_s must lie in [0.001, 1e+06] s (got 1e-12)"));
+  CHECK_FALSE(problem_of({{1e-3, 0.1, 0.0}}));
+  // Each row within 1e6 s, but their sum (a run's end) beyond it.
+  p = problem_of({{6e5, 0.1, 0.0}, {6e5, 0.1, 0.0}});
+  REQUIRE(p);
+  CHECK(Contains(p->message, "row 2: the commands up to here last 1.2e+06 s"));
+  CHECK_FALSE(problem_of(std::vector<VelocityCommand>(10000, {1.0, 0.1, 0.0})));
+  p = problem_of(std::vector<VelocityCommand>(10001, {1.0, 0.1, 0.0}));
+  REQUIRE(p);
+  CHECK(Contains(p->message, "at most 10000 rows (got 10001)"));
+}
+
+TEST_CASE("a path whose nominal time exceeds the longest run is refused at laps", "[sim][path]") {
+  RobotPathOptions options;
+  options.kind = PathKind::kLoop;
+  options.speed_mps = 0.01;
+  options.laps = 1000;  // a run until the path is done would last weeks of simulated time
+  try {
+    BuildRobotPath(LoopWorld(), options);
+    FAIL("a path of more than 1e6 s was built");
+  } catch (const OptionsError& e) {
+    CHECK(e.problem().key == "laps");
+    CHECK(Contains(e.problem().message, "more than the longest run (1e+06 s)"));
+  }
+  options.laps = 1;
+  CHECK_NOTHROW(BuildRobotPath(LoopWorld(), options));
+}
+
 TEST_CASE("ParseRobotPathOptions reads every key and rejects bad input naming the key",
           "[sim][path]") {
   auto parse = [](const std::string& text) {

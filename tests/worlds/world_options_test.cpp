@@ -325,6 +325,77 @@ TEST_CASE("every Check rule reports its key and says what is wrong", "[worlds][w
   }
 }
 
+TEST_CASE("the generator's loop counts and textures are bounded before it runs",
+          "[worlds][world_options]") {
+  // The documented maxima with the default ceiling pass: a 2 km loop 20 m wide (10 s to generate).
+  WorldOptions largest;
+  largest.layout = Layout::kLoop;
+  largest.length_m = largest.second_length_m = 2000;
+  largest.width_m = largest.height_m = 20;
+  CHECK_FALSE(largest.Check());
+  CHECK(WorldBudgetOf(largest).tile_corners <= kMaxTileCorners);
+  CHECK(WorldBudgetOf(WorldOptions{}).texture_bytes < 8e6);
+
+  struct Rule {
+    const char* name;
+    std::function<void(WorldOptions&)> change;
+    const char* key;
+    const char* gist;
+  };
+  const std::vector<Rule> rules = {
+      // 4 million tile corners, each tested against the fixtures near it (it hung for minutes).
+      {"tiny tiles over a 2 km corridor",
+       [](WorldOptions& s) {
+         s.length_m = 2000;
+         s.width_m = 20;
+         s.height_m = 20;
+         s.ceiling.tile_size_m = 0.1;
+       },
+       "ceiling.tile_size_m", "tile corners, more than 1e+06 (got tile_size_m 0.1)"},
+      {"fixtures every half metre around a 8 km loop",
+       [](WorldOptions& s) {
+         s.layout = Layout::kLoop;
+         s.length_m = s.second_length_m = 2000;
+         s.lamps.radius_min_m = 0.05;
+         s.lamps.radius_max_m = 0.1;
+         s.lamps.panel_length_m = 0.3;
+         s.lamps.spacing_jitter_m = 0;
+         s.lamps.spacing_m = s.ceiling.vent_spacing_m = 0.5;
+       },
+       "lamps.spacing_m", "more than 20000 (got 0.5 m)"},
+      {"three thousand distractors",
+       [](WorldOptions& s) { s.distractors.posters = s.distractors.notice_boards = 1500; },
+       "distractors", "at most 2000 distractors of all kinds together (got 3007)"},
+      {"a distractor kind beyond the total", [](WorldOptions& s) { s.distractors.posters = 2001; },
+       "distractors.posters", "must lie in [0, 2000]"},
+      // 10000 plates 10 times wider than high: 4.9 GB of textures.
+      {"wide plates on every door",
+       [](WorldOptions& s) {
+         s.length_m = 2000;
+         s.doors.count = s.plates.count = 10000;
+         s.doors.min_gap_m = 2.5;
+         s.plates.width_m = 1.0;
+         s.plates.height_m = 0.1;
+         s.plates.center_height_m = 1.2;
+       },
+       "plates.count", "MiB, more than 1024 MiB (got 10000 plates)"},
+      {"bookshelves in the finest textures",
+       [](WorldOptions& s) {
+         s.length_m = 2000;
+         s.texture_px_per_m = 1000;
+         s.ceiling.tile_size_m = 2.0;  // a ceiling texture of 8000 x 8000 px
+         s.distractors.bookshelves = 1900;
+       },
+       "distractors", "MiB, more than 1024 MiB (got 1911 distractors)"},
+  };
+  for (const Rule& rule : rules) {
+    INFO(rule.name);
+    const OptionsProblem p = ProblemOf(rule.change);
+    CHECK(p.key == rule.key);
+    CHECK(Contains(p.message, rule.gist));
+  }
+}
+
 TEST_CASE("Check reports the first problem in the order of the options",
           "[worlds][world_options]") {
   const OptionsProblem p = ProblemOf([](WorldOptions& s) {
