@@ -285,6 +285,7 @@ TEST_CASE("a rig beyond the pass size or memory it may use is refused before it 
 class SmallBackend final : public Backend {
  public:
   BackendKind kind() const override { return BackendKind::kEgl; }
+  BackendInfo info() const override { return {"test", "a backend that draws nothing", "0"}; }
   void Upload(const Scene&) override {}
   void Draw(const View&, std::span<const int>, std::span<const int>, RenderedView*) override {}
   void DrawPasses(std::span<const DrawRequest>) override {}
