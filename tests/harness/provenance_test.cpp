@@ -23,6 +23,7 @@ class StringsOnlyBackend final : public render::Backend {
   void Draw(const render::View&, std::span<const int>, std::span<const int>,
             render::RenderedView*) override {}
   void DrawPasses(std::span<const render::DrawRequest>) override {}
+  int max_view_px() const override { return 8192; }
 
  private:
   render::BackendInfo info_;
