@@ -74,8 +74,10 @@ const OptionTable<RobotOptions>& RobotOptionsTable() {
     t.Add("physics_rate_hz", &R::physics_rate_hz, "Hz",
           "fixed physics step (its period rounded to the nanosecond)")
         .Range(100, 20000);
-    t.Add("control_rate_hz", &R::control_rate_hz, "Hz", "path follower and motor commands")
-        .Note("[1, physics_rate_hz], physics_rate_hz / control_rate_hz a whole number");
+    t.Add("control_rate_hz", &R::control_rate_hz, "Hz",
+          "path follower and motor commands, at the first physics step at or after each n / "
+          "control_rate_hz")
+        .Note("[1, physics_rate_hz]");
     t.AddSection("odometry", &R::odometry, OdometryOptionsTable(),
                  "the wheel encoders and their errors", &OdometryOptions::Check);
   });
@@ -85,14 +87,6 @@ std::optional<OptionsProblem> RobotOptions::Check() const {
   if (auto problem = CheckOptionBounds(RobotOptionsTable(), *this)) return problem;
   OptionsChecker c;
   c.InRange(control_rate_hz, 1.0, physics_rate_hz, "control_rate_hz");
-  // The controller runs every N physics steps: another ratio would run it at another rate than
-  // the one asked for.
-  const double steps_per_control = physics_rate_hz / control_rate_hz;
-  c.Require(std::abs(steps_per_control - std::round(steps_per_control)) <= 1e-9 * steps_per_control,
-            "control_rate_hz",
-            "must divide physics_rate_hz (" + FormatNumber(physics_rate_hz) +
-                " Hz) into a whole number of physics steps (got " + FormatNumber(control_rate_hz) +
-                " Hz: " + FormatNumber(steps_per_control) + " steps)");
   c.Require(wheelbase_m + wheel_width_m <= body_width_m + 1e-9, "body_width_m",
             "must hold the wheels: at least wheelbase_m + wheel_width_m = " +
                 FormatNumber(wheelbase_m + wheel_width_m) + " m");

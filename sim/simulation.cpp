@@ -71,8 +71,7 @@ Simulation::Simulation(const worlds::World& world, const SimulationOptions& opti
   follower_ = std::make_unique<PathFollower>(path_, options_.robot_path);
   physics_ = std::make_unique<RobotPhysics>(world, options_.robot, path_.world_from_start);
   step_ns_ = options_.robot.physics_step_ns();
-  steps_per_control_ = std::max<std::int64_t>(
-      1, std::llround(options_.robot.physics_rate_hz / options_.robot.control_rate_hz));
+  control_clock_ = SensorClock(PeriodFromRateHz(options_.robot.control_rate_hz), 0);
   if (rig_options) {
     for (const render::CameraOptions& c : rig_options->cameras) {
       if (c.enabled) camera_options_.push_back(c);
@@ -256,7 +255,9 @@ const StepOutput& Simulation::Step() {
   if (finished_) return output_;
 
   // The driver acts at the control rate, from ground truth.
-  if (static_cast<std::int64_t>(physics_->steps()) % steps_per_control_ == 0) {
+  if (control_clock_.next_ns() <= now_ns_) {
+    while (control_clock_.next_ns() <= now_ns_) control_clock_.Advance();
+    ++control_updates_;
     const DriveCommand command = follower_->Update(now_ns_, before.world_from_robot_2d);
     const Eigen::Vector2d wheels =
         WheelSpeedsFor(options_.robot, command.linear_mps, command.angular_rps);

@@ -126,6 +126,8 @@ class Simulation {
   double progress() const;
   /// Wall-clock seconds spent rendering camera frames and computing their truth (for the
   /// run's cost split; never part of an output that must be deterministic).
+  /// How often the driver has acted (control_rate_hz times per simulated second, on average).
+  std::int64_t control_updates() const { return control_updates_; }
   double render_seconds() const { return render_seconds_; }
 
  private:
@@ -148,7 +150,10 @@ class Simulation {
   std::vector<SensorClock> camera_clocks_;
   std::vector<RandomStream> drop_rngs_;  // per camera: "sim.clock.drop.<camera>"
   TimeNs step_ns_ = 0;
-  std::int64_t steps_per_control_ = 1;
+  // The driver's clock: it acts at the first physics step at or after each of its stamps
+  // (n / control_rate_hz), so it runs at control_rate_hz on average whatever the physics rate.
+  SensorClock control_clock_{1, 0};
+  std::int64_t control_updates_ = 0;
   TimeNs now_ns_ = 0;
   TimeNs end_ns_ = 0;
   bool finished_ = false;

@@ -279,6 +279,27 @@ TEST_CASE("the truth at 1001 Hz physics follows the 1000 Hz truth within a milli
   }
 }
 
+TEST_CASE("the driver acts at control_rate_hz whatever the physics rate", "[sim]") {
+  // It once acted every round(physics / control) steps: 333.3 Hz physics with 100 Hz control
+  // ran it every 3 steps, at 111 Hz.
+  const worlds::World world = Corridor(14.0);
+  for (const double physics_hz : {1000.0, 1001.0, 333.3, 3000.0}) {
+    for (const double control_hz : {100.0, 30.0, 300.0}) {
+      if (control_hz > physics_hz) continue;
+      CAPTURE(physics_hz, control_hz);
+      SimulationOptions options;
+      options.robot.physics_rate_hz = physics_hz;
+      options.robot.control_rate_hz = control_hz;
+      options.max_duration_ns = 2 * kNanosecondsPerSecond;
+      REQUIRE_FALSE(options.robot.Check());
+      Simulation simulation(world, options, StraightPath(10.0));
+      while (!simulation.finished()) simulation.Step();
+      const double expected = ToSeconds(simulation.now_ns()) * control_hz;
+      CHECK(std::abs(static_cast<double>(simulation.control_updates()) - expected) <= 1.0);
+    }
+  }
+}
+
 TEST_CASE("two simulations with one seed give bit-identical odometry and truth", "[sim]") {
   const worlds::World world = Corridor(14.0);
   SimulationOptions options;
