@@ -19,6 +19,7 @@
 #include "render/camera_rig.h"
 #include "render/frame_truth.h"
 #include "render/scene.h"
+#include "sim/placement.h"
 #include "worlds/image_io.h"
 #include "worlds/world_io.h"
 
@@ -35,8 +36,33 @@ void RunSnapshot(const SnapshotRequest& request) {
   const std::uint64_t seed = request.seed.value_or(scenario.seed);
   const worlds::World world = GenerateWorld(scenario, seed);
   const SE3 world_from_robot = SE3::FromSE2(pose);
-  if (auto problem = render::CheckCameraPlacement(world, scenario.rig, world_from_robot)) {
-    throw LocateProblem(scenario, "sensors", *problem);
+  // The robot at --pose, checked as a path of one pose: the chassis against the world's solids,
+  // each camera inside the corridor or a room (sim/placement.h). A pose whose robot hits a wall
+  // is the command line's fault; a body too large for any pose, or a camera mount, the
+  // scenario's.
+  sim::RobotPath at_pose;
+  at_pose.kind = sim::PathKind::kScript;
+  at_pose.world_from_start = pose;
+  if (auto placed = sim::CheckPathPlacement(world, scenario.robot, at_pose, &scenario.rig)) {
+    // A camera that is still out with every mount moved over the robot's centre: the robot is.
+    render::RigOptions centred = scenario.rig;
+    for (render::CameraOptions& c : centred.cameras) c.mount.x_m = c.mount.y_m = 0.0;
+    if (placed->section == "sensors" &&
+        sim::CheckPathPlacement(world, scenario.robot, at_pose, &centred)) {
+      placed->section = "path";
+    }
+    if (placed->section == "path") {
+      throw InputError(SourceLocation{"command line", 0, 0}, "--pose",
+                       "the robot at (" + FormatFixed(request.x_m, 2) + ", " +
+                           FormatFixed(request.y_m, 2) + ") m, yaw " +
+                           FormatFixed(request.yaw_deg, 1) + " deg: " + placed->problem.message);
+    }
+    if (placed->section == "sensors") {
+      placed->problem.message += " with the robot at --pose " + FormatFixed(request.x_m, 2) + "," +
+                                 FormatFixed(request.y_m, 2) + "," +
+                                 FormatFixed(request.yaw_deg, 1);
+    }
+    throw LocateProblem(scenario, placed->section, placed->problem);
   }
 
   const auto t0 = std::chrono::steady_clock::now();

@@ -40,3 +40,6 @@ expect_bad(in_wall "sensors:\n  lateral:\n    mount: {y_m: 1.3}\n"
 expect_bad(unknown_camera "sensors:\n  rear: {}\n" "unknown_camera.yaml:2:3: sensors.rear: unknown key")
 
 cli_run(EXIT 2 WHAT "bad pose" STDERR "--pose: expected x,y,yaw" ARGS snapshot --pose 10,zero,0)
+# A pose behind the corridor's wall is the command line's fault, not a camera mount's.
+cli_run(EXIT 2 WHAT "pose behind a wall" STDERR "command line: --pose: the robot at \\(10.00, 5.00\\)"
+        NOT_EXISTS "${WORK_DIR}/behind_wall" ARGS snapshot --pose 10,5,0 --out "${WORK_DIR}/behind_wall")
