@@ -144,6 +144,22 @@ Scenario LoadScenario(const std::string& path) {
     throw LocateProblem(scenario, key.substr(0, dot),
                         OptionsProblem{key.substr(dot + 1), problem->message});
   }
+  // Free text is printed to terminals and written into files: no control characters (an escape
+  // sequence in `name` would drive the user's terminal), and short enough for one line.
+  for (const auto& [key, text] :
+       {std::pair<const char*, const std::string*>{"name", &scenario.name},
+        {"description", &scenario.description}}) {
+    constexpr std::size_t kMaxTextBytes = 1000;
+    const bool control = std::any_of(text->begin(), text->end(), [](char c) {
+      return static_cast<unsigned char>(c) < 0x20 || c == 0x7f;
+    });
+    if (control || text->size() > kMaxTextBytes) {
+      throw InputError(
+          scenario.sources.Find(key, SourceLocation{path, 0, 0}), key,
+          control ? "must not contain control characters (tabs, newlines, escapes)"
+                  : "must be at most 1000 bytes (got " + std::to_string(text->size()) + ")");
+    }
+  }
   for (const Scenario::PipelineEntry& entry : scenario.pipelines) {
     if (auto problem = entry.options->Check()) {
       throw LocateProblem(scenario, "pipelines",

@@ -342,6 +342,19 @@ TEST_CASE("an empty scenario file is an error naming it, not a run of the defaul
         base + ": the scenario is empty (no keys: nothing but comments or blank lines)");
 }
 
+TEST_CASE("name and description are one line of text without control characters", "[scenarios]") {
+  // An escape sequence in `name` would be printed to the user's terminal by `run`.
+  CHECK(LoadError("name: \"x\\e]0;owned\\a\"\n") ==
+        ":1:1: name: must not contain control characters (tabs, newlines, escapes)");
+  CHECK(LoadError("seed: 2\ndescription: \"two\\nlines\"\n") ==
+        ":2:1: description: must not contain control characters (tabs, newlines, escapes)");
+  CHECK(LoadError("name: " + std::string(1001, 'n') + "\n") ==
+        ":1:1: name: must be at most 1000 bytes (got 1001)");
+  const FixtureDir dir;
+  CHECK(LoadScenario(dir.Write("ok.yaml", "name: \"P1 corridor: 55 m, ü\"\n")).name ==
+        "P1 corridor: 55 m, ü");
+}
+
 TEST_CASE("a file with one key is not empty", "[scenarios]") {
   const FixtureDir dir;
   CHECK(LoadScenario(dir.Write("seed.yaml", "seed: 4\n")).seed == 4);
