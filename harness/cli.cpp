@@ -261,7 +261,8 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
           "physics' full 3D pose at the same stamps) and odometry.tum (wheel odometry dead "
           "reckoning from the true start pose), all TUM format: t x y z qx qy qz qw, seconds; "
           "odometry.csv (the raw messages: per-wheel distances and ticks); events.json "
-          "(collisions, slips, path done or timeout); provenance.json. With --save-frames: frames/<camera>/"
+          "(collisions, slips, path done or timeout); provenance.json. With --save-frames: "
+          "frames/<camera>/"
           "{rgb,labels,depth}/<t>.png, frames/<camera>/frames.json (pose and visible landmarks "
           "per frame) and frames/intrinsics.json.\n") +
       kFolderFooter + "Exit codes: 0 success, 2 bad input (nothing is written), 1 other failures.");

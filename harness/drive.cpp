@@ -142,7 +142,8 @@ void RunDrive(const DriveRequest& request) {
               frames ? frames->frames_written() : 0,
               simulation.path_done() ? "" : "  (the path was not finished: see events.json)");
   std::printf(
-      "wrote %s/{ground_truth.tum, ground_truth_3d.tum, odometry.tum, odometry.csv, provenance.json, "
+      "wrote %s/{ground_truth.tum, ground_truth_3d.tum, odometry.tum, odometry.csv, "
+      "provenance.json, "
       "events.json%s}\n",
       folder->path().string().c_str(), request.save_frames ? ", frames/" : "");
 }

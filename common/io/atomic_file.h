@@ -39,8 +39,9 @@ class StagedDirectory {
 
   /// Checks the target and creates the staging folder (and the target's parents). The target
   /// may be missing or an empty folder; a folder with files is replaced only when
-  /// `replace_existing` (else FolderNotEmptyError) and only when it holds kOutputFolderMarker. Throws std::runtime_error naming the folder
-  /// when it is not a folder, is the current folder or contains it, or cannot be written.
+  /// `replace_existing` (else FolderNotEmptyError) and only when it holds kOutputFolderMarker.
+  /// Throws std::runtime_error naming the folder when it is not a folder, is the current folder or
+  /// contains it, or cannot be written.
   StagedDirectory(const std::filesystem::path& target, bool replace_existing);
   ~StagedDirectory();  // not committed: removes the staging folder
   StagedDirectory(const StagedDirectory&) = delete;

@@ -22,6 +22,7 @@ TEST_CASE("StageOutputFolder refuses a previous run's folder naming --force", "[
   const test::ScratchDir dir("corridorsim_stage_refuse");
   const fs::path out = dir.path() / "run";
   fs::create_directories(out);
+  WriteFileAtomic(out / StagedDirectory::kOutputFolderMarker, "");  // a previous run's folder
   WriteFileAtomic(out / "metrics.json", "{}");
   try {
     StageOutputFolder(out, "--out", /*force=*/false);
@@ -67,6 +68,7 @@ TEST_CASE("Results that fail to write leave the previous folder as it was", "[ha
   const test::ScratchDir dir("corridorsim_extras_results");
   const fs::path out = dir.path() / "run";
   fs::create_directories(out);
+  WriteFileAtomic(out / StagedDirectory::kOutputFolderMarker, "");
   WriteFileAtomic(out / "metrics.json", "previous");
   bool extra_ran = false;
   {
