@@ -1,6 +1,7 @@
 #include "harness/scenario.h"
 
 #include <algorithm>
+#include <tuple>
 
 #include "common/io/atomic_file.h"
 #include "common/io/options_yaml.h"
@@ -144,20 +145,23 @@ Scenario LoadScenario(const std::string& path) {
     throw LocateProblem(scenario, key.substr(0, dot),
                         OptionsProblem{key.substr(dot + 1), problem->message});
   }
-  // Free text is printed to terminals and written into files: no control characters (an escape
-  // sequence in `name` would drive the user's terminal), and short enough for one line.
-  for (const auto& [key, text] :
-       {std::pair<const char*, const std::string*>{"name", &scenario.name},
-        {"description", &scenario.description}}) {
+  // Free text is printed to terminals and written into files: no control characters but tabs
+  // (and newlines in `description`): an escape sequence in `name` would drive the user's
+  // terminal. Bounded, like every text that is echoed.
+  for (const auto& [key, text, newlines] :
+       {std::tuple<const char*, const std::string*, bool>{"name", &scenario.name, false},
+        {"description", &scenario.description, true}}) {
     constexpr std::size_t kMaxTextBytes = 1000;
-    const bool control = std::any_of(text->begin(), text->end(), [](char c) {
-      return static_cast<unsigned char>(c) < 0x20 || c == 0x7f;
+    const bool control = std::any_of(text->begin(), text->end(), [&](char c) {
+      const bool allowed = c == '\t' || (newlines && c == '\n');
+      return (static_cast<unsigned char>(c) < 0x20 && !allowed) || c == 0x7f;
     });
     if (control || text->size() > kMaxTextBytes) {
-      throw InputError(
-          scenario.sources.Find(key, SourceLocation{path, 0, 0}), key,
-          control ? "must not contain control characters (tabs, newlines, escapes)"
-                  : "must be at most 1000 bytes (got " + std::to_string(text->size()) + ")");
+      throw InputError(scenario.sources.Find(key, SourceLocation{path, 0, 0}), key,
+                       control ? std::string("must not contain control characters (escapes") +
+                                     (newlines ? ")" : ", newlines)")
+                               : "must be at most 1000 bytes (got " +
+                                     std::to_string(text->size()) + ")");
     }
   }
   for (const Scenario::PipelineEntry& entry : scenario.pipelines) {

@@ -342,17 +342,21 @@ TEST_CASE("an empty scenario file is an error naming it, not a run of the defaul
         base + ": the scenario is empty (no keys: nothing but comments or blank lines)");
 }
 
-TEST_CASE("name and description are one line of text without control characters", "[scenarios]") {
+TEST_CASE("name and description are text without control characters", "[scenarios]") {
   // An escape sequence in `name` would be printed to the user's terminal by `run`.
   CHECK(LoadError("name: \"x\\e]0;owned\\a\"\n") ==
-        ":1:1: name: must not contain control characters (tabs, newlines, escapes)");
-  CHECK(LoadError("seed: 2\ndescription: \"two\\nlines\"\n") ==
-        ":2:1: description: must not contain control characters (tabs, newlines, escapes)");
+        ":1:1: name: must not contain control characters (escapes, newlines)");
+  CHECK(LoadError("name: \"two\\nlines\"\n") ==
+        ":1:1: name: must not contain control characters (escapes, newlines)");
+  CHECK(LoadError("seed: 2\ndescription: \"bell\\a\"\n") ==
+        ":2:1: description: must not contain control characters (escapes)");
   CHECK(LoadError("name: " + std::string(1001, 'n') + "\n") ==
         ":1:1: name: must be at most 1000 bytes (got 1001)");
   const FixtureDir dir;
-  CHECK(LoadScenario(dir.Write("ok.yaml", "name: \"P1 corridor: 55 m, ü\"\n")).name ==
-        "P1 corridor: 55 m, ü");
+  const Scenario ok = LoadScenario(dir.Write(
+      "ok.yaml", "name: \"P1 corridor:\\t55 m, \u00fc\"\ndescription: \"two\\nlines\"\n"));
+  CHECK(ok.name == "P1 corridor:\t55 m, \u00fc");
+  CHECK(ok.description == "two\nlines");
 }
 
 TEST_CASE("a file with one key is not empty", "[scenarios]") {
