@@ -426,8 +426,7 @@ YamlDocument Parse(const std::string& text, const std::string& name) {
   if (doc.root.IsNull()) doc.root = YAML::Node(YAML::NodeType::Map);  // empty file: all defaults
   if (!doc.root.IsMap()) {
     // Never quote it: a text file that is not a scenario is one scalar document.
-    throw InputError(doc.LocationOf(doc.root), "",
-                     "the document must be a map of keys (this is not a YAML map)");
+    throw InputError(doc.LocationOf(doc.root), "", "the document must be a map of keys");
   }
   KeyPath path;
   RejectDuplicateKeys(doc, doc.root, path);
