@@ -22,3 +22,16 @@ cli_expect_bad(device_include "include: /dev/zero\n"
 # Two documents in one file.
 cli_expect_bad(two_documents "seed: 2\n---\nseed: 3\n"
                "two_documents.yaml:2:1: a second YAML document starts here" run --check)
+
+# A long expectation is quoted in the message only as a short excerpt (it was echoed whole, twice).
+string(REPEAT "9" 5000 nines)
+file(WRITE "${WORK_DIR}/long_expectation.yaml"
+     "include: ${SOURCE_DIR}/scenarios/default.yaml\nexpectations:\n  - odometry.ate_${nines}_m < 1\n")
+execute_process(COMMAND "${CORRIDORSIM}" run "${WORK_DIR}/long_expectation.yaml" --check
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+string(LENGTH "${err}" err_length)
+string(REPEAT "9" 300 long_run)
+if(NOT rc EQUAL 2 OR NOT err MATCHES "long_expectation.yaml:3:5: expectations: .*unknown metric"
+   OR err MATCHES "${long_run}")
+  message(FATAL_ERROR "long expectation: exit ${rc}, ${err_length} bytes of message:\n${err}")
+endif()
