@@ -17,7 +17,7 @@ namespace corridorsim {
 namespace {
 
 // A path in a message: as typed, unless it is absurdly long or holds control characters.
-constexpr std::size_t kMaxPathInMessage = 1024;
+constexpr std::size_t kMaxPathInMessage = 240;  // longer: head...tail
 
 SourceLocation FromMark(const std::string& file, const YAML::Mark& mark) {
   SourceLocation loc{file, 0, 0};

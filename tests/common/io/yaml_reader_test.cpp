@@ -270,6 +270,17 @@ TEST_CASE("an over-long file name is an error with a bounded message", "[yaml][f
   CHECK(Contains(e.location().file, "..."));
 }
 
+TEST_CASE("a long include path is quoted as head...tail only", "[yaml][files]") {
+  // Found by scenario_loader_fuzzer: a 1000-character include was quoted whole.
+  const Files files;
+  const std::string name = std::string(600, 'a') + "/" + std::string(400, 'b') + ".yaml";
+  const InputError e = LoadErrorOf(files.Including(name));
+  CHECK(e.key() == "include");
+  CHECK(Contains(e.message(), "aaa...bbb"));
+  CHECK_FALSE(Contains(e.message(), std::string(200, 'a')));
+  CHECK(e.message().size() < 400);
+}
+
 TEST_CASE("a file larger than the limit is refused, one at the limit loads", "[yaml][files]") {
   const Files files;
   const std::string line = "# " + std::string(1022, 'c') + "\n";  // 1 KiB of comment
