@@ -258,7 +258,7 @@ std::vector<Expectation> ScenarioExpectations(const Scenario& scenario) {
         if (p.enabled) known += (known.empty() ? "" : ", ") + p.name;
       }
       throw InputError(where, "expectations",
-                       "'" + e.text + "': the pipeline '" + e.pipeline +
+                       "'" + InputExcerpt(e.text) + "': the pipeline '" + InputExcerpt(e.pipeline) +
                            "' does not run in this scenario (running: " +
                            (known.empty() ? "none" : known) + ")");
     }
@@ -271,9 +271,9 @@ std::vector<Expectation> ScenarioExpectations(const Scenario& scenario) {
     if (std::find(metric_names.begin(), metric_names.end(), e.metric) == metric_names.end()) {
       std::string known;
       for (const std::string& m : metric_names) known += (known.empty() ? "" : ", ") + m;
-      throw InputError(
-          where, "expectations",
-          "'" + e.text + "': unknown metric '" + e.metric + "' (known: " + known + ")");
+      throw InputError(where, "expectations",
+                       "'" + InputExcerpt(e.text) + "': unknown metric '" + InputExcerpt(e.metric) +
+                           "' (known: " + known + ")");
     }
     parsed.push_back(std::move(e));
   }

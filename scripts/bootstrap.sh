@@ -3,6 +3,9 @@
 #   run       runs the main job on the default scenario
 #   test      runs the whole test suite (Release build)
 #   sanitize  runs the unit tests under AddressSanitizer + UndefinedBehaviorSanitizer
+#   fuzz [SECONDS]  builds the libFuzzer targets with clang (build-fuzz/) and runs each for
+#             SECONDS (default 60 per target) on a copy of its seed corpus (docs/fuzzing.md);
+#             fails on a crash, a leak, an input slower than 1 s or over 2 GiB
 #   build     only builds
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -17,7 +20,33 @@ configure_and_build() {  # build_dir, extra cmake args...
   if [ ! -f "$dir/build.ninja" ]; then
     cmake -S . -B "$dir" -G Ninja "$@" > /dev/null
   fi
-  cmake --build "$dir" --parallel "$jobs"
+  cmake --build "$dir" --parallel "$jobs" ${CORRIDORSIM_BUILD_TARGET:+--target "$CORRIDORSIM_BUILD_TARGET"}
+}
+
+# Runs every fuzz target of build-fuzz/fuzz/fuzzers.tsv for $1 seconds each; the corpus each run
+# grows and any crash input stay under build-fuzz/fuzz-runs/<target>/.
+run_fuzzers() {
+  local seconds="$1" failed=0 name binary corpus dict
+  while IFS=$'\t' read -r name binary corpus dict; do
+    local work="build-fuzz/fuzz-runs/$name"
+    rm -rf "$work"
+    mkdir -p "$work/corpus" "$work/artifacts"
+    cp -R "$corpus/." "$work/corpus/"
+    local args=(-max_total_time="$seconds" -timeout=1 -rss_limit_mb=2048 -detect_leaks=1
+                -print_final_stats=1 -artifact_prefix="$work/artifacts/")
+    if [ "$dict" != "-" ]; then args+=(-dict="$dict"); fi
+    echo "fuzz: $name for ${seconds} s (corpus $work/corpus, crashes $work/artifacts)"
+    if ! ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
+         UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+         "$binary" "${args[@]}" "$work/corpus" > "$work/log.txt" 2>&1; then
+      failed=1
+      echo "fuzz: $name FAILED (log $work/log.txt, inputs $work/artifacts):" >&2
+      tail -n 40 "$work/log.txt" >&2
+    else
+      grep -E '^stat::|^Done' "$work/log.txt" || true
+    fi
+  done < build-fuzz/fuzz/fuzzers.tsv
+  return "$failed"
 }
 
 case "$mode" in
@@ -39,8 +68,28 @@ case "$mode" in
       ctest --test-dir build-asan --output-on-failure --parallel "$jobs" -L unit \
         -E "ten thousand frames"  # runs in the Release suite; 10,000 frames under ASan take minutes
     ;;
+  fuzz)
+    seconds="${2:-60}"
+    if ! [[ "$seconds" =~ ^[0-9]+$ ]] || [ "$seconds" -lt 1 ] || [ "$seconds" -gt 604800 ]; then
+      echo "usage: scripts/bootstrap.sh fuzz [SECONDS per target, 1..604800]" >&2
+      exit 2
+    fi
+    # clang and its libFuzzer runtime (Debian 12: clang-14), installed like scripts/setup.sh does.
+    for p in clang libclang-rt-14-dev; do
+      if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+        echo "bootstrap: installing $p"
+        SUDO=""; if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+        DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "$p"
+      fi
+    done
+    # Only the fuzz targets and what they link: no tests, no benchmarks, no programs.
+    CORRIDORSIM_BUILD_TARGET=corridorsim_fuzzers configure_and_build build-fuzz \
+      -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_C_COMPILER=clang \
+      -DCORRIDORSIM_FUZZ=ON -DCORRIDORSIM_BUILD_TESTS=OFF -DCORRIDORSIM_BUILD_BENCHMARKS=OFF
+    run_fuzzers "$seconds"
+    ;;
   *)
-    echo "usage: scripts/bootstrap.sh [run|test|sanitize|build]" >&2
+    echo "usage: scripts/bootstrap.sh [run|test|sanitize|fuzz [SECONDS]|build]" >&2
     exit 2
     ;;
 esac

@@ -496,7 +496,7 @@ class Builder {
     const double t = s_.wall_thickness_m, H = s_.height_m;
     for (const auto& [lamp_id, segment_index] : lamp_segment_) {
       const Lamp lamp = *std::find_if(w_.lamps.begin(), w_.lamps.end(),
-                                      [&](const Lamp& x) { return x.id == lamp_id; });
+                                      [id = lamp_id](const Lamp& x) { return x.id == id; });
       if (lamp.shape != LampShape::kCircular || !lamp.on) continue;
       if (!lamps_rng_.Bernoulli(l.reflector_fraction)) continue;
       const int side = lamps_rng_.Bernoulli(0.5) ? 1 : -1;

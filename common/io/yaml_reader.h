@@ -5,11 +5,13 @@
 // it names, and `include:` chains apply base files first.
 
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <map>
 #include <memory>
 #include <set>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -18,6 +20,22 @@
 #include "common/error.h"
 
 namespace corridorsim {
+
+// Bounds on what one input file can make the reader do (docs/scenarios.md, "Files"). Each is far
+// above what a scenario needs (the shipped ones are < 2 KiB, < 300 nodes, < 6 levels deep) and
+// low enough that no file within them takes more than a fraction of a second or a few MiB.
+inline constexpr std::size_t kMaxYamlFileBytes = std::size_t{1} << 20;  // 1 MiB per file
+// Nodes of one document counted as a walk over it sees them: an alias (`*name`) counts every
+// node of what it names, so nested aliases ("billion laughs") cannot multiply the work.
+inline constexpr std::size_t kMaxYamlNodes = 100000;
+// Bytes of scalar text of one document, aliases expanded the same way.
+inline constexpr std::size_t kMaxYamlTextBytes = std::size_t{4} << 20;  // 4 MiB
+inline constexpr int kMaxYamlDepth = 64;                                // nested maps and lists
+inline constexpr int kMaxIncludeChain = 16;  // files in one `include:` chain
+
+/// User text made safe to put into a message: control characters as `\xNN`, at most `max_bytes`
+/// (a longer text keeps its head and tail around "..."), never split inside a UTF-8 character.
+std::string InputExcerpt(std::string_view text, std::size_t max_bytes = 80);
 
 /// Where each dotted key (e.g. "world.doors.width_m") was last set, so that a `Check()` problem
 /// found after parsing can be reported at the line that caused it.
@@ -31,19 +49,25 @@ class SourceMap {
   std::map<std::string, SourceLocation> locations_;
 };
 
-/// One parsed YAML file. Loading rejects syntax errors and duplicate keys at any depth.
+/// One parsed YAML file. Loading rejects syntax errors and duplicate keys at any depth, and
+/// anything outside the bounds above.
 struct YamlDocument {
   std::string file;
   YAML::Node root;
 
+  /// Reads `path` once into memory: it must be a regular file of at most kMaxYamlFileBytes (a
+  /// FIFO, a device, a folder, a dangling link or a link loop is an error; opening never blocks).
+  /// The text must be UTF-8 without control characters and hold one YAML document, a map.
+  /// Errors never quote the file's content beyond a short, sanitised key or value.
   static YamlDocument Load(const std::string& path);
   static YamlDocument FromString(const std::string& text, const std::string& name);
   SourceLocation LocationOf(const YAML::Node& node) const;
 };
 
 /// Loads `path` and, recursively, the file named by its top-level `include:` key (relative to the
-/// including file). Returns the chain base-first, ending with `path` itself. A missing or cyclic
-/// include is an InputError at the `include:` line.
+/// including file). Returns the chain base-first, ending with `path` itself. An include that is
+/// missing, cyclic, not a regular file (as YamlDocument::Load), or one more than
+/// kMaxIncludeChain files deep is an InputError at the `include:` line.
 std::vector<YamlDocument> LoadWithIncludes(const std::string& path);
 
 /// A map node being read into an options struct.
@@ -90,7 +114,7 @@ class YamlMap {
       }
       valid += (valid.empty() ? "" : ", ") + choice_name;
     }
-    Fail(key, "unknown value '" + name + "' (expected one of: " + valid + ")");
+    Fail(key, "unknown value '" + InputExcerpt(name) + "' (expected one of: " + valid + ")");
   }
 
   /// The nested map under `key`; an absent key gives an empty map (nothing overrides defaults).
@@ -102,7 +126,8 @@ class YamlMap {
   /// Throws an InputError for the first key (in document order) that no Read/Map/Accept asked for.
   void RejectUnknownKeys() const;
 
-  /// Throws an InputError for `key` (at the key if present, else at this map).
+  /// Throws an InputError for `key` (at the key if present, else at this map); the key is put
+  /// into the message through InputExcerpt.
   [[noreturn]] void Fail(const std::string& key, const std::string& message) const;
 
   std::string FullKey(const std::string& key) const;

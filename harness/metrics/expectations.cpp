@@ -5,6 +5,7 @@
 #include <cmath>
 #include <system_error>
 
+#include "common/io/yaml_reader.h"  // InputExcerpt: user text in messages
 #include "harness/metrics/registry.h"
 
 namespace corridorsim {
@@ -22,7 +23,7 @@ std::string Trim(const std::string& s) {
 }  // namespace
 
 std::optional<std::string> ParseExpectation(const std::string& text, Expectation* out) {
-  const std::string where = " in expectation '" + text + "'";
+  const std::string where = " in expectation '" + InputExcerpt(text) + "'";
   const auto op_begin = text.find_first_of("<>=!");
   if (op_begin == std::string::npos) {
     return "no comparison (use <, <=, > or >=)" + where;
@@ -39,12 +40,12 @@ std::optional<std::string> ParseExpectation(const std::string& text, Expectation
   } else if (op == ">=") {
     e.op = Expectation::Op::kGreaterEqual;
   } else {
-    return "bad operator '" + op + "' (use <, <=, > or >=)" + where;
+    return "bad operator '" + InputExcerpt(op) + "' (use <, <=, > or >=)" + where;
   }
   const std::string left = Trim(text.substr(0, op_begin));
   const auto dot = left.find('.');
   if (dot == std::string::npos || dot == 0 || dot + 1 == left.size()) {
-    return "expected <pipeline>.<metric> before '" + op + "'" + where;
+    return "expected <pipeline>.<metric> before '" + InputExcerpt(op) + "'" + where;
   }
   e.pipeline = left.substr(0, dot);
   e.metric = left.substr(dot + 1);
@@ -52,7 +53,7 @@ std::optional<std::string> ParseExpectation(const std::string& text, Expectation
   if (std::find(names.begin(), names.end(), e.metric) == names.end()) {
     std::string known;
     for (const std::string& n : names) known += (known.empty() ? "" : ", ") + n;
-    return "unknown metric '" + e.metric + "' (known: " + known + ")" + where;
+    return "unknown metric '" + InputExcerpt(e.metric) + "' (known: " + known + ")" + where;
   }
   const std::string number =
       op_end == std::string::npos ? std::string() : Trim(text.substr(op_end));
@@ -60,7 +61,7 @@ std::optional<std::string> ParseExpectation(const std::string& text, Expectation
   const char* last = number.data() + number.size();
   const auto [ptr, ec] = std::from_chars(first, last, e.value);
   if (number.empty() || ec != std::errc() || ptr != last || !std::isfinite(e.value)) {
-    return "'" + number + "' is not a number" + where;
+    return "'" + InputExcerpt(number) + "' is not a number" + where;
   }
   e.text = text;
   *out = e;
