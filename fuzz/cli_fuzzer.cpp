@@ -2,8 +2,7 @@
 // after the program name. InputError (bad input, exit 2) is the parser's one documented error;
 // any other exception, a crash or a sanitizer report is a bug.
 //
-//   clang++ -std=c++20 -fsanitize=fuzzer,address,undefined -I. fuzz/cli_fuzzer.cpp \
-//       harness/cli.cpp common/error.cpp -o cli_fuzzer && ./cli_fuzzer fuzz/corpus/cli
+//   scripts/bootstrap.sh fuzz 60   (docs/fuzzing.md; builds build-fuzz/bin/cli_fuzzer)
 
 #include <cstddef>
 #include <cstdint>

@@ -157,11 +157,11 @@ Scenario LoadScenario(const std::string& path) {
       return (static_cast<unsigned char>(c) < 0x20 && !allowed) || c == 0x7f;
     });
     if (control || text->size() > kMaxTextBytes) {
-      throw InputError(scenario.sources.Find(key, SourceLocation{path, 0, 0}), key,
-                       control ? std::string("must not contain control characters (escapes") +
-                                     (newlines ? ")" : ", newlines)")
-                               : "must be at most 1000 bytes (got " +
-                                     std::to_string(text->size()) + ")");
+      throw InputError(
+          scenario.sources.Find(key, SourceLocation{path, 0, 0}), key,
+          control ? std::string("must not contain control characters (escapes") +
+                        (newlines ? ")" : ", newlines)")
+                  : "must be at most 1000 bytes (got " + std::to_string(text->size()) + ")");
     }
   }
   for (const Scenario::PipelineEntry& entry : scenario.pipelines) {
@@ -230,14 +230,6 @@ std::vector<OptionsDocBlock> ScenarioDocBlocks() {
     blocks.insert(blocks.end(), more.begin(), more.end());
   }
   return blocks;
-}
-
-void EnsureOutputDirectory(const std::filesystem::path& dir, const std::string& option) {
-  try {
-    EnsureWritableDirectory(dir);
-  } catch (const std::exception& e) {
-    throw InputError(SourceLocation{"command line", 0, 0}, option, e.what());
-  }
 }
 
 std::vector<Expectation> ScenarioExpectations(const Scenario& scenario) {

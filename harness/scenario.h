@@ -84,10 +84,6 @@ std::string ResolvedScenarioYaml(const Scenario& scenario, std::uint64_t seed);
 /// since a run without one scores nothing. `drive`, `snapshot` and `world` need none.
 void RequireScoredPipeline(const Scenario& scenario);
 
-/// Creates `dir` if needed and proves it writable, or throws InputError naming the command-line
-/// `option` ("--out", "--export") and the folder: every job checks its outputs before it runs.
-void EnsureOutputDirectory(const std::filesystem::path& dir, const std::string& option);
-
 /// The scenario's expectations, parsed and checked against its pipelines and the metric names.
 /// Throws InputError at the expectation's line for bad syntax, an unknown or disabled pipeline, an
 /// unknown metric, or a `timing.*` metric (wall clock: it would pass or fail with the machine's
