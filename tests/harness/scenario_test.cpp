@@ -657,6 +657,12 @@ TEST_CASE("an expectation on a timing metric is refused at its line", "[scenario
         LoadError("pipelines:\n  odometry: {}\nexpectations:\n  - odometry." + metric + " < 1\n"),
         "timing metrics are machine-dependent"));
   }
+  // ... and an unknown metric's message does not offer them.
+  const std::string unknown =
+      LoadError("pipelines:\n  odometry: {}\nexpectations:\n  - odometry.speed_of_light < 1\n");
+  CHECK(Contains(unknown, "unknown metric 'speed_of_light'"));
+  CHECK(Contains(unknown, "ate_rmse_m"));
+  CHECK_FALSE(Contains(unknown, "timing."));
 }
 
 TEST_CASE("a run needs an enabled pipeline, at the pipelines key", "[scenarios]") {
