@@ -235,7 +235,6 @@ std::vector<OptionsDocBlock> ScenarioDocBlocks() {
 
 std::vector<Expectation> ScenarioExpectations(const Scenario& scenario) {
   std::vector<Expectation> parsed;
-  const std::vector<std::string> metric_names = MetricNames();
   for (std::size_t i = 0; i < scenario.expectations.size(); ++i) {
     const SourceLocation& where = scenario.expectation_locations[i];
     Expectation e;
@@ -260,15 +259,6 @@ std::vector<Expectation> ScenarioExpectations(const Scenario& scenario) {
     if (e.metric.rfind("timing.", 0) == 0) {
       throw InputError(where, "expectations",
                        "'" + e.text + "': timing metrics are machine-dependent; see timing.json");
-    }
-    if (std::find(metric_names.begin(), metric_names.end(), e.metric) == metric_names.end()) {
-      std::string known;
-      for (const std::string& m : metric_names) {
-        if (m.rfind("timing.", 0) != 0) known += (known.empty() ? "" : ", ") + m;  // refused above
-      }
-      throw InputError(where, "expectations",
-                       "'" + InputExcerpt(e.text) + "': unknown metric '" + InputExcerpt(e.metric) +
-                           "' (known: " + known + ")");
     }
     parsed.push_back(std::move(e));
   }
