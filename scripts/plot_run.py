@@ -9,13 +9,28 @@ Reads from RUN_DIR (metres, seconds, radians, world frame W; docs/frames.md):
   metrics.json             {"pipelines": {name: {...}}, "expectations": [{text, measured, passed}]}
   <pipeline>.tum           each pipeline's estimated trajectory
   <pipeline>_errors.csv    t,ex_m,ey_m,eyaw_rad,sigma_x_m,sigma_y_m,sigma_yaw_rad,nees
+  <pipeline>_landmarks.json   (optional) the final map: [{id, type, status, label,
+                           position_in_world, covariance (3x3, m^2), points: [{role,
+                           position_in_world, covariance}]}] in id order
+  <pipeline>_detections.csv   (optional) every detection: stamp_s,camera,type,u_px,v_px,
+                           box_min_x_px,box_min_y_px,box_max_x_px,box_max_y_px,plate_box,radius_px,
+                           label,open,score,recognition_score,landmark_id,new_landmark
+  maps/<pipeline>_frame_times.csv   (optional) stamp_s,landmarks,frame_ms per front frame
 The pipelines are the keys of metrics.json's `pipelines`, or, when it has none, the stems of the
-other *.tum files. Every metrics key is optional: a plot whose data is absent is skipped.
+other *.tum files. Every metrics key and every file marked optional may be absent: a plot whose
+data is absent is skipped.
 
 Writes (each printed on its own line):
   trajectories.png         every trajectory over the world's top-down plan
   errors_<pipeline>.png    x, y and heading error against time with +-2 sigma (P3 Fig. 18)
   nees_<pipeline>.png      NEES against time with the 95 % chi-square band for 3 dof
+  landmarks_<pipeline>.png the map over the plan: each landmark with its 2-sigma ellipse (x-y block,
+                           chi-square 2 dof 95 %), coloured by type, dashed while initialising,
+                           plates with their read room number; vanishing points in the legend
+  detections_<pipeline>.png  per detection type: u_px against time, detections per frame, and
+                           the score of associated against unassociated detections
+  frame_time_<pipeline>.png  frame time against the landmarks in the state and over time (P1
+                           Fig. 16)
   detectors.png            precision / recall / accuracy per detector and pipeline
   summary.png              the main metrics per pipeline and the expectations, pass or fail
 
@@ -28,6 +43,7 @@ software or date metadata, so the same inputs and matplotlib version give the sa
 import argparse
 import bisect
 import csv
+import io
 import json
 import json.decoder
 import json.scanner
@@ -79,6 +95,24 @@ LAMP_ON_FACE, LAMP_ON_EDGE = "#ffd700", "#aa8200"
 LAMP_OFF_EDGE = "#646464"
 PLATE_COLOR = "#6a3d9a"
 
+# Landmark and detection types (slam/pipeline.cpp's names) in drawing order, with their colours;
+# the true plates keep PLATE_COLOR.
+LANDMARK_TYPES = ["door_plate", "door", "lamp", "corner", "vanishing_point"]
+TYPE_COLORS = {"door_plate": "#e6550d", "door": "#8c564b", "lamp": "#b8a000", "corner": "#17a2b8",
+               "vanishing_point": "#e377c2"}
+LANDMARK_STATUSES = ["initializing", "converged"]
+SCORE_NAMES = {"door_plate": "SVM margin", "corner": "Harris response",
+               "vanishing_point": "line count", "door": "score", "lamp": "score"}
+CHI2_2DOF_95 = 5.991  # 95 % quantile of chi-square with 2 dof: the ellipse is sqrt(5.991) sigma
+
+# Bounds on what an input may hold (each becomes a loop count or a figure size).
+MAX_LANDMARKS = 100_000
+MAX_LANDMARK_POINTS = 16
+MAX_CSV_ROWS = 2_000_000
+MAX_TEXT_CHARS = 64        # labels, roles and camera names
+MAX_PLATE_ANNOTATIONS = 80  # labelled plate tracks in detections_<pipeline>.png
+MAX_LISTED_VPS = 6         # vanishing points listed in the legend of landmarks_<pipeline>.png
+
 PANEL_MAX_ASPECT = 8.0  # a trajectories panel is at most 8 times longer than it is wide
 PANEL_MAX_COUNT = 8
 PANEL_OVERLAP_M = 0.5   # neighbouring panels share this much, so nothing hides at a cut
@@ -122,8 +156,9 @@ class JsonArray(list):
     line = None
 
 
-def load_json(path):
-    """Parses a JSON file into JsonObject/JsonArray values that know their line numbers."""
+def load_json(path, top="object"):
+    """Parses a JSON file into JsonObject/JsonArray values that know their line numbers; the top
+    level must be a JSON `top` ('object' or 'array')."""
     text = read_text(path)
     newlines = [m.start() for m in re.finditer("\n", text)]
 
@@ -151,8 +186,8 @@ def load_json(path):
         root = decoder.decode(text)
     except json.JSONDecodeError as e:
         raise InputError(path, e.lineno, f"column {e.colno}: invalid JSON: {e.msg}") from None
-    if not isinstance(root, dict):
-        raise InputError(path, 1, "the top level is not a JSON object")
+    if not isinstance(root, dict if top == "object" else list):
+        raise InputError(path, 1, f"the top level is not a JSON {top}")
     return root
 
 
@@ -368,6 +403,231 @@ def read_detectors(r, entry, where):
     return out
 
 
+def is_number(value):
+    return isinstance(value, (int, float)) and not isinstance(value, bool)
+
+
+def read_point3(r, obj, where):
+    """position_in_world and covariance of a landmark or one of its points: ((x, y, z) in m,
+    3x3 list in m^2 with None for a null entry, which the writer emits for a non-finite value)."""
+    position = obj.get("position_in_world")
+    if not (isinstance(position, list) and len(position) == 3 and
+            all(is_number(v) and math.isfinite(v) for v in position)):
+        r.fail(obj, f"{where}.position_in_world",
+               f"expected [x, y, z] in metres, got {json.dumps(position)[:40]}")
+    covariance = obj.get("covariance")
+    if not (isinstance(covariance, list) and len(covariance) == 3 and
+            all(isinstance(row, list) and len(row) == 3 and
+                all(v is None or is_number(v) for v in row) for row in covariance)):
+        r.fail(obj, f"{where}.covariance",
+               f"expected 3 rows of 3 numbers (m^2), got {json.dumps(covariance)[:40]}")
+    return (tuple(float(v) for v in position),
+            [[None if v is None else float(v) for v in row] for row in covariance])
+
+
+def read_short_text(r, obj, key, where, required):
+    value = r.get(obj, key, "text", where)
+    if value is None:
+        if required:
+            r.fail(obj, f"{where}.{key}", "missing")
+        return ""
+    value = str(value)
+    if len(value) > MAX_TEXT_CHARS:
+        r.fail(obj, f"{where}.{key}", f"longer than {MAX_TEXT_CHARS} characters")
+    return value
+
+
+def read_landmarks(path):
+    """<pipeline>_landmarks.json (harness/run_io.cpp LandmarksJson) as a list of
+    {id, type, status, label, position, covariance, points: [{role, position, covariance}]}."""
+    root = load_json(path, top="array")
+    r = JsonReader(path)
+    if len(root) > MAX_LANDMARKS:
+        r.fail(root, "top level", f"more than {MAX_LANDMARKS} landmarks")
+    landmarks = []
+    for i, item in enumerate(root):
+        where = f"[{i}]"
+        if not isinstance(item, dict):
+            r.fail(root, where, "expected an object")
+        lid = item.get("id")
+        if not (isinstance(lid, int) and not isinstance(lid, bool) and lid >= 0):
+            r.fail(item, f"{where}.id", f"expected a non-negative integer, got "
+                   f"{json.dumps(lid)[:40]}")
+        if landmarks and lid <= landmarks[-1]["id"]:
+            r.fail(item, f"{where}.id", f"{lid} is not above the previous id "
+                   f"{landmarks[-1]['id']} (the file is in id order, each id once)")
+        kind = r.get(item, "type", "text", where)
+        if kind not in LANDMARK_TYPES:
+            r.fail(item, f"{where}.type", f"expected one of {LANDMARK_TYPES}, got "
+                   f"{json.dumps(kind)[:40]}")
+        status = r.get(item, "status", "text", where)
+        if status not in LANDMARK_STATUSES:
+            r.fail(item, f"{where}.status", f"expected one of {LANDMARK_STATUSES}, got "
+                   f"{json.dumps(status)[:40]}")
+        position, covariance = read_point3(r, item, where)
+        points = []
+        for name, point in r.items(item, "points"):
+            pwhere = f"{where}.{name}"
+            if len(points) == MAX_LANDMARK_POINTS:
+                r.fail(item, f"{where}.points", f"more than {MAX_LANDMARK_POINTS} points")
+            ppos, pcov = read_point3(r, point, pwhere)
+            points.append({"role": read_short_text(r, point, "role", pwhere, required=False),
+                           "position": ppos, "covariance": pcov})
+        landmarks.append({"id": lid, "type": kind, "status": status,
+                          "label": read_short_text(r, item, "label", where, required=False),
+                          "position": position, "covariance": covariance, "points": points})
+    return landmarks
+
+
+def read_csv_table(path, columns):
+    """The rows of a CSV file whose header holds every name in `columns` (in any order; other
+    columns are ignored) as (line, {column: stripped cell}); quoted cells may hold commas and
+    newlines. Blank rows are skipped; at most MAX_CSV_ROWS rows."""
+    text = read_text(path)
+    reader = csv.reader(io.StringIO(text, newline=""))
+    try:
+        header = [h.strip() for h in next(reader)]
+    except StopIteration:
+        header = []
+    except csv.Error as e:
+        raise InputError(path, 1, f"not CSV: {e}") from None
+    if not any(header):
+        raise InputError(path, 1, "missing the header line")
+    for column in columns:
+        if column not in header:
+            raise InputError(path, 1, f"the header has no column '{column}'")
+    index = {c: header.index(c) for c in columns}
+    rows = []
+    line = reader.line_num + 1  # where the next record starts
+    try:
+        for row in reader:
+            start, line = line, reader.line_num + 1
+            if not row or all(not cell.strip() for cell in row):
+                continue
+            if len(row) != len(header):
+                raise InputError(path, start, f"expected {len(header)} fields, got {len(row)}")
+            if len(rows) == MAX_CSV_ROWS:
+                raise InputError(path, start, f"more than {MAX_CSV_ROWS} rows")
+            rows.append((start, {c: row[index[c]].strip() for c in columns}))
+    except csv.Error as e:
+        raise InputError(path, line, f"not CSV: {e}") from None
+    return rows
+
+
+class CsvCells:
+    """Typed cells of one CSV row; errors name the file, line and column."""
+
+    def __init__(self, path, line, cells):
+        self.path, self.line, self.cells = path, line, cells
+
+    def fail(self, column, message):
+        raise InputError(self.path, self.line, f"{column}: {message}")
+
+    def number(self, column, required=True, lo=-math.inf, hi=math.inf):
+        """A finite number in [lo, hi]; NaN for an empty cell when not required."""
+        cell = self.cells[column]
+        if not cell:
+            if required:
+                self.fail(column, "missing")
+            return math.nan
+        try:
+            value = float(cell)
+        except ValueError:
+            self.fail(column, f"not a number: '{cell[:40]}'")
+        if not math.isfinite(value):
+            self.fail(column, f"not finite: '{cell[:40]}'")
+        if not lo <= value <= hi:
+            self.fail(column, f"{cell[:40]} is outside [{lo:g}, {hi:g}]")
+        return value
+
+    def integer(self, column, lo, hi):
+        cell = self.cells[column]
+        if not re.fullmatch(r"-?[0-9]{1,12}", cell):
+            self.fail(column, f"expected an integer, got '{cell[:40]}'")
+        value = int(cell)
+        if not lo <= value <= hi:
+            self.fail(column, f"{value} is outside [{lo}, {hi}]")
+        return value
+
+    def choice(self, column, allowed):
+        cell = self.cells[column]
+        if cell not in allowed:
+            shown = [a if a else "(empty)" for a in allowed]
+            self.fail(column, f"expected one of {shown}, got '{cell[:40]}'")
+        return cell
+
+    def text(self, column, required):
+        cell = self.cells[column]
+        if required and not cell:
+            self.fail(column, "missing")
+        if len(cell) > MAX_TEXT_CHARS:
+            self.fail(column, f"longer than {MAX_TEXT_CHARS} characters")
+        return cell
+
+
+DETECTION_COLUMNS = ["stamp_s", "camera", "type", "u_px", "v_px", "box_min_x_px", "box_min_y_px",
+                     "box_max_x_px", "box_max_y_px", "plate_box", "radius_px", "label", "open",
+                     "score", "recognition_score", "landmark_id", "new_landmark"]
+BOX_COLUMNS = DETECTION_COLUMNS[5:9]
+
+
+def read_detections(path):
+    """<pipeline>_detections.csv (harness/run_io.cpp DetectionsCsv) as {column: list}: stamp_s,
+    u_px, v_px, score, recognition_score (floats, NaN = no value), camera, type, label (text),
+    landmark_id (int, -1 = not associated), new_landmark (bool)."""
+    out = {c: [] for c in ["stamp_s", "camera", "type", "u_px", "v_px", "label", "score",
+                           "recognition_score", "landmark_id", "new_landmark"]}
+    for line, cells in read_csv_table(path, DETECTION_COLUMNS):
+        c = CsvCells(path, line, cells)
+        stamp = c.number("stamp_s", lo=0.0)
+        camera = c.text("camera", required=True)
+        kind = c.choice("type", LANDMARK_TYPES)
+        u, v = c.number("u_px"), c.number("v_px")
+        box = [c.number(b, required=False) for b in BOX_COLUMNS]
+        if any(math.isnan(b) for b in box) and not all(math.isnan(b) for b in box):
+            c.fail("box_min_x_px", "a box needs all four of min x, min y, max x, max y or none")
+        if box[0] > box[2] or box[1] > box[3]:
+            c.fail("box_min_x_px", "the box's min lies beyond its max")
+        c.choice("plate_box", ["", "number_region", "outline"])
+        c.number("radius_px", required=False, lo=0.0)
+        label = c.text("label", required=False)
+        c.choice("open", ["", "0", "1"])
+        score = c.number("score", required=False)
+        recognition = c.number("recognition_score", required=False, lo=0.0, hi=1.0)
+        landmark_id = c.integer("landmark_id", -1, 2**31 - 1)
+        new_landmark = c.choice("new_landmark", ["0", "1"]) == "1"
+        if new_landmark and landmark_id < 0:
+            c.fail("new_landmark", "a new landmark needs a landmark_id")
+        for key, value in [("stamp_s", stamp), ("camera", camera), ("type", kind), ("u_px", u),
+                           ("v_px", v), ("label", label), ("score", score),
+                           ("recognition_score", recognition), ("landmark_id", landmark_id),
+                           ("new_landmark", new_landmark)]:
+            out[key].append(value)
+    return out
+
+
+def read_frame_times(path):
+    """maps/<pipeline>_frame_times.csv (slam/p1_harris_pipeline.cpp) as arrays stamp_s (s,
+    increasing), landmarks (count) and frame_ms (ms)."""
+    out = {"stamp_s": [], "landmarks": [], "frame_ms": []}
+    for line, cells in read_csv_table(path, list(out)):
+        c = CsvCells(path, line, cells)
+        stamp = c.number("stamp_s", lo=0.0)
+        if out["stamp_s"] and stamp <= out["stamp_s"][-1]:
+            c.fail("stamp_s", f"{stamp:.9g} does not follow the previous {out['stamp_s'][-1]:.9g}")
+        out["stamp_s"].append(stamp)
+        out["landmarks"].append(c.integer("landmarks", 0, MAX_LANDMARKS))
+        out["frame_ms"].append(c.number("frame_ms", lo=0.0))
+    if not out["stamp_s"]:
+        raise InputError(path, None, "has no frames")
+    return {k: np.array(v, dtype=float) for k, v in out.items()}
+
+
+def read_optional(path, reader):
+    """reader(path) when the file exists, else None."""
+    return reader(path) if os.path.exists(path) else None
+
+
 def read_run(run_dir):
     """Reads and checks every input; raises InputError on the first problem."""
     if not os.path.isdir(run_dir):
@@ -386,6 +646,13 @@ def read_run(run_dir):
         run["pipelines"][name] = {
             "trajectory": read_tum(os.path.join(run_dir, f"{name}.tum")),
             "errors": read_errors(os.path.join(run_dir, f"{name}_errors.csv")),
+            "landmarks": read_optional(os.path.join(run_dir, f"{name}_landmarks.json"),
+                                       read_landmarks),
+            "detections": read_optional(os.path.join(run_dir, f"{name}_detections.csv"),
+                                        read_detections),
+            "frame_times": read_optional(os.path.join(run_dir, "maps",
+                                                      f"{name}_frame_times.csv"),
+                                         read_frame_times),
         }
     return run
 
@@ -495,29 +762,14 @@ def draw_world(ax, world):
                     color=PLATE_COLOR, ha="center", va="center", clip_on=True, zorder=5)
 
 
-def plot_trajectories(run, plots_dir, written):
-    """trajectories.png: the true and estimated x-y paths (m) over the plan, equal axes; a long
-    corridor is cut into panels stacked top to bottom (or placed left to right)."""
-    extent = plan_extent(run)
+def plan_figure(extent, handles, title, draw):
+    """A figure of the plan over `extent` cut into panels (plan_panels) stacked top to bottom (or
+    placed left to right), with equal axes in metres, `handles` as a legend on top and `title`;
+    draw(ax) fills each panel. Returns the figure."""
     panels, stacked = plan_panels(extent)
     n = len(panels)
     (xlim, ylim) = panels[0]
     pw, ph = xlim[1] - xlim[0], ylim[1] - ylim[0]
-    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
-
-    handles = [Line2D([], [], color="k", lw=1.6, marker="o", ms=5, label="ground truth (o start)")]
-    for j, (name, p) in enumerate(run["pipelines"].items()):
-        note = ", leaves the plot" if outside(p["trajectory"], extent) else ""
-        handles.append(Line2D([], [], color=colors[j % len(colors)], lw=1.1, marker="x", ms=7,
-                              label=f"{name} (x end{note})"))
-    handles.append(Line2D([], [], color=WALL_COLOR, lw=2.0, label="wall"))
-    for state, color in DOOR_COLORS.items():
-        handles.append(Line2D([], [], color=color, lw=4.0, label=f"door {state}"))
-    handles.append(Line2D([], [], ls="", marker="s", ms=5, color=PLATE_COLOR,
-                          label="door plate (room)"))
-    handles.append(Circle((0, 0), 1, facecolor=LAMP_ON_FACE, edgecolor=LAMP_ON_EDGE,
-                          label="lamp on"))
-    handles.append(Circle((0, 0), 1, facecolor="none", edgecolor=LAMP_OFF_EDGE, label="lamp off"))
 
     # Figure layout in inches: at most 16 in wide, each panel's axes at most 10 in high, sized
     # by the data's aspect ratio; the legend's rows on top.
@@ -544,15 +796,7 @@ def plot_trajectories(run, plots_dir, written):
         else:
             rect = [x0 + i * (aw + gap), bottom, aw, ah]
         ax = fig.add_axes([rect[0] / width, rect[1] / height, rect[2] / width, rect[3] / height])
-        draw_world(ax, run["world"])
-        truth = run["truth"]
-        ax.plot(truth[:, 1], truth[:, 2], color="k", lw=1.6, zorder=6)
-        ax.plot(truth[:1, 1], truth[:1, 2], "o", color="k", ms=5, zorder=7)
-        for j, p in enumerate(run["pipelines"].values()):
-            tum = p["trajectory"]
-            ax.plot(tum[:, 1], tum[:, 2], color=colors[j % len(colors)], lw=1.1, zorder=6)
-            ax.plot(tum[-1:, 1], tum[-1:, 2], "x", color=colors[j % len(colors)], ms=7, mew=1.5,
-                    zorder=7)
+        draw(ax)
         ax.set_xlim(*xlim)
         ax.set_ylim(*ylim)
         ax.set_aspect("equal", adjustable="box")
@@ -564,8 +808,48 @@ def plot_trajectories(run, plots_dir, written):
 
     fig.legend(handles=handles, loc="upper center", ncol=columns, frameon=False, fontsize=9,
                bbox_to_anchor=(0.5, 1.0 - 0.35 / height))
-    fig.suptitle("Trajectories over the world plan (frame W, metres)", y=1.0 - 0.08 / height,
-                 va="top", fontsize=11)
+    fig.suptitle(title, y=1.0 - 0.08 / height, va="top", fontsize=11)
+    return fig
+
+
+def world_handles():
+    """Legend entries of draw_world's plan."""
+    handles = [Line2D([], [], color=WALL_COLOR, lw=2.0, label="wall")]
+    for state, color in DOOR_COLORS.items():
+        handles.append(Line2D([], [], color=color, lw=4.0, label=f"door {state}"))
+    handles.append(Line2D([], [], ls="", marker="s", ms=5, color=PLATE_COLOR,
+                          label="door plate (room)"))
+    handles.append(Circle((0, 0), 1, facecolor=LAMP_ON_FACE, edgecolor=LAMP_ON_EDGE,
+                          label="lamp on"))
+    handles.append(Circle((0, 0), 1, facecolor="none", edgecolor=LAMP_OFF_EDGE, label="lamp off"))
+    return handles
+
+
+def plot_trajectories(run, plots_dir, written):
+    """trajectories.png: the true and estimated x-y paths (m) over the plan, equal axes; a long
+    corridor is cut into panels stacked top to bottom (or placed left to right)."""
+    extent = plan_extent(run)
+    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+
+    handles = [Line2D([], [], color="k", lw=1.6, marker="o", ms=5, label="ground truth (o start)")]
+    for j, (name, p) in enumerate(run["pipelines"].items()):
+        note = ", leaves the plot" if outside(p["trajectory"], extent) else ""
+        handles.append(Line2D([], [], color=colors[j % len(colors)], lw=1.1, marker="x", ms=7,
+                              label=f"{name} (x end{note})"))
+    handles += world_handles()
+
+    def draw(ax):
+        draw_world(ax, run["world"])
+        truth = run["truth"]
+        ax.plot(truth[:, 1], truth[:, 2], color="k", lw=1.6, zorder=6)
+        ax.plot(truth[:1, 1], truth[:1, 2], "o", color="k", ms=5, zorder=7)
+        for j, p in enumerate(run["pipelines"].values()):
+            tum = p["trajectory"]
+            ax.plot(tum[:, 1], tum[:, 2], color=colors[j % len(colors)], lw=1.1, zorder=6)
+            ax.plot(tum[-1:, 1], tum[-1:, 2], "x", color=colors[j % len(colors)], ms=7, mew=1.5,
+                    zorder=7)
+
+    fig = plan_figure(extent, handles, "Trajectories over the world plan (frame W, metres)", draw)
     save(fig, plots_dir, "trajectories.png", written)
 
 
