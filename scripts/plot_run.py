@@ -71,7 +71,7 @@ except ImportError as missing:
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402 (after choosing the backend)
 from matplotlib.lines import Line2D  # noqa: E402
-from matplotlib.patches import Circle, Rectangle  # noqa: E402
+from matplotlib.patches import Circle, Ellipse, Rectangle  # noqa: E402
 
 # Single-sample 95 % bounds of chi-square (2.5 % and 97.5 % quantiles) by degrees of freedom.
 CHI2_95_BOUNDS = {1: (0.000982, 5.0239), 2: (0.0506, 7.3778), 3: (0.2158, 9.3484),
@@ -98,8 +98,8 @@ PLATE_COLOR = "#6a3d9a"
 # Landmark and detection types (slam/pipeline.cpp's names) in drawing order, with their colours;
 # the true plates keep PLATE_COLOR.
 LANDMARK_TYPES = ["door_plate", "door", "lamp", "corner", "vanishing_point"]
-TYPE_COLORS = {"door_plate": "#e6550d", "door": "#8c564b", "lamp": "#b8a000", "corner": "#17a2b8",
-               "vanishing_point": "#e377c2"}
+TYPE_COLORS = {"door_plate": "#e6550d", "door": "#8c564b", "lamp": "#e91e63", "corner": "#17a2b8",
+               "vanishing_point": "#7f7f7f"}
 LANDMARK_STATUSES = ["initializing", "converged"]
 SCORE_NAMES = {"door_plate": "SVM margin", "corner": "Harris response",
                "vanishing_point": "line count", "door": "score", "lamp": "score"}
@@ -758,7 +758,7 @@ def draw_world(ax, world):
         if plate["room"] is not None:
             # The number sits on the corridor side of the plate, along its normal.
             nx, ny = plate["normal"] or (0.0, 0.0)
-            ax.text(x + 0.3 * nx, y + 0.3 * ny, str(plate["room"]), fontsize=7,
+            ax.text(x + 0.3 * nx, y + 0.3 * ny, plain(plate["room"]), fontsize=7,
                     color=PLATE_COLOR, ha="center", va="center", clip_on=True, zorder=5)
 
 
@@ -787,7 +787,8 @@ def plan_figure(extent, handles, title, draw):
     width = max(8.0, left + right + content_w)
     x0 = left + (width - left - right - content_w) / 2  # centres narrow panels
     columns = max(2, min(len(handles), int(width / 2.2)))
-    top = 0.55 + 0.25 * math.ceil(len(handles) / columns)
+    title_lines = title.count("\n") + 1
+    top = 0.55 + 0.2 * (title_lines - 1) + 0.25 * math.ceil(len(handles) / columns)
     height = bottom + top + (n * ah + (n - 1) * gap if stacked else ah)
     fig = plt.figure(figsize=(width, height))
     for i, (xlim, ylim) in enumerate(panels):
@@ -807,18 +808,18 @@ def plan_figure(extent, handles, title, draw):
             ax.set_xlabel("x [m]")
 
     fig.legend(handles=handles, loc="upper center", ncol=columns, frameon=False, fontsize=9,
-               bbox_to_anchor=(0.5, 1.0 - 0.35 / height))
+               bbox_to_anchor=(0.5, 1.0 - (0.35 + 0.2 * (title_lines - 1)) / height))
     fig.suptitle(title, y=1.0 - 0.08 / height, va="top", fontsize=11)
     return fig
 
 
-def world_handles():
+def world_handles(plate_label="door plate (room)"):
     """Legend entries of draw_world's plan."""
     handles = [Line2D([], [], color=WALL_COLOR, lw=2.0, label="wall")]
     for state, color in DOOR_COLORS.items():
         handles.append(Line2D([], [], color=color, lw=4.0, label=f"door {state}"))
     handles.append(Line2D([], [], ls="", marker="s", ms=5, color=PLATE_COLOR,
-                          label="door plate (room)"))
+                          label=plate_label))
     handles.append(Circle((0, 0), 1, facecolor=LAMP_ON_FACE, edgecolor=LAMP_ON_EDGE,
                           label="lamp on"))
     handles.append(Circle((0, 0), 1, facecolor="none", edgecolor=LAMP_OFF_EDGE, label="lamp off"))
@@ -939,6 +940,283 @@ def plot_detectors(with_detectors, plots_dir, written):
     save(fig, plots_dir, "detectors.png", written)
 
 
+def plain(text):
+    """Text drawn as it is: matplotlib reads '$...$' as mathtext, which a label may contain."""
+    return str(text).replace("$", r"\$")
+
+
+def ellipse_2sigma(covariance):
+    """(width, height, angle_deg) in m of the 95 % ellipse (chi-square 2 dof) of the x-y block of a
+    3x3 covariance (m^2), or None when that block has a null entry or is not positive
+    semi-definite. Closed form for a symmetric 2x2 (the block symmetrised)."""
+    a, b1, b2, d = covariance[0][0], covariance[0][1], covariance[1][0], covariance[1][1]
+    if any(v is None for v in (a, b1, b2, d)):
+        return None
+    b = 0.5 * (b1 + b2)
+    mean, half = 0.5 * (a + d), math.hypot(0.5 * (a - d), b)
+    major, minor = mean + half, mean - half
+    if minor < -1e-9 * max(abs(major), 1e-300):
+        return None
+    minor = max(minor, 0.0)
+    angle = 0.5 * math.degrees(math.atan2(2.0 * b, a - d))
+    scale = 2.0 * math.sqrt(CHI2_2DOF_95)
+    return scale * math.sqrt(major), scale * math.sqrt(minor), angle
+
+
+def in_extent(xy, extent):
+    xmin, xmax, ymin, ymax = extent
+    return xmin <= xy[0] <= xmax and ymin <= xy[1] <= ymax
+
+
+def vanishing_point_text(landmark):
+    """A legend line for a vanishing point: its bearing seen from the W origin (deg) with the
+    2-sigma of that bearing (first order from the x-y covariance)."""
+    x, y = landmark["position"][:2]
+    bearing = math.atan2(y, x)
+    c = landmark["covariance"]
+    spread = ""
+    if all(c[i][j] is not None for i in (0, 1) for j in (0, 1)) and x * x + y * y > 0:
+        r2 = x * x + y * y
+        jx, jy = -y / r2, x / r2  # d bearing / d (x, y)
+        var = jx * jx * c[0][0] + jx * jy * (c[0][1] + c[1][0]) + jy * jy * c[1][1]
+        if var >= 0:
+            spread = f" ± {math.degrees(2.0 * math.sqrt(var)):.2f}° (2σ)"
+    return (f"vanishing point #{landmark['id']} ({landmark['status']}): bearing "
+            f"{math.degrees(bearing):.2f}°{spread} from the W origin")
+
+
+def plot_landmarks(name, run, landmarks, plots_dir, written):
+    """landmarks_<name>.png: the pipeline's final map over the plan (as trajectories.png): each
+    landmark at its x-y estimate (m) with the 2-sigma ellipse of the x-y block of its covariance
+    (chi-square 2 dof, 95 %), coloured by type, dashed while initialising; plates labelled with
+    the room number read; a door's column points joined. Vanishing points lie ~1000 m away, so
+    the legend lists them instead."""
+    extent = plan_extent(run)
+    trajectory = run["pipelines"][name]["trajectory"]
+    on_plan = [lm for lm in landmarks if lm["type"] != "vanishing_point"]
+    vps = [lm for lm in landmarks if lm["type"] == "vanishing_point"]
+    many = len(on_plan) > 100
+    no_ellipse = sum(1 for lm in on_plan for c in [lm["covariance"]] +
+                     [p["covariance"] for p in lm["points"]] if ellipse_2sigma(c) is None)
+    off_plan = sum(1 for lm in on_plan if not in_extent(lm["position"], extent))
+
+    def marker_size(kind):
+        return 2.0 if kind == "corner" else (4.0 if many else 5.0)
+
+    handles = [Line2D([], [], color="0.55", lw=1.0, label="ground truth"),
+               Line2D([], [], color="C0", lw=1.1, marker="x", ms=7, label=f"{name} (x end)")]
+    for kind in LANDMARK_TYPES[:-1]:
+        count = sum(1 for lm in on_plan if lm["type"] == kind)
+        if count:
+            handles.append(Line2D([], [], color=TYPE_COLORS[kind], lw=0.9, marker="o",
+                                  ms=marker_size(kind) + 1, label=f"{kind} ({count})"))
+    statuses = {lm["status"] for lm in landmarks}
+    if "converged" in statuses:
+        handles.append(Line2D([], [], color="0.3", lw=0.9, label="converged (solid)"))
+    if "initializing" in statuses:
+        handles.append(Line2D([], [], color="0.3", lw=0.9, ls="--",
+                              label="initialising (dashed, hollow)"))
+    for lm in vps[:MAX_LISTED_VPS]:
+        handles.append(Line2D([], [], ls="", marker="*", ms=8, color=TYPE_COLORS[lm["type"]],
+                              label=vanishing_point_text(lm)))
+    if len(vps) > MAX_LISTED_VPS:
+        handles.append(Line2D([], [], ls="", label=f"... and {len(vps) - MAX_LISTED_VPS} more "
+                              "vanishing points"))
+    handles += world_handles("true door plate (room)")
+
+    def draw_point(ax, kind, status, xy, covariance, ms, lw):
+        color = TYPE_COLORS[kind]
+        dashed = status == "initializing"
+        ax.plot([xy[0]], [xy[1]], ls="", marker="o", ms=ms, mew=0.8, color=color,
+                markerfacecolor="none" if dashed else color, zorder=8)
+        shape = ellipse_2sigma(covariance)
+        if shape is not None:
+            ax.add_patch(Ellipse(xy[:2], shape[0], shape[1], angle=shape[2], fill=False,
+                                 edgecolor=color, lw=lw, ls="--" if dashed else "-", zorder=7))
+
+    def draw(ax):
+        draw_world(ax, run["world"])
+        truth = run["truth"]
+        ax.plot(truth[:, 1], truth[:, 2], color="0.55", lw=1.0, zorder=6)
+        ax.plot(trajectory[:, 1], trajectory[:, 2], color="C0", lw=1.1, zorder=6)
+        ax.plot(trajectory[-1:, 1], trajectory[-1:, 2], "x", color="C0", ms=7, mew=1.5, zorder=7)
+        for lm in on_plan:
+            kind, status = lm["type"], lm["status"]
+            ms, lw = marker_size(kind), 0.4 if kind == "corner" else 0.9
+            draw_point(ax, kind, status, lm["position"], lm["covariance"], ms, lw)
+            if lm["points"]:
+                xs = [p["position"][0] for p in lm["points"]]
+                ys = [p["position"][1] for p in lm["points"]]
+                ax.plot(xs, ys, color=TYPE_COLORS[kind], lw=0.8, zorder=7,
+                        ls="--" if status == "initializing" else "-")
+                for p in lm["points"]:
+                    draw_point(ax, kind, status, p["position"], p["covariance"], 0.6 * ms, 0.6)
+            if kind == "door_plate":
+                ax.annotate(plain(lm["label"] or "?"), lm["position"][:2], xytext=(3, 3),
+                            textcoords="offset points", fontsize=7, color=TYPE_COLORS[kind],
+                            weight="bold", zorder=9)
+
+    converged = sum(1 for lm in landmarks if lm["status"] == "converged")
+    notes = [f"{len(landmarks)} landmarks ({converged} converged)"]
+    if no_ellipse:
+        notes.append(f"{no_ellipse} without an ellipse (covariance not positive semi-definite "
+                     "or not finite)")
+    if off_plan:
+        notes.append(f"{off_plan} beyond the plan")
+    title = (f"{name}: landmarks with 2σ ellipses (x-y covariance, χ² 2 dof 95 %: "
+             f"√{CHI2_2DOF_95} σ), frame W, metres\n" + "; ".join(notes))
+    fig = plan_figure(extent, handles, title, draw)
+    save(fig, plots_dir, f"landmarks_{name}.png", written)
+
+
+def score_bins(values):
+    """Histogram bins for the scores: 30 over their range, log-spaced when they are positive and
+    span more than three decades (Harris responses); (bins, log)."""
+    lo, hi = float(values.min()), float(values.max())
+    if lo > 0 and hi / lo > 1e3:
+        return np.geomspace(lo, hi, 31), True
+    if hi - lo <= 1e-12 * max(abs(lo), abs(hi), 1.0):
+        return np.linspace(lo - 0.5, hi + 0.5, 31), False
+    return np.linspace(lo, hi, 31), False
+
+
+def plot_detections(name, detections, plots_dir, written):
+    """detections_<name>.png: one row per detection type: u_px against time (s) coloured by the
+    association (plates labelled with the room number read, hollow when none was read), the
+    detections per frame over time, and the score of associated against unassociated detections
+    where scores exist (a first precision-recall view)."""
+    stamp = np.array(detections["stamp_s"])
+    u = np.array(detections["u_px"])
+    score = np.array(detections["score"])
+    landmark_id = np.array(detections["landmark_id"])
+    new = np.array(detections["new_landmark"], dtype=bool)
+    kinds = np.array(detections["type"])
+    cameras = np.array(detections["camera"])
+    labels = detections["label"]
+    present = [k for k in LANDMARK_TYPES if (kinds == k).any()]
+    fig, axes = plt.subplots(len(present), 3, figsize=(16, 3.0 * len(present) + 0.8),
+                             squeeze=False, gridspec_kw={"width_ratios": [3.0, 2.0, 1.6]})
+    groups = [("associated", "C0", (landmark_id >= 0) & ~new),
+              ("new landmark", "C2", new),
+              ("not associated", "C3", landmark_id < 0)]
+    for row, kind in zip(axes, present):
+        raster, per_frame, scores = row
+        of_kind = kinds == kind
+        dense = of_kind.sum() > 2000
+        names = sorted(set(cameras[of_kind]))
+        markers = dict(zip(names, "os^Dv<>p"))  # beyond 8 cameras, all take the last marker
+        for label, color, chosen in groups:
+            for camera in names:
+                sel = of_kind & chosen & (cameras == camera)
+                if not sel.any():
+                    continue
+                read = np.array([bool(labels[i]) for i in np.flatnonzero(sel)])
+                face = color if kind != "door_plate" else np.where(read, color, "none")
+                raster.scatter(stamp[sel], u[sel], s=3 if dense else 12, marker=markers.get(
+                    camera, "p"), facecolors=face, edgecolors=color, linewidths=0.6, label=(
+                    f"{label} ({camera})" if len(names) > 1 else label), zorder=3)
+        if kind == "door_plate":
+            # The room number read for each plate track (label, landmark), at its first
+            # detection; unread plates are the hollow markers.
+            seen = set()
+            for i in np.flatnonzero(of_kind):
+                key = (labels[i], int(landmark_id[i]))
+                if not labels[i] or key in seen or len(seen) == MAX_PLATE_ANNOTATIONS:
+                    continue
+                seen.add(key)
+                color = "C3" if landmark_id[i] < 0 else "C0"
+                raster.annotate(plain(labels[i]), (stamp[i], u[i]), xytext=(0, 5),
+                                textcoords="offset points", fontsize=6, color=color,
+                                rotation=90, ha="center", va="bottom")
+        raster.set_ylabel(f"{kind}\nu [px] ({', '.join(plain(c) for c in names)})")
+        raster.grid(True, lw=0.3, color="0.85")
+        raster.legend(loc="upper right", fontsize=7, ncol=3)
+
+        # Detections per frame (camera, stamp) with at least one detection of the type.
+        frames = {}
+        for i in np.flatnonzero(of_kind):
+            total, associated = frames.get((stamp[i], cameras[i]), (0, 0))
+            frames[(stamp[i], cameras[i])] = (total + 1, associated + (landmark_id[i] >= 0))
+        keys = sorted(frames)
+        t = np.array([k[0] for k in keys])
+        per_frame.plot(t, [frames[k][0] for k in keys], ".", ms=3, color="0.35", label="all")
+        per_frame.plot(t, [frames[k][1] for k in keys], ".", ms=3, color="C0",
+                       label="associated")
+        per_frame.set_ylabel("per frame")
+        per_frame.set_ylim(bottom=0)
+        per_frame.grid(True, lw=0.3, color="0.85")
+        per_frame.legend(loc="upper right", fontsize=7)
+        per_frame.set_title(f"{of_kind.sum()} in {len(keys)} frames (frames with one or more)",
+                            fontsize=8)
+
+        finite = of_kind & np.isfinite(score)
+        if finite.any():
+            bins, log = score_bins(score[finite])
+            for label, color, chosen in [("associated", "C0", landmark_id >= 0),
+                                         ("not associated", "C3", landmark_id < 0)]:
+                values = score[finite & chosen]
+                if values.size:
+                    scores.hist(values, bins=bins, histtype="step", lw=1.2, color=color,
+                                label=f"{label} ({values.size})")
+            if log:
+                scores.set_xscale("log")
+            scores.set_xlabel(SCORE_NAMES[kind], fontsize=8)
+            scores.set_ylabel("detections")
+            scores.legend(loc="upper right", fontsize=7)
+            scores.grid(True, lw=0.3, color="0.85")
+        else:
+            scores.axis("off")
+            scores.text(0.5, 0.5, "no scores", ha="center", va="center", color="0.4",
+                        transform=scores.transAxes)
+    axes[-1, 0].set_xlabel("time [s]")
+    axes[-1, 1].set_xlabel("time [s]")
+    axes[0, 2].set_title("score: associated against not\n(a first precision-recall view)",
+                         fontsize=8)
+    fig.suptitle(f"{name}: detections by type ({len(stamp)} in all)")
+    fig.tight_layout()
+    save(fig, plots_dir, f"detections_{name}.png", written)
+
+
+def plot_frame_time(name, frame_times, plots_dir, written):
+    """frame_time_<name>.png (P1 Fig. 16): the cost of each front frame (ms) against the landmarks
+    in the state, with the median per landmark count and the frame interval (the real-time
+    budget), and both over time (s)."""
+    t, n, ms = frame_times["stamp_s"], frame_times["landmarks"], frame_times["frame_ms"]
+    fig, (by_count, by_time) = plt.subplots(1, 2, figsize=(14, 5))
+    by_count.plot(n, ms, ".", ms=3, color="C0", alpha=0.6, label="frame")
+    counts = np.unique(n)
+    medians = [float(np.median(ms[n == c])) for c in counts]
+    by_count.plot(counts, medians, color="C1", lw=1.3, label="median per landmark count")
+    budget = float(np.median(np.diff(t))) * 1e3 if t.size > 1 else None
+    if budget is not None:
+        for ax in (by_count, by_time):
+            ax.axhline(budget, color="C3", lw=0.9, ls="--",
+                       label=f"frame interval {budget:.0f} ms (real time)")
+    by_count.set_xlabel("landmarks in the state")
+    by_count.set_ylabel("frame time [ms]")
+    by_count.set_ylim(bottom=0)
+    by_count.grid(True, lw=0.3, color="0.85")
+    by_count.legend(loc="upper left", fontsize=8)
+    by_time.plot(t, ms, color="C0", lw=0.8, label="frame time")
+    by_time.set_xlabel("time [s]")
+    by_time.set_ylabel("frame time [ms]")
+    by_time.set_ylim(bottom=0)
+    by_time.grid(True, lw=0.3, color="0.85")
+    state = by_time.twinx()
+    state.plot(t, n, color="C2", lw=1.2, label="landmarks in the state")
+    state.set_ylabel("landmarks")
+    state.set_ylim(bottom=0)
+    lines = by_time.get_legend_handles_labels()
+    extra = state.get_legend_handles_labels()
+    by_time.legend(lines[0] + extra[0], lines[1] + extra[1], loc="upper left", fontsize=8)
+    slow = int((ms > budget).sum()) if budget is not None else 0
+    fig.suptitle(f"{name}: computation time per frame (P1 Fig. 16): {t.size} frames, mean "
+                 f"{ms.mean():.1f} ms, max {ms.max():.1f} ms, {slow} over the frame interval, "
+                 f"{int(n.max())} landmarks at most")
+    fig.tight_layout()
+    save(fig, plots_dir, f"frame_time_{name}.png", written)
+
+
 def format_value(v):
     if v is None:
         return "–"
@@ -1013,6 +1291,13 @@ def plot_run(run, plots_dir):
         if nees is not None and np.isfinite(nees).any():
             band = metrics["pipelines"].get(name, {}).get("nees_band")
             plot_nees(name, errors, band, plots_dir, written)
+    for name, p in run["pipelines"].items():
+        if p["landmarks"]:
+            plot_landmarks(name, run, p["landmarks"], plots_dir, written)
+        if p["detections"] is not None and p["detections"]["stamp_s"]:
+            plot_detections(name, p["detections"], plots_dir, written)
+        if p["frame_times"] is not None:
+            plot_frame_time(name, p["frame_times"], plots_dir, written)
     with_detectors = [(name, m["detectors"]) for name, m in metrics["pipelines"].items()
                       if m["detectors"]]
     if with_detectors:

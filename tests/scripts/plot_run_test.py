@@ -107,6 +107,104 @@ def write_run(run_dir, length_m=10.0):
         json.dump(metrics, f, indent=2)
 
 
+LANDMARK_LABEL_MATHTEXT = r"$\q$"  # would stop matplotlib's mathtext parser unless escaped
+
+
+def sym(c):
+    """A 3x3 covariance (m^2) as nested lists from its x-y block (sxx, sxy, syy) and 0.01 for z."""
+    sxx, sxy, syy = c
+    return [[sxx, sxy, 0.0], [sxy, syy, 0.0], [0.0, 0.0, 0.01]]
+
+
+def write_slam_outputs(run_dir, name="odometry"):
+    """The SLAM files of pipeline `name` for the world of write_run: <name>_landmarks.json (plates
+    with their room numbers, one still initialising along its viewing ray; a door with its two
+    columns; lamps; 300 corners; a vanishing point 1000 m down the corridor; one landmark whose
+    x-y covariance is not positive semi-definite and one with a null entry),
+    <name>_detections.csv (every type, associated, new and unassociated, scores for plates,
+    corners and the vanishing point; one label quoted) and maps/<name>_frame_times.csv."""
+    with open(os.path.join(run_dir, "world.json")) as f:
+        world = json.load(f)
+    landmarks = []
+
+    def add(kind, position, covariance, status="converged", label="", points=None):
+        entry = {"id": len(landmarks), "type": kind, "status": status, "label": label,
+                 "position_in_world": position, "covariance": covariance}
+        if points is not None:
+            entry["points"] = points
+        landmarks.append(entry)
+
+    add("vanishing_point", [1000.0, 2.0, 1.2], [[100.0, 0, 0], [0, 4.0, 0], [0, 0, 4.0]])
+    for k, plate in enumerate(world["door_plates"]):
+        x, y, z = plate["center"]
+        if k == 1:
+            add("door_plate", [x + 0.2, y - 0.4, z], sym((0.02, 0.0, 0.9)), "initializing",
+                plate["room_number"])
+        else:
+            add("door_plate", [x + 0.05 * k, y - 0.03, z], sym((0.004, 0.001, 0.002)),
+                label=LANDMARK_LABEL_MATHTEXT if k == 2 else plate["room_number"])
+    door = world["doors"][0]
+    add("door", [3.45, 1.21, 1.05], sym((0.01, 0.0, 0.004)), points=[
+        {"role": "column_a", "position_in_world": door["column_a"] + [1.05],
+         "covariance": sym((0.006, 0.0, 0.003))},
+        {"role": "column_b", "position_in_world": door["column_b"] + [1.05],
+         "covariance": sym((0.006, 0.002, 0.003))}])
+    for lamp in world["lamps"][:6]:
+        add("lamp", lamp["center"], sym((0.003, 0.0, 0.003)))
+    length = world["walls"][0]["end"][0]
+    for k in range(300):
+        x = 0.2 + (length - 0.4) * k / 299.0
+        add("corner", [x, 1.18 if k % 2 else -1.18, 0.3 + 0.007 * k],
+            sym((0.002 + 0.0001 * (k % 7), 0.0005 * ((k % 5) - 2), 0.001 + 0.0002 * (k % 3))),
+            "initializing" if k % 11 == 0 else "converged")
+    add("lamp", [8.0, 0.3, 2.49], sym((0.5, 0.9, 0.5)))  # not positive semi-definite
+    add("corner", [9.0, -1.1, 0.5], [[0.01, None, 0.0], [0.0, 0.01, 0.0], [0.0, 0.0, 0.01]])
+    with open(os.path.join(run_dir, f"{name}_landmarks.json"), "w") as f:
+        json.dump(landmarks, f, indent=2)
+
+    header = ("stamp_s,camera,type,u_px,v_px,box_min_x_px,box_min_y_px,box_max_x_px,"
+              "box_max_y_px,plate_box,radius_px,label,open,score,recognition_score,landmark_id,"
+              "new_landmark")
+    rows, frames = [header], ["stamp_s,landmarks,frame_ms"]
+    plates = [lm for lm in landmarks if lm["type"] == "door_plate"]
+    for i in range(int((length - 1.0) / 0.3 / 0.3)):
+        t = 0.3 * i
+        rows.append(f"{t:.9f},front,vanishing_point,{320 + 5 * math.sin(t):.4f},240.0000,"
+                    f",,,,,,,,{20 + i % 9}.000000,,0,0")
+        for c in range(5):
+            corner_id = (i * 5 + c) % 300 + 1 + len(plates) + 7
+            new = 1 if i * 5 + c < 300 else 0
+            associated = corner_id if (i + c) % 4 else -1
+            rows.append(f"{t:.9f},front,corner,{40 + 120 * c + i % 37:.4f},{100 + 30 * c:.4f},"
+                        f",,,,,,,,{10.0 ** (2 + (i * 5 + c) % 40 / 10.0):.6f},,"
+                        f"{associated},{new if associated >= 0 else 0}")
+        plate = plates[(i // 10) % len(plates)]
+        if i % 10 < 4:
+            read = i % 10 != 3
+            label = plate["label"] if read else ""
+            if (i // 10) % 7 == 5 and read:
+                label = '"10,1"'  # a label with a comma, quoted as CSV requires
+            associated = plate["id"] if (i // 10) % 5 else -1
+            new = 1 if i % 10 == 0 and associated >= 0 else 0
+            recognition = "0.910000" if read else ""
+            rows.append(f"{t:.9f},lateral,door_plate,{300 + 40 * (i % 10):.4f},200.0000,"
+                        f"{280 + 40 * (i % 10):.4f},190.0000,{330 + 40 * (i % 10):.4f},"
+                        f"210.0000,number_region,,{label},,{1.5 - 0.4 * (i % 10):.6f},"
+                        f"{recognition},{associated},{new}")
+        if i % 6 == 0:
+            rows.append(f"{t:.9f},upward,lamp,{320 + i % 50:.4f},240.0000,,,,,,18.5000,,,,,"
+                        f"{len(plates) + 2 + (i // 6) % 6},0")
+        if i % 15 == 0:
+            rows.append(f"{t:.9f},front,door,{100 + i % 40:.4f},200.0000,80.0000,100.0000,"
+                        f"140.0000,380.0000,,,,1,,,{len(plates) + 1},0")
+        frames.append(f"{t:.9f},{min(300, 5 * i)},{2.0 + 0.004 * min(300, 5 * i) ** 2:.3f}")
+    with open(os.path.join(run_dir, f"{name}_detections.csv"), "w") as f:
+        f.write("\n".join(rows) + "\n")
+    os.makedirs(os.path.join(run_dir, "maps"), exist_ok=True)
+    with open(os.path.join(run_dir, "maps", f"{name}_frame_times.csv"), "w") as f:
+        f.write("\n".join(frames) + "\n")
+
+
 def run_script(*args):
     return subprocess.run([sys.executable, SCRIPT, *args], capture_output=True, text=True,
                           timeout=120)
