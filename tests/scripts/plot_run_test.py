@@ -1,10 +1,12 @@
-"""Tests scripts/plot_run.py on a synthetic run folder: every plot is written as a valid PNG,
-reruns give the same bytes, absent metrics skip their plots, and a missing or malformed input
-exits 1 naming the file and line.
+"""Tests scripts/plot_run.py on synthetic run folders: every plot is written as a valid PNG,
+reruns give the same bytes, absent metrics and files skip their plots (a folder without
+landmarks, detections and frame times plots as before them), and a missing or malformed input
+exits 1 naming the file and line (and the key or column).
 
     python3 tests/scripts/plot_run_test.py         (CTest: scripts.plot_run)
 """
 
+import importlib.util
 import json
 import math
 import os
@@ -14,6 +16,7 @@ import struct
 import subprocess
 import sys
 import tempfile
+import textwrap
 import unittest
 
 SCRIPT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts",
@@ -219,16 +222,15 @@ def png_size(path):
     return struct.unpack(">II", head[16:24])
 
 
-class PlotRunTest(unittest.TestCase):
-    EXPECTED = ["trajectories.png", "errors_odometry.png", "nees_odometry.png", "detectors.png",
-                "summary.png"]
+def replace_line(text, number, line):
+    lines = text.split("\n")
+    lines[number - 1] = line
+    return "\n".join(lines)
 
-    @classmethod
-    def setUpClass(cls):
-        cls.tmp = tempfile.mkdtemp(prefix="plot_run_test_")
-        cls.run_dir = os.path.join(cls.tmp, "run")
-        write_run(cls.run_dir)
-        cls.result = run_script(cls.run_dir)
+
+class RunFolderCase(unittest.TestCase):
+    """A synthetic run folder (run_dir) plotted once in setUpClass (result), and helpers to break
+    copies of it."""
 
     @classmethod
     def tearDownClass(cls):
@@ -248,15 +250,46 @@ class PlotRunTest(unittest.TestCase):
                          "a bad input must leave no plots")
         return result
 
-    def test_writes_every_plot_as_a_png(self):
-        self.assertEqual(self.result.returncode, 0, self.result.stderr)
-        printed = self.result.stdout.splitlines()
-        self.assertEqual([os.path.basename(p) for p in printed], self.EXPECTED)
+    def break_files(self, cases):
+        """Each (file, mutate, pattern) case on a fresh copy: the script exits 1 with a message
+        matching pattern and writes no plots."""
+        for k, (name, mutate, pattern) in enumerate(cases):
+            with self.subTest(name=name, pattern=pattern):
+                run_dir = self.copy_run(f"{self._testMethodName}_{k}")
+                path = os.path.join(run_dir, name)
+                with open(path) as f:
+                    text = f.read()
+                broken = mutate(text)
+                self.assertNotEqual(broken, text, "the case must change the file")
+                with open(path, "w") as f:
+                    f.write(broken)
+                self.assert_fails(run_dir, pattern)
+
+    def assert_pngs(self, printed):
         for path in printed:
             self.assertTrue(os.path.isfile(path), path)
             width, height = png_size(path)
             self.assertTrue(500 <= width <= 4000 and 200 <= height <= 4000, (path, width, height))
             self.assertGreater(os.path.getsize(path), 10_000, path)
+
+
+class PlotRunTest(RunFolderCase):
+    """A run folder without landmarks, detections or frame times: the plots as before them."""
+    EXPECTED = ["trajectories.png", "errors_odometry.png", "nees_odometry.png", "detectors.png",
+                "summary.png"]
+
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.mkdtemp(prefix="plot_run_test_")
+        cls.run_dir = os.path.join(cls.tmp, "run")
+        write_run(cls.run_dir)
+        cls.result = run_script(cls.run_dir)
+
+    def test_writes_every_plot_as_a_png(self):
+        self.assertEqual(self.result.returncode, 0, self.result.stderr)
+        printed = self.result.stdout.splitlines()
+        self.assertEqual([os.path.basename(p) for p in printed], self.EXPECTED)
+        self.assert_pngs(printed)
         self.assertEqual(sorted(os.listdir(os.path.join(self.run_dir, "plots"))),
                          sorted(self.EXPECTED), "no temporary files are left")
 
@@ -300,11 +333,6 @@ class PlotRunTest(unittest.TestCase):
                 self.assert_fails(run_dir, re.escape(name) + ": missing")
 
     def test_malformed_lines_exit_1_naming_file_and_line(self):
-        def replace_line(text, number, line):
-            lines = text.split("\n")
-            lines[number - 1] = line
-            return "\n".join(lines)
-
         cases = [
             ("odometry.tum", lambda s: replace_line(s, 3, "0.2 1 2 3 0 0 0"),
              r"odometry\.tum:3: expected 8 numbers"),
@@ -325,17 +353,7 @@ class PlotRunTest(unittest.TestCase):
             ("world.json", lambda s: s.replace('"open"', '"ajar"', 1),
              r"world\.json:\d+: doors\[0\]\.state: expected one of"),
         ]
-        for k, (name, mutate, pattern) in enumerate(cases):
-            with self.subTest(name=name, pattern=pattern):
-                run_dir = self.copy_run(f"malformed_{k}")
-                path = os.path.join(run_dir, name)
-                with open(path) as f:
-                    text = f.read()
-                broken = mutate(text)
-                self.assertNotEqual(broken, text, "the case must change the file")
-                with open(path, "w") as f:
-                    f.write(broken)
-                self.assert_fails(run_dir, pattern)
+        self.break_files(cases)
 
     def test_json_errors_point_at_the_object(self):
         run_dir = self.copy_run("wall_line")
@@ -355,6 +373,219 @@ class PlotRunTest(unittest.TestCase):
     def test_bad_command_line_exits_2(self):
         self.assertEqual(run_script().returncode, 2)
         self.assertEqual(run_script(os.path.join(self.tmp, "nowhere")).returncode, 1)
+
+
+
+def plot_python():
+    """An interpreter that imports matplotlib, to load the script as a module (the script
+    re-runs itself under /usr/bin/python3 when run, but a module import cannot)."""
+    if importlib.util.find_spec("matplotlib") and importlib.util.find_spec("numpy"):
+        return sys.executable
+    return "/usr/bin/python3"
+
+
+class SlamPlotsTest(RunFolderCase):
+    """A 55 m run folder with the odometry pipeline's landmarks, detections and frame times."""
+    NEW = ["landmarks_odometry.png", "detections_odometry.png", "frame_time_odometry.png"]
+    EXPECTED = (["trajectories.png", "errors_odometry.png", "nees_odometry.png"] + NEW +
+                ["detectors.png", "summary.png"])
+    LANDMARKS = "odometry_landmarks.json"
+    DETECTIONS = "odometry_detections.csv"
+    FRAME_TIMES = os.path.join("maps", "odometry_frame_times.csv")
+
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.mkdtemp(prefix="plot_run_slam_test_")
+        cls.run_dir = os.path.join(cls.tmp, "run")
+        write_run(cls.run_dir, length_m=55.0)
+        write_slam_outputs(cls.run_dir)
+        cls.result = run_script(cls.run_dir)
+
+    def test_writes_the_landmark_detection_and_frame_time_plots(self):
+        self.assertEqual(self.result.returncode, 0, self.result.stderr)
+        printed = self.result.stdout.splitlines()
+        self.assertEqual([os.path.basename(p) for p in printed], self.EXPECTED)
+        self.assert_pngs(printed)
+        plots = os.path.join(self.run_dir, "plots")
+        # The vanishing point 1000 m away is listed, not drawn: the map keeps the plan's panels.
+        plan_w, plan_h = png_size(os.path.join(plots, "trajectories.png"))
+        map_w, map_h = png_size(os.path.join(plots, "landmarks_odometry.png"))
+        self.assertEqual(map_w, plan_w)
+        self.assertLess(abs(map_h - plan_h), 0.3 * plan_h, (plan_h, map_h))
+        # One row of panels per detection type (5 types, about 3 in each).
+        width, height = png_size(os.path.join(plots, "detections_odometry.png"))
+        self.assertGreater(height, 1300, (width, height))
+
+    def test_rerun_gives_identical_bytes(self):
+        again = self.copy_run("again")
+        self.assertEqual(run_script(again).returncode, 0)
+        for name in self.NEW:
+            with open(os.path.join(self.run_dir, "plots", name), "rb") as f:
+                first = f.read()
+            with open(os.path.join(again, "plots", name), "rb") as f:
+                self.assertEqual(f.read(), first, name)
+
+    def test_each_plot_only_with_its_data(self):
+        run_dir = self.copy_run("frame_times_only")
+        os.remove(os.path.join(run_dir, self.LANDMARKS))
+        path = os.path.join(run_dir, self.DETECTIONS)
+        with open(path) as f:
+            header = f.readline()
+        with open(path, "w") as f:
+            f.write(header)  # a header and no detections
+        result = run_script(run_dir)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        self.assertEqual([os.path.basename(p) for p in result.stdout.splitlines()],
+                         ["trajectories.png", "errors_odometry.png", "nees_odometry.png",
+                          "frame_time_odometry.png", "detectors.png", "summary.png"])
+
+    def test_malformed_landmarks_exit_1_naming_file_line_and_key(self):
+        def landmarks(edit):
+            def mutate(text):
+                items = json.loads(text)
+                edit(items)
+                return json.dumps(items, indent=2)
+            return mutate
+
+        f = r"odometry_landmarks\.json:\d+: "
+        self.break_files([
+            (self.LANDMARKS, lambda s: s[:-20], f + r"column \d+: invalid JSON"),
+            (self.LANDMARKS, lambda s: '{"landmarks": ' + s + "}",
+             r"odometry_landmarks\.json:1: the top level is not a JSON array"),
+            (self.LANDMARKS, landmarks(lambda a: a[3].update(type="window")),
+             f + r"\[3\]\.type: expected one of"),
+            (self.LANDMARKS, landmarks(lambda a: a[1].update(status="lost")),
+             f + r"\[1\]\.status: expected one of"),
+            (self.LANDMARKS, landmarks(lambda a: a[0]["covariance"].pop()),
+             f + r"\[0\]\.covariance: expected 3 rows of 3 numbers"),
+            (self.LANDMARKS, landmarks(lambda a: a[5].update(position_in_world=[1, "2", 3])),
+             f + r"\[5\]\.position_in_world: expected \[x, y, z\]"),
+            (self.LANDMARKS, landmarks(lambda a: a[2].update(id=1)),
+             f + r"\[2\]\.id: 1 is not above the previous id 1"),
+            (self.LANDMARKS, landmarks(lambda a: a[14]["points"][1].update(covariance=[[1]])),
+             f + r"\[14\]\.points\[1\]\.covariance: expected 3 rows"),
+            (self.LANDMARKS, landmarks(lambda a: a[4].update(label=["1", "2"])),
+             f + r"\[4\]\.label: expected text"),
+        ])
+
+    def test_landmark_errors_point_at_the_object(self):
+        run_dir = self.copy_run("landmark_line")
+        path = os.path.join(run_dir, self.LANDMARKS)
+        with open(path) as f:
+            text = f.read()
+        with open(path, "w") as f:
+            f.write(text.replace('"type": "door"', '"type": 7', 1))
+        result = self.assert_fails(run_dir, r"odometry_landmarks\.json:\d+: \[14\]\.type")
+        line = int(re.search(r"odometry_landmarks\.json:(\d+):", result.stderr).group(1))
+        lines = text.split("\n")
+        self.assertEqual(lines[line - 1].strip(), "{")
+        self.assertEqual(lines[line].strip(), '"id": 14,')
+
+    def test_malformed_detections_exit_1_naming_file_line_and_column(self):
+        def cell(line, column, value):
+            def mutate(text):
+                lines = text.split("\n")
+                fields = lines[line - 1].split(",")
+                fields[column] = value
+                lines[line - 1] = ",".join(fields)
+                return "\n".join(lines)
+            return mutate
+
+        f = r"odometry_detections\.csv:"
+        multi_line_label = ('0.1,lateral,door_plate,300,200,280,190,330,210,number_region,,'
+                            '"1\n2",,1.5,0.9,-1,0')
+
+        def insert_then_break(text):
+            lines = text.split("\n")
+            lines.insert(1, multi_line_label)  # physical lines 2 and 3
+            fields = lines[3].split(",")      # the fourth record, on physical line 5
+            fields[2] = "window"
+            lines[3] = ",".join(fields)
+            return "\n".join(lines)
+
+        self.break_files([
+            (self.DETECTIONS, cell(3, 2, "window"), f + r"3: type: expected one of"),
+            (self.DETECTIONS, cell(4, 15, "x"), f + r"4: landmark_id: expected an integer"),
+            (self.DETECTIONS, cell(5, 15, "-2"), f + r"5: landmark_id: -2 is outside"),
+            (self.DETECTIONS, cell(2, 0, "nan"), f + r"2: stamp_s: not finite"),
+            (self.DETECTIONS, cell(2, 3, ""), f + r"2: u_px: missing"),
+            (self.DETECTIONS, cell(3, 16, "2"), f + r"3: new_landmark: expected one of"),
+            (self.DETECTIONS, lambda s: s.replace(",-1,0\n", ",-1,1\n", 1),
+             f + r"\d+: new_landmark: a new landmark needs a landmark_id"),
+            (self.DETECTIONS, lambda s: s.replace(",score,", ",confidence,", 1),
+             f + r"1: the header has no column 'score'"),
+            (self.DETECTIONS, lambda s: replace_line(s, 2, "0,front,corner"),
+             f + r"2: expected 17 fields, got 3"),
+            (self.DETECTIONS, insert_then_break, f + r"5: type: expected one of"),
+        ])
+        # Recognition scores (plates only) lie in [0, 1]; a box needs all four sides.
+        run_dir = self.copy_run("recognition")
+        path = os.path.join(run_dir, self.DETECTIONS)
+        with open(path) as fh:
+            lines = fh.read().split("\n")
+        plate = next(i for i, line in enumerate(lines) if ",door_plate," in line and ",0.91" in line)
+        broken = lines[plate].replace(",0.910000,", ",1.5,")
+        lines[plate] = broken
+        with open(path, "w") as fh:
+            fh.write("\n".join(lines))
+        self.assert_fails(run_dir, f + f"{plate + 1}: recognition_score: 1.5 is outside")
+        fields = broken.replace(",1.5,", ",0.5,").split(",")
+        fields[7] = ""
+        lines[plate] = ",".join(fields)
+        with open(path, "w") as fh:
+            fh.write("\n".join(lines))
+        self.assert_fails(run_dir, f + f"{plate + 1}: box_min_x_px: a box needs all four")
+
+    def test_malformed_frame_times_exit_1_naming_file_and_line(self):
+        f = r"maps/odometry_frame_times\.csv:"
+        self.break_files([
+            (self.FRAME_TIMES, lambda s: replace_line(s, 3, "0.000000000,5,2.1"),
+             f + r"3: stamp_s: 0 does not follow the previous 0"),
+            (self.FRAME_TIMES, lambda s: replace_line(s, 4, "0.900000000,-1,2.1"),
+             f + r"4: landmarks: -1 is outside"),
+            (self.FRAME_TIMES, lambda s: replace_line(s, 4, "0.900000000,4,fast"),
+             f + r"4: frame_ms: not a number"),
+            (self.FRAME_TIMES, lambda s: s.split("\n")[0] + "\n",
+             r"maps/odometry_frame_times\.csv: has no frames"),
+        ])
+
+    def test_ellipse_and_vanishing_point_bearing(self):
+        code = textwrap.dedent(f"""
+            import importlib.util, json, math
+            spec = importlib.util.spec_from_file_location("plot_run", {SCRIPT!r})
+            m = importlib.util.module_from_spec(spec)
+            spec.loader.exec_module(m)
+            c, s = math.cos(math.radians(30)), math.sin(math.radians(30))
+            # R diag(4, 1) R^T for a rotation of 30 degrees
+            rotated = [[4 * c * c + s * s, 3 * c * s, 0], [3 * c * s, 4 * s * s + c * c, 0],
+                       [0, 0, 1]]
+            vp = {{"id": 0, "status": "converged", "position": (1000.0, 0.0, 1.0),
+                   "covariance": [[1, 0, 0], [0, 4, 0], [0, 0, 1]]}}
+            print(json.dumps({{
+                "diagonal": m.ellipse_2sigma([[4, 0, 0], [0, 1, 0], [0, 0, 1]]),
+                "rotated": m.ellipse_2sigma(rotated),
+                "indefinite": m.ellipse_2sigma([[1, 2, 0], [2, 1, 0], [0, 0, 1]]),
+                "null": m.ellipse_2sigma([[1, None, 0], [0, 1, 0], [0, 0, 1]]),
+                "vp": m.vanishing_point_text(vp),
+                "plain": m.plain("$x$"),
+            }}))
+        """)
+        result = subprocess.run([plot_python(), "-c", code], capture_output=True, text=True,
+                                timeout=120)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        out = json.loads(result.stdout)
+        k = 2.0 * math.sqrt(5.991)  # full axes of the 95 % ellipse (chi-square 2 dof)
+        for key in ["diagonal", "rotated"]:
+            width, height, angle = out[key]
+            self.assertAlmostEqual(width, k * 2.0, places=9)
+            self.assertAlmostEqual(height, k * 1.0, places=9)
+        self.assertAlmostEqual(out["diagonal"][2], 0.0, places=9)
+        self.assertAlmostEqual(out["rotated"][2], 30.0, places=9)
+        self.assertIsNone(out["indefinite"])
+        self.assertIsNone(out["null"])
+        # sigma_y 2 m at 1000 m: a bearing sigma of 2 mrad, 2 sigma = 0.229 deg.
+        self.assertIn("bearing 0.00° ± 0.23° (2σ)", out["vp"])
+        self.assertEqual(out["plain"], r"\$x\$")
 
 
 if __name__ == "__main__":
