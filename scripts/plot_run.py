@@ -409,7 +409,8 @@ def is_number(value):
 
 def read_point3(r, obj, where):
     """position_in_world and covariance of a landmark or one of its points: ((x, y, z) in m,
-    3x3 list in m^2 with None for a null entry, which the writer emits for a non-finite value)."""
+    3x3 list in m^2 with None for a null or non-finite entry: the writer emits null for NaN, and
+    such a covariance is drawn without its ellipse and counted in the figure's title)."""
     position = obj.get("position_in_world")
     if not (isinstance(position, list) and len(position) == 3 and
             all(is_number(v) and math.isfinite(v) for v in position)):
@@ -422,7 +423,8 @@ def read_point3(r, obj, where):
         r.fail(obj, f"{where}.covariance",
                f"expected 3 rows of 3 numbers (m^2), got {json.dumps(covariance)[:40]}")
     return (tuple(float(v) for v in position),
-            [[None if v is None else float(v) for v in row] for row in covariance])
+            [[None if v is None or not math.isfinite(v) else float(v) for v in row]
+             for row in covariance])
 
 
 def read_short_text(r, obj, key, where, required):
