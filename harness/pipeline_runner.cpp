@@ -1,13 +1,43 @@
 #include "harness/pipeline_runner.h"
 
+#include <cmath>
 #include <cstdio>
+#include <optional>
 #include <utility>
 
 #include "common/error.h"
+#include "common/io/atomic_file.h"
+#include "common/random.h"
 #include "harness/run_folder.h"
 #include "harness/stopwatch.h"
 
 namespace corridorsim {
+namespace {
+
+// The world point a rendered depth frame shows at `pixel` (nearest pixel centre), or nothing
+// where the depth is invalid: exact truth for a corner detection (metrics/map.cpp).
+std::optional<SeenPoint> SeenAt(const render::CameraFrame& frame, const CameraModel& model,
+                                const Eigen::Vector2d& pixel) {
+  const ImageF& depth = frame.depth_m;
+  const long x = std::lround(pixel.x());
+  const long y = std::lround(pixel.y());
+  if (depth.data.empty() || x < 0 || y < 0 || x >= depth.width || y >= depth.height) {
+    return std::nullopt;
+  }
+  const float z = depth.at(static_cast<int>(x), static_cast<int>(y));
+  if (!(z > 0.0f)) return std::nullopt;
+  const Eigen::Vector3d bearing =
+      model.Unproject(Eigen::Vector2d(static_cast<double>(x), static_cast<double>(y)));
+  if (!(bearing.z() > 0.0)) return std::nullopt;
+  SeenPoint seen;
+  seen.p_in_world = frame.world_from_camera * (bearing * (static_cast<double>(z) / bearing.z()));
+  const std::size_t index = static_cast<std::size_t>(y) * depth.width + static_cast<std::size_t>(x);
+  if (index < frame.instance.size()) seen.instance_id = frame.instance[index];
+  return seen;
+}
+
+}  // namespace
+
 struct PipelineRunner::Run {
   std::unique_ptr<slam::Pipeline> pipeline;
   std::set<std::string> cameras;
@@ -15,10 +45,15 @@ struct PipelineRunner::Run {
 };
 
 PipelineRunner::PipelineRunner(const Scenario& scenario, const slam::Calibration& calibration) {
+  for (const render::CameraOptions& camera : scenario.rig.cameras) {
+    true_models_.emplace(camera.id, camera.model);
+  }
   for (const Scenario::PipelineEntry& entry : scenario.pipelines) {
     if (!entry.enabled) continue;
     Run run;
-    run.pipeline = entry.options->Create(calibration);
+    // Each pipeline's random choices draw from a stream of its own (docs/architecture.md).
+    const std::uint64_t seed = RandomStream(scenario.seed, 0, "slam." + entry.name).NextU64();
+    run.pipeline = entry.options->Create(calibration, seed);
     PipelineRecord record;
     record.name = entry.name;
     record.cameras_used = run.pipeline->cameras_used();
@@ -76,6 +111,18 @@ void PipelineRunner::OnCameraSet(const CameraSet& set) {
       run.pipeline->OnCamera(input);
       run.seconds += SecondsSince(t0);
       for (slam::Detection& d : run.pipeline->TakeDetections()) {
+        // The boundary of slam/: a detection without the fields its type needs is a bug.
+        if (const std::optional<std::string> problem = slam::DetectionProblem(d)) {
+          const std::string what = "pipeline '" + records_[i].name + "' reported a " +
+                                   slam::LandmarkTypeName(d.type) + " detection that " + *problem;
+          CheckOrDie(false, "PipelineRunner", what.c_str());
+        }
+        if (d.type == slam::LandmarkType::kCorner) {
+          if (const std::optional<SeenPoint> seen =
+                  SeenAt(message.frame, true_models_.at(slot.camera_id), d.pixel)) {
+            records_[i].seen_points[records_[i].detections.size()] = *seen;
+          }
+        }
         records_[i].detections.push_back(std::move(d));
       }
     }
@@ -86,7 +133,12 @@ void PipelineRunner::Finish() {
   for (std::size_t i = 0; i < runs_.size(); ++i) {
     slam::Pipeline& pipeline = *runs_[i].pipeline;
     PipelineRecord& record = records_[i];
+    const WallClock::time_point t0 = WallClock::now();
+    pipeline.Finish();
+    runs_[i].seconds += SecondsSince(t0);
+    for (slam::Detection& d : pipeline.TakeDetections()) record.detections.push_back(std::move(d));
     record.landmarks = pipeline.Landmarks();
+    record.occupancy_map = pipeline.occupancy_map();
     for (slam::Innovation& innovation : pipeline.TakeInnovations()) {
       record.innovations.push_back(innovation);
     }
@@ -109,12 +161,17 @@ std::string PipelineRunner::ErrorsLine(const TruthRecorder& truth) const {
   return errors;
 }
 
-void PipelineRunner::WriteMaps(const std::filesystem::path& dir) const {
+void PipelineRunner::WriteMaps(const std::filesystem::path& dir) {
   for (std::size_t i = 0; i < runs_.size(); ++i) {
-    const std::filesystem::path maps = dir / records_[i].name;
-    if (!runs_[i].pipeline->WriteMaps(maps).empty()) {
-      std::printf("  %s wrote maps to %s\n", records_[i].name.c_str(), maps.string().c_str());
+    records_[i].occupancy_map = nullptr;  // TakeMaps() may release it
+    const std::vector<slam::MapFile> maps = runs_[i].pipeline->TakeMaps();
+    if (maps.empty()) continue;
+    std::filesystem::create_directories(dir);
+    for (const slam::MapFile& map : maps) {
+      WriteFileAtomic(dir / (records_[i].name + map.suffix), map.bytes);
     }
+    std::printf("  %s wrote %zu map file%s to %s\n", records_[i].name.c_str(), maps.size(),
+                maps.size() == 1 ? "" : "s", dir.string().c_str());
   }
 }
 

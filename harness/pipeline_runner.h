@@ -5,6 +5,7 @@
 // and Finish() collects its map, innovations and health for the metrics.
 
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <set>
 #include <string>
@@ -37,14 +38,17 @@ class PipelineRunner : public BusConsumer {
   void OnOdometry(const WheelOdometry& odometry) override;
   void OnCameraSet(const CameraSet& set) override;
 
-  /// Ends the run: final maps, innovations, stage times and health go into the records.
+  /// Ends the run: every pipeline's Finish(), then final landmarks, late detections, innovations,
+  /// stage times and health go into the records.
   void Finish();
   /// One record per pipeline, scenario order.
   const std::vector<PipelineRecord>& records() const { return records_; }
   /// Each pipeline's current position error against `truth`: "name 0.123 m  ...".
   std::string ErrorsLine(const TruthRecorder& truth) const;
-  /// Writes each pipeline's maps into `dir/<pipeline>/`; prints where.
-  void WriteMaps(const std::filesystem::path& dir) const;
+  /// Writes each pipeline's maps (Pipeline::TakeMaps) as `dir/<pipeline><suffix>`, each file
+  /// atomically; prints where. Call once, after Finish() and the metrics (the maps are moved
+  /// out, and the records' occupancy maps are no longer valid).
+  void WriteMaps(const std::filesystem::path& dir);
   /// Wall seconds spent inside the pipelines.
   double seconds() const;
 
@@ -53,6 +57,7 @@ class PipelineRunner : public BusConsumer {
   std::vector<Run> runs_;
   std::vector<PipelineRecord> records_;
   std::set<std::string> cameras_used_;
+  std::map<std::string, CameraModel> true_models_;  // the rig's cameras (truth, not calibration)
 };
 
 }  // namespace corridorsim

@@ -78,6 +78,13 @@ void WriteRunFolder(const std::filesystem::path& out, const Scenario& scenario, 
     WriteFileAtomic(out / (record.name + ".tum"), tum.str());
     WriteFileAtomic(out / (record.name + "_cov.txt"), cov.str());
     WriteFileAtomic(out / (record.name + "_errors.csv"), ErrorSeriesCsv(truth.poses(), record));
+    if (!record.landmarks.empty()) {
+      WriteFileAtomic(out / (record.name + "_landmarks.json"),
+                      LandmarksJson(record.landmarks).dump(2) + "\n");
+    }
+    if (!record.detections.empty()) {
+      WriteFileAtomic(out / (record.name + "_detections.csv"), DetectionsCsv(record.detections));
+    }
   }
   WriteFileAtomic(out / "metrics.json", metrics.dump(2) + "\n");
   WriteFileAtomic(out / "events.json", events_json);

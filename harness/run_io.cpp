@@ -1,5 +1,6 @@
 #include "harness/run_io.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -54,6 +55,90 @@ std::string OvEvalLine(TimeNs stamp_ns, const SE2& pose, const Eigen::Matrix3d& 
   std::snprintf(buf, sizeof(buf), " 0 0 0 0 0 %.9e %.9e %.9e 0 %.9e 0 0", p(2, 2), p(0, 0), p(0, 1),
                 p(1, 1));
   return tum + buf;
+}
+
+}  // namespace corridorsim
+
+namespace corridorsim {
+namespace {
+
+nlohmann::ordered_json CovarianceJson(const Eigen::Matrix3d& c) {
+  nlohmann::ordered_json rows = nlohmann::ordered_json::array();
+  for (int i = 0; i < 3; ++i) {
+    rows.push_back(RoundedJson(Eigen::Vector3d(c.row(i).transpose()), 1e12));
+  }
+  return rows;
+}
+
+// A number for the detections CSV: empty when NaN (no value), else shortest round-trip text.
+std::string CsvNumber(double v, int decimals) {
+  if (std::isnan(v)) return "";
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+  return buf;
+}
+
+}  // namespace
+
+nlohmann::ordered_json LandmarksJson(const std::vector<slam::LandmarkEstimate>& landmarks) {
+  std::vector<const slam::LandmarkEstimate*> sorted;
+  for (const slam::LandmarkEstimate& l : landmarks) sorted.push_back(&l);
+  std::stable_sort(sorted.begin(), sorted.end(),
+                   [](const auto* a, const auto* b) { return a->id < b->id; });
+  nlohmann::ordered_json out = nlohmann::ordered_json::array();
+  for (const slam::LandmarkEstimate* l : sorted) {
+    nlohmann::ordered_json j;
+    j["id"] = l->id;
+    j["type"] = slam::LandmarkTypeName(l->type);
+    j["status"] = slam::LandmarkStatusName(l->status);
+    j["label"] = l->label;
+    j["position_in_world"] = RoundedJson(l->position_in_world, json_steps::kMetres);
+    j["covariance"] = CovarianceJson(l->covariance);
+    if (!l->points.empty()) {
+      nlohmann::ordered_json points = nlohmann::ordered_json::array();
+      for (const slam::LandmarkPoint& p : l->points) {
+        points.push_back({{"role", p.role},
+                          {"position_in_world", RoundedJson(p.position_in_world,
+                                                            json_steps::kMetres)},
+                          {"covariance", CovarianceJson(p.covariance)}});
+      }
+      j["points"] = std::move(points);
+    }
+    out.push_back(std::move(j));
+  }
+  return out;
+}
+
+std::string DetectionsCsv(const std::vector<slam::Detection>& detections) {
+  std::string csv =
+      "stamp_s,camera,type,u_px,v_px,box_min_x_px,box_min_y_px,box_max_x_px,box_max_y_px,"
+      "plate_box,radius_px,label,open,score,recognition_score,landmark_id,new_landmark\n";
+  for (const slam::Detection& d : detections) {
+    const bool boxed =
+        d.type == slam::LandmarkType::kDoorPlate || d.type == slam::LandmarkType::kDoor;
+    csv += CsvNumber(ToSeconds(d.stamp_ns), 9) + "," + d.camera_id + "," +
+           slam::LandmarkTypeName(d.type) + "," + CsvNumber(d.pixel.x(), 4) + "," +
+           CsvNumber(d.pixel.y(), 4) + ",";
+    for (int i = 0; i < 4; ++i) csv += (boxed ? CsvNumber(d.box_px[i], 4) : "") + ",";
+    csv += std::string(d.type == slam::LandmarkType::kDoorPlate
+                           ? (d.plate_box == slam::PlateBox::kNumberRegion ? "number_region"
+                                                                            : "outline")
+                           : "") +
+           ",";
+    csv += (d.type == slam::LandmarkType::kLamp ? CsvNumber(d.radius_px, 4) : "") + ",";
+    // Labels are room numbers (digits); anything else is quoted as CSV requires.
+    std::string label = d.label;
+    if (label.find_first_of(",\"\n\r") != std::string::npos) {
+      std::string quoted = "\"";
+      for (const char c : label) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
+      label = quoted + "\"";
+    }
+    csv += label + ",";
+    csv += std::string(d.open ? (*d.open ? "1" : "0") : "") + ",";
+    csv += CsvNumber(d.score, 6) + "," + CsvNumber(d.recognition_score, 6) + "," +
+           std::to_string(d.landmark_id) + "," + (d.new_landmark ? "1" : "0") + "\n";
+  }
+  return csv;
 }
 
 }  // namespace corridorsim

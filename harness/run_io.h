@@ -2,12 +2,14 @@
 // Files of drives and runs that more than one job writes: events, estimates with covariance.
 
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "common/pose.h"
 #include "common/time.h"
 #include "sim/simulation.h"
+#include "slam/pipeline.h"
 
 namespace corridorsim {
 
@@ -26,5 +28,15 @@ std::string OvEvalLine(TimeNs stamp_ns, const SE2& pose, const Eigen::Matrix3d& 
 
 /// The header comment of an ov_eval file.
 std::string OvEvalHeader();
+
+/// `<pipeline>_landmarks.json`: the pipeline's final map, one object per landmark in id order:
+/// id, type, status, label, position_in_world (m), covariance (3x3 row-major, m^2) and, for
+/// multi-point landmarks, its points (role, position, covariance). Stable JSON (docs/metrics.md).
+nlohmann::ordered_json LandmarksJson(const std::vector<slam::LandmarkEstimate>& landmarks);
+
+/// `<pipeline>_detections.csv`: every detection, in the order the pipeline reported them:
+/// stamp_s, camera, type, u_px, v_px, box (min x, min y, max x, max y; empty for types without
+/// one), plate_box, radius_px, label, open, score, recognition_score, landmark_id, new_landmark.
+std::string DetectionsCsv(const std::vector<slam::Detection>& detections);
 
 }  // namespace corridorsim

@@ -10,21 +10,49 @@ namespace corridorsim {
 
 namespace {
 
-// `pipelines:` maps pipeline names to their options; options accumulate over the include chain.
+// A pipeline's name names its files in the run folder (`<name>.tum`, `maps/<name>.bt`) and its
+// object in metrics.json: lower-case letters, digits and '_', starting with a letter.
+constexpr std::size_t kMaxPipelineNameLength = 64;
+bool IsPipelineName(const std::string& name) {
+  if (name.empty() || name.size() > kMaxPipelineNameLength) return false;
+  if (name[0] < 'a' || name[0] > 'z') return false;
+  return std::all_of(name.begin(), name.end(), [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_';
+  });
+}
+
+// `pipelines:` maps pipeline names to their options; `type:` says which pipeline type the entry
+// runs (default: its name), so that one scenario can compare variants of one type. Options
+// accumulate over the include chain; a child file cannot change an entry's type.
 void ParsePipelines(YamlMap& pipelines, Scenario& scenario) {
   for (const std::string& name : pipelines.Keys()) {
     YamlMap map = pipelines.Map(name);
+    if (!IsPipelineName(name)) {
+      pipelines.Fail(name, "a pipeline name is 1 to " + std::to_string(kMaxPipelineNameLength) +
+                               " lower-case letters, digits and '_', starting with a letter (got '" +
+                               InputExcerpt(name) + "')");
+    }
     auto entry = std::find_if(scenario.pipelines.begin(), scenario.pipelines.end(),
                               [&](const Scenario::PipelineEntry& e) { return e.name == name; });
+    std::string type = entry == scenario.pipelines.end() ? name : entry->type;
+    map.Read("type", type);
     if (entry == scenario.pipelines.end()) {
-      std::shared_ptr<slam::PipelineOptions> options = slam::NewPipelineOptions(name);
+      std::shared_ptr<slam::PipelineOptions> options = slam::NewPipelineOptions(type);
       if (!options) {
         std::string known;
         for (const std::string& n : slam::PipelineNames()) known += (known.empty() ? "" : ", ") + n;
-        pipelines.Fail(name, "unknown pipeline (known: " + known + ")");
+        map.Has("type")
+            ? map.Fail("type", "unknown pipeline type '" + InputExcerpt(type) + "' (known: " +
+                                   known + ")")
+            : pipelines.Fail(name, "unknown pipeline (known: " + known +
+                                       "; another name needs a `type:` key)");
       }
-      scenario.pipelines.push_back({name, std::move(options), true});
+      scenario.pipelines.push_back({name, type, std::move(options), true});
       entry = scenario.pipelines.end() - 1;
+    } else if (type != entry->type) {
+      map.Fail("type", "the pipeline '" + name + "' is of type '" + entry->type +
+                           "' in a base file; a child file cannot change it (got '" +
+                           InputExcerpt(type) + "')");
     }
     map.Read("enabled", entry->enabled);
     ReadOptionFields(map, entry->options->table(), entry->options->options());
@@ -36,6 +64,7 @@ void EchoPipelines(const Scenario& scenario, OptionsYamlWriter& out) {
   out.BeginMap("pipelines");
   for (const Scenario::PipelineEntry& entry : scenario.pipelines) {
     out.BeginMap(entry.name);
+    out.Scalar("type", entry.type);
     out.Scalar("enabled", entry.enabled ? "true" : "false");
     WriteOptions(out, entry.options->table(), entry.options->options());
     out.EndMap();

@@ -34,7 +34,8 @@ struct Scenario {
   double duration_s = 0;  // `duration_s`: simulated time of a run; 0 = until the path is done
   // `pipelines:` in order of first appearance (base files first); `enabled: false` drops one.
   struct PipelineEntry {
-    std::string name;
+    std::string name;  // unique in the scenario: names its files and its metrics
+    std::string type;  // the pipeline type (slam/registry.h): `type:`, default the name
     std::shared_ptr<slam::PipelineOptions> options;
     bool enabled = true;
   };

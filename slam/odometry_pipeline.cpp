@@ -1,5 +1,7 @@
 #include "slam/odometry_pipeline.h"
 
+#include <cmath>
+
 #include "common/wheel_odometry_model.h"
 
 namespace corridorsim::slam {
@@ -18,7 +20,7 @@ std::optional<OptionsProblem> OdometryPipelineOptions::Check() const {
 }
 
 OdometryPipeline::OdometryPipeline(const OdometryPipelineOptions& options,
-                                   const Calibration& calibration)
+                                   const Calibration& calibration, std::uint64_t /*seed*/)
     : options_(options), wheelbase_m_(calibration.wheelbase_m) {
   // The harness builds the calibration from checked options: an invalid one is a bug.
   CheckOrDie(!calibration.Check(), "slam::OdometryPipeline", "the calibration fails its Check()");
@@ -31,6 +33,13 @@ void OdometryPipeline::Initialize(TimeNs stamp_ns, const SE2& world_from_robot) 
 }
 
 void OdometryPipeline::OnOdometry(const WheelOdometry& odometry) {
+  // Bad data never reaches the estimate: a non-finite distance or a message out of time order
+  // is counted and dropped.
+  if (!std::isfinite(odometry.left_distance_m) || !std::isfinite(odometry.right_distance_m) ||
+      odometry.stamp_ns < estimate_.stamp_ns) {
+    ++health_.rejected_odometry;
+    return;
+  }
   const auto t0 = std::chrono::steady_clock::now();
   Eigen::Matrix3d F;
   Eigen::Matrix<double, 3, 2> G;

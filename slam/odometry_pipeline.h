@@ -4,6 +4,7 @@
 // no camera and keeps no landmarks.
 
 #include <chrono>
+#include <cstdint>
 #include <optional>
 
 #include "common/error.h"
@@ -26,9 +27,10 @@ const OptionTable<OdometryPipelineOptions>& OdometryPipelineOptionsTable();
 
 class OdometryPipeline : public Pipeline {
  public:
-  /// `calibration` must pass Check(); the pipeline uses its nominal wheelbase.
-  OdometryPipeline(const OdometryPipelineOptions& options, const Calibration& calibration);
-  std::string name() const override { return "odometry"; }
+  /// `calibration` must pass Check(); the pipeline uses its nominal wheelbase. It draws no random
+  /// numbers (`seed` is unused).
+  OdometryPipeline(const OdometryPipelineOptions& options, const Calibration& calibration,
+                   std::uint64_t seed = 0);
   void Initialize(TimeNs stamp_ns, const SE2& world_from_robot) override;
   void OnOdometry(const WheelOdometry& odometry) override;
   PoseEstimate Estimate() const override { return estimate_; }

@@ -1,5 +1,7 @@
 #include "slam/pipeline.h"
 
+#include <cmath>
+
 #include "common/enum_names.h"
 #include "common/options_checker.h"
 
@@ -32,5 +34,50 @@ constexpr EnumName<LandmarkType> kLandmarkTypeNames[] = {
     {LandmarkType::kVanishingPoint, "vanishing_point"}};
 
 std::string LandmarkTypeName(LandmarkType type) { return NameOf(kLandmarkTypeNames, type); }
+
+}  // namespace corridorsim::slam
+
+namespace corridorsim::slam {
+
+constexpr EnumName<LandmarkStatus> kLandmarkStatusNames[] = {
+    {LandmarkStatus::kInitializing, "initializing"}, {LandmarkStatus::kConverged, "converged"}};
+
+std::string LandmarkStatusName(LandmarkStatus status) {
+  return NameOf(kLandmarkStatusNames, status);
+}
+
+std::optional<std::string> DetectionProblem(const Detection& d) {
+  if (d.camera_id.empty()) return "has no camera id";
+  if (!d.pixel.allFinite()) return "has a non-finite pixel";
+  if (!d.box_px.allFinite()) return "has a non-finite box";
+  if (!std::isnan(d.score) && !std::isfinite(d.score)) return "has an infinite score";
+  if (!std::isnan(d.recognition_score) &&
+      !(d.recognition_score >= 0.0 && d.recognition_score <= 1.0)) {
+    return "has a recognition score outside [0, 1]";
+  }
+  const bool has_box = d.box_px[0] < d.box_px[2] && d.box_px[1] < d.box_px[3];
+  switch (d.type) {
+    case LandmarkType::kDoorPlate:
+      if (!has_box) return "is a door plate without a box (min x < max x, min y < max y)";
+      break;
+    case LandmarkType::kDoor:
+      if (!has_box) return "is a door without a box (min x < max x, min y < max y)";
+      if (!d.label.empty()) return "is a door with a label";
+      break;
+    case LandmarkType::kLamp:
+      if (!(d.radius_px > 0.0)) return "is a lamp without a positive radius";
+      if (!d.label.empty()) return "is a lamp with a label";
+      break;
+    case LandmarkType::kCorner:
+    case LandmarkType::kVanishingPoint:
+      if (!d.label.empty()) return "is a " + LandmarkTypeName(d.type) + " with a label";
+      break;
+  }
+  if (d.type != LandmarkType::kDoorPlate && !std::isnan(d.recognition_score)) {
+    return "has a recognition score but is not a door plate";
+  }
+  if (d.type != LandmarkType::kDoor && d.open) return "has an open state but is not a door";
+  return std::nullopt;
+}
 
 }  // namespace corridorsim::slam

@@ -12,6 +12,9 @@
 #include <string>
 #include <vector>
 
+#include <cstdint>
+#include <limits>
+
 #include <Eigen/Core>
 
 #include "common/camera_models.h"
@@ -19,6 +22,10 @@
 #include "common/pose.h"
 #include "common/sensor_messages.h"
 #include "common/time.h"
+
+namespace octomap {
+class OcTree;
+}
 
 namespace corridorsim::slam {
 
@@ -76,16 +83,37 @@ struct PoseEstimate {
 enum class LandmarkType { kDoorPlate, kCorner, kLamp, kDoor, kVanishingPoint };
 std::string LandmarkTypeName(LandmarkType type);
 
+/// Where a landmark's estimate stands: initialising (not yet fully constrained, e.g. a door plate
+/// seen from one place only: its range is not observable from one frame) or converged.
+enum class LandmarkStatus { kInitializing, kConverged };
+std::string LandmarkStatusName(LandmarkStatus status);
+
+/// One named point of a landmark made of several (P3 eq. 11: a door's two columns).
+struct LandmarkPoint {
+  std::string role;                                             // "column_a", "column_b"
+  Eigen::Vector3d position_in_world = Eigen::Vector3d::Zero();  // m
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Identity();     // m^2
+};
+
 /// One landmark of the pipeline's map, in the world frame.
 struct LandmarkEstimate {
   int id = 0;  // the pipeline's own id, stable over the run
   LandmarkType type = LandmarkType::kCorner;
+  LandmarkStatus status = LandmarkStatus::kConverged;
+  // The landmark's reference point: a plate's centre, a corner, a lamp's centre, a door's
+  // midpoint, the vanishing point's virtual-plane point (P1 Fig. 10).
   Eigen::Vector3d position_in_world = Eigen::Vector3d::Zero();  // m
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Identity();     // m^2
-  std::string label;  // door plates: the recognised room number ("" if none)
+  std::vector<LandmarkPoint> points;  // the parts of a multi-point landmark (doors), else empty
+  std::string label;                  // door plates: the recognised room number ("" if none)
 };
 
-/// One detection in one frame, with the association the pipeline made for it.
+/// What a door-plate detection's box outlines: P1 detects the number region (section 3.1); other
+/// detectors may report the whole plate.
+enum class PlateBox { kNumberRegion, kOutline };
+
+/// One detection in one frame, with the association the pipeline made for it. Which fields a
+/// type needs is checked at the boundary (DetectionProblem below).
 struct Detection {
   TimeNs stamp_ns = 0;
   std::string camera_id;
@@ -94,11 +122,23 @@ struct Detection {
                                                      // vanishing point
   double radius_px = 0.0;                            // lamps
   Eigen::Vector4d box_px = Eigen::Vector4d::Zero();  // plates, doors: min x, min y, max x, max y
+  PlateBox plate_box = PlateBox::kNumberRegion;      // plates: what box_px outlines
   std::string label;                                 // plates: recognised room number
   std::optional<bool> open;                          // doors: open (true) or closed
+  // The detector's confidence, for precision-recall curves: plates the SVM margin s(x) (P1 eq.
+  // 5), corners their Harris response, the vanishing point its line count; NaN when none.
+  double score = std::numeric_limits<double>::quiet_NaN();
+  // Plates: the smallest per-digit recognition score in [0, 1] (P1 Fig. 8); NaN when not read.
+  double recognition_score = std::numeric_limits<double>::quiet_NaN();
   int landmark_id = -1;       // the landmark it was associated with (-1: none, e.g. rejected)
   bool new_landmark = false;  // it created landmark_id
 };
+
+/// What is wrong with a detection a pipeline reported, or nothing: a non-finite pixel, a
+/// plate or door without a proper box (min < max), a lamp without a positive radius, a label on
+/// a type that has none, a score outside its range. The runner treats a problem as a bug of the
+/// pipeline.
+std::optional<std::string> DetectionProblem(const Detection& detection);
 
 /// One landmark update's normalised innovation squared (NIS) and its degrees of freedom.
 struct Innovation {
@@ -109,16 +149,26 @@ struct Innovation {
   bool accepted = true;  // false: gated out
 };
 
-/// Numerical trouble a pipeline met (STYLE item 10): counted and reported, never hidden.
+/// Numerical trouble and bad input a pipeline met (STYLE item 10): counted and reported, never
+/// hidden.
 struct PipelineHealth {
-  int non_positive_covariance = 0;
-  int rejected_updates = 0;
+  int non_positive_covariance = 0;  // innovation covariances that were not positive definite
+  int rejected_updates = 0;         // updates refused: non-finite residual, gated out, ...
+  int rejected_odometry = 0;        // odometry messages refused: non-finite, out of time order
+  int rejected_frames = 0;          // camera frames refused: empty, wrong size, out of order,
+                                    // depth of the wrong size
+};
+
+/// One map file a pipeline produces: the runner writes `bytes` atomically to
+/// `maps/<pipeline><suffix>` (slam/ does no file I/O).
+struct MapFile {
+  std::string suffix;  // ".bt" (OctoMap binary), "_semantic.json", ...
+  std::string bytes;
 };
 
 class Pipeline {
  public:
   virtual ~Pipeline() = default;
-  virtual std::string name() const = 0;
   /// Starts the estimate at a known pose (filters share the start pose, as the papers' runs do).
   virtual void Initialize(TimeNs stamp_ns, const SE2& world_from_robot) = 0;
   virtual void OnOdometry(const WheelOdometry& odometry) = 0;
@@ -131,11 +181,13 @@ class Pipeline {
   /// Detections and innovations since the last call (moved out).
   virtual std::vector<Detection> TakeDetections() { return {}; }
   virtual std::vector<Innovation> TakeInnovations() { return {}; }
-  /// Writes maps (OctoMap .bt, semantic maps) into `dir`; returns the files written.
-  virtual std::vector<std::filesystem::path> WriteMaps(const std::filesystem::path& dir) const {
-    (void)dir;
-    return {};
-  }
+  /// Ends the run: the last sensor message has arrived (a pipeline may flush pending work, e.g.
+  /// insert its last keyframe). Called once; Landmarks() and TakeMaps() follow.
+  virtual void Finish() {}
+  /// The maps built during the run, moved out (called once, after Finish()).
+  virtual std::vector<MapFile> TakeMaps() { return {}; }
+  /// The dense occupancy map for the map-quality metrics (valid until TakeMaps()), or nullptr.
+  virtual const octomap::OcTree* occupancy_map() const { return nullptr; }
   /// Seconds spent per stage so far (e.g. "predict", "detect", "update").
   virtual std::map<std::string, double> stage_seconds() const { return {}; }
   virtual PipelineHealth health() const { return {}; }

@@ -6,7 +6,7 @@ namespace corridorsim::slam {
 namespace {
 
 // The options of a pipeline type `P` whose options struct `Options` has a table and a
-// Check(), and which is constructed from (options, calibration).
+// Check(), and which is constructed from (options, calibration, seed).
 template <class Options, class P>
 class TypedOptions : public PipelineOptions {
  public:
@@ -15,8 +15,9 @@ class TypedOptions : public PipelineOptions {
   void* options() override { return &options_; }
   const void* options() const override { return &options_; }
   std::optional<OptionsProblem> Check() const override { return options_.Check(); }
-  std::unique_ptr<Pipeline> Create(const Calibration& calibration) const override {
-    return std::make_unique<P>(options_, calibration);
+  std::unique_ptr<Pipeline> Create(const Calibration& calibration,
+                                   std::uint64_t seed) const override {
+    return std::make_unique<P>(options_, calibration, seed);
   }
 
  private:

@@ -5,6 +5,7 @@
 // keys override the base's), checks the options and creates the pipeline for a calibration. slam/
 // never sees YAML.
 
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -27,7 +28,10 @@ class PipelineOptions {
   virtual const void* options() const = 0;
   /// The first problem (key relative to the pipeline's map), or nothing.
   virtual std::optional<OptionsProblem> Check() const = 0;
-  virtual std::unique_ptr<Pipeline> Create(const Calibration& calibration) const = 0;
+  /// A pipeline for `calibration` whose random choices (training, RANSAC, sampling) all draw
+  /// from streams of `seed` (the harness derives it from the run's seed and the pipeline's name).
+  virtual std::unique_ptr<Pipeline> Create(const Calibration& calibration,
+                                           std::uint64_t seed) const = 0;
 };
 
 /// A shipped pipeline type: its name and a factory of its default options.

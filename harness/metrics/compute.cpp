@@ -75,6 +75,8 @@ Json PipelineMetrics(const MetricsInput& input, const PipelineRecord& pipeline) 
   health.Count("non_positive_covariance",
                static_cast<std::size_t>(pipeline.health.non_positive_covariance));
   health.Count("rejected_updates", static_cast<std::size_t>(pipeline.health.rejected_updates));
+  health.Count("rejected_odometry", static_cast<std::size_t>(pipeline.health.rejected_odometry));
+  health.Count("rejected_frames", static_cast<std::size_t>(pipeline.health.rejected_frames));
   health.Count("malformed_innovations", malformed_innovations);
   health.Count("non_finite_covariances", matched.non_finite_covariances);
   health.Count("non_finite_estimates", matched.non_finite_estimates);

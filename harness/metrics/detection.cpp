@@ -123,9 +123,7 @@ void PlateDetectorMetrics(const PipelineRecord& pipeline, const PipelineContext&
         if (value < options.min_box_iou) return std::nullopt;
         return -value;
       },
-      [&](const render::PlateTruth& t) {
-        return t.fully_in_image && t.visible_fraction >= options.min_visible_fraction;
-      },
+      [&](const render::PlateTruth& t) { return PlateLegible(t, options); },
       [&](const slam::Detection& d, const render::PlateTruth& t) {
         iou.Add(BoxIou(d.box_px, BoxOf(t)));
         if (!d.label.empty()) {
@@ -189,15 +187,19 @@ void DoorDetectorMetrics(const PipelineRecord& pipeline, const PipelineContext& 
   out.Fraction("open_state_accuracy", state_correct, with_state);
 }
 
-// Vanishing point: each detection against the nearest in-image truth VP of its frame; frames
-// whose camera is inside a corridor whose VP is in the image count as detectable.
+// Vanishing point: each detection against the nearest in-image truth VP of its frame; a hit lies
+// within vp_gate_px of it. Frames whose camera is inside a corridor whose VP is in the image
+// count as detectable; a detectable frame is detected when one of its detections is a hit.
 void VanishingPointMetrics(const PipelineRecord& pipeline, const PipelineContext& context,
                            const MetricWriter& out) {
   const DetectionsByFrame grouped =
       GroupDetections(pipeline, context, LandmarkType::kVanishingPoint);
+  const double gate_px = context.options->vp_gate_px;
   Stats error;
   Stats u_error;
   std::size_t without_vp = 0;
+  std::size_t hits = 0;
+  std::size_t false_positives = 0;
   std::size_t detectable_frames = 0;
   std::size_t detected_frames = 0;
   for (const auto& [key, frame] : grouped.frames) {
@@ -207,7 +209,7 @@ void VanishingPointMetrics(const PipelineRecord& pipeline, const PipelineContext
         [](const render::VanishingPointTruth& v) { return v.in_image && v.camera_in_segment; });
     if (detectable) ++detectable_frames;
     if (it == grouped.by_frame.end()) continue;
-    if (detectable) ++detected_frames;
+    bool frame_hit = false;
     for (const slam::Detection* d : it->second) {
       const render::VanishingPointTruth* nearest = nullptr;
       for (const render::VanishingPointTruth& v : frame->vanishing_points) {
@@ -219,21 +221,39 @@ void VanishingPointMetrics(const PipelineRecord& pipeline, const PipelineContext
       }
       if (nearest == nullptr) {
         ++without_vp;
+        ++false_positives;
         continue;
       }
-      error.Add((nearest->pixel - d->pixel).norm());
+      const double distance_px = (nearest->pixel - d->pixel).norm();
+      error.Add(distance_px);
       u_error.Add(std::abs(nearest->pixel.x() - d->pixel.x()));
+      if (distance_px <= gate_px) {
+        ++hits;
+        frame_hit = true;
+      } else {
+        ++false_positives;
+      }
     }
+    if (detectable && frame_hit) ++detected_frames;
   }
   out.Count("count", error.count);
   out.Count("without_truth", grouped.without_truth + without_vp);
+  out.Count("hits", hits);
+  out.Count("false_positives", false_positives);
   out.Set("mean_error_px", error.mean());
   out.Set("rmse_error_px", error.rms());
   out.Set("mean_abs_u_error_px", u_error.mean());
+  out.Fraction("precision", hits, hits + false_positives);
   out.Fraction("detected_frame_fraction", detected_frames, detectable_frames);
 }
 
 }  // namespace
+
+bool PlateLegible(const render::PlateTruth& t, const MetricsOptions& options) {
+  return t.fully_in_image && t.visible_fraction >= options.min_visible_fraction &&
+         t.bbox_max_px.y() - t.bbox_min_px.y() >= options.min_plate_height_px &&
+         t.viewing_angle_deg <= options.max_plate_viewing_angle_deg;
+}
 
 double BoxIou(const Vector4d& a, const Vector4d& b) {
   const double w = std::min(a[2], b[2]) - std::max(a[0], b[0]);

@@ -2,6 +2,7 @@
 // What the runner collects during a closed-loop run for the metrics (docs/metrics.md): the truth,
 // every rendered frame's truth, and each pipeline's estimates, map, detections and innovations.
 
+#include <cstdint>
 #include <map>
 #include <string>
 #include <vector>
@@ -33,15 +34,28 @@ struct FrameTruthSample {
   render::FrameTruth truth;
 };
 
+/// What a rendered frame shows at a detection's pixel, read off its exact depth and instance
+/// buffers: the truth a point landmark made from that detection is scored against.
+struct SeenPoint {
+  Eigen::Vector3d p_in_world = Eigen::Vector3d::Zero();  // m
+  std::uint32_t instance_id = 0;                          // worlds id of the surface, 0 = none
+};
+
 struct PipelineRecord {
   std::string name;  // unique in the run; the key of its object in metrics.json
   std::vector<std::string> cameras_used;          // Pipeline::cameras_used(): frames it processed
   std::vector<EstimateSample> estimates;          // at every odometry message, stamp order
   std::vector<slam::LandmarkEstimate> landmarks;  // the final map
   std::vector<slam::Detection> detections;        // all frames
+  // Corner detections in depth-camera frames: the point seen at the detection's pixel, by index
+  // into `detections` (absent where the depth there is invalid).
+  std::map<std::size_t, SeenPoint> seen_points;
   std::vector<slam::Innovation> innovations;
   std::map<std::string, double> stage_seconds;  // the pipeline's own stages (s)
   slam::PipelineHealth health;
+  // The pipeline's dense map (Pipeline::occupancy_map) for the map-quality metrics, or nullptr;
+  // owned by the pipeline, valid until its maps are written.
+  const octomap::OcTree* occupancy_map = nullptr;
 };
 
 struct RunTiming {
@@ -56,6 +70,11 @@ struct MetricsOptions {
   double min_box_iou = 0.5;        // plates: a detection matches a truth box at this IoU or more
   double min_gate_px = 5.0;  // lamps, doors: the smallest centre gate (truth radius, half width)
   double min_visible_fraction = 0.5;  // truth less visible than this is neither hit nor missed
+  // A plate is legible, so detectable and observed, only where a camera the pipeline uses saw it
+  // large enough and not too obliquely: the outline at least this many pixels high ...
+  double min_plate_height_px = 16.0;
+  double max_plate_viewing_angle_deg = 60.0;  // ... and its normal within this of the view ray
+  double vp_gate_px = 20.0;  // a vanishing-point detection hits a truth VP within this distance
 };
 
 struct MetricsInput {

@@ -14,6 +14,8 @@
 
 #include <catch2/catch.hpp>
 
+#include "slam/odometry_pipeline.h"
+#include "slam/registry.h"
 #include "tests/support/expect_input_error.h"
 #include "tests/support/test_cameras.h"
 #include "worlds/world_io.h"
@@ -150,7 +152,7 @@ TEST_CASE("the resolved scenario sets the run's seed and merges the include chai
   CHECK(s.world.doors.width_m == 1.0);
   CHECK(s.rig.Find("upward")->model.pinhole() != nullptr);
   REQUIRE(s.pipelines.size() == 1);
-  CHECK(Contains(resolved, "  odometry:\n    enabled: true\n    k_m: 0.0002\n"));
+  CHECK(Contains(resolved, "  odometry:\n    type: odometry\n    enabled: true\n    k_m: 0.0002\n"));
   CHECK(EchoOf(copy, 77) == resolved.substr(resolved.find('\n') + 1));
 }
 
@@ -530,7 +532,8 @@ TEST_CASE("pipelines are read by name with their options, and an unknown one is 
       "pipelines:\n"
       "  odometry: {k_m: 0.0002}\n"
       "  orb_slam9: {}\n");
-  CHECK(msg == ":3:3: pipelines.orb_slam9: unknown pipeline (known: odometry)");
+  CHECK(msg == ":3:3: pipelines.orb_slam9: unknown pipeline (known: odometry; another name needs a "
+              "`type:` key)");
   const std::string bad = LoadError(
       "pipelines:\n"
       "  odometry:\n"
@@ -680,6 +683,72 @@ TEST_CASE("a run needs an enabled pipeline, at the pipelines key", "[scenarios]"
   CHECK(Contains(d.message(), "disabled: odometry"));
   const Scenario one = LoadScenario(dir.Write("one.yaml", "seed: 2\npipelines:\n  odometry: {}\n"));
   RequireScoredPipeline(one);  // no throw
+}
+
+}  // namespace
+}  // namespace corridorsim
+
+// ---- pipelines: names and types
+// ---------------------------------------------------------------------------
+
+namespace corridorsim {
+namespace {
+
+TEST_CASE("two pipelines of one type with different options run under their own names",
+          "[scenarios]") {
+  const FixtureDir dir;
+  const std::string path = dir.Write("s.yaml",
+                                     "pipelines:\n"
+                                     "  odometry:\n"
+                                     "    k_m: 0.0001\n"
+                                     "  odometry_loose:\n"
+                                     "    type: odometry\n"
+                                     "    k_m: 0.001\n");
+  const Scenario scenario = LoadScenario(path);
+  REQUIRE(scenario.pipelines.size() == 2);
+  CHECK(scenario.pipelines[0].name == "odometry");
+  CHECK(scenario.pipelines[0].type == "odometry");
+  CHECK(scenario.pipelines[1].name == "odometry_loose");
+  CHECK(scenario.pipelines[1].type == "odometry");
+  const auto* tight =
+      static_cast<const slam::OdometryPipelineOptions*>(scenario.pipelines[0].options->options());
+  const auto* loose =
+      static_cast<const slam::OdometryPipelineOptions*>(scenario.pipelines[1].options->options());
+  CHECK(tight->k_m == 0.0001);
+  CHECK(loose->k_m == 0.001);
+  // The echo names the type, so a saved scenario repeats the run.
+  const std::string echo = ResolvedScenarioYaml(scenario, 1);
+  CHECK(Contains(echo, "odometry_loose:\n    type: odometry\n"));
+}
+
+TEST_CASE("a pipeline of an unknown type is an error at its type key", "[scenarios]") {
+  CHECK(LoadError("pipelines:\n  mine:\n    type: orbslam\n") ==
+        ":3:5: pipelines.mine.type: unknown pipeline type 'orbslam' (known: " +
+            [] {
+              std::string known;
+              for (const std::string& n : slam::PipelineNames()) {
+                known += (known.empty() ? "" : ", ") + n;
+              }
+              return known;
+            }() +
+            ")");
+}
+
+TEST_CASE("a pipeline name that is not a file-name identifier is an error at it",
+          "[scenarios]") {
+  const std::string msg = LoadError("pipelines:\n  \"../evil\":\n    type: odometry\n");
+  CHECK(msg.rfind(":2:3: pipelines.../evil: a pipeline name is 1 to 64 lower-case letters", 0) ==
+        0);
+  CHECK(Contains(LoadError("pipelines:\n  Odometry:\n    type: odometry\n"), "(got 'Odometry')"));
+}
+
+TEST_CASE("a child file cannot change the type of a base file's pipeline", "[scenarios]") {
+  const FixtureDir dir;
+  dir.Write("base.yaml", "pipelines:\n  mine:\n    type: odometry\n");
+  const std::string child =
+      dir.Write("child.yaml", "include: base.yaml\npipelines:\n  mine:\n    type: p1_harris\n");
+  const InputError e = InputErrorOf([&] { LoadScenario(child); });
+  CHECK(Contains(e.what(), "pipelines.mine.type: the pipeline 'mine' is of type 'odometry'"));
 }
 
 }  // namespace

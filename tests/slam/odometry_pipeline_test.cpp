@@ -101,3 +101,26 @@ TEST_CASE("odometry pipeline options reject a negative k", "[slam]") {
 
 }  // namespace
 }  // namespace corridorsim::slam
+
+namespace corridorsim::slam {
+namespace {
+
+TEST_CASE("odometry with a NaN or out of time order is refused and counted, not applied",
+          "[slam]") {
+  OdometryPipeline pipeline(OdometryPipelineOptions{}, test::PioneerCalibration());
+  pipeline.Initialize(0, SE2(0.0, 0.0, 0.0));
+  pipeline.OnOdometry(Message(10, 0.1, 0.1));
+  const PoseEstimate before = pipeline.Estimate();
+  pipeline.OnOdometry(Message(20, std::nan(""), 0.1));
+  pipeline.OnOdometry(Message(5, 0.1, 0.1));  // older than the last one
+  const PoseEstimate after = pipeline.Estimate();
+  CHECK(after.world_from_robot.x() == before.world_from_robot.x());
+  CHECK(after.covariance == before.covariance);
+  CHECK(after.covariance.allFinite());
+  CHECK(pipeline.health().rejected_odometry == 2);
+  pipeline.OnOdometry(Message(30, 0.1, 0.1));  // good data afterwards is used
+  CHECK(pipeline.Estimate().world_from_robot.x() > before.world_from_robot.x());
+}
+
+}  // namespace
+}  // namespace corridorsim::slam

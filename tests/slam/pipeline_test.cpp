@@ -1,5 +1,7 @@
-// Tests slam/pipeline.cpp: what a calibration must hold.
+// Tests slam/pipeline.cpp: what a calibration must hold, and what a detection must carry.
 #include "slam/pipeline.h"
+
+#include <limits>
 
 #include <catch2/catch.hpp>
 
@@ -34,6 +36,55 @@ TEST_CASE("a calibration names its first missing or impossible value", "[slam]")
   calibration.cameras[0].model = CameraModel();
   REQUIRE(calibration.Check());
   CHECK(calibration.Check()->key == "cameras.front.model");
+}
+
+}  // namespace
+}  // namespace corridorsim::slam
+
+namespace corridorsim::slam {
+namespace {
+
+Detection Valid(LandmarkType type) {
+  Detection d;
+  d.camera_id = "front";
+  d.type = type;
+  d.pixel = Eigen::Vector2d(10, 20);
+  if (type == LandmarkType::kDoorPlate || type == LandmarkType::kDoor) {
+    d.box_px = Eigen::Vector4d(5, 15, 15, 25);
+  }
+  if (type == LandmarkType::kLamp) d.radius_px = 4.0;
+  return d;
+}
+
+TEST_CASE("a detection is checked for the fields its type needs", "[slam]") {
+  for (const LandmarkType type : {LandmarkType::kDoorPlate, LandmarkType::kCorner,
+                                  LandmarkType::kLamp, LandmarkType::kDoor,
+                                  LandmarkType::kVanishingPoint}) {
+    CHECK_FALSE(DetectionProblem(Valid(type)));
+  }
+  Detection plate = Valid(LandmarkType::kDoorPlate);
+  plate.box_px = Eigen::Vector4d(15, 15, 5, 25);  // min x > max x
+  CHECK(DetectionProblem(plate));
+  Detection lamp = Valid(LandmarkType::kLamp);
+  lamp.radius_px = 0.0;
+  CHECK(DetectionProblem(lamp));
+  Detection corner = Valid(LandmarkType::kCorner);
+  corner.label = "101";
+  CHECK(DetectionProblem(corner));
+  corner = Valid(LandmarkType::kCorner);
+  corner.pixel.x() = std::numeric_limits<double>::quiet_NaN();
+  CHECK(DetectionProblem(corner));
+  Detection read = Valid(LandmarkType::kDoorPlate);
+  read.recognition_score = 1.5;
+  CHECK(DetectionProblem(read));
+  read.recognition_score = 0.97;
+  CHECK_FALSE(DetectionProblem(read));
+  Detection vp = Valid(LandmarkType::kVanishingPoint);
+  vp.recognition_score = 0.5;
+  CHECK(DetectionProblem(vp));
+  Detection no_camera = Valid(LandmarkType::kCorner);
+  no_camera.camera_id.clear();
+  CHECK(DetectionProblem(no_camera));
 }
 
 }  // namespace

@@ -144,3 +144,95 @@ TEST_CASE("detector precision, recall, IoU, centre error and door state against 
 
 }  // namespace
 }  // namespace corridorsim::metrics_tests
+
+namespace corridorsim::metrics_tests {
+namespace {
+
+slam::Detection VpDetection(TimeNs stamp, const Vector2d& pixel) {
+  slam::Detection d;
+  d.stamp_ns = stamp;
+  d.camera_id = "front";
+  d.type = LandmarkType::kVanishingPoint;
+  d.pixel = pixel;
+  return d;
+}
+
+FrameTruthSample VpFrame(TimeNs stamp, const Vector2d& pixel) {
+  FrameTruthSample f = Frame("front", stamp);
+  render::VanishingPointTruth vp;
+  vp.direction_in_world = Vector2d(1, 0);
+  vp.pixel = pixel;
+  vp.in_image = true;
+  vp.camera_in_segment = true;
+  f.truth.vanishing_points = {vp};
+  return f;
+}
+
+TEST_CASE("a vanishing-point detection far from the true vanishing point is not a hit",
+          "[metrics]") {
+  const worlds::World world;
+  const std::vector<TruthPose> truth = ArcTruth(1.0);
+  PipelineRecord record = Record("vp", truth, [](const SE2& p) { return p; });
+  record.cameras_used = {"front"};
+  // Frame 5: 5 px off (a hit); frame 6: 100 px off (a false positive, and the frame is not
+  // detected); frame 7: nothing detected.
+  record.detections = {VpDetection(5, {323, 244}), VpDetection(6, {420, 240})};
+  const Json m = RunOne(world, truth, record,
+                        {VpFrame(5, {320, 240}), VpFrame(6, {320, 240}), VpFrame(7, {320, 240})});
+  const Json& vps = m["detection"]["vanishing_point"];
+  CHECK(vps["count"] == 2);
+  CHECK(vps["hits"] == 1);
+  CHECK(vps["false_positives"] == 1);
+  CHECK(Num(vps["precision"]) == Approx(0.5).margin(test::kMetricsJsonRatio));
+  CHECK(Num(vps["detected_frame_fraction"]) == Approx(1.0 / 3.0).margin(test::kMetricsJsonRatio));
+}
+
+render::PlateTruth PlateWithRegions(int id, double distance_m, double height_px,
+                                    double viewing_angle_deg) {
+  render::PlateTruth p;
+  p.id = id;
+  p.room_number = std::to_string(200 + id);
+  p.bbox_min_px = Vector2d(100, 100);
+  p.bbox_max_px = Vector2d(100 + 2 * height_px, 100 + height_px);
+  p.center_px = 0.5 * (p.bbox_min_px + p.bbox_max_px);
+  p.distance_m = distance_m;
+  p.viewing_angle_deg = viewing_angle_deg;
+  p.fully_in_image = true;
+  p.visible_fraction = 1.0;
+  return p;
+}
+
+slam::Detection PlateDetection(TimeNs stamp, const Vector4d& box, slam::PlateBox kind) {
+  slam::Detection d;
+  d.stamp_ns = stamp;
+  d.camera_id = "lateral";
+  d.type = LandmarkType::kDoorPlate;
+  d.box_px = box;
+  d.plate_box = kind;
+  d.pixel = 0.5 * (box.head<2>() + box.tail<2>());
+  return d;
+}
+
+TEST_CASE("a plate is scored only where it was legible: large enough and not too oblique",
+          "[metrics]") {
+  const worlds::World world;
+  const std::vector<TruthPose> truth = ArcTruth(1.0);
+  PipelineRecord record = Record("plates", truth, [](const SE2& p) { return p; });
+  record.cameras_used = {"lateral"};
+  FrameTruthSample legible = Frame("lateral", 5);
+  legible.truth.plates = {PlateWithRegions(1, 1.2, 40, 10)};
+  FrameTruthSample tiny = Frame("lateral", 6);  // a dot far ahead: 4 px high
+  tiny.truth.plates = {PlateWithRegions(2, 20.0, 4, 10)};
+  FrameTruthSample oblique = Frame("lateral", 7);  // seen at 80 deg to its normal
+  oblique.truth.plates = {PlateWithRegions(3, 1.5, 40, 80)};
+  // No detection anywhere: only the legible plate is a miss.
+  record.detections = {PlateDetection(5, {500, 400, 520, 410}, slam::PlateBox::kOutline)};
+  const Json m = RunOne(world, truth, record, {legible, tiny, oblique});
+  const Json& plates = m["detection"]["door_plate"];
+  CHECK(plates["false_negatives"] == 1);
+  CHECK(plates["false_positives"] == 1);
+  CHECK(plates["true_positives"] == 0);
+}
+
+}  // namespace
+}  // namespace corridorsim::metrics_tests

@@ -23,8 +23,9 @@ using metrics::MetricWriter;
 
 TEST_CASE("MetricNames lists the pipeline scalars in the schema order expectations have used",
           "[metrics][registry]") {
-  // The names before the registry (schema version 1), in their order; the health counters that
-  // are written only when non-zero come after them.
+  // The names before the registry (schema version 1), in their order, with the vanishing point's
+  // hits, false positives and precision added since (P1's scoring of a VP against the true one);
+  // the health counters that are written only when non-zero come after them.
   const std::vector<std::string> v1 = {
       "samples",
       "samples_without_truth",
@@ -146,9 +147,12 @@ TEST_CASE("MetricNames lists the pipeline scalars in the schema order expectatio
       "data_association.door.recall",
       "detection.vanishing_point.count",
       "detection.vanishing_point.without_truth",
+      "detection.vanishing_point.hits",
+      "detection.vanishing_point.false_positives",
       "detection.vanishing_point.mean_error_px",
       "detection.vanishing_point.rmse_error_px",
       "detection.vanishing_point.mean_abs_u_error_px",
+      "detection.vanishing_point.precision",
       "detection.vanishing_point.detected_frame_fraction",
       "detection.door_plate.detections",
       "detection.door_plate.true_positives",
@@ -188,12 +192,14 @@ TEST_CASE("MetricNames lists the pipeline scalars in the schema order expectatio
       "health.rejected_updates",
   };
   const std::vector<std::string> names = MetricNames();
-  REQUIRE(names.size() == v1.size() + 3);
+  REQUIRE(names.size() == v1.size() + 5);
   CHECK(std::vector<std::string>(names.begin(), names.begin() + static_cast<long>(v1.size())) ==
         v1);
-  CHECK(names[v1.size()] == "health.malformed_innovations");
-  CHECK(names[v1.size() + 1] == "health.non_finite_covariances");
-  CHECK(names[v1.size() + 2] == "health.non_finite_estimates");
+  CHECK(names[v1.size()] == "health.rejected_odometry");
+  CHECK(names[v1.size() + 1] == "health.rejected_frames");
+  CHECK(names[v1.size() + 2] == "health.malformed_innovations");
+  CHECK(names[v1.size() + 3] == "health.non_finite_covariances");
+  CHECK(names[v1.size() + 4] == "health.non_finite_estimates");
 }
 
 TEST_CASE("every metric is declared once with a unit, a step and a meaning",

@@ -79,10 +79,15 @@ inline slam::LandmarkEstimate Landmark(int id, slam::LandmarkType type, const Ei
   return l;
 }
 
+/// A plate seen legibly (whole, 40 px high, head-on) centred at `center_px`.
 inline render::PlateTruth PlateSeen(int id, const Eigen::Vector2d& center_px) {
   render::PlateTruth p;
   p.id = id;
   p.center_px = center_px;
+  p.bbox_min_px = center_px - Eigen::Vector2d(40, 20);
+  p.bbox_max_px = center_px + Eigen::Vector2d(40, 20);
+  p.fully_in_image = true;
+  p.visible_fraction = 1.0;
   return p;
 }
 

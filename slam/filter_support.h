@@ -1,0 +1,58 @@
+#pragma once
+// What the EKF pipelines (P1's vanishing point + door plates, the Harris baseline; later P2/P3)
+// share around the EKF core: the wheel-odometry prediction (P1 eqs. 13-17) and the checks that
+// keep bad sensor data out of a filter (a NaN distance, a message out of time order, a black or
+// empty frame, a depth image of the wrong size). Bad data is refused and counted in the
+// pipeline's health, never applied.
+
+#include <map>
+#include <optional>
+#include <string>
+
+#include "common/sensor_messages.h"
+#include "common/time.h"
+#include "slam/ekf/ekf_state.h"
+#include "slam/pipeline.h"
+
+namespace corridorsim::slam {
+
+/// The largest wheel distance one odometry message may carry (m): a robot at 2 m/s covers 0.04 m
+/// per 50 Hz message; a message claiming more than this is corrupt.
+inline constexpr double kMaxWheelDistancePerMessage_m = 10.0;
+
+/// Why an odometry message cannot be used (not finite, beyond the bound, older than `last_ns`),
+/// or nothing.
+std::optional<std::string> OdometryProblem(const WheelOdometry& odometry, TimeNs last_ns);
+
+/// P1 eqs. 13-17 on the robot block of `state`: the differential-drive motion model with
+/// Q = diag(k |s_l|, k |s_r|) (m^2), propagated as P = F P F^T + G Q G^T (eq. 14, the landmark
+/// blocks untouched: eqs. 15-16).
+void PredictWithWheelOdometry(const WheelOdometry& odometry, double wheelbase_m, double k_m,
+                              ekf::EkfState* state);
+
+/// Why a camera frame cannot be used, or nothing: an empty image or one whose size is not the
+/// calibration's, a stamp older than the camera's last frame (`last_ns`, -1 = none yet), a depth
+/// image of another size than the colour image.
+std::optional<std::string> FrameProblem(const CameraInput& input,
+                                        const CameraCalibration& calibration, TimeNs last_ns);
+
+/// Whether `image` is black: no pixel above `max_level` (a dead sensor or a lens cap).
+bool IsBlackImage(const Image8& image, int max_level = 8);
+
+/// Whether a depth image has no valid pixel (all zero or not finite).
+bool HasNoValidDepth(const ImageF& depth_m);
+
+/// The robot pose of the filter as a PoseEstimate at `stamp_ns`.
+PoseEstimate EstimateOf(const ekf::EkfState& state, TimeNs stamp_ns);
+
+/// Wall seconds per stage ("predict", "detect", ...), accumulated.
+class StageClock {
+ public:
+  void Add(const std::string& stage, double seconds) { seconds_[stage] += seconds; }
+  const std::map<std::string, double>& seconds() const { return seconds_; }
+
+ private:
+  std::map<std::string, double> seconds_;
+};
+
+}  // namespace corridorsim::slam

@@ -1,0 +1,226 @@
+#include "slam/p1_harris_pipeline.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <utility>
+
+#include "slam/ekf/measurement_models.h"
+
+namespace corridorsim::slam {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double SecondsSince(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+}  // namespace
+
+const OptionTable<P1HarrisOptions>& P1HarrisOptionsTable() {
+  return StaticOptionTable<P1HarrisOptions>([](OptionTable<P1HarrisOptions>& t) {
+    using O = P1HarrisOptions;
+    t.Add("k_m", &O::k_m, "m",
+          "k of P1 eq. 17: Q = diag(k |s_l|, k |s_r|); set it to robot.odometry.random_k_m")
+        .Range(0, 0.1);
+    t.Add("gate_chi2", &O::gate_chi2, "",
+          "Mahalanobis gate of an association (chi-square at 3 dof; 11.34 = 99 %)")
+        .Range(1, 1000);
+    t.Add("pixel_sigma_px", &O::pixel_sigma_px, "px", "sigma of a corner's u and v")
+        .Greater(0)
+        .Range(0, 100);
+    t.Add("depth_sigma_a_m", &O::depth_sigma_a_m, "m", "depth sigma at zero range")
+        .Greater(0)
+        .Range(0, 10);
+    t.Add("depth_sigma_b", &O::depth_sigma_b, "1/m", "growth of the depth sigma with z^2")
+        .Range(0, 10);
+    t.Add("max_depth_m", &O::max_depth_m, "m", "corners farther than this are not used")
+        .Greater(0)
+        .Range(0, 100);
+    t.Add("search_radius_px", &O::search_radius_px, "px",
+          "landmarks predicted within this of a corner are association candidates")
+        .Greater(0)
+        .Range(0, 1000);
+    t.Add("max_corners_per_frame", &O::max_corners_per_frame, "",
+          "corners used per frame, strongest first")
+        .Range(1, 1000);
+    t.Add("max_landmarks", &O::max_landmarks, "",
+          "the state stops growing at this many point landmarks")
+        .Range(1, 2500);
+    t.AddSection("corners", &O::corners, HarrisCornerOptionsTable(), "the Harris detector",
+                 &HarrisCornerOptions::Check);
+  });
+}
+
+std::optional<OptionsProblem> P1HarrisOptions::Check() const {
+  return CheckOptionBounds(P1HarrisOptionsTable(), *this);
+}
+
+P1HarrisPipeline::P1HarrisPipeline(const P1HarrisOptions& options, const Calibration& calibration,
+                                   std::uint64_t /*seed: draws nothing*/)
+    : options_(options), wheelbase_m_(calibration.wheelbase_m) {
+  CheckOrDie(!calibration.Check(), "slam::P1HarrisPipeline", "the calibration fails its Check()");
+  if (const CameraCalibration* front = calibration.Find("front")) front_ = *front;
+}
+
+P1HarrisPipeline::~P1HarrisPipeline() = default;
+
+void P1HarrisPipeline::Initialize(TimeNs stamp_ns, const SE2& world_from_robot) {
+  state_ = std::make_unique<ekf::EkfState>(
+      Eigen::Vector3d(world_from_robot.x(), world_from_robot.y(), world_from_robot.yaw()),
+      Eigen::Matrix3d::Zero());
+  stamp_ns_ = stamp_ns;
+}
+
+void P1HarrisPipeline::OnOdometry(const WheelOdometry& odometry) {
+  if (!state_ || OdometryProblem(odometry, stamp_ns_)) {
+    ++health_.rejected_odometry;
+    return;
+  }
+  const Clock::time_point t0 = Clock::now();
+  PredictWithWheelOdometry(odometry, wheelbase_m_, options_.k_m, state_.get());
+  stamp_ns_ = odometry.stamp_ns;
+  clock_.Add("predict", SecondsSince(t0));
+}
+
+Eigen::Matrix3d P1HarrisPipeline::MeasurementNoise(double depth_m) const {
+  const double sigma_px2 = options_.pixel_sigma_px * options_.pixel_sigma_px;
+  const double sigma_d = options_.depth_sigma_a_m + options_.depth_sigma_b * depth_m * depth_m;
+  return Eigen::Vector3d(sigma_px2, sigma_px2, sigma_d * sigma_d).asDiagonal();
+}
+
+void P1HarrisPipeline::OnCamera(const CameraInput& input) {
+  if (!state_ || !front_ || input.image.camera_id != "front") return;
+  if (FrameProblem(input, *front_, last_frame_ns_) || !input.depth ||
+      IsBlackImage(input.image.image) || HasNoValidDepth(input.depth->depth_m)) {
+    ++health_.rejected_frames;
+    return;
+  }
+  last_frame_ns_ = input.image.stamp_ns;
+  const TimeNs stamp_ns = input.image.stamp_ns;
+  const Clock::time_point t_frame = Clock::now();
+
+  std::vector<HarrisCorner> corners =
+      DetectHarrisCorners(input.image.image, &input.depth->depth_m, options_.corners);
+  clock_.Add("detect", SecondsSince(t_frame));
+  corners.erase(std::remove_if(corners.begin(), corners.end(),
+                               [&](const HarrisCorner& c) {
+                                 return !c.depth_m || *c.depth_m > options_.max_depth_m;
+                               }),
+                corners.end());
+  if (corners.size() > static_cast<std::size_t>(options_.max_corners_per_frame)) {
+    corners.resize(static_cast<std::size_t>(options_.max_corners_per_frame));  // strongest first
+  }
+
+  const Clock::time_point t_update = Clock::now();
+  const SE3& robot_from_camera = front_->robot_from_camera;
+  const CameraModel& model = front_->model;
+  for (const HarrisCorner& corner : corners) {
+    const Eigen::Vector3d z(corner.pixel_px.x(), corner.pixel_px.y(), *corner.depth_m);
+    const Eigen::Matrix3d R = MeasurementNoise(*corner.depth_m);
+    const Eigen::Vector3d x = state_->RobotPose();
+    const SE2 pose(x.x(), x.y(), x.z());
+    Detection d;
+    d.stamp_ns = stamp_ns;
+    d.camera_id = "front";
+    d.type = LandmarkType::kCorner;
+    d.pixel = corner.pixel_px;
+    d.score = corner.response;
+
+    // Mahalanobis association: the candidate with the smallest NIS inside the gate.
+    const PointLandmark* best = nullptr;
+    ekf::Measurement best_m;
+    double best_nis = 0.0;
+    bool any_near = false;
+    for (const PointLandmark& l : landmarks_) {
+      Eigen::Matrix3d d_pose;
+      Eigen::Matrix3d d_point;
+      const std::optional<Eigen::Vector3d> predicted = ProjectWorldPointWithDepth(
+          pose, state_->Value(l.block), robot_from_camera, model, &d_pose, &d_point);
+      if (!predicted || (predicted->head<2>() - z.head<2>()).norm() > options_.search_radius_px) {
+        continue;
+      }
+      any_near = true;
+      ekf::Measurement m;
+      m.blocks = {ekf::EkfState::robot(), l.block};
+      m.residual = z - *predicted;
+      m.jacobian.resize(3, 6);
+      m.jacobian << d_pose, d_point;
+      m.noise = R;
+      const std::optional<double> nis = state_->Nis(m);
+      if (nis && *nis <= options_.gate_chi2 && (best == nullptr || *nis < best_nis)) {
+        best = &l;
+        best_nis = *nis;
+        best_m = std::move(m);
+      }
+    }
+    if (best != nullptr) {
+      const ekf::UpdateResult result = state_->Update(best_m, options_.gate_chi2);
+      if (result.reason == ekf::UpdateReason::kNotPositiveDefinite) {
+        ++health_.non_positive_covariance;
+      }
+      if (!result.accepted) ++health_.rejected_updates;
+      innovations_.push_back(
+          {stamp_ns, LandmarkType::kCorner, result.nis, result.dof, result.accepted});
+      if (result.accepted) d.landmark_id = best->id;
+    } else if (!any_near &&
+               landmarks_.size() < static_cast<std::size_t>(options_.max_landmarks)) {
+      // A corner no landmark explains: a new point landmark (P1 eqs. 26-27).
+      Eigen::Matrix3d d_point_d_pose;
+      Eigen::Matrix3d d_point_d_z;
+      if (const std::optional<Eigen::Vector3d> p = UnprojectRgbdPoint(
+              pose, z, robot_from_camera, model, &d_point_d_pose, &d_point_d_z)) {
+        ekf::Augmentation a;
+        a.value = *p;
+        a.blocks = {ekf::EkfState::robot()};
+        a.d_value_d_blocks = d_point_d_pose;
+        a.d_value_d_measurement = d_point_d_z;
+        a.measurement_noise = R;
+        PointLandmark l;
+        l.id = next_landmark_id_++;
+        l.block = state_->Augment(a);
+        landmarks_.push_back(l);
+        d.landmark_id = l.id;
+        d.new_landmark = true;
+      }
+    }
+    detections_.push_back(std::move(d));
+  }
+  clock_.Add("update", SecondsSince(t_update));
+  frame_times_.push_back(
+      {stamp_ns, static_cast<int>(landmarks_.size()), SecondsSince(t_frame)});
+}
+
+PoseEstimate P1HarrisPipeline::Estimate() const {
+  if (!state_) return {};
+  return EstimateOf(*state_, stamp_ns_);
+}
+
+std::vector<LandmarkEstimate> P1HarrisPipeline::Landmarks() const {
+  std::vector<LandmarkEstimate> out;
+  if (!state_) return out;
+  for (const PointLandmark& l : landmarks_) {
+    LandmarkEstimate e;
+    e.id = l.id;
+    e.type = LandmarkType::kCorner;
+    e.position_in_world = state_->Value(l.block);
+    e.covariance = state_->Covariance(l.block, l.block);
+    out.push_back(e);
+  }
+  return out;
+}
+
+std::vector<MapFile> P1HarrisPipeline::TakeMaps() {
+  // P1 Fig. 16: the cost of a frame against the landmarks in the state.
+  std::string csv = "stamp_s,landmarks,frame_ms\n";
+  char line[96];
+  for (const FrameTime& f : frame_times_) {
+    std::snprintf(line, sizeof line, "%.9f,%d,%.3f\n", ToSeconds(f.stamp_ns), f.landmarks,
+                  1e3 * f.seconds);
+    csv += line;
+  }
+  return {{"_frame_times.csv", std::move(csv)}};
+}
+
+}  // namespace corridorsim::slam

@@ -1,0 +1,429 @@
+#include "slam/p1_vp_doorplate_pipeline.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <utility>
+
+#include "common/options_checker.h"
+#include "slam/ekf/measurement_models.h"
+#include "slam/mapping/semantic_map.h"
+
+namespace corridorsim::slam {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double SecondsSince(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+constexpr double kDegToRad = M_PI / 180.0;
+
+}  // namespace
+
+const OptionTable<P1VpDoorplateOptions>& P1VpDoorplateOptionsTable() {
+  return StaticOptionTable<P1VpDoorplateOptions>([](OptionTable<P1VpDoorplateOptions>& t) {
+    using O = P1VpDoorplateOptions;
+    t.Add("k_m", &O::k_m, "m",
+          "k of P1 eq. 17: Q = diag(k |s_l|, k |s_r|); set it to robot.odometry.random_k_m")
+        .Range(0, 0.1);
+    t.Add("gate_chi2", &O::gate_chi2, "",
+          "NIS gate of every update (chi-square at 1 dof; 10.83 = 99.9 %)")
+        .Range(1, 1000);
+    t.Add("use_vanishing_point", &O::use_vanishing_point, "",
+          "observe the front camera's vanishing point (P1 eq. 19)");
+    t.Add("vp_sigma_px", &O::vp_sigma_px, "px", "sigma of the vanishing point's u (eq. 19's R)")
+        .Greater(0)
+        .Range(0, 100);
+    t.Add("vp_virtual_distance_m", &O::vp_virtual_distance_m, "m",
+          "distance of the virtual plane the VP landmark lies on (P1 Fig. 10)")
+        .Range(10, 1e6);
+    t.AddSection("vanishing_point", &O::vanishing_point, VanishingPointOptionsTable(),
+                 "the vanishing-point detector (P1 section 2)", &VanishingPointOptions::Check);
+    t.Add("use_door_plates", &O::use_door_plates, "",
+          "observe the lateral camera's door plates (P1 eq. 20)");
+    t.Add("plate_sigma_px", &O::plate_sigma_px, "px", "sigma_u of P1 eq. 25")
+        .Greater(0)
+        .Range(0, 100);
+    t.Add("plate_height_m", &O::plate_height_m, "m",
+          "nominal height of the plates' numbers (the plate state is planar, P1 eq. 11)")
+        .Range(0, 10);
+    t.Add("min_readings", &O::min_readings, "",
+          "accepted readings of a number before it may become a landmark")
+        .Range(1, 100);
+    t.Add("min_parallax_deg", &O::min_parallax_deg, "deg",
+          "parallax of the two sightings a plate is triangulated from (delayed initialisation)")
+        .Range(0.5, 90);
+    t.Add("max_plate_range_m", &O::max_plate_range_m, "m",
+          "a triangulated plate farther than this from the camera is refused")
+        .Greater(0)
+        .Range(0, 100);
+    t.Add("pending_timeout_s", &O::pending_timeout_s, "s",
+          "a number read but not initialised within this is forgotten (its clone removed)")
+        .Greater(0)
+        .Range(0, 3600);
+    t.Add("models_dir", &O::models_dir, "",
+          "folder of the trained detector models (docs/detectors.md); empty: the source tree's "
+          "models/");
+    t.AddSection("door_plates", &O::door_plates, DoorPlateOptionsTable(),
+                 "door-plate detector and room-number reader (P1 section 3)",
+                 &DoorPlateOptions::Check);
+    t.Add("octomap", &O::octomap, "", "build the OctoMap from the front depth (P1 section 5)");
+    t.AddSection("octomap_map", &O::octomap_map, OccupancyMapperOptionsTable(),
+                 "the OctoMap's resolution, range and keyframes", &OccupancyMapperOptions::Check);
+  });
+}
+
+std::optional<OptionsProblem> P1VpDoorplateOptions::Check() const {
+  return CheckOptionBounds(P1VpDoorplateOptionsTable(), *this);
+}
+
+P1VpDoorplatePipeline::P1VpDoorplatePipeline(const P1VpDoorplateOptions& options,
+                                             const Calibration& calibration,
+                                             std::uint64_t /*seed: draws nothing*/)
+    : options_(options), wheelbase_m_(calibration.wheelbase_m) {
+  CheckOrDie(!calibration.Check(), "slam::P1VpDoorplatePipeline",
+             "the calibration fails its Check()");
+  if (const CameraCalibration* front = calibration.Find("front")) front_ = *front;
+  if (const CameraCalibration* lateral = calibration.Find("lateral")) lateral_ = *lateral;
+  if (options_.use_door_plates) {
+    models_ = DoorPlateModels::Load(options_.models_dir);
+    CheckModelsFit(*models_, options_.door_plates, options_.models_dir);
+  }
+  if (options_.octomap && front_ && front_->depth) {
+    mapper_ = std::make_unique<OccupancyMapper>(options_.octomap_map, *front_);
+  }
+}
+
+P1VpDoorplatePipeline::~P1VpDoorplatePipeline() = default;
+
+std::vector<std::string> P1VpDoorplatePipeline::cameras_used() const {
+  std::vector<std::string> cameras;
+  if (options_.use_vanishing_point || options_.octomap) cameras.push_back("front");
+  if (options_.use_door_plates) cameras.push_back("lateral");
+  return cameras;
+}
+
+void P1VpDoorplatePipeline::Initialize(TimeNs stamp_ns, const SE2& world_from_robot) {
+  // The start pose is known exactly (P1's runs and every pipeline here share it).
+  state_ = std::make_unique<ekf::EkfState>(
+      Eigen::Vector3d(world_from_robot.x(), world_from_robot.y(), world_from_robot.yaw()),
+      Eigen::Matrix3d::Zero());
+  stamp_ns_ = stamp_ns;
+}
+
+void P1VpDoorplatePipeline::OnOdometry(const WheelOdometry& odometry) {
+  if (!state_ || OdometryProblem(odometry, stamp_ns_)) {
+    ++health_.rejected_odometry;
+    return;
+  }
+  const Clock::time_point t0 = Clock::now();
+  PredictWithWheelOdometry(odometry, wheelbase_m_, options_.k_m, state_.get());
+  stamp_ns_ = odometry.stamp_ns;
+  clock_.Add("predict", SecondsSince(t0));
+}
+
+void P1VpDoorplatePipeline::OnCamera(const CameraInput& input) {
+  const std::string& id = input.image.camera_id;
+  const CameraCalibration* calibration = id == "front"     ? (front_ ? &*front_ : nullptr)
+                                         : id == "lateral" ? (lateral_ ? &*lateral_ : nullptr)
+                                                           : nullptr;
+  if (!state_ || calibration == nullptr) return;
+  const auto last = last_frame_ns_.find(id);
+  if (FrameProblem(input, *calibration, last == last_frame_ns_.end() ? -1 : last->second)) {
+    ++health_.rejected_frames;
+    return;
+  }
+  last_frame_ns_[id] = input.image.stamp_ns;
+  if (id == "front") OnFront(input);
+  if (id == "lateral") OnLateral(input);
+}
+
+void P1VpDoorplatePipeline::OnFront(const CameraInput& input) {
+  const TimeNs stamp_ns = input.image.stamp_ns;
+  if (options_.use_vanishing_point) {
+    const Clock::time_point t0 = Clock::now();
+    // A black frame carries no evidence: refused (and counted) before any detector runs.
+    if (IsBlackImage(input.image.image)) {
+      ++health_.rejected_frames;
+    } else if (const std::optional<VanishingPoint> vp =
+                   DetectVanishingPoint(input.image.image, options_.vanishing_point)) {
+      clock_.Add("vp_detect", SecondsSince(t0));
+      Detection d;
+      d.stamp_ns = stamp_ns;
+      d.camera_id = "front";
+      d.type = LandmarkType::kVanishingPoint;
+      d.pixel = vp->pixel_px;
+      d.score = vp->quality.line_count;
+      const Clock::time_point t1 = Clock::now();
+      ObserveVanishingPoint(stamp_ns, vp->pixel_px.x(), &d);
+      clock_.Add("update", SecondsSince(t1));
+      detections_.push_back(std::move(d));
+    } else {
+      clock_.Add("vp_detect", SecondsSince(t0));
+    }
+  }
+  if (mapper_ && input.depth) {
+    if (HasNoValidDepth(input.depth->depth_m)) {
+      ++health_.rejected_frames;
+      return;
+    }
+    const Clock::time_point t0 = Clock::now();
+    const Eigen::Vector3d x = state_->RobotPose();
+    const SE3 world_from_camera =
+        SE3::FromSE2(SE2(x.x(), x.y(), x.z())) * front_->robot_from_camera;
+    mapper_->OnDepth(input.depth->depth_m, world_from_camera);
+    clock_.Add("octomap", SecondsSince(t0));
+  }
+}
+
+void P1VpDoorplatePipeline::ObserveVanishingPoint(TimeNs stamp_ns, double u,
+                                                  Detection* detection) {
+  const Eigen::Vector3d x = state_->RobotPose();
+  const SE2 pose(x.x(), x.y(), x.z());
+  const CameraModel& model = front_->model;
+  const double sigma2 = options_.vp_sigma_px * options_.vp_sigma_px;
+  // Association: the VP landmark of the corridor direction in view is the one that projects into
+  // the image (the opposite direction's is behind the camera); the nearest by NIS if several.
+  const VpLandmark* best = nullptr;
+  ekf::Measurement best_measurement;
+  double best_nis = 0.0;
+  for (const VpLandmark& vp : vps_) {
+    Eigen::Matrix<double, 1, 3> d_pose;
+    Eigen::Matrix<double, 1, 2> d_landmark;
+    const std::optional<double> predicted =
+        VanishingPointU(pose, state_->Value(vp.block), front_->robot_from_camera, model, &d_pose,
+                        &d_landmark);
+    if (!predicted || *predicted < -0.5 * model.width() || *predicted > 1.5 * model.width()) {
+      continue;
+    }
+    ekf::Measurement m;  // P1 eqs. 19, 21-24: z = u, H = [H_r 0 H_v 0]
+    m.blocks = {ekf::EkfState::robot(), vp.block};
+    m.residual = Eigen::VectorXd::Constant(1, u - *predicted);
+    m.jacobian.resize(1, 5);
+    m.jacobian << d_pose, d_landmark;
+    m.noise = Eigen::MatrixXd::Constant(1, 1, sigma2);
+    const std::optional<double> nis = state_->Nis(m);
+    if (nis && (best == nullptr || *nis < best_nis)) {
+      best = &vp;
+      best_nis = *nis;
+      best_measurement = std::move(m);
+    }
+  }
+  if (best != nullptr) {
+    const ekf::UpdateResult result = state_->Update(best_measurement, options_.gate_chi2);
+    Record(stamp_ns, LandmarkType::kVanishingPoint, result);
+    if (result.accepted) detection->landmark_id = best->id;
+    return;
+  }
+  // None in view: a new VP landmark on the virtual plane (P1 Fig. 10, eqs. 26-27).
+  Eigen::Matrix<double, 2, 3> d_landmark_d_pose;
+  Eigen::Vector2d d_landmark_d_u;
+  const std::optional<Eigen::Vector2d> landmark =
+      InitVanishingPoint(pose, u, options_.vp_virtual_distance_m, front_->robot_from_camera,
+                         model, &d_landmark_d_pose, &d_landmark_d_u);
+  if (!landmark) return;
+  ekf::Augmentation a;
+  a.value = *landmark;
+  a.blocks = {ekf::EkfState::robot()};
+  a.d_value_d_blocks = d_landmark_d_pose;
+  a.d_value_d_measurement = d_landmark_d_u;
+  a.measurement_noise = Eigen::MatrixXd::Constant(1, 1, sigma2);
+  VpLandmark vp;
+  vp.id = next_landmark_id_++;
+  vp.block = state_->Augment(a);
+  vps_.push_back(vp);
+  detection->landmark_id = vp.id;
+  detection->new_landmark = true;
+}
+
+void P1VpDoorplatePipeline::OnLateral(const CameraInput& input) {
+  if (!options_.use_door_plates || !models_) return;
+  const TimeNs stamp_ns = input.image.stamp_ns;
+  if (IsBlackImage(input.image.image)) {
+    ++health_.rejected_frames;
+    return;
+  }
+  const Clock::time_point t0 = Clock::now();
+  const std::vector<DoorPlateDetection> plates =
+      DetectDoorPlates(input.image.image, *models_, options_.door_plates);
+  clock_.Add("plate_detect", SecondsSince(t0));
+  const Clock::time_point t1 = Clock::now();
+  ForgetStalePending(stamp_ns);
+  for (const DoorPlateDetection& plate : plates) {
+    Detection d;
+    d.stamp_ns = stamp_ns;
+    d.camera_id = "lateral";
+    d.type = LandmarkType::kDoorPlate;
+    d.box_px = Eigen::Vector4d(plate.box_px.min_x, plate.box_px.min_y, plate.box_px.max_x,
+                               plate.box_px.max_y);
+    d.plate_box = PlateBox::kNumberRegion;
+    d.pixel = 0.5 * (d.box_px.head<2>() + d.box_px.tail<2>());
+    d.score = plate.svm_score;
+    if (!plate.reading.digits.empty()) d.recognition_score = plate.reading.min_score;
+    // Only a reading whose every digit clears the threshold is a measurement (P1 section 3.2:
+    // false readings are never registered).
+    if (plate.reading.accepted) {
+      d.label = plate.reading.number;
+      ObservePlate(stamp_ns, plate.reading.number, d.pixel.x(), &d);
+    }
+    detections_.push_back(std::move(d));
+  }
+  clock_.Add("update", SecondsSince(t1));
+}
+
+void P1VpDoorplatePipeline::ObservePlate(TimeNs stamp_ns, const std::string& number, double u,
+                                         Detection* detection) {
+  const Eigen::Vector3d x = state_->RobotPose();
+  const SE2 pose(x.x(), x.y(), x.z());
+  const CameraModel& model = lateral_->model;
+  const double sigma2 = options_.plate_sigma_px * options_.plate_sigma_px;
+
+  // P1 Table 1: the signature alone associates a plate with its landmark.
+  if (const auto it = plates_.find(number); it != plates_.end()) {
+    Eigen::Matrix<double, 1, 3> d_pose;
+    Eigen::Matrix<double, 1, 2> d_landmark;
+    const std::optional<double> predicted =
+        DoorPlateU(pose, state_->Value(it->second.block), options_.plate_height_m,
+                   lateral_->robot_from_camera, model, &d_pose, &d_landmark);
+    if (!predicted) {
+      ++health_.rejected_updates;
+      return;
+    }
+    // P1 eqs. 20-25. The signature row of eq. 20 has zero noise (eq. 25) and, the association
+    // being by signature, zero residual: it adds nothing to the update and is left out.
+    ekf::Measurement m;
+    m.blocks = {ekf::EkfState::robot(), it->second.block};
+    m.residual = Eigen::VectorXd::Constant(1, u - *predicted);
+    m.jacobian.resize(1, 5);
+    m.jacobian << d_pose, d_landmark;
+    m.noise = Eigen::MatrixXd::Constant(1, 1, sigma2);
+    const ekf::UpdateResult result = state_->Update(m, options_.gate_chi2);
+    Record(stamp_ns, LandmarkType::kDoorPlate, result);
+    if (result.accepted) {
+      ++it->second.updates;
+      detection->landmark_id = it->second.id;
+    }
+    return;
+  }
+
+  // A number not in the map: delayed initialisation (header comment).
+  auto pending = pending_.find(number);
+  if (pending == pending_.end()) {
+    PendingPlate p;
+    p.clone = state_->Clone(ekf::EkfState::robot());
+    p.u_first = u;
+    p.first_ns = stamp_ns;
+    p.readings = 1;
+    pending_.emplace(number, p);
+    return;
+  }
+  PendingPlate& p = pending->second;
+  ++p.readings;
+  if (p.readings < options_.min_readings) return;
+  const Eigen::Vector3d c = state_->Value(p.clone);
+  Eigen::Matrix<double, 2, 3> d_first_pose;
+  Eigen::Vector2d d_first_u;
+  Eigen::Matrix<double, 2, 3> d_second_pose;
+  Eigen::Vector2d d_second_u;
+  const std::optional<PlateTriangulation> t = TriangulateDoorPlate(
+      SE2(c.x(), c.y(), c.z()), p.u_first, pose, u, options_.plate_height_m,
+      lateral_->robot_from_camera, model, &d_first_pose, &d_first_u, &d_second_pose, &d_second_u);
+  if (!t || t->parallax_rad < options_.min_parallax_deg * kDegToRad) return;
+  const SE3 world_from_camera = SE3::FromSE2(pose) * lateral_->robot_from_camera;
+  const double range_m = (t->plate_in_world - world_from_camera.translation().head<2>()).norm();
+  if (range_m > options_.max_plate_range_m) return;
+  // P1 eqs. 26-27 with A over the clone and the current pose and A_a over both u's.
+  ekf::Augmentation a;
+  a.value = t->plate_in_world;
+  a.blocks = {p.clone, ekf::EkfState::robot()};
+  a.d_value_d_blocks.resize(2, 6);
+  a.d_value_d_blocks << d_first_pose, d_second_pose;
+  a.d_value_d_measurement.resize(2, 2);
+  a.d_value_d_measurement << d_first_u, d_second_u;
+  a.measurement_noise = sigma2 * Eigen::MatrixXd::Identity(2, 2);
+  PlateLandmark plate;
+  plate.id = next_landmark_id_++;
+  plate.block = state_->Augment(a);
+  state_->Remove(p.clone);
+  pending_.erase(pending);
+  plates_.emplace(number, plate);
+  detection->landmark_id = plate.id;
+  detection->new_landmark = true;
+}
+
+void P1VpDoorplatePipeline::ForgetStalePending(TimeNs stamp_ns) {
+  const TimeNs timeout_ns = FromSeconds(options_.pending_timeout_s);
+  for (auto it = pending_.begin(); it != pending_.end();) {
+    if (stamp_ns - it->second.first_ns > timeout_ns) {
+      state_->Remove(it->second.clone);
+      it = pending_.erase(it);
+    } else {
+      ++it;
+    }
+  }
+}
+
+void P1VpDoorplatePipeline::Record(TimeNs stamp_ns, LandmarkType type,
+                                   const ekf::UpdateResult& result) {
+  if (result.reason == ekf::UpdateReason::kNotPositiveDefinite) ++health_.non_positive_covariance;
+  if (!result.accepted) ++health_.rejected_updates;
+  if (std::isfinite(result.nis)) {
+    innovations_.push_back({stamp_ns, type, result.nis, result.dof, result.accepted});
+  }
+}
+
+PoseEstimate P1VpDoorplatePipeline::Estimate() const {
+  if (!state_) return {};
+  return EstimateOf(*state_, stamp_ns_);
+}
+
+std::vector<LandmarkEstimate> P1VpDoorplatePipeline::Landmarks() const {
+  std::vector<LandmarkEstimate> out;
+  if (!state_) return out;
+  const double vp_height_m = front_ ? front_->robot_from_camera.translation().z() : 0.0;
+  for (const VpLandmark& vp : vps_) {
+    LandmarkEstimate l;
+    l.id = vp.id;
+    l.type = LandmarkType::kVanishingPoint;
+    l.position_in_world << state_->Value(vp.block), vp_height_m;
+    l.covariance.setZero();
+    l.covariance.topLeftCorner<2, 2>() = state_->Covariance(vp.block, vp.block);
+    out.push_back(l);
+  }
+  for (const auto& [number, plate] : plates_) {
+    LandmarkEstimate l;
+    l.id = plate.id;
+    l.type = LandmarkType::kDoorPlate;
+    l.label = number;
+    l.position_in_world << state_->Value(plate.block), options_.plate_height_m;
+    l.covariance.setZero();  // the height is nominal, not estimated
+    l.covariance.topLeftCorner<2, 2>() = state_->Covariance(plate.block, plate.block);
+    // Converged once observed after its initialisation.
+    l.status = plate.updates > 0 ? LandmarkStatus::kConverged : LandmarkStatus::kInitializing;
+    out.push_back(l);
+  }
+  std::sort(out.begin(), out.end(),
+            [](const LandmarkEstimate& a, const LandmarkEstimate& b) { return a.id < b.id; });
+  return out;
+}
+
+std::vector<Detection> P1VpDoorplatePipeline::TakeDetections() { return std::move(detections_); }
+
+std::vector<Innovation> P1VpDoorplatePipeline::TakeInnovations() {
+  return std::move(innovations_);
+}
+
+std::vector<MapFile> P1VpDoorplatePipeline::TakeMaps() {
+  std::vector<MapFile> maps;
+  if (mapper_) maps.push_back({".bt", mapper_->BinaryBytes()});
+  if (options_.use_door_plates) {
+    maps.push_back({"_semantic.json", SemanticMapToJson(SemanticMapFromLandmarks(Landmarks()))});
+  }
+  return maps;
+}
+
+const octomap::OcTree* P1VpDoorplatePipeline::occupancy_map() const {
+  return mapper_ ? &mapper_->octree() : nullptr;
+}
+
+}  // namespace corridorsim::slam
