@@ -27,9 +27,9 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 std::string UpdateReasonName(UpdateReason reason) { return NameOf(kUpdateReasonNames, reason); }
 
 struct EkfState::Prepared {
-  Eigen::MatrixXd p_ht;         // P_(:,t) H^T (n x m); empty for Nis()
+  Eigen::MatrixXd p_ht;             // P_(:,t) H^T (n x m); empty for Nis()
   Eigen::LLT<Eigen::MatrixXd> llt;  // of S = H P_tt H^T + R
-  Eigen::VectorXd whitened;     // L^-1 r, so that NIS = |L^-1 r|^2
+  Eigen::VectorXd whitened;         // L^-1 r, so that NIS = |L^-1 r|^2
 };
 
 EkfState::EkfState(const Eigen::Vector3d& robot_pose, const Eigen::Matrix3d& robot_covariance) {
@@ -169,9 +169,9 @@ bool EkfState::Prepare(const std::vector<Segment>& segments, int total,
                        UpdateResult* result) const {
   const auto m = static_cast<int>(residual.size());
   CheckOrDie(m >= 1 && m <= kMaxMeasurementDim, "EkfState::Update", "measurement size");
-  CheckOrDie(jacobian.rows() == m && jacobian.cols() == total && noise.rows() == m &&
-                 noise.cols() == m,
-             "EkfState::Update", "H or R has the wrong shape");
+  CheckOrDie(
+      jacobian.rows() == m && jacobian.cols() == total && noise.rows() == m && noise.cols() == m,
+      "EkfState::Update", "H or R has the wrong shape");
   result->dof = m;
   result->nis = kNaN;
   result->accepted = false;
@@ -285,8 +285,8 @@ UpdateResult EkfState::UpdateStacked(std::span<const Measurement> measurements,
                "EkfState::UpdateStacked", "H or R has the wrong shape");
     int column = 0;
     for (BlockId id : z.blocks) {
-      const auto k = static_cast<std::size_t>(std::find(blocks.begin(), blocks.end(), id) -
-                                              blocks.begin());
+      const auto k =
+          static_cast<std::size_t>(std::find(blocks.begin(), blocks.end(), id) - blocks.begin());
       const Segment& s = segments[k];
       jacobian.block(row, s.column, m, s.size) = z.jacobian.middleCols(column, s.size);
       column += s.size;

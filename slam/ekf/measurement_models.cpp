@@ -30,9 +30,9 @@ std::optional<ColumnPlane> ColumnPlaneOf(double u, const SE3& robot_from_camera,
       model.Unproject(Eigen::Vector2d(u, PrincipalRow(model)), &d_bearing_d_pixel);
   if (!(bearing.z() > 1e-9)) return std::nullopt;
   const double x_n = bearing.x() / bearing.z();
-  const double d_x_n_d_u = (d_bearing_d_pixel(0, 0) * bearing.z() -
-                            bearing.x() * d_bearing_d_pixel(2, 0)) /
-                           (bearing.z() * bearing.z());
+  const double d_x_n_d_u =
+      (d_bearing_d_pixel(0, 0) * bearing.z() - bearing.x() * d_bearing_d_pixel(2, 0)) /
+      (bearing.z() * bearing.z());
   const Eigen::Matrix3d robot_r_camera = robot_from_camera.rotation();
   return ColumnPlane{robot_r_camera * Eigen::Vector3d(1.0, 0.0, -x_n),
                      robot_r_camera * Eigen::Vector3d(0.0, 0.0, -d_x_n_d_u)};
@@ -46,7 +46,8 @@ Eigen::Vector3d WorldPointInCamera(const SE2& world_from_robot, const Eigen::Vec
   const Eigen::Matrix2d world_r_robot = world_from_robot.rotation();
   // Planar pose: p_in_robot = (R^T (p_xy - t), p_z), the floor at z = 0 in both frames.
   Eigen::Vector3d p_in_robot;
-  p_in_robot.head<2>() = world_r_robot.transpose() * (p_in_world.head<2>() - world_from_robot.translation());
+  p_in_robot.head<2>() =
+      world_r_robot.transpose() * (p_in_world.head<2>() - world_from_robot.translation());
   p_in_robot.z() = p_in_world.z();
   const Eigen::Matrix3d camera_r_robot = robot_from_camera.rotation().transpose();
   const Eigen::Vector3d p_in_camera =
@@ -74,10 +75,9 @@ std::optional<Eigen::Vector2d> ProjectWorldPoint(const SE2& world_from_robot,
                                                  Eigen::Matrix<double, 2, 3>* d_pixel_d_point) {
   const bool jacobians = d_pixel_d_pose != nullptr || d_pixel_d_point != nullptr;
   Eigen::Matrix3d d_camera_d_pose, d_camera_d_point;
-  const Eigen::Vector3d p_in_camera =
-      WorldPointInCamera(world_from_robot, p_in_world, robot_from_camera,
-                         jacobians ? &d_camera_d_pose : nullptr,
-                         jacobians ? &d_camera_d_point : nullptr);
+  const Eigen::Vector3d p_in_camera = WorldPointInCamera(
+      world_from_robot, p_in_world, robot_from_camera, jacobians ? &d_camera_d_pose : nullptr,
+      jacobians ? &d_camera_d_point : nullptr);
   Eigen::Matrix<double, 2, 3> d_pixel_d_camera;
   const std::optional<Eigen::Vector2d> pixel =
       model.Project(p_in_camera, jacobians ? &d_pixel_d_camera : nullptr);
@@ -87,16 +87,17 @@ std::optional<Eigen::Vector2d> ProjectWorldPoint(const SE2& world_from_robot,
   return pixel;
 }
 
-std::optional<Eigen::Vector3d> ProjectWorldPointWithDepth(
-    const SE2& world_from_robot, const Eigen::Vector3d& p_in_world, const SE3& robot_from_camera,
-    const CameraModel& model, Eigen::Matrix3d* d_measurement_d_pose,
-    Eigen::Matrix3d* d_measurement_d_point) {
+std::optional<Eigen::Vector3d> ProjectWorldPointWithDepth(const SE2& world_from_robot,
+                                                          const Eigen::Vector3d& p_in_world,
+                                                          const SE3& robot_from_camera,
+                                                          const CameraModel& model,
+                                                          Eigen::Matrix3d* d_measurement_d_pose,
+                                                          Eigen::Matrix3d* d_measurement_d_point) {
   const bool jacobians = d_measurement_d_pose != nullptr || d_measurement_d_point != nullptr;
   Eigen::Matrix3d d_camera_d_pose, d_camera_d_point;
-  const Eigen::Vector3d p_in_camera =
-      WorldPointInCamera(world_from_robot, p_in_world, robot_from_camera,
-                         jacobians ? &d_camera_d_pose : nullptr,
-                         jacobians ? &d_camera_d_point : nullptr);
+  const Eigen::Vector3d p_in_camera = WorldPointInCamera(
+      world_from_robot, p_in_world, robot_from_camera, jacobians ? &d_camera_d_pose : nullptr,
+      jacobians ? &d_camera_d_point : nullptr);
   Eigen::Matrix<double, 2, 3> d_pixel_d_camera;
   const std::optional<Eigen::Vector2d> pixel =
       model.Project(p_in_camera, jacobians ? &d_pixel_d_camera : nullptr);

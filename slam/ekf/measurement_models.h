@@ -11,8 +11,9 @@
 // P1 writes the vanishing point (VP, landmark l_v = (x_v, y_v) on a virtual plane ahead) and the
 // door plate (landmark l_d = (x_d, y_d)) as the u coordinate of their image, the robot at
 // (x_r, y_r, phi):
-//   eq. 19:  u_v = f_v {(x_v - x_r) sin phi - (y_v - y_r) cos phi} / sqrt((x_v - x_r)^2 + (y_v - y_r)^2)
-//   eq. 20:  u_d = f_d {(x_r - x_d) cos phi - (y_r - y_d) sin phi} / sqrt((x_d - x_r)^2 + (y_d - y_r)^2)
+//   eq. 19:  u_v = f_v {(x_v - x_r) sin phi - (y_v - y_r) cos phi} / sqrt((x_v - x_r)^2 + (y_v -
+//   y_r)^2) eq. 20:  u_d = f_d {(x_r - x_d) cos phi - (y_r - y_d) sin phi} / sqrt((x_d - x_r)^2 +
+//   (y_d - y_r)^2)
 // Derivation, a camera at the robot's origin, u measured from the principal point: the landmark
 // in the robot frame is
 //   X_R =  (x - x_r) cos phi + (y - y_r) sin phi      (ahead)
@@ -26,14 +27,14 @@
 // x = x_R (the image's right is the robot's front), so
 //   u_left = f X_R / Y_R = f {(x - x_r) cos phi + (y - y_r) sin phi} / Y_R
 //          = -f {(x_r - x) cos phi + (y_r - y) sin phi} / Y_R,
-// and one facing right (-y) has u_right = -u_left = f {(x_r - x) cos phi + (y_r - y) sin phi} / (-Y_R).
-// So the sine term of eq. 20 must carry a PLUS sign: f_d {(x_r - x_d) cos phi + (y_r - y_d) sin phi}
-// is -f_d X_R (P1's form for a camera facing right, or facing left with u counted leftwards),
-// which like eq. 19 depends on the landmark in the robot frame only. As printed, with the minus,
-// it is not a function of the robot-frame landmark at all: rotating the robot and the plate
-// together about the origin changes it (at phi = 0 it reads -f_d X_R / range, at phi = pi/2 it
-// reads +f_d X_R / range), and it disagrees with eq. 19's form. We do not use either formula: the
-// models below are the exact pinhole projection through the camera's real mount and model
+// and one facing right (-y) has u_right = -u_left = f {(x_r - x) cos phi + (y_r - y) sin phi} /
+// (-Y_R). So the sine term of eq. 20 must carry a PLUS sign: f_d {(x_r - x_d) cos phi + (y_r - y_d)
+// sin phi} is -f_d X_R (P1's form for a camera facing right, or facing left with u counted
+// leftwards), which like eq. 19 depends on the landmark in the robot frame only. As printed, with
+// the minus, it is not a function of the robot-frame landmark at all: rotating the robot and the
+// plate together about the origin changes it (at phi = 0 it reads -f_d X_R / range, at phi = pi/2
+// it reads +f_d X_R / range), and it disagrees with eq. 19's form. We do not use either formula:
+// the models below are the exact pinhole projection through the camera's real mount and model
 // (ProjectWorldPoint), which equal eqs. 19/20 with the corrected sign (and P1's sign convention
 // of u) for a camera at the robot's origin and small bearings.
 // tests/slam/ekf/measurement_models_test.cpp shows it: the derived u_front and u_left equal
@@ -99,9 +100,8 @@ std::optional<double> DoorPlateU(const SE2& world_from_robot, const Eigen::Vecto
 /// camera's height, `virtual_distance_m` (> 0) from the camera, in front of it. nullopt when the
 /// column's plane is horizontal (no such point) or u does not unproject in front of the camera.
 std::optional<Eigen::Vector2d> InitVanishingPoint(
-    const SE2& world_from_robot, double u, double virtual_distance_m,
-    const SE3& robot_from_camera, const CameraModel& model,
-    Eigen::Matrix<double, 2, 3>* d_landmark_d_pose = nullptr,
+    const SE2& world_from_robot, double u, double virtual_distance_m, const SE3& robot_from_camera,
+    const CameraModel& model, Eigen::Matrix<double, 2, 3>* d_landmark_d_pose = nullptr,
     Eigen::Vector2d* d_landmark_d_u = nullptr);
 
 /// A door plate triangulated from two sightings by the lateral camera.
@@ -126,10 +126,12 @@ std::optional<PlateTriangulation> TriangulateDoorPlate(
 
 /// The Harris baseline's inverse: p_in_world of the RGB-D measurement (u px, v px, depth m = z in
 /// the camera). nullopt for depth <= 0 or a pixel whose bearing is not in front (z <= 0).
-std::optional<Eigen::Vector3d> UnprojectRgbdPoint(
-    const SE2& world_from_robot, const Eigen::Vector3d& pixel_and_depth,
-    const SE3& robot_from_camera, const CameraModel& model,
-    Eigen::Matrix3d* d_point_d_pose = nullptr, Eigen::Matrix3d* d_point_d_measurement = nullptr);
+std::optional<Eigen::Vector3d> UnprojectRgbdPoint(const SE2& world_from_robot,
+                                                  const Eigen::Vector3d& pixel_and_depth,
+                                                  const SE3& robot_from_camera,
+                                                  const CameraModel& model,
+                                                  Eigen::Matrix3d* d_point_d_pose = nullptr,
+                                                  Eigen::Matrix3d* d_point_d_measurement = nullptr);
 
 /// Range (m) and bearing (rad, from the robot's heading, counter-clockwise, in (-pi, pi]) of the
 /// planar point `landmark_in_world`; for bench_ekf and the EKF's consistency test. The landmark

@@ -95,8 +95,8 @@ void DenseUpdate(const MatrixXd& h, const VectorXd& r, const MatrixXd& noise, Ve
   *p = (MatrixXd::Identity(p->rows(), p->cols()) - k * h) * *p;
 }
 
-Measurement RandomMeasurement(RandomStream& rng, const EkfState& state,
-                              std::vector<BlockId> blocks, int rows) {
+Measurement RandomMeasurement(RandomStream& rng, const EkfState& state, std::vector<BlockId> blocks,
+                              int rows) {
   Measurement z;
   z.blocks = std::move(blocks);
   int cols = 0;
@@ -117,8 +117,8 @@ TEST_CASE("an update over the touched blocks equals the textbook dense EKF", "[e
   for (int trial = 0; trial < 5; ++trial) {
     RandomState s = MakeRandomState(rng);
     // The robot and two non-adjacent landmarks, listed out of storage order.
-    const Measurement z = RandomMeasurement(
-        rng, s.state, {s.landmarks[3], EkfState::robot(), s.landmarks[1]}, 3);
+    const Measurement z =
+        RandomMeasurement(rng, s.state, {s.landmarks[3], EkfState::robot(), s.landmarks[1]}, 3);
     VectorXd x = s.state.Mean();
     MatrixXd p = s.state.FullCovariance();
     DenseUpdate(DenseJacobian(s.state, z), z.residual, z.noise, &x, &p);
@@ -421,7 +421,8 @@ NeesFigures SimulateRangeBearingSlam(double noise_scale) {
     for (int k = 0; k < 3; ++k) odometry_cov(k, k) = std::pow(S::kOdometrySigma[k], 2);
     const Eigen::Matrix2d sensor_cov =
         noise_scale *
-        Eigen::Vector2d(std::pow(S::kRangeSigmaM, 2), std::pow(S::kBearingSigmaRad, 2)).asDiagonal();
+        Eigen::Vector2d(std::pow(S::kRangeSigmaM, 2), std::pow(S::kBearingSigmaRad, 2))
+            .asDiagonal();
     for (int step = 0; step < S::kSteps; ++step) {
       const Eigen::Vector3d delta = CircleStep();
       truth = Compose(truth, delta);
@@ -447,8 +448,8 @@ NeesFigures SimulateRangeBearingSlam(double noise_scale) {
         const Eigen::Vector3d r = state.RobotPose();
         Eigen::Matrix<double, 2, 3> d_z_d_pose;
         Eigen::Matrix2d d_z_d_landmark;
-        const Eigen::Vector2d h = RangeBearing(SE2(r[0], r[1], r[2]), state.Value(ids[i]),
-                                               &d_z_d_pose, &d_z_d_landmark);
+        const Eigen::Vector2d h =
+            RangeBearing(SE2(r[0], r[1], r[2]), state.Value(ids[i]), &d_z_d_pose, &d_z_d_landmark);
         Measurement m;
         m.blocks = {EkfState::robot(), ids[i]};
         m.jacobian.resize(2, 5);

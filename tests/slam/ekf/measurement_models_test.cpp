@@ -135,16 +135,14 @@ TEST_CASE("VanishingPointU and DoorPlateU have the Jacobians of central differen
            : DoorPlateU(PoseOf(pose), landmark, height, mount, model, &d_pose, &d_landmark);
     REQUIRE(u);
     INFO("pose " << pose.transpose() << " landmark " << landmark.transpose());
-    CheckJacobian(d_pose, NumericalJacobian<1, 3>(
-                              [&](const Vector3d& x) {
-                                return Matrix<double, 1, 1>(*u_of(x, landmark));
-                              },
-                              pose));
-    CheckJacobian(d_landmark, NumericalJacobian<1, 2>(
-                                  [&](const Vector2d& l) {
-                                    return Matrix<double, 1, 1>(*u_of(pose, l));
-                                  },
-                                  landmark));
+    CheckJacobian(
+        d_pose,
+        NumericalJacobian<1, 3>(
+            [&](const Vector3d& x) { return Matrix<double, 1, 1>(*u_of(x, landmark)); }, pose));
+    CheckJacobian(
+        d_landmark,
+        NumericalJacobian<1, 2>(
+            [&](const Vector2d& l) { return Matrix<double, 1, 1>(*u_of(pose, l)); }, landmark));
   }
 }
 
@@ -203,8 +201,8 @@ TEST_CASE("P1 eq. 20 as printed has the wrong sign", "[ekf_models]") {
   const SE2 pose(0.0, 0.0, 0.0);
   const Vector2d plate(1.0, 2.0);
   const double u = *DoorPlateU(pose, plate, h, left, pinhole);
-  CHECK(u > pinhole.cx);                       // the left camera sees "ahead" on its right
-  CHECK(Eq20Printed(pose, plate, f) < 0.0);    // eq. 20 puts it left of the centre
+  CHECK(u > pinhole.cx);                     // the left camera sees "ahead" on its right
+  CHECK(Eq20Printed(pose, plate, f) < 0.0);  // eq. 20 puts it left of the centre
   // Turning robot and plate together by 90 deg changes nothing the robot sees ...
   const SE2 turn(0.0, 0.0, kPi / 2);
   const SE2 turned_pose = turn * pose;
@@ -227,8 +225,8 @@ TEST_CASE("InitVanishingPoint inverts VanishingPointU and has central-difference
   for (int trial = 0; trial < 40; ++trial) {
     const Vector3d pose = RandomPose(rng);
     // The front camera, level; every fourth trial pitched (the inverse is exact for any pitch).
-    const SE3 mount = trial % 4 == 3 ? OpticalMount(5 * kDeg, 10 * kDeg, Vector3d(0.2, 0.05, 0.4))
-                                     : FrontMount();
+    const SE3 mount =
+        trial % 4 == 3 ? OpticalMount(5 * kDeg, 10 * kDeg, Vector3d(0.2, 0.05, 0.4)) : FrontMount();
     const CameraModel model = Front();
     const double u = rng.Uniform(100, 540);
     const double distance = rng.Uniform(10, 50);
@@ -265,9 +263,11 @@ TEST_CASE("TriangulateDoorPlate recovers the plate from two sightings, with its 
     const Vector3d first = RandomPose(rng);
     const double travel = rng.Uniform(0.3, 1.5);
     const Vector3d second(first[0] + travel * std::cos(first[2]),
-                          first[1] + travel * std::sin(first[2]), first[2] + rng.Uniform(-0.1, 0.1));
+                          first[1] + travel * std::sin(first[2]),
+                          first[2] + rng.Uniform(-0.1, 0.1));
     const double height = rng.Uniform(1.4, 1.8);
-    const Vector2d plate = PoseOf(first) * Vector2d(rng.Uniform(0.0, travel), rng.Uniform(1.0, 2.5));
+    const Vector2d plate =
+        PoseOf(first) * Vector2d(rng.Uniform(0.0, travel), rng.Uniform(1.0, 2.5));
     const auto u1 = DoorPlateU(PoseOf(first), plate, height, mount, model);
     const auto u2 = DoorPlateU(PoseOf(second), plate, height, mount, model);
     if (!u1 || !u2) continue;
@@ -291,16 +291,20 @@ TEST_CASE("TriangulateDoorPlate recovers the plate from two sightings, with its 
       return TriangulateDoorPlate(PoseOf(p1), v1, PoseOf(p2), v2, height, mount, model)
           ->plate_in_world;
     };
-    CheckJacobian(d_first, NumericalJacobian<2, 3>(
-                               [&](const Vector3d& x) { return solve(x, *u1, second, *u2); }, first));
-    CheckJacobian(d_second, NumericalJacobian<2, 3>(
-                                [&](const Vector3d& x) { return solve(first, *u1, x, *u2); }, second));
-    CheckJacobian(d_u1, NumericalJacobian<2, 1>(
-                            [&](const Matrix<double, 1, 1>& v) { return solve(first, v[0], second, *u2); },
-                            Matrix<double, 1, 1>(*u1)));
-    CheckJacobian(d_u2, NumericalJacobian<2, 1>(
-                            [&](const Matrix<double, 1, 1>& v) { return solve(first, *u1, second, v[0]); },
-                            Matrix<double, 1, 1>(*u2)));
+    CheckJacobian(d_first,
+                  NumericalJacobian<2, 3>(
+                      [&](const Vector3d& x) { return solve(x, *u1, second, *u2); }, first));
+    CheckJacobian(d_second,
+                  NumericalJacobian<2, 3>(
+                      [&](const Vector3d& x) { return solve(first, *u1, x, *u2); }, second));
+    CheckJacobian(
+        d_u1, NumericalJacobian<2, 1>(
+                  [&](const Matrix<double, 1, 1>& v) { return solve(first, v[0], second, *u2); },
+                  Matrix<double, 1, 1>(*u1)));
+    CheckJacobian(
+        d_u2, NumericalJacobian<2, 1>(
+                  [&](const Matrix<double, 1, 1>& v) { return solve(first, *u1, second, v[0]); },
+                  Matrix<double, 1, 1>(*u2)));
     ++checked;
   }
   CHECK(checked >= 30);
@@ -349,25 +353,23 @@ TEST_CASE("range-bearing and its inverse have central-difference Jacobians", "[e
     Eigen::Matrix2d d_landmark;
     const Vector2d z = RangeBearing(PoseOf(pose), landmark, &d_pose, &d_landmark);
     CHECK((z - z_true).norm() <= 1e-9);
-    CheckJacobian(d_pose, NumericalJacobian<2, 3>(
-                              [&](const Vector3d& x) { return RangeBearing(PoseOf(x), landmark); },
-                              pose));
+    CheckJacobian(d_pose,
+                  NumericalJacobian<2, 3>(
+                      [&](const Vector3d& x) { return RangeBearing(PoseOf(x), landmark); }, pose));
     CheckJacobian(d_landmark,
                   NumericalJacobian<2, 2>(
                       [&](const Vector2d& l) { return RangeBearing(PoseOf(pose), l); }, landmark));
     Matrix<double, 2, 3> d_inv_pose;
     Eigen::Matrix2d d_inv_z;
     RangeBearingInverse(PoseOf(pose), z_true, &d_inv_pose, &d_inv_z);
-    CheckJacobian(d_inv_pose, NumericalJacobian<2, 3>(
-                                  [&](const Vector3d& x) {
-                                    return RangeBearingInverse(PoseOf(x), z_true);
-                                  },
-                                  pose));
-    CheckJacobian(d_inv_z, NumericalJacobian<2, 2>(
-                               [&](const Vector2d& m) {
-                                 return RangeBearingInverse(PoseOf(pose), m);
-                               },
-                               z_true));
+    CheckJacobian(
+        d_inv_pose,
+        NumericalJacobian<2, 3>(
+            [&](const Vector3d& x) { return RangeBearingInverse(PoseOf(x), z_true); }, pose));
+    CheckJacobian(
+        d_inv_z,
+        NumericalJacobian<2, 2>(
+            [&](const Vector2d& m) { return RangeBearingInverse(PoseOf(pose), m); }, z_true));
   }
 }
 
