@@ -9,7 +9,10 @@
 // never read. P is symmetric by construction, and the covariance update P -= K (H P) is one
 // symmetric rank-m update of that triangle (half the flops and memory traffic of the full matrix).
 // Costs, n = dim(), t = the touched dimensions, m = the measurement's rows: PredictRobot O(n),
-// Update O(n t + n m + n^2 m / 2), Augment O(n s), Remove O(n^2), Nis O(n t m) at most (t^2 m).
+// Update O(n t m + n m^2 + n^2 m / 2) (the last term, the rank-m update, dominates: bench_ekf),
+// Nis O(t^2 m + m^3), Augment O(n s (t + s)), Remove O(n^2). Stacking a frame's measurements into
+// one update (UpdateStacked) streams P once instead of once per measurement: 3x faster at
+// N = 1000 point landmarks (bench/bench_ekf.cpp).
 
 #include <cstdint>
 #include <optional>
