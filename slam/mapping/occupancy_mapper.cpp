@@ -64,8 +64,7 @@ OccupancyMapper::OccupancyMapper(const OccupancyMapperOptions& options,
 
 bool OccupancyMapper::IsKeyframe(const SE3& world_from_camera) const {
   if (!last_keyframe_) return true;
-  const double moved_m =
-      (world_from_camera.translation() - last_keyframe_->translation()).norm();
+  const double moved_m = (world_from_camera.translation() - last_keyframe_->translation()).norm();
   const double turned_rad =
       last_keyframe_->quaternion().angularDistance(world_from_camera.quaternion());
   return moved_m >= options_.keyframe_distance_m ||
@@ -96,11 +95,11 @@ void OccupancyMapper::Insert(const ImageF& depth_m, const SE3& world_from_camera
   const Eigen::Vector3d& origin = world_from_camera.translation();
   // Rays from the sensor origin: free cells along each, the endpoint occupied; rays longer than
   // max_range_m are cut and leave no endpoint. discretize: one ray per endpoint voxel.
-  octree_->insertPointCloud(cloud,
-                            octomap::point3d(static_cast<float>(origin.x()),
-                                             static_cast<float>(origin.y()),
-                                             static_cast<float>(origin.z())),
-                            options_.max_range_m, /*lazy_eval=*/false, /*discretize=*/true);
+  octree_->insertPointCloud(
+      cloud,
+      octomap::point3d(static_cast<float>(origin.x()), static_cast<float>(origin.y()),
+                       static_cast<float>(origin.z())),
+      options_.max_range_m, /*lazy_eval=*/false, /*discretize=*/true);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   ++stats_.keyframes;

@@ -28,10 +28,10 @@
 namespace corridorsim::slam {
 
 struct OccupancyMapperOptions {
-  double resolution_m = 0.10;  // m, edge of the octree's smallest voxel
-  double max_range_m = 5.0;    // m, rays are cut here (endpoints beyond it are not occupied)
-  int pixel_stride = 4;        // px, every stride-th pixel of every stride-th depth row
-  double voxel_leaf_m = 0.0;   // m, voxel-grid filter before insertion; 0 = off
+  double resolution_m = 0.10;        // m, edge of the octree's smallest voxel
+  double max_range_m = 5.0;          // m, rays are cut here (endpoints beyond it are not occupied)
+  int pixel_stride = 4;              // px, every stride-th pixel of every stride-th depth row
+  double voxel_leaf_m = 0.0;         // m, voxel-grid filter before insertion; 0 = off
   double keyframe_distance_m = 0.5;  // m the camera moves between keyframes
   double keyframe_angle_deg = 15.0;  // deg the camera turns between keyframes
   std::optional<OptionsProblem> Check() const;
@@ -40,10 +40,10 @@ struct OccupancyMapperOptions {
 const OptionTable<OccupancyMapperOptions>& OccupancyMapperOptionsTable();
 
 struct OccupancyMapperStats {
-  int frames = 0;                  // depth frames offered
-  int keyframes = 0;               // of them inserted
+  int frames = 0;                    // depth frames offered
+  int keyframes = 0;                 // of them inserted
   std::int64_t points_inserted = 0;  // cloud points after stride, range and filter
-  double insert_seconds = 0.0;     // wall-clock in cloud building and insertion, all keyframes
+  double insert_seconds = 0.0;       // wall-clock in cloud building and insertion, all keyframes
   double max_keyframe_seconds = 0.0;
   double ms_per_keyframe() const { return keyframes > 0 ? 1e3 * insert_seconds / keyframes : 0.0; }
 };

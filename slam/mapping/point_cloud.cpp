@@ -34,8 +34,8 @@ std::optional<OptionsProblem> DepthCloudOptions::Check() const {
   return CheckOptionBounds(DepthCloudOptionsTable(), *this);
 }
 
-DepthCloudProjector::DepthCloudProjector(const DepthCloudOptions& options,
-                                         const CameraModel& model, const DepthRange& range)
+DepthCloudProjector::DepthCloudProjector(const DepthCloudOptions& options, const CameraModel& model,
+                                         const DepthRange& range)
     : width_(model.width()), height_(model.height()), range_(range) {
   CheckOrDie(!options.Check(), "slam::DepthCloudProjector", "the options fail their Check()");
   CheckOrDie(!model.Check(), "slam::DepthCloudProjector", "the camera model fails its Check()");

@@ -22,9 +22,9 @@ namespace corridorsim::slam {
 /// camera frame: p = depth * b / b_z with b = model.Unproject(pixel). nullopt when the pixel's ray
 /// does not point forward (b_z <= kMinForwardBearing: a fisheye's rays at or beyond 90 deg, whose
 /// depth along the axis names no point). `d_point_d_pixel_depth` is d p / d (u, v, depth).
-std::optional<Eigen::Vector3d> UnprojectDepth(
-    const CameraModel& model, const Eigen::Vector2d& pixel, double depth_m,
-    Eigen::Matrix3d* d_point_d_pixel_depth = nullptr);
+std::optional<Eigen::Vector3d> UnprojectDepth(const CameraModel& model,
+                                              const Eigen::Vector2d& pixel, double depth_m,
+                                              Eigen::Matrix3d* d_point_d_pixel_depth = nullptr);
 
 /// Rays with a smaller z component of their unit bearing are not unprojected (about 89.9 deg).
 inline constexpr double kMinForwardBearing = 1e-3;
@@ -58,7 +58,7 @@ class DepthCloudProjector {
  private:
   int width_, height_;
   DepthRange range_;
-  std::vector<std::size_t> pixel_index_;            // y * width + x of each sampled pixel
+  std::vector<std::size_t> pixel_index_;             // y * width + x of each sampled pixel
   std::vector<Eigen::Vector3d> ray_per_unit_depth_;  // b / b_z of each sampled pixel
 };
 

@@ -50,7 +50,8 @@ std::pair<int, int> LineColumn(const std::string& text, std::size_t offset) {
 
 // Unknown and missing keys of one object.
 void RequireKeys(const nlohmann::json& object, const std::string& key,
-                 const std::vector<std::string>& required, const std::vector<std::string>& optional) {
+                 const std::vector<std::string>& required,
+                 const std::vector<std::string>& optional) {
   if (!object.is_object()) Fail(key, "expected an object (got " + TypeName(object) + ")");
   for (const auto& [name, value] : object.items()) {
     (void)value;
@@ -71,7 +72,8 @@ double Number(const nlohmann::json& value, const std::string& key, double max_ab
   if (!value.is_number()) Fail(key, "expected a number (got " + TypeName(value) + ")");
   const double v = value.get<double>();
   if (!std::isfinite(v) || std::abs(v) > max_abs) {
-    Fail(key, "must be a finite number within +-" + std::to_string(static_cast<long long>(max_abs)));
+    Fail(key,
+         "must be a finite number within +-" + std::to_string(static_cast<long long>(max_abs)));
   }
   return v;
 }
@@ -115,16 +117,18 @@ std::vector<SemanticMapEntry> SemanticMapFromLandmarks(
     const double other = same->covariance(0, 0) + same->covariance(1, 1);
     if (variance < other || (variance == other && e.landmark_id < same->landmark_id)) *same = e;
   }
-  std::sort(entries.begin(), entries.end(), [](const SemanticMapEntry& a, const SemanticMapEntry& b) {
-    return RoomNumberLess(a.room, b.room);
-  });
+  std::sort(entries.begin(), entries.end(),
+            [](const SemanticMapEntry& a, const SemanticMapEntry& b) {
+              return RoomNumberLess(a.room, b.room);
+            });
   return entries;
 }
 
 std::string SemanticMapToJson(std::vector<SemanticMapEntry> entries) {
-  std::sort(entries.begin(), entries.end(), [](const SemanticMapEntry& a, const SemanticMapEntry& b) {
-    return RoomNumberLess(a.room, b.room);
-  });
+  std::sort(entries.begin(), entries.end(),
+            [](const SemanticMapEntry& a, const SemanticMapEntry& b) {
+              return RoomNumberLess(a.room, b.room);
+            });
   nlohmann::ordered_json rooms = nlohmann::ordered_json::array();
   for (std::size_t i = 0; i < entries.size(); ++i) {
     const SemanticMapEntry& e = entries[i];
@@ -165,7 +169,8 @@ std::vector<SemanticMapEntry> ParseSemanticMap(const std::string& text) {
         using Event = nlohmann::json::parse_event_t;
         if (event == Event::object_start) keys_of_open_objects.emplace_back();
         if (event == Event::object_end) keys_of_open_objects.pop_back();
-        if (event == Event::key && !keys_of_open_objects.back().insert(parsed.get<std::string>()).second) {
+        if (event == Event::key &&
+            !keys_of_open_objects.back().insert(parsed.get<std::string>()).second) {
           Fail(parsed.get<std::string>(), "duplicate key");
         }
         return true;
@@ -178,8 +183,9 @@ std::vector<SemanticMapEntry> ParseSemanticMap(const std::string& text) {
     std::string what = e.what();
     // "[json.exception.parse_error.101] parse error at line 1, column 2: syntax error ..."
     const std::size_t colon = what.find(": ");
-    throw SemanticMapError(line, column, "",
-                           "not JSON: " + (colon == std::string::npos ? what : what.substr(colon + 2)));
+    throw SemanticMapError(
+        line, column, "",
+        "not JSON: " + (colon == std::string::npos ? what : what.substr(colon + 2)));
   } catch (const nlohmann::json::exception& e) {
     // "[json.exception.out_of_range.406] number overflow parsing '1e400'"
     std::string what = e.what();
@@ -229,8 +235,8 @@ std::vector<SemanticMapEntry> ParseSemanticMap(const std::string& text) {
     e.planar = n == 2;
     for (std::size_t r = 0; r < n; ++r) {
       if (!covariance[r].is_array() || covariance[r].size() != n) {
-        Fail(key + ".covariance_m2", "expected " + std::to_string(n) + " rows of " +
-                                         std::to_string(n) + " numbers");
+        Fail(key + ".covariance_m2",
+             "expected " + std::to_string(n) + " rows of " + std::to_string(n) + " numbers");
       }
       for (std::size_t c = 0; c < n; ++c) {
         e.covariance(static_cast<int>(r), static_cast<int>(c)) =
@@ -242,7 +248,8 @@ std::vector<SemanticMapEntry> ParseSemanticMap(const std::string& text) {
     for (int r = 0; r < static_cast<int>(n); ++r) {
       if (e.covariance(r, r) < 0) Fail(key + ".covariance_m2", "a variance is negative");
       for (int c = 0; c < r; ++c) {
-        const double scale = std::max({1e-300, std::abs(e.covariance(r, c)), std::abs(e.covariance(c, r))});
+        const double scale =
+            std::max({1e-300, std::abs(e.covariance(r, c)), std::abs(e.covariance(c, r))});
         if (std::abs(e.covariance(r, c) - e.covariance(c, r)) > 1e-9 * scale) {
           Fail(key + ".covariance_m2", "not symmetric");
         }

@@ -22,7 +22,7 @@
 namespace corridorsim::slam {
 
 struct SemanticMapEntry {
-  std::string room;  // room number as read on the plate, unique in a map
+  std::string room;      // room number as read on the plate, unique in a map
   int landmark_id = -1;  // the pipeline's landmark
   Eigen::Vector3d position_in_world = Eigen::Vector3d::Zero();  // m
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();         // m^2

@@ -1,9 +1,9 @@
 #include "slam/mapping/voxel_filter.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <cstdint>
+#include <utility>
 
 namespace corridorsim::slam {
 
@@ -23,20 +23,15 @@ VoxelFilterResult VoxelFilter(const std::vector<Eigen::Vector3d>& points,
                               const VoxelFilterOptions& options) {
   CheckOrDie(!options.Check(), "slam::VoxelFilter", "the options fail their Check()");
   const double inverse_leaf = 1.0 / options.leaf_size_m;
-  // (voxel key, index of the point): sorted, the points of one voxel are adjacent and in input
-  // order, so the centroid's sum runs in the same order every time.
-  struct Keyed {
-    std::array<std::int64_t, 3> key;
-    std::size_t index;
-    bool operator<(const Keyed& other) const {
-      return key != other.key ? key < other.key : index < other.index;
-    }
-  };
-  std::vector<Keyed> keyed;
+  // (voxel key, index of the point), the key packing the three offset indices in 21 bits each:
+  // sorted, the points of one voxel are adjacent and in input order, so the centroid's sum runs
+  // in the same order every time, and the voxels come out in (x, y, z) index order.
+  std::vector<std::pair<std::uint64_t, std::size_t>> keyed;
   keyed.reserve(points.size());
   VoxelFilterResult result;
+  constexpr std::int64_t kOffset = std::int64_t{1} << 20;
   for (std::size_t i = 0; i < points.size(); ++i) {
-    Keyed k{{0, 0, 0}, i};
+    std::uint64_t key = 0;
     bool ok = true;
     for (int axis = 0; axis < 3; ++axis) {
       const double index = std::floor(points[i][axis] * inverse_leaf);
@@ -45,10 +40,10 @@ VoxelFilterResult VoxelFilter(const std::vector<Eigen::Vector3d>& points,
         ok = false;
         break;
       }
-      k.key[axis] = static_cast<std::int64_t>(index);
+      key = (key << 21) | static_cast<std::uint64_t>(static_cast<std::int64_t>(index) + kOffset);
     }
     if (ok) {
-      keyed.push_back(k);
+      keyed.emplace_back(key, i);
     } else {
       ++result.dropped;
     }
@@ -57,8 +52,8 @@ VoxelFilterResult VoxelFilter(const std::vector<Eigen::Vector3d>& points,
   for (std::size_t begin = 0; begin < keyed.size();) {
     std::size_t end = begin;
     Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    while (end < keyed.size() && keyed[end].key == keyed[begin].key) {
-      sum += points[keyed[end].index];
+    while (end < keyed.size() && keyed[end].first == keyed[begin].first) {
+      sum += points[keyed[end].second];
       ++end;
     }
     result.points.push_back(sum / static_cast<double>(end - begin));

@@ -20,9 +20,9 @@ struct VoxelFilterOptions {
 };
 const OptionTable<VoxelFilterOptions>& VoxelFilterOptionsTable();
 
-/// Points whose coordinates lie farther than this from the origin (m per m of leaf size, i.e. in
-/// voxels) are dropped: their voxel index would not fit the key (and no corridor is that large).
-inline constexpr double kVoxelFilterMaxIndex = 1e9;
+/// Points whose voxel index along an axis exceeds this in magnitude are dropped: the index would
+/// not fit its 21 bits of the 64-bit key (52 km from the origin at a 0.05 m leaf).
+inline constexpr double kVoxelFilterMaxIndex = (1 << 20) - 1;
 
 struct VoxelFilterResult {
   std::vector<Eigen::Vector3d> points;  // centroids, in the input's frame, by voxel key

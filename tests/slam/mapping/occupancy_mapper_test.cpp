@@ -45,8 +45,10 @@ bool Unknown(const octomap::OcTree& tree, double x, double y, double z) {
   return tree.search(x, y, z) == nullptr;
 }
 
-TEST_CASE("a wall's depth image gives an octree with the wall occupied and the space in front "
-          "free", "[slam][mapping]") {
+TEST_CASE(
+    "a wall's depth image gives an octree with the wall occupied and the space in front "
+    "free",
+    "[slam][mapping]") {
   OccupancyMapper mapper(Options(5.0), FrontCamera());
   // The wall at x = 3.04: inside the voxel layer [3.0, 3.1).
   mapper.Insert(WallDepth(3.04), CameraAt(0, 0, 0));

@@ -94,7 +94,7 @@ TEST_CASE("the stride samples every stride-th pixel and the range drops depths o
   depth.at(16, 0) = std::numeric_limits<float>::infinity();
   depth.at(20, 0) = 0.5f;  // the range is closed
   depth.at(24, 0) = 4.0f;
-  depth.at(1, 0) = 0.0f;   // off the grid
+  depth.at(1, 0) = 0.0f;  // off the grid
   projector.PointsInCamera(depth, &points);
   CHECK(points.size() == 160u * 120u - 5u);
   CHECK(DepthCloudOptions{.pixel_stride = 0}.Check()->key == "pixel_stride");
@@ -126,12 +126,12 @@ TEST_CASE("UnprojectDepth's Jacobian over pixel and depth matches central differ
       test::WithSmallFisheyeDistortion(KannalaBrandt::FromFov(640, 480, 110 * kDeg)),
   };
   for (const CameraModel& model : models) {
-    for (const Eigen::Vector3d& x : {Eigen::Vector3d(100.5, 50.25, 1.5), Eigen::Vector3d(320, 240, 3),
-                                     Eigen::Vector3d(600, 400, 0.7)}) {
+    for (const Eigen::Vector3d& x :
+         {Eigen::Vector3d(100.5, 50.25, 1.5), Eigen::Vector3d(320, 240, 3),
+          Eigen::Vector3d(600, 400, 0.7)}) {
       INFO("model " << model.name() << " at " << x.transpose());
       Eigen::Matrix3d analytic;
-      const std::optional<Eigen::Vector3d> p =
-          UnprojectDepth(model, x.head<2>(), x.z(), &analytic);
+      const std::optional<Eigen::Vector3d> p = UnprojectDepth(model, x.head<2>(), x.z(), &analytic);
       REQUIRE(p);
       CHECK(std::abs(p->z() - x.z()) < test::kGeomTolM);
       const Eigen::Matrix3d numerical = test::NumericalJacobian<3, 3>(

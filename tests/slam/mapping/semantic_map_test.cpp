@@ -73,8 +73,10 @@ TEST_CASE("room numbers sort by value, other labels after them", "[slam][mapping
 TEST_CASE("the semantic map of landmarks keeps labelled door plates, the better of duplicates",
           "[slam][mapping]") {
   std::vector<LandmarkEstimate> landmarks(4);
-  landmarks[0] = {1, LandmarkType::kDoorPlate, {1, 2, 1.6}, Eigen::Matrix3d::Identity() * 0.04, "102"};
-  landmarks[1] = {2, LandmarkType::kDoorPlate, {5, 2, 1.6}, Eigen::Matrix3d::Identity() * 0.01, "102"};
+  landmarks[0] = {
+      1, LandmarkType::kDoorPlate, {1, 2, 1.6}, Eigen::Matrix3d::Identity() * 0.04, "102"};
+  landmarks[1] = {
+      2, LandmarkType::kDoorPlate, {5, 2, 1.6}, Eigen::Matrix3d::Identity() * 0.01, "102"};
   landmarks[2] = {3, LandmarkType::kDoorPlate, {7, 2, 1.6}, Eigen::Matrix3d::Identity(), ""};
   landmarks[3] = {4, LandmarkType::kLamp, {8, 0, 2.7}, Eigen::Matrix3d::Identity(), "103"};
   const std::vector<SemanticMapEntry> map = SemanticMapFromLandmarks(landmarks);
@@ -85,7 +87,8 @@ TEST_CASE("the semantic map of landmarks keeps labelled door plates, the better 
 }
 
 TEST_CASE("the semantic map parser names what is wrong", "[slam][mapping]") {
-  const std::string head = R"({"format": "corridorsim.semantic_map", "version": 1, "frame": "world", )";
+  const std::string head =
+      R"({"format": "corridorsim.semantic_map", "version": 1, "frame": "world", )";
   const std::string room =
       R"({"room": "101", "landmark_id": 3, "position_m": [1, 2, 3], "covariance_m2": [[1, 0], [0, 1]]})";
   CHECK(ProblemOf(head + R"("rooms": [)" + room + "]}") == "");
@@ -130,8 +133,10 @@ TEST_CASE("the semantic map parser names what is wrong", "[slam][mapping]") {
              Catch::StartsWith("rooms[0].landmark_id: expected an integer"));
   bad = room;
   bad.replace(bad.find("[1, 2, 3]"), 9, "[1, 2, 1e400]");
-  CHECK(ProblemOf(head + R"("rooms": [)" + bad + "]}") == "not JSON: number overflow parsing '1e400'");
-  CHECK_THAT(ProblemOf(std::string(kSemanticMapMaxBytes + 1, ' ')), Catch::StartsWith("longer than"));
+  CHECK(ProblemOf(head + R"("rooms": [)" + bad + "]}") ==
+        "not JSON: number overflow parsing '1e400'");
+  CHECK_THAT(ProblemOf(std::string(kSemanticMapMaxBytes + 1, ' ')),
+             Catch::StartsWith("longer than"));
 }
 
 }  // namespace
