@@ -84,7 +84,7 @@ int main(int argc, char** argv) {
   };
   std::vector<Config> configs;
   for (double resolution : {0.05, 0.10}) {
-    for (double range : {3.0, 5.0, 8.0}) {
+    for (double range : {3.0, 4.0, 5.0, 8.0}) {
       for (int stride : {2, 4, 8}) configs.push_back({resolution, 0.0, range, stride});
     }
     configs.push_back({resolution, resolution, 5.0, 1});
