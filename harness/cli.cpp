@@ -161,6 +161,29 @@ PoseArgument ParsePoseArgument(const std::string& text, const std::string& flag)
   return PoseArgument{values[0], values[1], values[2]};
 }
 
+std::string ParseRoomArgument(const std::string& text, const std::string& flag) {
+  const bool printable = std::all_of(text.begin(), text.end(), [](char c) {
+    return static_cast<unsigned char>(c) > 0x20 && static_cast<unsigned char>(c) < 0x7f;
+  });
+  if (text.empty() || text.size() > kMaxRoomChars || !printable) {
+    Fail(flag, "expected a room number: 1 to " + std::to_string(kMaxRoomChars) +
+                   " printable characters without spaces " + Got(text));
+  }
+  return text;
+}
+
+std::string ParsePipelineArgument(const std::string& text, const std::string& flag) {
+  const bool name = std::all_of(text.begin(), text.end(), [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' ||
+           c == '-';
+  });
+  if (text.empty() || text.size() > kMaxPipelineChars || !name) {
+    Fail(flag, "expected a pipeline name: 1 to " + std::to_string(kMaxPipelineChars) +
+                   " letters, digits, '_' or '-' " + Got(text));
+  }
+  return text;
+}
+
 CommandLine ParseCommandLine(const std::vector<std::string>& args) {
   CLI::App app{"corridorsim: a simulation harness for corridor SLAM", "corridorsim"};
   app.require_subcommand(1);
@@ -267,11 +290,30 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
           "per frame) and frames/intrinsics.json.\n") +
       kFolderFooter + "Exit codes: 0 success, 2 bad input (nothing is written), 1 other failures.");
 
-  static const char* const kJobs[] = {"world", "snapshot", "run", "drive"};
+  CLI::App* where = app.add_subcommand(
+      "where", "Say where a room is, as each pipeline of a finished run mapped it");
+  std::string where_room, where_run, where_pipeline;
+  where->add_option("room", where_room, "Room number, as on its door plate (e.g. 101)")
+      ->required()
+      ->type_name("ROOM");
+  where->add_option("--run", where_run, "Run folder (corridorsim run --out)")
+      ->required()
+      ->type_name("DIR");
+  CLI::Option* where_pipeline_option = where->add_option(
+      "--pipeline", where_pipeline,
+      "Only this pipeline's map (default: every DIR/maps/<pipeline>_semantic.json)");
+  where->footer(
+      "Reads DIR/maps/<pipeline>_semantic.json (the semantic map: room number -> door plate "
+      "position with covariance) and prints per pipeline x and y in metres, world frame, with "
+      "their 1-sigma.\n"
+      "Exit codes: 0 success, 2 bad input (the folder or a map missing or malformed, or no map "
+      "knows the room: the message lists the known rooms), 1 other failures.");
+
+  static const char* const kJobs[] = {"world", "snapshot", "run", "drive", "where"};
   if (!args.empty() && !args[0].empty() && args[0][0] != '-' &&
       std::find(std::begin(kJobs), std::end(kJobs), args[0]) == std::end(kJobs)) {
     Fail("", "unknown subcommand " + Quoted(args[0]) +
-                 ": expected world, snapshot, run or drive (see corridorsim --help)");
+                 ": expected world, snapshot, run, drive or where (see corridorsim --help)");
   }
   // CLI11 takes the arguments last first.
   std::vector<std::string> reversed(args.rbegin(), args.rend());
@@ -310,8 +352,18 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
   } else if (drive->parsed()) {
     parsed.job = CommandLine::Job::kDrive;
     drive_options.Resolve(&parsed.drive);
+  } else if (where->parsed()) {
+    parsed.job = CommandLine::Job::kWhere;
+    parsed.where.room = ParseRoomArgument(where_room, "ROOM");
+    if (where_run.empty()) Fail("--run", "an empty folder name");
+    parsed.where.run_dir = where_run;
+    if (where_pipeline_option->count() > 0) {
+      parsed.where.pipeline = ParsePipelineArgument(where_pipeline, "--pipeline");
+    }
   } else {
-    Fail("", "a subcommand is required: world, snapshot, run or drive (see corridorsim --help)");
+    Fail("",
+         "a subcommand is required: world, snapshot, run, drive or where (see corridorsim "
+         "--help)");
   }
   return parsed;
 }

@@ -20,6 +20,7 @@
 #include "harness/run_folder.h"
 #include "harness/scenario.h"
 #include "harness/snapshot.h"
+#include "harness/where.h"
 #include "worlds/world_io.h"
 
 namespace corridorsim {
@@ -103,6 +104,9 @@ int Dispatch(CommandLine& command) {
     case CommandLine::Job::kDrive:
       ResolveDefaultScenario(&command.drive);
       RunDrive(command.drive);
+      return kExitSuccess;
+    case CommandLine::Job::kWhere:
+      std::fputs(LocateRoom(command.where).c_str(), stdout);
       return kExitSuccess;
   }
   return kExitFailure;

@@ -124,5 +124,33 @@ TEST_CASE("ParseCommandLine rejects what it does not know, naming it", "[harness
   CHECK_THAT(ErrorOf({"drive", "--pose", "1,2,3"}), Catch::Contains("--pose"));
 }
 
+TEST_CASE("where takes a room number, a run folder and optionally one pipeline", "[harness]") {
+  const CommandLine all = ParseCommandLine({"where", "101", "--run", "out/run"});
+  CHECK(all.job == Job::kWhere);
+  CHECK(all.where.room == "101");
+  CHECK(all.where.run_dir == "out/run");
+  CHECK(all.where.pipeline.empty());
+  const CommandLine one = ParseCommandLine({"where", "--pipeline=p1_ekf", "A-12", "--run", "r"});
+  CHECK(one.where.room == "A-12");
+  CHECK(one.where.pipeline == "p1_ekf");
+
+  CHECK_THAT(ErrorOf({"where", "101"}), Catch::Contains("--run"));
+  CHECK_THAT(ErrorOf({"where", "--run", "r"}), Catch::Contains("room"));
+  CHECK(ErrorOf({"where", "1 01", "--run", "r"}) ==
+        "command line: ROOM: expected a room number: 1 to 32 printable characters without spaces "
+        "(got '1 01')");
+  CHECK_THAT(ErrorOf({"where", std::string(33, '1'), "--run", "r"}),
+             Catch::StartsWith("command line: ROOM: "));
+  CHECK_THAT(ErrorOf({"where", "101", "--run", ""}),
+             Catch::StartsWith("command line: --run: an empty folder name"));
+  for (const char* bad : {"", "../x", "a/b", "p q"}) {
+    CHECK_THAT(ErrorOf({"where", "101", "--run", "r", "--pipeline", bad}),
+               Catch::StartsWith("command line: --pipeline: expected a pipeline name"));
+  }
+  CHECK_THAT(ParseCommandLine({"where", "--help"}).help_text,
+             Catch::Contains("Exit codes: 0 success, 2 bad input"));
+  CHECK_THAT(ErrorOf({"wher"}), Catch::Contains("drive or where"));
+}
+
 }  // namespace
 }  // namespace corridorsim
