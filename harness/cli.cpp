@@ -309,11 +309,46 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
       "Exit codes: 0 success, 2 bad input (the folder or a map missing or malformed, or no map "
       "knows the room: the message lists the known rooms), 1 other failures.");
 
-  static const char* const kJobs[] = {"world", "snapshot", "run", "drive", "where"};
+
+  CLI::App* detect = app.add_subcommand(
+      "detect", "Run the detectors (vanishing point, Harris corners) on an image; JSON on stdout");
+  std::string detect_image, detect_camera = "front", detect_depth, detect_out;
+  CLI::Option* detect_image_option =
+      detect->add_option("image", detect_image, "PNG image (8-bit grey, RGB or RGBA, or 16-bit)")
+          ->required()
+          ->type_name("IMAGE.png");
+  detect
+      ->add_option("--camera", detect_camera,
+                   "The camera the image comes from: front (vanishing point and corners; P1's "
+                   "RGB-D sensor) or lateral (corners)")
+      ->capture_default_str()
+      ->type_name("front|lateral");
+  CLI::Option* detect_depth_option =
+      detect
+          ->add_option("--depth", detect_depth,
+                       "Depth registered to the image (front only): 16-bit PNG at 5000 per metre, "
+                       "0 = invalid (TUM RGB-D; snapshot's front_depth.png); gives each corner "
+                       "its depth")
+          ->type_name("D.png");
+  CLI::Option* detect_out_option =
+      detect
+          ->add_option("--out", detect_out, "Also write the image with what was found drawn on it")
+          ->type_name("overlay.png");
+  detect->footer(
+      "Prints one JSON document on stdout (docs/detectors.md): the image, the camera, then one "
+      "section per detector: vanishing_point (front: the point, its lines and quality, or the "
+      "status saying why there is none) and corners (pixel, depth_m, response). Images are at "
+      "most 8192 px a side and 256 MiB.\n"
+      "Exit codes: 0 success (also when nothing was found), 2 bad input (a missing, unreadable "
+      "or non-PNG file, an image too large, a depth image of another size; one message naming "
+      "the file, nothing is printed or written), 1 other failures.");
+
+  static const char* const kJobs[] = {"world", "snapshot", "run", "drive", "where", "detect"};
   if (!args.empty() && !args[0].empty() && args[0][0] != '-' &&
       std::find(std::begin(kJobs), std::end(kJobs), args[0]) == std::end(kJobs)) {
     Fail("", "unknown subcommand " + Quoted(args[0]) +
-                 ": expected world, snapshot, run, drive or where (see corridorsim --help)");
+                 ": expected world, snapshot, run, drive, where or detect (see corridorsim "
+                 "--help)");
   }
   // CLI11 takes the arguments last first.
   std::vector<std::string> reversed(args.rbegin(), args.rend());
@@ -360,9 +395,34 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
     if (where_pipeline_option->count() > 0) {
       parsed.where.pipeline = ParsePipelineArgument(where_pipeline, "--pipeline");
     }
+  } else if (detect->parsed()) {
+    parsed.job = CommandLine::Job::kDetect;
+    if (detect_image_option->count() > 0 && detect_image.empty()) {
+      Fail("image", "an empty file name");
+    }
+    parsed.detect.image_file = detect_image;
+    if (detect_camera == "front") {
+      parsed.detect.camera = DetectCamera::kFront;
+    } else if (detect_camera == "lateral") {
+      parsed.detect.camera = DetectCamera::kLateral;
+    } else {
+      Fail("--camera", "expected front or lateral " + Got(detect_camera));
+    }
+    if (detect_depth_option->count() > 0) {
+      if (detect_depth.empty()) Fail("--depth", "an empty file name");
+      if (parsed.detect.camera != DetectCamera::kFront) {
+        Fail("--depth",
+             "only the front camera has a depth sensor (got --camera " + detect_camera + ")");
+      }
+      parsed.detect.depth_file = detect_depth;
+    }
+    if (detect_out_option->count() > 0) {
+      if (detect_out.empty()) Fail("--out", "an empty file name");
+      parsed.detect.overlay_file = detect_out;
+    }
   } else {
     Fail("",
-         "a subcommand is required: world, snapshot, run, drive or where (see corridorsim "
+         "a subcommand is required: world, snapshot, run, drive, where or detect (see corridorsim "
          "--help)");
   }
   return parsed;

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "harness/detect.h"
 #include "harness/drive.h"
 #include "harness/job.h"
 #include "harness/run.h"
@@ -33,7 +34,7 @@ inline constexpr double kPoseMaxAbsYawDeg = 360.0;
 
 /// What the command line asks for.
 struct CommandLine {
-  enum class Job { kHelp, kWorld, kSnapshot, kRun, kDrive, kWhere };
+  enum class Job { kHelp, kWorld, kSnapshot, kRun, kDrive, kWhere, kDetect };
   Job job = Job::kHelp;
   std::string help_text;  // kHelp: printed on stdout, exit 0
   // The request of `job`. An empty scenario_file means "none given": main picks the default
@@ -43,6 +44,7 @@ struct CommandLine {
   RunRequest run;
   DriveRequest drive;
   WhereRequest where;
+  DetectRequest detect;
 };
 
 /// Parses the arguments (without the program name). Throws InputError at

@@ -1,7 +1,7 @@
-// The corridorsim command. Subcommands: run (the main job), world, snapshot, drive. The command
-// line is parsed by ParseCommandLine (harness/cli.h); this file only dispatches. Exit codes: 0
-// success, 2 bad input (one message naming file, line and key, or the command-line flag), 3 an
-// expectation failed, 4 a run's results are written but an extra failed, 1 any other failure.
+// The corridorsim command. Subcommands: run (the main job), world, snapshot, drive, detect. The
+// command line is parsed by ParseCommandLine (harness/cli.h); this file only dispatches. Exit
+// codes: 0 success, 2 bad input (one message naming file, line and key, or the command-line flag),
+// 3 an expectation failed, 4 a run's results are written but an extra failed, 1 any other failure.
 
 #include <chrono>
 #include <cstdio>
@@ -14,6 +14,7 @@
 #include "common/error.h"
 #include "common/io/atomic_file.h"
 #include "harness/cli.h"
+#include "harness/detect.h"
 #include "harness/drive.h"
 #include "harness/job.h"
 #include "harness/run.h"
@@ -107,6 +108,9 @@ int Dispatch(CommandLine& command) {
       return kExitSuccess;
     case CommandLine::Job::kWhere:
       std::fputs(LocateRoom(command.where).c_str(), stdout);
+      break;
+    case CommandLine::Job::kDetect:
+      RunDetectJob(command.detect);
       return kExitSuccess;
   }
   return kExitFailure;

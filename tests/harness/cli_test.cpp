@@ -149,7 +149,49 @@ TEST_CASE("where takes a room number, a run folder and optionally one pipeline",
   }
   CHECK_THAT(ParseCommandLine({"where", "--help"}).help_text,
              Catch::Contains("Exit codes: 0 success, 2 bad input"));
-  CHECK_THAT(ErrorOf({"wher"}), Catch::Contains("drive or where"));
+  CHECK_THAT(ErrorOf({"wher"}), Catch::Contains("drive, where or detect"));
+TEST_CASE("ParseCommandLine fills the detect request", "[harness]") {
+  const CommandLine plain = ParseCommandLine({"detect", "img.png"});
+  CHECK(plain.job == Job::kDetect);
+  CHECK(plain.detect.image_file == "img.png");
+  CHECK(plain.detect.camera == DetectCamera::kFront);
+  CHECK_FALSE(plain.detect.depth_file);
+  CHECK_FALSE(plain.detect.overlay_file);
+
+  const CommandLine full =
+      ParseCommandLine({"detect", "a.png", "--camera", "front", "--depth", "d.png", "--out=o.png"});
+  REQUIRE(full.detect.depth_file);
+  CHECK(*full.detect.depth_file == "d.png");
+  REQUIRE(full.detect.overlay_file);
+  CHECK(*full.detect.overlay_file == "o.png");
+  CHECK(ParseCommandLine({"detect", "a.png", "--camera=lateral"}).detect.camera ==
+        DetectCamera::kLateral);
+  CHECK_THAT(ParseCommandLine({"detect", "--help"}).help_text,
+             Catch::Contains("Exit codes: 0 success"));
+  CHECK_THAT(ParseCommandLine({"--help"}).help_text, Catch::Contains("detect"));
+}
+
+TEST_CASE("the detect command line is strict", "[harness]") {
+  CHECK_THAT(ErrorOf({"detect"}), Catch::Contains("image is required"));
+  CHECK_THAT(ErrorOf({"detect", ""}), Catch::StartsWith("command line: image: an empty"));
+  CHECK_THAT(ErrorOf({"detect", "a.png", "b.png"}), Catch::Contains("b.png"));
+  for (const char* bad : {"rear", "", "Front", "front ", "upward"}) {
+    INFO("--camera '" << bad << "'");
+    CHECK_THAT(ErrorOf({"detect", "a.png", "--camera", bad}),
+               Catch::StartsWith("command line: --camera: expected front or lateral"));
+  }
+  CHECK_THAT(ErrorOf({"detect", "a.png", "--depth="}),
+             Catch::StartsWith("command line: --depth: "));
+  CHECK_THAT(ErrorOf({"detect", "a.png", "--depth", ""}),
+             Catch::StartsWith("command line: --depth: an empty file name"));
+  CHECK_THAT(ErrorOf({"detect", "a.png", "--out", ""}),
+             Catch::StartsWith("command line: --out: an empty file name"));
+  CHECK_THAT(ErrorOf({"detect", "a.png", "--camera", "lateral", "--depth", "d.png"}),
+             Catch::StartsWith("command line: --depth: only the front camera"));
+  CHECK_THAT(ErrorOf({"detect", "a.png", "--seed", "1"}), Catch::Contains("--seed"));
+  CHECK_THAT(ErrorOf({"detect", "a.png", "--force"}), Catch::Contains("--force"));
+  CHECK_THAT(ErrorOf({"detekt", "a.png"}),
+             Catch::Contains("expected world, snapshot, run, drive, where or detect"));
 }
 
 }  // namespace

@@ -1,0 +1,284 @@
+#include "harness/detect.h"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <vector>
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "common/error.h"
+#include "common/io/atomic_file.h"
+#include "common/io/stable_json.h"
+#include "harness/frame_io.h"
+#include "slam/features/harris_corners.h"
+#include "slam/features/image_conversion.h"
+#include "slam/features/vanishing_point.h"
+#include "worlds/image_io.h"
+
+namespace corridorsim {
+namespace {
+
+[[noreturn]] void Bad(const std::filesystem::path& file, const std::string& message) {
+  throw InputError(SourceLocation{file.string(), 0, 0}, "", message);
+}
+
+// The bytes of a regular file of at most kMaxDetectFileBytes, read once. Opening never blocks (a
+// FIFO without a writer), and the opened descriptor is what is checked.
+std::vector<std::uint8_t> ReadInputFile(const std::filesystem::path& path) {
+  const std::string name = path.string();
+  if (name.find('\0') != std::string::npos) Bad(path, "cannot be opened: a NUL in its name");
+  const int fd = ::open(name.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
+  if (fd < 0) Bad(path, std::string("cannot be opened: ") + std::strerror(errno));
+  struct Closer {
+    int fd;
+    ~Closer() { ::close(fd); }
+  } closer{fd};
+  struct stat st {};
+  if (::fstat(fd, &st) != 0) Bad(path, std::string("cannot be read: ") + std::strerror(errno));
+  if (!S_ISREG(st.st_mode)) Bad(path, "is not a regular file");
+  const std::string too_large =
+      "is larger than the limit of " + std::to_string(kMaxDetectFileBytes >> 20) + " MiB";
+  if (st.st_size < 0 || static_cast<std::uint64_t>(st.st_size) > kMaxDetectFileBytes) {
+    Bad(path, too_large);
+  }
+  std::vector<std::uint8_t> bytes;
+  bytes.reserve(static_cast<std::size_t>(st.st_size));
+  std::uint8_t buffer[1 << 16];
+  while (true) {
+    const ssize_t n = ::read(fd, buffer, sizeof(buffer));
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) Bad(path, std::string("cannot be read: ") + std::strerror(errno));
+    if (n == 0) break;
+    bytes.insert(bytes.end(), buffer, buffer + n);
+    if (bytes.size() > kMaxDetectFileBytes) Bad(path, too_large);
+  }
+  return bytes;
+}
+
+// Decodes a PNG after checking its signature and its header's size against the bounds (so that a
+// huge image is refused before any pixel is decoded).
+cv::Mat DecodePng(const std::filesystem::path& path, const std::string& what) {
+  const std::vector<std::uint8_t> bytes = ReadInputFile(path);
+  static const std::uint8_t kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  if (bytes.size() < 33 || std::memcmp(bytes.data(), kSignature, 8) != 0 ||
+      std::memcmp(bytes.data() + 12, "IHDR", 4) != 0) {
+    Bad(path, "is not a PNG image (" + what + ")");
+  }
+  const auto be32 = [&](std::size_t at) {
+    return (std::uint32_t{bytes[at]} << 24) | (std::uint32_t{bytes[at + 1]} << 16) |
+           (std::uint32_t{bytes[at + 2]} << 8) | std::uint32_t{bytes[at + 3]};
+  };
+  const std::uint32_t width = be32(16), height = be32(20);
+  if (width == 0 || height == 0 || width > kMaxDetectImageSide || height > kMaxDetectImageSide) {
+    Bad(path, "is " + std::to_string(width) + "x" + std::to_string(height) +
+                  " px: each side must lie in [1, " + std::to_string(kMaxDetectImageSide) + "]");
+  }
+  cv::Mat image;
+  try {
+    image = cv::imdecode(bytes, cv::IMREAD_UNCHANGED);
+  } catch (const cv::Exception&) {
+    image = cv::Mat();
+  }
+  if (image.empty()) Bad(path, "is not a readable PNG image (" + what + ")");
+  return image;
+}
+
+// The image as 8-bit RGB (grey replicated, alpha dropped, 16 bits scaled to 8).
+Image8 ToRgb(const std::filesystem::path& path, cv::Mat image) {
+  if (image.depth() == CV_16U) {
+    cv::Mat eight;
+    image.convertTo(eight, CV_8U, 1.0 / 257.0);
+    image = eight;
+  }
+  if (image.depth() != CV_8U) Bad(path, "is not an 8- or 16-bit image");
+  cv::Mat bgr;
+  switch (image.channels()) {
+    case 1:
+      cv::cvtColor(image, bgr, cv::COLOR_GRAY2BGR);
+      break;
+    case 3:
+      bgr = image;
+      break;
+    case 4:
+      cv::cvtColor(image, bgr, cv::COLOR_BGRA2BGR);
+      break;
+    default:
+      Bad(path, "has " + std::to_string(image.channels()) + " channels (expected 1, 3 or 4)");
+  }
+  return slam::ImageFromMat(bgr);
+}
+
+cv::Mat View(Image8* image) {
+  return cv::Mat(image->height, image->width, CV_8UC3, image->data.data());
+}
+cv::Point At(const Eigen::Vector2d& p) {  // 1/16 px for the drawing functions' shift of 4
+  return cv::Point(static_cast<int>(std::lround(p.x() * 16)),
+                   static_cast<int>(std::lround(p.y() * 16)));
+}
+nlohmann::ordered_json Px(const Eigen::Vector2d& p) { return RoundedJson(p, json_steps::kPx); }
+nlohmann::ordered_json LineJson(const slam::ImageLineSegment& line) {
+  return nlohmann::ordered_json::array(
+      {RoundToStep(line.a_px.x(), json_steps::kPx), RoundToStep(line.a_px.y(), json_steps::kPx),
+       RoundToStep(line.b_px.x(), json_steps::kPx), RoundToStep(line.b_px.y(), json_steps::kPx)});
+}
+// Six significant digits (a Harris response has no fixed scale).
+double Significant6(double value) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.6g", value);
+  return std::strtod(text, nullptr);
+}
+
+}  // namespace
+
+std::string DetectCameraName(DetectCamera camera) {
+  return camera == DetectCamera::kFront ? "front" : "lateral";
+}
+
+DetectInput LoadDetectInput(const DetectRequest& request) {
+  DetectInput input;
+  input.image_name = request.image_file.string();
+  input.camera = request.camera;
+  input.rgb = ToRgb(request.image_file, DecodePng(request.image_file, "the image"));
+  if (request.depth_file) {
+    const std::filesystem::path& path = *request.depth_file;
+    const cv::Mat raw = DecodePng(path, "the --depth image");
+    if (raw.type() != CV_16UC1) {
+      Bad(path, "--depth: expected a 16-bit one-channel PNG at " +
+                    std::to_string(static_cast<int>(kDepthScale)) +
+                    " per metre (TUM RGB-D, as snapshot writes front_depth.png)");
+    }
+    if (raw.cols != input.rgb.width || raw.rows != input.rgb.height) {
+      Bad(path, "--depth: the depth image is " + std::to_string(raw.cols) + "x" +
+                    std::to_string(raw.rows) + " px, the image " + std::to_string(input.rgb.width) +
+                    "x" + std::to_string(input.rgb.height) + " (it must be registered to it)");
+    }
+    ImageF depth(raw.cols, raw.rows);
+    for (int y = 0; y < raw.rows; ++y) {
+      const std::uint16_t* row = raw.ptr<std::uint16_t>(y);
+      for (int x = 0; x < raw.cols; ++x) {
+        depth.at(x, y) = static_cast<float>(row[x] / kDepthScale);  // 0 stays 0 (invalid)
+      }
+    }
+    input.depth_m = std::move(depth);
+  }
+  return input;
+}
+
+nlohmann::ordered_json VanishingPointSection(const DetectInput& input, Image8* overlay) {
+  const slam::VanishingPointOptions options;
+  slam::VanishingPointReport report;
+  const std::optional<slam::VanishingPoint> vp =
+      slam::DetectVanishingPoint(input.rgb, options, &report);
+  nlohmann::ordered_json j;
+  j["found"] = vp.has_value();
+  j["status"] = slam::VanishingPointStatusName(report.status);
+  j["pixel"] = vp ? Px(vp->pixel_px) : nlohmann::ordered_json();
+  const slam::VanishingPointQuality& q = report.quality;
+  j["quality"] = {{"rms_residual_px", RoundToStep(q.rms_residual_px, json_steps::kPx)},
+                  {"line_count", q.line_count},
+                  {"direction_count", q.direction_count},
+                  {"candidate_count", q.candidate_count},
+                  {"rejected_axis_count", q.rejected_axis_count},
+                  {"merged_count", q.merged_count},
+                  {"rejected_outlier_count", q.rejected_outlier_count}};
+  j["lines"] = nlohmann::ordered_json::array();
+  if (vp) {
+    for (const slam::ImageLineSegment& line : vp->lines) j["lines"].push_back(LineJson(line));
+  }
+  j["candidate_lines"] = nlohmann::ordered_json::array();
+  for (const slam::ImageLineSegment& line : report.candidate_lines) {
+    j["candidate_lines"].push_back(LineJson(line));
+  }
+  if (overlay) {
+    cv::Mat view = View(overlay);  // RGB: colours below are (r, g, b)
+    for (const slam::ImageLineSegment& line : report.candidate_lines) {
+      cv::line(view, At(line.a_px), At(line.b_px), cv::Scalar(255, 60, 60), 1, cv::LINE_AA, 4);
+    }
+    if (vp) {
+      for (const slam::ImageLineSegment& line : vp->lines) {
+        cv::line(view, At(line.a_px), At(line.b_px), cv::Scalar(40, 255, 40), 2, cv::LINE_AA, 4);
+      }
+      cv::circle(view, At(vp->pixel_px), 8 * 16, cv::Scalar(255, 0, 255), 2, cv::LINE_AA, 4);
+      cv::drawMarker(view,
+                     cv::Point(static_cast<int>(std::lround(vp->pixel_px.x())),
+                               static_cast<int>(std::lround(vp->pixel_px.y()))),
+                     cv::Scalar(255, 0, 255), cv::MARKER_TILTED_CROSS, 14, 2);
+    }
+  }
+  return j;
+}
+
+nlohmann::ordered_json CornersSection(const DetectInput& input, Image8* overlay) {
+  const slam::HarrisCornerOptions options;
+  const std::vector<slam::HarrisCorner> corners =
+      slam::DetectHarrisCorners(input.rgb, input.depth_m ? &*input.depth_m : nullptr, options);
+  nlohmann::ordered_json j;
+  int with_depth = 0;
+  nlohmann::ordered_json items = nlohmann::ordered_json::array();
+  for (const slam::HarrisCorner& c : corners) {
+    with_depth += c.depth_m.has_value();
+    items.push_back({{"pixel", Px(c.pixel_px)},
+                     {"depth_m", c.depth_m ? nlohmann::ordered_json(
+                                                 RoundToStep(*c.depth_m, json_steps::kMetres))
+                                           : nlohmann::ordered_json()},
+                     {"response", Significant6(c.response)}});
+  }
+  j["count"] = corners.size();
+  j["with_depth"] = with_depth;
+  j["items"] = std::move(items);
+  if (overlay) {
+    cv::Mat view = View(overlay);
+    for (const slam::HarrisCorner& c : corners) {
+      const cv::Scalar colour = c.depth_m ? cv::Scalar(255, 220, 0) : cv::Scalar(0, 220, 255);
+      cv::circle(view, At(c.pixel_px), 3 * 16, colour, 1, cv::LINE_AA, 4);
+    }
+  }
+  return j;
+}
+
+nlohmann::ordered_json RunDetect(const DetectInput& input, Image8* overlay) {
+  if (overlay) *overlay = input.rgb;
+  nlohmann::ordered_json doc;
+  doc["image"] = input.image_name;
+  doc["camera"] = DetectCameraName(input.camera);
+  doc["width"] = input.rgb.width;
+  doc["height"] = input.rgb.height;
+  doc["depth"] = input.depth_m.has_value();
+  // One section per detector the camera runs (P1: the vanishing point from the front RGB-D
+  // sensor, door plates from the lateral web camera; corners from either).
+  if (input.camera == DetectCamera::kFront) {
+    doc["vanishing_point"] = VanishingPointSection(input, overlay);
+  }
+  doc["corners"] = CornersSection(input, overlay);
+  return doc;
+}
+
+void RunDetectJob(const DetectRequest& request) {
+  if (request.overlay_file) {
+    const std::filesystem::path parent = request.overlay_file->parent_path();
+    std::error_code error;
+    if (!parent.empty() && !std::filesystem::is_directory(parent, error)) {
+      throw InputError(SourceLocation{"command line", 0, 0}, "--out",
+                       "the folder '" + parent.string() + "' does not exist");
+    }
+  }
+  const DetectInput input = LoadDetectInput(request);
+  Image8 overlay;
+  const nlohmann::ordered_json doc = RunDetect(input, request.overlay_file ? &overlay : nullptr);
+  if (request.overlay_file) {
+    WriteFileAtomic(*request.overlay_file,
+                    EncodePng(overlay, request.overlay_file->filename().string()));
+  }
+  std::fputs((doc.dump(2) + "\n").c_str(), stdout);
+}
+
+}  // namespace corridorsim

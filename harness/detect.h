@@ -1,0 +1,63 @@
+#pragma once
+// `corridorsim detect IMAGE.png`: the robot's detectors (slam/features/) run on any image, what
+// they found printed as JSON on stdout (docs/detectors.md) and, with --out, drawn on an overlay
+// PNG. Each detector is one section of the JSON and one function below: a new detector (the door
+// plates) is one more section function called from RunDetect.
+
+#include <filesystem>
+#include <optional>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "common/image.h"
+
+namespace corridorsim {
+
+/// The camera an image comes from: which detectors run (P1: the vanishing point on the front
+/// RGB-D sensor's image, corners on either) and whether a depth image can be registered.
+enum class DetectCamera { kFront, kLateral };
+std::string DetectCameraName(DetectCamera camera);
+
+/// Bounds on the inputs: larger files or images are refused (exit 2) before they are decoded.
+inline constexpr std::size_t kMaxDetectFileBytes = std::size_t{256} << 20;  // 256 MiB
+inline constexpr int kMaxDetectImageSide = 8192;                            // px, each side
+
+struct DetectRequest {
+  std::filesystem::path image_file;                   // PNG (8-bit grey, RGB or RGBA; 16-bit too)
+  DetectCamera camera = DetectCamera::kFront;         // --camera
+  std::optional<std::filesystem::path> depth_file;    // --depth: 16-bit PNG, 5000 per metre (TUM)
+  std::optional<std::filesystem::path> overlay_file;  // --out: the overlay PNG to write
+};
+
+/// The decoded inputs of one detection.
+struct DetectInput {
+  std::string image_name;  // as given on the command line
+  DetectCamera camera = DetectCamera::kFront;
+  Image8 rgb;                     // RGB, row 0 on top
+  std::optional<ImageF> depth_m;  // registered to rgb: metres, 0 = invalid
+};
+
+/// Reads and checks the request's files. Throws InputError naming the file for a file that is
+/// missing, unreadable, not a regular file, larger than kMaxDetectFileBytes, not a PNG, larger
+/// than kMaxDetectImageSide, a depth image that is not one 16-bit channel or not the image's size.
+DetectInput LoadDetectInput(const DetectRequest& request);
+
+/// The `vanishing_point` section (P1 section 2): the point, its lines and quality, or why there
+/// is none. Draws the candidate lines, the used lines and the point on `overlay` (RGB, the
+/// image's size) when given.
+nlohmann::ordered_json VanishingPointSection(const DetectInput& input, Image8* overlay);
+
+/// The `corners` section (Harris, P1 section 6's baseline): each corner with its depth when a
+/// depth image was given. Draws the corners on `overlay` when given.
+nlohmann::ordered_json CornersSection(const DetectInput& input, Image8* overlay);
+
+/// The whole document: the input's description, then one section per detector the camera runs.
+/// `overlay` (optional) gets the image with every section's drawing.
+nlohmann::ordered_json RunDetect(const DetectInput& input, Image8* overlay);
+
+/// The job: loads the input, prints the JSON on stdout and writes the overlay when asked.
+/// Throws InputError for bad input (nothing is printed or written then).
+void RunDetectJob(const DetectRequest& request);
+
+}  // namespace corridorsim
