@@ -136,7 +136,7 @@ void P1HarrisPipeline::OnCamera(const CameraInput& input) {
     for (const PointLandmark& l : landmarks_) {
       Eigen::Matrix3d d_pose;
       Eigen::Matrix3d d_point;
-      const std::optional<Eigen::Vector3d> predicted = ProjectWorldPointWithDepth(
+      const std::optional<Eigen::Vector3d> predicted = ekf::ProjectWorldPointWithDepth(
           pose, state_->Value(l.block), robot_from_camera, model, &d_pose, &d_point);
       if (!predicted || (predicted->head<2>() - z.head<2>()).norm() > options_.search_radius_px) {
         continue;
@@ -169,7 +169,7 @@ void P1HarrisPipeline::OnCamera(const CameraInput& input) {
       // A corner no landmark explains: a new point landmark (P1 eqs. 26-27).
       Eigen::Matrix3d d_point_d_pose;
       Eigen::Matrix3d d_point_d_z;
-      if (const std::optional<Eigen::Vector3d> p = UnprojectRgbdPoint(
+      if (const std::optional<Eigen::Vector3d> p = ekf::UnprojectRgbdPoint(
               pose, z, robot_from_camera, model, &d_point_d_pose, &d_point_d_z)) {
         ekf::Augmentation a;
         a.value = *p;

@@ -191,7 +191,7 @@ void P1VpDoorplatePipeline::ObserveVanishingPoint(TimeNs stamp_ns, double u,
     Eigen::Matrix<double, 1, 3> d_pose;
     Eigen::Matrix<double, 1, 2> d_landmark;
     const std::optional<double> predicted =
-        VanishingPointU(pose, state_->Value(vp.block), front_->robot_from_camera, model, &d_pose,
+        ekf::VanishingPointU(pose, state_->Value(vp.block), front_->robot_from_camera, model, &d_pose,
                         &d_landmark);
     if (!predicted || *predicted < -0.5 * model.width() || *predicted > 1.5 * model.width()) {
       continue;
@@ -219,7 +219,7 @@ void P1VpDoorplatePipeline::ObserveVanishingPoint(TimeNs stamp_ns, double u,
   Eigen::Matrix<double, 2, 3> d_landmark_d_pose;
   Eigen::Vector2d d_landmark_d_u;
   const std::optional<Eigen::Vector2d> landmark =
-      InitVanishingPoint(pose, u, options_.vp_virtual_distance_m, front_->robot_from_camera,
+      ekf::InitVanishingPoint(pose, u, options_.vp_virtual_distance_m, front_->robot_from_camera,
                          model, &d_landmark_d_pose, &d_landmark_d_u);
   if (!landmark) return;
   ekf::Augmentation a;
@@ -283,7 +283,7 @@ void P1VpDoorplatePipeline::ObservePlate(TimeNs stamp_ns, const std::string& num
     Eigen::Matrix<double, 1, 3> d_pose;
     Eigen::Matrix<double, 1, 2> d_landmark;
     const std::optional<double> predicted =
-        DoorPlateU(pose, state_->Value(it->second.block), options_.plate_height_m,
+        ekf::DoorPlateU(pose, state_->Value(it->second.block), options_.plate_height_m,
                    lateral_->robot_from_camera, model, &d_pose, &d_landmark);
     if (!predicted) {
       ++health_.rejected_updates;
@@ -325,7 +325,7 @@ void P1VpDoorplatePipeline::ObservePlate(TimeNs stamp_ns, const std::string& num
   Eigen::Vector2d d_first_u;
   Eigen::Matrix<double, 2, 3> d_second_pose;
   Eigen::Vector2d d_second_u;
-  const std::optional<PlateTriangulation> t = TriangulateDoorPlate(
+  const std::optional<ekf::PlateTriangulation> t = ekf::TriangulateDoorPlate(
       SE2(c.x(), c.y(), c.z()), p.u_first, pose, u, options_.plate_height_m,
       lateral_->robot_from_camera, model, &d_first_pose, &d_first_u, &d_second_pose, &d_second_u);
   if (!t || t->parallax_rad < options_.min_parallax_deg * kDegToRad) return;

@@ -1,6 +1,7 @@
 #include "slam/registry.h"
 
 #include "slam/odometry_pipeline.h"
+#include "slam/p1_harris_pipeline.h"
 
 namespace corridorsim::slam {
 namespace {
@@ -37,6 +38,7 @@ PipelineType Type(std::string name, const OptionTable<Options>& (*table)()) {
 const std::vector<PipelineType>& PipelineTypes() {
   static const std::vector<PipelineType> types = {
       Type<OdometryPipelineOptions, OdometryPipeline>("odometry", &OdometryPipelineOptionsTable),
+      Type<P1HarrisOptions, P1HarrisPipeline>("p1_harris", &P1HarrisOptionsTable),
   };
   return types;
 }

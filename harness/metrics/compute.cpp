@@ -9,6 +9,7 @@
 #include "harness/metrics/detection.h"
 #include "harness/metrics/map.h"
 #include "harness/metrics/matching.h"
+#include "harness/metrics/occupancy.h"
 #include "harness/metrics/registry.h"
 #include "harness/metrics/trajectory.h"
 
@@ -66,6 +67,19 @@ Json PipelineMetrics(const MetricsInput& input, const PipelineRecord& pipeline) 
     if (!context.frames.empty() && metrics::HasDetections(pipeline, type)) {
       metrics::AddAssociationMetrics(pipeline, context, type, map, out);
     }
+  }
+  if (pipeline.occupancy_map != nullptr) {
+    // The dense map against the world's exact geometry (harness/metrics/occupancy.h).
+    const metrics::OccupancyQuality q = metrics::ComputeOccupancyQuality(
+        *input.world, *pipeline.occupancy_map, metrics::OccupancyQualityOptions{});
+    const MetricWriter occupancy = out.Sub("map").Sub("occupancy");
+    occupancy.Set("resolution_m", pipeline.occupancy_map->getResolution());
+    occupancy.Count("occupied_voxels", static_cast<std::size_t>(q.occupied_voxels));
+    occupancy.Count("truth_observed", static_cast<std::size_t>(q.truth_observed));
+    occupancy.Fraction("precision", static_cast<std::size_t>(q.occupied_near_truth),
+                       static_cast<std::size_t>(q.occupied_voxels));
+    occupancy.Fraction("recall", static_cast<std::size_t>(q.truth_observed_recalled),
+                       static_cast<std::size_t>(q.truth_observed));
   }
   metrics::AddDetectionMetrics(pipeline, context, out);
   AddTimingMetrics(pipeline, context, out);

@@ -24,7 +24,7 @@ using metrics::MetricWriter;
 TEST_CASE("MetricNames lists the pipeline scalars in the schema order expectations have used",
           "[metrics][registry]") {
   // The names before the registry (schema version 1), in their order, with the vanishing point's
-  // hits, false positives and precision added since (P1's scoring of a VP against the true one);
+  // hits, false positives and precision and the dense map's quality added since (P1);
   // the health counters that are written only when non-zero come after them.
   const std::vector<std::string> v1 = {
       "samples",
@@ -121,6 +121,11 @@ TEST_CASE("MetricNames lists the pipeline scalars in the schema order expectatio
       "map.door.mean_error_m",
       "map.door.rmse_m",
       "map.door.max_error_m",
+      "map.occupancy.resolution_m",
+      "map.occupancy.occupied_voxels",
+      "map.occupancy.truth_observed",
+      "map.occupancy.precision",
+      "map.occupancy.recall",
       "data_association.door_plate.associations",
       "data_association.door_plate.correct",
       "data_association.door_plate.possible",

@@ -1,0 +1,216 @@
+#!/usr/bin/env python3
+"""P1's comparison (Figs. 15-16) over many seeds: runs `corridorsim run SCENARIO --seed N` for
+each seed and checks the targets of P1's issue against the runs' own files.
+
+    scripts/p1_study.py [--scenario scenarios/default.yaml] [--seeds 1-10] [--out out/p1_study]
+                        [--corridorsim build/bin/corridorsim] [--jobs 1]
+
+Writes OUT/seed_<N>/ (one run folder each, without plots) and OUT/study.json, and prints a table.
+Per pipeline and seed it reads metrics.json (ATE RMSE, final position error, NEES) and
+<pipeline>_errors.csv (NEES over time); for p1_vp_doorplate also <pipeline>_landmarks.json against
+world.json's plates. Targets (exit 3 when one is missed, 2 on bad input, 1 when a run fails):
+  - p1_vp_doorplate's ATE RMSE at most half of odometry's and below p1_harris's (mean over seeds);
+  - its mean final position error at most 0.15 m;
+  - its average NEES (the mean over time of the NEES averaged over seeds) inside the 95 %
+    chi-square band of N seeds' mean: [chi2(3N, 0.025) / N, chi2(3N, 0.975) / N];
+  - every plate of the world in its semantic map with the right number, within 0.2 m, in every
+    seed; no landmark with a number the world does not have (a false plate).
+Standard library only.
+"""
+import argparse
+import concurrent.futures
+import json
+import math
+import os
+import subprocess
+import sys
+
+PIPELINE = "p1_vp_doorplate"
+
+
+def parse_seeds(text):
+    seeds = []
+    for part in text.split(","):
+        if "-" in part:
+            a, b = part.split("-", 1)
+            if not (a.isdigit() and b.isdigit()) or int(a) > int(b):
+                raise ValueError(f"--seeds: bad range '{part}'")
+            seeds.extend(range(int(a), int(b) + 1))
+        elif part.isdigit():
+            seeds.append(int(part))
+        else:
+            raise ValueError(f"--seeds: bad seed '{part}'")
+    if not seeds or len(seeds) > 1000:
+        raise ValueError("--seeds: between 1 and 1000 seeds")
+    return sorted(set(seeds))
+
+
+def chi2_quantile(p, dof):
+    """Wilson-Hilferty: accurate to a fraction of a percent for dof >= 3."""
+    # Standard normal quantile (Acklam's rational approximation is overkill: bisection on erf).
+    lo, hi = -10.0, 10.0
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if 0.5 * (1.0 + math.erf(mid / math.sqrt(2.0))) < p:
+            lo = mid
+        else:
+            hi = mid
+    z = 0.5 * (lo + hi)
+    h = 2.0 / (9.0 * dof)
+    return dof * (1.0 - h + z * math.sqrt(h)) ** 3
+
+
+def run_one(args, seed):
+    out = os.path.join(args.out, f"seed_{seed}")
+    cmd = [args.corridorsim, "run", args.scenario, "--seed", str(seed), "--out", out, "--force",
+           "--no-plots"]
+    done = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    # 0: all expectations passed; 3: some failed (the study judges on its own).
+    if done.returncode not in (0, 3):
+        sys.stderr.write(done.stdout[-4000:])
+        raise RuntimeError(f"seed {seed}: corridorsim exited {done.returncode}")
+    return out
+
+
+def read_nees(path):
+    values = []
+    with open(path, encoding="utf-8") as f:
+        header = f.readline().strip().split(",")
+        column = header.index("nees")
+        for line in f:
+            cells = line.strip().split(",")
+            if len(cells) > column and cells[column] not in ("", "nan"):
+                values.append(float(cells[column]))
+            else:
+                values.append(float("nan"))
+    return values
+
+
+def plate_check(run_dir):
+    with open(os.path.join(run_dir, "world.json"), encoding="utf-8") as f:
+        world = json.load(f)
+    truth = {p["room_number"]: p["center"] for p in world["plates"]}
+    path = os.path.join(run_dir, f"{PIPELINE}_landmarks.json")
+    landmarks = []
+    if os.path.exists(path):
+        with open(path, encoding="utf-8") as f:
+            landmarks = json.load(f)
+    plates = [l for l in landmarks if l["type"] == "door_plate"]
+    errors = {}
+    false_plates = []
+    for l in plates:
+        if l["label"] not in truth:
+            false_plates.append(l["label"])
+            continue
+        t = truth[l["label"]]
+        p = l["position_in_world"]
+        errors[l["label"]] = math.hypot(p[0] - t[0], p[1] - t[1])
+    return {
+        "plates_in_world": len(truth),
+        "plates_mapped": len(errors),
+        "plates_within_0_2_m": sum(1 for e in errors.values() if e <= 0.2),
+        "max_plate_error_m": max(errors.values()) if errors else None,
+        "false_plates": false_plates,
+        "missing_plates": sorted(set(truth) - set(errors)),
+    }
+
+
+def main(argv):
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--scenario", default="scenarios/default.yaml")
+    parser.add_argument("--seeds", default="1-10")
+    parser.add_argument("--out", default="out/p1_study")
+    parser.add_argument("--corridorsim", default="build/bin/corridorsim")
+    parser.add_argument("--jobs", type=int, default=1)
+    args = parser.parse_args(argv)
+    try:
+        seeds = parse_seeds(args.seeds)
+    except ValueError as e:
+        sys.stderr.write(f"p1_study: error: {e}\n")
+        return 2
+    if not (1 <= args.jobs <= 64):
+        sys.stderr.write("p1_study: error: --jobs: between 1 and 64\n")
+        return 2
+    os.makedirs(args.out, exist_ok=True)
+    with concurrent.futures.ThreadPoolExecutor(max_workers=args.jobs) as pool:
+        try:
+            dirs = dict(zip(seeds, pool.map(lambda s: run_one(args, s), seeds)))
+        except RuntimeError as e:
+            sys.stderr.write(f"p1_study: error: {e}\n")
+            return 1
+
+    per_seed = {}
+    nees_series = {}
+    for seed, d in dirs.items():
+        with open(os.path.join(d, "metrics.json"), encoding="utf-8") as f:
+            metrics = json.load(f)["pipelines"]
+        row = {}
+        for name, m in metrics.items():
+            row[name] = {k: m.get(k) for k in ("ate_rmse_m", "ate_aligned_rmse_m",
+                                               "final_position_error_m", "nees_mean",
+                                               "nees_in_band_fraction")}
+            nees_series.setdefault(name, []).append(read_nees(os.path.join(d, f"{name}_errors.csv")))
+        if PIPELINE in metrics:
+            row[PIPELINE]["plates"] = plate_check(d)
+        per_seed[seed] = row
+
+    n = len(seeds)
+    summary = {}
+    for name in per_seed[seeds[0]]:
+        mean = lambda key: sum(per_seed[s][name][key] for s in seeds) / n
+        series = nees_series[name]
+        length = min(len(s) for s in series)
+        anees = []
+        for i in range(length):
+            column = [s[i] for s in series]
+            if all(math.isfinite(v) for v in column):
+                anees.append(sum(column) / n)
+        low, high = chi2_quantile(0.025, 3 * n) / n, chi2_quantile(0.975, 3 * n) / n
+        average = sum(anees) / len(anees) if anees else float("nan")
+        summary[name] = {
+            "ate_rmse_m": mean("ate_rmse_m"),
+            "final_position_error_m": mean("final_position_error_m"),
+            "nees_average": average,
+            "nees_band": [low, high],
+            "anees_in_band_fraction": (sum(1 for a in anees if low <= a <= high) / len(anees)
+                                       if anees else None),
+        }
+
+    targets = {}
+    if PIPELINE in summary and "odometry" in summary and "p1_harris" in summary:
+        p1 = summary[PIPELINE]
+        targets["ate_at_most_half_of_odometry"] = p1["ate_rmse_m"] <= 0.5 * summary["odometry"]["ate_rmse_m"]
+        targets["ate_below_p1_harris"] = p1["ate_rmse_m"] < summary["p1_harris"]["ate_rmse_m"]
+        targets["mean_final_error_at_most_0_15_m"] = p1["final_position_error_m"] <= 0.15
+        low, high = p1["nees_band"]
+        targets["average_nees_in_band"] = low <= p1["nees_average"] <= high
+        plates = [per_seed[s][PIPELINE]["plates"] for s in seeds]
+        targets["all_plates_within_0_2_m"] = all(
+            p["plates_within_0_2_m"] == p["plates_in_world"] for p in plates)
+        targets["no_false_plate"] = all(not p["false_plates"] for p in plates)
+
+    study = {"scenario": args.scenario, "seeds": seeds, "summary": summary, "targets": targets,
+             "per_seed": {str(s): per_seed[s] for s in seeds}}
+    with open(os.path.join(args.out, "study.json"), "w", encoding="utf-8") as f:
+        json.dump(study, f, indent=2)
+        f.write("\n")
+
+    print(f"{'pipeline':<18} {'ATE rmse m':>10} {'final m':>9} {'avg NEES':>9} {'band':>15}")
+    for name, s in summary.items():
+        band = f"[{s['nees_band'][0]:.2f}, {s['nees_band'][1]:.2f}]"
+        print(f"{name:<18} {s['ate_rmse_m']:>10.3f} {s['final_position_error_m']:>9.3f} "
+              f"{s['nees_average']:>9.2f} {band:>15}")
+    if PIPELINE in summary:
+        for s in seeds:
+            p = per_seed[s][PIPELINE]["plates"]
+            print(f"seed {s}: plates {p['plates_within_0_2_m']}/{p['plates_in_world']} within 0.2 m,"
+                  f" max error {p['max_plate_error_m']}, false {p['false_plates']},"
+                  f" missing {p['missing_plates']}")
+    for k, v in targets.items():
+        print(f"target {k}: {'met' if v else 'MISSED'}")
+    print(f"study: {os.path.join(args.out, 'study.json')}")
+    return 0 if all(targets.values()) else 3
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
