@@ -144,17 +144,17 @@ int main(int argc, char** argv) {
     std::printf(
         "  vanishing point, %-28s %6.2f ms/frame (cpu %6.2f)  truth in image %d, found %d, "
         "missed %d, false %d; error median %.2f px, max %.2f px (of %zu within 10 px)\n",
-        s.name, Median(s.time.wall_ms), Median(s.time.cpu_ms), s.truth_in_image, s.found,
-        s.missed, s.false_points, Median(accurate),
+        s.name, Median(s.time.wall_ms), Median(s.time.cpu_ms), s.truth_in_image, s.found, s.missed,
+        s.false_points, Median(accurate),
         accurate.empty() ? 0.0 : *std::max_element(accurate.begin(), accurate.end()),
         accurate.size());
   }
   std::printf("  harris corners                          %6.2f ms/frame (cpu %6.2f)\n",
               Median(harris_time.wall_ms), Median(harris_time.cpu_ms));
-  std::printf("  harris corners + depth                  %6.2f ms/frame (cpu %6.2f)  %.1f "
-              "corners/frame, %.1f with depth\n",
-              Median(harris_depth_time.wall_ms), Median(harris_depth_time.cpu_ms),
-              static_cast<double>(corner_total) / frames,
-              static_cast<double>(corner_with_depth) / frames);
+  std::printf(
+      "  harris corners + depth                  %6.2f ms/frame (cpu %6.2f)  %.1f "
+      "corners/frame, %.1f with depth\n",
+      Median(harris_depth_time.wall_ms), Median(harris_depth_time.cpu_ms),
+      static_cast<double>(corner_total) / frames, static_cast<double>(corner_with_depth) / frames);
   return 0;
 }

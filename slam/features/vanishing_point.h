@@ -34,7 +34,7 @@ struct VanishingPointOptions {
   double canny_high = 60.0;
   HoughMethod hough = HoughMethod::kProbabilistic;
   double hough_rho_px = 1.0;         // distance resolution of the accumulator (px)
-  double hough_theta_deg = 0.5;      // angle resolution of the accumulator (deg)
+  double hough_theta_deg = 1.0;      // angle resolution of the accumulator (deg)
   int hough_votes = 40;              // accumulator threshold (edge pixels on a line)
   double min_line_length_px = 40.0;  // probabilistic: shortest segment kept (px)
   double max_line_gap_px = 4.0;      // probabilistic: largest gap bridged within a segment (px)
