@@ -5,9 +5,51 @@
 #include <optional>
 
 namespace corridorsim::metrics {
+namespace {
+
+// Corner detections in depth frames (the Harris baseline): an association is correct when the
+// detection saw the same world point as the detection that created its landmark (within
+// seen_point_gate_m), exact from the rendered depth.
+void SeenPointAssociationMetrics(const PipelineRecord& pipeline, const PipelineContext& context,
+                                 const MetricWriter& out) {
+  std::map<int, const SeenPoint*> created;
+  for (const auto& [index, seen] : pipeline.seen_points) {
+    const slam::Detection& d = pipeline.detections[index];
+    if (d.new_landmark && d.landmark_id >= 0) created.emplace(d.landmark_id, &seen);
+  }
+  std::size_t associations = 0;
+  std::size_t correct = 0;
+  std::size_t unverifiable = 0;
+  for (std::size_t i = 0; i < pipeline.detections.size(); ++i) {
+    const slam::Detection& d = pipeline.detections[i];
+    if (d.type != slam::LandmarkType::kCorner || d.landmark_id < 0 || d.new_landmark) continue;
+    ++associations;
+    const auto seen = pipeline.seen_points.find(i);
+    const auto origin = created.find(d.landmark_id);
+    if (seen == pipeline.seen_points.end() || origin == created.end()) {
+      ++unverifiable;
+      continue;
+    }
+    const double distance_m = (seen->second.p_in_world - origin->second->p_in_world).norm();
+    if (distance_m <= context.options->seen_point_gate_m) ++correct;
+  }
+  const MetricWriter a = out.Sub("data_association").Sub("corner");
+  a.Count("associations", associations);
+  a.Count("correct", correct);
+  a.Null("possible");  // every corner is a new point unless associated: nothing to miss
+  a.Count("unverifiable", unverifiable);
+  a.Fraction("precision", correct, associations - unverifiable);
+  a.Null("recall");
+}
+
+}  // namespace
 
 void AddAssociationMetrics(const PipelineRecord& pipeline, const PipelineContext& context,
                            slam::LandmarkType type, const MapMatch& map, const MetricWriter& out) {
+  if (type == slam::LandmarkType::kCorner && !pipeline.seen_points.empty()) {
+    SeenPointAssociationMetrics(pipeline, context, out);
+    return;
+  }
   std::map<int, int> estimate_of_truth;
   for (const auto& [estimate, truth] : map.truth_of_estimate) estimate_of_truth[truth] = estimate;
   std::size_t associations = 0;

@@ -75,6 +75,9 @@ struct MetricsOptions {
   double min_plate_height_px = 16.0;
   double max_plate_viewing_angle_deg = 60.0;  // ... and its normal within this of the view ray
   double vp_gate_px = 20.0;  // a vanishing-point detection hits a truth VP within this distance
+  // A corner detection associated with a landmark is correct when it saw the point the
+  // landmark's creating detection saw, within this distance (m).
+  double seen_point_gate_m = 0.10;
 };
 
 struct MetricsInput {

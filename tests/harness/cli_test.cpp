@@ -150,6 +150,8 @@ TEST_CASE("where takes a room number, a run folder and optionally one pipeline",
   CHECK_THAT(ParseCommandLine({"where", "--help"}).help_text,
              Catch::Contains("Exit codes: 0 success, 2 bad input"));
   CHECK_THAT(ErrorOf({"wher"}), Catch::Contains("drive, where or detect"));
+}
+
 TEST_CASE("ParseCommandLine fills the detect request", "[harness]") {
   const CommandLine plain = ParseCommandLine({"detect", "img.png"});
   CHECK(plain.job == Job::kDetect);
