@@ -13,6 +13,7 @@
 #include "harness/job.h"
 #include "harness/run.h"
 #include "harness/snapshot.h"
+#include "harness/train_detectors_request.h"
 
 namespace corridorsim {
 
@@ -32,7 +33,7 @@ inline constexpr double kPoseMaxAbsYawDeg = 360.0;
 
 /// What the command line asks for.
 struct CommandLine {
-  enum class Job { kHelp, kWorld, kSnapshot, kRun, kDrive };
+  enum class Job { kHelp, kWorld, kSnapshot, kRun, kDrive, kTrainDetectors };
   Job job = Job::kHelp;
   std::string help_text;  // kHelp: printed on stdout, exit 0
   // The request of `job`. An empty scenario_file means "none given": main picks the default
@@ -41,6 +42,7 @@ struct CommandLine {
   SnapshotRequest snapshot;
   RunRequest run;
   DriveRequest drive;
+  TrainDetectorsRequest train_detectors;
 };
 
 /// Parses the arguments (without the program name). Throws InputError at
@@ -54,6 +56,10 @@ std::uint64_t ParseSeedArgument(const std::string& text, const std::string& flag
 /// A decimal number (`12`, `-0.5`, `1e3`; no hex, inf, nan, spaces or trailing characters) with
 /// |value| <= max_abs. Throws InputError naming `flag`.
 double ParseNumberArgument(const std::string& text, double max_abs, const std::string& flag);
+
+/// Bounds of `train-detectors`' counts (training must take minutes on two cores).
+inline constexpr int kMaxTrainWorlds = 200;
+inline constexpr int kMaxViewsPerWorld = 500;
 
 /// `snapshot --pose x,y,yaw`: metres, metres, degrees, each within the bounds above.
 struct PoseArgument {

@@ -20,6 +20,8 @@
 #include "harness/run_folder.h"
 #include "harness/scenario.h"
 #include "harness/snapshot.h"
+#include "harness/train_detectors.h"
+#include "slam/features/door_plates.h"
 #include "worlds/world_io.h"
 
 namespace corridorsim {
@@ -104,6 +106,8 @@ int Dispatch(CommandLine& command) {
       ResolveDefaultScenario(&command.drive);
       RunDrive(command.drive);
       return kExitSuccess;
+    case CommandLine::Job::kTrainDetectors:
+      return RunTrainDetectors(command.train_detectors);
   }
   return kExitFailure;
 }
@@ -119,6 +123,10 @@ int main(int argc, char** argv) {
     CommandLine command = ParseCommandLine(args);
     return Dispatch(command);
   } catch (const InputError& e) {
+    std::fflush(stdout);
+    std::fprintf(stderr, "corridorsim: error: %s\n", e.what());
+    return kExitBadInput;
+  } catch (const slam::ModelFileError& e) {
     std::fflush(stdout);
     std::fprintf(stderr, "corridorsim: error: %s\n", e.what());
     return kExitBadInput;
