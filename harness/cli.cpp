@@ -282,7 +282,7 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
       train->add_option("--seed", train_seed, "Seed of every random choice (default 1)")
           ->type_name("UINT64");
   CLI::Option* train_worlds_option = train->add_option(
-      "--train-worlds", train_worlds, "Training worlds, 1-200 (default 16)")->type_name("N");
+      "--train-worlds", train_worlds, "Training worlds, 1-200 (default 24)")->type_name("N");
   CLI::Option* eval_worlds_option = train->add_option(
       "--eval-worlds", eval_worlds, "Held-out evaluation worlds, 1-200 (default 8)")->type_name("N");
   CLI::Option* views_option = train->add_option(

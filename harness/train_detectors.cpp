@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <numbers>
 
 #include <opencv2/core.hpp>
@@ -70,7 +71,7 @@ struct View {
 };
 
 // A lateral view of a target on a wall (centre, unit normal into the corridor): the camera at
-// 0.4-3.5 m from it, off its normal by up to 60 deg, heading at it +-30 deg.
+// 0.4-3.5 m from it, off its normal by up to 50 deg, heading at it +-30 deg.
 std::optional<View> ViewOf(const worlds::World& world, const Vector3d& target,
                            const Vector3d& normal, const render::CameraOptions& lateral,
                            RandomStream& rng) {
@@ -78,7 +79,7 @@ std::optional<View> ViewOf(const worlds::World& world, const Vector3d& target,
   const Vector2d t(-n.y(), n.x());
   for (int attempt = 0; attempt < 20; ++attempt) {
     const double d = rng.Uniform(0.4, 3.5);
-    const double off = rng.Uniform(-60.0, 60.0) * kDeg;
+    const double off = rng.Uniform(-50.0, 50.0) * kDeg;
     const Vector2d camera = target.head<2>() + d * (std::cos(off) * n + std::sin(off) * t);
     if (!InsideCorridor(world, camera)) continue;
     const Vector2d to_target = target.head<2>() - camera;
@@ -167,7 +168,6 @@ void AddTrainingView(const worlds::World& world, const RenderedView& view,
   const slam::DoorPlateDetectorOptions& det = o.detection.detector;
   const std::vector<slam::BoxPx> candidates = slam::SegmentPlateCandidates(view.rgb, det);
   std::vector<slam::BoxPx> negatives;
-  std::vector<bool> plate_has_positive(view.truth.plates.size(), false);
   for (const slam::BoxPx& c : candidates) {
     double best = 0.0;
     int best_plate = -1;
@@ -189,8 +189,7 @@ void AddTrainingView(const worlds::World& world, const RenderedView& view,
       set->plate_features.push_back(slam::PlatePatchFeatures(view.rgb, c, det));
       set->plate_labels.push_back(1);
       ++set->positives;
-      if (!Seen(p) || plate_has_positive[std::size_t(best_plate)]) continue;
-      plate_has_positive[std::size_t(best_plate)] = true;
+      if (!p.fully_in_image) continue;
       // Digits, labelled by position from the true number (P1 Fig. 7).
       const std::vector<slam::DigitSegment> digits =
           slam::SegmentDigits(view.rgb, c, o.detection.reader);

@@ -24,7 +24,7 @@ namespace corridorsim {
 
 struct TrainDetectorsOptions {
   std::uint64_t seed = 1;
-  int train_worlds = 16;     // worlds rendered for training
+  int train_worlds = 24;     // worlds rendered for training
   int eval_worlds = 8;       // held-out worlds (other seeds) for the report
   int views_per_world = 48;  // lateral views per world
   // Plates drawn in these fonts are left out of training (neither positives nor negatives, no

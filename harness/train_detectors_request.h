@@ -13,7 +13,7 @@ struct TrainDetectorsRequest {
   std::optional<std::filesystem::path> report_dir;  // --report: staged like every output folder
   bool force = false;                               // --force: replace a non-empty --report
   std::uint64_t seed = 1;                           // --seed
-  int train_worlds = 16;                            // --train-worlds, in [1, kMaxTrainWorlds]
+  int train_worlds = 24;                            // --train-worlds, in [1, kMaxTrainWorlds]
   int eval_worlds = 8;                              // --eval-worlds, in [1, kMaxTrainWorlds]
   int views_per_world = 48;                         // --views, in [1, kMaxViewsPerWorld]
 };

@@ -46,6 +46,9 @@ const OptionTable<DoorPlateDetectorOptions>& DoorPlateDetectorOptionsTable() {
     t.Add("max_candidates", &O::max_candidates, "", "candidates kept per image").Range(1, 10000);
     t.Add("duplicate_iou", &O::duplicate_iou, "", "IoU above which two candidates are one")
         .RangeOpenLow(0, 1);
+    t.Add("suppression_iou", &O::suppression_iou, "",
+          "IoU above which the lower-scored of two detections is dropped")
+        .RangeOpenLow(0, 1);
     t.Add("patch_width_px", &O::patch_width_px, "px", "P1 eq. 5 patch width").Range(4, 256);
     t.Add("patch_height_px", &O::patch_height_px, "px", "P1 eq. 5 patch height").Range(4, 256);
     t.Add("context", &O::context, "", "box fraction added on each side of the patch").Range(0, 2);
@@ -181,9 +184,22 @@ double PlateScore(const cv::ml::SVM& svm, const cv::Mat& features) {
 std::vector<PlateCandidate> DetectPlateCandidates(const Image8& image, const cv::ml::SVM& svm,
                                                   const DoorPlateDetectorOptions& options) {
   const cv::Mat grey = GreyImage(image);
-  std::vector<PlateCandidate> out;
+  std::vector<PlateCandidate> scored;
   for (const BoxPx& box : SegmentGrey(grey, options)) {
-    out.push_back(PlateCandidate{box, PlateScore(svm, PatchFeaturesGrey(grey, box, options))});
+    scored.push_back(PlateCandidate{box, PlateScore(svm, PatchFeaturesGrey(grey, box, options))});
+  }
+  std::stable_sort(scored.begin(), scored.end(),
+                   [](const PlateCandidate& a, const PlateCandidate& b) { return a.score > b.score; });
+  std::vector<PlateCandidate> out;
+  for (const PlateCandidate& c : scored) {
+    bool suppressed = false;
+    for (const PlateCandidate& k : out) {
+      if (IntersectionOverUnion(c.box_px, k.box_px) > options.suppression_iou) {
+        suppressed = true;
+        break;
+      }
+    }
+    if (!suppressed) out.push_back(c);
   }
   return out;
 }

@@ -31,19 +31,25 @@ double IntersectionOverUnion(const BoxPx& a, const BoxPx& b);
 
 struct DoorPlateDetectorOptions {
   // Candidate segmentation, in the pixels of each scaled image.
-  std::vector<double> scales{1.0, 0.5, 0.25};  // image scales searched (each in (0, 1])
+  // Image scales searched (each in (0, 1]): a step of 1/sqrt(2), so that at one of them the
+  // closing kernel is wider than the gaps between digits (~0.25 digit heights) and narrower than
+  // the gap to the plate's edge (~0.5-1 digit heights).
+  std::vector<double> scales{1.0, 0.71, 0.5, 0.35, 0.25, 0.18};
   double edge_threshold = 80.0;  // |Sobel x| (3x3, grey levels x 4) that counts as an edge
-  int close_width_px = 7;        // closing kernel: merges a number's digits horizontally
+  int close_width_px = 3;        // closing kernel: merges a number's digits horizontally
   int close_height_px = 3;
-  int min_height_px = 6;  // blob size bounds at each scale
-  int max_height_px = 40;
+  int min_height_px = 8;  // blob size bounds at each scale
+  int max_height_px = 22;
   int min_width_px = 6;
   int max_width_px = 200;
   double min_aspect = 0.9;  // blob width / height
   double max_aspect = 6.0;
   double min_edge_fill = 0.15;  // fraction of edge pixels inside the blob's box
-  int max_candidates = 400;     // per image, after merging duplicates across scales
-  double duplicate_iou = 0.6;   // candidates overlapping more than this are one (largest score kept)
+  int max_candidates = 600;     // per image, after merging duplicates across scales
+  // Segmentation: candidates overlapping more than this are one (the finest scale's kept).
+  double duplicate_iou = 0.85;
+  // Detection: of scored candidates overlapping more than this, the highest score is kept.
+  double suppression_iou = 0.3;
   // P1 eq. 5 feature vector: the patch (box grown by context on every side) resized.
   int patch_width_px = 40;
   int patch_height_px = 20;
@@ -72,8 +78,9 @@ struct PlateCandidate {
   BoxPx box_px;        // the number region
   double score = 0.0;  // SVM margin s(x), positive = plate
 };
-/// Segmentation, then every candidate scored by `svm`; all candidates are returned (callers keep
-/// score > 0), in segmentation order.
+/// Segmentation, then every candidate scored by `svm`, then non-maximum suppression: of
+/// candidates overlapping by more than suppression_iou the highest score is kept (all are
+/// returned otherwise, negative scores too; callers keep score > 0), by decreasing score.
 std::vector<PlateCandidate> DetectPlateCandidates(const Image8& image, const cv::ml::SVM& svm,
                                                   const DoorPlateDetectorOptions& options);
 

@@ -60,7 +60,7 @@ struct DoorPlateDetection {
   RoomNumberReading reading;  // accepted or not (see RoomNumberReading::accepted)
 };
 
-/// Every plate of `image` (score > min_plate_score), in segmentation order, each with its
+/// Every plate of `image` (score > min_plate_score), by decreasing score, each with its
 /// reading. Throws ModelFileError when the models do not fit `options` (feature sizes).
 std::vector<DoorPlateDetection> DetectDoorPlates(const Image8& image, const DoorPlateModels& models,
                                                  const DoorPlateOptions& options);

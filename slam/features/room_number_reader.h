@@ -27,10 +27,15 @@ struct RoomNumberReaderOptions {
   double min_digit_height = 0.5;  // a digit's height / the box's height, at least
   double max_digit_height = 1.6;  // at most
   double max_digit_aspect = 1.2;  // a digit's width / height, at most
-  int min_digits = 2;             // readings with fewer or more digits are not accepted
+  int min_digits = 3;             // readings with fewer or more digits are not accepted (the
+                                  // corridors' room numbers have 3 digits)
   int max_digits = 5;
   int cell_width_px = 10;  // P1 Fig. 7b: the digit is resized to this cell
   int cell_height_px = 16;
+  // Added to P1's projections (they alone confuse 6, 8, 9 and 0 of some fonts): the mean of the
+  // binary cell over a zone_cols x zone_rows grid; 0 = off (P1's features only).
+  int zone_cols = 5;
+  int zone_rows = 8;
   double min_digit_score = 0.8;  // acceptance: every digit's score clears this
   std::optional<OptionsProblem> Check() const;
 };
@@ -41,7 +46,8 @@ struct DigitSegment {
   cv::Mat features;   // 1 x DigitFeatureCount CV_32F
 };
 /// The number of features per digit: cell_height (row sums) + cell_width (column sums) + 1
-/// (the digit's width / height: a "1" resized to the cell would otherwise look like a block).
+/// (the digit's width / height: a "1" resized to the cell would otherwise look like a block)
+/// + zone_cols * zone_rows (zoning).
 int DigitFeatureCount(const RoomNumberReaderOptions& options);
 
 /// The digits inside `box` of `image`, left to right (at most max_digits + 1 are returned so

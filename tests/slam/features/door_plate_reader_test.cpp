@@ -148,7 +148,10 @@ TEST_CASE("reader options: defaults pass; digit bounds are checked", "[plates]")
   REQUIRE(o.Check());
   CHECK(o.Check()->key == "max_digits");
   o = {};
-  CHECK(slam::DigitFeatureCount(o) == o.cell_width_px + o.cell_height_px + 1);
+  CHECK(slam::DigitFeatureCount(o) == o.cell_width_px + o.cell_height_px + 1 + o.zone_cols * o.zone_rows);
+  o.zone_cols = 0;
+  REQUIRE(o.Check());
+  CHECK(o.Check()->key == "zone_rows");
 }
 
 }  // namespace
