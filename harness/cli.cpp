@@ -362,7 +362,8 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
     if (eval_worlds_option->count() > 0) r.eval_worlds = count(eval_worlds, kMaxTrainWorlds, "--eval-worlds");
     if (views_option->count() > 0) r.views_per_world = count(views, kMaxViewsPerWorld, "--views");
   } else {
-    Fail("", "a subcommand is required: world, snapshot, run or drive (see corridorsim --help)");
+    Fail("", "a subcommand is required: world, snapshot, run, drive or train-detectors (see "
+             "corridorsim --help)");
   }
   return parsed;
 }

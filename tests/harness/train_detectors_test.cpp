@@ -45,3 +45,39 @@ TEST_CASE("train-detectors: the same seed writes byte-identical models, another 
 
 }  // namespace
 }  // namespace corridorsim
+
+#include "harness/cli.h"
+
+namespace corridorsim {
+namespace {
+
+TEST_CASE("train-detectors command line: defaults, counts bounded, bad numbers refused",
+          "[plates]") {
+  const CommandLine plain = ParseCommandLine({"train-detectors"});
+  REQUIRE(plain.job == CommandLine::Job::kTrainDetectors);
+  CHECK(plain.train_detectors.out_dir == "models");
+  CHECK_FALSE(plain.train_detectors.report_dir);
+  CHECK(plain.train_detectors.seed == 1);
+  const CommandLine set =
+      ParseCommandLine({"train-detectors", "--out", "m", "--report", "r", "--seed", "9",
+                        "--train-worlds", "3", "--eval-worlds", "2", "--views", "5"});
+  CHECK(set.train_detectors.out_dir == "m");
+  REQUIRE(set.train_detectors.report_dir);
+  CHECK(*set.train_detectors.report_dir == "r");
+  CHECK(set.train_detectors.seed == 9);
+  CHECK(set.train_detectors.train_worlds == 3);
+  CHECK(set.train_detectors.eval_worlds == 2);
+  CHECK(set.train_detectors.views_per_world == 5);
+  for (const std::vector<std::string>& bad :
+       std::vector<std::vector<std::string>>{{"train-detectors", "--views", "501"},
+                                             {"train-detectors", "--train-worlds", "0"},
+                                             {"train-detectors", "--eval-worlds", "1.5"},
+                                             {"train-detectors", "--views", "1e9"},
+                                             {"train-detectors", "--seed", "-1"},
+                                             {"train-detectors", "--out", ""}}) {
+    CHECK_THROWS_AS(ParseCommandLine(bad), InputError);
+  }
+}
+
+}  // namespace
+}  // namespace corridorsim
