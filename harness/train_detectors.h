@@ -34,7 +34,7 @@ struct TrainDetectorsOptions {
   int max_negatives_per_view = 12;
   double svm_c = 0.05;        // C of the linear SVM
   int mlp_hidden = 48;        // hidden units of the MLP
-  int mlp_iterations = 400;   // RPROP iterations at most
+  int mlp_iterations = 1000;  // RPROP iterations at most
   slam::DoorPlateOptions detection;  // what the models are trained for and evaluated with
 };
 

@@ -36,7 +36,7 @@ struct RoomNumberReaderOptions {
   // binary cell over a zone_cols x zone_rows grid; 0 = off (P1's features only).
   int zone_cols = 5;
   int zone_rows = 8;
-  double min_digit_score = 0.8;  // acceptance: every digit's score clears this
+  double min_digit_score = 0.75;  // acceptance: every digit's score clears this (P1: false <= 0.7)
   std::optional<OptionsProblem> Check() const;
 };
 const OptionTable<RoomNumberReaderOptions>& RoomNumberReaderOptionsTable();
