@@ -343,12 +343,44 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
       "or non-PNG file, an image too large, a depth image of another size; one message naming "
       "the file, nothing is printed or written), 1 other failures.");
 
-  static const char* const kJobs[] = {"world", "snapshot", "run", "drive", "where", "detect"};
+  CLI::App* train = app.add_subcommand(
+      "train-detectors",
+      "Render labelled lateral views of seeded worlds, train P1's door-plate SVM and "
+      "room-number MLP, evaluate them on held-out worlds and fonts");
+  std::string train_out = "models", train_report, train_seed, train_worlds, eval_worlds, views;
+  train->add_option("--out", train_out, "Folder of the two model files (replaced atomically)")
+      ->capture_default_str();
+  CLI::Option* report_option =
+      train->add_option("--report", train_report,
+                        "Also write training_report.json and training_report.png into this "
+                        "folder (staged and replaced like every output folder)");
+  CLI::Option* train_seed_option =
+      train->add_option("--seed", train_seed, "Seed of every random choice (default 1)")
+          ->type_name("UINT64");
+  CLI::Option* train_worlds_option = train->add_option(
+      "--train-worlds", train_worlds, "Training worlds, 1-200 (default 24)")->type_name("N");
+  CLI::Option* eval_worlds_option = train->add_option(
+      "--eval-worlds", eval_worlds, "Held-out evaluation worlds, 1-200 (default 8)")->type_name("N");
+  CLI::Option* views_option = train->add_option(
+      "--views", views, "Lateral views per world, 1-500 (default 48)")->type_name("N");
+  bool train_force = false;
+  train->add_flag("--force", train_force, "Replace a non-empty --report folder")
+      ->disable_flag_override();
+  train->footer(
+      "Writes <out>/door_plate_svm.yml and <out>/room_number_mlp.yml (cv::ml YAML, "
+      "docs/detectors.md); with --report also training_report.json (detection precision and "
+      "recall, reading accuracy by distance and viewing angle, the digit confusion matrix, the "
+      "P1 targets) and training_report.png. The same arguments write byte-identical models.\n"
+      "Exit codes: 0 success, 2 bad input (nothing is written), 1 other failures (e.g. no GL "
+      "context).");
+
+  static const char* const kJobs[] = {"world", "snapshot", "run", "drive", "where", "detect",
+                                      "train-detectors"};
   if (!args.empty() && !args[0].empty() && args[0][0] != '-' &&
       std::find(std::begin(kJobs), std::end(kJobs), args[0]) == std::end(kJobs)) {
     Fail("", "unknown subcommand " + Quoted(args[0]) +
-                 ": expected world, snapshot, run, drive, where or detect (see corridorsim "
-                 "--help)");
+                 ": expected world, snapshot, run, drive, where, detect or train-detectors (see "
+                 "corridorsim --help)");
   }
   // CLI11 takes the arguments last first.
   std::vector<std::string> reversed(args.rbegin(), args.rend());
@@ -420,10 +452,29 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
       if (detect_out.empty()) Fail("--out", "an empty file name");
       parsed.detect.overlay_file = detect_out;
     }
+  } else if (train->parsed()) {
+    parsed.job = CommandLine::Job::kTrainDetectors;
+    TrainDetectorsRequest& r = parsed.train_detectors;
+    if (train_out.empty()) Fail("--out", "an empty folder name");
+    r.out_dir = train_out;
+    if (report_option->count() > 0) {
+      if (train_report.empty()) Fail("--report", "an empty folder name");
+      r.report_dir = train_report;
+    }
+    r.force = train_force;
+    if (train_seed_option->count() > 0) r.seed = ParseSeedArgument(train_seed, "--seed");
+    const auto count = [](const std::string& text, int max, const std::string& flag) {
+      const double v = ParseNumberArgument(text, max, flag);
+      if (v != std::floor(v) || v < 1) Fail(flag, "must be a whole number in [1, " + std::to_string(max) + "] " + Got(text));
+      return static_cast<int>(v);
+    };
+    if (train_worlds_option->count() > 0) r.train_worlds = count(train_worlds, kMaxTrainWorlds, "--train-worlds");
+    if (eval_worlds_option->count() > 0) r.eval_worlds = count(eval_worlds, kMaxTrainWorlds, "--eval-worlds");
+    if (views_option->count() > 0) r.views_per_world = count(views, kMaxViewsPerWorld, "--views");
   } else {
     Fail("",
-         "a subcommand is required: world, snapshot, run, drive, where or detect (see corridorsim "
-         "--help)");
+         "a subcommand is required: world, snapshot, run, drive, where, detect or train-detectors "
+         "(see corridorsim --help)");
   }
   return parsed;
 }

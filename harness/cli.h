@@ -15,6 +15,7 @@
 #include "harness/run.h"
 #include "harness/snapshot.h"
 #include "harness/where.h"
+#include "harness/train_detectors_request.h"
 
 namespace corridorsim {
 
@@ -34,7 +35,7 @@ inline constexpr double kPoseMaxAbsYawDeg = 360.0;
 
 /// What the command line asks for.
 struct CommandLine {
-  enum class Job { kHelp, kWorld, kSnapshot, kRun, kDrive, kWhere, kDetect };
+  enum class Job { kHelp, kWorld, kSnapshot, kRun, kDrive, kWhere, kDetect, kTrainDetectors };
   Job job = Job::kHelp;
   std::string help_text;  // kHelp: printed on stdout, exit 0
   // The request of `job`. An empty scenario_file means "none given": main picks the default
@@ -45,6 +46,7 @@ struct CommandLine {
   DriveRequest drive;
   WhereRequest where;
   DetectRequest detect;
+  TrainDetectorsRequest train_detectors;
 };
 
 /// Parses the arguments (without the program name). Throws InputError at
@@ -66,6 +68,9 @@ std::string ParseRoomArgument(const std::string& text, const std::string& flag);
 /// `where --pipeline NAME`: 1 to kMaxPipelineChars letters, digits, '_' or '-' (it names a file).
 inline constexpr std::size_t kMaxPipelineChars = 64;
 std::string ParsePipelineArgument(const std::string& text, const std::string& flag);
+/// Bounds of `train-detectors`' counts (training must take minutes on two cores).
+inline constexpr int kMaxTrainWorlds = 200;
+inline constexpr int kMaxViewsPerWorld = 500;
 
 /// `snapshot --pose x,y,yaw`: metres, metres, degrees, each within the bounds above.
 struct PoseArgument {

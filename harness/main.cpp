@@ -22,6 +22,8 @@
 #include "harness/scenario.h"
 #include "harness/snapshot.h"
 #include "harness/where.h"
+#include "harness/train_detectors.h"
+#include "slam/features/door_plates.h"
 #include "worlds/world_io.h"
 
 namespace corridorsim {
@@ -112,6 +114,8 @@ int Dispatch(CommandLine& command) {
     case CommandLine::Job::kDetect:
       RunDetectJob(command.detect);
       return kExitSuccess;
+    case CommandLine::Job::kTrainDetectors:
+      return RunTrainDetectors(command.train_detectors);
   }
   return kExitFailure;
 }
@@ -127,6 +131,10 @@ int main(int argc, char** argv) {
     CommandLine command = ParseCommandLine(args);
     return Dispatch(command);
   } catch (const InputError& e) {
+    std::fflush(stdout);
+    std::fprintf(stderr, "corridorsim: error: %s\n", e.what());
+    return kExitBadInput;
+  } catch (const slam::ModelFileError& e) {
     std::fflush(stdout);
     std::fprintf(stderr, "corridorsim: error: %s\n", e.what());
     return kExitBadInput;

@@ -178,6 +178,22 @@ std::optional<PlateTruth> PlateInFrame(const Frame& frame, const worlds::DoorPla
     truth.bbox_max_px = truth.bbox_max_px.cwiseMax(pixel);
     truth.fully_in_image = truth.fully_in_image && frame.InImage(pixel);
   }
+  // The number region's outline, in the face's own coordinates (x right, y up).
+  const auto on_face = [&](double x_m, double y_m) {
+    return Vector3d(plate.center + right * x_m + Vector3d::UnitZ() * y_m);
+  };
+  const Vector2d& n0 = plate.number_min_in_face;
+  const Vector2d& n1 = plate.number_max_in_face;
+  const std::array<Vector3d, 4> number_corners = {on_face(n0.x(), n1.y()), on_face(n1.x(), n1.y()),
+                                                  on_face(n1.x(), n0.y()), on_face(n0.x(), n0.y())};
+  const std::optional<std::vector<Vector2d>> number_outline =
+      ProjectAll(frame, Outline(number_corners, kOutlinePointsPerSide));
+  if (!number_outline) return std::nullopt;  // inside the plate's outline: projects if it does
+  truth.number_bbox_min_px = truth.number_bbox_max_px = number_outline->front();
+  for (const Vector2d& pixel : *number_outline) {
+    truth.number_bbox_min_px = truth.number_bbox_min_px.cwiseMin(pixel);
+    truth.number_bbox_max_px = truth.number_bbox_max_px.cwiseMax(pixel);
+  }
   truth.distance_m = to_camera.norm();
   truth.viewing_angle_deg =
       std::acos(std::clamp(to_camera.dot(plate.normal) / truth.distance_m, -1.0, 1.0)) * kDegPerRad;
@@ -489,6 +505,8 @@ nlohmann::ordered_json FrameTruthJson(const FrameTruth& truth) {
     for (const Vector2d& c : p.corners_px) e["corners_px"].push_back(PixelJson(c));
     e["center_px"] = PixelJson(p.center_px);
     e["bbox_px"] = {{"min", PixelJson(p.bbox_min_px)}, {"max", PixelJson(p.bbox_max_px)}};
+    e["number_bbox_px"] = {{"min", PixelJson(p.number_bbox_min_px)},
+                           {"max", PixelJson(p.number_bbox_max_px)}};
     e["distance_m"] = Metres(p.distance_m);
     e["viewing_angle_deg"] = Deg(p.viewing_angle_deg);
     e["visible_fraction"] = Fraction(p.visible_fraction);

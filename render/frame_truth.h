@@ -60,6 +60,10 @@ struct PlateTruth {
   Eigen::Vector2d center_px;    // projection of the face centre (P1 eq. 20: u_d = center_px.x - cx)
   Eigen::Vector2d bbox_min_px;  // of the projected outline (32 points, follows distortion)
   Eigen::Vector2d bbox_max_px;
+  // The number region (worlds::DoorPlate::number_*_in_face: the drawn digits, what P1's
+  // detector finds): the bbox of its projected outline (32 points, follows distortion).
+  Eigen::Vector2d number_bbox_min_px{0, 0};
+  Eigen::Vector2d number_bbox_max_px{0, 0};
   double distance_m = 0.0;         // optical centre to plate centre
   double viewing_angle_deg = 0.0;  // between the plate normal and the plate-to-camera direction
   double visible_fraction = 0.0;   // of a 5x5 grid of cell centres on the face (see .cpp)

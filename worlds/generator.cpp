@@ -391,6 +391,17 @@ class Builder {
                      MakePlateTexture(textures_rng_, plate.room_number, width / height, &style));
       plate.font = style.font;
       plate.border_px = style.border_px;
+      // Texture px -> face metres: the decal maps texture x to right, row 0 to the top.
+      if (style.width_px > 0 && style.height_px > 0) {
+        const auto face = [&](int x_px, int y_px) {
+          return Vector2d((double(x_px) / style.width_px - 0.5) * width,
+                          (0.5 - double(y_px) / style.height_px) * height);
+        };
+        const Vector2d a = face(style.number_x0_px, style.number_y1_px);
+        const Vector2d b = face(style.number_x1_px, style.number_y0_px);
+        plate.number_min_in_face = a.cwiseMin(b);
+        plate.number_max_in_face = a.cwiseMax(b);
+      }
       const int material = TexturedMaterial(Id("plate", plate.id), plate.texture);
       const int backing = PlainMaterial(Id("plate_backing", plate.id), {0.3f, 0.3f, 0.3f});
       const double z0 = p.center_height_m - height / 2, z1 = p.center_height_m + height / 2;

@@ -173,6 +173,28 @@ Image8 MakePlateTexture(RandomStream& rng, const std::string& room_number, doubl
   if (style) {
     style->font = kHersheyNames[font_index];
     style->border_px = border;
+    style->width_px = width_px;
+    style->height_px = height_px;
+    // The number region: every pixel inside the text box (within the border) that the text
+    // changed from the plate colour; anti-aliased edges count.
+    const cv::Vec3b plate(cv::saturate_cast<std::uint8_t>(colours[0][0]),
+                          cv::saturate_cast<std::uint8_t>(colours[0][1]),
+                          cv::saturate_cast<std::uint8_t>(colours[0][2]));
+    int x0 = width_px, y0 = height_px, x1 = 0, y1 = 0;
+    for (int y = inset; y < height_px - inset; ++y) {
+      for (int x = inset; x < width_px - inset; ++x) {
+        if (img.at<cv::Vec3b>(y, x) == plate) continue;
+        x0 = std::min(x0, x);
+        y0 = std::min(y0, y);
+        x1 = std::max(x1, x + 1);
+        y1 = std::max(y1, y + 1);
+      }
+    }
+    if (x1 <= x0) x0 = y0 = x1 = y1 = 0;  // no text drawn (empty number)
+    style->number_x0_px = x0;
+    style->number_y0_px = y0;
+    style->number_x1_px = x1;
+    style->number_y1_px = y1;
   }
   return ToImage(img);
 }

@@ -24,6 +24,11 @@ Image8 MakeDoorTexture(RandomStream& rng, int width_px, int height_px);
 struct PlateStyle {
   std::string font;  // Hershey font name
   int border_px = 0;
+  int width_px = 0;  // texture size
+  int height_px = 0;
+  // The number region: the bounding box of the drawn text pixels, texture px (x right, y down,
+  // row 0 on top), min inclusive, max exclusive. Measured from the drawn image: draws nothing.
+  int number_x0_px = 0, number_y0_px = 0, number_x1_px = 0, number_y1_px = 0;
 };
 /// A door plate showing `room_number` in a seeded style; aspect = width / height of the plate.
 Image8 MakePlateTexture(RandomStream& rng, const std::string& room_number, double aspect,

@@ -142,6 +142,10 @@ struct DoorPlate {
   int texture = -1;
   std::string font;   // style of the seeded plate design: Hershey font name
   int border_px = 0;  // border width on the 128 px high texture, 0 for none
+  // The number region (the drawn digits' bounding box, what P1's detector finds) in the plate
+  // face's own coordinates, metres: origin at `center`, x along right = z x normal, y up (+z).
+  Eigen::Vector2d number_min_in_face{0, 0};
+  Eigen::Vector2d number_max_in_face{0, 0};
 };
 
 struct Lamp {

@@ -46,6 +46,8 @@ Json PlateJson(const World& world, const DoorPlate& plate) {
     j["font"] = plate.font;
     j["border_px"] = plate.border_px;
   }
+  j["number_region"] = {{"min", Vec(plate.number_min_in_face)},
+                        {"max", Vec(plate.number_max_in_face)}};
   return j;
 }
 

@@ -1,0 +1,207 @@
+#include "slam/features/door_plate_detector.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include <opencv2/imgproc.hpp>
+
+namespace corridorsim::slam {
+
+double IntersectionOverUnion(const BoxPx& a, const BoxPx& b) {
+  const double ix = std::min(a.max_x, b.max_x) - std::max(a.min_x, b.min_x);
+  const double iy = std::min(a.max_y, b.max_y) - std::max(a.min_y, b.min_y);
+  if (!(ix > 0) || !(iy > 0) || !(a.width() > 0) || !(a.height() > 0) || !(b.width() > 0) ||
+      !(b.height() > 0)) {
+    return 0.0;
+  }
+  const double inter = ix * iy;
+  return inter / (a.width() * a.height() + b.width() * b.height() - inter);
+}
+
+const OptionTable<DoorPlateDetectorOptions>& DoorPlateDetectorOptionsTable() {
+  using O = DoorPlateDetectorOptions;
+  return StaticOptionTable<O>([](OptionTable<O>& t) {
+    t.Add("scales", &O::scales, "", "image scales searched for digit-sized blobs, each in (0, 1]")
+        .Note("1 to 6 values in (0, 1]");
+    t.Add("edge_threshold", &O::edge_threshold, "", "|Sobel x| (3x3) that counts as an edge")
+        .Range(1, 1020);
+    t.Add("close_width_px", &O::close_width_px, "px", "closing kernel width (merges digits)")
+        .Range(1, 31);
+    t.Add("close_height_px", &O::close_height_px, "px", "closing kernel height").Range(1, 31);
+    t.Add("min_height_px", &O::min_height_px, "px", "smallest blob height at a scale").Range(1, 1000);
+    t.Add("max_height_px", &O::max_height_px, "px", "largest blob height at a scale")
+        .Range(1, 1000)
+        .Note(">= min_height_px");
+    t.Add("min_width_px", &O::min_width_px, "px", "smallest blob width at a scale").Range(1, 4000);
+    t.Add("max_width_px", &O::max_width_px, "px", "largest blob width at a scale")
+        .Range(1, 4000)
+        .Note(">= min_width_px");
+    t.Add("min_aspect", &O::min_aspect, "", "smallest blob width / height").Range(0.05, 50);
+    t.Add("max_aspect", &O::max_aspect, "", "largest blob width / height")
+        .Range(0.05, 50)
+        .Note(">= min_aspect");
+    t.Add("min_edge_fill", &O::min_edge_fill, "", "fraction of edge pixels in a blob's box")
+        .Range(0, 1);
+    t.Add("max_candidates", &O::max_candidates, "", "candidates kept per image").Range(1, 10000);
+    t.Add("duplicate_iou", &O::duplicate_iou, "", "IoU above which two candidates are one")
+        .RangeOpenLow(0, 1);
+    t.Add("suppression_iou", &O::suppression_iou, "",
+          "IoU above which the lower-scored of two detections is dropped")
+        .RangeOpenLow(0, 1);
+    t.Add("patch_width_px", &O::patch_width_px, "px", "P1 eq. 5 patch width").Range(4, 256);
+    t.Add("patch_height_px", &O::patch_height_px, "px", "P1 eq. 5 patch height").Range(4, 256);
+    t.Add("context", &O::context, "", "box fraction added on each side of the patch").Range(0, 2);
+  });
+}
+
+std::optional<OptionsProblem> DoorPlateDetectorOptions::Check() const {
+  if (auto p = CheckOptionBounds(DoorPlateDetectorOptionsTable(), *this)) return p;
+  if (scales.empty() || scales.size() > 6) return OptionsProblem{"scales", "must hold 1 to 6 values"};
+  for (const double s : scales) {
+    if (!(s > 0.0 && s <= 1.0)) return OptionsProblem{"scales", "each scale must lie in (0, 1]"};
+  }
+  if (max_height_px < min_height_px) {
+    return OptionsProblem{"max_height_px", "must be at least min_height_px"};
+  }
+  if (max_width_px < min_width_px) {
+    return OptionsProblem{"max_width_px", "must be at least min_width_px"};
+  }
+  if (max_aspect < min_aspect) return OptionsProblem{"max_aspect", "must be at least min_aspect"};
+  return std::nullopt;
+}
+
+cv::Mat GreyImage(const Image8& image) {
+  CheckOrDie(image.width > 0 && image.height > 0 &&
+                 image.data.size() == std::size_t(image.width) * image.height * image.channels,
+             "slam::GreyImage", "the image is empty or its size does not match its buffer");
+  const int type = image.channels == 1 ? CV_8UC1 : image.channels == 3 ? CV_8UC3 : CV_8UC4;
+  CheckOrDie(image.channels == 1 || image.channels == 3 || image.channels == 4, "slam::GreyImage",
+             "the image has neither 1, 3 nor 4 channels");
+  const cv::Mat view(image.height, image.width, type, const_cast<std::uint8_t*>(image.data.data()));
+  cv::Mat grey;
+  if (image.channels == 1) {
+    grey = view.clone();
+  } else {
+    cv::cvtColor(view, grey, image.channels == 3 ? cv::COLOR_RGB2GRAY : cv::COLOR_RGBA2GRAY);
+  }
+  return grey;
+}
+
+namespace {
+
+std::vector<BoxPx> SegmentGrey(const cv::Mat& grey, const DoorPlateDetectorOptions& o) {
+  std::vector<BoxPx> boxes;
+  for (const double scale : o.scales) {
+    cv::Mat small;
+    if (scale == 1.0) {
+      small = grey;
+    } else {
+      const cv::Size size(std::max(1, int(std::lround(grey.cols * scale))),
+                          std::max(1, int(std::lround(grey.rows * scale))));
+      cv::resize(grey, small, size, 0, 0, cv::INTER_AREA);
+    }
+    const double sx = double(grey.cols) / small.cols, sy = double(grey.rows) / small.rows;
+    // P1 section 3.1: vertical edges (Sobel in x), threshold, closing, contours.
+    cv::Mat gx, edges;
+    cv::Sobel(small, gx, CV_16S, 1, 0, 3);
+    gx = cv::abs(gx);
+    cv::Mat edge_mask = gx > o.edge_threshold;
+    cv::Mat closed;
+    cv::morphologyEx(edge_mask, closed, cv::MORPH_CLOSE,
+                     cv::getStructuringElement(cv::MORPH_RECT,
+                                               cv::Size(o.close_width_px, o.close_height_px)));
+    std::vector<std::vector<cv::Point>> contours;
+    cv::findContours(closed, contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_SIMPLE);
+    for (const auto& contour : contours) {
+      const cv::Rect r = cv::boundingRect(contour);
+      if (r.height < o.min_height_px || r.height > o.max_height_px) continue;
+      if (r.width < o.min_width_px || r.width > o.max_width_px) continue;
+      const double aspect = double(r.width) / r.height;
+      if (aspect < o.min_aspect || aspect > o.max_aspect) continue;
+      const double fill = cv::countNonZero(edge_mask(r)) / double(r.area());
+      if (fill < o.min_edge_fill) continue;
+      // The blob's pixel edges in the full image (pixel-centre convention).
+      boxes.push_back(BoxPx{r.x * sx - 0.5, r.y * sy - 0.5, (r.x + r.width) * sx - 0.5,
+                            (r.y + r.height) * sy - 0.5});
+    }
+  }
+  // Duplicates across scales: the first (finest scale) is kept.
+  std::vector<BoxPx> kept;
+  for (const BoxPx& b : boxes) {
+    bool duplicate = false;
+    for (const BoxPx& k : kept) {
+      if (IntersectionOverUnion(b, k) > o.duplicate_iou) {
+        duplicate = true;
+        break;
+      }
+    }
+    if (!duplicate) kept.push_back(b);
+    if (static_cast<int>(kept.size()) >= o.max_candidates) break;
+  }
+  return kept;
+}
+
+cv::Mat PatchFeaturesGrey(const cv::Mat& grey, const BoxPx& box, const DoorPlateDetectorOptions& o) {
+  const double cw = box.width() * o.context, ch = box.height() * o.context;
+  const int x0 = std::clamp(int(std::floor(box.min_x + 0.5 - cw)), 0, grey.cols - 1);
+  const int y0 = std::clamp(int(std::floor(box.min_y + 0.5 - ch)), 0, grey.rows - 1);
+  const int x1 = std::clamp(int(std::ceil(box.max_x + 0.5 + cw)), x0 + 1, grey.cols);
+  const int y1 = std::clamp(int(std::ceil(box.max_y + 0.5 + ch)), y0 + 1, grey.rows);
+  cv::Mat patch;
+  cv::resize(grey(cv::Rect(x0, y0, x1 - x0, y1 - y0)), patch,
+             cv::Size(o.patch_width_px, o.patch_height_px), 0, 0, cv::INTER_AREA);
+  // Polarity: the text (Otsu's minority class) is made dark.
+  cv::Mat binary;
+  cv::threshold(patch, binary, 0, 255, cv::THRESH_BINARY | cv::THRESH_OTSU);
+  if (cv::countNonZero(binary) * 2 < binary.total()) patch = 255 - patch;
+  cv::Mat f;
+  patch.convertTo(f, CV_32F);
+  cv::Scalar mean, stddev;
+  cv::meanStdDev(f, mean, stddev);
+  f = (f - mean[0]) / std::max(stddev[0], 1.0);
+  return f.reshape(1, 1).clone();
+}
+
+}  // namespace
+
+std::vector<BoxPx> SegmentPlateCandidates(const Image8& image,
+                                          const DoorPlateDetectorOptions& options) {
+  return SegmentGrey(GreyImage(image), options);
+}
+
+cv::Mat PlatePatchFeatures(const Image8& image, const BoxPx& box,
+                           const DoorPlateDetectorOptions& options) {
+  return PatchFeaturesGrey(GreyImage(image), box, options);
+}
+
+double PlateScore(const cv::ml::SVM& svm, const cv::Mat& features) {
+  // OpenCV's two-class decision value is positive for the first (smaller) label, -1 here: the
+  // margin of the plate class (+1) is its negative.
+  return -svm.predict(features, cv::noArray(), cv::ml::StatModel::RAW_OUTPUT);
+}
+
+std::vector<PlateCandidate> DetectPlateCandidates(const Image8& image, const cv::ml::SVM& svm,
+                                                  const DoorPlateDetectorOptions& options) {
+  const cv::Mat grey = GreyImage(image);
+  std::vector<PlateCandidate> scored;
+  for (const BoxPx& box : SegmentGrey(grey, options)) {
+    scored.push_back(PlateCandidate{box, PlateScore(svm, PatchFeaturesGrey(grey, box, options))});
+  }
+  std::stable_sort(scored.begin(), scored.end(),
+                   [](const PlateCandidate& a, const PlateCandidate& b) { return a.score > b.score; });
+  std::vector<PlateCandidate> out;
+  for (const PlateCandidate& c : scored) {
+    bool suppressed = false;
+    for (const PlateCandidate& k : out) {
+      if (IntersectionOverUnion(c.box_px, k.box_px) > options.suppression_iou) {
+        suppressed = true;
+        break;
+      }
+    }
+    if (!suppressed) out.push_back(c);
+  }
+  return out;
+}
+
+}  // namespace corridorsim::slam
