@@ -89,7 +89,7 @@ def read_nees(path):
 def plate_check(run_dir):
     with open(os.path.join(run_dir, "world.json"), encoding="utf-8") as f:
         world = json.load(f)
-    truth = {p["room_number"]: p["center"] for p in world["plates"]}
+    truth = {p["room_number"]: p["center"] for p in world["door_plates"]}
     path = os.path.join(run_dir, f"{PIPELINE}_landmarks.json")
     landmarks = []
     if os.path.exists(path):

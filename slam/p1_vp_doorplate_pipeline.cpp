@@ -182,31 +182,43 @@ void P1VpDoorplatePipeline::ObserveVanishingPoint(TimeNs stamp_ns, double u,
   const SE2 pose(x.x(), x.y(), x.z());
   const CameraModel& model = front_->model;
   const double sigma2 = options_.vp_sigma_px * options_.vp_sigma_px;
-  // Association: the VP landmark of the corridor direction in view is the one that projects into
-  // the image (the opposite direction's is behind the camera); the nearest by NIS if several.
+  // Association: a VP landmark stands for a corridor's direction, seen at either end: ahead
+  // through its virtual-plane point p (P1 Fig. 10), or from the other way through the point
+  // opposite it, 2 r - p (r the robot's position: the same direction turned by pi, as far away).
+  // The hypothesis that projects into the image is the one in view (the other lies behind the
+  // camera); the nearest by NIS if several.
   const VpLandmark* best = nullptr;
   ekf::Measurement best_measurement;
   double best_nis = 0.0;
   for (const VpLandmark& vp : vps_) {
-    Eigen::Matrix<double, 1, 3> d_pose;
-    Eigen::Matrix<double, 1, 2> d_landmark;
-    const std::optional<double> predicted =
-        ekf::VanishingPointU(pose, state_->Value(vp.block), front_->robot_from_camera, model, &d_pose,
-                        &d_landmark);
-    if (!predicted || *predicted < -0.5 * model.width() || *predicted > 1.5 * model.width()) {
-      continue;
-    }
-    ekf::Measurement m;  // P1 eqs. 19, 21-24: z = u, H = [H_r 0 H_v 0]
-    m.blocks = {ekf::EkfState::robot(), vp.block};
-    m.residual = Eigen::VectorXd::Constant(1, u - *predicted);
-    m.jacobian.resize(1, 5);
-    m.jacobian << d_pose, d_landmark;
-    m.noise = Eigen::MatrixXd::Constant(1, 1, sigma2);
-    const std::optional<double> nis = state_->Nis(m);
-    if (nis && (best == nullptr || *nis < best_nis)) {
-      best = &vp;
-      best_nis = *nis;
-      best_measurement = std::move(m);
+    const Eigen::Vector2d p = state_->Value(vp.block);
+    for (const bool reversed : {false, true}) {
+      const Eigen::Vector2d seen = reversed ? Eigen::Vector2d(2.0 * pose.translation() - p) : p;
+      Eigen::Matrix<double, 1, 3> d_pose;
+      Eigen::Matrix<double, 1, 2> d_seen;
+      const std::optional<double> predicted = ekf::VanishingPointU(
+          pose, seen, front_->robot_from_camera, model, &d_pose, &d_seen);
+      if (!predicted || *predicted < -0.5 * model.width() || *predicted > 1.5 * model.width()) {
+        continue;
+      }
+      Eigen::Matrix<double, 1, 2> d_landmark = d_seen;
+      if (reversed) {
+        // seen = 2 r - p: d seen / d (x_r, y_r) = 2 I, d seen / d p = -I.
+        d_pose.head<2>() += 2.0 * d_seen;
+        d_landmark = -d_seen;
+      }
+      ekf::Measurement m;  // P1 eqs. 19, 21-24: z = u, H = [H_r 0 H_v 0]
+      m.blocks = {ekf::EkfState::robot(), vp.block};
+      m.residual = Eigen::VectorXd::Constant(1, u - *predicted);
+      m.jacobian.resize(1, 5);
+      m.jacobian << d_pose, d_landmark;
+      m.noise = Eigen::MatrixXd::Constant(1, 1, sigma2);
+      const std::optional<double> nis = state_->Nis(m);
+      if (nis && (best == nullptr || *nis < best_nis)) {
+        best = &vp;
+        best_nis = *nis;
+        best_measurement = std::move(m);
+      }
     }
   }
   if (best != nullptr) {

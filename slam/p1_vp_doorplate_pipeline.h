@@ -15,9 +15,11 @@
 //   clone and the current pose (Jacobians over both, P1 eq. 27 generalised) and the clone goes.
 //   A number must be read `min_readings` times before it may become a landmark, so that a single
 //   false reading never does.
-// - One vanishing point per corridor direction: the VP of a round trip's way back is another
-//   landmark (P1 runs one way); a VP detection is associated with the VP landmark that projects
-//   into the image, by NIS.
+// - A VP landmark stands for a corridor's direction, seen from either end: on a round trip's way
+//   back the front camera sees the corridor's other end, the same direction turned by pi (P1
+//   runs one way). A VP detection is associated with the VP landmark whose point (or the point
+//   opposite it) projects into the image, by NIS; a direction not yet in the map (after a turn
+//   into another corridor) becomes a new VP landmark.
 
 #include <cstdint>
 #include <map>
@@ -44,12 +46,12 @@ struct P1VpDoorplateOptions {
   double gate_chi2 = 10.83;  // NIS gate of every update: chi-square 99.9 % at 1 dof
 
   bool use_vanishing_point = true;
-  double vp_sigma_px = 4.0;               // sigma of the VP's u (P1 eq. 19's R)
+  double vp_sigma_px = 1.0;               // sigma of the VP's u (P1 eq. 19's R)
   double vp_virtual_distance_m = 1000.0;  // the virtual plane (P1 Fig. 10), from the camera
   VanishingPointOptions vanishing_point;  // the detector (P1 section 2)
 
   bool use_door_plates = true;
-  double plate_sigma_px = 3.0;  // sigma_u of P1 eq. 25 (the signature's entry is 0)
+  double plate_sigma_px = 1.5;  // sigma_u of P1 eq. 25 (the signature's entry is 0)
   double plate_height_m = 1.6;  // nominal height of a plate's number (the state is planar)
   int min_readings = 3;         // readings of a number before it may become a landmark
   double min_parallax_deg = 8.0;   // triangulation parallax needed to initialise a plate

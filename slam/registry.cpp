@@ -2,6 +2,7 @@
 
 #include "slam/odometry_pipeline.h"
 #include "slam/p1_harris_pipeline.h"
+#include "slam/p1_vp_doorplate_pipeline.h"
 
 namespace corridorsim::slam {
 namespace {
@@ -39,6 +40,8 @@ const std::vector<PipelineType>& PipelineTypes() {
   static const std::vector<PipelineType> types = {
       Type<OdometryPipelineOptions, OdometryPipeline>("odometry", &OdometryPipelineOptionsTable),
       Type<P1HarrisOptions, P1HarrisPipeline>("p1_harris", &P1HarrisOptionsTable),
+      Type<P1VpDoorplateOptions, P1VpDoorplatePipeline>("p1_vp_doorplate",
+                                                        &P1VpDoorplateOptionsTable),
   };
   return types;
 }

@@ -105,7 +105,13 @@ const std::vector<render::PlateTruth>& PlatesOf(const render::FrameTruth& f) { r
 const std::vector<render::LampTruth>& LampsOf(const render::FrameTruth& f) { return f.lamps; }
 const std::vector<render::DoorTruth>& DoorsOf(const render::FrameTruth& f) { return f.doors; }
 
-Vector4d BoxOf(const render::PlateTruth& t) {
+// The truth box a plate detection is matched against: the number region when the detector
+// reports number regions (P1 section 3.1), else the plate's outline.
+Vector4d BoxOf(const render::PlateTruth& t, slam::PlateBox kind) {
+  if (kind == slam::PlateBox::kNumberRegion) {
+    return Vector4d(t.number_bbox_min_px.x(), t.number_bbox_min_px.y(), t.number_bbox_max_px.x(),
+                    t.number_bbox_max_px.y());
+  }
   return Vector4d(t.bbox_min_px.x(), t.bbox_min_px.y(), t.bbox_max_px.x(), t.bbox_max_px.y());
 }
 
@@ -119,13 +125,13 @@ void PlateDetectorMetrics(const PipelineRecord& pipeline, const PipelineContext&
   const DetectorCounts counts = ScoreFrames<render::PlateTruth>(
       grouped, PlatesOf,
       [&](const slam::Detection& d, const render::PlateTruth& t) -> std::optional<double> {
-        const double value = BoxIou(d.box_px, BoxOf(t));
+        const double value = BoxIou(d.box_px, BoxOf(t, d.plate_box));
         if (value < options.min_box_iou) return std::nullopt;
         return -value;
       },
       [&](const render::PlateTruth& t) { return PlateLegible(t, options); },
       [&](const slam::Detection& d, const render::PlateTruth& t) {
-        iou.Add(BoxIou(d.box_px, BoxOf(t)));
+        iou.Add(BoxIou(d.box_px, BoxOf(t, d.plate_box)));
         if (!d.label.empty()) {
           ++read;
           if (d.label == t.room_number) ++read_correctly;

@@ -42,6 +42,7 @@ TEST_CASE("detector precision, recall, IoU, centre error and door state against 
     d.camera_id = "lateral";
     d.type = LandmarkType::kDoorPlate;
     d.box_px = box;
+    d.plate_box = slam::PlateBox::kOutline;  // boxes of the whole plate
     d.pixel = 0.5 * (box.head<2>() + box.tail<2>());
     d.label = label;
     return d;
@@ -232,6 +233,37 @@ TEST_CASE("a plate is scored only where it was legible: large enough and not too
   CHECK(plates["false_negatives"] == 1);
   CHECK(plates["false_positives"] == 1);
   CHECK(plates["true_positives"] == 0);
+}
+
+TEST_CASE("a plate detection is matched to the number region or the outline, as it reports",
+          "[metrics]") {
+  const worlds::World world;
+  const std::vector<TruthPose> truth = ArcTruth(1.0);
+  PipelineRecord record = Record("plates", truth, [](const SE2& p) { return p; });
+  record.cameras_used = {"lateral"};
+  // A plate 100 x 50 px whose number region is the middle 60 x 20 px.
+  FrameTruthSample frame = Frame("lateral", 5);
+  render::PlateTruth plate = PlateWithRegions(1, 1.2, 50, 0);
+  plate.number_bbox_min_px = Vector2d(120, 115);
+  plate.number_bbox_max_px = Vector2d(180, 135);
+  frame.truth.plates = {plate};
+  FrameTruthSample frame2 = Frame("lateral", 6);
+  frame2.truth.plates = {plate};
+  // P1-style: the number region (IoU 1 with the region, 0.24 with the outline) is a hit; the
+  // outline reported as an outline is a hit too.
+  record.detections = {PlateDetection(5, {120, 115, 180, 135}, slam::PlateBox::kNumberRegion),
+                       PlateDetection(6, {100, 100, 200, 150}, slam::PlateBox::kOutline)};
+  const Json m = RunOne(world, truth, record, {frame, frame2});
+  const Json& plates = m["detection"]["door_plate"];
+  CHECK(plates["true_positives"] == 2);
+  CHECK(plates["false_positives"] == 0);
+  CHECK(Num(plates["mean_iou"]) == Approx(1.0).margin(test::kMetricsJsonRatio));
+
+  // The same number-region box claimed to be an outline does not match the plate.
+  record.detections = {PlateDetection(5, {120, 115, 180, 135}, slam::PlateBox::kOutline)};
+  const Json wrong = RunOne(world, truth, record, {frame});
+  CHECK(wrong["detection"]["door_plate"]["true_positives"] == 0);
+  CHECK(wrong["detection"]["door_plate"]["false_positives"] == 1);
 }
 
 }  // namespace
