@@ -154,7 +154,7 @@ cv::Mat PatchFeaturesGrey(const cv::Mat& grey, const BoxPx& box, const DoorPlate
   // Polarity: the text (Otsu's minority class) is made dark.
   cv::Mat binary;
   cv::threshold(patch, binary, 0, 255, cv::THRESH_BINARY | cv::THRESH_OTSU);
-  if (cv::countNonZero(binary) * 2 < binary.total()) patch = 255 - patch;
+  if (std::size_t(cv::countNonZero(binary)) * 2 < binary.total()) patch = 255 - patch;
   cv::Mat f;
   patch.convertTo(f, CV_32F);
   cv::Scalar mean, stddev;

@@ -64,7 +64,7 @@ std::vector<cv::Rect> DigitRects(const cv::Mat& binary, const RoomNumberReaderOp
   // as digits inside a ring of the plate's border or the wall).
   std::vector<cv::Vec4i> hierarchy;
   cv::findContours(binary.clone(), contours, hierarchy, cv::RETR_CCOMP, cv::CHAIN_APPROX_SIMPLE);
-  std::vector<cv::Rect> rects;
+  std::vector<cv::Rect> rects, wide;
   for (std::size_t i = 0; i < contours.size(); ++i) {
     if (hierarchy[i][3] >= 0) continue;  // a hole
     const cv::Rect r = cv::boundingRect(contours[i]);
@@ -72,13 +72,20 @@ std::vector<cv::Rect> DigitRects(const cv::Mat& binary, const RoomNumberReaderOp
     if (r.x == 0 || r.y == 0 || r.x + r.width == binary.cols || r.y + r.height == binary.rows) continue;
     const double h = double(r.height) / o.work_height_px;
     if (h < o.min_digit_height || h > o.max_digit_height) continue;
-    if (r.width <= o.max_digit_aspect * r.height) {
-      rects.push_back(r);
-      continue;
-    }
+    (r.width <= o.max_digit_aspect * r.height ? rects : wide).push_back(r);
+  }
+  // The digit width: the median of the single digits' widths, less the narrow ones ("1"), else
+  // 0.65 heights.
+  std::vector<int> widths;
+  for (const cv::Rect& r : rects) {
+    if (r.width >= 0.4 * r.height) widths.push_back(r.width);
+  }
+  std::sort(widths.begin(), widths.end());
+  for (const cv::Rect& r : wide) {
+    const double digit_width = widths.empty() ? 0.65 * r.height : widths[widths.size() / 2];
     // Digits that the threshold joined (tight fonts, small plates): cut at the columns of least
-    // ink near the equal division into round(width / (0.6 height)) digits.
-    const int n = int(std::lround(r.width / (0.6 * r.height)));
+    // ink near the equal division into round(width / digit width) digits.
+    const int n = int(std::lround(r.width / digit_width));
     if (n < 2 || n > o.max_digits) continue;
     cv::Mat ink;
     cv::reduce(binary(r), ink, 0, cv::REDUCE_SUM, CV_32S);
