@@ -57,8 +57,8 @@ struct DoorPlateOptions {
 const OptionTable<DoorPlateOptions>& DoorPlateOptionsTable();
 
 struct DoorPlateDetection {
-  BoxPx box_px;              // the number region
-  double svm_score = 0.0;    // s(x) > min_plate_score
+  BoxPx box_px;               // the number region
+  double svm_score = 0.0;     // s(x) > min_plate_score
   RoomNumberReading reading;  // accepted or not (see RoomNumberReading::accepted)
 };
 

@@ -29,7 +29,9 @@ const OptionTable<RoomNumberReaderOptions>& RoomNumberReaderOptionsTable() {
     t.Add("zone_cols", &O::zone_cols, "", "zoning grid columns (0 with zone_rows 0: off)")
         .Range(0, 16)
         .Note("<= cell_width_px");
-    t.Add("zone_rows", &O::zone_rows, "", "zoning grid rows").Range(0, 16).Note("<= cell_height_px");
+    t.Add("zone_rows", &O::zone_rows, "", "zoning grid rows")
+        .Range(0, 16)
+        .Note("<= cell_height_px");
     t.Add("min_digit_score", &O::min_digit_score, "", "P1 Fig. 8: every digit's score, at least")
         .Range(0, 1);
   });
@@ -44,7 +46,8 @@ std::optional<OptionsProblem> RoomNumberReaderOptions::Check() const {
   if ((zone_cols == 0) != (zone_rows == 0)) {
     return OptionsProblem{"zone_rows", "zone_cols and zone_rows are both 0 (off) or both set"};
   }
-  if (zone_cols > cell_width_px) return OptionsProblem{"zone_cols", "must be at most cell_width_px"};
+  if (zone_cols > cell_width_px)
+    return OptionsProblem{"zone_cols", "must be at most cell_width_px"};
   if (zone_rows > cell_height_px) {
     return OptionsProblem{"zone_rows", "must be at most cell_height_px"};
   }
@@ -69,7 +72,8 @@ std::vector<cv::Rect> DigitRects(const cv::Mat& binary, const RoomNumberReaderOp
     if (hierarchy[i][3] >= 0) continue;  // a hole
     const cv::Rect r = cv::boundingRect(contours[i]);
     // Parts of the plate's border or frame reach the crop's edge; digits do not.
-    if (r.x == 0 || r.y == 0 || r.x + r.width == binary.cols || r.y + r.height == binary.rows) continue;
+    if (r.x == 0 || r.y == 0 || r.x + r.width == binary.cols || r.y + r.height == binary.rows)
+      continue;
     const double h = double(r.height) / o.work_height_px;
     if (h < o.min_digit_height || h > o.max_digit_height) continue;
     (r.width <= o.max_digit_aspect * r.height ? rects : wide).push_back(r);
@@ -153,8 +157,9 @@ std::vector<DigitSegment> SegmentDigits(const Image8& image, const BoxPx& box,
   cv::Mat binary;
   cv::threshold(crop, binary, 0, 255, cv::THRESH_BINARY | cv::THRESH_OTSU);
   const cv::Rect inner =
-      cv::Rect(int(std::lround((box.min_x + 0.5 - x0) * k)), int(std::lround((box.min_y + 0.5 - y0) * k)),
-               int(std::lround(box.width() * k)), int(std::lround(box.height() * k))) &
+      cv::Rect(int(std::lround((box.min_x + 0.5 - x0) * k)),
+               int(std::lround((box.min_y + 0.5 - y0) * k)), int(std::lround(box.width() * k)),
+               int(std::lround(box.height() * k))) &
       cv::Rect(0, 0, binary.cols, binary.rows);
 
   // Text = 255. The polarity that gives more digits (up to max_digits) wins; on a tie, the one
@@ -187,8 +192,10 @@ std::vector<DigitSegment> SegmentDigits(const Image8& image, const BoxPx& box,
     d.features = cv::Mat(1, DigitFeatureCount(o), CV_32F);
     float* f = d.features.ptr<float>(0);
     int n = 0;
-    for (int y = 0; y < o.cell_height_px; ++y) f[n++] = float(cv::sum(cf.row(y))[0] / o.cell_width_px);
-    for (int x = 0; x < o.cell_width_px; ++x) f[n++] = float(cv::sum(cf.col(x))[0] / o.cell_height_px);
+    for (int y = 0; y < o.cell_height_px; ++y)
+      f[n++] = float(cv::sum(cf.row(y))[0] / o.cell_width_px);
+    for (int x = 0; x < o.cell_width_px; ++x)
+      f[n++] = float(cv::sum(cf.col(x))[0] / o.cell_height_px);
     f[n++] = float(double(r.width) / r.height);
     if (o.zone_cols > 0) {
       cv::Mat zones;
@@ -227,7 +234,8 @@ RoomNumberReading ReadRoomNumber(const Image8& image, const BoxPx& box, const cv
   }
   if (!reading.digits.empty()) {
     reading.min_score = 1.0;
-    for (const DigitReading& d : reading.digits) reading.min_score = std::min(reading.min_score, d.score);
+    for (const DigitReading& d : reading.digits)
+      reading.min_score = std::min(reading.min_score, d.score);
   }
   const int n = static_cast<int>(reading.digits.size());
   reading.accepted = n >= options.min_digits && n <= options.max_digits &&
