@@ -358,12 +358,17 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
   CLI::Option* train_seed_option =
       train->add_option("--seed", train_seed, "Seed of every random choice (default 1)")
           ->type_name("UINT64");
-  CLI::Option* train_worlds_option = train->add_option(
-      "--train-worlds", train_worlds, "Training worlds, 1-200 (default 24)")->type_name("N");
-  CLI::Option* eval_worlds_option = train->add_option(
-      "--eval-worlds", eval_worlds, "Held-out evaluation worlds, 1-200 (default 8)")->type_name("N");
-  CLI::Option* views_option = train->add_option(
-      "--views", views, "Lateral views per world, 1-500 (default 48)")->type_name("N");
+  CLI::Option* train_worlds_option =
+      train->add_option("--train-worlds", train_worlds, "Training worlds, 1-200 (default 24)")
+          ->type_name("N");
+  CLI::Option* eval_worlds_option =
+      train
+          ->add_option("--eval-worlds", eval_worlds,
+                       "Held-out evaluation worlds, 1-200 (default 8)")
+          ->type_name("N");
+  CLI::Option* views_option =
+      train->add_option("--views", views, "Lateral views per world, 1-500 (default 48)")
+          ->type_name("N");
   bool train_force = false;
   train->add_flag("--force", train_force, "Replace a non-empty --report folder")
       ->disable_flag_override();
@@ -466,11 +471,14 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
     if (train_seed_option->count() > 0) r.seed = ParseSeedArgument(train_seed, "--seed");
     const auto count = [](const std::string& text, int max, const std::string& flag) {
       const double v = ParseNumberArgument(text, max, flag);
-      if (v != std::floor(v) || v < 1) Fail(flag, "must be a whole number in [1, " + std::to_string(max) + "] " + Got(text));
+      if (v != std::floor(v) || v < 1)
+        Fail(flag, "must be a whole number in [1, " + std::to_string(max) + "] " + Got(text));
       return static_cast<int>(v);
     };
-    if (train_worlds_option->count() > 0) r.train_worlds = count(train_worlds, kMaxTrainWorlds, "--train-worlds");
-    if (eval_worlds_option->count() > 0) r.eval_worlds = count(eval_worlds, kMaxTrainWorlds, "--eval-worlds");
+    if (train_worlds_option->count() > 0)
+      r.train_worlds = count(train_worlds, kMaxTrainWorlds, "--train-worlds");
+    if (eval_worlds_option->count() > 0)
+      r.eval_worlds = count(eval_worlds, kMaxTrainWorlds, "--eval-worlds");
     if (views_option->count() > 0) r.views_per_world = count(views, kMaxViewsPerWorld, "--views");
   } else {
     Fail("",

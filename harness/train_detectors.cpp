@@ -37,13 +37,13 @@ constexpr double kTargetDistanceM = 3.0;
 constexpr double kTargetAngleDeg = 30.0;
 constexpr double kTargetReadFraction = 0.98;
 constexpr double kTargetFalseFraction = 0.005;
-constexpr double kMatchIou = 0.5;     // a candidate is the plate's number region (brief, P1)
-constexpr double kNegativeIou = 0.3;  // below this against every number region: a negative
+constexpr double kMatchIou = 0.5;       // a candidate is the plate's number region (brief, P1)
+constexpr double kNegativeIou = 0.3;    // below this against every number region: a negative
 constexpr double kSeenFraction = 0.95;  // a plate counts as seen: whole and unoccluded
 
 slam::BoxPx NumberBox(const render::PlateTruth& p) {
-  return slam::BoxPx{p.number_bbox_min_px.x(), p.number_bbox_min_px.y(),
-                     p.number_bbox_max_px.x(), p.number_bbox_max_px.y()};
+  return slam::BoxPx{p.number_bbox_min_px.x(), p.number_bbox_min_px.y(), p.number_bbox_max_px.x(),
+                     p.number_bbox_max_px.y()};
 }
 slam::BoxPx PlateBox(const render::PlateTruth& p) {
   return slam::BoxPx{p.bbox_min_px.x(), p.bbox_min_px.y(), p.bbox_max_px.x(), p.bbox_max_px.y()};
@@ -218,8 +218,8 @@ void AddTrainingView(const worlds::World& world, const RenderedView& view,
 
 // cv::ml writes a model as `<default name>: { ... }` (what StatModel::save writes), in memory.
 std::string ModelBytes(const cv::ml::StatModel& model) {
-  cv::FileStorage fs(".yml", cv::FileStorage::WRITE | cv::FileStorage::MEMORY |
-                                 cv::FileStorage::FORMAT_YAML);
+  cv::FileStorage fs(
+      ".yml", cv::FileStorage::WRITE | cv::FileStorage::MEMORY | cv::FileStorage::FORMAT_YAML);
   fs << model.getDefaultName() << "{";
   model.write(fs);
   fs << "}";
@@ -290,8 +290,8 @@ void EvaluateView(const worlds::World& world, const RenderedView& view,
   for (std::size_t i = 0; i < detections.size(); ++i) {
     double best = 0.0;
     for (std::size_t k = 0; k < view.truth.plates.size(); ++k) {
-      const double iou = slam::IntersectionOverUnion(detections[i].box_px,
-                                                     NumberBox(view.truth.plates[k]));
+      const double iou =
+          slam::IntersectionOverUnion(detections[i].box_px, NumberBox(view.truth.plates[k]));
       if (iou >= kMatchIou && iou > best) {
         best = iou;
         plate_of[i] = static_cast<int>(k);
@@ -302,8 +302,8 @@ void EvaluateView(const worlds::World& world, const RenderedView& view,
     const slam::RoomNumberReading& r = detections[i].reading;
     if (r.accepted) {
       ++e->accepted;
-      const bool right = plate_of[i] >= 0 &&
-                         r.number == view.truth.plates[std::size_t(plate_of[i])].room_number;
+      const bool right =
+          plate_of[i] >= 0 && r.number == view.truth.plates[std::size_t(plate_of[i])].room_number;
       e->false_accepted += !right;
     }
   }
@@ -326,7 +326,8 @@ void EvaluateView(const worlds::World& world, const RenderedView& view,
       c.detected += detected;
       c.read += read;
     };
-    add(e->by_distance[std::size_t(Bin(p.distance_m, kDistanceEdges.data(), kDistanceEdges.size()))]);
+    add(e->by_distance[std::size_t(
+        Bin(p.distance_m, kDistanceEdges.data(), kDistanceEdges.size()))]);
     add(e->by_angle[std::size_t(Bin(p.viewing_angle_deg, kAngleEdges.data(), kAngleEdges.size()))]);
     if (p.distance_m <= kTargetDistanceM && p.viewing_angle_deg <= kTargetAngleDeg) {
       add(e->target);
@@ -363,8 +364,8 @@ nlohmann::ordered_json EvaluationJson(const Evaluation& e) {
   target["max_distance_m"] = kTargetDistanceM;
   target["max_viewing_angle_deg"] = kTargetAngleDeg;
   target["required"] = kTargetReadFraction;
-  target["met"] = e.target.plates > 0 &&
-                  double(e.target.read) >= kTargetReadFraction * e.target.plates;
+  target["met"] =
+      e.target.plates > 0 && double(e.target.read) >= kTargetReadFraction * e.target.plates;
   j["read_within_3m_30deg"] = target;
   j["read_within_3m_30deg_held_out_fonts"] = e.target_held_out.Json();
   j["false_readings"] = {
@@ -444,7 +445,8 @@ Image8 DrawReport(const Evaluation& e) {
     al.push_back(s);
     ab.push_back(&e.by_angle[k]);
   }
-  bars(50, "by distance (blue: detected, green: read correctly)", dl, db);
+  bars(50, "by distance", dl, db);
+  text("blue: detected, green: read correctly (held-out worlds, seen plates)", 50, 465, 0.45);
   bars(460, "by viewing angle (deg)", al, ab);
   // Confusion matrix: rows true digit, columns read digit; shade by row fraction.
   const int cx = 880, cy = 60, cell = 30;
@@ -504,26 +506,29 @@ TrainingResult TrainDetectors(const TrainDetectorsOptions& o) {
   TrainingSet set;
   RandomStream view_rng(o.seed, 0, "train_detectors.views");
   RandomStream sample_rng(o.seed, 0, "train_detectors.samples");
-  const std::vector<std::uint64_t> train_seeds = WorldSeeds(o.seed, "train_detectors.train", o.train_worlds);
+  const std::vector<std::uint64_t> train_seeds =
+      WorldSeeds(o.seed, "train_detectors.train", o.train_worlds);
   for (std::size_t k = 0; k < train_seeds.size(); ++k) {
     const worlds::World world = worlds::Generate(world_options, train_seeds[k]);
-    for (const RenderedView& v : RenderWorldViews(world, o.views_per_world,
-                                                  o.distractor_view_fraction, view_rng,
-                                                  train_seeds[k])) {
+    for (const RenderedView& v : RenderWorldViews(
+             world, o.views_per_world, o.distractor_view_fraction, view_rng, train_seeds[k])) {
       AddTrainingView(world, v, o, sample_rng, &set);
     }
-    std::printf("train-detectors: training world %zu/%d (seed %llu): %d positives, %d negatives, "
-                "%d digits (%.0f s)\n",
-                k + 1, o.train_worlds, static_cast<unsigned long long>(train_seeds[k]),
-                set.positives, set.negatives, set.digit_labels.rows, seconds());
+    std::printf(
+        "train-detectors: training world %zu/%d (seed %llu): %d positives, %d negatives, "
+        "%d digits (%.0f s)\n",
+        k + 1, o.train_worlds, static_cast<unsigned long long>(train_seeds[k]), set.positives,
+        set.negatives, set.digit_labels.rows, seconds());
     std::fflush(stdout);
   }
   if (set.positives == 0 || set.negatives == 0 || set.digit_labels.rows == 0) {
-    throw std::runtime_error("train-detectors: the training views gave no positives, negatives "
-                             "or digits (more worlds or views?)");
+    throw std::runtime_error(
+        "train-detectors: the training views gave no positives, negatives "
+        "or digits (more worlds or views?)");
   }
   std::vector<int> digit_classes(10, 0);
-  for (int r = 0; r < set.digit_labels.rows; ++r) ++digit_classes[std::size_t(set.digit_labels.at<int>(r))];
+  for (int r = 0; r < set.digit_labels.rows; ++r)
+    ++digit_classes[std::size_t(set.digit_labels.at<int>(r))];
 
   TrainingResult result;
   {
@@ -533,13 +538,14 @@ TrainingResult TrainDetectors(const TrainDetectorsOptions& o) {
     svm->setType(cv::ml::SVM::C_SVC);
     svm->setKernel(cv::ml::SVM::LINEAR);
     svm->setC(o.svm_c);
-    svm->setTermCriteria(cv::TermCriteria(cv::TermCriteria::MAX_ITER + cv::TermCriteria::EPS,
-                                          20000, 1e-6));
+    svm->setTermCriteria(
+        cv::TermCriteria(cv::TermCriteria::MAX_ITER + cv::TermCriteria::EPS, 20000, 1e-6));
     svm->train(cv::ml::TrainData::create(set.plate_features, cv::ml::ROW_SAMPLE, set.plate_labels));
     result.svm_bytes = ModelBytes(*svm);
     // P1 section 3.2: MLP on the digits' projections, targets -1 / +1.
     cv::Mat targets(set.digit_labels.rows, 10, CV_32F, cv::Scalar(-1.0f));
-    for (int r = 0; r < set.digit_labels.rows; ++r) targets.at<float>(r, set.digit_labels.at<int>(r)) = 1.0f;
+    for (int r = 0; r < set.digit_labels.rows; ++r)
+      targets.at<float>(r, set.digit_labels.at<int>(r)) = 1.0f;
     cv::Ptr<cv::ml::ANN_MLP> mlp = cv::ml::ANN_MLP::create();
     mlp->setLayerSizes(std::vector<int>{set.digit_features.cols, o.mlp_hidden, 10});
     mlp->setActivationFunction(cv::ml::ANN_MLP::SIGMOID_SYM, 0, 0);
@@ -566,19 +572,20 @@ TrainingResult TrainDetectors(const TrainDetectorsOptions& o) {
               svm_right, set.plate_features.rows, mlp_right, set.digit_features.rows, train_s);
 
   Evaluation e;
-  const std::vector<std::uint64_t> eval_seeds = WorldSeeds(o.seed, "train_detectors.eval", o.eval_worlds);
+  const std::vector<std::uint64_t> eval_seeds =
+      WorldSeeds(o.seed, "train_detectors.eval", o.eval_worlds);
   RandomStream eval_rng(o.seed, 0, "train_detectors.eval_views");
   for (std::size_t k = 0; k < eval_seeds.size(); ++k) {
     const worlds::World world = worlds::Generate(world_options, eval_seeds[k]);
-    for (const RenderedView& v : RenderWorldViews(world, o.views_per_world,
-                                                  o.distractor_view_fraction, eval_rng,
-                                                  eval_seeds[k])) {
+    for (const RenderedView& v : RenderWorldViews(
+             world, o.views_per_world, o.distractor_view_fraction, eval_rng, eval_seeds[k])) {
       EvaluateView(world, v, result.models, o, &e);
     }
-    std::printf("train-detectors: evaluation world %zu/%d: within 3 m, 30 deg read %d/%d, false "
-                "readings %d/%d accepted (%.0f s)\n",
-                k + 1, o.eval_worlds, e.target.read, e.target.plates, e.false_accepted,
-                e.accepted, seconds());
+    std::printf(
+        "train-detectors: evaluation world %zu/%d: within 3 m, 30 deg read %d/%d, false "
+        "readings %d/%d accepted (%.0f s)\n",
+        k + 1, o.eval_worlds, e.target.read, e.target.plates, e.false_accepted, e.accepted,
+        seconds());
     std::fflush(stdout);
   }
 
@@ -606,7 +613,8 @@ TrainingResult TrainDetectors(const TrainDetectorsOptions& o) {
 
 int RunTrainDetectors(const TrainDetectorsRequest& request) {
   std::unique_ptr<StagedDirectory> report;
-  if (request.report_dir) report = StageOutputFolder(*request.report_dir, "--report", request.force);
+  if (request.report_dir)
+    report = StageOutputFolder(*request.report_dir, "--report", request.force);
   TrainDetectorsOptions options;
   options.seed = request.seed;
   options.train_worlds = request.train_worlds;
@@ -631,10 +639,11 @@ int RunTrainDetectors(const TrainDetectorsRequest& request) {
                 request.report_dir->string().c_str());
   }
   const nlohmann::ordered_json& ev = result.report["evaluation"];
-  std::printf("train-detectors: within 3 m and 30 deg read %s (target >= 0.98), false readings "
-              "%s of accepted (target < 0.005)\n",
-              ev["read_within_3m_30deg"]["reading_accuracy"].dump().c_str(),
-              ev["false_readings"]["fraction"].dump().c_str());
+  std::printf(
+      "train-detectors: within 3 m and 30 deg read %s (target >= 0.98), false readings "
+      "%s of accepted (target < 0.005)\n",
+      ev["read_within_3m_30deg"]["reading_accuracy"].dump().c_str(),
+      ev["false_readings"]["fraction"].dump().c_str());
   return 0;
 }
 

@@ -16,8 +16,8 @@
 #include <nlohmann/json.hpp>
 
 #include "common/image.h"
-#include "render/camera_rig.h"
 #include "harness/train_detectors_request.h"
+#include "render/camera_rig.h"
 #include "slam/features/door_plates.h"
 
 namespace corridorsim {
@@ -32,9 +32,9 @@ struct TrainDetectorsOptions {
   std::vector<std::string> held_out_fonts{"hershey_triplex"};
   double distractor_view_fraction = 0.25;  // views aimed at posters and notice boards
   int max_negatives_per_view = 12;
-  double svm_c = 0.05;        // C of the linear SVM
-  int mlp_hidden = 48;        // hidden units of the MLP
-  int mlp_iterations = 1000;  // RPROP iterations at most
+  double svm_c = 0.05;               // C of the linear SVM
+  int mlp_hidden = 48;               // hidden units of the MLP
+  int mlp_iterations = 1000;         // RPROP iterations at most
   slam::DoorPlateOptions detection;  // what the models are trained for and evaluated with
 };
 
@@ -47,7 +47,7 @@ struct TrainingResult {
   std::string svm_bytes;  // the model files as written (cv::FileStorage YAML)
   std::string mlp_bytes;
   nlohmann::ordered_json report;  // training_report.json
-  Image8 report_image;             // training_report.png
+  Image8 report_image;            // training_report.png
 };
 
 /// Renders (the backend of CORRIDORSIM_RENDER_BACKEND, default OSMesa), trains and evaluates.

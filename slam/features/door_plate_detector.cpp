@@ -29,7 +29,8 @@ const OptionTable<DoorPlateDetectorOptions>& DoorPlateDetectorOptionsTable() {
     t.Add("close_width_px", &O::close_width_px, "px", "closing kernel width (merges digits)")
         .Range(1, 31);
     t.Add("close_height_px", &O::close_height_px, "px", "closing kernel height").Range(1, 31);
-    t.Add("min_height_px", &O::min_height_px, "px", "smallest blob height at a scale").Range(1, 1000);
+    t.Add("min_height_px", &O::min_height_px, "px", "smallest blob height at a scale")
+        .Range(1, 1000);
     t.Add("max_height_px", &O::max_height_px, "px", "largest blob height at a scale")
         .Range(1, 1000)
         .Note(">= min_height_px");
@@ -57,7 +58,8 @@ const OptionTable<DoorPlateDetectorOptions>& DoorPlateDetectorOptionsTable() {
 
 std::optional<OptionsProblem> DoorPlateDetectorOptions::Check() const {
   if (auto p = CheckOptionBounds(DoorPlateDetectorOptionsTable(), *this)) return p;
-  if (scales.empty() || scales.size() > 6) return OptionsProblem{"scales", "must hold 1 to 6 values"};
+  if (scales.empty() || scales.size() > 6)
+    return OptionsProblem{"scales", "must hold 1 to 6 values"};
   for (const double s : scales) {
     if (!(s > 0.0 && s <= 1.0)) return OptionsProblem{"scales", "each scale must lie in (0, 1]"};
   }
@@ -108,9 +110,9 @@ std::vector<BoxPx> SegmentGrey(const cv::Mat& grey, const DoorPlateDetectorOptio
     gx = cv::abs(gx);
     cv::Mat edge_mask = gx > o.edge_threshold;
     cv::Mat closed;
-    cv::morphologyEx(edge_mask, closed, cv::MORPH_CLOSE,
-                     cv::getStructuringElement(cv::MORPH_RECT,
-                                               cv::Size(o.close_width_px, o.close_height_px)));
+    cv::morphologyEx(
+        edge_mask, closed, cv::MORPH_CLOSE,
+        cv::getStructuringElement(cv::MORPH_RECT, cv::Size(o.close_width_px, o.close_height_px)));
     std::vector<std::vector<cv::Point>> contours;
     cv::findContours(closed, contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_SIMPLE);
     for (const auto& contour : contours) {
@@ -142,7 +144,8 @@ std::vector<BoxPx> SegmentGrey(const cv::Mat& grey, const DoorPlateDetectorOptio
   return kept;
 }
 
-cv::Mat PatchFeaturesGrey(const cv::Mat& grey, const BoxPx& box, const DoorPlateDetectorOptions& o) {
+cv::Mat PatchFeaturesGrey(const cv::Mat& grey, const BoxPx& box,
+                          const DoorPlateDetectorOptions& o) {
   const double cw = box.width() * o.context, ch = box.height() * o.context;
   const int x0 = std::clamp(int(std::floor(box.min_x + 0.5 - cw)), 0, grey.cols - 1);
   const int y0 = std::clamp(int(std::floor(box.min_y + 0.5 - ch)), 0, grey.rows - 1);
@@ -154,7 +157,7 @@ cv::Mat PatchFeaturesGrey(const cv::Mat& grey, const BoxPx& box, const DoorPlate
   // Polarity: the text (Otsu's minority class) is made dark.
   cv::Mat binary;
   cv::threshold(patch, binary, 0, 255, cv::THRESH_BINARY | cv::THRESH_OTSU);
-  if (cv::countNonZero(binary) * 2 < binary.total()) patch = 255 - patch;
+  if (std::size_t(cv::countNonZero(binary)) * 2 < binary.total()) patch = 255 - patch;
   cv::Mat f;
   patch.convertTo(f, CV_32F);
   cv::Scalar mean, stddev;
@@ -188,8 +191,9 @@ std::vector<PlateCandidate> DetectPlateCandidates(const Image8& image, const cv:
   for (const BoxPx& box : SegmentGrey(grey, options)) {
     scored.push_back(PlateCandidate{box, PlateScore(svm, PatchFeaturesGrey(grey, box, options))});
   }
-  std::stable_sort(scored.begin(), scored.end(),
-                   [](const PlateCandidate& a, const PlateCandidate& b) { return a.score > b.score; });
+  std::stable_sort(
+      scored.begin(), scored.end(),
+      [](const PlateCandidate& a, const PlateCandidate& b) { return a.score > b.score; });
   std::vector<PlateCandidate> out;
   for (const PlateCandidate& c : scored) {
     bool suppressed = false;

@@ -22,8 +22,9 @@ template <class Model>
 cv::Ptr<Model> LoadModel(const std::filesystem::path& path) {
   std::error_code error;
   if (!std::filesystem::is_regular_file(path, error)) {
-    throw ModelFileError(path, "missing (or not a regular file); `corridorsim train-detectors` "
-                               "makes it");
+    throw ModelFileError(path,
+                         "missing (or not a regular file); `corridorsim train-detectors` "
+                         "makes it");
   }
   // Model files are KBs to a few MB: a huge file is not one of ours.
   const auto bytes = std::filesystem::file_size(path, error);

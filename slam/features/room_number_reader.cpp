@@ -29,7 +29,9 @@ const OptionTable<RoomNumberReaderOptions>& RoomNumberReaderOptionsTable() {
     t.Add("zone_cols", &O::zone_cols, "", "zoning grid columns (0 with zone_rows 0: off)")
         .Range(0, 16)
         .Note("<= cell_width_px");
-    t.Add("zone_rows", &O::zone_rows, "", "zoning grid rows").Range(0, 16).Note("<= cell_height_px");
+    t.Add("zone_rows", &O::zone_rows, "", "zoning grid rows")
+        .Range(0, 16)
+        .Note("<= cell_height_px");
     t.Add("min_digit_score", &O::min_digit_score, "", "P1 Fig. 8: every digit's score, at least")
         .Range(0, 1);
   });
@@ -44,7 +46,8 @@ std::optional<OptionsProblem> RoomNumberReaderOptions::Check() const {
   if ((zone_cols == 0) != (zone_rows == 0)) {
     return OptionsProblem{"zone_rows", "zone_cols and zone_rows are both 0 (off) or both set"};
   }
-  if (zone_cols > cell_width_px) return OptionsProblem{"zone_cols", "must be at most cell_width_px"};
+  if (zone_cols > cell_width_px)
+    return OptionsProblem{"zone_cols", "must be at most cell_width_px"};
   if (zone_rows > cell_height_px) {
     return OptionsProblem{"zone_rows", "must be at most cell_height_px"};
   }
@@ -64,21 +67,29 @@ std::vector<cv::Rect> DigitRects(const cv::Mat& binary, const RoomNumberReaderOp
   // as digits inside a ring of the plate's border or the wall).
   std::vector<cv::Vec4i> hierarchy;
   cv::findContours(binary.clone(), contours, hierarchy, cv::RETR_CCOMP, cv::CHAIN_APPROX_SIMPLE);
-  std::vector<cv::Rect> rects;
+  std::vector<cv::Rect> rects, wide;
   for (std::size_t i = 0; i < contours.size(); ++i) {
     if (hierarchy[i][3] >= 0) continue;  // a hole
     const cv::Rect r = cv::boundingRect(contours[i]);
     // Parts of the plate's border or frame reach the crop's edge; digits do not.
-    if (r.x == 0 || r.y == 0 || r.x + r.width == binary.cols || r.y + r.height == binary.rows) continue;
+    if (r.x == 0 || r.y == 0 || r.x + r.width == binary.cols || r.y + r.height == binary.rows)
+      continue;
     const double h = double(r.height) / o.work_height_px;
     if (h < o.min_digit_height || h > o.max_digit_height) continue;
-    if (r.width <= o.max_digit_aspect * r.height) {
-      rects.push_back(r);
-      continue;
-    }
+    (r.width <= o.max_digit_aspect * r.height ? rects : wide).push_back(r);
+  }
+  // The digit width: the median of the single digits' widths, less the narrow ones ("1"), else
+  // 0.65 heights.
+  std::vector<int> widths;
+  for (const cv::Rect& r : rects) {
+    if (r.width >= 0.4 * r.height) widths.push_back(r.width);
+  }
+  std::sort(widths.begin(), widths.end());
+  for (const cv::Rect& r : wide) {
+    const double digit_width = widths.empty() ? 0.65 * r.height : widths[widths.size() / 2];
     // Digits that the threshold joined (tight fonts, small plates): cut at the columns of least
-    // ink near the equal division into round(width / (0.6 height)) digits.
-    const int n = int(std::lround(r.width / (0.6 * r.height)));
+    // ink near the equal division into round(width / digit width) digits.
+    const int n = int(std::lround(r.width / digit_width));
     if (n < 2 || n > o.max_digits) continue;
     cv::Mat ink;
     cv::reduce(binary(r), ink, 0, cv::REDUCE_SUM, CV_32S);
@@ -146,8 +157,9 @@ std::vector<DigitSegment> SegmentDigits(const Image8& image, const BoxPx& box,
   cv::Mat binary;
   cv::threshold(crop, binary, 0, 255, cv::THRESH_BINARY | cv::THRESH_OTSU);
   const cv::Rect inner =
-      cv::Rect(int(std::lround((box.min_x + 0.5 - x0) * k)), int(std::lround((box.min_y + 0.5 - y0) * k)),
-               int(std::lround(box.width() * k)), int(std::lround(box.height() * k))) &
+      cv::Rect(int(std::lround((box.min_x + 0.5 - x0) * k)),
+               int(std::lround((box.min_y + 0.5 - y0) * k)), int(std::lround(box.width() * k)),
+               int(std::lround(box.height() * k))) &
       cv::Rect(0, 0, binary.cols, binary.rows);
 
   // Text = 255. The polarity that gives more digits (up to max_digits) wins; on a tie, the one
@@ -180,8 +192,10 @@ std::vector<DigitSegment> SegmentDigits(const Image8& image, const BoxPx& box,
     d.features = cv::Mat(1, DigitFeatureCount(o), CV_32F);
     float* f = d.features.ptr<float>(0);
     int n = 0;
-    for (int y = 0; y < o.cell_height_px; ++y) f[n++] = float(cv::sum(cf.row(y))[0] / o.cell_width_px);
-    for (int x = 0; x < o.cell_width_px; ++x) f[n++] = float(cv::sum(cf.col(x))[0] / o.cell_height_px);
+    for (int y = 0; y < o.cell_height_px; ++y)
+      f[n++] = float(cv::sum(cf.row(y))[0] / o.cell_width_px);
+    for (int x = 0; x < o.cell_width_px; ++x)
+      f[n++] = float(cv::sum(cf.col(x))[0] / o.cell_height_px);
     f[n++] = float(double(r.width) / r.height);
     if (o.zone_cols > 0) {
       cv::Mat zones;
@@ -220,7 +234,8 @@ RoomNumberReading ReadRoomNumber(const Image8& image, const BoxPx& box, const cv
   }
   if (!reading.digits.empty()) {
     reading.min_score = 1.0;
-    for (const DigitReading& d : reading.digits) reading.min_score = std::min(reading.min_score, d.score);
+    for (const DigitReading& d : reading.digits)
+      reading.min_score = std::min(reading.min_score, d.score);
   }
   const int n = static_cast<int>(reading.digits.size());
   reading.accepted = n >= options.min_digits && n <= options.max_digits &&

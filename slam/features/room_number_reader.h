@@ -22,8 +22,8 @@
 namespace corridorsim::slam {
 
 struct RoomNumberReaderOptions {
-  double margin = 0.2;           // fraction of the box height added on each side before Otsu
-  int work_height_px = 48;       // the box is rescaled to this height before segmentation
+  double margin = 0.2;            // fraction of the box height added on each side before Otsu
+  int work_height_px = 48;        // the box is rescaled to this height before segmentation
   double min_digit_height = 0.5;  // a digit's height / the box's height, at least
   double max_digit_height = 1.6;  // at most
   double max_digit_aspect = 1.2;  // a digit's width / height, at most
@@ -42,8 +42,8 @@ struct RoomNumberReaderOptions {
 const OptionTable<RoomNumberReaderOptions>& RoomNumberReaderOptionsTable();
 
 struct DigitSegment {
-  BoxPx box_px;       // in the image's pixels
-  cv::Mat features;   // 1 x DigitFeatureCount CV_32F
+  BoxPx box_px;      // in the image's pixels
+  cv::Mat features;  // 1 x DigitFeatureCount CV_32F
 };
 /// The number of features per digit: cell_height (row sums) + cell_width (column sums) + 1
 /// (the digit's width / height: a "1" resized to the cell would otherwise look like a block)

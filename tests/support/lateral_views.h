@@ -44,8 +44,8 @@ inline LateralView ViewTarget(const worlds::World& world, UploadedRig& rig,
   const Eigen::Vector2d camera = target.head<2>() + distance_m * n;
   const double camera_yaw = std::atan2(-n.y(), -n.x());
   const double robot_yaw = camera_yaw - lateral.mount.yaw_deg * std::numbers::pi / 180.0;
-  const Eigen::Vector2d robot =
-      camera - Eigen::Rotation2Dd(robot_yaw) * Eigen::Vector2d(lateral.mount.x_m, lateral.mount.y_m);
+  const Eigen::Vector2d robot = camera - Eigen::Rotation2Dd(robot_yaw) *
+                                             Eigen::Vector2d(lateral.mount.x_m, lateral.mount.y_m);
   const SE3 world_from_robot = SE3::FromSE2(SE2(robot.x(), robot.y(), robot_yaw));
   LateralView view;
   rig.rig().RenderCamera(0, world_from_robot, 7, 0, &view.frame);

@@ -61,7 +61,8 @@ TEST_CASE("the detector finds the plate of a rendered lateral frame and reads it
   for (std::size_t k = 0; k < world.plates.size() && plates_checked < 3; k += 4) {
     const worlds::DoorPlate& plate = world.plates[k];
     for (const double distance_m : {0.8, 2.0}) {
-      const test::LateralView view = test::ViewTarget(world, rig, plate.center, plate.normal, distance_m);
+      const test::LateralView view =
+          test::ViewTarget(world, rig, plate.center, plate.normal, distance_m);
       const render::PlateTruth* truth = nullptr;
       for (const auto& p : view.truth.plates) {
         if (p.id == plate.id) truth = &p;
@@ -106,7 +107,8 @@ TEST_CASE("the detector finds no plate on a bare wall", "[plates][render]") {
       const Eigen::Vector2d p2 = wall.start + d.normalized() * s;
       bool clear = true;
       for (const auto& p : world.plates) clear = clear && (p.center.head<2>() - p2).norm() > 2.0;
-      for (const auto& x : world.distractors) clear = clear && (x.center.head<2>() - p2).norm() > 2.0;
+      for (const auto& x : world.distractors)
+        clear = clear && (x.center.head<2>() - p2).norm() > 2.0;
       for (const auto& x : world.doors) {
         clear = clear && (x.column_a - p2).norm() > 2.0 && (x.column_b - p2).norm() > 2.0;
       }

@@ -47,7 +47,8 @@ TEST_CASE("the projected number box holds the rendered plate's text pixels", "[p
   render::RigOptions exact = test::LevelLateralRig();
   exact.cameras.front().noise = false;
   test::UploadedRig exact_rig(world, exact);
-  const test::LateralView view = test::ViewTarget(world, exact_rig, plate.center, plate.normal, 0.7);
+  const test::LateralView view =
+      test::ViewTarget(world, exact_rig, plate.center, plate.normal, 0.7);
   const render::PlateTruth* truth = TruthOf(view, plate.id);
   REQUIRE(truth);
   REQUIRE(truth->fully_in_image);
@@ -127,8 +128,8 @@ TEST_CASE("a digit-bearing poster gives no accepted plate reading", "[plates][re
   int posters = 0;
   for (const worlds::Distractor& d : world.distractors) {
     if (d.semantic_class != worlds::SemanticClass::kPoster || d.text.empty()) continue;
-    const test::LateralView view = test::ViewTarget(
-        world, rig, d.center + d.normal * (d.size_m.y() / 2), d.normal, 1.5);
+    const test::LateralView view =
+        test::ViewTarget(world, rig, d.center + d.normal * (d.size_m.y() / 2), d.normal, 1.5);
     if (!view.truth.plates.empty()) continue;  // a plate in view as well: not this test
     const auto detections =
         slam::DetectDoorPlates(view.frame.rgb, ShippedModels(), slam::DoorPlateOptions{});
@@ -148,7 +149,8 @@ TEST_CASE("reader options: defaults pass; digit bounds are checked", "[plates]")
   REQUIRE(o.Check());
   CHECK(o.Check()->key == "max_digits");
   o = {};
-  CHECK(slam::DigitFeatureCount(o) == o.cell_width_px + o.cell_height_px + 1 + o.zone_cols * o.zone_rows);
+  CHECK(slam::DigitFeatureCount(o) ==
+        o.cell_width_px + o.cell_height_px + 1 + o.zone_cols * o.zone_rows);
   o.zone_cols = 0;
   REQUIRE(o.Check());
   CHECK(o.Check()->key == "zone_rows");
