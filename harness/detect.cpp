@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <algorithm>
 #include <cstring>
 #include <vector>
 
@@ -19,6 +20,7 @@
 #include "common/io/atomic_file.h"
 #include "common/io/stable_json.h"
 #include "harness/frame_io.h"
+#include "slam/features/door_plates.h"
 #include "slam/features/harris_corners.h"
 #include "slam/features/image_conversion.h"
 #include "slam/features/vanishing_point.h"
@@ -245,6 +247,58 @@ nlohmann::ordered_json CornersSection(const DetectInput& input, Image8* overlay)
   return j;
 }
 
+nlohmann::ordered_json PlatesSection(const DetectInput& input, Image8* overlay) {
+  // The shipped models (models/, docs/detectors.md); a missing or corrupt file is bad input.
+  const slam::DoorPlateModels models = slam::DoorPlateModels::Load();
+  const slam::DoorPlateOptions options;
+  slam::CheckModelsFit(models, options);
+  const std::vector<slam::DoorPlateDetection> plates =
+      slam::DetectDoorPlates(input.rgb, models, options);
+  const auto box = [](const slam::BoxPx& b) {
+    return nlohmann::ordered_json::array(
+        {RoundToStep(b.min_x, json_steps::kPx), RoundToStep(b.min_y, json_steps::kPx),
+         RoundToStep(b.max_x, json_steps::kPx), RoundToStep(b.max_y, json_steps::kPx)});
+  };
+  nlohmann::ordered_json items = nlohmann::ordered_json::array();
+  int accepted = 0;
+  for (const slam::DoorPlateDetection& p : plates) {
+    accepted += p.reading.accepted;
+    nlohmann::ordered_json digits = nlohmann::ordered_json::array();
+    for (const slam::DigitReading& d : p.reading.digits) {
+      digits.push_back({{"digit", std::string(1, d.digit)},
+                        {"score", RoundToStep(d.score, json_steps::kRatio)},
+                        {"box_px", box(d.box_px)}});
+    }
+    items.push_back({{"box_px", box(p.box_px)},
+                     {"svm_score", Significant6(p.svm_score)},
+                     {"number", p.reading.number},
+                     {"accepted", p.reading.accepted},
+                     {"min_digit_score", RoundToStep(p.reading.min_score, json_steps::kRatio)},
+                     {"digits", std::move(digits)}});
+  }
+  nlohmann::ordered_json j;
+  j["count"] = plates.size();
+  j["accepted"] = accepted;
+  j["items"] = std::move(items);
+  if (overlay) {
+    cv::Mat view = View(overlay);
+    for (const slam::DoorPlateDetection& p : plates) {
+      // Accepted readings green with their number, the others red.
+      const cv::Scalar colour =
+          p.reading.accepted ? cv::Scalar(0, 230, 0) : cv::Scalar(230, 0, 0);
+      cv::rectangle(view, At({p.box_px.min_x, p.box_px.min_y}), At({p.box_px.max_x, p.box_px.max_y}),
+                    colour, 1, cv::LINE_AA, 4);
+      if (p.reading.accepted) {
+        cv::putText(view, p.reading.number,
+                    cv::Point(static_cast<int>(p.box_px.min_x),
+                              std::max(10, static_cast<int>(p.box_px.min_y) - 3)),
+                    cv::FONT_HERSHEY_SIMPLEX, 0.5, colour, 1, cv::LINE_AA);
+      }
+    }
+  }
+  return j;
+}
+
 nlohmann::ordered_json RunDetect(const DetectInput& input, Image8* overlay) {
   if (overlay) *overlay = input.rgb;
   nlohmann::ordered_json doc;
@@ -258,6 +312,7 @@ nlohmann::ordered_json RunDetect(const DetectInput& input, Image8* overlay) {
   if (input.camera == DetectCamera::kFront) {
     doc["vanishing_point"] = VanishingPointSection(input, overlay);
   }
+  if (input.camera == DetectCamera::kLateral) doc["door_plates"] = PlatesSection(input, overlay);
   doc["corners"] = CornersSection(input, overlay);
   return doc;
 }

@@ -52,6 +52,12 @@ nlohmann::ordered_json VanishingPointSection(const DetectInput& input, Image8* o
 /// depth image was given. Draws the corners on `overlay` when given.
 nlohmann::ordered_json CornersSection(const DetectInput& input, Image8* overlay);
 
+/// The `door_plates` section (P1 section 3, lateral camera): each candidate the SVM accepted with
+/// its number-region box, SVM margin s(x) and reading (digits with scores; accepted when every
+/// digit clears the threshold), with the shipped models. Throws slam::ModelFileError for a
+/// missing or corrupt model file. Draws the boxes (green: accepted, with the number).
+nlohmann::ordered_json PlatesSection(const DetectInput& input, Image8* overlay);
+
 /// The whole document: the input's description, then one section per detector the camera runs.
 /// `overlay` (optional) gets the image with every section's drawing.
 nlohmann::ordered_json RunDetect(const DetectInput& input, Image8* overlay);

@@ -49,7 +49,8 @@ class PipelineRunner : public BusConsumer {
   /// atomically; prints where. Call once, after Finish() and the metrics (the maps are moved
   /// out, and the records' occupancy maps are no longer valid).
   void WriteMaps(const std::filesystem::path& dir);
-  /// Wall seconds spent inside the pipelines.
+  /// Wall seconds spent inside the pipelines (frames run the pipelines that read them
+  /// concurrently, so this is less than the sum of their own times).
   double seconds() const;
 
  private:
@@ -57,7 +58,8 @@ class PipelineRunner : public BusConsumer {
   std::vector<Run> runs_;
   std::vector<PipelineRecord> records_;
   std::set<std::string> cameras_used_;
-  std::map<std::string, CameraModel> true_models_;  // the rig's cameras (truth, not calibration)
+  std::map<std::string, CameraModel> true_models_;
+  double wall_seconds_ = 0.0;  // the rig's cameras (truth, not calibration)
 };
 
 }  // namespace corridorsim

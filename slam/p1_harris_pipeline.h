@@ -33,7 +33,7 @@ struct P1HarrisOptions {
   double depth_sigma_b = 0.005;  // 1/m
   double max_depth_m = 4.0;      // corners farther than this are not used
   double search_radius_px = 30.0;  // landmarks predicted within this of a corner are candidates
-  int max_corners_per_frame = 40;  // strongest first
+  int max_corners_per_frame = 20;  // strongest first (P1 mapped 612 corners over its run)
   int max_landmarks = 1500;        // the state stops growing here (a bound, 4503 dimensions)
   HarrisCornerOptions corners;     // the detector
   std::optional<OptionsProblem> Check() const;
