@@ -11,9 +11,17 @@
 #include <CLI/CLI.hpp>
 
 #include "common/error.h"
+#include "slam/registry.h"
 
 namespace corridorsim {
 namespace {
+
+// `run --help`'s list of the shipped pipeline types (slam/registry.h).
+std::string PipelineListFooter() {
+  std::string names;
+  for (const std::string& n : slam::PipelineNames()) names += (names.empty() ? "" : ", ") + n;
+  return "Pipelines (under `pipelines:`, docs/scenarios.md; P1's: docs/p1.md): " + names + ".\n";
+}
 
 const SourceLocation kCommandLine{"command line", 0, 0};
 
@@ -262,7 +270,7 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
           "metrics.json (docs/metrics.md), timing.json, events.json, "
           "provenance.json (what the bytes depend on: build, compiler, Mesa, backend); then "
           "the extras: maps/, the --export dataset, plots/ (python3 scripts/plot_run.py).\n") +
-      kFolderFooter +
+      PipelineListFooter() + kFolderFooter +
       "Exit codes: 0 success; 3 an expectation failed; 4 the results are written but an extra "
       "(maps/, plots/, the --export dataset) failed (its message is on stderr); 3 takes "
       "precedence over 4; 2 bad input (nothing is written); 1 other failures (the previous "

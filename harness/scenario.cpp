@@ -256,7 +256,8 @@ std::vector<OptionsDocBlock> ScenarioDocBlocks() {
   for (const slam::PipelineType& type : slam::PipelineTypes()) {
     const std::unique_ptr<slam::PipelineOptions> options = type.new_options();
     const std::vector<OptionsDocBlock> more =
-        OptionsDocBlocks(options->table(), options->options(), "pipelines." + type.name);
+        OptionsDocBlocks(options->table(), options->options(), "pipelines." + type.name,
+                         "pipelines." + type.name);
     blocks.insert(blocks.end(), more.begin(), more.end());
   }
   return blocks;

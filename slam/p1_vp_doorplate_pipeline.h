@@ -53,7 +53,7 @@ struct P1VpDoorplateOptions {
   bool use_door_plates = true;
   double plate_sigma_px = 1.5;  // sigma_u of P1 eq. 25 (the signature's entry is 0)
   double plate_height_m = 1.6;  // nominal height of a plate's number (the state is planar)
-  int min_readings = 3;         // readings of a number before it may become a landmark
+  int min_readings = 2;         // readings of a number before it may become a landmark
   double min_parallax_deg = 8.0;   // triangulation parallax needed to initialise a plate
   double max_plate_range_m = 6.0;  // a triangulated plate farther than this is refused
   double pending_timeout_s = 30.0;  // a number not initialised within this is forgotten

@@ -367,9 +367,10 @@ std::string OptionsMarkdown(const std::vector<OptionDocRow>& rows) {
 }
 
 std::vector<OptionsDocBlock> OptionsDocBlocks(const OptionTableBase& table, const void* defaults,
-                                              const std::string& root_name) {
+                                              const std::string& root_name,
+                                              const std::string& key_prefix) {
   std::vector<OptionsDocBlock> blocks;
-  CollectBlocks(table, {defaults}, {}, root_name, "", &blocks);
+  CollectBlocks(table, {defaults}, {}, root_name, key_prefix, &blocks);
   return blocks;
 }
 

@@ -76,8 +76,10 @@ struct OptionsDocBlock {
 
 /// Every section reachable from `table` as a docs block named by its dotted key (`root_name`
 /// for the table itself; named sections by their key, their elements' defaults side by side).
+/// `key_prefix` (e.g. "pipelines.p1_harris") goes before the keys of the nested sections.
 std::vector<OptionsDocBlock> OptionsDocBlocks(const OptionTableBase& table, const void* defaults,
-                                              const std::string& root_name);
+                                              const std::string& root_name,
+                                              const std::string& key_prefix = "");
 
 /// `doc` with the text of every block replaced by the one of the same name in `blocks`.
 /// `problems`, if given, receives what disagrees: a block in `blocks` without markers in `doc`,

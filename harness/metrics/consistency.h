@@ -24,6 +24,11 @@ std::string ErrorSeriesCsv(const std::vector<TruthPose>& truth, const PipelineRe
 
 namespace metrics {
 
+/// The smallest sigma (m for x and y, rad for yaw) a sample's covariance must have for its NEES
+/// to count (0.1 mm, 0.1 mrad): smaller ones (the exactly known start and the first steps after
+/// it) are skipped.
+inline constexpr double kNeesMinSigma = 1e-4;
+
 /// NEES e^T P^-1 e over 3 dof, or none when P is not finite or not positive definite.
 std::optional<double> Nees(const Eigen::Vector3d& error, const Eigen::Matrix3d& covariance);
 
