@@ -318,7 +318,6 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
       "Exit codes: 0 success, 2 bad input (the folder or a map missing or malformed, or no map "
       "knows the room: the message lists the known rooms), 1 other failures.");
 
-
   CLI::App* detect = app.add_subcommand(
       "detect", "Run the detectors (vanishing point, Harris corners) on an image; JSON on stdout");
   std::string detect_image, detect_camera = "front", detect_depth, detect_out;
@@ -388,8 +387,8 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
       "Exit codes: 0 success, 2 bad input (nothing is written), 1 other failures (e.g. no GL "
       "context).");
 
-  static const char* const kJobs[] = {"world", "snapshot", "run", "drive", "where", "detect",
-                                      "train-detectors"};
+  static const char* const kJobs[] = {"world",  "snapshot",       "run", "drive", "where",
+                                      "detect", "train-detectors"};
   if (!args.empty() && !args[0].empty() && args[0][0] != '-' &&
       std::find(std::begin(kJobs), std::end(kJobs), args[0]) == std::end(kJobs)) {
     Fail("", "unknown subcommand " + Quoted(args[0]) +

@@ -14,8 +14,8 @@
 #include "harness/job.h"
 #include "harness/run.h"
 #include "harness/snapshot.h"
-#include "harness/where.h"
 #include "harness/train_detectors_request.h"
+#include "harness/where.h"
 
 namespace corridorsim {
 

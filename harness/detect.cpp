@@ -4,11 +4,11 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
-#include <algorithm>
 #include <cstring>
 #include <vector>
 
@@ -284,10 +284,9 @@ nlohmann::ordered_json PlatesSection(const DetectInput& input, Image8* overlay) 
     cv::Mat view = View(overlay);
     for (const slam::DoorPlateDetection& p : plates) {
       // Accepted readings green with their number, the others red.
-      const cv::Scalar colour =
-          p.reading.accepted ? cv::Scalar(0, 230, 0) : cv::Scalar(230, 0, 0);
-      cv::rectangle(view, At({p.box_px.min_x, p.box_px.min_y}), At({p.box_px.max_x, p.box_px.max_y}),
-                    colour, 1, cv::LINE_AA, 4);
+      const cv::Scalar colour = p.reading.accepted ? cv::Scalar(0, 230, 0) : cv::Scalar(230, 0, 0);
+      cv::rectangle(view, At({p.box_px.min_x, p.box_px.min_y}),
+                    At({p.box_px.max_x, p.box_px.max_y}), colour, 1, cv::LINE_AA, 4);
       if (p.reading.accepted) {
         cv::putText(view, p.reading.number,
                     cv::Point(static_cast<int>(p.box_px.min_x),

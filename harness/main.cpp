@@ -21,8 +21,8 @@
 #include "harness/run_folder.h"
 #include "harness/scenario.h"
 #include "harness/snapshot.h"
-#include "harness/where.h"
 #include "harness/train_detectors.h"
+#include "harness/where.h"
 #include "slam/features/door_plates.h"
 #include "worlds/world_io.h"
 

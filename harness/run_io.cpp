@@ -97,10 +97,10 @@ nlohmann::ordered_json LandmarksJson(const std::vector<slam::LandmarkEstimate>& 
     if (!l->points.empty()) {
       nlohmann::ordered_json points = nlohmann::ordered_json::array();
       for (const slam::LandmarkPoint& p : l->points) {
-        points.push_back({{"role", p.role},
-                          {"position_in_world", RoundedJson(p.position_in_world,
-                                                            json_steps::kMetres)},
-                          {"covariance", CovarianceJson(p.covariance)}});
+        points.push_back(
+            {{"role", p.role},
+             {"position_in_world", RoundedJson(p.position_in_world, json_steps::kMetres)},
+             {"covariance", CovarianceJson(p.covariance)}});
       }
       j["points"] = std::move(points);
     }
@@ -120,10 +120,10 @@ std::string DetectionsCsv(const std::vector<slam::Detection>& detections) {
            slam::LandmarkTypeName(d.type) + "," + CsvNumber(d.pixel.x(), 4) + "," +
            CsvNumber(d.pixel.y(), 4) + ",";
     for (int i = 0; i < 4; ++i) csv += (boxed ? CsvNumber(d.box_px[i], 4) : "") + ",";
-    csv += std::string(d.type == slam::LandmarkType::kDoorPlate
-                           ? (d.plate_box == slam::PlateBox::kNumberRegion ? "number_region"
-                                                                            : "outline")
-                           : "") +
+    csv += std::string(
+               d.type == slam::LandmarkType::kDoorPlate
+                   ? (d.plate_box == slam::PlateBox::kNumberRegion ? "number_region" : "outline")
+                   : "") +
            ",";
     csv += (d.type == slam::LandmarkType::kLamp ? CsvNumber(d.radius_px, 4) : "") + ",";
     // Labels are room numbers (digits); anything else is quoted as CSV requires.

@@ -28,9 +28,10 @@ void ParsePipelines(YamlMap& pipelines, Scenario& scenario) {
   for (const std::string& name : pipelines.Keys()) {
     YamlMap map = pipelines.Map(name);
     if (!IsPipelineName(name)) {
-      pipelines.Fail(name, "a pipeline name is 1 to " + std::to_string(kMaxPipelineNameLength) +
-                               " lower-case letters, digits and '_', starting with a letter (got '" +
-                               InputExcerpt(name) + "')");
+      pipelines.Fail(name,
+                     "a pipeline name is 1 to " + std::to_string(kMaxPipelineNameLength) +
+                         " lower-case letters, digits and '_', starting with a letter (got '" +
+                         InputExcerpt(name) + "')");
     }
     auto entry = std::find_if(scenario.pipelines.begin(), scenario.pipelines.end(),
                               [&](const Scenario::PipelineEntry& e) { return e.name == name; });
@@ -41,11 +42,10 @@ void ParsePipelines(YamlMap& pipelines, Scenario& scenario) {
       if (!options) {
         std::string known;
         for (const std::string& n : slam::PipelineNames()) known += (known.empty() ? "" : ", ") + n;
-        map.Has("type")
-            ? map.Fail("type", "unknown pipeline type '" + InputExcerpt(type) + "' (known: " +
-                                   known + ")")
-            : pipelines.Fail(name, "unknown pipeline (known: " + known +
-                                       "; another name needs a `type:` key)");
+        map.Has("type") ? map.Fail("type", "unknown pipeline type '" + InputExcerpt(type) +
+                                               "' (known: " + known + ")")
+                        : pipelines.Fail(name, "unknown pipeline (known: " + known +
+                                                   "; another name needs a `type:` key)");
       }
       scenario.pipelines.push_back({name, type, std::move(options), true});
       entry = scenario.pipelines.end() - 1;
@@ -255,9 +255,8 @@ std::vector<OptionsDocBlock> ScenarioDocBlocks() {
       OptionsDocBlocks(ScenarioOptionsTable(), &defaults, "scenario");
   for (const slam::PipelineType& type : slam::PipelineTypes()) {
     const std::unique_ptr<slam::PipelineOptions> options = type.new_options();
-    const std::vector<OptionsDocBlock> more =
-        OptionsDocBlocks(options->table(), options->options(), "pipelines." + type.name,
-                         "pipelines." + type.name);
+    const std::vector<OptionsDocBlock> more = OptionsDocBlocks(
+        options->table(), options->options(), "pipelines." + type.name, "pipelines." + type.name);
     blocks.insert(blocks.end(), more.begin(), more.end());
   }
   return blocks;

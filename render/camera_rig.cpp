@@ -98,9 +98,9 @@ RigOptions RigOptions::Default() {
   CameraOptions lateral;
   lateral.id = "lateral";
   lateral.model = PinholeRadTan::FromFov(640, 480, 60.0 * kDegToRad);
-  // Level on a mast at 1.5 m, facing left: plates at 1.6 m stay inside the image from 0.4 m to
-  // the far wall, and P1 eq. 20 (u of a level sideways camera) holds (docs/frames.md).
-  lateral.mount = Mount{0.0, 0.12, 1.5, 90.0, 0.0, 0.0};
+  // P1's scenarios mount it level on a 1.5 m mast instead (scenarios/default.yaml,
+  // docs/frames.md).
+  lateral.mount = Mount{0.0, 0.12, 0.55, 90.0, 25.0, 0.0};
   rig.cameras.push_back(lateral);
 
   CameraOptions upward;

@@ -3,7 +3,7 @@
 each seed and checks the targets of P1's issue against the runs' own files.
 
     scripts/p1_study.py [--scenario scenarios/default.yaml] [--seeds 1-10] [--out out/p1_study]
-                        [--corridorsim build/bin/corridorsim] [--jobs 1]
+                        [--corridorsim build/bin/corridorsim] [--jobs 1] [--resume]
 
 Writes OUT/seed_<N>/ (one run folder each, without plots) and OUT/study.json, and prints a table.
 Per pipeline and seed it reads metrics.json (ATE RMSE, final position error, NEES) and
@@ -62,6 +62,8 @@ def chi2_quantile(p, dof):
 
 def run_one(args, seed):
     out = os.path.join(args.out, f"seed_{seed}")
+    if args.resume and os.path.isfile(os.path.join(out, "metrics.json")):
+        return out  # a finished run of an earlier, interrupted study (run folders are atomic)
     cmd = [args.corridorsim, "run", args.scenario, "--seed", str(seed), "--out", out, "--force",
            "--no-plots"]
     done = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
@@ -122,6 +124,8 @@ def main(argv):
     parser.add_argument("--out", default="out/p1_study")
     parser.add_argument("--corridorsim", default="build/bin/corridorsim")
     parser.add_argument("--jobs", type=int, default=1)
+    parser.add_argument("--resume", action="store_true",
+                        help="keep the seeds whose run folder is already complete")
     args = parser.parse_args(argv)
     try:
         seeds = parse_seeds(args.seeds)

@@ -183,8 +183,8 @@ void P1HarrisPipeline::OnCamera(const CameraInput& input) {
       ++health_.non_positive_covariance;
     }
     for (std::size_t i = 0; i < associated.size(); ++i) {
-      innovations_.push_back({stamp_ns, LandmarkType::kCorner, associated_nis[i], 3,
-                              result.accepted});
+      innovations_.push_back(
+          {stamp_ns, LandmarkType::kCorner, associated_nis[i], 3, result.accepted});
       if (!result.accepted) detections_[associated_detection[i]].landmark_id = -1;
     }
     if (!result.accepted) ++health_.rejected_updates;
@@ -215,8 +215,7 @@ void P1HarrisPipeline::OnCamera(const CameraInput& input) {
     d.new_landmark = true;
   }
   clock_.Add("update", SecondsSince(t_update));
-  frame_times_.push_back(
-      {stamp_ns, static_cast<int>(landmarks_.size()), SecondsSince(t_frame)});
+  frame_times_.push_back({stamp_ns, static_cast<int>(landmarks_.size()), SecondsSince(t_frame)});
 }
 
 PoseEstimate P1HarrisPipeline::Estimate() const {

@@ -26,12 +26,12 @@ namespace corridorsim::slam {
 /// Scenario key `pipelines.<name>` of type `p1_harris`.
 struct P1HarrisOptions {
   double k_m = kDefaultWheelNoiseK_m;  // k of P1 eq. 17 (m^2 per m of wheel travel)
-  double gate_chi2 = 11.34;   // Mahalanobis gate of an association: chi-square 99 % at 3 dof
-  double pixel_sigma_px = 1.5;   // sigma of a corner's u and v
+  double gate_chi2 = 11.34;     // Mahalanobis gate of an association: chi-square 99 % at 3 dof
+  double pixel_sigma_px = 1.5;  // sigma of a corner's u and v
   // sigma of its depth: depth_sigma_a_m + depth_sigma_b * z^2 (a structured-light sensor)
   double depth_sigma_a_m = 0.01;
-  double depth_sigma_b = 0.005;  // 1/m
-  double max_depth_m = 4.0;      // corners farther than this are not used
+  double depth_sigma_b = 0.005;    // 1/m
+  double max_depth_m = 4.0;        // corners farther than this are not used
   double search_radius_px = 30.0;  // landmarks predicted within this of a corner are candidates
   int max_corners_per_frame = 20;  // strongest first (P1 mapped 612 corners over its run)
   int max_landmarks = 1500;        // the state stops growing here (a bound, 4503 dimensions)
@@ -67,7 +67,7 @@ class P1HarrisPipeline : public Pipeline {
   };
   struct FrameTime {
     TimeNs stamp_ns = 0;
-    int landmarks = 0;  // in the state after the frame
+    int landmarks = 0;     // in the state after the frame
     double seconds = 0.0;  // detection, association, updates and augmentation
   };
 

@@ -176,8 +176,7 @@ void P1VpDoorplatePipeline::OnFront(const CameraInput& input) {
   }
 }
 
-void P1VpDoorplatePipeline::ObserveVanishingPoint(TimeNs stamp_ns, double u,
-                                                  Detection* detection) {
+void P1VpDoorplatePipeline::ObserveVanishingPoint(TimeNs stamp_ns, double u, Detection* detection) {
   const Eigen::Vector3d x = state_->RobotPose();
   const SE2 pose(x.x(), x.y(), x.z());
   const CameraModel& model = front_->model;
@@ -196,8 +195,8 @@ void P1VpDoorplatePipeline::ObserveVanishingPoint(TimeNs stamp_ns, double u,
       const Eigen::Vector2d seen = reversed ? Eigen::Vector2d(2.0 * pose.translation() - p) : p;
       Eigen::Matrix<double, 1, 3> d_pose;
       Eigen::Matrix<double, 1, 2> d_seen;
-      const std::optional<double> predicted = ekf::VanishingPointU(
-          pose, seen, front_->robot_from_camera, model, &d_pose, &d_seen);
+      const std::optional<double> predicted =
+          ekf::VanishingPointU(pose, seen, front_->robot_from_camera, model, &d_pose, &d_seen);
       if (!predicted || *predicted < -0.5 * model.width() || *predicted > 1.5 * model.width()) {
         continue;
       }
@@ -232,7 +231,7 @@ void P1VpDoorplatePipeline::ObserveVanishingPoint(TimeNs stamp_ns, double u,
   Eigen::Vector2d d_landmark_d_u;
   const std::optional<Eigen::Vector2d> landmark =
       ekf::InitVanishingPoint(pose, u, options_.vp_virtual_distance_m, front_->robot_from_camera,
-                         model, &d_landmark_d_pose, &d_landmark_d_u);
+                              model, &d_landmark_d_pose, &d_landmark_d_u);
   if (!landmark) return;
   ekf::Augmentation a;
   a.value = *landmark;
@@ -296,7 +295,7 @@ void P1VpDoorplatePipeline::ObservePlate(TimeNs stamp_ns, const std::string& num
     Eigen::Matrix<double, 1, 2> d_landmark;
     const std::optional<double> predicted =
         ekf::DoorPlateU(pose, state_->Value(it->second.block), options_.plate_height_m,
-                   lateral_->robot_from_camera, model, &d_pose, &d_landmark);
+                        lateral_->robot_from_camera, model, &d_pose, &d_landmark);
     if (!predicted) {
       ++health_.rejected_updates;
       return;
@@ -421,9 +420,7 @@ std::vector<LandmarkEstimate> P1VpDoorplatePipeline::Landmarks() const {
 
 std::vector<Detection> P1VpDoorplatePipeline::TakeDetections() { return std::move(detections_); }
 
-std::vector<Innovation> P1VpDoorplatePipeline::TakeInnovations() {
-  return std::move(innovations_);
-}
+std::vector<Innovation> P1VpDoorplatePipeline::TakeInnovations() { return std::move(innovations_); }
 
 std::vector<MapFile> P1VpDoorplatePipeline::TakeMaps() {
   std::vector<MapFile> maps;

@@ -43,7 +43,7 @@ namespace corridorsim::slam {
 /// Scenario key `pipelines.<name>` of type `p1_vp_doorplate`.
 struct P1VpDoorplateOptions {
   double k_m = kDefaultWheelNoiseK_m;  // k of P1 eq. 17 (m^2 per m of wheel travel)
-  double gate_chi2 = 10.83;  // NIS gate of every update: chi-square 99.9 % at 1 dof
+  double gate_chi2 = 10.83;            // NIS gate of every update: chi-square 99.9 % at 1 dof
 
   bool use_vanishing_point = true;
   double vp_sigma_px = 1.0;               // sigma of the VP's u (P1 eq. 19's R)
@@ -51,16 +51,16 @@ struct P1VpDoorplateOptions {
   VanishingPointOptions vanishing_point;  // the detector (P1 section 2)
 
   bool use_door_plates = true;
-  double plate_sigma_px = 1.5;  // sigma_u of P1 eq. 25 (the signature's entry is 0)
-  double plate_height_m = 1.6;  // nominal height of a plate's number (the state is planar)
-  int min_readings = 2;         // readings of a number before it may become a landmark
-  double min_parallax_deg = 8.0;   // triangulation parallax needed to initialise a plate
-  double max_plate_range_m = 6.0;  // a triangulated plate farther than this is refused
+  double plate_sigma_px = 1.5;      // sigma_u of P1 eq. 25 (the signature's entry is 0)
+  double plate_height_m = 1.6;      // nominal height of a plate's number (the state is planar)
+  int min_readings = 2;             // readings of a number before it may become a landmark
+  double min_parallax_deg = 8.0;    // triangulation parallax needed to initialise a plate
+  double max_plate_range_m = 6.0;   // a triangulated plate farther than this is refused
   double pending_timeout_s = 30.0;  // a number not initialised within this is forgotten
-  std::string models_dir;  // the detectors' trained models; "" = models/ of the source tree
+  std::string models_dir;        // the detectors' trained models; "" = models/ of the source tree
   DoorPlateOptions door_plates;  // detector and reader (P1 section 3)
 
-  bool octomap = true;               // build the dense map from the front depth (P1 section 5)
+  bool octomap = true;                 // build the dense map from the front depth (P1 section 5)
   OccupancyMapperOptions octomap_map;  // resolution, range, keyframes
 
   std::optional<OptionsProblem> Check() const;

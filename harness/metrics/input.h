@@ -38,7 +38,7 @@ struct FrameTruthSample {
 /// buffers: the truth a point landmark made from that detection is scored against.
 struct SeenPoint {
   Eigen::Vector3d p_in_world = Eigen::Vector3d::Zero();  // m
-  std::uint32_t instance_id = 0;                          // worlds id of the surface, 0 = none
+  std::uint32_t instance_id = 0;                         // worlds id of the surface, 0 = none
 };
 
 struct PipelineRecord {

@@ -149,7 +149,7 @@ TEST_CASE("where takes a room number, a run folder and optionally one pipeline",
   }
   CHECK_THAT(ParseCommandLine({"where", "--help"}).help_text,
              Catch::Contains("Exit codes: 0 success, 2 bad input"));
-  CHECK_THAT(ErrorOf({"wher"}), Catch::Contains("drive, where or detect"));
+  CHECK_THAT(ErrorOf({"wher"}), Catch::Contains("drive, where, detect or train-detectors"));
 }
 
 TEST_CASE("ParseCommandLine fills the detect request", "[harness]") {
@@ -192,8 +192,9 @@ TEST_CASE("the detect command line is strict", "[harness]") {
              Catch::StartsWith("command line: --depth: only the front camera"));
   CHECK_THAT(ErrorOf({"detect", "a.png", "--seed", "1"}), Catch::Contains("--seed"));
   CHECK_THAT(ErrorOf({"detect", "a.png", "--force"}), Catch::Contains("--force"));
-  CHECK_THAT(ErrorOf({"detekt", "a.png"}),
-             Catch::Contains("expected world, snapshot, run, drive, where or detect"));
+  CHECK_THAT(
+      ErrorOf({"detekt", "a.png"}),
+      Catch::Contains("expected world, snapshot, run, drive, where, detect or train-detectors"));
 }
 
 }  // namespace

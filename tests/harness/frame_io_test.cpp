@@ -19,7 +19,7 @@ TEST_CASE("intrinsics write robot_from_camera as a stable pose with qw >= 0", "[
   const nlohmann::ordered_json j = IntrinsicsJson(options);
   const nlohmann::ordered_json& pose = j["robot_from_camera"];
   CHECK(pose == PoseJson(options.mount.RobotFromCamera()));
-  CHECK(pose["t"].dump() == "[0.0,0.12,1.5]");
+  CHECK(pose["t"].dump() == "[0.0,0.12,0.55]");
   REQUIRE(pose["q"].size() == 4);
   CHECK(pose["q"][3].get<double>() >= 0.0);
   for (const auto& c : pose["q"]) {

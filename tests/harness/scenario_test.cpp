@@ -152,7 +152,8 @@ TEST_CASE("the resolved scenario sets the run's seed and merges the include chai
   CHECK(s.world.doors.width_m == 1.0);
   CHECK(s.rig.Find("upward")->model.pinhole() != nullptr);
   REQUIRE(s.pipelines.size() == 1);
-  CHECK(Contains(resolved, "  odometry:\n    type: odometry\n    enabled: true\n    k_m: 0.0002\n"));
+  CHECK(
+      Contains(resolved, "  odometry:\n    type: odometry\n    enabled: true\n    k_m: 0.0002\n"));
   CHECK(EchoOf(copy, 77) == resolved.substr(resolved.find('\n') + 1));
 }
 
@@ -532,8 +533,10 @@ TEST_CASE("pipelines are read by name with their options, and an unknown one is 
       "pipelines:\n"
       "  odometry: {k_m: 0.0002}\n"
       "  orb_slam9: {}\n");
-  CHECK(msg == ":3:3: pipelines.orb_slam9: unknown pipeline (known: odometry; another name needs a "
-              "`type:` key)");
+  CHECK(msg ==
+        ":3:3: pipelines.orb_slam9: unknown pipeline (known: odometry, p1_harris, p1_vp_doorplate; "
+        "another "
+        "name needs a `type:` key)");
   const std::string bad = LoadError(
       "pipelines:\n"
       "  odometry:\n"
@@ -734,8 +737,7 @@ TEST_CASE("a pipeline of an unknown type is an error at its type key", "[scenari
             ")");
 }
 
-TEST_CASE("a pipeline name that is not a file-name identifier is an error at it",
-          "[scenarios]") {
+TEST_CASE("a pipeline name that is not a file-name identifier is an error at it", "[scenarios]") {
   const std::string msg = LoadError("pipelines:\n  \"../evil\":\n    type: odometry\n");
   CHECK(msg.rfind(":2:3: pipelines.../evil: a pipeline name is 1 to 64 lower-case letters", 0) ==
         0);

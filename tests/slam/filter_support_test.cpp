@@ -95,10 +95,8 @@ TEST_CASE("the prediction is P1 eqs. 13-17 on the robot block and leaves landmar
   CHECK(state.RobotPose().z() == Approx(expected.yaw()).epsilon(1e-12));
   const Eigen::Matrix3d P = F * (Eigen::Matrix3d::Identity() * 0.01) * F.transpose() +
                             G * WheelOdometryNoise(0.10, 0.12, 1e-4) * G.transpose();
-  CHECK((state.Covariance(ekf::EkfState::robot(), ekf::EkfState::robot()) - P).norm() <
-        1e-12);
-  CHECK((state.Covariance(landmark, landmark) - Eigen::Matrix2d::Identity() * 0.5).norm() ==
-        0.0);
+  CHECK((state.Covariance(ekf::EkfState::robot(), ekf::EkfState::robot()) - P).norm() < 1e-12);
+  CHECK((state.Covariance(landmark, landmark) - Eigen::Matrix2d::Identity() * 0.5).norm() == 0.0);
 }
 
 }  // namespace

@@ -124,8 +124,8 @@ TEST_CASE("P1: frames out of time order or of the wrong size are refused and cou
           "[slam][p1]") {
   Fixture f;
   f.pipeline.OnCamera(Frame("front", 20'000'000, 640, 480, 128));
-  f.pipeline.OnCamera(Frame("front", 15'000'000, 640, 480, 128));  // older
-  f.pipeline.OnCamera(Frame("front", 20'000'000, 640, 480, 128));  // the same stamp again
+  f.pipeline.OnCamera(Frame("front", 15'000'000, 640, 480, 128));    // older
+  f.pipeline.OnCamera(Frame("front", 20'000'000, 640, 480, 128));    // the same stamp again
   f.pipeline.OnCamera(Frame("lateral", 20'000'000, 320, 240, 128));  // not the calibration's
   f.pipeline.OnCamera(Frame("lateral", 20'000'000, 0, 0, 128));      // empty
   CHECK(f.pipeline.health().rejected_frames == 4);

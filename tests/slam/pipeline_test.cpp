@@ -57,9 +57,9 @@ Detection Valid(LandmarkType type) {
 }
 
 TEST_CASE("a detection is checked for the fields its type needs", "[slam]") {
-  for (const LandmarkType type : {LandmarkType::kDoorPlate, LandmarkType::kCorner,
-                                  LandmarkType::kLamp, LandmarkType::kDoor,
-                                  LandmarkType::kVanishingPoint}) {
+  for (const LandmarkType type :
+       {LandmarkType::kDoorPlate, LandmarkType::kCorner, LandmarkType::kLamp, LandmarkType::kDoor,
+        LandmarkType::kVanishingPoint}) {
     CHECK_FALSE(DetectionProblem(Valid(type)));
   }
   Detection plate = Valid(LandmarkType::kDoorPlate);

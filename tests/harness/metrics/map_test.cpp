@@ -56,9 +56,10 @@ TEST_CASE("landmark matching counts a spurious and a missed landmark and wrong r
 namespace corridorsim::metrics_tests {
 namespace {
 
-TEST_CASE("a corner landmark is scored against the point its creating detection saw, not the "
-          "nearest tile crossing",
-          "[metrics]") {
+TEST_CASE(
+    "a corner landmark is scored against the point its creating detection saw, not the "
+    "nearest tile crossing",
+    "[metrics]") {
   // A ceiling of tile crossings every 0.6 m: every estimate has one within the 1 m gate.
   worlds::World world;
   for (int i = 0; i < 20; ++i) {

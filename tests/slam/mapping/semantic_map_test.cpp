@@ -83,11 +83,12 @@ TEST_CASE("the semantic map of landmarks keeps labelled door plates, the better 
     return l;
   };
   std::vector<LandmarkEstimate> landmarks(4);
-  landmarks[0] = landmark(1, LandmarkType::kDoorPlate, {1, 2, 1.6},
-                          Eigen::Matrix3d::Identity() * 0.04, "102");
-  landmarks[1] = landmark(2, LandmarkType::kDoorPlate, {5, 2, 1.6},
-                          Eigen::Matrix3d::Identity() * 0.01, "102");
-  landmarks[2] = landmark(3, LandmarkType::kDoorPlate, {7, 2, 1.6}, Eigen::Matrix3d::Identity(), "");
+  landmarks[0] =
+      landmark(1, LandmarkType::kDoorPlate, {1, 2, 1.6}, Eigen::Matrix3d::Identity() * 0.04, "102");
+  landmarks[1] =
+      landmark(2, LandmarkType::kDoorPlate, {5, 2, 1.6}, Eigen::Matrix3d::Identity() * 0.01, "102");
+  landmarks[2] =
+      landmark(3, LandmarkType::kDoorPlate, {7, 2, 1.6}, Eigen::Matrix3d::Identity(), "");
   landmarks[3] = landmark(4, LandmarkType::kLamp, {8, 0, 2.7}, Eigen::Matrix3d::Identity(), "103");
   const std::vector<SemanticMapEntry> map = SemanticMapFromLandmarks(landmarks);
   REQUIRE(map.size() == 1u);
