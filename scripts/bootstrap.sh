@@ -66,7 +66,9 @@ case "$mode" in
       -DCORRIDORSIM_BUILD_BENCHMARKS=OFF
     ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
       ctest --test-dir build-asan --output-on-failure --parallel "$jobs" -L unit \
-        -E "ten thousand frames"  # runs in the Release suite; 10,000 frames under ASan take minutes
+        -E "ten thousand frames|scripts.plot_run"
+    # Both run in the Release suite: 10,000 frames under ASan take minutes, and the plot script's
+    # test is Python only (no instrumented code, 4 minutes).
     ;;
   fuzz)
     seconds="${2:-60}"

@@ -47,6 +47,10 @@ const OptionTable<P1VpDoorplateOptions>& P1VpDoorplateOptionsTable() {
     t.Add("plate_height_m", &O::plate_height_m, "m",
           "nominal height of the plates' numbers (the plate state is planar, P1 eq. 11)")
         .Range(0, 10);
+    t.Add("plate_height_tolerance_m", &O::plate_height_tolerance_m, "m",
+          "a plate is initialised only when seen within this of plate_height_m (row and depth)")
+        .Greater(0)
+        .Range(0, 10);
     t.Add("min_readings", &O::min_readings, "",
           "accepted readings of a number before it may become a landmark")
         .Range(1, 100);
@@ -275,15 +279,16 @@ void P1VpDoorplatePipeline::OnLateral(const CameraInput& input) {
     // false readings are never registered).
     if (plate.reading.accepted) {
       d.label = plate.reading.number;
-      ObservePlate(stamp_ns, plate.reading.number, d.pixel.x(), &d);
+      ObservePlate(stamp_ns, plate.reading.number, d.pixel, &d);
     }
     detections_.push_back(std::move(d));
   }
   clock_.Add("update", SecondsSince(t1));
 }
 
-void P1VpDoorplatePipeline::ObservePlate(TimeNs stamp_ns, const std::string& number, double u,
-                                         Detection* detection) {
+void P1VpDoorplatePipeline::ObservePlate(TimeNs stamp_ns, const std::string& number,
+                                         const Eigen::Vector2d& pixel, Detection* detection) {
+  const double u = pixel.x();
   const Eigen::Vector3d x = state_->RobotPose();
   const SE2 pose(x.x(), x.y(), x.z());
   const CameraModel& model = lateral_->model;
@@ -343,6 +348,18 @@ void P1VpDoorplatePipeline::ObservePlate(TimeNs stamp_ns, const std::string& num
   const SE3 world_from_camera = SE3::FromSE2(pose) * lateral_->robot_from_camera;
   const double range_m = (t->plate_in_world - world_from_camera.translation().head<2>()).norm();
   if (range_m > options_.max_plate_range_m) return;
+  // A door plate sits at the nominal plate height: the triangulated plate's depth and the
+  // reading's row v give the height it was seen at. Numbers on posters and notice boards, which
+  // the reader may read as well as it reads plates, hang elsewhere and are refused here.
+  const Eigen::Vector3d p_in_camera =
+      world_from_camera.Inverse() *
+      Eigen::Vector3d(t->plate_in_world.x(), t->plate_in_world.y(), options_.plate_height_m);
+  const CameraIntrinsics intrinsics = model.intrinsics();
+  const double seen_height_m = world_from_camera.translation().z() -
+                               (pixel.y() - intrinsics.cy) * p_in_camera.z() / intrinsics.fy;
+  if (!(std::abs(seen_height_m - options_.plate_height_m) <= options_.plate_height_tolerance_m)) {
+    return;
+  }
   // P1 eqs. 26-27 with A over the clone and the current pose and A_a over both u's.
   ekf::Augmentation a;
   a.value = t->plate_in_world;

@@ -51,8 +51,11 @@ struct P1VpDoorplateOptions {
   VanishingPointOptions vanishing_point;  // the detector (P1 section 2)
 
   bool use_door_plates = true;
-  double plate_sigma_px = 1.5;      // sigma_u of P1 eq. 25 (the signature's entry is 0)
-  double plate_height_m = 1.6;      // nominal height of a plate's number (the state is planar)
+  double plate_sigma_px = 1.5;  // sigma_u of P1 eq. 25 (the signature's entry is 0)
+  double plate_height_m = 1.6;  // nominal height of a plate's number (the state is planar)
+  // A plate is initialised only when the height it was seen at (its row v and triangulated depth)
+  // lies within this of plate_height_m: numbers on posters and notice boards hang elsewhere.
+  double plate_height_tolerance_m = 0.15;
   int min_readings = 2;             // readings of a number before it may become a landmark
   double min_parallax_deg = 8.0;    // triangulation parallax needed to initialise a plate
   double max_plate_range_m = 6.0;   // a triangulated plate farther than this is refused
@@ -109,7 +112,8 @@ class P1VpDoorplatePipeline : public Pipeline {
   void OnFront(const CameraInput& input);
   void OnLateral(const CameraInput& input);
   void ObserveVanishingPoint(TimeNs stamp_ns, double u, Detection* detection);
-  void ObservePlate(TimeNs stamp_ns, const std::string& number, double u, Detection* detection);
+  void ObservePlate(TimeNs stamp_ns, const std::string& number, const Eigen::Vector2d& pixel,
+                    Detection* detection);
   void ForgetStalePending(TimeNs stamp_ns);
   void Record(TimeNs stamp_ns, LandmarkType type, const ekf::UpdateResult& result);
 
