@@ -110,7 +110,7 @@ int Dispatch(CommandLine& command) {
       return kExitSuccess;
     case CommandLine::Job::kWhere:
       std::fputs(LocateRoom(command.where).c_str(), stdout);
-      break;
+      return kExitSuccess;
     case CommandLine::Job::kDetect:
       RunDetectJob(command.detect);
       return kExitSuccess;
