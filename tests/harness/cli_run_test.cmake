@@ -14,8 +14,8 @@ expect_bad(unknown_metric "expectations:\n  - odometry.speed_of_light < 3\n"
            "unknown_metric.yaml:3:5: expectations: .*unknown metric 'speed_of_light'")
 expect_bad(bad_operator "expectations:\n  - odometry.ate_rmse_m ~ 3\n"
            "bad_operator.yaml:3:5: expectations:")
-expect_bad(absent_pipeline "expectations:\n  - p1_vp_doorplate.ate_rmse_m < 0.15\n"
-           "absent_pipeline.yaml:3:5: expectations: .*the pipeline 'p1_vp_doorplate' does not run")
+expect_bad(absent_pipeline "expectations:\n  - p3_upward.ate_rmse_m < 0.15\n"
+           "absent_pipeline.yaml:3:5: expectations: .*the pipeline 'p3_upward' does not run")
 expect_bad(unknown_pipeline "pipelines:\n  orb_slam9: {}\n"
            "unknown_pipeline.yaml:3:3: pipelines.orb_slam9: unknown pipeline")
 expect_bad(bad_option "pipelines:\n  odometry: {k_m: -2}\n"
