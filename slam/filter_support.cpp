@@ -68,6 +68,25 @@ bool HasNoValidDepth(const ImageF& depth_m) {
                       [](float z) { return std::isfinite(z) && z > 0.0f; });
 }
 
+std::unique_ptr<ekf::EkfState> StateAtKnownPose(const SE2& world_from_robot) {
+  return std::make_unique<ekf::EkfState>(
+      Eigen::Vector3d(world_from_robot.x(), world_from_robot.y(), world_from_robot.yaw()),
+      Eigen::Matrix3d::Zero());
+}
+
+void PredictOrRefuse(const WheelOdometry& odometry, double wheelbase_m, double k_m,
+                     ekf::EkfState* state, TimeNs* stamp_ns, PipelineHealth* health,
+                     StageClock* clock) {
+  if (state == nullptr || OdometryProblem(odometry, *stamp_ns)) {
+    ++health->rejected_odometry;
+    return;
+  }
+  const StageClock::Clock::time_point t0 = StageClock::Clock::now();
+  PredictWithWheelOdometry(odometry, wheelbase_m, k_m, state);
+  *stamp_ns = odometry.stamp_ns;
+  clock->Add("predict", StageClock::SecondsSince(t0));
+}
+
 PoseEstimate EstimateOf(const ekf::EkfState& state, TimeNs stamp_ns) {
   PoseEstimate e;
   e.stamp_ns = stamp_ns;

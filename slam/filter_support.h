@@ -5,7 +5,9 @@
 // empty frame, a depth image of the wrong size). Bad data is refused and counted in the
 // pipeline's health, never applied.
 
+#include <chrono>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 
@@ -42,12 +44,29 @@ bool IsBlackImage(const Image8& image, int max_level = 8);
 /// Whether a depth image has no valid pixel (all zero or not finite).
 bool HasNoValidDepth(const ImageF& depth_m);
 
+/// The filter at a known start pose (the pipelines share it, as P1's runs do): the robot block at
+/// `world_from_robot` with zero covariance.
+std::unique_ptr<ekf::EkfState> StateAtKnownPose(const SE2& world_from_robot);
+
+class StageClock;
+
+/// One odometry message into a filter: predicted (PredictWithWheelOdometry, timed as "predict",
+/// `*stamp_ns` advanced) or, when there is no state yet or OdometryProblem refuses it, counted in
+/// `health->rejected_odometry` and dropped.
+void PredictOrRefuse(const WheelOdometry& odometry, double wheelbase_m, double k_m,
+                     ekf::EkfState* state, TimeNs* stamp_ns, PipelineHealth* health,
+                     StageClock* clock);
+
 /// The robot pose of the filter as a PoseEstimate at `stamp_ns`.
 PoseEstimate EstimateOf(const ekf::EkfState& state, TimeNs stamp_ns);
 
 /// Wall seconds per stage ("predict", "detect", ...), accumulated.
 class StageClock {
  public:
+  using Clock = std::chrono::steady_clock;
+  static double SecondsSince(Clock::time_point t0) {
+    return std::chrono::duration<double>(Clock::now() - t0).count();
+  }
   void Add(const std::string& stage, double seconds) { seconds_[stage] += seconds; }
   const std::map<std::string, double>& seconds() const { return seconds_; }
 

@@ -12,10 +12,8 @@
 namespace corridorsim::slam {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double SecondsSince(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
+using Clock = StageClock::Clock;
+constexpr auto* SecondsSince = &StageClock::SecondsSince;
 
 }  // namespace
 
@@ -68,21 +66,13 @@ P1HarrisPipeline::P1HarrisPipeline(const P1HarrisOptions& options, const Calibra
 P1HarrisPipeline::~P1HarrisPipeline() = default;
 
 void P1HarrisPipeline::Initialize(TimeNs stamp_ns, const SE2& world_from_robot) {
-  state_ = std::make_unique<ekf::EkfState>(
-      Eigen::Vector3d(world_from_robot.x(), world_from_robot.y(), world_from_robot.yaw()),
-      Eigen::Matrix3d::Zero());
+  state_ = StateAtKnownPose(world_from_robot);
   stamp_ns_ = stamp_ns;
 }
 
 void P1HarrisPipeline::OnOdometry(const WheelOdometry& odometry) {
-  if (!state_ || OdometryProblem(odometry, stamp_ns_)) {
-    ++health_.rejected_odometry;
-    return;
-  }
-  const Clock::time_point t0 = Clock::now();
-  PredictWithWheelOdometry(odometry, wheelbase_m_, options_.k_m, state_.get());
-  stamp_ns_ = odometry.stamp_ns;
-  clock_.Add("predict", SecondsSince(t0));
+  PredictOrRefuse(odometry, wheelbase_m_, options_.k_m, state_.get(), &stamp_ns_, &health_,
+                  &clock_);
 }
 
 Eigen::Matrix3d P1HarrisPipeline::MeasurementNoise(double depth_m) const {

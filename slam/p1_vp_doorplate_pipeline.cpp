@@ -12,10 +12,8 @@
 namespace corridorsim::slam {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double SecondsSince(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
+using Clock = StageClock::Clock;
+constexpr auto* SecondsSince = &StageClock::SecondsSince;
 constexpr double kDegToRad = M_PI / 180.0;
 
 }  // namespace
@@ -108,22 +106,13 @@ std::vector<std::string> P1VpDoorplatePipeline::cameras_used() const {
 }
 
 void P1VpDoorplatePipeline::Initialize(TimeNs stamp_ns, const SE2& world_from_robot) {
-  // The start pose is known exactly (P1's runs and every pipeline here share it).
-  state_ = std::make_unique<ekf::EkfState>(
-      Eigen::Vector3d(world_from_robot.x(), world_from_robot.y(), world_from_robot.yaw()),
-      Eigen::Matrix3d::Zero());
+  state_ = StateAtKnownPose(world_from_robot);
   stamp_ns_ = stamp_ns;
 }
 
 void P1VpDoorplatePipeline::OnOdometry(const WheelOdometry& odometry) {
-  if (!state_ || OdometryProblem(odometry, stamp_ns_)) {
-    ++health_.rejected_odometry;
-    return;
-  }
-  const Clock::time_point t0 = Clock::now();
-  PredictWithWheelOdometry(odometry, wheelbase_m_, options_.k_m, state_.get());
-  stamp_ns_ = odometry.stamp_ns;
-  clock_.Add("predict", SecondsSince(t0));
+  PredictOrRefuse(odometry, wheelbase_m_, options_.k_m, state_.get(), &stamp_ns_, &health_,
+                  &clock_);
 }
 
 void P1VpDoorplatePipeline::OnCamera(const CameraInput& input) {
