@@ -78,6 +78,18 @@ bool IncludeStaysInside(const std::string& text) {
   return true;
 }
 
+// A message quotes at most a short excerpt of the input (InputExcerpt: a path at most 240 bytes,
+// a key 120, a value 80): any 300 bytes of it in a row contain one of these aligned 250-byte
+// windows (a step of 50), and no quote of 240 bytes or less does.
+void CheckShortQuotes(const corridorsim::InputError& error, const std::string& text) {
+  const std::string message = error.what();
+  for (std::size_t at = 0; at + 250 <= text.size(); at += 50) {
+    if (message.find(text.substr(at, 250)) != std::string::npos) {
+      Bug("an error message quotes the input at length: " + message);
+    }
+  }
+}
+
 std::string Echo(const corridorsim::Scenario& scenario) {
   return corridorsim::OptionsYaml(corridorsim::ScenarioOptionsTable(), scenario);
 }
@@ -117,21 +129,18 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   try {
     scenario = corridorsim::LoadScenario(input.string());
   } catch (const corridorsim::InputError& e) {
-    // A message quotes at most a short excerpt of the input (InputExcerpt: a path at most 240
-    // bytes, a key 120, a value 80): any 300 bytes of it in a row contain one of these aligned
-    // 250-byte windows (a step of 50), and no quote of 240 bytes or less does.
-    const std::string message = e.what();
-    for (std::size_t at = 0; at + 250 <= text.size(); at += 50) {
-      if (message.find(text.substr(at, 250)) != std::string::npos) {
-        Bug("an error message quotes the input at length: " + message);
-      }
-    }
+    CheckShortQuotes(e, text);
     return 0;  // bad input, reported as it should be
   } catch (const std::exception& e) {
     Bug(std::string("LoadScenario threw something other than InputError: ") + e.what());
   }
+  // Building the pipelines is part of the check too (`run --check` does it): a pipeline that
+  // reads a camera the scenario disabled, say, is bad input reported there, at its line.
   try {
     corridorsim::PipelineRunner pipelines(scenario, corridorsim::CalibrationOf(scenario));
+  } catch (const corridorsim::InputError& e) {
+    CheckShortQuotes(e, text);
+    return 0;
   } catch (const std::exception& e) {
     Bug(std::string("a loaded scenario's pipelines failed to build: ") + e.what());
   }

@@ -118,7 +118,7 @@ inline float CosIncidence(float z, float z_left, float z_right, float z_up, floa
   const float n_dot_p = n0 * xs + n1 * ys + n2;
   const float norms2 = (n0 * n0 + n1 * n1 + n2 * n2) * (xs * xs + ys * ys + 1.0f);
   const float cosine = std::abs(n_dot_p) / std::sqrt(std::max(norms2, 1e-30f));
-  return (z > 0) & (norms2 > 0) ? cosine : 1.0f;  // & not &&: no branch, so it vectorises
+  return ((z > 0) & (norms2 > 0)) ? cosine : 1.0f;  // & not &&: no branch, so it vectorises
 }
 
 // Cosines of the angle between the viewing ray and the surface normal for every pixel of row v,
