@@ -140,7 +140,7 @@ ImageLineSegment RefineToEdges(const ImageLineSegment& line, const cv::Mat& edge
   Eigen::Vector2d direction = eigen.eigenvectors().col(1);
   if (direction.dot(t) < 0) direction = -direction;
   return ImageLineSegment{mean + (line.a_px - mean).dot(direction) * direction,
-                          mean + (line.b_px - mean).dot(direction) * direction};
+                          mean + (line.b_px - mean).dot(direction) * direction, count};
 }
 
 // Merges the segments that lie on one image line (pieces of an edge broken by texture or
@@ -294,10 +294,29 @@ int DistinctDirections(const std::vector<ImageLineSegment>& lines, double tol_ra
   return clusters;
 }
 
-double Rms(const std::vector<double>& values) {
-  double sum = 0.0;
-  for (double v : values) sum += v * v;
-  return values.empty() ? 0.0 : std::sqrt(sum / static_cast<double>(values.size()));
+// P1 eq. 4 over `lines`, then (options.weighted) re-solved with each line weighted by the inverse
+// of its offset variance at the point (LineOffsetVariance), three rounds from P1's unweighted
+// point. `residuals` gets each line's signed distance to the final point (px) and `rms_px` their
+// RMS, weighted alike.
+std::optional<Eigen::Vector2d> SolvePoint(const std::vector<ImageLineSegment>& lines, bool weighted,
+                                          std::vector<double>* residuals, double* rms_px) {
+  std::optional<Eigen::Vector2d> point = IntersectLines(lines, residuals);
+  std::vector<double> weights(lines.size(), 1.0);
+  for (int round = 0; weighted && point && round < 3; ++round) {
+    for (std::size_t i = 0; i < lines.size(); ++i) {
+      weights[i] = 1.0 / LineOffsetVariance(lines[i], *point);
+    }
+    point = IntersectLines(lines, residuals, &weights);
+  }
+  if (point) {
+    double sum = 0.0, total = 0.0;
+    for (std::size_t i = 0; i < lines.size(); ++i) {
+      sum += weights[i] * (*residuals)[i] * (*residuals)[i];
+      total += weights[i];
+    }
+    *rms_px = std::sqrt(sum / total);
+  }
+  return point;
 }
 
 }  // namespace
@@ -356,6 +375,9 @@ const OptionTable<VanishingPointOptions>& VanishingPointOptionsTable() {
           "fewer distinct directions (merge_angle_deg apart) among the agreeing lines: no point")
         .Range(2, 500)
         .Note("<= min_lines");
+    t.Add("weighted", &O::weighted, "",
+          "beyond P1: eq. 4 weighted by each line's fit precision at the point (false: equal "
+          "weights, as P1)");
     t.Add("outlier_distance_px", &O::outlier_distance_px, "px",
           "consensus and outlier pass (beyond P1): lines farther from the point disagree")
         .Greater(0)
@@ -390,9 +412,20 @@ std::optional<OptionsProblem> VanishingPointOptions::Check() const {
   return std::nullopt;
 }
 
+double LineOffsetVariance(const ImageLineSegment& line, const Eigen::Vector2d& point) {
+  const Eigen::Vector2d d = line.b_px - line.a_px;
+  const double length = std::max(d.norm(), 1.0);
+  const double n = line.support_px > 0 ? line.support_px : std::max(length, 2.0);
+  const double along = (point - 0.5 * (line.a_px + line.b_px)).dot(d) / length;
+  return 1.0 / n + 12.0 * along * along / (n * length * length);
+}
+
 std::optional<Eigen::Vector2d> IntersectLines(const std::vector<ImageLineSegment>& lines,
-                                              std::vector<double>* residuals_px) {
+                                              std::vector<double>* residuals_px,
+                                              const std::vector<double>* weights) {
   if (residuals_px) residuals_px->clear();
+  CheckOrDie(!weights || weights->size() == lines.size(), "slam::IntersectLines",
+             "one weight per line");
   const Eigen::Index m = static_cast<Eigen::Index>(lines.size());
   if (m < 2) return std::nullopt;
   // P1 eqs. 1-3: row i of A is (a_i, b_i), the unit normal of line i, and c_i = (a_i, b_i) . p
@@ -407,11 +440,19 @@ std::optional<Eigen::Vector2d> IntersectLines(const std::vector<ImageLineSegment
     A.row(i) = normal.transpose();
     c(i) = normal.dot(line.a_px);
   }
-  // P1 eq. 4: u = A^+ c, A^+ = (A^T A)^-1 A^T (the normal equations of the 2x2 system).
-  const Eigen::Matrix2d AtA = A.transpose() * A;
+  // P1 eq. 4: u = A^+ c, A^+ = (A^T A)^-1 A^T (the normal equations of the 2x2 system); with
+  // weights, A^T W A and A^T W c.
+  Eigen::VectorXd w = Eigen::VectorXd::Ones(m);
+  if (weights) {
+    for (Eigen::Index i = 0; i < m; ++i) {
+      w(i) = (*weights)[static_cast<std::size_t>(i)];
+      if (!(w(i) > 0.0) || !std::isfinite(w(i))) return std::nullopt;
+    }
+  }
+  const Eigen::Matrix2d AtA = A.transpose() * w.asDiagonal() * A;
   const double det = AtA.determinant();
   if (!(std::abs(det) > 1e-12 * AtA.squaredNorm())) return std::nullopt;
-  const Eigen::Vector2d u = AtA.inverse() * (A.transpose() * c);
+  const Eigen::Vector2d u = AtA.inverse() * (A.transpose() * w.asDiagonal() * c);
   if (residuals_px) {
     const Eigen::VectorXd r = A * u - c;
     residuals_px->assign(r.data(), r.data() + r.size());
@@ -480,8 +521,11 @@ std::optional<VanishingPoint> DetectVanishingPoint(const Image8& image,
   std::vector<ImageLineSegment> used;
   for (std::size_t k : support) used.push_back(lines[k]);
   std::vector<double> residuals;
+  double rms_px = 0.0;
   std::optional<Eigen::Vector2d> point;
-  if (static_cast<int>(used.size()) >= options.min_lines) point = IntersectLines(used, &residuals);
+  if (static_cast<int>(used.size()) >= options.min_lines) {
+    point = SolvePoint(used, options.weighted, &residuals, &rms_px);
+  }
   // The outlier pass: a line whose segment the point falls inside, else the line farthest from
   // the point beyond outlier_distance_px, is dropped and the point re-solved (P1 eq. 4); one line
   // per round, so at most max_lines rounds.
@@ -503,10 +547,10 @@ std::optional<VanishingPoint> DetectVanishingPoint(const Image8& image,
       break;
     }
     used.erase(used.begin() + static_cast<std::ptrdiff_t>(worst));
-    point = IntersectLines(used, &residuals);
+    point = SolvePoint(used, options.weighted, &residuals, &rms_px);
   }
   out.quality.line_count = point ? static_cast<int>(used.size()) : 0;
-  out.quality.rms_residual_px = point ? Rms(residuals) : 0.0;
+  out.quality.rms_residual_px = point ? rms_px : 0.0;
   out.quality.rejected_outlier_count =
       static_cast<int>(lines.size()) - (point ? static_cast<int>(used.size()) : 0);
   out.quality.direction_count =

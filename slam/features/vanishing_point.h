@@ -56,6 +56,12 @@ struct VanishingPointOptions {
   // Fewer distinct directions (merge_angle_deg apart) among them: no point. Two edges of one thin
   // line are two lines of one direction, and two directions always meet somewhere.
   int min_directions = 3;
+  // Beyond P1: eq. 4 weighted by each line's precision at the point (the variance of its edge
+  // fit's offset there, which grows with the distance from the fitted pixels and shrinks with
+  // their number and spread), iterated from P1's unweighted solution. Long lines near the point
+  // then outweigh short texture edges far from it, whose small slope errors P1's equal weights
+  // turn into pixels at the point. false: P1's eq. 4 with equal weights.
+  bool weighted = true;
   // The consensus and outlier pass (beyond P1): a line farther than this from the point (px),
   // or a segment the point falls inside, disagrees with it.
   double outlier_distance_px = 6.0;
@@ -77,6 +83,8 @@ const OptionTable<VanishingPointOptions>& VanishingPointOptionsTable();
 struct ImageLineSegment {
   Eigen::Vector2d a_px = Eigen::Vector2d::Zero();
   Eigen::Vector2d b_px = Eigen::Vector2d::Zero();
+  // Edge pixels the line was fitted to (RefineToEdges); 0 when not fitted (its length stands in).
+  int support_px = 0;
 };
 
 /// Why a frame gave no vanishing point, or kFound.
@@ -91,7 +99,7 @@ enum class VanishingPointStatus {
 std::string VanishingPointStatusName(VanishingPointStatus status);
 
 struct VanishingPointQuality {
-  double rms_residual_px = 0.0;    // RMS distance of the used lines to the point (px)
+  double rms_residual_px = 0.0;    // RMS distance of the used lines to the point (px; weighted)
   int line_count = 0;              // lines used in the final solve
   int candidate_count = 0;         // lines the Hough transform proposed (before max_lines)
   int rejected_axis_count = 0;     // rejected as nearly parallel to an image axis (P1 section 2)
@@ -124,9 +132,17 @@ std::optional<VanishingPoint> DetectVanishingPoint(const Image8& image,
 
 /// The least-squares intersection of `lines` (P1 eqs. 1-4): each line as a_i u + b_i v = c_i
 /// with (a_i, b_i) its unit normal, so the residual a_i u + b_i v - c_i is the point's distance
-/// to it in px; u = A^+ c with A^+ = (A^T A)^-1 A^T. None when fewer than two lines or A^T A is
-/// singular. `residuals_px` (optional) gets the signed distance of each line.
+/// to it in px; u = A^+ c with A^+ = (A^T A)^-1 A^T. With `weights` (one per line, positive),
+/// the weighted form u = (A^T W A)^-1 A^T W c. None when fewer than two lines or the normal
+/// matrix is singular. `residuals_px` (optional) gets the signed distance of each line.
 std::optional<Eigen::Vector2d> IntersectLines(const std::vector<ImageLineSegment>& lines,
-                                              std::vector<double>* residuals_px = nullptr);
+                                              std::vector<double>* residuals_px = nullptr,
+                                              const std::vector<double>* weights = nullptr);
+
+/// The variance of a fitted line's offset at `point`, in units of the edge pixels' own variance
+/// across the line: 1/n + 12 D^2 / (n L^2) for n pixels spread evenly over the length L, D the
+/// distance along the line from the segment's middle to the point's foot (a total least squares
+/// fit's offset and slope errors). n is the line's support_px, or its length when not fitted.
+double LineOffsetVariance(const ImageLineSegment& line, const Eigen::Vector2d& point);
 
 }  // namespace corridorsim::slam

@@ -275,5 +275,42 @@ TEST_CASE("vanishing point options: defaults pass, bounds and relations are chec
   CHECK(VanishingPointStatusName(VanishingPointStatus::kOutsideImage) == "outside_image");
 }
 
+TEST_CASE("LineOffsetVariance grows with the distance from the fitted pixels", "[slam][features]") {
+  // 101 pixels over 100 px: at the middle only the offset error (1/n), 50 px beyond an end the
+  // slope error too: 1/n + 12 D^2 / (n L^2) with D = 100.
+  ImageLineSegment line{{0, 0}, {100, 0}, 101};
+  CHECK(LineOffsetVariance(line, {50, 7}) == Approx(1.0 / 101));
+  CHECK(LineOffsetVariance(line, {150, 0}) ==
+        Approx(1.0 / 101 + 12.0 * 100 * 100 / (101.0 * 100 * 100)));
+  // Not fitted: its length stands in for the pixel count.
+  line.support_px = 0;
+  CHECK(LineOffsetVariance(line, {50, 0}) == Approx(1.0 / 100));
+}
+
+TEST_CASE("weighted IntersectLines follows the weights; the detector's weighting trusts long "
+          "lines near the point over short ones far from it",
+          "[slam][features]") {
+  // Two exact lines through (0, 0) and one that misses it by 2 px.
+  const std::vector<ImageLineSegment> lines = {{{10, 10}, {200, 200}, 190},
+                                               {{-10, 10}, {-200, 200}, 190},
+                                               {{-300, 2}, {-250, 52}, 50}};
+  std::vector<double> residuals;
+  const auto equal = IntersectLines(lines, &residuals);
+  REQUIRE(equal);
+  CHECK(equal->norm() > 0.3);  // P1's equal weights: pulled by the third line
+  const std::vector<double> weights = {1.0, 1.0, 1e-6};
+  const auto weighted = IntersectLines(lines, &residuals, &weights);
+  REQUIRE(weighted);
+  CHECK(weighted->norm() < 0.01);
+  // The detector's weights: the third line's slope, fitted over 50 px, is worth little 275 px
+  // from its middle.
+  const double far = LineOffsetVariance(lines[2], Eigen::Vector2d::Zero());
+  const double near = LineOffsetVariance(lines[0], Eigen::Vector2d::Zero());
+  CHECK(far > 50 * near);
+  // A weight that is not positive and finite: no point (a bug upstream, not a guess).
+  const std::vector<double> bad = {1.0, 0.0, 1.0};
+  CHECK_FALSE(IntersectLines(lines, &residuals, &bad));
+}
+
 }  // namespace
 }  // namespace corridorsim::slam
