@@ -11,6 +11,7 @@
 #include "common/random.h"
 #include "harness/run_folder.h"
 #include "harness/stopwatch.h"
+#include "slam/features/door_plates.h"
 
 namespace corridorsim {
 namespace {
@@ -54,7 +55,13 @@ PipelineRunner::PipelineRunner(const Scenario& scenario, const slam::Calibration
     Run run;
     // Each pipeline's random choices draw from a stream of its own (docs/architecture.md).
     const std::uint64_t seed = RandomStream(scenario.seed, 0, "slam." + entry.name).NextU64();
-    run.pipeline = entry.options->Create(calibration, seed);
+    try {
+      run.pipeline = entry.options->Create(calibration, seed);
+    } catch (const slam::ModelFileError& e) {
+      // A pipeline's trained models are input too: named at its models_dir (or its section).
+      throw LocateProblem(scenario, "pipelines",
+                          OptionsProblem{entry.name + ".models_dir", e.what()});
+    }
     PipelineRecord record;
     record.name = entry.name;
     record.cameras_used = run.pipeline->cameras_used();

@@ -22,6 +22,8 @@ expect_bad(bad_option "pipelines:\n  odometry: {k_m: -2}\n"
            "bad_option.yaml:3:.*pipelines.odometry.k_m: must lie in")
 expect_bad(drop_one "sensors:\n  front: {drop_probability: 1.5}\n"
            "drop_one.yaml:3:.*sensors.front.drop_probability: must lie in")
+expect_bad(missing_models "pipelines:\n  p1_vp_doorplate:\n    models_dir: ${WORK_DIR}/no_models\n"
+           "missing_models.yaml:4:.*pipelines.p1_vp_doorplate.models_dir: model file .*door_plate_svm.yml: missing")
 
 # An unwritable output folder is refused before the run starts.
 file(WRITE "${WORK_DIR}/not_a_dir" "x")
