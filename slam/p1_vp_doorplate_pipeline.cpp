@@ -219,7 +219,13 @@ void P1VpDoorplatePipeline::ObserveVanishingPoint(TimeNs stamp_ns, double u, Det
     if (result.accepted) detection->landmark_id = best->id;
     return;
   }
-  // None in view: a new VP landmark on the virtual plane (P1 Fig. 10, eqs. 26-27).
+  // None in view: a new VP landmark on the virtual plane (P1 Fig. 10, eqs. 26-27), but only from
+  // a point inside the image: a corridor's direction is seen ahead (P1: "observed in the corridor
+  // frontage"). The detector also reports points up to max_outside_image_px beyond the image's
+  // edge, which may update a landmark through the gate but never start one: seen while turning
+  // they are the ones that go wrong (default.yaml, seed 1: a point at u = 917 px during the
+  // last turn, 1160 px from the truth, had become a second, false VP landmark).
+  if (u < -0.5 || u > model.width() - 0.5) return;
   Eigen::Matrix<double, 2, 3> d_landmark_d_pose;
   Eigen::Vector2d d_landmark_d_u;
   const std::optional<Eigen::Vector2d> landmark =

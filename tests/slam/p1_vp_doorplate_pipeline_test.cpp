@@ -10,6 +10,7 @@
 #include <catch2/catch.hpp>
 
 #include "tests/support/pioneer_calibration.h"
+#include "tests/support/synthetic_corridor.h"
 
 namespace corridorsim::slam {
 namespace {
@@ -130,6 +131,44 @@ TEST_CASE("P1: frames out of time order or of the wrong size are refused and cou
   f.pipeline.OnCamera(Frame("lateral", 20'000'000, 0, 0, 128));      // empty
   CHECK(f.pipeline.health().rejected_frames == 4);
   f.CheckUntouched();
+}
+
+TEST_CASE("P1: a vanishing point outside the image never starts a VP landmark; one inside does",
+          "[slam][p1]") {
+  P1VpDoorplateOptions options;
+  options.use_door_plates = false;
+  options.octomap = false;
+  // The corridor seen 40 degrees off its axis: the detector places its point right of the image
+  // (within max_outside_image_px), as it does for frames taken while the robot turns.
+  test::CorridorView aside;
+  aside.yaw_rad = 40.0 * kDeg;
+  aside.camera_in_world.y() = -0.6;
+  const Image8 aside_image = test::DrawCorridor(aside);
+  const std::optional<VanishingPoint> seen =
+      DetectVanishingPoint(aside_image, options.vanishing_point);
+  REQUIRE(seen);
+  REQUIRE(seen->pixel_px.x() > test::kCorridorImageWidth);
+
+  const auto vp_landmarks = [](const P1VpDoorplatePipeline& p) {
+    int count = 0;
+    for (const LandmarkEstimate& l : p.Landmarks()) count += l.type == LandmarkType::kVanishingPoint;
+    return count;
+  };
+  P1VpDoorplatePipeline pipeline(options, P1Calibration(), 7);
+  pipeline.Initialize(0, SE2(0, 0, 0));
+  CameraInput frame = Frame("front", 1'000'000, 640, 480, 0);
+  frame.image.image = aside_image;
+  pipeline.OnCamera(frame);
+  CHECK(vp_landmarks(pipeline) == 0);
+  const std::vector<Detection> detections = pipeline.TakeDetections();
+  REQUIRE(detections.size() == 1);  // reported, but associated with nothing
+  CHECK(detections[0].landmark_id < 0);
+
+  // Looking down the corridor, the point lies inside the image and starts the landmark.
+  frame.image.stamp_ns = 2'000'000;
+  frame.image.image = test::DrawCorridor(test::CorridorView{});
+  pipeline.OnCamera(frame);
+  CHECK(vp_landmarks(pipeline) == 1);
 }
 
 }  // namespace
