@@ -151,7 +151,8 @@ TEST_CASE("P1: a vanishing point outside the image never starts a VP landmark; o
 
   const auto vp_landmarks = [](const P1VpDoorplatePipeline& p) {
     int count = 0;
-    for (const LandmarkEstimate& l : p.Landmarks()) count += l.type == LandmarkType::kVanishingPoint;
+    for (const LandmarkEstimate& l : p.Landmarks())
+      count += l.type == LandmarkType::kVanishingPoint;
     return count;
   };
   P1VpDoorplatePipeline pipeline(options, P1Calibration(), 7);

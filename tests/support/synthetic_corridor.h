@@ -18,7 +18,6 @@ inline constexpr int kCorridorImageWidth = 640;
 inline constexpr int kCorridorImageHeight = 480;
 inline constexpr double kCorridorDeg = std::numbers::pi / 180.0;
 
-
 // A pinhole camera looking down a box corridor (world: x along the corridor, y left, z up).
 struct CorridorView {
   double fx = 320.0 / std::tan(29.0 * kCorridorDeg);  // the front camera's 58 deg
@@ -49,8 +48,8 @@ struct CorridorView {
 };
 
 // Fills the world quad (corners in order) with grey `shade`, anti-aliased at 1/16 px.
-inline void FillQuad(cv::Mat* image, const CorridorView& view, const std::vector<Eigen::Vector3d>& quad,
-              int shade) {
+inline void FillQuad(cv::Mat* image, const CorridorView& view,
+                     const std::vector<Eigen::Vector3d>& quad, int shade) {
   std::vector<cv::Point> points;
   for (const Eigen::Vector3d& corner : quad) {
     const Eigen::Vector2d px = view.Project(corner);

@@ -223,13 +223,13 @@ TEST_CASE("LineOffsetVariance grows with the distance from the fitted pixels", "
   CHECK(LineOffsetVariance(line, {50, 0}) == Approx(1.0 / 100));
 }
 
-TEST_CASE("weighted IntersectLines follows the weights; the detector's weighting trusts long "
-          "lines near the point over short ones far from it",
-          "[slam][features]") {
+TEST_CASE(
+    "weighted IntersectLines follows the weights; the detector's weighting trusts long "
+    "lines near the point over short ones far from it",
+    "[slam][features]") {
   // Two exact lines through (0, 0) and one that misses it by 2 px.
-  const std::vector<ImageLineSegment> lines = {{{10, 10}, {200, 200}, 190},
-                                               {{-10, 10}, {-200, 200}, 190},
-                                               {{-300, 2}, {-250, 52}, 50}};
+  const std::vector<ImageLineSegment> lines = {
+      {{10, 10}, {200, 200}, 190}, {{-10, 10}, {-200, 200}, 190}, {{-300, 2}, {-250, 52}, 50}};
   std::vector<double> residuals;
   const auto equal = IntersectLines(lines, &residuals);
   REQUIRE(equal);
