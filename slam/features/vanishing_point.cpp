@@ -301,18 +301,24 @@ int DistinctDirections(const std::vector<ImageLineSegment>& lines, double tol_ra
 std::optional<Eigen::Vector2d> SolvePoint(const std::vector<ImageLineSegment>& lines, bool weighted,
                                           std::vector<double>* residuals, double* rms_px) {
   std::optional<Eigen::Vector2d> point = IntersectLines(lines, residuals);
-  std::vector<double> weights(lines.size(), 1.0);
+  std::vector<double> point_weights(lines.size(), 1.0);  // the weights `point` was solved with
   for (int round = 0; weighted && point && round < 3; ++round) {
+    std::vector<double> weights(lines.size());
     for (std::size_t i = 0; i < lines.size(); ++i) {
       weights[i] = 1.0 / LineOffsetVariance(lines[i], *point);
     }
-    point = IntersectLines(lines, residuals, &weights);
+    std::vector<double> next_residuals;
+    const std::optional<Eigen::Vector2d> next = IntersectLines(lines, &next_residuals, &weights);
+    if (!next) break;  // a weight underflowed (a point absurdly far away): keep the last solution
+    point = next;
+    *residuals = std::move(next_residuals);
+    point_weights = std::move(weights);
   }
   if (point) {
     double sum = 0.0, total = 0.0;
     for (std::size_t i = 0; i < lines.size(); ++i) {
-      sum += weights[i] * (*residuals)[i] * (*residuals)[i];
-      total += weights[i];
+      sum += point_weights[i] * (*residuals)[i] * (*residuals)[i];
+      total += point_weights[i];
     }
     *rms_px = std::sqrt(sum / total);
   }
