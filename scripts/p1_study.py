@@ -15,6 +15,8 @@ world.json's plates. Targets (exit 3 when one is missed, 2 on bad input, 1 when 
     chi-square band of N seeds' mean: [chi2(3N, 0.025) / N, chi2(3N, 0.975) / N];
   - every plate of the world in its semantic map with the right number, within 0.2 m, in every
     seed; no landmark with a number the world does not have (a false plate).
+Also reported (not a target): the plates' own NEES over their x-y covariance, averaged over every
+plate of every seed, against the 95 % band of the mean of that many chi-square(2) values.
 Standard library only.
 """
 import argparse
@@ -99,6 +101,7 @@ def plate_check(run_dir):
             landmarks = json.load(f)
     plates = [l for l in landmarks if l["type"] == "door_plate"]
     errors = {}
+    nees = []
     false_plates = []
     for l in plates:
         if l["label"] not in truth:
@@ -106,8 +109,15 @@ def plate_check(run_dir):
             continue
         t = truth[l["label"]]
         p = l["position_in_world"]
-        errors[l["label"]] = math.hypot(p[0] - t[0], p[1] - t[1])
+        ex, ey = p[0] - t[0], p[1] - t[1]
+        errors[l["label"]] = math.hypot(ex, ey)
+        # The plate's NEES over its planar position: e^T P^-1 e with P its x-y covariance.
+        (a, b, _), (_, c, _) = l["covariance"][0], l["covariance"][1]
+        det = a * c - b * b
+        if det > 0:
+            nees.append((c * ex * ex - 2 * b * ex * ey + a * ey * ey) / det)
     return {
+        "plate_nees": nees,
         "plates_in_world": len(truth),
         "plates_mapped": len(errors),
         "plates_within_0_2_m": sum(1 for e in errors.values() if e <= 0.2),
@@ -193,6 +203,19 @@ def main(argv):
             p["plates_within_0_2_m"] == p["plates_in_world"] for p in plates)
         targets["no_false_plate"] = all(not p["false_plates"] for p in plates)
 
+    if PIPELINE in summary:
+        # The plates' own consistency (reported, not a target): their mean NEES over every plate of
+        # every seed against the 95 % band of the mean of M chi-square(2) values. The plates of one
+        # seed share the robot's errors, so they are not independent draws.
+        plate_nees = [v for s in seeds for v in per_seed[s][PIPELINE]["plates"]["plate_nees"]]
+        if plate_nees:
+            m = len(plate_nees)
+            summary[PIPELINE]["plate_nees_mean"] = sum(plate_nees) / m
+            summary[PIPELINE]["plate_nees_band"] = [chi2_quantile(0.025, 2 * m) / m,
+                                                    chi2_quantile(0.975, 2 * m) / m]
+            summary[PIPELINE]["plate_nees_above_95_fraction"] = (
+                sum(1 for v in plate_nees if v > 5.991) / m)
+
     study = {"scenario": args.scenario, "seeds": seeds, "summary": summary, "targets": targets,
              "per_seed": {str(s): per_seed[s] for s in seeds}}
     with open(os.path.join(args.out, "study.json"), "w", encoding="utf-8") as f:
@@ -210,6 +233,11 @@ def main(argv):
             print(f"seed {s}: plates {p['plates_within_0_2_m']}/{p['plates_in_world']} within 0.2 m,"
                   f" max error {p['max_plate_error_m']}, false {p['false_plates']},"
                   f" missing {p['missing_plates']}")
+        p1 = summary[PIPELINE]
+        if "plate_nees_mean" in p1:
+            low, high = p1["plate_nees_band"]
+            print(f"plates' NEES (2 dof): mean {p1['plate_nees_mean']:.2f}, band [{low:.2f}, "
+                  f"{high:.2f}], above the 95 % quantile {100 * p1['plate_nees_above_95_fraction']:.1f} %")
     for k, v in targets.items():
         print(f"target {k}: {'met' if v else 'MISSED'}")
     print(f"study: {os.path.join(args.out, 'study.json')}")
