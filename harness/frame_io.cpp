@@ -91,6 +91,19 @@ Image8 DrawOverlay(const Image8& rgb, const render::FrameTruth& truth) {
   return out;
 }
 
+render::FrameTruth FrameTruthOf(const worlds::World& world, const render::CameraOptions& options,
+                                const render::CameraFrame& frame, const SE3& world_from_robot) {
+  render::FrameTruthInput input;
+  input.world = &world;
+  input.camera_id = frame.camera_id;
+  input.model = options.model;
+  input.world_from_camera = frame.world_from_camera;
+  input.world_from_robot = world_from_robot;
+  input.instance = &frame.instance;
+  input.semantic = &frame.semantic;
+  return render::ComputeFrameTruth(input);
+}
+
 nlohmann::ordered_json IntrinsicsJson(const render::CameraOptions& options) {
   nlohmann::ordered_json j = CameraModelToJson(options.model);
   const SE3 robot_from_camera = options.mount.RobotFromCamera();

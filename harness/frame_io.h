@@ -12,6 +12,7 @@
 #include "render/backend.h"
 #include "render/camera_rig.h"
 #include "render/frame_truth.h"
+#include "worlds/world.h"
 
 namespace corridorsim {
 
@@ -29,6 +30,11 @@ std::string EncodeDepth(const ImageF& depth, const std::string& what);
 
 /// The ground truth drawn on the image, for a person to check at a glance.
 Image8 DrawOverlay(const Image8& rgb, const render::FrameTruth& truth);
+
+/// The ground truth of a rendered frame (render::ComputeFrameTruth with the frame's label images
+/// for occlusion): what `snapshot` and `dataset` write beside each image.
+render::FrameTruth FrameTruthOf(const worlds::World& world, const render::CameraOptions& options,
+                                const render::CameraFrame& frame, const SE3& world_from_robot);
 
 /// Model, size, fx, fy, cx, cy, distortion, robot_from_camera, and depth_scale for depth cameras.
 nlohmann::ordered_json IntrinsicsJson(const render::CameraOptions& options);

@@ -17,6 +17,16 @@ Renderer::Renderer(const worlds::World& world, const render::RigOptions& rig_opt
   rig = std::make_unique<render::Rig>(rig_options, scene, *backend);
 }
 
+std::optional<sim::PlacementProblem> CheckPosePlacement(const worlds::World& world,
+                                                        const Scenario& scenario,
+                                                        const render::RigOptions& rig,
+                                                        const SE2& pose) {
+  sim::RobotPath at_pose;
+  at_pose.kind = sim::PathKind::kScript;
+  at_pose.world_from_start = pose;
+  return sim::CheckPathPlacement(world, scenario.robot, at_pose, &rig);
+}
+
 SimulationSetup::SimulationSetup(const Scenario& scenario, std::uint64_t seed,
                                  bool check_camera_placement)
     : scenario_(scenario),

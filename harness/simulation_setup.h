@@ -15,6 +15,7 @@
 #include "render/backend.h"
 #include "render/camera_rig.h"
 #include "render/scene.h"
+#include "sim/placement.h"
 #include "sim/robot_path.h"
 #include "sim/simulation.h"
 #include "worlds/world.h"
@@ -30,6 +31,14 @@ struct Renderer {
   std::unique_ptr<render::Backend> backend;
   std::unique_ptr<render::Rig> rig;
 };
+
+/// The robot standing at `pose`, checked as a path of one pose (sim::CheckPathPlacement): the
+/// chassis against the world's solids and each enabled camera of `rig` inside the corridor or a
+/// room. `snapshot --pose` and `dataset --poses random` place the robot through it.
+std::optional<sim::PlacementProblem> CheckPosePlacement(const worlds::World& world,
+                                                        const Scenario& scenario,
+                                                        const render::RigOptions& rig,
+                                                        const SE2& pose);
 
 class SimulationSetup {
  public:

@@ -40,15 +40,11 @@ void RunSnapshot(const SnapshotRequest& request) {
   // each camera inside the corridor or a room (sim/placement.h). A pose whose robot hits a wall
   // is the command line's fault; a body too large for any pose, or a camera mount, the
   // scenario's.
-  sim::RobotPath at_pose;
-  at_pose.kind = sim::PathKind::kScript;
-  at_pose.world_from_start = pose;
-  if (auto placed = sim::CheckPathPlacement(world, scenario.robot, at_pose, &scenario.rig)) {
+  if (auto placed = CheckPosePlacement(world, scenario, scenario.rig, pose)) {
     // A camera that is still out with every mount moved over the robot's centre: the robot is.
     render::RigOptions centred = scenario.rig;
     for (render::CameraOptions& c : centred.cameras) c.mount.x_m = c.mount.y_m = 0.0;
-    if (placed->section == "sensors" &&
-        sim::CheckPathPlacement(world, scenario.robot, at_pose, &centred)) {
+    if (placed->section == "sensors" && CheckPosePlacement(world, scenario, centred, pose)) {
       placed->section = "path";
     }
     if (placed->section == "path") {
@@ -85,15 +81,7 @@ void RunSnapshot(const SnapshotRequest& request) {
     const render::CameraFrame& frame = frames[k];
     const render::CameraOptions& options = rig.cameras()[k].options();
     const std::string& id = frame.camera_id;
-    render::FrameTruthInput input;
-    input.world = &world;
-    input.camera_id = id;
-    input.model = options.model;
-    input.world_from_camera = frame.world_from_camera;
-    input.world_from_robot = world_from_robot;
-    input.instance = &frame.instance;
-    input.semantic = &frame.semantic;
-    const render::FrameTruth truth = render::ComputeFrameTruth(input);
+    const render::FrameTruth truth = FrameTruthOf(world, options, frame, world_from_robot);
     truth_json["cameras"][id] = render::FrameTruthJson(truth);
     intrinsics[id] = IntrinsicsJson(options);
 
