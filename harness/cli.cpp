@@ -192,13 +192,54 @@ std::string ParsePipelineArgument(const std::string& text, const std::string& fl
   return text;
 }
 
+ScoreExpectation ParseScoreExpectation(const std::string& text, const std::string& flag) {
+  const std::string expected =
+      "expected <class>.<metric><op><number>, e.g. lamp.ap50>=0.8 (op: >=, >, <=, <) ";
+  ScoreExpectation e;
+  e.text = text;
+  const std::size_t op_at = text.find_first_of("<>");
+  if (op_at == std::string::npos) Fail(flag, expected + Got(text));
+  const bool with_equal = op_at + 1 < text.size() && text[op_at + 1] == '=';
+  e.op = text[op_at] == '>'
+             ? (with_equal ? ScoreExpectation::Op::kGreaterEqual : ScoreExpectation::Op::kGreater)
+             : (with_equal ? ScoreExpectation::Op::kLessEqual : ScoreExpectation::Op::kLess);
+  const std::string key = text.substr(0, op_at);
+  const std::size_t dot = key.find('.');
+  if (dot == std::string::npos) Fail(flag, expected + Got(text));
+  e.class_name = key.substr(0, dot);
+  e.metric = key.substr(dot + 1);
+  const auto names = [](const auto& list) {
+    std::string joined;
+    for (const char* n : list) joined += (joined.empty() ? "" : ", ") + std::string(n);
+    return joined;
+  };
+  if (std::find(std::begin(kScoreClassNames), std::end(kScoreClassNames), e.class_name) ==
+      std::end(kScoreClassNames)) {
+    Fail(flag, "unknown class " + Quoted(e.class_name) + " in " + Quoted(text) +
+                   " (classes: " + names(kScoreClassNames) + ")");
+  }
+  if (std::find(std::begin(kScoreMetricNames), std::end(kScoreMetricNames), e.metric) ==
+      std::end(kScoreMetricNames)) {
+    Fail(flag, "unknown metric " + Quoted(e.metric) + " in " + Quoted(text) +
+                   " (metrics: " + names(kScoreMetricNames) + ")");
+  }
+  const std::string number = text.substr(op_at + (with_equal ? 2 : 1));
+  try {
+    e.value = ParseNumberArgument(number, 1e12, flag);
+  } catch (const InputError& error) {
+    Fail(flag, Quoted(text) + ": " + error.message());
+  }
+  return e;
+}
+
 CommandLine ParseCommandLine(const std::vector<std::string>& args) {
   CLI::App app{"corridorsim: a simulation harness for corridor SLAM", "corridorsim"};
   app.require_subcommand(1);
   app.set_help_all_flag("--help-all", "Show the help of every subcommand");
   app.footer(
       "Exit codes: 0 success, 2 bad input, 1 other failures; `run` also 3 (an expectation "
-      "failed) and 4 (results written, an extra failed). Run `corridorsim <subcommand> --help`.");
+      "failed) and 4 (results written, an extra failed); `score` also 3 (an --expect failed). Run "
+      "`corridorsim <subcommand> --help`.");
 
   CommandLine parsed;
 
@@ -387,13 +428,90 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
       "Exit codes: 0 success, 2 bad input (nothing is written), 1 other failures (e.g. no GL "
       "context).");
 
-  static const char* const kJobs[] = {"world",  "snapshot",       "run", "drive", "where",
-                                      "detect", "train-detectors"};
+  CLI::App* dataset = app.add_subcommand(
+      "dataset",
+      "Render labelled images of seeded worlds (images, labels, depth, truth, COCO annotations) "
+      "for developing detectors");
+  JobOptions dataset_options(
+      dataset, "out/dataset",
+      (std::string("Scenario YAML (world, sensors, path) ") + kDefaultScenarioHelp).c_str(),
+      "Seed of world 0 (world w uses seed + w; default: the scenario's `seed`)",
+      "Dataset folder (filled in place and resumable; docs/datasets.md)");
+  std::string dataset_worlds = "1", dataset_frames = "1", dataset_cameras, dataset_poses = "random";
+  dataset->add_option("--worlds", dataset_worlds, "Number of worlds, 1-100000")
+      ->capture_default_str()
+      ->type_name("N");
+  dataset->add_option("--frames-per-world", dataset_frames, "Poses rendered per world, 1-100000")
+      ->capture_default_str()
+      ->type_name("M");
+  CLI::Option* dataset_cameras_option =
+      dataset
+          ->add_option("--cameras", dataset_cameras,
+                       "Comma-separated cameras to render, each enabled in the scenario "
+                       "(default: every enabled camera)")
+          ->type_name("front,lateral,upward");
+  dataset
+      ->add_option("--poses", dataset_poses,
+                   "random: uniform in the corridor, yaw uniform, collisions redrawn; path: evenly "
+                   "spaced along the scenario's path")
+      ->capture_default_str()
+      ->type_name("path|random");
+  dataset->footer(
+      "Writes DIR/dataset.json (the manifest), per camera DIR/<camera>/{images,labels,depth,truth}/"
+      "w<WWW>_f<FFFF>.{png,json}, DIR/<camera>/intrinsics.json and DIR/<camera>/annotations.json "
+      "(COCO: door_plate 1, door 2, lamp 3, ceiling_corner 4), and "
+      "DIR/worlds/w<WWW>/ground_truth.json (docs/datasets.md).\n"
+      "Output folder: filled in place, every file atomically. Rerunning the same command over a "
+      "folder whose dataset.json matches resumes it (frames with a truth file are skipped); a "
+      "folder with another dataset.json is refused (exit 2) unless --force, which clears it; a "
+      "folder with files but no dataset.json is never touched.\n"
+      "Exit codes: 0 success, 2 bad input, 1 other failures (e.g. no GL context).");
+
+  CLI::App* score = app.add_subcommand(
+      "score", "Score detections (COCO results JSON) against a dataset's annotations");
+  std::string score_detections, score_dataset, score_camera, score_out;
+  bool score_force = false;
+  std::vector<std::string> score_expect;
+  score
+      ->add_option("detections", score_detections,
+                   "COCO results: [{image_id, category_id, bbox | circle | point | keypoints, "
+                   "score, room_number?}, ...]")
+      ->required()
+      ->type_name("DETECTIONS.json");
+  score->add_option("--dataset", score_dataset, "Dataset folder (corridorsim dataset --out)")
+      ->required()
+      ->type_name("DIR");
+  CLI::Option* score_camera_option =
+      score->add_option("--camera", score_camera,
+                        "The camera the detections are for (default: the dataset's only one)");
+  CLI::Option* score_out_option =
+      score
+          ->add_option("--out", score_out,
+                       "Also write score.json and score.png into this folder (staged and "
+                       "replaced like every output folder)")
+          ->type_name("REPORT_DIR");
+  score->add_flag("--force", score_force, "Replace a non-empty --out folder")
+      ->disable_flag_override();
+  score
+      ->add_option("--expect", score_expect,
+                   "A check such as lamp.ap50>=0.8 or door_plate.recall>=0.5 (repeatable)")
+      ->type_name("CLASS.METRIC>=VALUE");
+  score->footer(
+      "Matches detections to annotations per class (COCO's greedy matching by score; IoU of boxes, "
+      "of circles for lamps, pixel distance for corners) and reports labels, detections, "
+      "precision and recall at the best-F1 threshold, AP50, AP50:95 (101-point), localisation "
+      "error, reading accuracy (plates) and recall by distance, viewing angle and appearance "
+      "(docs/datasets.md).\n"
+      "Exit codes: 0 success, 3 an --expect check failed, 2 bad input (the file and field are "
+      "named), 1 other failures.");
+
+  static const char* const kJobs[] = {"world",  "snapshot",        "run",     "drive", "where",
+                                      "detect", "train-detectors", "dataset", "score"};
   if (!args.empty() && !args[0].empty() && args[0][0] != '-' &&
       std::find(std::begin(kJobs), std::end(kJobs), args[0]) == std::end(kJobs)) {
     Fail("", "unknown subcommand " + Quoted(args[0]) +
-                 ": expected world, snapshot, run, drive, where, detect or train-detectors (see "
-                 "corridorsim --help)");
+                 ": expected world, snapshot, run, drive, where, detect, train-detectors, "
+                 "dataset or score (see corridorsim --help)");
   }
   // CLI11 takes the arguments last first.
   std::vector<std::string> reversed(args.rbegin(), args.rend());
@@ -487,10 +605,60 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
     if (eval_worlds_option->count() > 0)
       r.eval_worlds = count(eval_worlds, kMaxTrainWorlds, "--eval-worlds");
     if (views_option->count() > 0) r.views_per_world = count(views, kMaxViewsPerWorld, "--views");
+  } else if (dataset->parsed()) {
+    parsed.job = CommandLine::Job::kDataset;
+    DatasetRequest& r = parsed.dataset;
+    dataset_options.Resolve(&r);
+    const auto count = [](const std::string& text, int max, const std::string& flag) {
+      const double v = ParseNumberArgument(text, max, flag);
+      if (v != std::floor(v) || v < 1)
+        Fail(flag, "must be a whole number in [1, " + std::to_string(max) + "] " + Got(text));
+      return static_cast<int>(v);
+    };
+    r.worlds = count(dataset_worlds, kMaxDatasetWorlds, "--worlds");
+    r.frames_per_world = count(dataset_frames, kMaxDatasetFramesPerWorld, "--frames-per-world");
+    if (dataset_cameras_option->count() > 0) {
+      std::size_t start = 0;
+      for (;;) {
+        const std::size_t comma = dataset_cameras.find(',', start);
+        const std::string id = dataset_cameras.substr(
+            start, comma == std::string::npos ? std::string::npos : comma - start);
+        if (id.empty()) Fail("--cameras", "an empty camera name " + Got(dataset_cameras));
+        r.cameras.push_back(id);
+        if (comma == std::string::npos) break;
+        start = comma + 1;
+      }
+    }
+    if (dataset_poses == "random") {
+      r.poses = DatasetPoseMode::kRandom;
+    } else if (dataset_poses == "path") {
+      r.poses = DatasetPoseMode::kPath;
+    } else {
+      Fail("--poses", "expected path or random " + Got(dataset_poses));
+    }
+  } else if (score->parsed()) {
+    parsed.job = CommandLine::Job::kScore;
+    ScoreRequest& r = parsed.score;
+    if (score_detections.empty()) Fail("detections", "an empty file name");
+    if (score_dataset.empty()) Fail("--dataset", "an empty folder name");
+    r.detections_file = score_detections;
+    r.dataset_dir = score_dataset;
+    if (score_camera_option->count() > 0) {
+      if (score_camera.empty()) Fail("--camera", "an empty camera name");
+      r.camera = score_camera;
+    }
+    if (score_out_option->count() > 0) {
+      if (score_out.empty()) Fail("--out", "an empty folder name");
+      r.report_dir = score_out;
+    }
+    r.force = score_force;
+    for (const std::string& e : score_expect) {
+      r.expectations.push_back(ParseScoreExpectation(e, "--expect"));
+    }
   } else {
     Fail("",
-         "a subcommand is required: world, snapshot, run, drive, where, detect or train-detectors "
-         "(see corridorsim --help)");
+         "a subcommand is required: world, snapshot, run, drive, where, detect, train-detectors, "
+         "dataset or score (see corridorsim --help)");
   }
   return parsed;
 }

@@ -9,10 +9,12 @@
 #include <string>
 #include <vector>
 
+#include "harness/dataset_request.h"
 #include "harness/detect.h"
 #include "harness/drive.h"
 #include "harness/job.h"
 #include "harness/run.h"
+#include "harness/score_request.h"
 #include "harness/snapshot.h"
 #include "harness/train_detectors_request.h"
 #include "harness/where.h"
@@ -35,7 +37,18 @@ inline constexpr double kPoseMaxAbsYawDeg = 360.0;
 
 /// What the command line asks for.
 struct CommandLine {
-  enum class Job { kHelp, kWorld, kSnapshot, kRun, kDrive, kWhere, kDetect, kTrainDetectors };
+  enum class Job {
+    kHelp,
+    kWorld,
+    kSnapshot,
+    kRun,
+    kDrive,
+    kWhere,
+    kDetect,
+    kTrainDetectors,
+    kDataset,
+    kScore,
+  };
   Job job = Job::kHelp;
   std::string help_text;  // kHelp: printed on stdout, exit 0
   // The request of `job`. An empty scenario_file means "none given": main picks the default
@@ -47,6 +60,8 @@ struct CommandLine {
   WhereRequest where;
   DetectRequest detect;
   TrainDetectorsRequest train_detectors;
+  DatasetRequest dataset;
+  ScoreRequest score;
 };
 
 /// Parses the arguments (without the program name). Throws InputError at
@@ -71,6 +86,11 @@ std::string ParsePipelineArgument(const std::string& text, const std::string& fl
 /// Bounds of `train-detectors`' counts (training must take minutes on two cores).
 inline constexpr int kMaxTrainWorlds = 200;
 inline constexpr int kMaxViewsPerWorld = 500;
+
+/// `score --expect KEY OP VALUE`: KEY is `<class>.<metric>` (kScoreClassNames,
+/// kScoreMetricNames), OP one of >=, >, <=, <, VALUE a decimal number. Throws InputError naming
+/// `flag`.
+ScoreExpectation ParseScoreExpectation(const std::string& text, const std::string& flag);
 
 /// `snapshot --pose x,y,yaw`: metres, metres, degrees, each within the bounds above.
 struct PoseArgument {

@@ -1,7 +1,8 @@
-// The corridorsim command. Subcommands: run (the main job), world, snapshot, drive, detect. The
-// command line is parsed by ParseCommandLine (harness/cli.h); this file only dispatches. Exit
-// codes: 0 success, 2 bad input (one message naming file, line and key, or the command-line flag),
-// 3 an expectation failed, 4 a run's results are written but an extra failed, 1 any other failure.
+// The corridorsim command. Subcommands: run (the main job), world, snapshot, drive, where, detect,
+// train-detectors, dataset, score. The command line is parsed by ParseCommandLine
+// (harness/cli.h); this file only dispatches. Exit codes: 0 success, 2 bad input (one message
+// naming file, line and key, or the command-line flag), 3 an expectation failed (run, score), 4 a
+// run's results are written but an extra failed, 1 any other failure.
 
 #include <chrono>
 #include <cstdio>
@@ -14,12 +15,14 @@
 #include "common/error.h"
 #include "common/io/atomic_file.h"
 #include "harness/cli.h"
+#include "harness/dataset.h"
 #include "harness/detect.h"
 #include "harness/drive.h"
 #include "harness/job.h"
 #include "harness/run.h"
 #include "harness/run_folder.h"
 #include "harness/scenario.h"
+#include "harness/score.h"
 #include "harness/snapshot.h"
 #include "harness/train_detectors.h"
 #include "harness/where.h"
@@ -116,6 +119,11 @@ int Dispatch(CommandLine& command) {
       return kExitSuccess;
     case CommandLine::Job::kTrainDetectors:
       return RunTrainDetectors(command.train_detectors);
+    case CommandLine::Job::kDataset:
+      ResolveDefaultScenario(&command.dataset);
+      return RunDataset(command.dataset);
+    case CommandLine::Job::kScore:
+      return RunScore(command.score);
   }
   return kExitFailure;
 }

@@ -149,7 +149,8 @@ TEST_CASE("where takes a room number, a run folder and optionally one pipeline",
   }
   CHECK_THAT(ParseCommandLine({"where", "--help"}).help_text,
              Catch::Contains("Exit codes: 0 success, 2 bad input"));
-  CHECK_THAT(ErrorOf({"wher"}), Catch::Contains("drive, where, detect or train-detectors"));
+  CHECK_THAT(ErrorOf({"wher"}),
+             Catch::Contains("drive, where, detect, train-detectors, dataset or score"));
 }
 
 TEST_CASE("ParseCommandLine fills the detect request", "[harness]") {
@@ -192,9 +193,90 @@ TEST_CASE("the detect command line is strict", "[harness]") {
              Catch::StartsWith("command line: --depth: only the front camera"));
   CHECK_THAT(ErrorOf({"detect", "a.png", "--seed", "1"}), Catch::Contains("--seed"));
   CHECK_THAT(ErrorOf({"detect", "a.png", "--force"}), Catch::Contains("--force"));
-  CHECK_THAT(
-      ErrorOf({"detekt", "a.png"}),
-      Catch::Contains("expected world, snapshot, run, drive, where, detect or train-detectors"));
+  CHECK_THAT(ErrorOf({"detekt", "a.png"}),
+             Catch::Contains("expected world, snapshot, run, drive, where, detect, "
+                             "train-detectors, dataset or score"));
+}
+
+TEST_CASE("ParseCommandLine fills the dataset request", "[harness]") {
+  const CommandLine plain = ParseCommandLine({"dataset", "s.yaml"});
+  CHECK(plain.job == Job::kDataset);
+  CHECK(plain.dataset.scenario_file == "s.yaml");
+  CHECK(plain.dataset.worlds == 1);
+  CHECK(plain.dataset.frames_per_world == 1);
+  CHECK(plain.dataset.cameras.empty());
+  CHECK(plain.dataset.poses == DatasetPoseMode::kRandom);
+  CHECK(plain.dataset.out_dir == "out/dataset");
+
+  const CommandLine full = ParseCommandLine(
+      {"dataset", "s.yaml", "--worlds", "100000", "--frames-per-world=7", "--cameras",
+       "upward,front", "--poses", "path", "--seed", "9", "--out", "d", "--force"});
+  CHECK(full.dataset.worlds == 100000);
+  CHECK(full.dataset.frames_per_world == 7);
+  CHECK(full.dataset.cameras == std::vector<std::string>{"upward", "front"});
+  CHECK(full.dataset.poses == DatasetPoseMode::kPath);
+  CHECK(full.dataset.seed == 9u);
+  CHECK(full.dataset.force);
+}
+
+TEST_CASE("the dataset command line is strict", "[harness]") {
+  for (const char* bad : {"0", "100001", "-1", "1.5", "x", ""}) {
+    INFO("count '" << bad << "'");
+    CHECK_THAT(ErrorOf({"dataset", "--worlds", bad}),
+               Catch::StartsWith("command line: --worlds: "));
+    CHECK_THAT(ErrorOf({"dataset", "--frames-per-world", bad}),
+               Catch::StartsWith("command line: --frames-per-world: "));
+  }
+  for (const char* bad : {"", ",", "front,", ",front", "front,,lateral"}) {
+    INFO("--cameras '" << bad << "'");
+    CHECK_THAT(ErrorOf({"dataset", "--cameras", bad}),
+               Catch::StartsWith("command line: --cameras: an empty camera name"));
+  }
+  CHECK_THAT(ErrorOf({"dataset", "--poses", "grid"}),
+             Catch::StartsWith("command line: --poses: expected path or random"));
+  CHECK_THAT(ErrorOf({"dataset", "--seed", "-1"}), Catch::StartsWith("command line: --seed: "));
+}
+
+TEST_CASE("ParseCommandLine fills the score request", "[harness]") {
+  const CommandLine plain = ParseCommandLine({"score", "d.json", "--dataset", "ds"});
+  CHECK(plain.job == Job::kScore);
+  CHECK(plain.score.detections_file == "d.json");
+  CHECK(plain.score.dataset_dir == "ds");
+  CHECK_FALSE(plain.score.camera);
+  CHECK_FALSE(plain.score.report_dir);
+  CHECK(plain.score.expectations.empty());
+
+  const CommandLine full =
+      ParseCommandLine({"score", "d.json", "--dataset", "ds", "--camera", "upward", "--out", "r",
+                        "--force", "--expect", "lamp.ap50>=0.8", "--expect", "door.recall<0.25"});
+  REQUIRE(full.score.camera);
+  CHECK(*full.score.camera == "upward");
+  CHECK(*full.score.report_dir == "r");
+  CHECK(full.score.force);
+  REQUIRE(full.score.expectations.size() == 2);
+  CHECK(full.score.expectations[0].class_name == "lamp");
+  CHECK(full.score.expectations[0].metric == "ap50");
+  CHECK(full.score.expectations[0].op == ScoreExpectation::Op::kGreaterEqual);
+  CHECK(full.score.expectations[0].value == 0.8);
+  CHECK(full.score.expectations[1].op == ScoreExpectation::Op::kLess);
+  CHECK(full.score.expectations[1].value == 0.25);
+}
+
+TEST_CASE("the score command line is strict", "[harness]") {
+  CHECK_THAT(ErrorOf({"score", "d.json"}), Catch::Contains("--dataset is required"));
+  CHECK_THAT(ErrorOf({"score", "", "--dataset", "ds"}),
+             Catch::StartsWith("command line: detections: an empty file name"));
+  const auto expect_error = [](const char* text) {
+    return ErrorOf({"score", "d.json", "--dataset", "ds", "--expect", text});
+  };
+  CHECK_THAT(expect_error("lamp.ap50"), Catch::StartsWith("command line: --expect: expected"));
+  CHECK_THAT(expect_error("lamp>=1"), Catch::StartsWith("command line: --expect: expected"));
+  CHECK_THAT(expect_error("lamps.ap50>=1"),
+             Catch::StartsWith("command line: --expect: unknown class 'lamps'"));
+  CHECK_THAT(expect_error("lamp.map>=1"),
+             Catch::StartsWith("command line: --expect: unknown metric 'map'"));
+  CHECK_THAT(expect_error("lamp.ap50>=high"), Catch::StartsWith("command line: --expect: "));
+  CHECK_THAT(expect_error("lamp.ap50>=nan"), Catch::StartsWith("command line: --expect: "));
 }
 
 }  // namespace

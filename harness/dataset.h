@@ -1,0 +1,70 @@
+#pragma once
+// `corridorsim dataset`: labelled images of seeded worlds for developing detectors and scoring
+// them with `corridorsim score` (docs/datasets.md). N worlds (world w has seed + w) are each
+// rendered at M poses (drawn inside the corridor, or evenly spaced along the scenario's path);
+// per camera and frame it writes the image, the 16-bit labels, depth, the frame's ground truth
+// with its COCO annotations, and at the end one COCO file per camera built from the truth files.
+// The folder is filled in place, file by file (atomically), so that a killed job resumes: a frame
+// whose truth files exist is done.
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "common/pose.h"
+#include "harness/dataset_request.h"
+#include "harness/scenario.h"
+#include "render/camera_rig.h"
+#include "render/frame_truth.h"
+#include "worlds/world.h"
+
+namespace corridorsim {
+
+/// Draws per random pose before the world is declared too tight for the robot.
+inline constexpr int kMaxPoseTries = 1000;
+/// Doors with fewer pixels than this in the instance image get no annotation.
+inline constexpr int kMinDoorPixels = 20;
+
+/// The fixed COCO categories of every dataset (ids never change: detections refer to them).
+enum DatasetCategory : int {
+  kCategoryDoorPlate = 1,
+  kCategoryDoor = 2,
+  kCategoryLamp = 3,
+  kCategoryCeilingCorner = 4,
+};
+inline constexpr int kDatasetCategoryCount = 4;
+/// "door_plate", "door", "lamp", "ceiling_corner" for ids 1..4; "" otherwise.
+std::string DatasetCategoryName(int category_id);
+/// COCO's `categories` array: id, name, supercategory.
+nlohmann::ordered_json DatasetCategoriesJson();
+
+/// The robot's poses in `world` for `mode` (`count` of them). Random poses come from the stream
+/// (world.seed, 0, "dataset.poses") and are checked against the world with the enabled cameras of
+/// `rig`. Throws InputError at `--poses` when no clear pose is found in kMaxPoseTries draws or
+/// the scenario's path is a script (it has no legs to space poses along), and at the scenario's
+/// `path:` when the path does not fit.
+std::vector<SE2> DatasetPoses(const Scenario& scenario, const worlds::World& world,
+                              const render::RigOptions& rig, DatasetPoseMode mode, int count);
+
+/// The COCO annotations of one frame (without `id` and `image_id`, which the camera's
+/// annotations.json assigns): the visible landmarks of `truth` inside the image, in COCO's pixel
+/// convention (docs/datasets.md). `frame` gives the instance image (door boxes) and the pose.
+nlohmann::ordered_json FrameAnnotations(const worlds::World& world, const render::FrameTruth& truth,
+                                        const render::CameraFrame& frame, int width, int height);
+
+/// Frame file stem `w<WWW>_f<FFFF>`: zero-padded to 3 and 4 digits, or to the digits of the
+/// largest index when that is wider, so that names sort in frame order.
+std::string DatasetFrameStem(int world_index, int frame_index, int worlds, int frames_per_world);
+
+/// Rebuilds `dir/<camera>/annotations.json` from the camera's truth files (all of them must
+/// exist). Image ids are world_index * frames_per_world + frame_index + 1.
+void WriteDatasetAnnotations(const std::filesystem::path& dir, const std::string& camera,
+                             int worlds, int frames_per_world);
+
+/// Runs the job; returns the exit code. Throws InputError for bad input.
+int RunDataset(const DatasetRequest& request);
+
+}  // namespace corridorsim
