@@ -79,6 +79,12 @@ Json ParseJsonText(std::string_view text, const std::string& file) {
     const std::size_t colon = what.rfind(": ");
     if (colon != std::string::npos) what = what.substr(colon + 2);
     FailAt(file, "", "malformed JSON at byte " + std::to_string(e.byte) + ": " + what);
+  } catch (const nlohmann::json::exception& e) {
+    // Numbers a double cannot hold (1e999: JSON has no infinities) and the like.
+    std::string what = e.what();
+    const std::size_t bracket = what.find("] ");
+    if (bracket != std::string::npos) what = what.substr(bracket + 2);
+    FailAt(file, "", "malformed JSON: " + what);
   }
 }
 
@@ -503,7 +509,10 @@ std::string ScorePng(const Json& classes) {
     cv::rectangle(img, pr, grey, 1);
     char title[160];
     const auto text_of = [](const Json& v) {
-      return v.is_null() ? std::string("-") : FormatNumber(v.get<double>());
+      char buffer[16];
+      if (v.is_null()) return std::string("-");
+      std::snprintf(buffer, sizeof(buffer), "%.3f", v.get<double>());
+      return std::string(buffer);
     };
     std::snprintf(title, sizeof(title), "%s  AP50 %s  AP %s", name.c_str(),
                   text_of(c["ap50"]).c_str(), text_of(c["ap"]).c_str());
