@@ -5,15 +5,15 @@ set -euo pipefail
 
 PACKAGES=(
   # toolchain
-  cmake g++ ninja-build pkg-config clang-format
+  cmake g++ ninja-build pkg-config clang-format ccache
   # libraries (see ../shared/DEPENDENCIES.md)
   libeigen3-dev libyaml-cpp-dev nlohmann-json3-dev libcli11-dev libspdlog-dev libfmt-dev
   libboost-math-dev libopencv-dev libbullet-dev liboctomap-dev
   libosmesa6-dev libegl-dev libegl-mesa0 libgl-dev
   libfreetype-dev fonts-dejavu-core
   catch2
-  # plots
-  python3-matplotlib
+  # plots; the example detector of the README (examples/)
+  python3-matplotlib python3-opencv
 )
 
 missing=()
