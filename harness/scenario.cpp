@@ -102,7 +102,8 @@ const OptionTable<Scenario>& ScenarioOptionsTable() {
     auto rig = [](S& s) -> render::RigOptions& { return s.rig; };
     t.AddSection("sensors", rig, render::SensorsOptionsTable(), "the cameras",
                  &render::RigOptions::Check);
-    t.AddSection("render", rig, render::RenderOptionsTable(), "how the cameras are drawn");
+    t.AddSection("render", rig, render::RenderOptionsTable(), "how the cameras are drawn",
+                 &render::RigOptions::CheckRender);
     t.AddSection("robot", &S::robot, sim::RobotOptionsTable(), "the robot and its odometry errors",
                  &sim::RobotOptions::Check);
     t.AddSection("path", &S::robot_path, sim::RobotPathOptionsTable(), "what the robot drives",

@@ -50,6 +50,8 @@ struct DrawRequest {
   /// cube faces): the backend may leave them unshaded, so their values are unspecified. Every
   /// other pixel is exactly what it would be without them.
   std::span<const PixelRect> unused = {};
+  /// The camera's exposure gain: colour = clamp(exposure * (albedo * light + emission)).
+  float exposure = 1.0f;
 };
 
 /// The context's GL strings (glGetString), which the images depend on besides the scene: the

@@ -1,5 +1,7 @@
 #include "render/camera_rig.h"
 
+#include "render/lighting.h"
+
 #include "common/io/options_yaml.h"
 #include "common/options_checker.h"
 #include "common/time.h"
@@ -240,6 +242,23 @@ const OptionTable<Mount>& MountOptionsTable() {
   });
 }
 
+const OptionTable<ExposureOptions>& ExposureOptionsTable() {
+  return StaticOptionTable<ExposureOptions>([](OptionTable<ExposureOptions>& t) {
+    using E = ExposureOptions;
+    t.AddEnum("mode", &E::mode, {{"fixed", ExposureMode::kFixed}, {"auto", ExposureMode::kAuto}},
+              "`fixed`: the gain below; `auto`: metered per frame from the scene in view "
+              "(deterministic: the pose decides)");
+    t.Add("gain", &E::gain, "", "fixed exposure: scene radiance 1 / gain reaches full scale")
+        .Range(0.01, 100, "must lie in [0.01, 100]");
+    t.Add("target", &E::target, "", "auto exposure: the mean luminance it brings the scene to")
+        .Range(0.01, 1, "must lie in [0.01, 1]");
+    t.Add("min_gain", &E::min_gain, "", "auto exposure: the lowest gain")
+        .Range(0.01, 100, "must lie in [0.01, 100]");
+    t.Add("max_gain", &E::max_gain, "", "auto exposure: the highest gain (dark scenes stay dark)")
+        .Range(0.01, 100, "must lie in [0.01, 100]");
+  });
+}
+
 // `noise:` holds the camera's noise switch and its two noise models.
 const OptionTable<CameraOptions>& CameraNoiseOptionsTable() {
   return StaticOptionTable<CameraOptions>([](OptionTable<CameraOptions>& t) {
@@ -261,6 +280,17 @@ const OptionTable<SceneOptions>& SceneRenderOptionsTable() {
     t.Add("light_falloff_m", &S::light_falloff_m, "m",
           "distance at which a lamp's light has halved")
         .Greater(0, "must be greater than 0");
+    t.Add("lamp_radiance", &S::lamp_radiance, "",
+          "brightness of the lamps' own emitting faces (1 = white at gain 1)")
+        .Range(0, 1000, "must lie in [0, 1000]");
+    t.Add("shadows", &S::shadows, "",
+          "baked light stops at solids: walls, door frames and leaves, furniture");
+    t.Add("bounces", &S::bounces, "",
+          "baked diffuse bounces between floor, walls and ceiling (radiosity over their patches)")
+        .Range(0, 3, "must lie in [0, 3]");
+    t.Add("bounce_range_m", &S::bounce_range_m, "m",
+          "surfaces further apart exchange no bounced light")
+        .Range(0.5, 30, "must lie in [0.5, 30] m");
     t.Add("bake_lighting", &S::bake_lighting, "",
           "lamps' light baked per vertex when the scene is built (every lamp within 15 m, no "
           "per-pixel cost); false lights each pixel from the nearest `max_lights` lamps");
@@ -308,6 +338,8 @@ const OptionTable<CameraOptions>& CameraOptionsTable() {
           "fisheye: resolution of the cube faces it is drawn from (0 = matched to the model's "
           "centre)")
         .Range(0, 4096, "must lie in [0, 4096] (0 = automatic)");
+    t.AddSection("exposure", &C::exposure, ExposureOptionsTable(),
+                 "the gain from scene radiance to the sensor's range, before it clips");
     t.AddSection(
         "noise", [](C& c) -> C& { return c; }, CameraNoiseOptionsTable(), "the noise models");
   });
@@ -326,8 +358,23 @@ const OptionTable<RigOptions>& RenderOptionsTable() {
     t.AddEnum("backend", &RigOptions::backend, kBackendKindNames,
               "`egl` is EGL surfaceless; the environment variable `CORRIDORSIM_RENDER_BACKEND` "
               "overrides it");
+    t.Add("samples", &RigOptions::samples, "",
+          "supersampling: samples per pixel, 1 (off), 9 (3 x 3) or 25 (5 x 5); colour is their "
+          "mean, labels and depth the centre sample's; costs about `samples` times the drawing")
+        .Range(1, 25, "must be 1, 9 or 25");
     t.AddSection("", &RigOptions::scene, SceneRenderOptionsTable(), "lighting and textures");
   });
+}
+
+std::optional<OptionsProblem> RigOptions::CheckRender() const {
+  if (auto problem = CheckOptionBounds(RenderOptionsTable(), *this)) return problem;
+  if (samples != 1 && samples != 9 && samples != 25) {
+    return OptionsProblem{"samples",
+                          "must be 1, 9 (3 x 3) or 25 (5 x 5) samples per pixel, so "
+                          "that one sample sits at each pixel's centre (got " +
+                              std::to_string(samples) + ")"};
+  }
+  return std::nullopt;
 }
 
 std::optional<OptionsProblem> RigOptions::Check() const {
@@ -337,6 +384,11 @@ std::optional<OptionsProblem> RigOptions::Check() const {
     if (!(c.phase_s >= 0 && c.phase_s * c.rate_hz < 1)) {
       return OptionsProblem{k + "phase_s",
                             "must lie in [0, 1 / rate_hz) (got " + FormatNumber(c.phase_s) + " s)"};
+    }
+    if (c.exposure.min_gain > c.exposure.max_gain) {
+      return OptionsProblem{k + "exposure.min_gain", "must not exceed exposure.max_gain (got " +
+                                                         FormatNumber(c.exposure.min_gain) + " > " +
+                                                         FormatNumber(c.exposure.max_gain) + ")"};
     }
     const bool pinhole = c.model.pinhole() != nullptr;
     const CameraIntrinsics p = c.model.intrinsics();
@@ -370,7 +422,7 @@ std::optional<OptionsProblem> RigOptions::Check() const {
   std::uint64_t rig_bytes = 0;
   for (const CameraOptions& c : cameras) {
     if (!c.enabled) continue;
-    const CameraBudget budget = CameraBudgetOf(c);
+    const CameraBudget budget = CameraBudgetOf(c, samples);
     const bool fisheye = c.model.kannala_brandt() != nullptr;
     if (budget.pass_width_px > kMaxPassPx || budget.pass_height_px > kMaxPassPx) {
       return OptionsProblem{
@@ -394,7 +446,40 @@ std::optional<OptionsProblem> RigOptions::Check() const {
   return std::nullopt;
 }
 
-CameraBudget CameraBudgetOf(const CameraOptions& camera) {
+namespace {
+
+// The model at n times the resolution: pixel centres u map to n u + (n - 1) / 2, so the centre
+// sample of output pixel (u, v) is drawn pixel (n u + (n - 1) / 2, n v + (n - 1) / 2).
+template <class Model>
+Model Scaled(Model m, int n) {
+  m.width *= n;
+  m.height *= n;
+  m.fx *= n;
+  m.fy *= n;
+  m.cx = n * m.cx + (n - 1) / 2.0;
+  m.cy = n * m.cy + (n - 1) / 2.0;
+  return m;
+}
+
+CameraModel ScaledModel(const CameraModel& model, int n) {
+  if (n == 1) return model;
+  if (const auto* p = model.pinhole()) return CameraModel(Scaled(*p, n));
+  return CameraModel(Scaled(*model.kannala_brandt(), n));
+}
+
+// render.samples (1, 9, 25) as samples per pixel side.
+int SamplesPerSide(int samples) { return samples >= 25 ? 5 : samples >= 9 ? 3 : 1; }
+
+}  // namespace
+
+CameraBudget CameraBudgetOf(const CameraOptions& camera, int samples) {
+  if (SamplesPerSide(samples) > 1) {
+    // Supersampled: the camera drawn at n times its resolution.
+    CameraOptions drawn = camera;
+    drawn.model = ScaledModel(camera.model, SamplesPerSide(samples));
+    drawn.cube_face_px *= SamplesPerSide(samples);
+    return CameraBudgetOf(drawn, 1);
+  }
   const CameraModel& model = camera.model;
   const CameraIntrinsics p = model.intrinsics();
   const std::uint64_t pixels = std::uint64_t(std::max(p.width, 0)) * std::max(p.height, 0);
@@ -483,8 +568,14 @@ std::optional<OptionsProblem> CheckCameraPlacement(const worlds::World& world,
 
 // ---- CameraRenderer ----------------------------------------------------------------------------
 
-CameraRenderer::CameraRenderer(const CameraOptions& options) : options_(options) {
-  if (IsUndistortedPinhole(options_.model)) {
+CameraRenderer::CameraRenderer(const CameraOptions& options, int samples_per_side)
+    : options_(options),
+      n_(samples_per_side),
+      draw_model_(ScaledModel(options.model, samples_per_side)) {
+  if (n_ < 1 || n_ % 2 == 0 || n_ > 5) {
+    throw std::invalid_argument("render: samples per pixel side must be 1, 3 or 5");
+  }
+  if (IsUndistortedPinhole(draw_model_)) {
     PlanPinholePass();
   } else {
     PlanRemapPasses();
@@ -493,7 +584,7 @@ CameraRenderer::CameraRenderer(const CameraOptions& options) : options_(options)
 }
 
 void CameraRenderer::PlanPinholePass() {
-  const PinholeRadTan& p = *options_.model.pinhole();
+  const PinholeRadTan& p = *draw_model_.pinhole();
   Pass pass;
   pass.view.width = p.width;
   pass.view.height = p.height;
@@ -505,15 +596,15 @@ void CameraRenderer::PlanPinholePass() {
 }
 
 void CameraRenderer::PlanRemapPasses() {
-  const CameraIntrinsics p = options_.model.intrinsics();
-  const bool fisheye = options_.model.kannala_brandt() != nullptr;
+  const CameraIntrinsics p = draw_model_.intrinsics();
+  const bool fisheye = draw_model_.kannala_brandt() != nullptr;
   const int w = p.width, h = p.height;
   // Unit bearings of every output pixel, and which face (or the single pass) each one uses.
   std::vector<Vector3d> bearings(static_cast<std::size_t>(w) * h);
   std::vector<int> face_of(bearings.size(), -1);
   for (int v = 0; v < h; ++v) {
     for (int u = 0; u < w; ++u) {
-      const Vector3d b = options_.model.Unproject(Vector2d(u, v));
+      const Vector3d b = draw_model_.Unproject(Vector2d(u, v));
       const std::size_t i = static_cast<std::size_t>(v) * w + u;
       bearings[i] = b;
       if (!b.allFinite() || b.norm() < 0.5) continue;
@@ -532,7 +623,7 @@ void CameraRenderer::PlanRemapPasses() {
   }
   // Pass intrinsics: a fisheye face spans 90 degrees at `face_px`; a distorted pinhole's single
   // pass keeps the camera's focal length.
-  int face_px = options_.cube_face_px;
+  int face_px = options_.cube_face_px * n_;
   if (face_px == 0) face_px = 2 * static_cast<int>(std::ceil(std::max(p.fx, p.fy)));
   const double f_face = face_px / 2.0;
   struct Extent {
@@ -687,8 +778,13 @@ std::size_t CameraRenderer::pass_pixel_count() const {
 }
 
 std::optional<std::pair<int, Eigen::Vector2d>> CameraRenderer::Lookup(int u, int v) const {
-  const int width = options_.model.width();
-  if (u < 0 || v < 0 || u >= width || v >= options_.model.height()) return std::nullopt;
+  if (u < 0 || v < 0 || u >= options_.model.width() || v >= options_.model.height()) {
+    return std::nullopt;
+  }
+  // The centre sample (supersampling).
+  u = n_ * u + (n_ - 1) / 2;
+  v = n_ * v + (n_ - 1) / 2;
+  const int width = draw_model_.width();
   if (lut_.empty()) return std::make_pair(0, Vector2d(u, v));
   const LutEntry& e = lut_[static_cast<std::size_t>(v) * width + u];
   if (!e.valid) return std::nullopt;
@@ -715,15 +811,37 @@ void CameraRenderer::Draw(const Scene& scene, Backend& backend, const SE3& world
   for (std::size_t k = 0; k < views.size(); ++k) {
     views[k].read_depth = options_.depth;
     visible[k] = VisibleDrawables(scene, views[k]);
-    requests[k] = DrawRequest{views[k], visible[k], lights, &rendered_[k], unused_pixels(k)};
+  }
+  const auto gain = static_cast<float>(ExposureGain(scene, world_from_camera, visible));
+  for (std::size_t k = 0; k < views.size(); ++k) {
+    requests[k] = DrawRequest{views[k], visible[k], lights, &rendered_[k], unused_pixels(k), gain};
   }
   backend.DrawPasses(requests);
+}
+
+double CameraRenderer::ExposureGain(const Scene& scene, const SE3& world_from_camera,
+                                    std::span<const std::vector<int>> visible) const {
+  const ExposureOptions& e = options_.exposure;
+  if (e.mode == ExposureMode::kFixed) return e.gain;
+  const double mean = MeteredLuminance(scene, world_from_camera.translation(), visible);
+  if (!(mean > 0)) return e.max_gain;
+  return std::clamp(e.target / mean, e.min_gain, e.max_gain);
 }
 
 void CameraRenderer::Finish(CameraFrame* frame) {
   frame->camera_id = options_.id;
   frame->world_from_camera = world_from_camera_;
-  if (lut_.empty()) {
+  if (n_ > 1) {
+    if (lut_.empty()) {
+      std::swap(hires_.rgb, rendered_[0].rgb);
+      std::swap(hires_.instance, rendered_[0].instance);
+      std::swap(hires_.semantic, rendered_[0].semantic);
+      if (options_.depth) std::swap(hires_.depth_m, rendered_[0].depth_m);
+    } else {
+      Compose(&hires_);
+    }
+    Downsample(hires_, frame);
+  } else if (lut_.empty()) {
     // One exact pass: hand its buffers over (the frame's old buffers come back for reuse).
     RenderedView& r = rendered_[0];
     std::swap(frame->rgb, r.rgb);
@@ -735,8 +853,47 @@ void CameraRenderer::Finish(CameraFrame* frame) {
   }
 }
 
+void CameraRenderer::Downsample(const CameraFrame& hires, CameraFrame* frame) const {
+  const int width = options_.model.width(), height = options_.model.height(), n = n_;
+  const std::size_t hw = static_cast<std::size_t>(width) * n;
+  if (frame->rgb.width != width || frame->rgb.height != height || frame->rgb.channels != 3) {
+    frame->rgb = Image8(width, height, 3);
+  }
+  const std::size_t pixels = static_cast<std::size_t>(width) * height;
+  frame->instance.resize(pixels);
+  frame->semantic.resize(pixels);
+  if (options_.depth) {
+    frame->depth_m.width = width;
+    frame->depth_m.height = height;
+    frame->depth_m.data.resize(pixels);
+  }
+  const unsigned count = static_cast<unsigned>(n * n);
+  for (int v = 0; v < height; ++v) {
+    for (int u = 0; u < width; ++u) {
+      const std::size_t out = static_cast<std::size_t>(v) * width + u;
+      unsigned sum[3] = {0, 0, 0};
+      for (int dy = 0; dy < n; ++dy) {
+        const std::size_t row = (static_cast<std::size_t>(v) * n + dy) * hw;
+        for (int dx = 0; dx < n; ++dx) {
+          const std::uint8_t* px =
+              &hires.rgb.data[(row + static_cast<std::size_t>(u) * n + dx) * 3];
+          for (int c = 0; c < 3; ++c) sum[c] += px[c];
+        }
+      }
+      for (int c = 0; c < 3; ++c) {
+        frame->rgb.data[out * 3 + c] = static_cast<std::uint8_t>((sum[c] + count / 2) / count);
+      }
+      const std::size_t centre = (static_cast<std::size_t>(v) * n + (n - 1) / 2) * hw +
+                                 static_cast<std::size_t>(u) * n + (n - 1) / 2;
+      frame->instance[out] = hires.instance[centre];
+      frame->semantic[out] = hires.semantic[centre];
+      if (options_.depth) frame->depth_m.data[out] = hires.depth_m.data[centre];
+    }
+  }
+}
+
 void CameraRenderer::Compose(CameraFrame* frame) const {
-  const int width = options_.model.width(), height = options_.model.height();
+  const int width = draw_model_.width(), height = draw_model_.height();
   const std::size_t n = static_cast<std::size_t>(width) * height;
   if (frame->rgb.width != width || frame->rgb.height != height || frame->rgb.channels != 3) {
     frame->rgb = Image8(width, height, 3);
@@ -769,7 +926,7 @@ Rig::Rig(const RigOptions& options, const Scene& scene, Backend& backend)
   // tables are planned or a frame is drawn.
   for (const CameraOptions& c : options.cameras) {
     if (!c.enabled) continue;
-    const CameraBudget budget = CameraBudgetOf(c);
+    const CameraBudget budget = CameraBudgetOf(c, options.samples);
     if (budget.pass_width_px > backend.max_view_px() ||
         budget.pass_height_px > backend.max_view_px()) {
       throw RenderError("render: sensors." + c.id + ": the camera is drawn from a pass of " +
@@ -780,7 +937,7 @@ Rig::Rig(const RigOptions& options, const Scene& scene, Backend& backend)
     }
   }
   for (const CameraOptions& c : options.cameras) {
-    if (c.enabled) cameras_.emplace_back(c);
+    if (c.enabled) cameras_.emplace_back(c, SamplesPerSide(options.samples));
   }
   started_.assign(cameras_.size(), false);
   // The cameras with the most CPU work after their draw start first in Render, so it overlaps

@@ -41,6 +41,20 @@ struct Mount {
   SE3 RobotFromCamera() const;
 };
 
+/// The camera's exposure: the gain from scene radiance to the sensor's full scale, applied before
+/// the sensor clips (lamps saturate, as on a real camera). `fixed` uses `gain`; `auto` meters each
+/// frame from the scene before drawing it (the mean luminance of the surfaces in view, weighted by
+/// the solid angle each covers, lamps left out) and sets gain = target / mean, within
+/// [min_gain, max_gain]. Both are deterministic: a frame's gain depends on its pose alone.
+enum class ExposureMode { kFixed, kAuto };
+struct ExposureOptions {
+  ExposureMode mode = ExposureMode::kFixed;
+  double gain = 1.0;       // fixed: the gain; auto: unused
+  double target = 0.45;    // auto: the mean luminance the metered scene is brought to
+  double min_gain = 0.25;  // auto: bounds of the gain
+  double max_gain = 4.0;
+};
+
 struct CameraOptions {
   std::string id;  // "front", "lateral", "upward"
   bool enabled = true;
@@ -54,11 +68,17 @@ struct CameraOptions {
   DepthNoiseOptions depth_noise;
   RgbNoiseOptions rgb_noise;
   int cube_face_px = 0;  // fisheye: cube face resolution (0 = matched to the model's centre)
+  ExposureOptions exposure;
 };
+
+/// Samples per pixel that `render.samples` allows: n x n per pixel with n odd, so one sample
+/// sits at the pixel's centre (labels and depth come from it; colour is the mean of all).
+inline constexpr int kSupersampleChoices[] = {1, 9, 25};
 
 struct RigOptions {
   std::vector<CameraOptions> cameras;  // in a fixed order: front, lateral, upward
   BackendKind backend = BackendKind::kOsMesa;
+  int samples = 1;  // supersampling: 1, 9 (3 x 3) or 25 (5 x 5) samples per pixel
   SceneOptions scene;
 
   /// The defaults: front RGB-D (640x480, 58 x 45 deg), lateral web camera (640x480, 60 deg,
@@ -67,6 +87,8 @@ struct RigOptions {
   const CameraOptions* Find(const std::string& id) const;
   /// The first problem (key relative to `sensors`, e.g. "upward.fov_deg"), or nothing.
   std::optional<OptionsProblem> Check() const;
+  /// The first problem of the `render:` keys (key relative to `render`), or nothing.
+  std::optional<OptionsProblem> CheckRender() const;
 };
 
 /// What a camera costs, known from its options before anything is planned or allocated: the
@@ -81,7 +103,8 @@ struct CameraBudget {
   int passes = 0;  // at most this many passes (a fisheye: 6 cube faces)
   std::uint64_t bytes = 0;
 };
-CameraBudget CameraBudgetOf(const CameraOptions& camera);
+/// `samples`: render.samples (the camera drawn at sqrt(samples) times its resolution).
+CameraBudget CameraBudgetOf(const CameraOptions& camera, int samples = 1);
 
 /// The largest pass side (px) a camera may need: every backend (llvmpipe's renderbuffers reach
 /// 16384, but a 16384^2 R32F target is the 1 GiB llvmpipe refuses) draws it; RigOptions::Check
@@ -120,11 +143,17 @@ struct CameraFrame {
 /// Draws one camera: its pinhole passes and the remap table through its model.
 class CameraRenderer {
  public:
-  explicit CameraRenderer(const CameraOptions& options);
+  /// `samples_per_side` n: the camera is drawn at n times its resolution (n x n samples per
+  /// pixel, n odd); colour is their mean, labels and depth the centre sample's.
+  explicit CameraRenderer(const CameraOptions& options, int samples_per_side = 1);
 
   const CameraOptions& options() const { return options_; }
   /// The pinhole passes for a camera at `world_from_camera`.
   std::vector<View> Passes(const SE3& world_from_camera) const;
+  /// The exposure gain of a frame at `world_from_camera` (ExposureOptions; `visible`: the
+  /// drawables in view, as the passes cull them).
+  double ExposureGain(const Scene& scene, const SE3& world_from_camera,
+                      std::span<const std::vector<int>> visible) const;
   /// Renders the exact (noise-free) frame: Draw, then Finish.
   void Render(const Scene& scene, Backend& backend, const SE3& world_from_camera,
               CameraFrame* frame);
@@ -168,9 +197,14 @@ class CameraRenderer {
   void PlanUnusedPixels();
   void PlanRemapPasses();
   void Compose(CameraFrame* frame) const;
+  /// Supersampling: `hires` (n times the size) into `frame`.
+  void Downsample(const CameraFrame& hires, CameraFrame* frame) const;
 
   CameraOptions options_;
-  SE3 world_from_camera_;  // of the last Draw
+  int n_ = 1;               // samples per pixel side
+  CameraModel draw_model_;  // the model drawn: options_.model, or n times its resolution
+  CameraFrame hires_;       // supersampling: the frame at the drawn resolution
+  SE3 world_from_camera_;   // of the last Draw
   std::vector<Pass> passes_;
   std::vector<LutEntry> lut_;       // empty for a direct (undistorted pinhole) camera
   std::vector<RemapEntry> remap_;   // per output pixel, alongside lut_

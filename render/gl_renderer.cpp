@@ -18,14 +18,14 @@ constexpr const char* kVertexShader = R"glsl(#version 330 core
 layout(location = 0) in vec3 a_position;  // world frame, m
 layout(location = 1) in vec3 a_normal;    // world frame
 layout(location = 2) in vec2 a_uv;
-layout(location = 3) in float a_irradiance;  // ambient + baked lamps
+layout(location = 3) in vec3 a_irradiance;  // ambient + baked lamps and bounces, RGB
 uniform mat4 u_camera_from_world;
 uniform mat4 u_clip_from_camera;
 out vec3 v_world;
 out vec3 v_normal;
 out vec2 v_uv;
 out vec3 v_camera;  // OpenCV optical frame, m
-out float v_irradiance;
+out vec3 v_irradiance;
 void main() {
   vec4 p_in_camera = u_camera_from_world * vec4(a_position, 1.0);
   v_world = a_position;
@@ -44,8 +44,9 @@ in vec3 v_world;
 in vec3 v_normal;
 in vec2 v_uv;
 in vec3 v_camera;
-in float v_irradiance;
+in vec3 v_irradiance;
 uniform vec3 u_diffuse;
+uniform float u_exposure;  // the camera's gain: 1 maps radiance 1 to full scale
 uniform vec3 u_emission;
 uniform int u_has_texture;
 uniform sampler2D u_texture;
@@ -62,9 +63,18 @@ layout(location = 2) out uint o_semantic;
 layout(location = 3) out float o_z;
 void main() {
   vec3 base = u_diffuse;
-  if (u_has_texture != 0) base *= texture(u_texture, v_uv).rgb;
+  if (u_has_texture != 0) {
+    // Mip level from the RMS of the footprint's two axes (the Frobenius norm of d texel / d
+    // pixel), not GL's longer axis: the norm does not change when the pixel grid turns, so two
+    // cube faces that see a surface at a grazing angle through differently oriented pixel grids
+    // pick the same level, and no brightness step runs along the seam between them.
+    vec2 texel = v_uv * vec2(textureSize(u_texture, 0));
+    vec2 dx = dFdx(texel), dy = dFdy(texel);
+    float lod = 0.5 * log2(max(0.5 * (dot(dx, dx) + dot(dy, dy)), 1e-12));
+    base *= textureLod(u_texture, v_uv, lod).rgb;
+  }
   vec3 n = normalize(v_normal);
-  vec3 light = vec3(v_irradiance);  // ambient (+ lamps when baked)
+  vec3 light = v_irradiance;  // ambient (+ lamps and bounces when baked)
 #if LIGHT_COUNT > 0
   for (int i = 0; i < LIGHT_COUNT; ++i) {
     // intensity * max(0, n.l) / (1 + (d / falloff)^2)
@@ -74,7 +84,7 @@ void main() {
     light += u_light_intensity[i] * (n_dot_l / (1.0 + d2 * u_inv_falloff2));
   }
 #endif
-  o_color = vec4(clamp(base * light + u_emission, 0.0, 1.0), 1.0);
+  o_color = vec4(clamp(u_exposure * (base * light + u_emission), 0.0, 1.0), 1.0);
   o_instance = u_instance;
   o_semantic = u_semantic;
   o_z = v_camera.z;  // exact for planar faces: perspective-correct interpolation of camera-frame z
@@ -191,7 +201,7 @@ GlBackend::GlBackend(std::unique_ptr<GlContext> context) : context_(std::move(co
   for (const Attribute& a :
        {Attribute{0, 3, offsetof(SceneVertex, position)},
         Attribute{1, 3, offsetof(SceneVertex, normal)}, Attribute{2, 2, offsetof(SceneVertex, uv)},
-        Attribute{3, 1, offsetof(SceneVertex, irradiance)}}) {
+        Attribute{3, 3, offsetof(SceneVertex, irradiance)}}) {
     gl_.EnableVertexAttribArray(a.location);
     gl_.VertexAttribPointer(a.location, a.floats, GL_FLOAT, GL_FALSE, kStride,
                             reinterpret_cast<const void*>(a.offset));
@@ -327,6 +337,7 @@ const GlBackend::Program& GlBackend::ProgramFor(int light_count) {
   program.has_texture = location("u_has_texture");
   program.texture = location("u_texture");
   program.inv_falloff2 = location("u_inv_falloff2");
+  program.exposure = location("u_exposure");
   program.light_position = location("u_light_position");
   program.light_intensity = location("u_light_intensity");
   program.instance = location("u_instance");
@@ -575,6 +586,7 @@ void GlBackend::Submit(const DrawRequest& request, int slot) {
   gl_.UniformMatrix4fv(program.camera_from_world, 1, GL_FALSE, camera_from_world.data());
   gl_.UniformMatrix4fv(program.clip_from_camera, 1, GL_FALSE, clip_from_camera.data());
   gl_.Uniform1f(program.inv_falloff2, 1.0f / (options_.light_falloff_m * options_.light_falloff_m));
+  gl_.Uniform1f(program.exposure, request.exposure);
   if (!lights.empty()) {
     std::array<float, 3 * kMaxLightsPerDraw> positions{}, intensities{};
     for (std::size_t i = 0; i < lights.size(); ++i) {

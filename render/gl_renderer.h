@@ -50,7 +50,7 @@ class GlBackend final : public Backend {
     GLuint id = 0;
     GLint camera_from_world = -1, clip_from_camera = -1;
     GLint diffuse = -1, emission = -1, has_texture = -1, texture = -1;
-    GLint inv_falloff2 = -1, light_position = -1, light_intensity = -1;
+    GLint inv_falloff2 = -1, exposure = -1, light_position = -1, light_intensity = -1;
     GLint instance = -1, semantic = -1;
   };
 

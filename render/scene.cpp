@@ -1,5 +1,7 @@
 #include "render/scene.h"
 
+#include "render/lighting.h"
+
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -60,44 +62,6 @@ Frustum MakeFrustum(const View& view) {
   return f;
 }
 
-// Irradiance per vertex: ambient + sum over lamps of intensity * max(0, n.l) / (1 + (d/f)^2),
-// the same model the per-pixel shader evaluates, for every lamp within bake_range_m. Lamps are
-// bucketed along x-y so a 1 km corridor costs what its neighbourhoods cost.
-void BakeLighting(Scene* scene) {
-  const SceneOptions& o = scene->options;
-  const double range = o.bake_range_m, inv_falloff2 = 1.0 / (o.light_falloff_m * o.light_falloff_m);
-  std::map<std::pair<long, long>, std::vector<int>> buckets;
-  auto bucket_of = [&](double x, double y) {
-    return std::make_pair(static_cast<long>(std::floor(x / range)),
-                          static_cast<long>(std::floor(y / range)));
-  };
-  for (std::size_t i = 0; i < scene->lights.size(); ++i) {
-    const auto& p = scene->lights[i].position;
-    buckets[bucket_of(p.x(), p.y())].push_back(static_cast<int>(i));
-  }
-  for (SceneVertex& v : scene->vertices) {
-    const Vector3d p(v.position[0], v.position[1], v.position[2]);
-    const Vector3d n(v.normal[0], v.normal[1], v.normal[2]);
-    const auto [bx, by] = bucket_of(p.x(), p.y());
-    double sum = o.ambient;
-    for (long dx = -1; dx <= 1; ++dx) {
-      for (long dy = -1; dy <= 1; ++dy) {
-        const auto it = buckets.find({bx + dx, by + dy});
-        if (it == buckets.end()) continue;
-        for (const int i : it->second) {
-          const PointLight& light = scene->lights[static_cast<std::size_t>(i)];
-          const Vector3d to_light = light.position.cast<double>() - p;
-          const double d2 = std::max(to_light.squaredNorm(), 1e-12);
-          if (d2 > range * range) continue;
-          const double n_dot_l = std::max(n.dot(to_light) / std::sqrt(d2), 0.0);
-          sum += light.intensity.x() * n_dot_l / (1.0 + d2 * inv_falloff2);
-        }
-      }
-    }
-    v.irradiance = static_cast<float>(sum);
-  }
-}
-
 // Calls f(cell index) for every culling-grid cell that the rectangle [x0, x1] x [y0, y1] (world
 // frame, m) touches, the rectangle clamped to the grid.
 template <class F>
@@ -121,7 +85,8 @@ Scene BuildScene(const worlds::World& world, const SceneOptions& options) {
   scene.options = options;
   for (const worlds::Texture& t : world.textures) scene.textures.push_back(t.image);
   for (const worlds::Material& m : world.materials) {
-    scene.materials.push_back(SceneMaterial{m.diffuse, m.emission, m.specular, m.texture});
+    scene.materials.push_back(
+        SceneMaterial{m.diffuse, m.emission * options.lamp_radiance, m.specular, m.texture});
   }
   for (const worlds::Mesh& mesh : world.meshes) {
     const auto base = static_cast<std::uint32_t>(scene.vertices.size());
@@ -133,7 +98,7 @@ Scene BuildScene(const worlds::World& world, const SceneOptions& options) {
       }
       v.uv[0] = mesh.uvs[i].x();
       v.uv[1] = mesh.uvs[i].y();
-      v.irradiance = options.ambient;
+      for (float& e : v.irradiance) e = options.ambient;
       scene.vertices.push_back(v);
     }
     // Triangles of a mesh larger than a culling cell go into one drawable per cell (by
@@ -184,7 +149,10 @@ Scene BuildScene(const worlds::World& world, const SceneOptions& options) {
     scene.lights.push_back(light);
   }
 
-  if (options.bake_lighting) BakeLighting(&scene);
+  for (std::size_t m = 0; m < scene.materials.size(); ++m) {
+    scene.materials[m].albedo = MaterialAlbedo(scene, static_cast<int>(m)).cast<float>();
+  }
+  if (options.bake_lighting) BakeLighting(world, &scene);
 
   // Culling grid over the x-y extent of all drawables.
   Eigen::AlignedBox3f all;

@@ -553,18 +553,21 @@ class Builder {
     const double z0 = H - s_.lamps.reflector_height_m;
     const int id = r.id;
     const auto cls = SemanticClass::kReflector;
-    Mesh& ceiling = NewMesh(Id("reflector_ceiling", id), mat_.mirror, id, cls);
-    AddHorizontalRect(ceiling, WallRect(wall, s0, s1, 0, -depth), H, false, 1.0);
     AddBox(NewMesh(Id("reflector_far_wall", id), mat_.mirror, id, cls),
            WallBox(wall, s0 - t, s1 + t, z0 - t, H + t, -depth - t, -depth), kWallPeriodM);
     AddBox(NewMesh(Id("reflector_bottom", id), mat_.mirror, id, cls),
-           WallBox(wall, s0, s1, z0 - t, z0, -depth, -t), kWallPeriodM);
+           WallBox(wall, s0 - t, s1 + t, z0 - t, z0, -depth - t, -t), kWallPeriodM);
+    // The ends stay behind the wall's own faces: an end box reaching the wall plane put its face
+    // on the wall band's face beside the panel (coplanar faces of two materials: z-fighting
+    // stripes along the panel's ends); the wall band's end faces are the opening's reveals. The
+    // top box's underside is the mirrored ceiling (a separate ceiling mesh on the same plane
+    // z-fought with it). The boxes run into each other, so their seams cross instead of touching.
     AddBox(NewMesh(Id("reflector_end_a", id), mat_.mirror, id, cls),
-           WallBox(wall, s0 - t, s0, z0, H, -depth, 0), kWallPeriodM);
+           WallBox(wall, s0 - t, s0, z0 - t, H + t, -depth - t, -t), kWallPeriodM);
     AddBox(NewMesh(Id("reflector_end_b", id), mat_.mirror, id, cls),
-           WallBox(wall, s1, s1 + t, z0, H, -depth, 0), kWallPeriodM);
+           WallBox(wall, s1, s1 + t, z0 - t, H + t, -depth - t, -t), kWallPeriodM);
     AddBox(NewMesh(Id("reflector_top", id), mat_.mirror, id, cls),
-           WallBox(wall, s0, s1, H, H + t, -depth, 0), kWallPeriodM);
+           WallBox(wall, s0 - t, s1 + t, H, H + t, -depth - t, 0), kWallPeriodM);
     AddDisc(NewMesh(Id("reflector_lamp", id), mat_.lamp_on, id, cls), r.apparent_lamp_center,
             lamp.radius_m, -Vector3d::UnitZ(), kDiscSegments);
   }

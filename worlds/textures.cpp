@@ -1,6 +1,7 @@
 #include "worlds/textures.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 
 #include <opencv2/imgproc.hpp>
@@ -20,18 +21,60 @@ cv::Scalar Rgb(double r, double g, double b) { return cv::Scalar(r, g, b); }
 
 int I(double v) { return static_cast<int>(v); }
 
-// Low-frequency seeded noise in [-1, 1]: random values on a coarse grid, smoothly upsampled.
+// Low-frequency seeded noise in [-1, 1]: random values on a coarse grid, smoothly upsampled
+// (Catmull-Rom) with the grid wrapped around, so the texture tiles without a step at its edges.
 cv::Mat SmoothNoise(RandomStream& rng, int size_px, int cells) {
-  cv::Mat coarse(cells, cells, CV_32F);
-  for (int y = 0; y < cells; ++y) {
-    for (int x = 0; x < cells; ++x) coarse.at<float>(y, x) = static_cast<float>(rng.Uniform(-1, 1));
+  std::vector<float> coarse(static_cast<std::size_t>(cells) * cells);
+  for (float& c : coarse) c = static_cast<float>(rng.Uniform(-1, 1));
+  auto at = [&](int x, int y) {
+    x = ((x % cells) + cells) % cells;
+    y = ((y % cells) + cells) % cells;
+    return coarse[static_cast<std::size_t>(y) * cells + x];
+  };
+  auto weights = [](double t, double w[4]) {  // Catmull-Rom at offsets -1, 0, 1, 2
+    const double t2 = t * t, t3 = t2 * t;
+    w[0] = 0.5 * (-t3 + 2 * t2 - t);
+    w[1] = 0.5 * (3 * t3 - 5 * t2 + 2);
+    w[2] = 0.5 * (-3 * t3 + 4 * t2 + t);
+    w[3] = 0.5 * (t3 - t2);
+  };
+  cv::Mat fine(size_px, size_px, CV_32F);
+  const double scale = static_cast<double>(cells) / size_px;
+  for (int y = 0; y < size_px; ++y) {
+    const double gy = (y + 0.5) * scale - 0.5;
+    const int y0 = static_cast<int>(std::floor(gy));
+    double wy[4];
+    weights(gy - y0, wy);
+    for (int x = 0; x < size_px; ++x) {
+      const double gx = (x + 0.5) * scale - 0.5;
+      const int x0 = static_cast<int>(std::floor(gx));
+      double wx[4];
+      weights(gx - x0, wx);
+      double v = 0;
+      for (int j = 0; j < 4; ++j) {
+        for (int i = 0; i < 4; ++i) v += wy[j] * wx[i] * at(x0 - 1 + i, y0 - 1 + j);
+      }
+      fine.at<float>(y, x) = static_cast<float>(v);
+    }
   }
-  cv::Mat fine;
-  cv::resize(coarse, fine, cv::Size(size_px, size_px), 0, 0, cv::INTER_CUBIC);
   return fine;
 }
 
-// Adds `count` dots of random size and darkness (speckles give corner detectors something).
+// Draws `draw(offset)` at the offsets that put a shape of reach `r` around `c` back into a
+// wrapping texture: once, or also on the far side of each edge it crosses.
+template <class Draw>
+void Wrapped(const cv::Mat& img, const cv::Point& c, int r, Draw&& draw) {
+  for (const int dy : {-img.rows, 0, img.rows}) {
+    for (const int dx : {-img.cols, 0, img.cols}) {
+      const cv::Point p = c + cv::Point(dx, dy);
+      if (p.x + r < 0 || p.y + r < 0 || p.x - r >= img.cols || p.y - r >= img.rows) continue;
+      draw(cv::Point(dx, dy));
+    }
+  }
+}
+
+// Adds `count` dots of random size and darkness (speckles give corner detectors something);
+// dots across an edge continue on the other side (the texture wraps).
 void Speckle(RandomStream& rng, cv::Mat& img, int count, int max_radius, double max_darkening) {
   for (int k = 0; k < count; ++k) {
     const cv::Point c(I(rng.Uniform(0, img.cols)), I(rng.Uniform(0, img.rows)));
@@ -39,8 +82,10 @@ void Speckle(RandomStream& rng, cv::Mat& img, int count, int max_radius, double 
     const double f = 1.0 - rng.Uniform(0.3, 1.0) * max_darkening;
     const cv::Vec3b base =
         img.at<cv::Vec3b>(std::clamp(c.y, 0, img.rows - 1), std::clamp(c.x, 0, img.cols - 1));
-    cv::circle(img, c, r, cv::Scalar(base[0] * f, base[1] * f, base[2] * f), cv::FILLED,
-               cv::LINE_AA);
+    Wrapped(img, c, r + 1, [&](const cv::Point& offset) {
+      cv::circle(img, c + offset, r, cv::Scalar(base[0] * f, base[1] * f, base[2] * f), cv::FILLED,
+                 cv::LINE_AA);
+    });
   }
 }
 
@@ -85,7 +130,10 @@ Image8 MakeWallTexture(RandomStream& rng, int size_px) {
   for (int k = 0; k < 6; ++k) {  // scuffs
     const cv::Point a(I(rng.Uniform(0, size_px)), I(rng.Uniform(0, size_px)));
     const cv::Point b = a + cv::Point(I(rng.Uniform(-40, 40)), I(rng.Uniform(-8, 8)));
-    cv::line(img, a, b, Rgb(paint[0] * 0.7, paint[1] * 0.7, paint[2] * 0.7), 1, cv::LINE_AA);
+    Wrapped(img, a, 42, [&](const cv::Point& offset) {
+      cv::line(img, a + offset, b + offset, Rgb(paint[0] * 0.7, paint[1] * 0.7, paint[2] * 0.7), 1,
+               cv::LINE_AA);
+    });
   }
   return ToImage(img);
 }

@@ -22,7 +22,7 @@ inline render::SceneVertex UnlitVertex(const render::Scene& scene, const Eigen::
   }
   vertex.uv[0] = u;
   vertex.uv[1] = v;
-  vertex.irradiance = scene.options.ambient;  // unlit surfaces get the ambient term
+  for (float& e : vertex.irradiance) e = scene.options.ambient;  // unlit: the ambient term
   return vertex;
 }
 
