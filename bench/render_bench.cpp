@@ -48,6 +48,22 @@ int main(int argc, char** argv) {
 
   const worlds::World world = worlds::Generate(worlds::WorldOptions{}, 7);
   const render::RigOptions rig_options = render::RigOptions::Default();
+  // The light is baked when the scene is built (render/lighting.h): what shadows and the bounce
+  // cost there, once per run, against the direct light alone.
+  auto build_ms = [&](const worlds::World& w, const render::SceneOptions& o) {
+    const auto t = Clock::now();
+    const render::Scene built = render::BuildScene(w, o);
+    return std::make_pair(Ms(t, Clock::now()), built.vertices.size());
+  };
+  render::SceneOptions direct_only = rig_options.scene;
+  direct_only.shadows = false;
+  direct_only.bounces = 0;
+  const auto [direct_ms, vertex_count] = build_ms(world, direct_only);
+  const double baked_ms = build_ms(world, rig_options.scene).first;
+  std::printf(
+      "scene build: %.0f ms with shadows and %d bounce(s), %.0f ms direct light only "
+      "(%zu vertices)\n",
+      baked_ms, rig_options.scene.bounces, direct_ms, vertex_count);
   const render::Scene scene = render::BuildScene(world, rig_options.scene);
   auto backend = render::CreateBackend(kind);
   backend->Upload(scene);
@@ -204,13 +220,30 @@ int main(int argc, char** argv) {
                 Figure{}.Median(ms));
   }
 
+  // Supersampling (render.samples 9: each camera drawn at 3 x its resolution), a few frames.
+  {
+    render::RigOptions supersampled = rig_options;
+    supersampled.samples = 9;
+    render::Rig ss_rig(supersampled, scene, *backend);
+    ss_rig.Render(PoseAt(0), 1, 0, &rig_frames);
+    const int n = std::max(3, frames / 10);
+    const auto t0 = Clock::now();
+    for (int i = 0; i < n; ++i)
+      ss_rig.Render(PoseAt(i), 1, static_cast<std::uint64_t>(i), &rig_frames);
+    std::printf("  rig      %6.2f ms/frame  (render.samples 9, noise on, %d frames)\n",
+                Ms(t0, Clock::now()) / n, n);
+  }
+
   // Culling: the same rig in the middle of a 1 km corridor.
   worlds::WorldOptions km_options;
   km_options.length_m = 1000;
   km_options.doors.count = 290;
   km_options.plates.count = 254;
   const worlds::World km = worlds::Generate(km_options, 7);
+  const auto t_km = Clock::now();
   const render::Scene km_scene = render::BuildScene(km, rig_options.scene);
+  std::printf("  scene build of the 1 km corridor: %.0f ms (%zu vertices)\n",
+              Ms(t_km, Clock::now()), km_scene.vertices.size());
   backend->Upload(km_scene);
   render::Rig km_rig(rig_options, km_scene, *backend);
   auto km_pose = [](int i) { return SE3::FromSE2(SE2(480.0 + 0.1 * (i % 400), 0.0, 0.0)); };

@@ -63,16 +63,7 @@ layout(location = 2) out uint o_semantic;
 layout(location = 3) out float o_z;
 void main() {
   vec3 base = u_diffuse;
-  if (u_has_texture != 0) {
-    // Mip level from the RMS of the footprint's two axes (the Frobenius norm of d texel / d
-    // pixel), not GL's longer axis: the norm does not change when the pixel grid turns, so two
-    // cube faces that see a surface at a grazing angle through differently oriented pixel grids
-    // pick the same level, and no brightness step runs along the seam between them.
-    vec2 texel = v_uv * vec2(textureSize(u_texture, 0));
-    vec2 dx = dFdx(texel), dy = dFdy(texel);
-    float lod = 0.5 * log2(max(0.5 * (dot(dx, dx) + dot(dy, dy)), 1e-12));
-    base *= textureLod(u_texture, v_uv, lod).rgb;
-  }
+  if (u_has_texture != 0) base *= texture(u_texture, v_uv).rgb;
   vec3 n = normalize(v_normal);
   vec3 light = v_irradiance;  // ambient (+ lamps and bounces when baked)
 #if LIGHT_COUNT > 0

@@ -255,6 +255,30 @@ TEST_CASE("the ceiling sits mid-range around lamps that saturate", "[render][gl]
   CHECK(lamp_saturated >= lamp * 95 / 100);
 }
 
+TEST_CASE("auto exposure brightens a darker corridor, within its bounds, from the pose alone",
+          "[render][image]") {
+  CameraOptions c = ExactUpward();
+  c.exposure.mode = ExposureMode::kAuto;
+  const CameraRenderer camera(c);
+  auto gain = [&](const worlds::WorldOptions& o) {
+    const worlds::World world = worlds::Generate(o, 5);
+    const Scene scene = BuildScene(world);
+    const SE3 pose = SE3::FromSE2(SE2(10, 0, 0)) * c.mount.RobotFromCamera();
+    std::vector<std::vector<int>> visible;
+    for (const View& v : camera.Passes(pose)) visible.push_back(VisibleDrawables(scene, v));
+    const double g = camera.ExposureGain(scene, pose, visible);
+    CHECK(g == camera.ExposureGain(scene, pose, visible));  // deterministic
+    return g;
+  };
+  worlds::WorldOptions bright, dark;
+  dark.lamps.off_fraction = 0.9;
+  const double g_bright = gain(bright), g_dark = gain(dark);
+  INFO("gain " << g_bright << " with every lamp on, " << g_dark << " with 90 % off");
+  CHECK(g_dark > g_bright * 1.2);
+  CHECK(g_bright >= c.exposure.min_gain);
+  CHECK(g_dark <= c.exposure.max_gain);
+}
+
 TEST_CASE("supersampling averages the samples and takes labels from the centre sample",
           "[render][gl][image]") {
   const Scene& scene = [] -> const Scene& {
