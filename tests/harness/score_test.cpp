@@ -241,7 +241,7 @@ TEST_CASE("recall is binned by distance, viewing angle and appearance quartiles"
   CHECK(by_exposure[3]["recall"].get<double>() == 0.0);
 }
 
-TEST_CASE("--expect checks pass, fail, and fail on undefined values", "[harness][score]") {
+TEST_CASE("score's --expect checks pass, fail, and fail on undefined values", "[harness][score]") {
   const Json evaluation = {{"lamp", {{"ap50", 0.8}, {"recall", nullptr}}}};
   const auto check = [&](const char* metric, ScoreExpectation::Op op, double value) {
     ScoreExpectation e;
