@@ -12,10 +12,10 @@ namespace corridorsim::render {
 std::string BackendName(BackendKind kind) { return NameOf(kBackendKindNames, kind); }
 
 void PinSoftwareRasterizer() {
-  // llvmpipe only: softpipe gives different images, and so would a hardware driver picked up
-  // through a render node. overwrite = 0: a value the user set wins.
+  // llvmpipe only: softpipe gives different images. overwrite = 0: a value the user set wins.
+  // LIBGL_ALWAYS_SOFTWARE is the EGL backend's to set, only when it takes Mesa's surfaceless
+  // platform (render/gl_context.h).
   setenv("GALLIUM_DRIVER", "llvmpipe", 0);
-  setenv("LIBGL_ALWAYS_SOFTWARE", "1", 0);
   // Texture LOD as GPUs compute it: the mip level from the largest derivative component instead
   // of the Euclidean length (an approximation the GL options allows), and two levels blended only
   // near a level change ("brilinear", what GPU drivers do for trilinear by default). 8 % less

@@ -1,7 +1,8 @@
 #pragma once
 // GL backends behind one interface (MuJoCo's mjr_ side): they only draw a render::Scene.
-// OSMesa (libosmesa6, llvmpipe) and EGL surfaceless (Mesa); the same scene and view give the
-// same images within a small tolerance.
+// OSMesa (libosmesa6, llvmpipe) and EGL (a hardware EGL device when there is one, else Mesa
+// surfaceless with llvmpipe); on llvmpipe the same scene and view give the same images within a
+// small tolerance (docs/rendering.md, "GPU rendering").
 
 #include <cstdint>
 #include <memory>
@@ -55,11 +56,17 @@ struct DrawRequest {
 };
 
 /// The context's GL strings (glGetString), which the images depend on besides the scene: the
-/// renderer names llvmpipe and its LLVM, the version the Mesa release (provenance.json).
+/// renderer names llvmpipe and its LLVM (or the GPU), the version the Mesa release or the GPU
+/// driver's (provenance.json); and which device the backend chose, and why.
 struct BackendInfo {
   std::string vendor;    // GL_VENDOR
   std::string renderer;  // GL_RENDERER, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)"
   std::string version;   // GL_VERSION, e.g. "4.5 (Core Profile) Mesa 22.3.6"
+  /// "hardware: EGL device 1 (/dev/dri/renderD128) (why)" or "software: ... (why)", e.g.
+  /// "software: Mesa surfaceless platform, EGL_PLATFORM_SURFACELESS_MESA (no hardware EGL
+  /// device: ...)" or "software: OSMesa". Defaulted, so that a backend naming only the GL
+  /// strings stays valid.
+  std::string device = {};
 };
 
 class Backend {

@@ -154,7 +154,8 @@ GlBackend::GlBackend(std::unique_ptr<GlContext> context) : context_(std::move(co
     const auto* text = reinterpret_cast<const char*>(gl_.GetString(name));
     return std::string(text != nullptr ? text : "");
   };
-  info_ = BackendInfo{gl_string(GL_VENDOR), gl_string(GL_RENDERER), gl_string(GL_VERSION)};
+  info_ = BackendInfo{gl_string(GL_VENDOR), gl_string(GL_RENDERER), gl_string(GL_VERSION),
+                      context_->device()};
   GLint major = 0, minor = 0;
   gl_.GetIntegerv(GL_MAJOR_VERSION, &major);
   gl_.GetIntegerv(GL_MINOR_VERSION, &minor);

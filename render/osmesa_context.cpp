@@ -65,6 +65,8 @@ class OsMesaContext final : public GlContext {
 
   GlProc GetProcAddress(const char* name) const override { return OSMesaGetProcAddress(name); }
 
+  std::string device() const override { return "software: OSMesa"; }
+
  private:
   std::vector<std::uint8_t> buffer_;  // RGBA client buffer OSMesa binds the context to
   OSMesaContext context_ = nullptr;

@@ -1,12 +1,14 @@
 // Tests for render/backend.cpp and the GL renderer behind it (render/gl_renderer.cpp,
 // render/osmesa_context.cpp, render/egl_context.cpp) on a scene built by hand: a tilted textured
-// wall and a small emissive quad, seen by a camera whose pose is not the identity.
+// wall and a small emissive quad, seen by a camera whose pose is not the identity; and the EGL
+// backend's choice of device (ChooseEglDevice, CORRIDORSIM_EGL_DEVICE).
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <initializer_list>
 #include <memory>
 #include <optional>
 #include <stdexcept>
@@ -152,6 +154,44 @@ RenderedView Render(Backend& backend, const View& view = TestView()) {
 
 std::size_t Index(int x, int y) { return std::size_t(y) * kWidth + x; }
 
+// Sets (or with nullptr unsets) environment variables for a scope and puts back what the process
+// had: tests that choose the EGL device leave no trace for the next test case. The EGL backend's
+// software path sets LIBGL_ALWAYS_SOFTWARE (which then reads as a request for software), so it is
+// saved wherever CORRIDORSIM_EGL_DEVICE is.
+class ScopedEnvironment {
+ public:
+  ScopedEnvironment(std::initializer_list<std::pair<const char*, const char*>> values) {
+    for (const auto& [name, value] : values) {
+      const char* old = std::getenv(name);
+      saved_.emplace_back(name, old != nullptr ? std::optional<std::string>(old) : std::nullopt);
+    }
+    for (const auto& [name, value] : values) Set(name, value);
+  }
+  ~ScopedEnvironment() {
+    for (auto it = saved_.rbegin(); it != saved_.rend(); ++it) {
+      Set(it->first.c_str(), it->second ? it->second->c_str() : nullptr);
+    }
+  }
+  ScopedEnvironment(const ScopedEnvironment&) = delete;
+  ScopedEnvironment& operator=(const ScopedEnvironment&) = delete;
+
+ private:
+  static void Set(const char* name, const char* value) {
+    if (value != nullptr) {
+      setenv(name, value, 1);
+    } else {
+      unsetenv(name);
+    }
+  }
+  std::vector<std::pair<std::string, std::optional<std::string>>> saved_;
+};
+
+// The EGL device choice as the environment `device` (CORRIDORSIM_EGL_DEVICE) asks, with
+// LIBGL_ALWAYS_SOFTWARE unset.
+ScopedEnvironment EglDeviceEnvironment(const char* device) {
+  return ScopedEnvironment{{kEglDeviceVariable, device}, {"LIBGL_ALWAYS_SOFTWARE", nullptr}};
+}
+
 // The EGL backend, or nothing (with a WARN) where this machine cannot create one; the error must
 // then be a RenderError that names "egl".
 std::unique_ptr<Backend> TryEgl() {
@@ -246,7 +286,7 @@ TEST_CASE("backend names are osmesa and egl", "[render]") {
 }
 
 TEST_CASE("Mesa is pinned to llvmpipe and its fast texture LOD unless the user chose otherwise",
-          "[render]") {
+          "[render][backend]") {
   // The variables as the process had them, restored on the way out (gallivm read them when this
   // process made its first context, so changing them here changes no image).
   struct SavedEnvironment {
@@ -276,8 +316,9 @@ TEST_CASE("Mesa is pinned to llvmpipe and its fast texture LOD unless the user c
   for (const auto& [name, value] : saved.values) unsetenv(name.c_str());
   PinSoftwareRasterizer();
   CHECK(get("GALLIUM_DRIVER") == "llvmpipe");
-  CHECK(get("LIBGL_ALWAYS_SOFTWARE") == "1");
   CHECK(get("GALLIVM_PERF") == "brilinear,rho_approx");
+  // Left to the EGL backend's surfaceless path: set here, it would keep EGL off a GPU.
+  CHECK(get("LIBGL_ALWAYS_SOFTWARE") == "(unset)");
 
   // A value the user set wins, an empty GALLIVM_PERF (exact trilinear) included.
   setenv("GALLIUM_DRIVER", "softpipe", 1);
@@ -379,9 +420,12 @@ TEST_CASE("drawing only some drawables and no lights leaves the others out", "[r
 }
 
 TEST_CASE("osmesa and egl give the same images within a small tolerance", "[render]") {
+  // Both on llvmpipe: a GPU's images differ more ("a hardware EGL device ..." below).
+  const auto environment = EglDeviceEnvironment("software");
   auto osmesa = CreateBackend(BackendKind::kOsMesa);
   auto egl = TryEgl();  // both alive at once
   if (!egl) return;
+  REQUIRE(egl->info().device.starts_with("software: "));
   const Scene scene = TestScene();
   osmesa->Upload(scene);
   egl->Upload(scene);
@@ -510,6 +554,265 @@ TEST_CASE("a scene with an index past the vertices is rejected before upload", "
   Scene bad_material = TestScene();
   bad_material.drawables[0].material = 4;
   CHECK_THROWS_AS(backend->Upload(bad_material), std::invalid_argument);
+}
+
+// The message of the RenderError `f` throws ("" when it throws nothing or something else).
+template <typename F>
+std::string RenderErrorOf(F&& f) {
+  try {
+    f();
+  } catch (const RenderError& e) {
+    return e.what();
+  } catch (...) {
+  }
+  return "";
+}
+
+TEST_CASE("CORRIDORSIM_EGL_DEVICE is read as the first hardware device, software or an index",
+          "[render][backend]") {
+  using Kind = EglDeviceRequest::Kind;
+  CHECK(ParseEglDeviceRequest(nullptr, nullptr).kind == Kind::kAuto);
+  CHECK(ParseEglDeviceRequest("", nullptr).kind == Kind::kAuto);  // set but empty: as unset
+  const EglDeviceRequest software = ParseEglDeviceRequest("software", nullptr);
+  CHECK(software.kind == Kind::kSoftware);
+  CHECK(software.reason == "CORRIDORSIM_EGL_DEVICE=software");
+  const EglDeviceRequest three = ParseEglDeviceRequest("3", nullptr);
+  CHECK(three.kind == Kind::kIndex);
+  CHECK(three.index == 3);
+  CHECK(three.reason == "CORRIDORSIM_EGL_DEVICE=3");
+  CHECK(ParseEglDeviceRequest("007", nullptr).index == 7);
+  CHECK(ParseEglDeviceRequest("63", nullptr).index == kMaxEglDevices - 1);
+
+  // LIBGL_ALWAYS_SOFTWARE, true as Mesa reads it, asks for software unless a device is named.
+  for (const char* yes : {"1", "true", "TRUE", "yes", "y"}) {
+    INFO("LIBGL_ALWAYS_SOFTWARE=" << yes);
+    const EglDeviceRequest request = ParseEglDeviceRequest(nullptr, yes);
+    CHECK(request.kind == Kind::kSoftware);
+    CHECK(request.reason == std::string("LIBGL_ALWAYS_SOFTWARE=") + yes);
+  }
+  for (const char* no : {"0", "false", "no", ""}) {
+    INFO("LIBGL_ALWAYS_SOFTWARE=" << no);
+    CHECK(ParseEglDeviceRequest(nullptr, no).kind == Kind::kAuto);
+  }
+  CHECK(ParseEglDeviceRequest("2", "1").kind == Kind::kIndex);
+
+  for (const char* bad :
+       {"Software", "gpu", "-1", "+1", "1.5", " 1", "1 ", "0x1", "64", "99999999999999999999"}) {
+    INFO("CORRIDORSIM_EGL_DEVICE='" << bad << "'");
+    const std::string what = RenderErrorOf([&] { ParseEglDeviceRequest(bad, nullptr); });
+    CHECK(what.find(std::string("CORRIDORSIM_EGL_DEVICE=") + bad) != std::string::npos);
+    CHECK(what.find("'software' or an EGL device index from 0 to 63") != std::string::npos);
+  }
+}
+
+TEST_CASE(
+    "the EGL device choice takes the first hardware device, else software, or the index "
+    "asked for",
+    "[render][backend]") {
+  using Devices = std::vector<std::optional<std::string>>;
+  const std::string software = "EGL_MESA_device_software EGL_EXT_device_drm_render_node";
+  const std::string mesa_gpu = "EGL_EXT_device_drm EGL_EXT_device_drm_render_node";
+  const std::string nvidia = "EGL_NV_device_cuda EGL_EXT_device_drm EGL_EXT_device_query_name";
+  const EglDeviceRequest automatic = ParseEglDeviceRequest(nullptr, nullptr);
+
+  // What Mesa lists on a machine without a GPU: its software device only.
+  const EglDeviceChoice no_gpu = ChooseEglDevice(Devices{software}, automatic);
+  CHECK_FALSE(no_gpu.device);
+  CHECK_FALSE(no_gpu.forced);
+  CHECK(no_gpu.reason == "no hardware EGL device: 1 EGL device, 1 with EGL_MESA_device_software");
+  const EglDeviceChoice none = ChooseEglDevice(Devices{}, automatic);
+  CHECK_FALSE(none.device);
+  CHECK(none.reason == "no hardware EGL device: this libEGL lists none");
+
+  // The first device without the software mark, in enumeration order.
+  const EglDeviceChoice first = ChooseEglDevice(Devices{nvidia, software, mesa_gpu}, automatic);
+  REQUIRE(first.device);
+  CHECK(*first.device == 0);
+  CHECK_FALSE(first.forced);
+  CHECK(first.reason == "the first EGL device without EGL_MESA_device_software, of 3");
+  const EglDeviceChoice after_software =
+      ChooseEglDevice(Devices{software, mesa_gpu, nvidia}, automatic);
+  REQUIRE(after_software.device);
+  CHECK(*after_software.device == 1);
+  // A whole extension name only: a longer name that starts with the mark is not the mark.
+  const EglDeviceChoice longer =
+      ChooseEglDevice(Devices{"EGL_MESA_device_software_x EGL_EXT_device_drm"}, automatic);
+  REQUIRE(longer.device);
+  CHECK(*longer.device == 0);
+
+  // A device whose extensions could not be read is never taken unasked.
+  const EglDeviceChoice unknown_first =
+      ChooseEglDevice(Devices{std::nullopt, software, mesa_gpu}, automatic);
+  REQUIRE(unknown_first.device);
+  CHECK(*unknown_first.device == 2);
+  const EglDeviceChoice only_unknown = ChooseEglDevice(Devices{software, std::nullopt}, automatic);
+  CHECK_FALSE(only_unknown.device);
+  CHECK(only_unknown.reason ==
+        "no hardware EGL device: 2 EGL devices, 1 with "
+        "EGL_MESA_device_software, 1 without an extension string");
+
+  // Software when asked, whatever is there.
+  const EglDeviceChoice asked_software =
+      ChooseEglDevice(Devices{nvidia}, ParseEglDeviceRequest("software", nullptr));
+  CHECK_FALSE(asked_software.device);
+  CHECK(asked_software.reason == "CORRIDORSIM_EGL_DEVICE=software");
+  const EglDeviceChoice mesa_software =
+      ChooseEglDevice(Devices{nvidia}, ParseEglDeviceRequest(nullptr, "1"));
+  CHECK_FALSE(mesa_software.device);
+  CHECK(mesa_software.reason == "LIBGL_ALWAYS_SOFTWARE=1");
+
+  // An index is taken as it is, Mesa's software device included, and forced (no fallback).
+  const EglDeviceChoice second =
+      ChooseEglDevice(Devices{nvidia, mesa_gpu}, ParseEglDeviceRequest("1", nullptr));
+  REQUIRE(second.device);
+  CHECK(*second.device == 1);
+  CHECK(second.forced);
+  CHECK(second.reason == "CORRIDORSIM_EGL_DEVICE=1");
+  const EglDeviceChoice forced_software =
+      ChooseEglDevice(Devices{software, nvidia}, ParseEglDeviceRequest("0", nullptr));
+  REQUIRE(forced_software.device);
+  CHECK(*forced_software.device == 0);
+  const std::string past = RenderErrorOf([&] {
+    ChooseEglDevice(Devices{software, nvidia}, ParseEglDeviceRequest("2", nullptr));
+  });
+  CHECK(past.find("CORRIDORSIM_EGL_DEVICE=2 names no EGL device") != std::string::npos);
+  CHECK(past.find("valid indices are 0 to 1 (2 EGL devices listed)") != std::string::npos);
+  const std::string no_devices =
+      RenderErrorOf([&] { ChooseEglDevice(Devices{}, ParseEglDeviceRequest("0", nullptr)); });
+  CHECK(no_devices.find("CORRIDORSIM_EGL_DEVICE=0 names no EGL device: this libEGL lists none") !=
+        std::string::npos);
+}
+
+// True when GL_RENDERER names one of Mesa's software rasterizers.
+bool SoftwareRenderer(const BackendInfo& info) {
+  return info.renderer.find("llvmpipe") != std::string::npos ||
+         info.renderer.find("softpipe") != std::string::npos;
+}
+
+TEST_CASE("the EGL backend says which device it chose: software where llvmpipe renders",
+          "[render][backend]") {
+  const auto environment = EglDeviceEnvironment(nullptr);
+  auto egl = TryEgl();
+  if (!egl) return;
+  const BackendInfo info = egl->info();
+  INFO("device: " << info.device << "; GL_RENDERER: " << info.renderer);
+  // On a machine without a GPU (where these tests were written) this is the software path.
+  CHECK(info.device.starts_with(SoftwareRenderer(info) ? "software: " : "hardware: "));
+  if (SoftwareRenderer(info) &&
+      info.device.find("EGL_PLATFORM_SURFACELESS_MESA") != std::string::npos) {
+    // Why not a device: none is hardware, or the hardware one failed (its error said).
+    CHECK((info.device.find("no hardware EGL device") != std::string::npos ||
+           info.device.find(" failed: ") != std::string::npos ||
+           info.device.find("not supported") != std::string::npos));
+  }
+  egl->Upload(TestScene());
+  CheckTestImage(Render(*egl));
+}
+
+TEST_CASE("CORRIDORSIM_EGL_DEVICE=software renders with llvmpipe on Mesa's surfaceless platform",
+          "[render][backend]") {
+  const auto environment = EglDeviceEnvironment("software");
+  auto egl = TryEgl();
+  if (!egl) return;
+  const BackendInfo info = egl->info();
+  CHECK(info.device ==
+        "software: Mesa surfaceless platform, EGL_PLATFORM_SURFACELESS_MESA "
+        "(CORRIDORSIM_EGL_DEVICE=software)");
+  CHECK(info.renderer.find("llvmpipe") != std::string::npos);
+  CHECK(CreateBackend(BackendKind::kOsMesa)->info().device == "software: OSMesa");
+}
+
+TEST_CASE("a bad CORRIDORSIM_EGL_DEVICE is a RenderError naming the variable and the valid values",
+          "[render][backend]") {
+  for (const char* bad : {"gpu", "-1", "64"}) {
+    INFO("CORRIDORSIM_EGL_DEVICE=" << bad);
+    const auto environment = EglDeviceEnvironment(bad);
+    const std::string what = RenderErrorOf([] { CreateBackend(BackendKind::kEgl); });
+    CHECK(what.find(std::string("egl: environment variable CORRIDORSIM_EGL_DEVICE=") + bad +
+                    " is not valid: use 'software' or an EGL device index from 0 to 63") !=
+          std::string::npos);
+  }
+  // An index past the devices this libEGL lists (fewer than 64 here): the valid range is theirs.
+  const auto environment = EglDeviceEnvironment("63");
+  const std::string what = RenderErrorOf([] { CreateBackend(BackendKind::kEgl); });
+  INFO(what);
+  CHECK(what.find("CORRIDORSIM_EGL_DEVICE=63") != std::string::npos);
+  CHECK((what.find("valid indices are 0 to ") != std::string::npos ||
+         what.find("lists none") != std::string::npos ||
+         what.find("none can be listed") != std::string::npos));
+}
+
+TEST_CASE("CORRIDORSIM_EGL_DEVICE=0 renders on EGL device 0 through EGL_PLATFORM_DEVICE_EXT",
+          "[render][backend]") {
+  // Without a GPU, device 0 is Mesa's software device: the device platform's path on llvmpipe.
+  std::unique_ptr<Backend> device0;
+  {
+    const auto environment = EglDeviceEnvironment("0");
+    device0 = TryEgl();
+  }
+  if (!device0) return;
+  const BackendInfo info = device0->info();
+  INFO("device: " << info.device);
+  CHECK(info.device.find(": EGL device 0") != std::string::npos);
+  CHECK(info.device.ends_with("(CORRIDORSIM_EGL_DEVICE=0)"));
+  CHECK(info.device.starts_with(SoftwareRenderer(info) ? "software: " : "hardware: "));
+  const Scene scene = TestScene();
+  device0->Upload(scene);
+  const RenderedView image = Render(*device0);
+  CheckTestImage(image);
+  if (!SoftwareRenderer(info)) return;
+  // llvmpipe either way: the surfaceless platform gives the same images.
+  const auto environment = EglDeviceEnvironment("software");
+  auto surfaceless = TryEgl();
+  REQUIRE(surfaceless);
+  surfaceless->Upload(scene);
+  const RenderedView reference = Render(*surfaceless);
+  int max_diff = 0;
+  for (std::size_t i = 0; i < image.rgb.data.size(); ++i) {
+    max_diff = std::max(max_diff, std::abs(int(image.rgb.data[i]) - int(reference.rgb.data[i])));
+  }
+  CHECK(max_diff <= kCrossBackendRgbTol);
+  CHECK(image.instance == reference.instance);
+  CHECK(image.depth_m.data == reference.depth_m.data);
+}
+
+TEST_CASE("a hardware EGL device gives llvmpipe's labels and depth", "[render][backend]") {
+  const auto environment = EglDeviceEnvironment(nullptr);
+  auto egl = TryEgl();
+  if (!egl) return;
+  if (!egl->info().device.starts_with("hardware: ")) {
+    // No GPU here: nothing to compare (the software path is compared in the tests above).
+    SUCCEED("no hardware EGL device: " << egl->info().device);
+    return;
+  }
+  auto osmesa = CreateBackend(BackendKind::kOsMesa);
+  const Scene scene = TestScene();
+  osmesa->Upload(scene);
+  egl->Upload(scene);
+  const RenderedView a = Render(*osmesa);
+  const RenderedView b = Render(*egl);
+  // Ids and z come from the same fragments, so they agree but for coverage at triangle edges;
+  // colour depends on the GPU's filtering and arithmetic and is reported, not bounded (no GPU
+  // tolerance has been measured: docs/rendering.md, "GPU rendering").
+  std::size_t same_ids = 0;
+  double max_depth_diff = 0;
+  int max_rgb_diff = 0;
+  for (std::size_t i = 0; i < a.instance.size(); ++i) {
+    const bool same = a.instance[i] == b.instance[i] && a.semantic[i] == b.semantic[i];
+    same_ids += same;
+    if (same) {
+      max_depth_diff =
+          std::max(max_depth_diff, double(std::abs(a.depth_m.data[i] - b.depth_m.data[i])));
+    }
+  }
+  for (std::size_t i = 0; i < a.rgb.data.size(); ++i) {
+    max_rgb_diff = std::max(max_rgb_diff, std::abs(int(a.rgb.data[i]) - int(b.rgb.data[i])));
+  }
+  WARN(egl->info().device << ", " << egl->info().renderer << ": largest RGB difference from "
+                          << "llvmpipe " << max_rgb_diff << " DN");
+  CHECK(double(same_ids) / double(a.instance.size()) >= kCrossBackendIdShare);
+  CHECK(max_depth_diff <= kDepthTolM);
+  CheckTestImage(b);
 }
 
 }  // namespace
