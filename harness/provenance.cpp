@@ -44,6 +44,8 @@ Json ProvenanceJson(const std::string& scenario_file, const std::string& scenari
     render["backend"] = render::BackendName(backend->kind());
     render["gl_vendor"] = info.vendor;
     render["gl_renderer"] = info.renderer;
+    // Which device rendered and why (a GPU's images differ from llvmpipe's within a tolerance).
+    render["device"] = info.device;
     render["gl_version"] = info.version;
     render["mesa_version"] = or_null(ReleaseAfter(info.version, "Mesa "));
     render["llvm_version"] = or_null(ReleaseAfter(info.renderer, "LLVM "));

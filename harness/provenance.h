@@ -1,8 +1,9 @@
 #pragma once
 // provenance.json: what the bytes of a run folder depend on besides the scenario and the seed
 // (docs/architecture.md, "Provenance"): the project's version (git describe at build time), the
-// compiler, the GL renderer and its Mesa and LLVM releases (or that nothing was rendered), the
-// GALLIVM_PERF environment variable, and the SHA-256 of the resolved scenario.yaml bytes.
+// compiler, the GL renderer and its Mesa and LLVM releases and the device the backend chose
+// (hardware or software, and why), or that nothing was rendered; the GALLIVM_PERF environment
+// variable, and the SHA-256 of the resolved scenario.yaml bytes.
 
 #include <cstdint>
 #include <optional>

@@ -1,6 +1,6 @@
 // Tests harness/provenance.cpp: provenance.json names the version, compiler, renderer (Mesa and
-// LLVM read from its GL strings, or that nothing was rendered), GALLIVM_PERF and the scenario's
-// SHA-256.
+// LLVM read from its GL strings) and device, or that nothing was rendered, GALLIVM_PERF and the
+// scenario's SHA-256.
 #include "harness/provenance.h"
 
 #include <cstdlib>
@@ -41,7 +41,8 @@ TEST_CASE("the Mesa and LLVM releases are read from the GL strings", "[provenanc
 TEST_CASE("provenance.json names the renderer used and hashes the scenario bytes", "[provenance]") {
   const std::string yaml = "# a scenario\nseed: 3\n";
   const StringsOnlyBackend backend(
-      {"Mesa", "llvmpipe (LLVM 15.0.6, 256 bits)", "4.5 (Core Profile) Mesa 22.3.6"});
+      {"Mesa", "llvmpipe (LLVM 15.0.6, 256 bits)", "4.5 (Core Profile) Mesa 22.3.6",
+       "software: Mesa surfaceless platform (no hardware EGL device)"});
   ::setenv("GALLIVM_PERF", "brilinear", 1);
   const nlohmann::ordered_json j = ProvenanceJson("scenarios/x.yaml", yaml, 3, &backend);
   CHECK(j["project_version"] == ProjectVersion());
@@ -54,6 +55,7 @@ TEST_CASE("provenance.json names the renderer used and hashes the scenario bytes
   CHECK(j["render"]["rendered"] == true);
   CHECK(j["render"]["backend"] == "egl");
   CHECK(j["render"]["gl_renderer"] == "llvmpipe (LLVM 15.0.6, 256 bits)");
+  CHECK(j["render"]["device"] == "software: Mesa surfaceless platform (no hardware EGL device)");
   CHECK(j["render"]["mesa_version"] == "22.3.6");
   CHECK(j["render"]["llvm_version"] == "15.0.6");
   CHECK(j["environment"]["GALLIVM_PERF"] == "brilinear");
