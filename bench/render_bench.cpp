@@ -73,6 +73,9 @@ int main(int argc, char** argv) {
       "figure\n",
       backend_name.c_str(), gallivm_perf != nullptr ? gallivm_perf : "", scene.triangle_count(),
       scene.drawables.size(), frames);
+  // Which device the figures are of: the EGL backend takes a GPU when there is one.
+  std::printf("device: %s; GL_RENDERER %s\n", backend->info().device.c_str(),
+              backend->info().renderer.c_str());
 
   // Each camera alone (exact frames, no noise).
   for (const render::CameraOptions& camera_options : rig_options.cameras) {
