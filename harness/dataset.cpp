@@ -36,6 +36,7 @@ constexpr int kFormatVersion = 1;
 const SourceLocation kCommandLine{"command line", 0, 0};
 
 double Px(double v) { return RoundToStep(v, json_steps::kPx); }
+double Fraction(double v) { return RoundToStep(v, 1e6); }
 double Metres(double v) { return RoundToStep(v, json_steps::kMetres); }
 double Deg(double v) { return RoundToStep(v, json_steps::kDeg); }
 double Ratio(double v) { return RoundToStep(v, json_steps::kRatio); }
@@ -369,6 +370,7 @@ void WriteDatasetAnnotations(const fs::path& dir, const std::string& camera, int
         image[key] = truth.at(key);
       }
       if (truth.contains("vanishing_point")) image["vanishing_point"] = truth["vanishing_point"];
+      if (truth.contains("appearance")) image["appearance"] = truth["appearance"];
       coco["images"].push_back(std::move(image));
       for (const Json& a : truth.at("annotations")) {
         Json annotation{{"id", ++annotation_id}, {"image_id", image_id}};
@@ -612,6 +614,21 @@ int RunDataset(const DatasetRequest& request) {
           j["file_name"] = "images/" + stem + ".png";
           j["width"] = width;
           j["height"] = height;
+          if (scenario.world.appearance.Any()) {
+            // What the world's appearance randomisation drew, as numbers `score` bins recall by.
+            const worlds::AppearanceDraw& d = world.appearance;
+            const auto mean = [](const Eigen::Vector3f& c) { return double(c.mean()); };
+            j["appearance"] = {{"wall_brightness", Fraction(mean(d.wall))},
+                               {"floor_brightness", Fraction(mean(d.floor))},
+                               {"ceiling_brightness", Fraction(mean(d.ceiling))},
+                               {"door_brightness", Fraction(mean(d.door))},
+                               {"lamp_brightness", Fraction(d.lamp_brightness)},
+                               {"lamp_temperature_k", Fraction(d.lamp_temperature_k)},
+                               {"distractor_density", Fraction(d.distractor_density)},
+                               {"camera_exposure", Fraction(d.camera_exposure)},
+                               {"camera_noise", Fraction(d.camera_noise)},
+                               {"camera_blur_px", Fraction(d.camera_blur_px)}};
+          }
           const Json truth_json = render::FrameTruthJson(truth);
           for (const auto& [key, value] : truth_json.items()) j[key] = value;
           if (frame.camera_id == "front") {

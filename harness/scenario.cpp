@@ -99,6 +99,11 @@ const OptionTable<Scenario>& ScenarioOptionsTable() {
           "seed of every random stream of the run (world layout, noise, ...)");
     t.AddSection("world", &S::world, worlds::WorldOptionsTable(), "the world",
                  &worlds::WorldOptions::Check);
+    t.AddSection(
+        "appearance", [](S& s) -> worlds::AppearanceOptions& { return s.world.appearance; },
+        worlds::AppearanceOptionsTable(),
+        "appearance randomisation: what varies from world to world (docs/rendering.md)",
+        &worlds::AppearanceOptions::Check);
     auto rig = [](S& s) -> render::RigOptions& { return s.rig; };
     t.AddSection("sensors", rig, render::SensorsOptionsTable(), "the cameras",
                  &render::RigOptions::Check);

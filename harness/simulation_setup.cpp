@@ -14,7 +14,9 @@ Renderer::Renderer(const worlds::World& world, const render::RigOptions& rig_opt
     : scene(render::BuildScene(world, rig_options.scene)),
       backend(render::CreateBackend(backend_kind)) {
   backend->Upload(scene);
-  rig = std::make_unique<render::Rig>(rig_options, scene, *backend);
+  // The cameras as the world's appearance randomisation drew them (the rig itself without it).
+  rig = std::make_unique<render::Rig>(render::WithAppearance(rig_options, world.appearance), scene,
+                                      *backend);
 }
 
 std::optional<sim::PlacementProblem> CheckPosePlacement(const worlds::World& world,

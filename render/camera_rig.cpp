@@ -281,7 +281,8 @@ const OptionTable<SceneOptions>& SceneRenderOptionsTable() {
           "distance at which a lamp's light has halved")
         .Greater(0, "must be greater than 0");
     t.Add("lamp_radiance", &S::lamp_radiance, "",
-          "brightness of the lamps' own emitting faces (1 = white at gain 1)")
+          "brightness of the lamps' own emitting faces (1 = white at gain 1; 4 saturates a lamp "
+          "of any colour at gains from 0.25, as lamps do on a camera)")
         .Range(0, 1000, "must lie in [0, 1000]");
     t.Add("shadows", &S::shadows, "",
           "baked light stops at solids: walls, door frames and leaves, furniture");
@@ -356,8 +357,9 @@ const OptionTable<RigOptions>& SensorsOptionsTable() {
 const OptionTable<RigOptions>& RenderOptionsTable() {
   return StaticOptionTable<RigOptions>([](OptionTable<RigOptions>& t) {
     t.AddEnum("backend", &RigOptions::backend, kBackendKindNames,
-              "`egl` is EGL surfaceless; the environment variable `CORRIDORSIM_RENDER_BACKEND` "
-              "overrides it");
+              "`egl` renders on the first hardware EGL device, else Mesa surfaceless "
+              "(`CORRIDORSIM_EGL_DEVICE`, docs/rendering.md); the environment variable "
+              "`CORRIDORSIM_RENDER_BACKEND` overrides it");
     t.Add("samples", &RigOptions::samples, "",
           "supersampling: samples per pixel, 1 (off), 9 (3 x 3) or 25 (5 x 5); colour is their "
           "mean, labels and depth the centre sample's; costs about `samples` times the drawing")
@@ -529,6 +531,21 @@ CameraBudget CameraBudgetOf(const CameraOptions& camera, int samples) {
 
 void ParseSensors(YamlMap& sensors, RigOptions& rig) {
   ReadOptions(sensors, SensorsOptionsTable(), rig);
+}
+
+RigOptions WithAppearance(const RigOptions& rig, const worlds::AppearanceDraw& look) {
+  RigOptions out = rig;
+  for (CameraOptions& c : out.cameras) {
+    c.exposure.gain *= look.camera_exposure;
+    c.exposure.target = std::min(1.0, c.exposure.target * look.camera_exposure);
+    if (!c.noise) continue;
+    if (c.rgb_noise.full_well_electrons > 0) {
+      c.rgb_noise.full_well_electrons /= look.camera_noise;
+      c.rgb_noise.read_noise_electrons *= look.camera_noise;
+    }
+    c.rgb_noise.motion_blur_px += look.camera_blur_px;
+  }
+  return out;
 }
 
 std::optional<OptionsProblem> CheckCameraPlacement(const worlds::World& world,

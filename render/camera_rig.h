@@ -123,6 +123,12 @@ const OptionTable<RigOptions>& RenderOptionsTable();
 /// Reads a `sensors:` map onto `rig` (cameras by id; unknown ids are errors).
 void ParseSensors(YamlMap& sensors, RigOptions& rig);
 
+/// The rig as a world's appearance randomisation draws it (worlds::AppearanceDraw): every
+/// camera's exposure gain times camera_exposure; cameras with shot noise get read noise times and
+/// full well divided by camera_noise; colour cameras with noise on get camera_blur_px more motion
+/// blur. Without randomisation the rig itself.
+RigOptions WithAppearance(const RigOptions& rig, const worlds::AppearanceDraw& look);
+
 /// A problem when a camera at `world_from_robot` would sit inside a wall or outside the walkable
 /// area (key "<camera>.mount").
 std::optional<OptionsProblem> CheckCameraPlacement(const worlds::World& world,

@@ -143,8 +143,10 @@ Scene BuildScene(const worlds::World& world, const SceneOptions& options) {
     const double reference_area = std::numbers::pi * kReferenceLampRadiusM * kReferenceLampRadiusM;
     PointLight light;
     light.position = lamp.center.cast<float>() - Eigen::Vector3f(0, 0, kLightBelowLampM);
-    light.intensity = Eigen::Vector3f::Constant(
-        static_cast<float>(options.light_intensity * area / reference_area));
+    // Appearance randomisation's lamp brightness and colour (1 and white without it).
+    light.intensity = static_cast<float>(options.light_intensity * area / reference_area *
+                                         world.appearance.lamp_brightness) *
+                      world.appearance.lamp_colour;
     light.lamp_id = lamp.id;
     scene.lights.push_back(light);
   }

@@ -61,12 +61,13 @@ struct SceneOptions {
   float ambient = 0.35f;          // uniform ambient light on diffuse surfaces
   float light_intensity = 0.25f;  // scale of every lamp's point light
   float light_falloff_m = 2.5f;   // distance at which a lamp's light has halved
-  float lamp_radiance = 1.0f;     // scale of the lamps' emitted radiance (their own brightness)
-  double cull_cell_m = 4.0;       // size of the culling grid cells
-  bool bake_lighting = true;      // lamps' light baked per vertex (all lamps, no per-pixel cost)
-  bool shadows = true;            // baked direct light and bounces stop at solids (walls, doors)
-  int bounces = 1;                // baked diffuse bounces between surfaces, 0..3
-  double bounce_range_m = 6.0;    // surfaces further apart than this exchange no bounced light
+  float lamp_radiance =
+      4.0f;  // scale of the lamps' emitted radiance: a lamp saturates, as on a camera
+  double cull_cell_m = 4.0;     // size of the culling grid cells
+  bool bake_lighting = true;    // lamps' light baked per vertex (all lamps, no per-pixel cost)
+  bool shadows = true;          // baked direct light and bounces stop at solids (walls, doors)
+  int bounces = 1;              // baked diffuse bounces between surfaces, 0..3
+  double bounce_range_m = 6.0;  // surfaces further apart than this exchange no bounced light
   int max_lights = 4;          // per-pixel lighting when not baked: nearest lamps lighting one pass
                                // (each costs ~1.4 ms per 640x480 pass on llvmpipe)
   double bake_range_m = 15.0;  // lamps further than this from a vertex are left out of its sum

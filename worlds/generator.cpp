@@ -21,6 +21,7 @@ using Eigen::AlignedBox2d;
 using Eigen::AlignedBox3d;
 using Eigen::Vector2d;
 using Eigen::Vector3d;
+using Eigen::Vector3f;
 
 constexpr double kWallPeriodM = 2.0;   // wall texture repeat
 constexpr double kFloorPeriodM = 2.0;  // floor texture repeat (4 x 4 linoleum tiles)
@@ -64,6 +65,7 @@ class Builder {
         textures_rng_(seed, 0, "worlds.textures") {
     w_.options = options;
     w_.seed = seed;
+    DrawAppearance(RandomStream(seed, 0, "worlds.appearance"));
   }
 
   World Build() {
@@ -89,6 +91,50 @@ class Builder {
   }
 
  private:
+  // ---- appearance randomisation ------------------------------------------------------------
+  // Every value is drawn whatever its spread (a spread of 0 draws the multiplier 1), in a fixed
+  // order, so turning one factor on leaves the others' draws as they were.
+  void DrawAppearance(RandomStream rng) {
+    const AppearanceOptions& a = s_.appearance;
+    AppearanceDraw& d = w_.appearance;
+    auto spread = [&](double s) { return rng.Uniform(1.0 - s, 1.0 + s); };
+    for (Eigen::Vector3f* colour : {&d.wall, &d.floor, &d.ceiling, &d.door}) {
+      const double brightness = spread(a.surface_brightness);
+      for (int c = 0; c < 3; ++c) {
+        (*colour)[c] = static_cast<float>(brightness * spread(a.surface_tint));
+      }
+    }
+    d.lamp_brightness = spread(a.lamp_brightness);
+    const double t = rng.Uniform(0, 1);
+    if (a.lamp_temperature_max_k > 0) {
+      d.lamp_temperature_k =
+          a.lamp_temperature_min_k + t * (a.lamp_temperature_max_k - a.lamp_temperature_min_k);
+      d.lamp_colour = BlackBodyColour(d.lamp_temperature_k);
+    }
+    d.distractor_density = rng.Uniform(1.0 - a.distractor_density, 1.0);
+    d.camera_exposure = spread(a.camera_exposure);
+    d.camera_noise = rng.Uniform(1.0, 1.0 + a.camera_noise);
+    d.camera_blur_px = rng.Uniform(0.0, a.camera_blur_max_px);
+  }
+
+  // A plate colour and a text colour (RGB, 0-255) whose luminances differ by at least 100:
+  // both uniform, the text drawn again up to 64 times, then black or white, whichever differs
+  // more.
+  static std::array<Vector3d, 2> PlateColours(RandomStream& rng) {
+    const auto luma = [](const Vector3d& c) {
+      return 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
+    };
+    const auto draw = [&] {
+      return Vector3d(rng.Uniform(0, 255), rng.Uniform(0, 255), rng.Uniform(0, 255));
+    };
+    const Vector3d plate = draw();
+    for (int k = 0; k < 64; ++k) {
+      const Vector3d text = draw();
+      if (std::abs(luma(plate) - luma(text)) >= 100) return {plate, text};
+    }
+    return {plate, luma(plate) > 127.5 ? Vector3d::Zero() : Vector3d::Constant(255)};
+  }
+
   // ---- materials, textures, meshes -------------------------------------------------------
   int AddTexture(std::string name, Image8 image) {
     w_.textures.push_back(Texture{std::move(name), std::move(image)});
@@ -143,13 +189,16 @@ class Builder {
         AddTexture("room_ceiling", MakeRoomCeilingTexture(textures_rng_, int(px * kWallPeriodM)));
     const int door_tex = AddTexture("door_leaf", MakeDoorTexture(textures_rng_, 128, 256));
     const int vent_tex = AddTexture("vent", MakeVentTexture(96));
-    mat_.wall = TexturedMaterial("wall", wall_tex);
-    mat_.room_wall = TexturedMaterial("room_wall", wall_tex, {0.95f, 0.9f, 0.8f});
-    mat_.floor = TexturedMaterial("floor", floor_tex);
-    mat_.room_floor = TexturedMaterial("room_floor", floor_tex, {0.8f, 0.85f, 0.95f});
-    mat_.ceiling = TexturedMaterial("ceiling", ceiling_tex);
-    mat_.room_ceiling = TexturedMaterial("room_ceiling", room_ceiling_tex);
-    mat_.door_leaf = TexturedMaterial("door_leaf", door_tex);
+    const AppearanceDraw& look = w_.appearance;  // 1 without appearance randomisation
+    mat_.wall = TexturedMaterial("wall", wall_tex, look.wall);
+    mat_.room_wall = TexturedMaterial("room_wall", wall_tex,
+                                      Vector3f(0.95f, 0.9f, 0.8f).cwiseProduct(look.wall));
+    mat_.floor = TexturedMaterial("floor", floor_tex, look.floor);
+    mat_.room_floor = TexturedMaterial("room_floor", floor_tex,
+                                       Vector3f(0.8f, 0.85f, 0.95f).cwiseProduct(look.floor));
+    mat_.ceiling = TexturedMaterial("ceiling", ceiling_tex, look.ceiling);
+    mat_.room_ceiling = TexturedMaterial("room_ceiling", room_ceiling_tex, look.ceiling);
+    mat_.door_leaf = TexturedMaterial("door_leaf", door_tex, look.door);
     mat_.frame = PlainMaterial("door_frame", {0.35f, 0.33f, 0.32f}, 0.2f);
     mat_.vent = TexturedMaterial("vent", vent_tex);
     mat_.detector = PlainMaterial("smoke_detector", {0.95f, 0.95f, 0.95f});
@@ -161,7 +210,7 @@ class Builder {
     Material lamp;
     lamp.name = "lamp_on";
     lamp.diffuse = {1.0f, 1.0f, 0.97f};
-    lamp.emission = {1.0f, 0.98f, 0.92f};
+    lamp.emission = Vector3f(1.0f, 0.98f, 0.92f).cwiseProduct(w_.appearance.lamp_colour);
     mat_.lamp_on = AddMaterial(lamp);
     mat_.lamp_off = PlainMaterial("lamp_off", {0.55f, 0.55f, 0.55f}, 0.3f);
   }
@@ -382,13 +431,19 @@ class Builder {
       plate.room_number = door.room_number;
       const double depth = 0.006;
       const Vector2d c = OnWall(wall, s_centre, depth + kSurfaceOffset);
-      plate.center = Vector3d(c.x(), c.y(), p.center_height_m);
+      // Appearance randomisation: each plate's own stream, so the plates do not shift each other.
+      RandomStream look(w_.seed, static_cast<std::uint64_t>(plate.id), "worlds.appearance.plate");
+      const double jitter = s_.appearance.plate_height_jitter_m;
+      plate.center = Vector3d(c.x(), c.y(), p.center_height_m + look.Uniform(-jitter, jitter));
+      std::optional<std::array<Vector3d, 2>> colours;
+      const std::array<Vector3d, 2> drawn = PlateColours(look);
+      if (s_.appearance.plate_colours) colours = drawn;
       plate.normal = Vector3d(wall.inward_normal.x(), wall.inward_normal.y(), 0);
       plate.size_m = Vector2d(width, height);
       PlateStyle style;  // recorded in the ground truth for detector developers
-      plate.texture =
-          AddTexture(Id("plate", plate.id),
-                     MakePlateTexture(textures_rng_, plate.room_number, width / height, &style));
+      plate.texture = AddTexture(
+          Id("plate", plate.id),
+          MakePlateTexture(textures_rng_, plate.room_number, width / height, &style, colours));
       plate.font = style.font;
       plate.border_px = style.border_px;
       // Texture px -> face metres: the decal maps texture x to right, row 0 to the top.
@@ -809,12 +864,17 @@ class Builder {
 
   void PlaceDistractors() {
     const DistractorOptions& x = s_.distractors;
+    // Appearance randomisation keeps a fraction of each count (1 without it).
+    const auto kept = [&](int count) {
+      return static_cast<int>(std::lround(count * w_.appearance.distractor_density));
+    };
     const DistractorKind kinds[] = {
-        {"distractors.bookshelves", SemanticClass::kBookshelf, x.bookshelves},
-        {"distractors.cabinets", SemanticClass::kCabinet, x.cabinets},
-        {"distractors.notice_boards", SemanticClass::kNoticeBoard, x.notice_boards},
-        {"distractors.posters", SemanticClass::kPoster, x.posters},
-        {"distractors.fire_extinguishers", SemanticClass::kFireExtinguisher, x.fire_extinguishers},
+        {"distractors.bookshelves", SemanticClass::kBookshelf, kept(x.bookshelves)},
+        {"distractors.cabinets", SemanticClass::kCabinet, kept(x.cabinets)},
+        {"distractors.notice_boards", SemanticClass::kNoticeBoard, kept(x.notice_boards)},
+        {"distractors.posters", SemanticClass::kPoster, kept(x.posters)},
+        {"distractors.fire_extinguishers", SemanticClass::kFireExtinguisher,
+         kept(x.fire_extinguishers)},
     };
     for (const DistractorKind& kind : kinds) {
       for (int n = 0; n < kind.count; ++n) PlaceDistractor(kind, n);

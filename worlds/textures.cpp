@@ -195,14 +195,23 @@ Image8 MakeDoorTexture(RandomStream& rng, int width_px, int height_px) {
 }
 
 Image8 MakePlateTexture(RandomStream& rng, const std::string& room_number, double aspect,
-                        PlateStyle* style) {
+                        PlateStyle* style,
+                        const std::optional<std::array<Eigen::Vector3d, 2>>& colours_override) {
   // (plate colour, text colour) pairs seen on real door plates.
   static const cv::Vec3d kPalette[][2] = {
       {{245, 245, 240}, {20, 20, 20}}, {{200, 200, 205}, {15, 15, 60}},
       {{240, 230, 200}, {60, 30, 10}}, {{30, 60, 140}, {250, 250, 250}},
       {{20, 90, 60}, {245, 245, 245}}, {{40, 40, 40}, {240, 240, 240}},
   };
-  const auto& colours = kPalette[rng.UniformInt(0, 5)];
+  const cv::Vec3d* colours = kPalette[rng.UniformInt(0, 5)];
+  cv::Vec3d drawn[2];
+  if (colours_override) {
+    for (int k = 0; k < 2; ++k) {
+      const Eigen::Vector3d& c = (*colours_override)[static_cast<std::size_t>(k)];
+      drawn[k] = cv::Vec3d(c[0], c[1], c[2]);
+    }
+    colours = drawn;
+  }
   const int font_index = static_cast<int>(rng.UniformInt(0, 3));
   const int height_px = 128;
   const int width_px = std::max(32, I(height_px * aspect));

@@ -2,7 +2,11 @@
 // Procedurally drawn, seeded textures (RGB, row 0 on top). Surfaces carry enough texture that
 // corner detectors find features; plates carry legible room numbers in seeded styles.
 
+#include <array>
+#include <optional>
 #include <string>
+
+#include <Eigen/Core>
 
 #include "common/image.h"
 #include "common/random.h"
@@ -31,8 +35,11 @@ struct PlateStyle {
   int number_x0_px = 0, number_y0_px = 0, number_x1_px = 0, number_y1_px = 0;
 };
 /// A door plate showing `room_number` in a seeded style; aspect = width / height of the plate.
-Image8 MakePlateTexture(RandomStream& rng, const std::string& room_number, double aspect,
-                        PlateStyle* style);
+/// `colours` (plate, text; RGB 0-255) replace the palette's (appearance randomisation); the
+/// palette is drawn either way, so the stream stays where it would be.
+Image8 MakePlateTexture(
+    RandomStream& rng, const std::string& room_number, double aspect, PlateStyle* style,
+    const std::optional<std::array<Eigen::Vector3d, 2>>& colours = std::nullopt);
 /// A poster with a headline, blocks of colour and a number (`text`).
 Image8 MakePosterTexture(RandomStream& rng, const std::string& text, int width_px, int height_px);
 /// A cork notice board with pinned notes, one of which shows `text`.

@@ -1,5 +1,8 @@
 #include "worlds/world.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include "common/enum_names.h"
 
 namespace corridorsim::worlds {
@@ -45,6 +48,21 @@ std::size_t World::triangle_count() const {
   std::size_t n = 0;
   for (const Mesh& m : meshes) n += m.triangle_count();
   return n;
+}
+
+Eigen::Vector3f BlackBodyColour(double kelvin) {
+  const double t = std::clamp(kelvin, 1000.0, 40000.0) / 100.0;
+  double r = 255, g = 0, b = 255;
+  if (t <= 66) {
+    g = 99.4708025861 * std::log(t) - 161.1195681661;
+    b = t <= 19 ? 0.0 : 138.5177312231 * std::log(t - 10) - 305.0447927307;
+  } else {
+    r = 329.698727446 * std::pow(t - 60, -0.1332047592);
+    g = 288.1221695283 * std::pow(t - 60, -0.0755148492);
+  }
+  Eigen::Vector3d c(r, g, b);
+  for (int k = 0; k < 3; ++k) c[k] = std::pow(std::clamp(c[k], 0.0, 255.0) / 255.0, 2.2);
+  return (c / c.maxCoeff()).cast<float>();
 }
 
 }  // namespace corridorsim::worlds

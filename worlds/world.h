@@ -185,9 +185,30 @@ struct Distractor {
   std::string text;        // digits printed on posters and notes ("" for none)
 };
 
+/// What appearance randomisation drew for this world (AppearanceOptions); all 1 (0 for the
+/// temperature and blur) without it. Recorded in ground_truth.json.
+struct AppearanceDraw {
+  Eigen::Vector3f wall{1, 1, 1};  // colour multipliers of the surfaces (rooms' too)
+  Eigen::Vector3f floor{1, 1, 1};
+  Eigen::Vector3f ceiling{1, 1, 1};
+  Eigen::Vector3f door{1, 1, 1};
+  double lamp_brightness = 1.0;
+  double lamp_temperature_k = 0.0;       // 0: white
+  Eigen::Vector3f lamp_colour{1, 1, 1};  // of that temperature, brightest channel 1
+  double distractor_density = 1.0;
+  double camera_exposure = 1.0;  // multiplies each camera's exposure gain
+  double camera_noise = 1.0;     // read noise x, full well / (cameras with shot noise)
+  double camera_blur_px = 0.0;   // motion blur added to each colour camera's
+};
+
+/// A black body's colour at `kelvin` (1500-15000 K), linear RGB with its brightest channel 1:
+/// Tanner Helland's fit of black-body sRGB colours, linearised with gamma 2.2.
+Eigen::Vector3f BlackBodyColour(double kelvin);
+
 struct World {
   WorldOptions options;
   std::uint64_t seed = 0;
+  AppearanceDraw appearance;
 
   std::vector<Texture> textures;
   std::vector<Material> materials;

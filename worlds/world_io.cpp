@@ -320,6 +320,26 @@ std::string ObjText(const World& world) {
 
 }  // namespace
 
+// What appearance randomisation drew (AppearanceDraw), multipliers to 1e-6.
+Json AppearanceJson(const AppearanceDraw& d) {
+  const auto rgb = [](const Eigen::Vector3f& c) {
+    return Json::array({RoundToStep(c.x(), 1e6), RoundToStep(c.y(), 1e6), RoundToStep(c.z(), 1e6)});
+  };
+  Json j;
+  j["wall"] = rgb(d.wall);
+  j["floor"] = rgb(d.floor);
+  j["ceiling"] = rgb(d.ceiling);
+  j["door"] = rgb(d.door);
+  j["lamp_brightness"] = RoundToStep(d.lamp_brightness, 1e6);
+  j["lamp_temperature_k"] = RoundToStep(d.lamp_temperature_k, 1e3);
+  j["lamp_colour"] = rgb(d.lamp_colour);
+  j["distractor_density"] = RoundToStep(d.distractor_density, 1e6);
+  j["camera_exposure"] = RoundToStep(d.camera_exposure, 1e6);
+  j["camera_noise"] = RoundToStep(d.camera_noise, 1e6);
+  j["camera_blur_px"] = RoundToStep(d.camera_blur_px, 1e6);
+  return j;
+}
+
 nlohmann::ordered_json GroundTruthJson(const World& world) {
   Json j;
   j["seed"] = world.seed;
@@ -339,6 +359,7 @@ nlohmann::ordered_json GroundTruthJson(const World& world) {
   j["corner_points"] = ArrayOf(world.corner_points, CornerJson);
   j["distractors"] = ArrayOf(world.distractors, DistractorJson);
   j["counts"] = CountsJson(world);
+  j["appearance"] = AppearanceJson(world.appearance);
   return j;
 }
 

@@ -181,6 +181,64 @@ const OptionTable<DistractorOptions>& DistractorOptionsTable() {
 
 }  // namespace
 
+const OptionTable<AppearanceOptions>& AppearanceOptionsTable() {
+  return StaticOptionTable<AppearanceOptions>([](OptionTable<AppearanceOptions>& t) {
+    using A = AppearanceOptions;
+    t.Add("surface_brightness", &A::surface_brightness, "",
+          "relative spread of the wall, floor, ceiling and door colours' brightness, each drawn "
+          "U(1 - s, 1 + s) per world")
+        .Range(0, 0.9, "must lie in [0, 0.9]");
+    t.Add("surface_tint", &A::surface_tint, "",
+          "relative spread of each RGB channel of those colours (their hue), U(1 - s, 1 + s)")
+        .Range(0, 0.5, "must lie in [0, 0.5]");
+    t.Add("lamp_brightness", &A::lamp_brightness, "",
+          "relative spread of the lamps' light, U(1 - s, 1 + s) per world")
+        .Range(0, 0.9, "must lie in [0, 0.9]");
+    t.Add("lamp_temperature_min_k", &A::lamp_temperature_min_k, "K",
+          "lamps' colour temperature drawn in [min, max] per world (a black body's colour); "
+          "0 and 0: white lamps")
+        .ZeroOr(1500, 15000, "must be 0 or lie in [1500, 15000] K (got {})");
+    t.Add("lamp_temperature_max_k", &A::lamp_temperature_max_k, "K", "see above")
+        .ZeroOr(1500, 15000, "must be 0 or lie in [1500, 15000] K (got {})");
+    t.Add("plate_colours", &A::plate_colours, "",
+          "door plates in random colour pairs (luminance contrast at least 100 of 255) instead "
+          "of the six palettes");
+    t.Add("plate_height_jitter_m", &A::plate_height_jitter_m, "m",
+          "each plate's centre height varies by U(-j, j)")
+        .Range(0, 0.4, "must lie in [0, 0.4] m");
+    t.Add("distractor_density", &A::distractor_density, "",
+          "each distractor count is a maximum; a world keeps round(count U(1 - s, 1))")
+        .Range(0, 1, "must lie in [0, 1]");
+    t.Add("camera_exposure", &A::camera_exposure, "",
+          "every camera's exposure gain x U(1 - s, 1 + s) per world")
+        .Range(0, 0.9, "must lie in [0, 0.9]");
+    t.Add("camera_noise", &A::camera_noise, "",
+          "cameras with shot noise: read noise x m and full well / m, m in U(1, 1 + s) per world")
+        .Range(0, 10, "must lie in [0, 10]");
+    t.Add("camera_blur_max_px", &A::camera_blur_max_px, "px",
+          "colour cameras' motion blur drawn U(0, max) px per world (added to their own)")
+        .Range(0, 20, "must lie in [0, 20] px");
+  });
+}
+
+bool AppearanceOptions::Any() const {
+  return surface_brightness > 0 || surface_tint > 0 || lamp_brightness > 0 ||
+         lamp_temperature_max_k > 0 || plate_colours || plate_height_jitter_m > 0 ||
+         distractor_density > 0 || camera_exposure > 0 || camera_noise > 0 ||
+         camera_blur_max_px > 0;
+}
+
+std::optional<OptionsProblem> AppearanceOptions::Check() const {
+  if (auto problem = CheckOptionBounds(AppearanceOptionsTable(), *this)) return problem;
+  if ((lamp_temperature_min_k == 0) != (lamp_temperature_max_k == 0) ||
+      lamp_temperature_min_k > lamp_temperature_max_k) {
+    return OptionsProblem{"lamp_temperature_max_k",
+                          "lamp_temperature_min_k and lamp_temperature_max_k are both 0 (white "
+                          "lamps) or a range with min <= max"};
+  }
+  return std::nullopt;
+}
+
 const OptionTable<WorldOptions>& WorldOptionsTable() {
   return StaticOptionTable<WorldOptions>([](OptionTable<WorldOptions>& t) {
     using W = WorldOptions;
@@ -214,6 +272,10 @@ const OptionTable<WorldOptions>& WorldOptionsTable() {
 
 std::optional<OptionsProblem> WorldOptions::Check() const {
   if (auto problem = CheckOptionBounds(WorldOptionsTable(), *this)) return problem;
+  if (auto problem = appearance.Check()) {  // a scenario reports it under `appearance:`
+    problem->key = "appearance." + problem->key;
+    return problem;
+  }
   // Rules across fields, in the order they are reported.
   Checker c;
   if (layout != Layout::kStraight) {

@@ -74,6 +74,31 @@ struct DistractorOptions {
   int fire_extinguishers = 3;
 };
 
+/// Appearance randomisation (domain randomisation): what varies from world to world, drawn from
+/// the world seed's own streams ("worlds.appearance", and "worlds.appearance.plate" per plate), so
+/// the layout, lamps and textures draw what they draw without it. Every spread 0 (the defaults)
+/// leaves a world as it is without randomisation. World::appearance records what was drawn.
+struct AppearanceOptions {
+  double surface_brightness = 0.0;      // wall, floor, ceiling, door colours x U(1 - s, 1 + s) each
+  double surface_tint = 0.0;            // and each RGB channel of them x U(1 - s, 1 + s) (hue)
+  double lamp_brightness = 0.0;         // every lamp's light and brightness x U(1 - s, 1 + s)
+  double lamp_temperature_min_k = 0.0;  // lamps' colour temperature U(min, max) K; 0: white
+  double lamp_temperature_max_k = 0.0;
+  bool plate_colours = false;          // plates in random colour pairs of high contrast
+  double plate_height_jitter_m = 0.0;  // each plate's centre height + U(-j, j)
+  double distractor_density = 0.0;     // each distractor count x U(1 - s, 1) (counts are maxima)
+  double camera_exposure = 0.0;        // every camera's exposure gain x U(1 - s, 1 + s)
+  double camera_noise = 0.0;  // noisy cameras' read noise x m and full well / m, m in U(1, 1 + s)
+  double camera_blur_max_px = 0.0;  // colour cameras' motion blur U(0, max) px (horizontal)
+
+  std::optional<OptionsProblem> Check() const;
+  /// Whether anything varies (a spread, a temperature range or plate colours is set).
+  bool Any() const;
+};
+
+/// The keys of a scenario's `appearance:` map.
+const OptionTable<AppearanceOptions>& AppearanceOptionsTable();
+
 struct WorldOptions {
   Layout layout = Layout::kStraight;
   // Corridor centre-line lengths. straight: length_m. L-turn: first leg length_m, second leg
@@ -90,6 +115,7 @@ struct WorldOptions {
   LampOptions lamps;
   CeilingOptions ceiling;
   DistractorOptions distractors;
+  AppearanceOptions appearance;  // the scenario's `appearance:` section
 
   /// The first problem that makes this options impossible to generate, or nothing.
   std::optional<OptionsProblem> Check() const;

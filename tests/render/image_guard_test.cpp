@@ -187,7 +187,7 @@ TEST_CASE("across every cube-face seam the colour steps no more than between nei
     // within one label so that object edges do not count.
     for (int v = 3; v + 3 < h; ++v) {
       for (int u = 3; u + 3 < w; ++u) {
-        for (const auto [du, dv] : {std::pair{1, 0}, std::pair{0, 1}}) {
+        for (const auto& [du, dv] : {std::pair{1, 0}, std::pair{0, 1}}) {
           const int p0 = pass(u, v), p1 = pass(u + du, v + dv);
           if (p0 < 0 || p1 < 0 || p0 == p1) continue;
           const std::uint32_t id = f.instance[static_cast<std::size_t>(v) * w + u];
@@ -206,7 +206,7 @@ TEST_CASE("across every cube-face seam the colour steps no more than between nei
     }
   }
   REQUIRE(seam_n > 500);
-  const double seam = seam_sum / seam_n, near = near_sum / near_n;
+  const double seam = seam_sum / double(seam_n), near = near_sum / double(near_n);
   INFO("mean step across seams " << seam << " DN, beside them " << near << " DN");
   CHECK(seam <= near * 1.1);
 }
@@ -281,7 +281,7 @@ TEST_CASE("auto exposure brightens a darker corridor, within its bounds, from th
 
 TEST_CASE("supersampling averages the samples and takes labels from the centre sample",
           "[render][gl][image]") {
-  const Scene& scene = [] -> const Scene& {
+  const Scene& scene = []() -> const Scene& {
     static const worlds::World world = worlds::Generate(WithReflectors(0.2), 7);
     static const Scene s = BuildScene(world);
     return s;

@@ -8,6 +8,7 @@
 
 #include <catch2/catch.hpp>
 
+#include "render/camera_rig.h"
 #include "worlds/mesh_builder.h"
 
 namespace corridorsim::render {
@@ -191,6 +192,74 @@ TEST_CASE("the auto-exposure meter follows the light in view", "[render][light]"
   CHECK(lb == Approx(la / 4).epsilon(1e-6));   // linear in the light
   CHECK(MeteredLuminance(a, eye, all) == la);  // deterministic
   CHECK(MeteredLuminance(a, eye, std::vector<std::vector<int>>{}) == 0.0);
+}
+
+}  // namespace
+}  // namespace corridorsim::render
+
+namespace corridorsim::render {
+namespace {
+
+TEST_CASE("appearance randomisation's lamp brightness and colour scale every light",
+          "[render][light]") {
+  worlds::WorldOptions options;
+  options.appearance.lamp_brightness = 0.5;
+  options.appearance.lamp_temperature_min_k = 2700;
+  options.appearance.lamp_temperature_max_k = 3000;
+  const worlds::World plain = worlds::Generate(worlds::WorldOptions{}, 8);
+  const worlds::World warm = worlds::Generate(options, 8);
+  const Scene a = BuildScene(plain), b = BuildScene(warm);
+  REQUIRE(a.lights.size() == b.lights.size());
+  REQUIRE(!a.lights.empty());
+  const Eigen::Vector3f scale =
+      static_cast<float>(warm.appearance.lamp_brightness) * warm.appearance.lamp_colour;
+  for (std::size_t i = 0; i < a.lights.size(); ++i) {
+    for (int c = 0; c < 3; ++c) {
+      CHECK(b.lights[i].intensity[c] == Approx(a.lights[i].intensity[c] * scale[c]).epsilon(1e-6));
+    }
+  }
+  // Warm light: the floor under a lamp is lit redder than blue.
+  const SceneVertex* lit = nullptr;
+  for (const SceneVertex& v : b.vertices) {
+    if (v.normal[2] > 0.5f && (lit == nullptr || v.irradiance[0] > lit->irradiance[0])) lit = &v;
+  }
+  REQUIRE(lit != nullptr);
+  CHECK(lit->irradiance[0] > lit->irradiance[2] * 1.2f);
+}
+
+TEST_CASE("appearance randomisation's camera draws scale exposure, noise and blur",
+          "[render][light]") {
+  RigOptions rig = RigOptions::Default();
+  for (CameraOptions& c : rig.cameras) {
+    c.rgb_noise.full_well_electrons = 10000;
+    c.rgb_noise.read_noise_electrons = 5;
+  }
+  rig.cameras[1].noise = false;
+  worlds::AppearanceDraw look;
+  look.camera_exposure = 1.5;
+  look.camera_noise = 2.0;
+  look.camera_blur_px = 1.25;
+  const RigOptions out = WithAppearance(rig, look);
+  for (std::size_t k = 0; k < rig.cameras.size(); ++k) {
+    const CameraOptions &before = rig.cameras[k], &after = out.cameras[k];
+    CHECK(after.exposure.gain == before.exposure.gain * 1.5);
+    if (!before.noise) {
+      CHECK(after.rgb_noise.full_well_electrons == before.rgb_noise.full_well_electrons);
+      CHECK(after.rgb_noise.motion_blur_px == before.rgb_noise.motion_blur_px);
+      continue;
+    }
+    CHECK(after.rgb_noise.full_well_electrons == 5000);
+    CHECK(after.rgb_noise.read_noise_electrons == 10);
+    CHECK(after.rgb_noise.motion_blur_px == before.rgb_noise.motion_blur_px + 1.25);
+  }
+  // Without randomisation the rig is itself.
+  const RigOptions same = WithAppearance(rig, worlds::AppearanceDraw{});
+  for (std::size_t k = 0; k < rig.cameras.size(); ++k) {
+    CHECK(same.cameras[k].exposure.gain == rig.cameras[k].exposure.gain);
+    CHECK(same.cameras[k].rgb_noise.full_well_electrons ==
+          rig.cameras[k].rgb_noise.full_well_electrons);
+    CHECK(same.cameras[k].rgb_noise.motion_blur_px == rig.cameras[k].rgb_noise.motion_blur_px);
+  }
 }
 
 }  // namespace
