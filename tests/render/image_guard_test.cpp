@@ -9,10 +9,13 @@
 #include <tuple>
 
 #include <catch2/catch.hpp>
+#include <opencv2/features2d.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "render/backend.h"
 #include "render/camera_rig.h"
 #include "render/scene.h"
+#include "worlds/mesh_builder.h"
 #include "worlds/world.h"
 
 namespace corridorsim::render {
@@ -305,6 +308,104 @@ TEST_CASE("supersampling averages the samples and takes labels from the centre s
   }
   CHECK(mean_nine == Approx(mean_one).epsilon(0.02));
   CHECK(Upward(scene, *backend, 10, 0, 0.2, 3).rgb.data == nine.rgb.data);
+}
+
+}  // namespace
+}  // namespace corridorsim::render
+
+namespace corridorsim::render {
+namespace {
+
+// Moiré: FAST corners within 3 px of a reflector's border in `frame` that a converged render
+// (`reference`, 25 samples per pixel) has no corner within 2 px of.
+int SpuriousBorderCorners(const CameraFrame& frame, const CameraFrame& reference) {
+  auto corners = [](const CameraFrame& f) {
+    cv::Mat rgb(f.rgb.height, f.rgb.width, CV_8UC3, const_cast<std::uint8_t*>(f.rgb.data.data()));
+    cv::Mat grey;
+    cv::cvtColor(rgb, grey, cv::COLOR_RGB2GRAY);
+    std::vector<cv::KeyPoint> keypoints;
+    cv::FAST(grey, keypoints, 20, true);
+    return keypoints;
+  };
+  const int w = frame.rgb.width, h = frame.rgb.height;
+  cv::Mat reflector(h, w, CV_8U);
+  for (int i = 0; i < w * h; ++i) {
+    reflector.data[i] = frame.semantic[static_cast<std::size_t>(i)] ==
+                        static_cast<std::uint8_t>(worlds::SemanticClass::kReflector);
+  }
+  cv::Mat grown, shrunk;
+  const cv::Mat box = cv::Mat::ones(7, 7, CV_8U);
+  cv::dilate(reflector, grown, box);
+  cv::erode(reflector, shrunk, box);
+  const std::vector<cv::KeyPoint> found = corners(frame), truth = corners(reference);
+  int spurious = 0;
+  for (const cv::KeyPoint& k : found) {
+    const int u = static_cast<int>(std::lround(k.pt.x)), v = static_cast<int>(std::lround(k.pt.y));
+    if (!(grown.at<std::uint8_t>(v, u) && !shrunk.at<std::uint8_t>(v, u))) continue;
+    const bool real = std::any_of(truth.begin(), truth.end(), [&](const cv::KeyPoint& t) {
+      return std::hypot(t.pt.x - k.pt.x, t.pt.y - k.pt.y) <= 2.0;
+    });
+    spurious += !real;
+  }
+  return spurious;
+}
+
+TEST_CASE("reflector borders no longer produce moiré corners", "[render][gl][image]") {
+  // The reflectors as they were: their end boxes' faces on the wall plane, where they z-fought
+  // the wall band beside the panel (re-created here as quads on the plane).
+  worlds::WorldOptions options = WithReflectors(1.0);
+  const worlds::World world = worlds::Generate(options, 3);
+  REQUIRE(!world.reflectors.empty());
+  worlds::World old_world = world;
+  int mirror = -1;
+  for (const worlds::Mesh& m : world.meshes) {
+    if (m.semantic_class == worlds::SemanticClass::kReflector && m.material >= 0 &&
+        world.materials[static_cast<std::size_t>(m.material)].emission.maxCoeff() == 0) {
+      mirror = m.material;
+    }
+  }
+  REQUIRE(mirror >= 0);
+  const double t = options.wall_thickness_m, H = options.height_m;
+  for (const worlds::Reflector& r : world.reflectors) {
+    const worlds::Wall& wall = *std::find_if(world.walls.begin(), world.walls.end(),
+                                             [&](const auto& x) { return x.id == r.wall_id; });
+    const Vector3d along(wall.tangent().x(), wall.tangent().y(), 0);
+    const double z0 = H - r.size_m.y();
+    worlds::Mesh m;
+    m.name = "old_reflector_ends_" + std::to_string(r.id);
+    m.material = mirror;
+    m.instance_id = r.id;
+    m.semantic_class = worlds::SemanticClass::kReflector;
+    for (const double s : {-r.size_m.x() / 2 - t, r.size_m.x() / 2}) {
+      const Vector3d origin = Vector3d(r.center.x(), r.center.y(), z0) + s * along;
+      worlds::AddQuad(m, origin, Vector3d(0, 0, H - z0), t * along);  // facing the corridor
+    }
+    worlds::UpdateBounds(m);
+    old_world.meshes.push_back(m);
+  }
+  const Scene old_scene = BuildScene(old_world), scene = BuildScene(world);
+  const std::unique_ptr<Backend> old_backend = CreateBackend(BackendKind::kOsMesa);
+  const std::unique_ptr<Backend> backend = CreateBackend(BackendKind::kOsMesa);
+  old_backend->Upload(old_scene);
+  backend->Upload(scene);
+  CameraOptions c = ExactUpward();
+  c.model = KannalaBrandt::FromFov(320, 240, 110.0 * std::numbers::pi / 180.0);
+  auto render = [&](const Scene& s, Backend& b, const SE3& pose, int n) {
+    CameraRenderer camera(c, n);
+    CameraFrame f;
+    camera.Render(s, b, pose * c.mount.RobotFromCamera(), &f);
+    return f;
+  };
+  int before = 0, after = 0;
+  for (const double x : {6.0, 12.0, 18.0, 24.0}) {
+    const SE3 pose = SE3::FromSE2(SE2(x, 0.2, 0.15));
+    const CameraFrame reference = render(scene, *backend, pose, 5);
+    before += SpuriousBorderCorners(render(old_scene, *old_backend, pose, 1), reference);
+    after += SpuriousBorderCorners(render(scene, *backend, pose, 3), reference);
+  }
+  INFO("moiré corners along reflector borders: " << before << " before, " << after << " now");
+  CHECK(before >= 20);
+  CHECK(after * 10 <= before);
 }
 
 }  // namespace
