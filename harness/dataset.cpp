@@ -405,6 +405,7 @@ std::string ManifestJson(const Scenario& scenario, std::uint64_t seed,
   const render::BackendInfo info = backend.info();
   const char* gallivm_perf = std::getenv("GALLIVM_PERF");
   j["render"] = {{"backend", render::BackendName(backend.kind())},
+                 {"device", info.device},
                  {"gl_renderer", info.renderer},
                  {"gl_version", info.version},
                  {"GALLIVM_PERF", gallivm_perf ? Json(gallivm_perf) : Json(nullptr)}};
