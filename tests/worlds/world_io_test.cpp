@@ -73,7 +73,7 @@ TEST_CASE("ground truth json lists every semantic entry with its values", "[worl
   for (const auto& item : j.items()) keys.push_back(item.key());
   CHECK(keys == std::vector<std::string>{"seed", "layout", "bounds", "door_plates", "lamps",
                                          "doors", "corridor_segments", "walls", "reflectors",
-                                         "corner_points", "distractors", "counts"});
+                                         "corner_points", "distractors", "counts", "appearance"});
   CHECK(j["seed"] == 7);
   CHECK(j["layout"] == "straight");
   CheckVec(j["bounds"]["min"], {-0.15, -1.35, 0.0});
