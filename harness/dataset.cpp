@@ -199,10 +199,9 @@ std::map<int, PixelBox> DoorPixels(const render::FrameTruth& truth,
 
 // `w<WWW>`: the world part of every frame's name and the world's folder.
 std::string WorldStem(int world_index, int worlds) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "w%0*d", std::max(3, Digits(std::max(worlds - 1, 0))),
-                world_index);
-  return buffer;
+  const std::string digits = std::to_string(world_index);
+  const std::size_t width = static_cast<std::size_t>(std::max(3, Digits(std::max(worlds - 1, 0))));
+  return "w" + std::string(width > digits.size() ? width - digits.size() : 0, '0') + digits;
 }
 
 }  // namespace

@@ -36,40 +36,6 @@ constexpr std::uint64_t kMaxAnnotationsFileBytes = std::uint64_t{1} << 30;
   throw InputError(SourceLocation{file, 0, 0}, field, message);
 }
 
-// A regular file of at most `max_bytes`, read once; opening never blocks (a FIFO would wait for a
-// writer) and the opened descriptor is what is checked.
-std::string ReadBoundedFile(const fs::path& path, std::uint64_t max_bytes) {
-  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
-  if (fd < 0) FailAt(path.string(), "", std::string("cannot be opened: ") + std::strerror(errno));
-  struct stat info {};
-  std::string text, problem;
-  if (::fstat(fd, &info) != 0 || !S_ISREG(info.st_mode)) {
-    problem = "not a regular file";
-  } else if (static_cast<std::uint64_t>(info.st_size) > max_bytes) {
-    problem = "larger than " + std::to_string(max_bytes) + " bytes";
-  } else {
-    text.reserve(static_cast<std::size_t>(info.st_size));
-    char buffer[65536];
-    for (;;) {
-      const ssize_t n = ::read(fd, buffer, sizeof(buffer));
-      if (n < 0 && errno == EINTR) continue;
-      if (n < 0) {
-        problem = std::string("cannot be read: ") + std::strerror(errno);
-        break;
-      }
-      if (n == 0) break;
-      text.append(buffer, static_cast<std::size_t>(n));
-      if (text.size() > max_bytes) {
-        problem = "larger than " + std::to_string(max_bytes) + " bytes";
-        break;
-      }
-    }
-  }
-  ::close(fd);
-  if (!problem.empty()) FailAt(path.string(), "", problem);
-  return text;
-}
-
 Json ParseJsonText(std::string_view text, const std::string& file) {
   try {
     return Json::parse(text);
@@ -630,7 +596,7 @@ ScoreDataset ParseScoreDataset(std::string_view text, const std::string& file) {
 ScoreDataset ReadScoreDataset(const fs::path& dir, const std::optional<std::string>& camera) {
   const fs::path manifest_path = dir / "dataset.json";
   const Json manifest =
-      ParseJsonText(ReadBoundedFile(manifest_path, 1 << 20), manifest_path.string());
+      ParseJsonText(ReadRegularFile(manifest_path, 1 << 20), manifest_path.string());
   const Field top{manifest_path.string(), "", manifest};
   if (!manifest.is_object()) top.Fail("expected an object");
   const Field cameras = top.At("cameras");
@@ -656,7 +622,7 @@ ScoreDataset ReadScoreDataset(const fs::path& dir, const std::optional<std::stri
                      "the dataset has cameras " + list + ": name the one the detections are for");
   }
   const fs::path annotations = dir / chosen / "annotations.json";
-  ScoreDataset dataset = ParseScoreDataset(ReadBoundedFile(annotations, kMaxAnnotationsFileBytes),
+  ScoreDataset dataset = ParseScoreDataset(ReadRegularFile(annotations, kMaxAnnotationsFileBytes),
                                            annotations.string());
   dataset.camera = chosen;
   return dataset;
@@ -774,7 +740,7 @@ int RunScore(const ScoreRequest& request) {
   const ScoreDataset dataset = ReadScoreDataset(request.dataset_dir, request.camera);
   const std::string file = request.detections_file.string();
   const std::vector<ScoreDetection> detections = ParseDetections(
-      ReadBoundedFile(request.detections_file, kMaxDetectionsFileBytes), file, dataset);
+      ReadRegularFile(request.detections_file, kMaxDetectionsFileBytes), file, dataset);
   // Checked before anything is computed or written: a refused folder is bad input.
   std::unique_ptr<StagedDirectory> folder;
   if (request.report_dir) folder = StageOutputFolder(*request.report_dir, "--out", request.force);

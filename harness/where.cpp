@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "common/error.h"
+#include "common/io/atomic_file.h"
 #include "slam/mapping/semantic_map.h"
 
 namespace corridorsim {
@@ -27,42 +28,8 @@ constexpr std::size_t kMaxListedRooms = 40;  // rooms named in the "unknown room
   throw InputError(SourceLocation{path.string(), 0, 0}, "", message);
 }
 
-// A regular file of at most kSemanticMapMaxBytes, read once; opening never blocks (O_NONBLOCK:
-// a FIFO would wait for a writer) and the opened descriptor is what is checked.
-std::string ReadMapFile(const std::filesystem::path& path) {
-  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
-  if (fd < 0) FailAt(path, std::string("cannot be opened: ") + std::strerror(errno));
-  struct stat info {};
-  std::string text;
-  std::string problem;
-  if (::fstat(fd, &info) != 0 || !S_ISREG(info.st_mode)) {
-    problem = "not a regular file";
-  } else if (static_cast<std::uint64_t>(info.st_size) > slam::kSemanticMapMaxBytes) {
-    problem = "larger than " + std::to_string(slam::kSemanticMapMaxBytes) + " bytes";
-  } else {
-    char buffer[65536];
-    for (;;) {
-      const ssize_t n = ::read(fd, buffer, sizeof(buffer));
-      if (n < 0 && errno == EINTR) continue;
-      if (n < 0) {
-        problem = std::string("cannot be read: ") + std::strerror(errno);
-        break;
-      }
-      if (n == 0) break;
-      text.append(buffer, static_cast<std::size_t>(n));
-      if (text.size() > slam::kSemanticMapMaxBytes) {
-        problem = "larger than " + std::to_string(slam::kSemanticMapMaxBytes) + " bytes";
-        break;
-      }
-    }
-  }
-  ::close(fd);
-  if (!problem.empty()) FailAt(path, problem);
-  return text;
-}
-
 std::vector<slam::SemanticMapEntry> ReadMap(const std::filesystem::path& path) {
-  const std::string text = ReadMapFile(path);
+  const std::string text = ReadRegularFile(path, slam::kSemanticMapMaxBytes);
   try {
     return slam::ParseSemanticMap(text);
   } catch (const slam::SemanticMapError& e) {

@@ -1,5 +1,7 @@
 #include "common/io/atomic_file.h"
 
+#include <sys/stat.h>
+
 #include <fcntl.h>
 #include <signal.h>
 #include <unistd.h>
@@ -12,6 +14,8 @@
 #include <stdexcept>
 #include <string>
 #include <system_error>
+
+#include "common/error.h"
 
 namespace corridorsim {
 namespace {
@@ -242,6 +246,41 @@ void StagedDirectory::Commit() {
   committed_ = true;
   // A previous folder left here by a killed process is removed by the next job.
   if (!previous.empty()) fs::remove_all(previous, error);
+}
+
+std::string ReadRegularFile(const std::filesystem::path& path, std::uint64_t max_bytes) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
+  const auto fail = [&](const std::string& message) {
+    throw InputError(SourceLocation{path.string(), 0, 0}, "", message);
+  };
+  if (fd < 0) fail(std::string("cannot be opened: ") + std::strerror(errno));
+  struct stat info {};
+  std::string text, problem;
+  if (::fstat(fd, &info) != 0 || !S_ISREG(info.st_mode)) {
+    problem = "not a regular file";
+  } else if (static_cast<std::uint64_t>(info.st_size) > max_bytes) {
+    problem = "larger than " + std::to_string(max_bytes) + " bytes";
+  } else {
+    text.reserve(static_cast<std::size_t>(info.st_size));
+    char buffer[65536];
+    for (;;) {
+      const ssize_t n = ::read(fd, buffer, sizeof(buffer));
+      if (n < 0 && errno == EINTR) continue;
+      if (n < 0) {
+        problem = std::string("cannot be read: ") + std::strerror(errno);
+        break;
+      }
+      if (n == 0) break;
+      text.append(buffer, static_cast<std::size_t>(n));
+      if (text.size() > max_bytes) {
+        problem = "larger than " + std::to_string(max_bytes) + " bytes";
+        break;
+      }
+    }
+  }
+  ::close(fd);
+  if (!problem.empty()) fail(problem);
+  return text;
 }
 
 }  // namespace corridorsim

@@ -3,11 +3,19 @@
 // a temporary file in the same folder, which is then renamed over the target (rename is atomic
 // within one file system). Whole output folders go the same way (StagedDirectory).
 
+#include <cstdint>
 #include <filesystem>
 #include <stdexcept>
+#include <string>
 #include <string_view>
 
 namespace corridorsim {
+
+/// Reads a regular file of at most `max_bytes` (input a user names: a detections file, a map),
+/// once. Opening never blocks (O_NONBLOCK: a FIFO would wait for a writer) and the opened
+/// descriptor is what is checked. Throws InputError naming the path: cannot be opened, not a
+/// regular file, larger than max_bytes, cannot be read.
+std::string ReadRegularFile(const std::filesystem::path& path, std::uint64_t max_bytes);
 
 /// Writes `bytes` to `path` through `.<name>.tmp.<pid>.<n>` in the same folder and a rename. The
 /// folder must exist. Throws std::runtime_error naming `path` on failure (the temporary file is
