@@ -141,6 +141,10 @@ double Significant6(double value) {
 
 }  // namespace
 
+Image8 ReadRgbPng(const std::filesystem::path& path, const std::string& what) {
+  return ToRgb(path, DecodePng(path, what));
+}
+
 std::string DetectCameraName(DetectCamera camera) {
   return camera == DetectCamera::kFront ? "front" : "lateral";
 }
@@ -149,7 +153,7 @@ DetectInput LoadDetectInput(const DetectRequest& request) {
   DetectInput input;
   input.image_name = request.image_file.string();
   input.camera = request.camera;
-  input.rgb = ToRgb(request.image_file, DecodePng(request.image_file, "the image"));
+  input.rgb = ReadRgbPng(request.image_file, "the image");
   if (request.depth_file) {
     const std::filesystem::path& path = *request.depth_file;
     const cv::Mat raw = DecodePng(path, "the --depth image");

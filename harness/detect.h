@@ -23,6 +23,11 @@ std::string DetectCameraName(DetectCamera camera);
 inline constexpr std::size_t kMaxDetectFileBytes = std::size_t{256} << 20;  // 256 MiB
 inline constexpr int kMaxDetectImageSide = 8192;                            // px, each side
 
+/// A PNG file (8-bit grey, RGB or RGBA; 16-bit too) as 8-bit RGB, within the bounds above. A
+/// missing, unreadable, non-PNG or too large file throws InputError naming it (`what` says which
+/// input it is).
+Image8 ReadRgbPng(const std::filesystem::path& path, const std::string& what);
+
 struct DetectRequest {
   std::filesystem::path image_file;                   // PNG (8-bit grey, RGB or RGBA; 16-bit too)
   DetectCamera camera = DetectCamera::kFront;         // --camera

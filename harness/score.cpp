@@ -19,6 +19,7 @@
 #include "common/error.h"
 #include "common/image.h"
 #include "common/io/atomic_file.h"
+#include "common/io/json_input.h"
 #include "common/io/stable_json.h"
 #include "harness/dataset.h"
 #include "harness/run_folder.h"
@@ -31,73 +32,7 @@ namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
 constexpr std::uint64_t kMaxAnnotationsFileBytes = std::uint64_t{1} << 30;
 
-[[noreturn]] void FailAt(const std::string& file, const std::string& field,
-                         const std::string& message) {
-  throw InputError(SourceLocation{file, 0, 0}, field, message);
-}
-
-Json ParseJsonText(std::string_view text, const std::string& file) {
-  try {
-    return Json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
-    // nlohmann's message repeats the byte; ours names it once.
-    std::string what = e.what();
-    const std::size_t colon = what.rfind(": ");
-    if (colon != std::string::npos) what = what.substr(colon + 2);
-    FailAt(file, "", "malformed JSON at byte " + std::to_string(e.byte) + ": " + what);
-  } catch (const nlohmann::json::exception& e) {
-    // Numbers a double cannot hold (1e999: JSON has no infinities) and the like.
-    std::string what = e.what();
-    const std::size_t bracket = what.find("] ");
-    if (bracket != std::string::npos) what = what.substr(bracket + 2);
-    FailAt(file, "", "malformed JSON: " + what);
-  }
-}
-
-// Typed access with the field's path in every message.
-struct Field {
-  const std::string& file;
-  std::string path;
-  const Json& value;
-
-  [[noreturn]] void Fail(const std::string& message) const { FailAt(file, path, message); }
-  Field At(const char* key) const {
-    if (!value.contains(key)) FailAt(file, path + "." + key, "missing");
-    return Field{file, path + "." + key, value[key]};
-  }
-  bool Has(const char* key) const { return value.contains(key); }
-  double Number() const {
-    if (!value.is_number()) Fail("expected a number (got " + std::string(value.type_name()) + ")");
-    const double v = value.get<double>();
-    if (!std::isfinite(v)) Fail("not a finite number");
-    return v;
-  }
-  std::int64_t Integer() const {
-    if (!value.is_number_integer()) {
-      Fail("expected an integer (got " + std::string(value.type_name()) + ")");
-    }
-    if (value.is_number_unsigned() &&
-        value.get<std::uint64_t>() > std::uint64_t(std::numeric_limits<std::int64_t>::max())) {
-      Fail("too large");
-    }
-    return value.get<std::int64_t>();
-  }
-  std::string String() const {
-    if (!value.is_string()) Fail("expected a string (got " + std::string(value.type_name()) + ")");
-    return value.get<std::string>();
-  }
-  template <std::size_t N>
-  std::array<double, N> Numbers() const {
-    if (!value.is_array() || value.size() != N) {
-      Fail("expected an array of " + std::to_string(N) + " numbers");
-    }
-    std::array<double, N> out{};
-    for (std::size_t i = 0; i < N; ++i) {
-      out[i] = Field{file, path + "[" + std::to_string(i) + "]", value[i]}.Number();
-    }
-    return out;
-  }
-};
+using Field = JsonField;
 
 // A COCO box [x, y, w, h] intersects the image [0, width] x [0, height] (edges included).
 bool Intersects(const std::array<double, 4>& b, const ScoreImage& image) {
@@ -539,8 +474,8 @@ double CircleIou(const std::array<double, 3>& a, const std::array<double, 3>& b)
 }
 
 ScoreDataset ParseScoreDataset(std::string_view text, const std::string& file) {
-  const Json root = ParseJsonText(text, file);
-  if (!root.is_object()) FailAt(file, "", "expected a COCO object");
+  const Json root = ParseJsonInput(text, file);
+  if (!root.is_object()) FailInFile(file, "", "expected a COCO object");
   const Field top{file, "", root};
   ScoreDataset dataset;
   const Field images = top.At("images");
@@ -596,7 +531,7 @@ ScoreDataset ParseScoreDataset(std::string_view text, const std::string& file) {
 ScoreDataset ReadScoreDataset(const fs::path& dir, const std::optional<std::string>& camera) {
   const fs::path manifest_path = dir / "dataset.json";
   const Json manifest =
-      ParseJsonText(ReadRegularFile(manifest_path, 1 << 20), manifest_path.string());
+      ParseJsonInput(ReadRegularFile(manifest_path, 1 << 20), manifest_path.string());
   const Field top{manifest_path.string(), "", manifest};
   if (!manifest.is_object()) top.Fail("expected an object");
   const Field cameras = top.At("cameras");
@@ -630,12 +565,12 @@ ScoreDataset ReadScoreDataset(const fs::path& dir, const std::optional<std::stri
 
 std::vector<ScoreDetection> ParseDetections(std::string_view text, const std::string& file,
                                             const ScoreDataset& dataset) {
-  const Json root = ParseJsonText(text, file);
+  const Json root = ParseJsonInput(text, file);
   if (!root.is_array()) {
-    FailAt(file, "", "expected a JSON array of detections (COCO results format)");
+    FailInFile(file, "", "expected a JSON array of detections (COCO results format)");
   }
   if (root.size() > kMaxDetections) {
-    FailAt(file, "", "more than " + std::to_string(kMaxDetections) + " detections");
+    FailInFile(file, "", "more than " + std::to_string(kMaxDetections) + " detections");
   }
   std::vector<ScoreDetection> detections;
   detections.reserve(root.size());
@@ -691,11 +626,11 @@ std::vector<ScoreDetection> ParseDetections(std::string_view text, const std::st
       }
     }
     if (!d.bbox && !d.circle && !d.point) {
-      FailAt(file, f.path + ".bbox",
-             d.category_id == kCategoryLamp ? "missing (a lamp gives `bbox` or `circle`)"
-             : d.category_id == kCategoryCeilingCorner
-                 ? "missing (a corner gives `bbox`, `point` or `keypoints`)"
-                 : "missing");
+      FailInFile(file, f.path + ".bbox",
+                 d.category_id == kCategoryLamp ? "missing (a lamp gives `bbox` or `circle`)"
+                 : d.category_id == kCategoryCeilingCorner
+                     ? "missing (a corner gives `bbox`, `point` or `keypoints`)"
+                     : "missing");
     }
     if (f.Has("room_number")) d.room_number = f.At("room_number").String();
     detections.push_back(std::move(d));
