@@ -136,6 +136,93 @@ std::vector<SE2> RandomPoses(const Scenario& scenario, const worlds::World& worl
   return poses;
 }
 
+// The camera's optical centre must lie inside a corridor segment, 0.15 m from its walls and ends.
+bool InsideCorridor(const worlds::World& world, const Vector2d& p) {
+  for (const worlds::CorridorSegment& s : world.segments) {
+    const Vector2d d = s.direction();
+    const Vector2d n(-d.y(), d.x());
+    const double along = (p - s.start).dot(d), across = (p - s.start).dot(n);
+    if (along >= 0.15 && along <= (s.end - s.start).norm() - 0.15 &&
+        std::abs(across) <= s.width_m / 2 - 0.15) {
+      return true;
+    }
+  }
+  return false;
+}
+
+// Lateral views of door plates (P1's reading task, what `train-detectors` learns from): each
+// frame aims the lateral camera at a plate, or with probability kAimDistractorFraction at a
+// poster or notice board with printed digits (hard negatives). The camera stands 0.4-3.5 m from
+// the target, up to 50 deg off its normal, inside the corridor, and looks at it +-30 deg; the
+// robot's pose follows from the camera's mount. A pose whose chassis or cameras collide is drawn
+// again, target included.
+std::vector<SE2> PlatePoses(const Scenario& scenario, const worlds::World& world,
+                            const render::RigOptions& rig, int count) {
+  const render::CameraOptions* lateral = nullptr;
+  for (const render::CameraOptions& c : rig.cameras) {
+    if (c.id == "lateral" && c.enabled) lateral = &c;
+  }
+  if (!lateral) {
+    throw InputError(kCommandLine, "--poses",
+                     "plates: aims the lateral camera, which is not among the dataset's cameras "
+                     "(sensors.lateral.enabled, --cameras)");
+  }
+  std::vector<const worlds::Distractor*> printed;
+  for (const worlds::Distractor& d : world.distractors) {
+    if (!d.text.empty()) printed.push_back(&d);
+  }
+  if (world.plates.empty()) {
+    throw InputError(kCommandLine, "--poses",
+                     "plates: world seed " + std::to_string(world.seed) +
+                         " has no door plate to aim at (world.plates)");
+  }
+  RandomStream rng(world.seed, 0, "dataset.poses");
+  const Vector2d mount(lateral->mount.x_m, lateral->mount.y_m);
+  const auto pick = [&](std::size_t n) {
+    return std::size_t(rng.UniformInt(0, static_cast<std::int64_t>(n) - 1));
+  };
+  std::vector<SE2> poses;
+  for (int i = 0; i < count; ++i) {
+    bool placed = false;
+    for (int attempt = 0; attempt < kMaxPoseTries && !placed; ++attempt) {
+      Vector3d target, normal;
+      if (!printed.empty() && rng.Bernoulli(kAimDistractorFraction)) {
+        const worlds::Distractor& d = *printed[pick(printed.size())];
+        target = d.center + d.normal * (d.size_m.y() / 2);
+        normal = d.normal;
+      } else {
+        const worlds::DoorPlate& p = world.plates[pick(world.plates.size())];
+        target = p.center;
+        normal = p.normal;
+      }
+      const Vector2d n = normal.head<2>().normalized();
+      const Vector2d t(-n.y(), n.x());
+      const double distance = rng.Uniform(0.4, 3.5);
+      const double off = rng.Uniform(-50.0, 50.0) * std::numbers::pi / 180.0;
+      const double aim_error = rng.Uniform(-30.0, 30.0) * std::numbers::pi / 180.0;
+      const Vector2d camera = target.head<2>() + distance * (std::cos(off) * n + std::sin(off) * t);
+      if (!InsideCorridor(world, camera)) continue;
+      const Vector2d to_target = target.head<2>() - camera;
+      // The camera looks along the robot's heading + its mount's yaw, from (x, y) on the robot.
+      const double robot_yaw = std::atan2(to_target.y(), to_target.x()) + aim_error -
+                               lateral->mount.yaw_deg * std::numbers::pi / 180.0;
+      const Vector2d robot = camera - Eigen::Rotation2Dd(robot_yaw) * mount;
+      const SE2 pose(robot.x(), robot.y(), std::atan2(std::sin(robot_yaw), std::cos(robot_yaw)));
+      if (!CheckPosePlacement(world, scenario, rig, pose)) {
+        poses.push_back(pose);
+        placed = true;
+      }
+    }
+    if (!placed) {
+      throw InputError(kCommandLine, "--poses",
+                       "plates: no view of a plate of world seed " + std::to_string(world.seed) +
+                           " keeps the robot and its cameras clear of the walls in " +
+                           std::to_string(kMaxPoseTries) + " draws");
+    }
+  }
+  return poses;
+}
+
 // ---- annotations ------------------------------------------------------------------------------
 
 // The camera's optical centre and axis in the world: distances and viewing angles of landmarks.
@@ -197,14 +284,13 @@ std::map<int, PixelBox> DoorPixels(const render::FrameTruth& truth,
   return boxes;
 }
 
-// `w<WWW>`: the world part of every frame's name and the world's folder.
-std::string WorldStem(int world_index, int worlds) {
+}  // namespace
+
+std::string DatasetWorldStem(int world_index, int worlds) {
   const std::string digits = std::to_string(world_index);
   const std::size_t width = static_cast<std::size_t>(std::max(3, Digits(std::max(worlds - 1, 0))));
   return "w" + std::string(width > digits.size() ? width - digits.size() : 0, '0') + digits;
 }
-
-}  // namespace
 
 std::string DatasetCategoryName(int category_id) {
   switch (category_id) {
@@ -236,15 +322,22 @@ nlohmann::ordered_json DatasetCategoriesJson() {
 
 std::vector<SE2> DatasetPoses(const Scenario& scenario, const worlds::World& world,
                               const render::RigOptions& rig, DatasetPoseMode mode, int count) {
-  return mode == DatasetPoseMode::kPath ? PathPoses(scenario, world, rig, count)
-                                        : RandomPoses(scenario, world, rig, count);
+  switch (mode) {
+    case DatasetPoseMode::kPath:
+      return PathPoses(scenario, world, rig, count);
+    case DatasetPoseMode::kPlates:
+      return PlatePoses(scenario, world, rig, count);
+    case DatasetPoseMode::kRandom:
+      break;
+  }
+  return RandomPoses(scenario, world, rig, count);
 }
 
 std::string DatasetFrameStem(int world_index, int frame_index, int worlds, int frames_per_world) {
   const int frame_digits = std::max(4, Digits(std::max(frames_per_world - 1, 0)));
   char buffer[32];
   std::snprintf(buffer, sizeof(buffer), "_f%0*d", frame_digits, frame_index);
-  return WorldStem(world_index, worlds) + buffer;
+  return DatasetWorldStem(world_index, worlds) + buffer;
 }
 
 nlohmann::ordered_json FrameAnnotations(const worlds::World& world, const render::FrameTruth& truth,
@@ -532,6 +625,73 @@ class DatasetProgress {
 
 }  // namespace
 
+DatasetWorld::DatasetWorld(const Scenario& scenario, const render::RigOptions& rig,
+                           render::BackendKind backend, std::uint64_t world_seed, int world_index,
+                           int worlds, DatasetPoseMode mode, int frames)
+    : scenario_(scenario),
+      rig_(rig),
+      backend_(backend),
+      world_index_(world_index),
+      worlds_(worlds),
+      frames_(frames),
+      world_(GenerateWorld(scenario, world_seed)),
+      poses_(DatasetPoses(scenario, world_, rig, mode, frames)) {}
+
+DatasetWorld::~DatasetWorld() = default;
+
+std::vector<DatasetFrame> DatasetWorld::Render(int f) {
+  CheckOrDie(f >= 0 && f < frames_, "DatasetWorld::Render", "frame index out of range");
+  if (!renderer_) renderer_ = std::make_unique<Renderer>(world_, rig_, backend_);
+  const std::string stem = DatasetFrameStem(world_index_, f, worlds_, frames_);
+  const SE3 world_from_robot = SE3::FromSE2(poses_[std::size_t(f)]);
+  std::vector<render::CameraFrame> frames;
+  renderer_->rig->Render(world_from_robot, world_.seed, static_cast<std::uint64_t>(f), &frames);
+  std::vector<DatasetFrame> out;
+  for (std::size_t k = 0; k < frames.size(); ++k) {
+    const render::CameraOptions& options = renderer_->rig->cameras()[k].options();
+    DatasetFrame d{std::move(frames[k]), options.depth, Json()};
+    const render::CameraFrame& frame = d.frame;
+    const int width = frame.rgb.width, height = frame.rgb.height;
+    const render::FrameTruth truth = FrameTruthOf(world_, options, frame, world_from_robot);
+    Json& j = d.truth;
+    j["world_index"] = world_index_;
+    j["frame_index"] = f;
+    j["world_seed"] = world_.seed;
+    j["file_name"] = "images/" + stem + ".png";
+    j["width"] = width;
+    j["height"] = height;
+    if (scenario_.world.appearance.Any()) {
+      // What the world's appearance randomisation drew, as numbers `score` bins recall by.
+      const worlds::AppearanceDraw& a = world_.appearance;
+      const auto mean = [](const Eigen::Vector3f& c) { return double(c.mean()); };
+      j["appearance"] = {{"wall_brightness", Fraction(mean(a.wall))},
+                         {"floor_brightness", Fraction(mean(a.floor))},
+                         {"ceiling_brightness", Fraction(mean(a.ceiling))},
+                         {"door_brightness", Fraction(mean(a.door))},
+                         {"lamp_brightness", Fraction(a.lamp_brightness)},
+                         {"lamp_temperature_k", Fraction(a.lamp_temperature_k)},
+                         {"distractor_density", Fraction(a.distractor_density)},
+                         {"camera_exposure", Fraction(a.camera_exposure)},
+                         {"camera_noise", Fraction(a.camera_noise)},
+                         {"camera_blur_px", Fraction(a.camera_blur_px)}};
+    }
+    const Json truth_json = render::FrameTruthJson(truth);
+    for (const auto& [key, value] : truth_json.items()) j[key] = value;
+    if (frame.camera_id == "front") {
+      // The vanishing point of the corridor the camera stands in, COCO pixel convention.
+      j["vanishing_point"] = nullptr;
+      for (const render::VanishingPointTruth& vp : truth.vanishing_points) {
+        if (!vp.camera_in_segment) continue;
+        j["vanishing_point"] = Json::array({Px(vp.pixel.x() + 0.5), Px(vp.pixel.y() + 0.5)});
+        break;
+      }
+    }
+    j["annotations"] = FrameAnnotations(world_, truth, frame, width, height);
+    out.push_back(std::move(d));
+  }
+  return out;
+}
+
 int RunDataset(const DatasetRequest& request) {
   const Scenario scenario = LoadScenario(request.scenario_file);
   const std::vector<std::string> cameras = SelectCameras(scenario, request.cameras);
@@ -549,9 +709,8 @@ int RunDataset(const DatasetRequest& request) {
 
   // World 0 and its poses before anything is written: a scenario whose worlds cannot be built,
   // or poses that cannot be placed, are mostly found here.
-  std::optional<worlds::World> first_world = GenerateWorld(scenario, seed);
-  std::optional<std::vector<SE2>> first_poses =
-      DatasetPoses(scenario, *first_world, rig_options, request.poses, n_frames);
+  std::optional<DatasetWorld> first_world(std::in_place, scenario, rig_options, backend_kind, seed,
+                                          0, n_worlds, request.poses, n_frames);
 
   // The manifest names the renderer, so a GL context comes first.
   const std::string manifest = [&] {
@@ -569,80 +728,39 @@ int RunDataset(const DatasetRequest& request) {
   DatasetProgress progress(n_worlds, n_frames);
   std::int64_t rendered = 0;
   for (int w = 0; w < n_worlds; ++w) {
-    const std::uint64_t world_seed = seed + static_cast<std::uint64_t>(w);
-    const worlds::World world =
-        w == 0 ? std::move(*first_world) : GenerateWorld(scenario, world_seed);
-    const fs::path world_dir = dir / "worlds" / WorldStem(w, n_worlds);
+    // Every pose is drawn even when its frame is done: a resumed world gets the same poses.
+    std::optional<DatasetWorld> next;
+    if (w > 0) {
+      next.emplace(scenario, rig_options, backend_kind, seed + static_cast<std::uint64_t>(w), w,
+                   n_worlds, request.poses, n_frames);
+    }
+    DatasetWorld& world = w == 0 ? *first_world : *next;
+    const fs::path world_dir = dir / "worlds" / DatasetWorldStem(w, n_worlds);
     if (!fs::exists(world_dir / "ground_truth.json")) {
       fs::create_directories(world_dir);
       WriteFileAtomic(world_dir / "ground_truth.json",
-                      worlds::GroundTruthJson(world).dump(2) + "\n");
+                      worlds::GroundTruthJson(world.world()).dump(2) + "\n");
     }
-    // Every pose is drawn even when its frame is done: a resumed world gets the same poses.
-    const std::vector<SE2> poses =
-        w == 0 ? std::move(*first_poses)
-               : DatasetPoses(scenario, world, rig_options, request.poses, n_frames);
-    std::optional<Renderer> renderer;
     for (int f = 0; f < n_frames; ++f) {
       const std::string stem = DatasetFrameStem(w, f, n_worlds, n_frames);
       const bool done = std::all_of(cameras.begin(), cameras.end(), [&](const std::string& id) {
         return fs::exists(dir / id / "truth" / (stem + ".json"));
       });
       if (!done) {
-        if (!renderer) renderer.emplace(world, rig_options, backend_kind);
-        const SE3 world_from_robot = SE3::FromSE2(poses[f]);
-        std::vector<render::CameraFrame> frames;
-        renderer->rig->Render(world_from_robot, world_seed, static_cast<std::uint64_t>(f), &frames);
-        for (std::size_t k = 0; k < frames.size(); ++k) {
-          const render::CameraFrame& frame = frames[k];
-          const render::CameraOptions& options = renderer->rig->cameras()[k].options();
-          const fs::path camera_dir = dir / frame.camera_id;
-          const int width = frame.rgb.width, height = frame.rgb.height;
-          const render::FrameTruth truth = FrameTruthOf(world, options, frame, world_from_robot);
+        for (const DatasetFrame& frame : world.Render(f)) {
+          const render::CameraFrame& image = frame.frame;
+          const fs::path camera_dir = dir / image.camera_id;
+          const int width = image.rgb.width, height = image.rgb.height;
           WriteFileAtomic(camera_dir / "images" / (stem + ".png"),
-                          EncodePng(frame.rgb, frame.camera_id + " " + stem));
+                          EncodePng(image.rgb, image.camera_id + " " + stem));
           WriteFileAtomic(camera_dir / "labels" / (stem + ".png"),
-                          EncodeLabels(frame, width, height));
-          if (options.depth) {
+                          EncodeLabels(image, width, height));
+          if (frame.depth) {
             WriteFileAtomic(camera_dir / "depth" / (stem + ".png"),
-                            EncodeDepth(frame.noisy_depth_m, frame.camera_id + " depth " + stem));
+                            EncodeDepth(image.noisy_depth_m, image.camera_id + " depth " + stem));
           }
-          Json j;
-          j["world_index"] = w;
-          j["frame_index"] = f;
-          j["world_seed"] = world_seed;
-          j["file_name"] = "images/" + stem + ".png";
-          j["width"] = width;
-          j["height"] = height;
-          if (scenario.world.appearance.Any()) {
-            // What the world's appearance randomisation drew, as numbers `score` bins recall by.
-            const worlds::AppearanceDraw& d = world.appearance;
-            const auto mean = [](const Eigen::Vector3f& c) { return double(c.mean()); };
-            j["appearance"] = {{"wall_brightness", Fraction(mean(d.wall))},
-                               {"floor_brightness", Fraction(mean(d.floor))},
-                               {"ceiling_brightness", Fraction(mean(d.ceiling))},
-                               {"door_brightness", Fraction(mean(d.door))},
-                               {"lamp_brightness", Fraction(d.lamp_brightness)},
-                               {"lamp_temperature_k", Fraction(d.lamp_temperature_k)},
-                               {"distractor_density", Fraction(d.distractor_density)},
-                               {"camera_exposure", Fraction(d.camera_exposure)},
-                               {"camera_noise", Fraction(d.camera_noise)},
-                               {"camera_blur_px", Fraction(d.camera_blur_px)}};
-          }
-          const Json truth_json = render::FrameTruthJson(truth);
-          for (const auto& [key, value] : truth_json.items()) j[key] = value;
-          if (frame.camera_id == "front") {
-            // The vanishing point of the corridor the camera stands in, COCO pixel convention.
-            j["vanishing_point"] = nullptr;
-            for (const render::VanishingPointTruth& vp : truth.vanishing_points) {
-              if (!vp.camera_in_segment) continue;
-              j["vanishing_point"] = Json::array({Px(vp.pixel.x() + 0.5), Px(vp.pixel.y() + 0.5)});
-              break;
-            }
-          }
-          j["annotations"] = FrameAnnotations(world, truth, frame, width, height);
           // Written last: its presence marks the frame done.
-          WriteFileAtomic(camera_dir / "truth" / (stem + ".json"), j.dump(1) + "\n");
+          WriteFileAtomic(camera_dir / "truth" / (stem + ".json"), frame.truth.dump(1) + "\n");
         }
         ++rendered;
       }

@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,7 @@
 #include "common/pose.h"
 #include "harness/dataset_request.h"
 #include "harness/scenario.h"
+#include "harness/simulation_setup.h"
 #include "render/camera_rig.h"
 #include "render/frame_truth.h"
 #include "worlds/world.h"
@@ -25,6 +27,8 @@ namespace corridorsim {
 
 /// Draws per random pose before the world is declared too tight for the robot.
 inline constexpr int kMaxPoseTries = 1000;
+/// `--poses plates`: the fraction of views aimed at printed distractors instead of plates.
+inline constexpr double kAimDistractorFraction = 0.25;
 /// Doors with fewer pixels than this in the instance image get no annotation.
 inline constexpr int kMinDoorPixels = 20;
 
@@ -59,10 +63,49 @@ nlohmann::ordered_json FrameAnnotations(const worlds::World& world, const render
 /// largest index when that is wider, so that names sort in frame order.
 std::string DatasetFrameStem(int world_index, int frame_index, int worlds, int frames_per_world);
 
+/// World folder name `w<WWW>` (worlds/w<WWW>/ground_truth.json, the first part of its frames'
+/// stems): zero-padded as DatasetFrameStem pads the world index.
+std::string DatasetWorldStem(int world_index, int worlds);
+
 /// Rebuilds `dir/<camera>/annotations.json` from the camera's truth files (all of them must
 /// exist). Image ids are world_index * frames_per_world + frame_index + 1.
 void WriteDatasetAnnotations(const std::filesystem::path& dir, const std::string& camera,
                              int worlds, int frames_per_world);
+
+/// One camera's frame of a dataset: what `dataset` writes for it.
+struct DatasetFrame {
+  render::CameraFrame frame;     // image, labels (instance, semantic), depth
+  bool depth = false;            // the camera has a depth image (a depth/ file is written)
+  nlohmann::ordered_json truth;  // the truth file (docs/datasets.md), COCO annotations included
+};
+
+/// One world of a dataset (world_index of `worlds`, seeded `world_seed`) and its `frames` poses:
+/// renders its frames as `dataset` writes them. `dataset` and `train-detectors` share it, so a
+/// model trained in memory sees the frames a dataset folder holds. The world and its poses are
+/// made by the constructor (InputError as DatasetPoses); the renderer on the first Render.
+/// `scenario` and `rig` (cameras enabled as selected) must outlive it.
+class DatasetWorld {
+ public:
+  DatasetWorld(const Scenario& scenario, const render::RigOptions& rig, render::BackendKind backend,
+               std::uint64_t world_seed, int world_index, int worlds, DatasetPoseMode mode,
+               int frames);
+  ~DatasetWorld();
+  DatasetWorld(const DatasetWorld&) = delete;
+  DatasetWorld& operator=(const DatasetWorld&) = delete;
+
+  const worlds::World& world() const { return world_; }
+  /// Frame `frame_index` of every enabled camera, in the rig's order.
+  std::vector<DatasetFrame> Render(int frame_index);
+
+ private:
+  const Scenario& scenario_;
+  const render::RigOptions& rig_;
+  render::BackendKind backend_;
+  int world_index_, worlds_, frames_;
+  worlds::World world_;
+  std::vector<SE2> poses_;
+  std::unique_ptr<Renderer> renderer_;
+};
 
 /// Runs the job; returns the exit code. Throws InputError for bad input.
 int RunDataset(const DatasetRequest& request);

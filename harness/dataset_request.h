@@ -13,9 +13,18 @@ namespace corridorsim {
 enum class DatasetPoseMode {
   kRandom,  // uniform inside the corridor segments, yaw uniform; poses that collide are redrawn
   kPath,    // evenly spaced along the scenario's path (BuildRobotPath), heading along the leg
+  kPlates,  // the lateral camera aimed at door plates and printed distractors (train-detectors)
 };
 inline const char* DatasetPoseModeName(DatasetPoseMode mode) {
-  return mode == DatasetPoseMode::kPath ? "path" : "random";
+  switch (mode) {
+    case DatasetPoseMode::kPath:
+      return "path";
+    case DatasetPoseMode::kPlates:
+      return "plates";
+    case DatasetPoseMode::kRandom:
+      break;
+  }
+  return "random";
 }
 
 /// Bounds of --worlds and --frames-per-world.

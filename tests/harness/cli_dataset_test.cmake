@@ -134,6 +134,41 @@ if(NOT x EQUAL 5 OR NOT qz EQUAL 0)
   message(FATAL_ERROR "path pose 0: x ${x}, qz ${qz}; expected the middle of the outward leg")
 endif()
 
+# Plate poses: the lateral camera aimed at plates (and a quarter at printed distractors), the
+# views train-detectors learns from; most frames show a plate, each within 0.4-3.5 m of the camera
+# (the aimed-at one; others may lie farther).
+cli_run(EXIT 0 WHAT "plate poses" ARGS dataset "${SOURCE_DIR}/scenarios/datasets/train_detectors.yaml"
+        --poses plates --cameras lateral --frames-per-world 12 --out "${WORK_DIR}/plates")
+set(with_plate 0)
+foreach(f RANGE 0 11)
+  string(LENGTH "${f}" digits)
+  if(digits EQUAL 1)
+    set(stem "w000_f000${f}")
+  else()
+    set(stem "w000_f00${f}")
+  endif()
+  file(READ "${WORK_DIR}/plates/lateral/truth/${stem}.json" truth)
+  string(JSON plates LENGTH "${truth}" plates)
+  set(near 0)
+  if(plates GREATER 0)
+    math(EXPR last "${plates} - 1")
+    foreach(k RANGE 0 ${last})
+      string(JSON d GET "${truth}" plates ${k} distance_m)
+      if(d LESS_EQUAL 3.6)
+        set(near 1)
+      endif()
+    endforeach()
+  endif()
+  math(EXPR with_plate "${with_plate} + ${near}")
+endforeach()
+if(with_plate LESS 6)
+  message(FATAL_ERROR "plate poses: ${with_plate} of 12 frames show a plate within 3.6 m")
+endif()
+cli_run(EXIT 2 WHAT "plate poses without the lateral camera"
+        STDERR "command line: --poses: plates: aims the lateral camera"
+        NOT_EXISTS "${WORK_DIR}/bad" ARGS dataset "${scenario}" --cameras upward --poses plates
+        --out "${WORK_DIR}/bad")
+
 # Bad input: exit 2 naming the option, nothing written.
 cli_run(EXIT 2 WHAT "unknown camera" STDERR "command line: --cameras: 'rear' is not a camera the scenario enables"
         NOT_EXISTS "${WORK_DIR}/bad" ARGS dataset "${scenario}" --cameras upward,rear --out "${WORK_DIR}/bad")
@@ -148,7 +183,7 @@ cli_run(EXIT 2 WHAT "worlds 0" STDERR "command line: --worlds: must be a whole n
         NOT_EXISTS "${WORK_DIR}/bad" ARGS dataset "${scenario}" --worlds 0 --out "${WORK_DIR}/bad")
 cli_run(EXIT 2 WHAT "frames 1e9" STDERR "command line: --frames-per-world: "
         NOT_EXISTS "${WORK_DIR}/bad" ARGS dataset "${scenario}" --frames-per-world 1e9 --out "${WORK_DIR}/bad")
-cli_run(EXIT 2 WHAT "bad poses" STDERR "command line: --poses: expected path or random"
+cli_run(EXIT 2 WHAT "bad poses" STDERR "command line: --poses: expected path, random or plates"
         NOT_EXISTS "${WORK_DIR}/bad" ARGS dataset "${scenario}" --poses grid --out "${WORK_DIR}/bad")
 file(WRITE "${WORK_DIR}/script.yaml"
      "include: ${scenario}\npath:\n  kind: script\n  commands: [[2, 0.2, 0]]\n")

@@ -233,7 +233,7 @@ TEST_CASE("the dataset command line is strict", "[harness]") {
                Catch::StartsWith("command line: --cameras: an empty camera name"));
   }
   CHECK_THAT(ErrorOf({"dataset", "--poses", "grid"}),
-             Catch::StartsWith("command line: --poses: expected path or random"));
+             Catch::StartsWith("command line: --poses: expected path, random or plates"));
   CHECK_THAT(ErrorOf({"dataset", "--seed", "-1"}), Catch::StartsWith("command line: --seed: "));
 }
 
