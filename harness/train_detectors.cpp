@@ -6,16 +6,23 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <numbers>
+#include <functional>
+#include <limits>
+#include <map>
+#include <memory>
+#include <set>
 
 #include <opencv2/core.hpp>
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "common/error.h"
 #include "common/io/atomic_file.h"
+#include "common/io/json_input.h"
 #include "common/io/stable_json.h"
-#include "common/pose.h"
 #include "common/random.h"
+#include "harness/dataset.h"
+#include "harness/detect.h"
 #include "harness/frame_io.h"
 #include "harness/run_folder.h"
 #include "harness/simulation_setup.h"
@@ -26,9 +33,8 @@
 namespace corridorsim {
 namespace {
 
+namespace fs = std::filesystem;
 using Eigen::Vector2d;
-using Eigen::Vector3d;
-constexpr double kDeg = std::numbers::pi / 180.0;
 
 // Report binning (P1 reads plates within 3 m and 30 deg).
 constexpr std::array<double, 5> kDistanceEdges{0.0, 1.0, 2.0, 3.0, 4.0};
@@ -48,106 +54,222 @@ slam::BoxPx NumberBox(const render::PlateTruth& p) {
 slam::BoxPx PlateBox(const render::PlateTruth& p) {
   return slam::BoxPx{p.bbox_min_px.x(), p.bbox_min_px.y(), p.bbox_max_px.x(), p.bbox_max_px.y()};
 }
+// The part of a box inside the image, [0, width] x [0, height] (as detections' boxes lie).
+slam::BoxPx InImage(const slam::BoxPx& b, const Image8& image) {
+  return slam::BoxPx{std::max(b.min_x, 0.0), std::max(b.min_y, 0.0),
+                     std::min(b.max_x, double(image.width)),
+                     std::min(b.max_y, double(image.height))};
+}
+// The fraction of b's area that a covers.
+double Coverage(const slam::BoxPx& a, const slam::BoxPx& b) {
+  const double ix = std::min(a.max_x, b.max_x) - std::max(a.min_x, b.min_x);
+  const double iy = std::min(a.max_y, b.max_y) - std::max(a.min_y, b.min_y);
+  const double area = b.width() * b.height();
+  return ix > 0 && iy > 0 && area > 0 ? ix * iy / area : 0.0;
+}
 bool Seen(const render::PlateTruth& p) {
   return p.fully_in_image && p.visible_fraction >= kSeenFraction;
 }
 
-// The camera's optical centre must lie inside a corridor segment, 0.15 m from its walls and ends.
-bool InsideCorridor(const worlds::World& world, const Vector2d& p) {
-  for (const worlds::CorridorSegment& s : world.segments) {
-    const Vector2d d = s.direction();
-    const Vector2d n(-d.y(), d.x());
-    const double along = (p - s.start).dot(d), across = (p - s.start).dot(n);
-    if (along >= 0.15 && along <= (s.end - s.start).norm() - 0.15 &&
-        std::abs(across) <= s.width_m / 2 - 0.15) {
-      return true;
-    }
-  }
-  return false;
-}
+using Json = nlohmann::ordered_json;
 
-struct View {
-  SE3 world_from_robot;
-};
-
-// A lateral view of a target on a wall (centre, unit normal into the corridor): the camera at
-// 0.4-3.5 m from it, off its normal by up to 50 deg, heading at it +-30 deg.
-std::optional<View> ViewOf(const worlds::World& world, const Vector3d& target,
-                           const Vector3d& normal, const render::CameraOptions& lateral,
-                           RandomStream& rng) {
-  const Vector2d n = normal.head<2>().normalized();
-  const Vector2d t(-n.y(), n.x());
-  for (int attempt = 0; attempt < 20; ++attempt) {
-    const double d = rng.Uniform(0.4, 3.5);
-    const double off = rng.Uniform(-50.0, 50.0) * kDeg;
-    const Vector2d camera = target.head<2>() + d * (std::cos(off) * n + std::sin(off) * t);
-    if (!InsideCorridor(world, camera)) continue;
-    const Vector2d to_target = target.head<2>() - camera;
-    const double camera_yaw =
-        std::atan2(to_target.y(), to_target.x()) + rng.Uniform(-30.0, 30.0) * kDeg;
-    // The camera looks along the robot's heading + mount yaw; its mount is at (x, y) on the robot.
-    const double robot_yaw = camera_yaw - lateral.mount.yaw_deg * kDeg;
-    const Vector2d mount(lateral.mount.x_m, lateral.mount.y_m);
-    const Eigen::Rotation2Dd r(robot_yaw);
-    const Vector2d robot = camera - r * mount;
-    return View{SE3::FromSE2(SE2(robot.x(), robot.y(), robot_yaw))};
-  }
-  return std::nullopt;
-}
-
-struct RenderedView {
+// A labelled lateral view: the image and the door plates its truth file lists.
+struct LabelledView {
   Image8 rgb;
-  render::FrameTruth truth;
+  std::vector<render::PlateTruth> plates;
 };
+using PlateFonts = std::map<int, std::string>;  // plate id -> font, of one world
 
-// Renders `views` lateral views of one world; a quarter aim at posters and notice boards.
-std::vector<RenderedView> RenderWorldViews(const worlds::World& world, int views,
-                                           double distractor_fraction, RandomStream& rng,
-                                           std::uint64_t noise_seed) {
-  const render::RigOptions rig_options = TrainingRigOptions();
-  const render::CameraOptions& lateral = rig_options.cameras.front();
-  const Renderer renderer(world, rig_options, ChooseBackend(rig_options.backend));
-  std::vector<const worlds::Distractor*> printed;
-  for (const worlds::Distractor& d : world.distractors) {
-    if (!d.text.empty()) printed.push_back(&d);
-  }
-  std::vector<RenderedView> out;
-  for (int v = 0; v < views; ++v) {
-    Vector3d target, normal;
-    if (!printed.empty() && rng.Bernoulli(distractor_fraction)) {
-      const worlds::Distractor& d =
-          *printed[std::size_t(rng.UniformInt(0, std::int64_t(printed.size()) - 1))];
-      target = d.center + d.normal * (d.size_m.y() / 2);
-      normal = d.normal;
-    } else {
-      if (world.plates.empty()) continue;
-      const worlds::DoorPlate& p =
-          world.plates[std::size_t(rng.UniformInt(0, std::int64_t(world.plates.size()) - 1))];
-      target = p.center;
-      normal = p.normal;
+// The plates of a dataset truth file as FrameTruthJson wrote them (docs/datasets.md). Both view
+// sets read them from this JSON, so that a model trained in memory equals one trained from the
+// folder `dataset` writes.
+std::vector<render::PlateTruth> PlatesOfTruth(const Json& truth, const std::string& file) {
+  const JsonField plates = JsonField{file, "", truth}.At("plates");
+  const auto pixel = [](const JsonField& f) {
+    const std::array<double, 2> p = f.Numbers<2>();
+    return Vector2d(p[0], p[1]);
+  };
+  std::vector<render::PlateTruth> out;
+  for (std::size_t i = 0; i < plates.ArraySize(); ++i) {
+    const JsonField p = plates.At(i);
+    render::PlateTruth t;
+    const std::int64_t id = p.At("id").Integer();
+    if (id < 0 || id > std::numeric_limits<int>::max()) p.At("id").Fail("out of range");
+    t.id = static_cast<int>(id);
+    t.room_number = p.At("room_number").String();
+    if (t.room_number.empty() || t.room_number.size() > 16 ||
+        !std::all_of(t.room_number.begin(), t.room_number.end(),
+                     [](char c) { return c >= '0' && c <= '9'; })) {
+      p.At("room_number").Fail("expected 1 to 16 digits");
     }
-    const std::optional<View> view = ViewOf(world, target, normal, lateral, rng);
-    if (!view) continue;
-    render::CameraFrame frame;
-    renderer.rig->RenderCamera(0, view->world_from_robot, noise_seed, std::uint64_t(v), &frame);
-    render::FrameTruthInput input;
-    input.world = &world;
-    input.camera_id = frame.camera_id;
-    input.model = lateral.model;
-    input.world_from_camera = frame.world_from_camera;
-    input.world_from_robot = view->world_from_robot;
-    input.instance = &frame.instance;
-    input.semantic = &frame.semantic;
-    out.push_back(RenderedView{std::move(frame.rgb), render::ComputeFrameTruth(input)});
+    t.bbox_min_px = pixel(p.At("bbox_px").At("min"));
+    t.bbox_max_px = pixel(p.At("bbox_px").At("max"));
+    t.number_bbox_min_px = pixel(p.At("number_bbox_px").At("min"));
+    t.number_bbox_max_px = pixel(p.At("number_bbox_px").At("max"));
+    t.distance_m = p.At("distance_m").Number();
+    t.viewing_angle_deg = p.At("viewing_angle_deg").Number();
+    t.visible_fraction = p.At("visible_fraction").Number();
+    t.fully_in_image = p.At("fully_in_image").Bool();
+    out.push_back(std::move(t));
   }
   return out;
 }
 
-const worlds::DoorPlate* PlateById(const worlds::World& world, int id) {
-  for (const worlds::DoorPlate& p : world.plates) {
-    if (p.id == id) return &p;
+// The labelled views of one set (training or evaluation), world by world.
+class ViewSet {
+ public:
+  virtual ~ViewSet() = default;
+  virtual int worlds() const = 0;
+  virtual std::uint64_t world_seed(int w) const = 0;
+  /// Calls `each` with world w's views in frame order and the world's plate fonts.
+  virtual void ForEachView(
+      int w, const std::function<void(const LabelledView&, const PlateFonts&)>& each) const = 0;
+  virtual Json Source() const = 0;
+};
+
+// Rendered in memory through the dataset's generator (DatasetWorld, --poses plates): the frames
+// `corridorsim dataset scenarios/datasets/train_detectors.yaml --cameras lateral --poses plates`
+// writes.
+class BuiltInViews : public ViewSet {
+ public:
+  BuiltInViews(std::uint64_t first_seed, int worlds, int views)
+      : scenario_(TrainingScenario()),
+        backend_(ChooseBackend(scenario_.rig.backend)),
+        first_seed_(first_seed),
+        worlds_(worlds),
+        views_(views) {}
+  int worlds() const override { return worlds_; }
+  std::uint64_t world_seed(int w) const override { return first_seed_ + std::uint64_t(w); }
+  void ForEachView(int w, const std::function<void(const LabelledView&, const PlateFonts&)>& each)
+      const override {
+    DatasetWorld world(scenario_, scenario_.rig, backend_, world_seed(w), w, worlds_,
+                       DatasetPoseMode::kPlates, views_);
+    PlateFonts fonts;
+    for (const worlds::DoorPlate& p : world.world().plates) fonts[p.id] = p.font;
+    for (int f = 0; f < views_; ++f) {
+      std::vector<DatasetFrame> frames = world.Render(f);
+      CheckOrDie(frames.size() == 1, "BuiltInViews", "the training rig has one camera");
+      LabelledView view{std::move(frames[0].frame.rgb),
+                        PlatesOfTruth(frames[0].truth, "the built-in training scenario")};
+      each(view, fonts);
+    }
   }
-  return nullptr;
+  Json Source() const override {
+    return {{"scenario", "scenarios/datasets/train_detectors.yaml (built in)"},
+            {"poses", "plates"},
+            {"seed", first_seed_},
+            {"worlds", worlds_},
+            {"frames_per_world", views_}};
+  }
+
+ private:
+  Scenario scenario_;
+  render::BackendKind backend_;
+  std::uint64_t first_seed_;
+  int worlds_, views_;
+};
+
+// A folder `corridorsim dataset` wrote (any scenario and pose mode): its lateral camera's images
+// and truth files, and each world's plate fonts from its ground_truth.json.
+class DatasetFolderViews : public ViewSet {
+ public:
+  DatasetFolderViews(const fs::path& dir, const char* option) : dir_(dir) {
+    const fs::path manifest_path = dir / "dataset.json";
+    const std::string file = manifest_path.string();
+    std::error_code error;
+    if (!fs::is_directory(dir, error)) {
+      throw InputError(SourceLocation{"command line", 0, 0}, option,
+                       dir.string() + " is not a folder");
+    }
+    const Json manifest = ParseJsonInput(ReadRegularFile(manifest_path, 1 << 20), file);
+    const JsonField top{file, "", manifest};
+    if (top.At("format").String() != "corridorsim dataset") {
+      top.At("format").Fail("expected \"corridorsim dataset\"");
+    }
+    if (top.At("format_version").Integer() != 1) top.At("format_version").Fail("expected 1");
+    const JsonField cameras = top.At("cameras");
+    bool lateral = false;
+    for (std::size_t i = 0; i < cameras.ArraySize(); ++i) {
+      lateral = lateral || cameras.At(i).String() == "lateral";
+    }
+    if (!lateral) cameras.Fail("the dataset has no lateral camera (dataset --cameras lateral)");
+    const std::int64_t worlds = top.At("worlds").Integer();
+    const std::int64_t frames = top.At("frames_per_world").Integer();
+    if (worlds < 1 || worlds > kMaxDatasetWorlds) {
+      top.At("worlds").Fail("outside [1, " + std::to_string(kMaxDatasetWorlds) + "]");
+    }
+    if (frames < 1 || frames > kMaxDatasetFramesPerWorld) {
+      top.At("frames_per_world")
+          .Fail("outside [1, " + std::to_string(kMaxDatasetFramesPerWorld) + "]");
+    }
+    worlds_ = static_cast<int>(worlds);
+    frames_ = static_cast<int>(frames);
+    seed_ = top.At("seed").Unsigned();
+    poses_ = top.At("poses").String();
+  }
+  int worlds() const override { return worlds_; }
+  std::uint64_t world_seed(int w) const override { return seed_ + std::uint64_t(w); }
+  void ForEachView(int w, const std::function<void(const LabelledView&, const PlateFonts&)>& each)
+      const override {
+    const fs::path world_file =
+        dir_ / "worlds" / DatasetWorldStem(w, worlds_) / "ground_truth.json";
+    const std::string world_name = world_file.string();
+    const Json world = ParseJsonInput(ReadRegularFile(world_file, kMaxJsonBytes), world_name);
+    const JsonField plates = JsonField{world_name, "", world}.At("door_plates");
+    PlateFonts fonts;
+    for (std::size_t i = 0; i < plates.ArraySize(); ++i) {
+      const JsonField p = plates.At(i);
+      const std::int64_t id = p.At("id").Integer();
+      if (id < 0 || id > std::numeric_limits<int>::max()) p.At("id").Fail("out of range");
+      fonts[static_cast<int>(id)] = p.Has("font") ? p.At("font").String() : "";
+    }
+    for (int f = 0; f < frames_; ++f) {
+      const std::string stem = DatasetFrameStem(w, f, worlds_, frames_);
+      const fs::path truth_file = dir_ / "lateral" / "truth" / (stem + ".json");
+      const std::string truth_name = truth_file.string();
+      std::error_code error;
+      if (!fs::exists(truth_file, error)) {
+        throw InputError(SourceLocation{truth_name, 0, 0}, "",
+                         "missing: the dataset is not finished (rerun its dataset command, "
+                         "which resumes it)");
+      }
+      const Json truth = ParseJsonInput(ReadRegularFile(truth_file, kMaxJsonBytes), truth_name);
+      const JsonField top{truth_name, "", truth};
+      LabelledView view{ReadRgbPng(dir_ / "lateral" / "images" / (stem + ".png"), "an image"),
+                        PlatesOfTruth(truth, truth_name)};
+      if (view.rgb.width != top.At("width").Integer() ||
+          view.rgb.height != top.At("height").Integer()) {
+        top.At("width").Fail("the image " + stem + ".png is " + std::to_string(view.rgb.width) +
+                             "x" + std::to_string(view.rgb.height) + " px");
+      }
+      each(view, fonts);
+    }
+  }
+  Json Source() const override {
+    return {{"dataset", dir_.string()},
+            {"poses", poses_},
+            {"seed", seed_},
+            {"worlds", worlds_},
+            {"frames_per_world", frames_}};
+  }
+
+ private:
+  static constexpr std::uint64_t kMaxJsonBytes = std::uint64_t{64} << 20;
+  fs::path dir_;
+  int worlds_ = 0, frames_ = 0;
+  std::uint64_t seed_ = 0;
+  std::string poses_;
+};
+
+std::unique_ptr<ViewSet> MakeViewSet(const std::optional<fs::path>& dataset, const char* option,
+                                     std::uint64_t first_seed, int worlds, int views) {
+  if (dataset) return std::make_unique<DatasetFolderViews>(*dataset, option);
+  return std::make_unique<BuiltInViews>(first_seed, worlds, views);
+}
+
+std::string FontOf(const PlateFonts& fonts, int id) {
+  const auto it = fonts.find(id);
+  return it == fonts.end() ? std::string() : it->second;
 }
 
 bool HeldOut(const TrainDetectorsOptions& o, const std::string& font) {
@@ -162,7 +284,7 @@ struct TrainingSet {
   int views = 0, positives = 0, negatives = 0, plates_skipped_digits = 0;
 };
 
-void AddTrainingView(const worlds::World& world, const RenderedView& view,
+void AddTrainingView(const LabelledView& view, const PlateFonts& fonts,
                      const TrainDetectorsOptions& o, RandomStream& rng, TrainingSet* set) {
   ++set->views;
   const slam::DoorPlateDetectorOptions& det = o.detection.detector;
@@ -172,10 +294,9 @@ void AddTrainingView(const worlds::World& world, const RenderedView& view,
     double best = 0.0;
     int best_plate = -1;
     bool near_held_out = false;
-    for (std::size_t k = 0; k < view.truth.plates.size(); ++k) {
-      const render::PlateTruth& p = view.truth.plates[k];
-      const worlds::DoorPlate* plate = PlateById(world, p.id);
-      const bool held = plate && HeldOut(o, plate->font);
+    for (std::size_t k = 0; k < view.plates.size(); ++k) {
+      const render::PlateTruth& p = view.plates[k];
+      const bool held = HeldOut(o, FontOf(fonts, p.id));
       if (held && slam::IntersectionOverUnion(c, PlateBox(p)) > 0.0) near_held_out = true;
       const double iou = slam::IntersectionOverUnion(c, NumberBox(p));
       if (iou > best) {
@@ -185,7 +306,7 @@ void AddTrainingView(const worlds::World& world, const RenderedView& view,
     }
     if (near_held_out) continue;  // held-out fonts teach nothing, not even as negatives
     if (best >= kMatchIou) {
-      const render::PlateTruth& p = view.truth.plates[std::size_t(best_plate)];
+      const render::PlateTruth& p = view.plates[std::size_t(best_plate)];
       set->plate_features.push_back(slam::PlatePatchFeatures(view.rgb, c, det));
       set->plate_labels.push_back(1);
       ++set->positives;
@@ -279,19 +400,21 @@ struct Evaluation {
   int digits_correct = 0, digits_wrong = 0;
 };
 
-void EvaluateView(const worlds::World& world, const RenderedView& view,
+void EvaluateView(const LabelledView& view, const PlateFonts& fonts,
                   const slam::DoorPlateModels& models, const TrainDetectorsOptions& o,
                   Evaluation* e) {
   ++e->views;
   const std::vector<slam::DoorPlateDetection> detections =
       slam::DetectDoorPlates(view.rgb, models, o.detection);
-  // Detections against number regions: the best-overlapping plate of each.
+  // Detections against number regions: the best-overlapping plate of each. A region the image
+  // border cuts is matched by its part inside the image, where a detection can lie (a number
+  // read whole beside the border is not a false reading).
   std::vector<int> plate_of(detections.size(), -1);
   for (std::size_t i = 0; i < detections.size(); ++i) {
     double best = 0.0;
-    for (std::size_t k = 0; k < view.truth.plates.size(); ++k) {
-      const double iou =
-          slam::IntersectionOverUnion(detections[i].box_px, NumberBox(view.truth.plates[k]));
+    for (std::size_t k = 0; k < view.plates.size(); ++k) {
+      const double iou = slam::IntersectionOverUnion(detections[i].box_px,
+                                                     InImage(NumberBox(view.plates[k]), view.rgb));
       if (iou >= kMatchIou && iou > best) {
         best = iou;
         plate_of[i] = static_cast<int>(k);
@@ -301,14 +424,20 @@ void EvaluateView(const worlds::World& world, const RenderedView& view,
     e->true_detections += plate_of[i] >= 0;
     const slam::RoomNumberReading& r = detections[i].reading;
     if (r.accepted) {
+      // A false reading is a wrong number accepted: right when it is the number of a plate whose
+      // number region (inside the image) the detection covers at least half of, also when the
+      // box holds more than the number (a plate's frame beside the image border).
       ++e->accepted;
-      const bool right =
-          plate_of[i] >= 0 && r.number == view.truth.plates[std::size_t(plate_of[i])].room_number;
+      bool right = false;
+      for (const render::PlateTruth& p : view.plates) {
+        right = right || (r.number == p.room_number &&
+                          Coverage(detections[i].box_px, InImage(NumberBox(p), view.rgb)) >= 0.5);
+      }
       e->false_accepted += !right;
     }
   }
-  for (std::size_t k = 0; k < view.truth.plates.size(); ++k) {
-    const render::PlateTruth& p = view.truth.plates[k];
+  for (std::size_t k = 0; k < view.plates.size(); ++k) {
+    const render::PlateTruth& p = view.plates[k];
     if (!Seen(p)) continue;
     ++e->plates_seen;
     // The plate's detection: the highest-scoring one matched to it.
@@ -331,8 +460,7 @@ void EvaluateView(const worlds::World& world, const RenderedView& view,
     add(e->by_angle[std::size_t(Bin(p.viewing_angle_deg, kAngleEdges.data(), kAngleEdges.size()))]);
     if (p.distance_m <= kTargetDistanceM && p.viewing_angle_deg <= kTargetAngleDeg) {
       add(e->target);
-      const worlds::DoorPlate* plate = PlateById(world, p.id);
-      if (plate && HeldOut(o, plate->font)) add(e->target_held_out);
+      if (HeldOut(o, FontOf(fonts, p.id))) add(e->target_held_out);
     }
     if (detected && best->reading.digits.size() == p.room_number.size()) {
       for (std::size_t i = 0; i < p.room_number.size(); ++i) {
@@ -473,27 +601,24 @@ Image8 DrawReport(const Evaluation& e) {
   return out;
 }
 
-std::vector<std::uint64_t> WorldSeeds(std::uint64_t seed, const char* what, int count) {
-  RandomStream rng(seed, 0, what);
-  std::vector<std::uint64_t> seeds;
-  for (int k = 0; k < count; ++k) seeds.push_back(rng.NextU64() >> 16);  // readable, distinct
-  return seeds;
-}
-
 }  // namespace
 
-render::RigOptions TrainingRigOptions() {
-  render::RigOptions rig = render::RigOptions::Default();
-  std::vector<render::CameraOptions> cameras;
-  for (const render::CameraOptions& c : rig.cameras) {
-    if (c.id != "lateral") continue;
-    render::CameraOptions lateral = c;
-    lateral.enabled = true;
-    lateral.mount = render::Mount{0.0, 0.12, 1.5, 90.0, 0.0, 0.0};  // level mast (the lead's)
-    cameras.push_back(lateral);
+Scenario TrainingScenario() {
+  Scenario scenario;
+  scenario.file = "scenarios/datasets/train_detectors.yaml";
+  scenario.name = "train_detectors";
+  scenario.description = "the views train-detectors learns from: default corridor, lateral camera";
+  for (render::CameraOptions& c : scenario.rig.cameras) {
+    c.enabled = c.id == "lateral";
+    // Level on a 1.5 m mast, facing left: P1's scenarios' mount (scenarios/default.yaml).
+    if (c.id == "lateral") c.mount = render::Mount{0.0, 0.12, 1.5, 90.0, 0.0, 0.0};
   }
-  rig.cameras = cameras;
-  return rig;
+  return scenario;
+}
+
+std::uint64_t TrainingFirstWorldSeed(std::uint64_t seed) {
+  // 48 bits: readable, and far from the small seeds scenarios use (their worlds stay unseen).
+  return RandomStream(seed, 0, "train_detectors.worlds").NextU64() >> 16;
 }
 
 TrainingResult TrainDetectors(const TrainDetectorsOptions& o) {
@@ -502,23 +627,38 @@ TrainingResult TrainDetectors(const TrainDetectorsOptions& o) {
   const auto seconds = [&] {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   };
-  const worlds::WorldOptions world_options;  // the default corridor: plates and distractors
-  TrainingSet set;
-  RandomStream view_rng(o.seed, 0, "train_detectors.views");
-  RandomStream sample_rng(o.seed, 0, "train_detectors.samples");
-  const std::vector<std::uint64_t> train_seeds =
-      WorldSeeds(o.seed, "train_detectors.train", o.train_worlds);
-  for (std::size_t k = 0; k < train_seeds.size(); ++k) {
-    const worlds::World world = worlds::Generate(world_options, train_seeds[k]);
-    for (const RenderedView& v : RenderWorldViews(
-             world, o.views_per_world, o.distractor_view_fraction, view_rng, train_seeds[k])) {
-      AddTrainingView(world, v, o, sample_rng, &set);
+  const std::uint64_t first_seed = TrainingFirstWorldSeed(o.seed);
+  const std::unique_ptr<ViewSet> train =
+      MakeViewSet(o.train_dataset, "--dataset", first_seed, o.train_worlds, o.views_per_world);
+  const std::unique_ptr<ViewSet> eval =
+      MakeViewSet(o.eval_dataset, "--eval-dataset", first_seed + std::uint64_t(o.train_worlds),
+                  o.eval_worlds, o.views_per_world);
+  std::vector<std::uint64_t> train_seeds, eval_seeds;
+  for (int w = 0; w < train->worlds(); ++w) train_seeds.push_back(train->world_seed(w));
+  for (int w = 0; w < eval->worlds(); ++w) eval_seeds.push_back(eval->world_seed(w));
+  {
+    // Held-out worlds must be held out: no world seed in both sets.
+    const std::set<std::uint64_t> trained(train_seeds.begin(), train_seeds.end());
+    for (const std::uint64_t s : eval_seeds) {
+      if (!trained.count(s)) continue;
+      throw InputError(SourceLocation{"command line", 0, 0},
+                       o.eval_dataset ? "--eval-dataset" : "--dataset",
+                       "world seed " + std::to_string(s) +
+                           " is in both the training and the evaluation set (write the "
+                           "evaluation dataset with another --seed)");
     }
+  }
+  TrainingSet set;
+  RandomStream sample_rng(o.seed, 0, "train_detectors.samples");
+  for (int w = 0; w < train->worlds(); ++w) {
+    train->ForEachView(w, [&](const LabelledView& view, const PlateFonts& fonts) {
+      AddTrainingView(view, fonts, o, sample_rng, &set);
+    });
     std::printf(
-        "train-detectors: training world %zu/%d (seed %llu): %d positives, %d negatives, "
+        "train-detectors: training world %d/%d (seed %llu): %d positives, %d negatives, "
         "%d digits (%.0f s)\n",
-        k + 1, o.train_worlds, static_cast<unsigned long long>(train_seeds[k]), set.positives,
-        set.negatives, set.digit_labels.rows, seconds());
+        w + 1, train->worlds(), static_cast<unsigned long long>(train->world_seed(w)),
+        set.positives, set.negatives, set.digit_labels.rows, seconds());
     std::fflush(stdout);
   }
   if (set.positives == 0 || set.negatives == 0 || set.digit_labels.rows == 0) {
@@ -572,28 +712,22 @@ TrainingResult TrainDetectors(const TrainDetectorsOptions& o) {
               svm_right, set.plate_features.rows, mlp_right, set.digit_features.rows, train_s);
 
   Evaluation e;
-  const std::vector<std::uint64_t> eval_seeds =
-      WorldSeeds(o.seed, "train_detectors.eval", o.eval_worlds);
-  RandomStream eval_rng(o.seed, 0, "train_detectors.eval_views");
-  for (std::size_t k = 0; k < eval_seeds.size(); ++k) {
-    const worlds::World world = worlds::Generate(world_options, eval_seeds[k]);
-    for (const RenderedView& v : RenderWorldViews(
-             world, o.views_per_world, o.distractor_view_fraction, eval_rng, eval_seeds[k])) {
-      EvaluateView(world, v, result.models, o, &e);
-    }
+  for (int w = 0; w < eval->worlds(); ++w) {
+    eval->ForEachView(w, [&](const LabelledView& view, const PlateFonts& fonts) {
+      EvaluateView(view, fonts, result.models, o, &e);
+    });
     std::printf(
-        "train-detectors: evaluation world %zu/%d: within 3 m, 30 deg read %d/%d, false "
+        "train-detectors: evaluation world %d/%d: within 3 m, 30 deg read %d/%d, false "
         "readings %d/%d accepted (%.0f s)\n",
-        k + 1, o.eval_worlds, e.target.read, e.target.plates, e.false_accepted, e.accepted,
+        w + 1, eval->worlds(), e.target.read, e.target.plates, e.false_accepted, e.accepted,
         seconds());
     std::fflush(stdout);
   }
 
   nlohmann::ordered_json& j = result.report;
   j["seed"] = o.seed;
-  j["train_worlds"] = o.train_worlds;
-  j["eval_worlds"] = o.eval_worlds;
-  j["views_per_world"] = o.views_per_world;
+  j["training_set"] = train->Source();
+  j["evaluation_set"] = eval->Source();
   j["held_out_fonts"] = o.held_out_fonts;
   j["train_world_seeds"] = train_seeds;
   j["eval_world_seeds"] = eval_seeds;
@@ -620,6 +754,8 @@ int RunTrainDetectors(const TrainDetectorsRequest& request) {
   options.train_worlds = request.train_worlds;
   options.eval_worlds = request.eval_worlds;
   options.views_per_world = request.views_per_world;
+  options.train_dataset = request.train_dataset;
+  options.eval_dataset = request.eval_dataset;
   const TrainingResult result = TrainDetectors(options);
   std::error_code error;
   std::filesystem::create_directories(request.out_dir, error);

@@ -1,7 +1,12 @@
 #pragma once
-// `corridorsim train-detectors`: renders labelled lateral-camera views of seeded worlds, trains
-// P1's door-plate SVM and room-number MLP on them (slam/features/), evaluates both on held-out
-// worlds and plate fonts, and writes the models and a training report (docs/detectors.md).
+// `corridorsim train-detectors`: trains P1's door-plate SVM and room-number MLP (slam/features/)
+// on labelled lateral-camera views, evaluates both on held-out worlds and plate fonts, and writes
+// the models and a training report (docs/detectors.md).
+//
+// The views come through `corridorsim dataset` (harness/dataset.h): by default rendered in memory
+// by its generator from the built-in scenario (TrainingScenario, --poses plates), or read from
+// dataset folders (--dataset, --eval-dataset). Either way the labels are the truth files' JSON,
+// so training on a folder `dataset` wrote gives the models the in-memory path gives.
 //
 // Every random choice is seeded from `seed` (world seeds, poses, subsampling, OpenCV's RNG, the
 // MLP's initial weights), OpenCV runs on one thread while training, so the same request writes
@@ -16,21 +21,23 @@
 #include <nlohmann/json.hpp>
 
 #include "common/image.h"
+#include "harness/scenario.h"
 #include "harness/train_detectors_request.h"
-#include "render/camera_rig.h"
 #include "slam/features/door_plates.h"
 
 namespace corridorsim {
 
 struct TrainDetectorsOptions {
   std::uint64_t seed = 1;
-  int train_worlds = 24;     // worlds rendered for training
-  int eval_worlds = 8;       // held-out worlds (other seeds) for the report
-  int views_per_world = 48;  // lateral views per world
+  int train_worlds = 24;     // built-in training worlds (seeds TrainingFirstWorldSeed(seed) + w)
+  int eval_worlds = 8;       // built-in held-out worlds (the seeds after the training ones)
+  int views_per_world = 48;  // lateral views per built-in world
+  // Dataset folders (`corridorsim dataset` with the lateral camera) used instead of the built-in
+  // training or evaluation set; their world seeds must not overlap.
+  std::optional<std::filesystem::path> train_dataset, eval_dataset;
   // Plates drawn in these fonts are left out of training (neither positives nor negatives, no
   // digits) and evaluated apart: the held-out-font figures of the report.
   std::vector<std::string> held_out_fonts{"hershey_triplex"};
-  double distractor_view_fraction = 0.25;  // views aimed at posters and notice boards
   int max_negatives_per_view = 12;
   double svm_c = 0.05;               // C of the linear SVM
   int mlp_hidden = 48;               // hidden units of the MLP
@@ -38,9 +45,16 @@ struct TrainDetectorsOptions {
   slam::DoorPlateOptions detection;  // what the models are trained for and evaluated with
 };
 
-/// The lateral camera the views are rendered with: 640x480, 60 deg, level mast at
-/// (0, 0.12, 1.5) m facing left (yaw 90 deg, pitch 0), with the rig's default noise.
-render::RigOptions TrainingRigOptions();
+/// The scenario the built-in views are rendered from; scenarios/datasets/train_detectors.yaml is
+/// the same scenario as a file (a test keeps the two equal): the default corridor (plates, posters,
+/// notice boards) and only the lateral camera, 640x480, 60 deg, level on a mast at (0, 0.12, 1.5) m
+/// facing left (yaw 90 deg, pitch 0), with the rig's default noise.
+Scenario TrainingScenario();
+
+/// Seed of the first built-in training world for `seed`: a 48-bit number drawn from it, so that
+/// the worlds of scenarios (small seeds) are not trained on. Training worlds are first + w,
+/// evaluation worlds follow them.
+std::uint64_t TrainingFirstWorldSeed(std::uint64_t seed);
 
 struct TrainingResult {
   slam::DoorPlateModels models;

@@ -1,8 +1,14 @@
 // harness/train_detectors.cpp: the same request trains byte-identical model files; the models
-// load back through slam::DoorPlateModels.
+// load back through slam::DoorPlateModels; the views come through `dataset` (a folder it wrote
+// trains the models the in-memory path trains); dataset folders that do not fit are refused.
 #include <catch2/catch.hpp>
 
+#include <fstream>
+
+#include "common/error.h"
 #include "common/io/atomic_file.h"
+#include "common/io/options_yaml.h"
+#include "harness/dataset.h"
 #include "harness/train_detectors.h"
 #include "tests/support/scratch_dir.h"
 
@@ -43,6 +49,84 @@ TEST_CASE("train-detectors: the same seed writes byte-identical models, another 
   for (const auto& row : confusion) CHECK(row.size() == 10);
 }
 
+// `corridorsim dataset scenarios/datasets/train_detectors.yaml --cameras lateral --poses plates`
+// into dir.
+void WriteTrainingDataset(const std::filesystem::path& dir, std::uint64_t seed, int worlds,
+                          int frames) {
+  DatasetRequest r;
+  r.scenario_file = CORRIDORSIM_SOURCE_DIR "/scenarios/datasets/train_detectors.yaml";
+  r.seed = seed;
+  r.out_dir = dir;
+  r.worlds = worlds;
+  r.frames_per_world = frames;
+  r.cameras = {"lateral"};
+  r.poses = DatasetPoseMode::kPlates;
+  REQUIRE(RunDataset(r) == 0);
+}
+
+TEST_CASE(
+    "train-detectors: scenarios/datasets/train_detectors.yaml is the built-in training scenario",
+    "[plates]") {
+  const Scenario file =
+      LoadScenario(CORRIDORSIM_SOURCE_DIR "/scenarios/datasets/train_detectors.yaml");
+  const Scenario built_in = TrainingScenario();
+  CHECK(file.name == built_in.name);
+  CHECK(OptionsYaml(ScenarioOptionsTable(), file) == OptionsYaml(ScenarioOptionsTable(), built_in));
+}
+
+TEST_CASE("train-detectors: dataset folders train the models the built-in views train",
+          "[plates][render][slow]") {
+  TrainDetectorsOptions o = Small(5);
+  o.views_per_world = 6;
+  const TrainingResult in_memory = TrainDetectors(o);
+  const std::uint64_t first = TrainingFirstWorldSeed(o.seed);
+  CHECK(in_memory.report["train_world_seeds"] == nlohmann::ordered_json::array({first, first + 1}));
+  CHECK(in_memory.report["eval_world_seeds"] == nlohmann::ordered_json::array({first + 2}));
+
+  const test::ScratchDir dir("train_detectors_datasets");
+  WriteTrainingDataset(dir.path() / "train", first, 2, 6);
+  WriteTrainingDataset(dir.path() / "eval", first + 2, 1, 6);
+  TrainDetectorsOptions from_folders = o;
+  from_folders.train_dataset = dir.path() / "train";
+  from_folders.eval_dataset = dir.path() / "eval";
+  const TrainingResult folders = TrainDetectors(from_folders);
+  CHECK(folders.svm_bytes == in_memory.svm_bytes);
+  CHECK(folders.mlp_bytes == in_memory.mlp_bytes);
+  CHECK(folders.report["training"] == in_memory.report["training"]);
+  CHECK(folders.report["evaluation"] == in_memory.report["evaluation"]);
+  CHECK(folders.report["training_set"]["dataset"] == (dir.path() / "train").string());
+}
+
+TEST_CASE("train-detectors: dataset folders that do not fit are refused, naming file and field",
+          "[plates][render]") {
+  const test::ScratchDir dir("train_detectors_bad_datasets");
+  WriteTrainingDataset(dir.path() / "train", 7, 2, 2);
+  TrainDetectorsOptions o = Small(5);
+  o.train_dataset = dir.path() / "train";
+
+  // A training world that is also an evaluation world.
+  TrainDetectorsOptions same = o;
+  same.eval_dataset = dir.path() / "train";
+  CHECK_THROWS_WITH(TrainDetectors(same),
+                    Catch::Contains("--eval-dataset") &&
+                        Catch::Contains("world seed 7 is in both the training and the evaluation"));
+  // A folder that is not a dataset.
+  TrainDetectorsOptions none = o;
+  none.train_dataset = dir.path() / "nothing";
+  std::filesystem::create_directories(*none.train_dataset);
+  CHECK_THROWS_WITH(TrainDetectors(none), Catch::Contains("dataset.json"));
+  // An unfinished dataset: a frame's truth file is missing.
+  std::filesystem::remove(dir.path() / "train" / "lateral" / "truth" / "w001_f0001.json");
+  CHECK_THROWS_WITH(TrainDetectors(o),
+                    Catch::Contains("w001_f0001.json") && Catch::Contains("not finished"));
+  // A truth file whose plate has no valid room number.
+  std::ofstream(dir.path() / "train" / "lateral" / "truth" / "w000_f0000.json")
+      << R"({"width": 640, "height": 480, "plates": [{"id": 1, "room_number": "4a"}]})";
+  CHECK_THROWS_WITH(TrainDetectors(o), Catch::Contains("w000_f0000.json") &&
+                                           Catch::Contains(".plates[0].room_number") &&
+                                           Catch::Contains("expected 1 to 16 digits"));
+}
+
 }  // namespace
 }  // namespace corridorsim
 
@@ -74,9 +158,30 @@ TEST_CASE("train-detectors command line: defaults, counts bounded, bad numbers r
                                              {"train-detectors", "--eval-worlds", "1.5"},
                                              {"train-detectors", "--views", "1e9"},
                                              {"train-detectors", "--seed", "-1"},
-                                             {"train-detectors", "--out", ""}}) {
+                                             {"train-detectors", "--out", ""},
+                                             {"train-detectors", "--dataset", ""}}) {
     CHECK_THROWS_AS(ParseCommandLine(bad), InputError);
   }
+  CHECK_FALSE(plain.train_detectors.train_dataset);
+  CHECK_FALSE(plain.train_detectors.eval_dataset);
+  const CommandLine folders =
+      ParseCommandLine({"train-detectors", "--dataset", "d", "--eval-dataset", "e"});
+  REQUIRE(folders.train_detectors.train_dataset);
+  CHECK(*folders.train_detectors.train_dataset == "d");
+  REQUIRE(folders.train_detectors.eval_dataset);
+  CHECK(*folders.train_detectors.eval_dataset == "e");
+  // What a dataset folder decides cannot be asked for as well.
+  CHECK_THROWS_WITH(ParseCommandLine({"train-detectors", "--dataset", "d", "--train-worlds", "3"}),
+                    Catch::StartsWith("command line: --train-worlds: the --dataset folder"));
+  CHECK_THROWS_WITH(
+      ParseCommandLine({"train-detectors", "--eval-dataset", "e", "--eval-worlds", "3"}),
+      Catch::StartsWith("command line: --eval-worlds: the --eval-dataset folder"));
+  CHECK_THROWS_WITH(ParseCommandLine({"train-detectors", "--dataset", "d", "--eval-dataset", "e",
+                                      "--views", "3"}),
+                    Catch::StartsWith("command line: --views: both sets are dataset folders"));
+  // One folder and built-in views for the other set: --views applies to the built-in set.
+  CHECK(ParseCommandLine({"train-detectors", "--dataset", "d", "--views", "3"})
+            .train_detectors.views_per_world == 3);
 }
 
 }  // namespace
