@@ -184,8 +184,8 @@ double PlateScore(const cv::ml::SVM& svm, const cv::Mat& features) {
   return -svm.predict(features, cv::noArray(), cv::ml::StatModel::RAW_OUTPUT);
 }
 
-std::vector<PlateCandidate> DetectPlateCandidates(const Image8& image, const cv::ml::SVM& svm,
-                                                  const DoorPlateDetectorOptions& options) {
+std::vector<PlateCandidate> ScorePlateCandidates(const Image8& image, const cv::ml::SVM& svm,
+                                                 const DoorPlateDetectorOptions& options) {
   const cv::Mat grey = GreyImage(image);
   std::vector<PlateCandidate> scored;
   for (const BoxPx& box : SegmentGrey(grey, options)) {
@@ -194,8 +194,13 @@ std::vector<PlateCandidate> DetectPlateCandidates(const Image8& image, const cv:
   std::stable_sort(
       scored.begin(), scored.end(),
       [](const PlateCandidate& a, const PlateCandidate& b) { return a.score > b.score; });
+  return scored;
+}
+
+std::vector<PlateCandidate> DetectPlateCandidates(const Image8& image, const cv::ml::SVM& svm,
+                                                  const DoorPlateDetectorOptions& options) {
   std::vector<PlateCandidate> out;
-  for (const PlateCandidate& c : scored) {
+  for (const PlateCandidate& c : ScorePlateCandidates(image, svm, options)) {
     bool suppressed = false;
     for (const PlateCandidate& k : out) {
       if (IntersectionOverUnion(c.box_px, k.box_px) > options.suppression_iou) {

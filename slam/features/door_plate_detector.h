@@ -78,7 +78,11 @@ struct PlateCandidate {
   BoxPx box_px;        // the number region
   double score = 0.0;  // SVM margin s(x), positive = plate
 };
-/// Segmentation, then every candidate scored by `svm`, then non-maximum suppression: of
+/// Segmentation, then every candidate scored by `svm`, by decreasing score (ties in segmentation
+/// order), none suppressed.
+std::vector<PlateCandidate> ScorePlateCandidates(const Image8& image, const cv::ml::SVM& svm,
+                                                 const DoorPlateDetectorOptions& options);
+/// ScorePlateCandidates, then non-maximum suppression: of
 /// candidates overlapping by more than suppression_iou the highest score is kept (all are
 /// returned otherwise, negative scores too; callers keep score > 0), by decreasing score.
 std::vector<PlateCandidate> DetectPlateCandidates(const Image8& image, const cv::ml::SVM& svm,

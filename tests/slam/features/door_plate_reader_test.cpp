@@ -135,6 +135,9 @@ TEST_CASE("a digit-bearing poster gives no accepted plate reading", "[plates][re
         slam::DetectDoorPlates(view.frame.rgb, ShippedModels(), slam::DoorPlateOptions{});
     INFO("poster " << d.id << " text " << d.text);
     for (const auto& det : detections) {
+      INFO("read " << det.reading.number << " svm score " << det.svm_score << " box "
+                   << det.box_px.min_x << " " << det.box_px.min_y << " " << det.box_px.max_x << " "
+                   << det.box_px.max_y);
       CHECK_FALSE(det.reading.accepted);
     }
     ++posters;
