@@ -44,6 +44,21 @@ TEST_CASE("train-detectors: the same seed writes byte-identical models, another 
   WriteFileAtomic(dir.path() / slam::kRoomNumberMlpFile, a.mlp_bytes);
   const slam::DoorPlateModels models = slam::DoorPlateModels::Load(dir.path());
   CHECK_NOTHROW(slam::CheckModelsFit(models, slam::DoorPlateOptions{}));
+  // The targets' figures carry their Wilson 95 % intervals, which bracket them.
+  const auto& target = a.report["evaluation"]["read_within_3m_30deg"];
+  REQUIRE(target["plates"].get<int>() > 0);
+  const double read = target["reading_accuracy"], read_lo = target["reading_accuracy_ci95"][0],
+               read_hi = target["reading_accuracy_ci95"][1];
+  CHECK(0.0 <= read_lo);
+  CHECK(read_lo < read_hi);
+  CHECK(read_hi <= 1.0);
+  CHECK(read_lo <= read);
+  CHECK(read <= read_hi);
+  const auto& false_readings = a.report["evaluation"]["false_readings"];
+  CHECK(false_readings["fraction_ci95"][0].get<double>() <=
+        false_readings["fraction"].get<double>());
+  CHECK(false_readings["fraction"].get<double>() <=
+        false_readings["fraction_ci95"][1].get<double>());
   const auto& confusion = a.report["evaluation"]["digit_confusion_rows_true_cols_read"];
   REQUIRE(confusion.size() == 10);
   for (const auto& row : confusion) CHECK(row.size() == 10);
