@@ -73,14 +73,18 @@ std::optional<OptionsProblem> DoorPlateDetectorOptions::Check() const {
   return std::nullopt;
 }
 
-cv::Mat GreyImage(const Image8& image) {
+cv::Mat GreyImage(const Image8& image, const cv::Rect& region) {
   CheckOrDie(image.width > 0 && image.height > 0 &&
                  image.data.size() == std::size_t(image.width) * image.height * image.channels,
              "slam::GreyImage", "the image is empty or its size does not match its buffer");
   const int type = image.channels == 1 ? CV_8UC1 : image.channels == 3 ? CV_8UC3 : CV_8UC4;
   CheckOrDie(image.channels == 1 || image.channels == 3 || image.channels == 4, "slam::GreyImage",
              "the image has neither 1, 3 nor 4 channels");
-  const cv::Mat view(image.height, image.width, type, const_cast<std::uint8_t*>(image.data.data()));
+  CheckOrDie(region.x >= 0 && region.y >= 0 && region.width > 0 && region.height > 0 &&
+                 region.x + region.width <= image.width && region.y + region.height <= image.height,
+             "slam::GreyImage", "the region is empty or leaves the image");
+  const cv::Mat view = cv::Mat(image.height, image.width, type,
+                               const_cast<std::uint8_t*>(image.data.data()))(region);
   cv::Mat grey;
   if (image.channels == 1) {
     grey = view.clone();
@@ -88,6 +92,10 @@ cv::Mat GreyImage(const Image8& image) {
     cv::cvtColor(view, grey, image.channels == 3 ? cv::COLOR_RGB2GRAY : cv::COLOR_RGBA2GRAY);
   }
   return grey;
+}
+
+cv::Mat GreyImage(const Image8& image) {
+  return GreyImage(image, cv::Rect(0, 0, image.width, image.height));
 }
 
 namespace {
@@ -197,20 +205,15 @@ std::vector<PlateCandidate> ScorePlateCandidates(const Image8& image, const cv::
   return scored;
 }
 
-std::vector<PlateCandidate> DetectPlateCandidates(const Image8& image, const cv::ml::SVM& svm,
-                                                  const DoorPlateDetectorOptions& options) {
-  std::vector<PlateCandidate> out;
-  for (const PlateCandidate& c : ScorePlateCandidates(image, svm, options)) {
-    bool suppressed = false;
-    for (const PlateCandidate& k : out) {
-      if (IntersectionOverUnion(c.box_px, k.box_px) > options.suppression_iou) {
-        suppressed = true;
-        break;
-      }
-    }
-    if (!suppressed) out.push_back(c);
+std::vector<std::size_t> SuppressOverlapping(const std::vector<BoxPx>& boxes, double max_iou) {
+  std::vector<std::size_t> kept;
+  for (std::size_t i = 0; i < boxes.size(); ++i) {
+    const bool suppressed = std::any_of(kept.begin(), kept.end(), [&](std::size_t k) {
+      return IntersectionOverUnion(boxes[i], boxes[k]) > max_iou;
+    });
+    if (!suppressed) kept.push_back(i);
   }
-  return out;
+  return kept;
 }
 
 }  // namespace corridorsim::slam

@@ -82,13 +82,13 @@ struct PlateCandidate {
 /// order), none suppressed.
 std::vector<PlateCandidate> ScorePlateCandidates(const Image8& image, const cv::ml::SVM& svm,
                                                  const DoorPlateDetectorOptions& options);
-/// ScorePlateCandidates, then non-maximum suppression: of
-/// candidates overlapping by more than suppression_iou the highest score is kept (all are
-/// returned otherwise, negative scores too; callers keep score > 0), by decreasing score.
-std::vector<PlateCandidate> DetectPlateCandidates(const Image8& image, const cv::ml::SVM& svm,
-                                                  const DoorPlateDetectorOptions& options);
+/// Non-maximum suppression: the indices of `boxes` (given in priority order) kept when each box
+/// overlapping a kept one by IoU > max_iou is dropped, in that order.
+std::vector<std::size_t> SuppressOverlapping(const std::vector<BoxPx>& boxes, double max_iou);
 
-/// The grey (single-channel CV_8U) view of an RGB, RGBA or grey Image8, copied.
+/// The grey (single-channel CV_8U) view of an RGB, RGBA or grey Image8, copied: the whole image,
+/// or a region inside it (the same pixels as the whole image's grey cropped).
 cv::Mat GreyImage(const Image8& image);
+cv::Mat GreyImage(const Image8& image, const cv::Rect& region);
 
 }  // namespace corridorsim::slam

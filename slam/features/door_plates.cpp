@@ -166,17 +166,11 @@ std::vector<DoorPlateDetection> DetectDoorPlates(const Image8& image, const Door
   std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
     return read[a].reading.accepted > read[b].reading.accepted;
   });
+  std::vector<BoxPx> boxes;
+  for (const std::size_t i : order) boxes.push_back(read[i].box_px);
   std::vector<std::size_t> kept;
-  for (const std::size_t i : order) {
-    bool suppressed = false;
-    for (const std::size_t k : kept) {
-      if (IntersectionOverUnion(read[i].box_px, read[k].box_px) >
-          options.detector.suppression_iou) {
-        suppressed = true;
-        break;
-      }
-    }
-    if (!suppressed) kept.push_back(i);
+  for (const std::size_t j : SuppressOverlapping(boxes, options.detector.suppression_iou)) {
+    kept.push_back(order[j]);
   }
   std::sort(kept.begin(), kept.end());  // by decreasing score again (`read`'s order)
   std::vector<DoorPlateDetection> out;

@@ -141,19 +141,21 @@ std::vector<cv::Rect> DigitRects(const cv::Mat& binary, const RoomNumberReaderOp
 
 std::vector<DigitSegment> SegmentDigits(const Image8& image, const BoxPx& box,
                                         const RoomNumberReaderOptions& o) {
-  const cv::Mat grey = GreyImage(image);
+  CheckOrDie(image.width > 0 && image.height > 0, "slam::SegmentDigits", "an empty image");
   if (!(box.width() > 0) || !(box.height() > 0)) return {};
   const double m = box.height() * o.margin;
-  const int x0 = std::clamp(int(std::floor(box.min_x + 0.5 - m)), 0, grey.cols - 1);
-  const int y0 = std::clamp(int(std::floor(box.min_y + 0.5 - m)), 0, grey.rows - 1);
-  const int x1 = std::clamp(int(std::ceil(box.max_x + 0.5 + m)), x0 + 1, grey.cols);
-  const int y1 = std::clamp(int(std::ceil(box.max_y + 0.5 + m)), y0 + 1, grey.rows);
+  const int x0 = std::clamp(int(std::floor(box.min_x + 0.5 - m)), 0, image.width - 1);
+  const int y0 = std::clamp(int(std::floor(box.min_y + 0.5 - m)), 0, image.height - 1);
+  const int x1 = std::clamp(int(std::ceil(box.max_x + 0.5 + m)), x0 + 1, image.width);
+  const int y1 = std::clamp(int(std::ceil(box.max_y + 0.5 + m)), y0 + 1, image.height);
+  // Only the crop is converted: DetectDoorPlates reads several candidates per image.
+  const cv::Mat grey = GreyImage(image, cv::Rect(x0, y0, x1 - x0, y1 - y0));
   // Rescaled so that the box is work_height_px high (bounded: the box is inside the image).
   const double k = o.work_height_px / box.height();
   const cv::Size size(std::clamp(int(std::lround((x1 - x0) * k)), 1, 64 * o.work_height_px),
                       std::clamp(int(std::lround((y1 - y0) * k)), 1, 8 * o.work_height_px));
   cv::Mat crop;
-  cv::resize(grey(cv::Rect(x0, y0, x1 - x0, y1 - y0)), crop, size, 0, 0, cv::INTER_LINEAR);
+  cv::resize(grey, crop, size, 0, 0, cv::INTER_LINEAR);
   cv::Mat binary;
   cv::threshold(crop, binary, 0, 255, cv::THRESH_BINARY | cv::THRESH_OTSU);
   const cv::Rect inner =
