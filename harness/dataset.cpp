@@ -15,6 +15,7 @@
 
 #include "common/error.h"
 #include "common/io/atomic_file.h"
+#include "common/io/json_input.h"
 #include "common/io/sha256.h"
 #include "common/io/stable_json.h"
 #include "common/random.h"
@@ -692,6 +693,20 @@ std::vector<DatasetFrame> DatasetWorld::Render(int f) {
   return out;
 }
 
+DatasetManifest ReadDatasetManifest(const fs::path& dir) {
+  DatasetManifest m;
+  m.file = (dir / "dataset.json").string();
+  m.json = ParseJsonInput(ReadRegularFile(dir / "dataset.json", 1 << 20), m.file);
+  const JsonField top{m.file, "", m.json};
+  if (!m.json.is_object()) top.Fail("expected an object");
+  if (top.At("format").String() != "corridorsim dataset") {
+    top.At("format").Fail("expected \"corridorsim dataset\"");
+  }
+  const JsonField cameras = top.At("cameras");
+  for (std::size_t i = 0; i < cameras.ArraySize(); ++i) m.cameras.push_back(cameras.At(i).String());
+  return m;
+}
+
 int RunDataset(const DatasetRequest& request) {
   const Scenario scenario = LoadScenario(request.scenario_file);
   const std::vector<std::string> cameras = SelectCameras(scenario, request.cameras);
@@ -709,8 +724,8 @@ int RunDataset(const DatasetRequest& request) {
 
   // World 0 and its poses before anything is written: a scenario whose worlds cannot be built,
   // or poses that cannot be placed, are mostly found here.
-  std::optional<DatasetWorld> first_world(std::in_place, scenario, rig_options, backend_kind, seed,
-                                          0, n_worlds, request.poses, n_frames);
+  std::optional<DatasetWorld> world(std::in_place, scenario, rig_options, backend_kind, seed, 0,
+                                    n_worlds, request.poses, n_frames);
 
   // The manifest names the renderer, so a GL context comes first.
   const std::string manifest = [&] {
@@ -729,17 +744,15 @@ int RunDataset(const DatasetRequest& request) {
   std::int64_t rendered = 0;
   for (int w = 0; w < n_worlds; ++w) {
     // Every pose is drawn even when its frame is done: a resumed world gets the same poses.
-    std::optional<DatasetWorld> next;
     if (w > 0) {
-      next.emplace(scenario, rig_options, backend_kind, seed + static_cast<std::uint64_t>(w), w,
-                   n_worlds, request.poses, n_frames);
+      world.emplace(scenario, rig_options, backend_kind, seed + static_cast<std::uint64_t>(w), w,
+                    n_worlds, request.poses, n_frames);
     }
-    DatasetWorld& world = w == 0 ? *first_world : *next;
     const fs::path world_dir = dir / "worlds" / DatasetWorldStem(w, n_worlds);
     if (!fs::exists(world_dir / "ground_truth.json")) {
       fs::create_directories(world_dir);
       WriteFileAtomic(world_dir / "ground_truth.json",
-                      worlds::GroundTruthJson(world.world()).dump(2) + "\n");
+                      worlds::GroundTruthJson(world->world()).dump(2) + "\n");
     }
     for (int f = 0; f < n_frames; ++f) {
       const std::string stem = DatasetFrameStem(w, f, n_worlds, n_frames);
@@ -747,7 +760,7 @@ int RunDataset(const DatasetRequest& request) {
         return fs::exists(dir / id / "truth" / (stem + ".json"));
       });
       if (!done) {
-        for (const DatasetFrame& frame : world.Render(f)) {
+        for (const DatasetFrame& frame : world->Render(f)) {
           const render::CameraFrame& image = frame.frame;
           const fs::path camera_dir = dir / image.camera_id;
           const int width = image.rgb.width, height = image.rgb.height;

@@ -107,6 +107,17 @@ class DatasetWorld {
   std::unique_ptr<Renderer> renderer_;
 };
 
+/// A dataset folder's manifest (`DIR/dataset.json`) as its readers (`score`, `train-detectors`)
+/// take it: the whole document, and its camera names.
+struct DatasetManifest {
+  std::string file;  // DIR/dataset.json, for messages
+  nlohmann::ordered_json json;
+  std::vector<std::string> cameras;
+};
+/// Reads DIR/dataset.json (at most 1 MiB): an object whose `format` is "corridorsim dataset", with
+/// a `cameras` array of names. Throws InputError naming the file and field otherwise.
+DatasetManifest ReadDatasetManifest(const std::filesystem::path& dir);
+
 /// Runs the job; returns the exit code. Throws InputError for bad input.
 int RunDataset(const DatasetRequest& request);
 

@@ -529,18 +529,7 @@ ScoreDataset ParseScoreDataset(std::string_view text, const std::string& file) {
 }
 
 ScoreDataset ReadScoreDataset(const fs::path& dir, const std::optional<std::string>& camera) {
-  const fs::path manifest_path = dir / "dataset.json";
-  const Json manifest =
-      ParseJsonInput(ReadRegularFile(manifest_path, 1 << 20), manifest_path.string());
-  const Field top{manifest_path.string(), "", manifest};
-  if (!manifest.is_object()) top.Fail("expected an object");
-  const Field cameras = top.At("cameras");
-  std::vector<std::string> ids;
-  if (!cameras.value.is_array()) cameras.Fail("expected an array of camera names");
-  for (std::size_t i = 0; i < cameras.value.size(); ++i) {
-    ids.push_back(
-        Field{cameras.file, "cameras[" + std::to_string(i) + "]", cameras.value[i]}.String());
-  }
+  const std::vector<std::string> ids = ReadDatasetManifest(dir).cameras;
   std::string list;
   for (const std::string& id : ids) list += (list.empty() ? "" : ", ") + id;
   std::string chosen;

@@ -80,6 +80,13 @@ struct LabelledView {
 };
 using PlateFonts = std::map<int, std::string>;  // plate id -> font, of one world
 
+// A plate id of a truth or ground-truth file: a non-negative int.
+int PlateId(const JsonField& plate) {
+  const std::int64_t id = plate.At("id").Integer();
+  if (id < 0 || id > std::numeric_limits<int>::max()) plate.At("id").Fail("out of range");
+  return static_cast<int>(id);
+}
+
 // The plates of a dataset truth file as FrameTruthJson wrote them (docs/datasets.md). Both view
 // sets read them from this JSON, so that a model trained in memory equals one trained from the
 // folder `dataset` writes.
@@ -93,9 +100,7 @@ std::vector<render::PlateTruth> PlatesOfTruth(const Json& truth, const std::stri
   for (std::size_t i = 0; i < plates.ArraySize(); ++i) {
     const JsonField p = plates.At(i);
     render::PlateTruth t;
-    const std::int64_t id = p.At("id").Integer();
-    if (id < 0 || id > std::numeric_limits<int>::max()) p.At("id").Fail("out of range");
-    t.id = static_cast<int>(id);
+    t.id = PlateId(p);
     t.room_number = p.At("room_number").String();
     if (t.room_number.empty() || t.room_number.size() > 16 ||
         !std::all_of(t.room_number.begin(), t.room_number.end(),
@@ -174,25 +179,18 @@ class BuiltInViews : public ViewSet {
 class DatasetFolderViews : public ViewSet {
  public:
   DatasetFolderViews(const fs::path& dir, const char* option) : dir_(dir) {
-    const fs::path manifest_path = dir / "dataset.json";
-    const std::string file = manifest_path.string();
     std::error_code error;
     if (!fs::is_directory(dir, error)) {
       throw InputError(SourceLocation{"command line", 0, 0}, option,
                        dir.string() + " is not a folder");
     }
-    const Json manifest = ParseJsonInput(ReadRegularFile(manifest_path, 1 << 20), file);
-    const JsonField top{file, "", manifest};
-    if (top.At("format").String() != "corridorsim dataset") {
-      top.At("format").Fail("expected \"corridorsim dataset\"");
-    }
+    const DatasetManifest manifest = ReadDatasetManifest(dir);
+    const JsonField top{manifest.file, "", manifest.json};
     if (top.At("format_version").Integer() != 1) top.At("format_version").Fail("expected 1");
-    const JsonField cameras = top.At("cameras");
-    bool lateral = false;
-    for (std::size_t i = 0; i < cameras.ArraySize(); ++i) {
-      lateral = lateral || cameras.At(i).String() == "lateral";
+    if (std::find(manifest.cameras.begin(), manifest.cameras.end(), "lateral") ==
+        manifest.cameras.end()) {
+      top.At("cameras").Fail("the dataset has no lateral camera (dataset --cameras lateral)");
     }
-    if (!lateral) cameras.Fail("the dataset has no lateral camera (dataset --cameras lateral)");
     const std::int64_t worlds = top.At("worlds").Integer();
     const std::int64_t frames = top.At("frames_per_world").Integer();
     if (worlds < 1 || worlds > kMaxDatasetWorlds) {
@@ -219,9 +217,7 @@ class DatasetFolderViews : public ViewSet {
     PlateFonts fonts;
     for (std::size_t i = 0; i < plates.ArraySize(); ++i) {
       const JsonField p = plates.At(i);
-      const std::int64_t id = p.At("id").Integer();
-      if (id < 0 || id > std::numeric_limits<int>::max()) p.At("id").Fail("out of range");
-      fonts[static_cast<int>(id)] = p.Has("font") ? p.At("font").String() : "";
+      fonts[PlateId(p)] = p.Has("font") ? p.At("font").String() : "";
     }
     for (int f = 0; f < frames_; ++f) {
       const std::string stem = DatasetFrameStem(w, f, worlds_, frames_);
