@@ -11,6 +11,7 @@
 #include <map>
 #include <memory>
 #include <set>
+#include <string_view>
 
 #include <opencv2/core.hpp>
 #include <opencv2/core/utility.hpp>
@@ -342,6 +343,32 @@ std::string ModelBytes(const cv::ml::StatModel& model) {
   fs << "}";
   return fs.releaseAndGetString();
 }
+
+}  // namespace
+
+std::string WithoutUncompressedSupportVectors(const std::string& yaml) {
+  // cv::FileStorage's YAML puts the model's keys at one indent, three spaces, each value's lines
+  // deeper: the two keys are dropped with every line up to the next key at that indent.
+  std::string out;
+  out.reserve(yaml.size());
+  bool dropping = false;
+  std::size_t begin = 0;
+  while (begin < yaml.size()) {
+    std::size_t end = yaml.find('\n', begin);
+    end = end == std::string::npos ? yaml.size() : end + 1;
+    const std::string_view line(yaml.data() + begin, end - begin);
+    const bool key = line.size() > 3 && line.substr(0, 3) == "   " && line[3] != ' ';
+    if (key) {
+      dropping = line.starts_with("   uncompressed_sv_total:") ||
+                 line.starts_with("   uncompressed_support_vectors:");
+    }
+    if (!dropping) out.append(line);
+    begin = end;
+  }
+  return out;
+}
+
+namespace {
 
 template <class Model>
 cv::Ptr<Model> ModelFromBytes(const std::string& bytes) {
@@ -692,7 +719,7 @@ TrainingResult TrainDetectors(const TrainDetectorsOptions& o) {
     svm->setTermCriteria(
         cv::TermCriteria(cv::TermCriteria::MAX_ITER + cv::TermCriteria::EPS, 20000, 1e-6));
     svm->train(cv::ml::TrainData::create(set.plate_features, cv::ml::ROW_SAMPLE, set.plate_labels));
-    result.svm_bytes = ModelBytes(*svm);
+    result.svm_bytes = WithoutUncompressedSupportVectors(ModelBytes(*svm));
     // P1 section 3.2: MLP on the digits' projections, targets -1 / +1.
     cv::Mat targets(set.digit_labels.rows, 10, CV_32F, cv::Scalar(-1.0f));
     for (int r = 0; r < set.digit_labels.rows; ++r)

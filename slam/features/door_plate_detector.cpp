@@ -5,6 +5,7 @@
 #include <string>
 
 #include <opencv2/imgproc.hpp>
+#include <opencv2/objdetect.hpp>
 
 namespace corridorsim::slam {
 
@@ -53,6 +54,10 @@ const OptionTable<DoorPlateDetectorOptions>& DoorPlateDetectorOptionsTable() {
     t.Add("patch_width_px", &O::patch_width_px, "px", "P1 eq. 5 patch width").Range(4, 256);
     t.Add("patch_height_px", &O::patch_height_px, "px", "P1 eq. 5 patch height").Range(4, 256);
     t.Add("context", &O::context, "", "box fraction added on each side of the patch").Range(0, 2);
+    t.Add("hog_cell_px", &O::hog_cell_px, "px",
+          "HOG cell side appended to the patch's pixels (0 = pixels only)")
+        .ZeroOr(2, 32)
+        .Note("divides both patch sides, at least 2 cells each");
   });
 }
 
@@ -70,6 +75,11 @@ std::optional<OptionsProblem> DoorPlateDetectorOptions::Check() const {
     return OptionsProblem{"max_width_px", "must be at least min_width_px"};
   }
   if (max_aspect < min_aspect) return OptionsProblem{"max_aspect", "must be at least min_aspect"};
+  if (hog_cell_px > 0 && (patch_width_px % hog_cell_px != 0 || patch_height_px % hog_cell_px != 0 ||
+                          patch_width_px < 2 * hog_cell_px || patch_height_px < 2 * hog_cell_px)) {
+    return OptionsProblem{"hog_cell_px",
+                          "must divide patch_width_px and patch_height_px, at least 2 cells each"};
+  }
   return std::nullopt;
 }
 
@@ -171,7 +181,16 @@ cv::Mat PatchFeaturesGrey(const cv::Mat& grey, const BoxPx& box,
   cv::Scalar mean, stddev;
   cv::meanStdDev(f, mean, stddev);
   f = (f - mean[0]) / std::max(stddev[0], 1.0);
-  return f.reshape(1, 1).clone();
+  f = f.reshape(1, 1);
+  if (o.hog_cell_px == 0) return f.clone();
+  const int c = o.hog_cell_px;
+  const cv::HOGDescriptor hog(patch.size(), cv::Size(2 * c, 2 * c), cv::Size(c, c), cv::Size(c, c),
+                              9);
+  std::vector<float> descriptor;
+  hog.compute(patch, descriptor);
+  cv::Mat row;
+  cv::hconcat(f, cv::Mat(1, int(descriptor.size()), CV_32F, descriptor.data()), row);
+  return row;
 }
 
 }  // namespace
@@ -184,6 +203,15 @@ std::vector<BoxPx> SegmentPlateCandidates(const Image8& image,
 cv::Mat PlatePatchFeatures(const Image8& image, const BoxPx& box,
                            const DoorPlateDetectorOptions& options) {
   return PatchFeaturesGrey(GreyImage(image), box, options);
+}
+
+int PlateFeatureCount(const DoorPlateDetectorOptions& o) {
+  const int pixels = o.patch_width_px * o.patch_height_px;
+  if (o.hog_cell_px == 0) return pixels;
+  // Blocks of 2 x 2 cells a cell apart: (cells - 1) per side, 4 cells of 9 bins each.
+  const int blocks_x = o.patch_width_px / o.hog_cell_px - 1;
+  const int blocks_y = o.patch_height_px / o.hog_cell_px - 1;
+  return pixels + blocks_x * blocks_y * 4 * 9;
 }
 
 double PlateScore(const cv::ml::SVM& svm, const cv::Mat& features) {

@@ -51,9 +51,13 @@ struct DoorPlateDetectorOptions {
   // Detection: of scored candidates overlapping more than this, the highest score is kept.
   double suppression_iou = 0.3;
   // P1 eq. 5 feature vector: the patch (box grown by context on every side) resized.
-  int patch_width_px = 40;
-  int patch_height_px = 20;
-  double context = 0.25;  // fraction of the box's width / height added on each side
+  int patch_width_px = 60;
+  int patch_height_px = 30;
+  double context = 0.5;  // fraction of the box's width / height added on each side
+  // Histogram of oriented gradients of the patch appended to its pixels (ours, not P1's): cell
+  // side in patch pixels, 0 = pixels only (P1's feature). Blocks of 2 x 2 cells, a cell apart,
+  // 9 unsigned orientation bins (cv::HOGDescriptor). Chosen on a validation set: docs/detectors.md.
+  int hog_cell_px = 5;
   std::optional<OptionsProblem> Check() const;
 };
 const OptionTable<DoorPlateDetectorOptions>& DoorPlateDetectorOptionsTable();
@@ -64,12 +68,16 @@ const OptionTable<DoorPlateDetectorOptions>& DoorPlateDetectorOptionsTable();
 std::vector<BoxPx> SegmentPlateCandidates(const Image8& image,
                                           const DoorPlateDetectorOptions& options);
 
-/// P1 eq. 5: the feature vector of `box` in `image`, a 1 x (patch_width * patch_height) CV_32F
-/// row: grey patch (with context) resized (INTER_AREA), flipped to dark text on a light ground
-/// when its Otsu minority class is the bright one, then scaled to zero mean and unit variance
-/// (the normalisation is ours: it makes the score independent of plate colours and exposure).
+/// P1 eq. 5: the feature vector of `box` in `image`, a 1 x PlateFeatureCount CV_32F row: grey
+/// patch (with context) resized (INTER_AREA), flipped to dark text on a light ground when its Otsu
+/// minority class is the bright one, then scaled to zero mean and unit variance (the normalisation
+/// is ours: it makes the score independent of plate colours and exposure); with hog_cell_px > 0,
+/// followed by the patch's HOG descriptor (ours: digit strokes seen as gradients, not grey levels).
 cv::Mat PlatePatchFeatures(const Image8& image, const BoxPx& box,
                            const DoorPlateDetectorOptions& options);
+
+/// The length of PlatePatchFeatures' row for these options.
+int PlateFeatureCount(const DoorPlateDetectorOptions& options);
 
 /// P1 eq. 6: the SVM margin s(x) of a feature row; positive = door plate. `svm` is linear.
 double PlateScore(const cv::ml::SVM& svm, const cv::Mat& features);

@@ -86,7 +86,7 @@ std::optional<OptionsProblem> DoorPlateOptions::Check() const {
 void CheckModelsFit(const DoorPlateModels& models, const DoorPlateOptions& options,
                     const std::filesystem::path& dir) {
   CheckOrDie(models.svm && models.mlp, "slam::CheckModelsFit", "models are not loaded");
-  const int patch = options.detector.patch_width_px * options.detector.patch_height_px;
+  const int patch = PlateFeatureCount(options.detector);
   if (models.svm->getVarCount() != patch) {
     throw ModelFileError(Dir(dir) / kDoorPlateSvmFile,
                          "takes " + std::to_string(models.svm->getVarCount()) +

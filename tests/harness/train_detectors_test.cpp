@@ -64,6 +64,44 @@ TEST_CASE("train-detectors: the same seed writes byte-identical models, another 
   for (const auto& row : confusion) CHECK(row.size() == 10);
 }
 
+TEST_CASE("train-detectors: the SVM file drops the uncompressed support vectors, not the model",
+          "[plates]") {
+  // A linear SVM on two noisy Gaussian classes: many support vectors, one weight vector.
+  cv::RNG rng(7);
+  cv::Mat features(400, 30, CV_32F), labels(400, 1, CV_32S);
+  rng.fill(features, cv::RNG::NORMAL, 0.0, 1.0);
+  for (int r = 0; r < features.rows; ++r) {
+    labels.at<int>(r) = r % 2 == 0 ? 1 : -1;
+    features.at<float>(r, 0) += labels.at<int>(r) > 0 ? 0.8f : -0.8f;
+  }
+  cv::Ptr<cv::ml::SVM> svm = cv::ml::SVM::create();
+  svm->setKernel(cv::ml::SVM::LINEAR);
+  svm->setC(1.0);
+  svm->train(cv::ml::TrainData::create(features, cv::ml::ROW_SAMPLE, labels));
+  cv::FileStorage out(".yml", cv::FileStorage::WRITE | cv::FileStorage::MEMORY);
+  out << svm->getDefaultName() << "{";
+  svm->write(out);
+  out << "}";
+  const std::string full = out.releaseAndGetString();
+  REQUIRE(full.find("uncompressed_support_vectors") != std::string::npos);
+  const std::string compact = WithoutUncompressedSupportVectors(full);
+  CHECK(compact.find("uncompressed") == std::string::npos);
+  CHECK(compact.size() * 5 < full.size());
+  CHECK(WithoutUncompressedSupportVectors(compact) == compact);
+  const auto load = [](const std::string& yaml) {
+    cv::FileStorage in(yaml, cv::FileStorage::READ | cv::FileStorage::MEMORY);
+    cv::Ptr<cv::ml::SVM> m = cv::ml::SVM::create();
+    m->read(in.getFirstTopLevelNode());
+    return m;
+  };
+  const cv::Ptr<cv::ml::SVM> a = load(full), b = load(compact);
+  REQUIRE(b->isTrained());
+  CHECK(b->getVarCount() == 30);
+  for (int r = 0; r < features.rows; ++r) {
+    CHECK(slam::PlateScore(*b, features.row(r)) == slam::PlateScore(*a, features.row(r)));
+  }
+}
+
 // `corridorsim dataset scenarios/datasets/train_detectors.yaml --cameras lateral --poses plates`
 // into dir.
 void WriteTrainingDataset(const std::filesystem::path& dir, std::uint64_t seed, int worlds,

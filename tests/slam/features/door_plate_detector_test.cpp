@@ -51,6 +51,36 @@ TEST_CASE("detector options: defaults pass, a bad scale and a crossed range are 
   options.reader.min_digit_score = 1.5;
   REQUIRE(options.Check());
   CHECK(options.Check()->key == "reader.min_digit_score");
+  // HOG cells must tile the patch: 7 px does not divide 60 x 30, 20 px leaves 1.5 rows of cells.
+  for (const int cell : {7, 20, 1}) {
+    options = {};
+    options.detector.hog_cell_px = cell;
+    REQUIRE(options.Check());
+    CHECK(options.Check()->key == "detector.hog_cell_px");
+  }
+}
+
+TEST_CASE("plate features: pixels, then HOG; the row length is PlateFeatureCount", "[plates]") {
+  Image8 image;
+  image.width = 120;
+  image.height = 80;
+  image.channels = 1;
+  image.data.assign(std::size_t(120 * 80), 200);
+  for (int y = 30; y < 50; ++y) {
+    for (int x = 40; x < 80; x += 8) image.data[std::size_t(y * 120 + x)] = 20;  // digit strokes
+  }
+  const BoxPx box{38, 28, 82, 52};
+  slam::DoorPlateDetectorOptions o;
+  const cv::Mat with_hog = slam::PlatePatchFeatures(image, box, o);
+  CHECK(with_hog.cols == slam::PlateFeatureCount(o));
+  CHECK(with_hog.cols == 60 * 30 + 11 * 5 * 36);
+  o.hog_cell_px = 0;
+  const cv::Mat pixels = slam::PlatePatchFeatures(image, box, o);
+  CHECK(pixels.cols == 60 * 30);
+  CHECK(slam::PlateFeatureCount(o) == 60 * 30);
+  // The pixels come first, unchanged; the HOG part describes the strokes (not all zero).
+  CHECK(cv::norm(with_hog.colRange(0, pixels.cols), pixels, cv::NORM_INF) == 0.0);
+  CHECK(cv::norm(with_hog.colRange(pixels.cols, with_hog.cols), cv::NORM_L1) > 1.0);
 }
 
 TEST_CASE("the detector finds the plate of a rendered lateral frame and reads its number",
@@ -178,7 +208,10 @@ TEST_CASE("a missing or corrupt model file is a ModelFileError naming the file",
   write(slam::kRoomNumberMlpFile, mlp_text);
   const slam::DoorPlateModels models = slam::DoorPlateModels::Load(dir.path());
   slam::DoorPlateOptions options;
-  options.detector.patch_width_px += 2;
+  options.detector.patch_width_px += 5;
+  CHECK_THROWS_AS(slam::CheckModelsFit(models, options), slam::ModelFileError);
+  options = {};
+  options.detector.hog_cell_px = 0;  // pixels only: not what the shipped SVM was trained on
   CHECK_THROWS_AS(slam::CheckModelsFit(models, options), slam::ModelFileError);
 }
 
