@@ -359,9 +359,10 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
       "Exit codes: 0 success, 2 bad input (the folder or a map missing or malformed, or no map "
       "knows the room: the message lists the known rooms), 1 other failures.");
 
-  CLI::App* detect = app.add_subcommand(
-      "detect", "Run the detectors (vanishing point, Harris corners) on an image; JSON on stdout");
-  std::string detect_image, detect_camera = "front", detect_depth, detect_out;
+  CLI::App* detect = app.add_subcommand("detect",
+                                        "Run the detectors (vanishing point, door plates, lamps, "
+                                        "corners) on an image; JSON on stdout");
+  std::string detect_image, detect_camera = "front", detect_depth, detect_out, detect_intrinsics;
   CLI::Option* detect_image_option =
       detect->add_option("image", detect_image, "PNG image (8-bit grey, RGB or RGBA, or 16-bit)")
           ->required()
@@ -369,9 +370,10 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
   detect
       ->add_option("--camera", detect_camera,
                    "The camera the image comes from: front (vanishing point and corners; P1's "
-                   "RGB-D sensor) or lateral (corners)")
+                   "RGB-D sensor), lateral (door plates and corners) or upward (P3's circular "
+                   "lamps and corners)")
       ->capture_default_str()
-      ->type_name("front|lateral");
+      ->type_name("front|lateral|upward");
   CLI::Option* detect_depth_option =
       detect
           ->add_option("--depth", detect_depth,
@@ -379,6 +381,13 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
                        "0 = invalid (TUM RGB-D; snapshot's front_depth.png); gives each corner "
                        "its depth")
           ->type_name("D.png");
+  CLI::Option* detect_intrinsics_option =
+      detect
+          ->add_option("--intrinsics", detect_intrinsics,
+                       "The upward camera's model as intrinsics.json holds it (docs/frames.md; a "
+                       "dataset's upward/intrinsics.json); default: the default rig's upward "
+                       "camera (Kannala-Brandt, 640x480, 110 deg)")
+          ->type_name("FILE.json");
   CLI::Option* detect_out_option =
       detect
           ->add_option("--out", detect_out, "Also write the image with what was found drawn on it")
@@ -386,7 +395,9 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
   detect->footer(
       "Prints one JSON document on stdout (docs/detectors.md): the image, the camera, then one "
       "section per detector: vanishing_point (front: the point, its lines and quality, or the "
-      "status saying why there is none) and corners (pixel, depth_m, response). Images are at "
+      "status saying why there is none), door_plates (lateral), lamps (upward: circular lamps "
+      "and the rejected bright regions, P3 section II) and corners (pixel, depth_m, response). "
+      "Images are at "
       "most 8192 px a side and 256 MiB.\n"
       "Exit codes: 0 success (also when nothing was found), 2 bad input (a missing, unreadable "
       "or non-PNG file, an image too large, a depth image of another size; one message naming "
@@ -586,8 +597,17 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
       parsed.detect.camera = DetectCamera::kFront;
     } else if (detect_camera == "lateral") {
       parsed.detect.camera = DetectCamera::kLateral;
+    } else if (detect_camera == "upward") {
+      parsed.detect.camera = DetectCamera::kUpward;
     } else {
-      Fail("--camera", "expected front or lateral " + Got(detect_camera));
+      Fail("--camera", "expected front, lateral or upward " + Got(detect_camera));
+    }
+    if (detect_intrinsics_option->count() > 0) {
+      if (detect_intrinsics.empty()) Fail("--intrinsics", "an empty file name");
+      if (parsed.detect.camera != DetectCamera::kUpward) {
+        Fail("--intrinsics", "only for --camera upward (got --camera " + detect_camera + ")");
+      }
+      parsed.detect.intrinsics_file = detect_intrinsics;
     }
     if (detect_depth_option->count() > 0) {
       if (detect_depth.empty()) Fail("--depth", "an empty file name");

@@ -18,8 +18,12 @@
 
 #include "common/error.h"
 #include "common/io/atomic_file.h"
+#include "common/io/camera_json.h"
+#include "common/io/json_input.h"
 #include "common/io/stable_json.h"
 #include "harness/frame_io.h"
+#include "render/camera_rig.h"
+#include "slam/features/ceiling_lamps.h"
 #include "slam/features/door_plates.h"
 #include "slam/features/harris_corners.h"
 #include "slam/features/image_conversion.h"
@@ -146,7 +150,15 @@ Image8 ReadRgbPng(const std::filesystem::path& path, const std::string& what) {
 }
 
 std::string DetectCameraName(DetectCamera camera) {
-  return camera == DetectCamera::kFront ? "front" : "lateral";
+  switch (camera) {
+    case DetectCamera::kFront:
+      return "front";
+    case DetectCamera::kLateral:
+      return "lateral";
+    case DetectCamera::kUpward:
+      return "upward";
+  }
+  return "front";
 }
 
 DetectInput LoadDetectInput(const DetectRequest& request) {
@@ -175,6 +187,40 @@ DetectInput LoadDetectInput(const DetectRequest& request) {
       }
     }
     input.depth_m = std::move(depth);
+  }
+  if (request.camera == DetectCamera::kUpward) {
+    if (request.intrinsics_file) {
+      const std::filesystem::path& path = *request.intrinsics_file;
+      const std::string file = path.string();
+      nlohmann::ordered_json json = ParseJsonInput(ReadRegularFile(path, 1 << 20), file);
+      if (!json.is_object()) {
+        throw InputError(SourceLocation{file, 0, 0}, "", "expected a JSON object (a camera model)");
+      }
+      json.erase("robot_from_camera");  // dataset's intrinsics.json also holds the mount
+      try {
+        input.model = CameraModelFromJson(json);
+      } catch (const OptionsError& e) {
+        throw InputError(SourceLocation{file, 0, 0}, e.problem().key, e.problem().message);
+      }
+      if (input.model->width() != input.rgb.width || input.model->height() != input.rgb.height) {
+        throw InputError(SourceLocation{file, 0, 0}, "width",
+                         "the model is " + std::to_string(input.model->width()) + "x" +
+                             std::to_string(input.model->height()) + " px, the image " +
+                             std::to_string(input.rgb.width) + "x" +
+                             std::to_string(input.rgb.height));
+      }
+    } else {
+      const render::CameraOptions* upward = render::RigOptions::Default().Find("upward");
+      CheckOrDie(upward != nullptr, "LoadDetectInput", "the default rig has no upward camera");
+      if (upward->model.width() != input.rgb.width || upward->model.height() != input.rgb.height) {
+        Bad(request.image_file,
+            "--camera upward: the image is " + std::to_string(input.rgb.width) + "x" +
+                std::to_string(input.rgb.height) + " px, not the default upward camera's " +
+                std::to_string(upward->model.width()) + "x" +
+                std::to_string(upward->model.height()) + "; give its model with --intrinsics FILE");
+      }
+      input.model = upward->model;
+    }
   }
   return input;
 }
@@ -302,6 +348,51 @@ nlohmann::ordered_json PlatesSection(const DetectInput& input, Image8* overlay) 
   return j;
 }
 
+nlohmann::ordered_json LampsSection(const DetectInput& input, Image8* overlay) {
+  const slam::CeilingLampOptions options;
+  const slam::CeilingLampDetection found =
+      slam::DetectCeilingLamps(input.rgb, input.model ? &*input.model : nullptr, options);
+  const auto region = [](const slam::CeilingLampRegion& r) {
+    nlohmann::ordered_json j;
+    j["center_px"] = Px(r.center_px);
+    j["radius_px"] = RoundToStep(r.radius_px, json_steps::kPx);
+    j["sigma1_px"] = std::isfinite(r.sigma1_px)
+                         ? nlohmann::ordered_json(RoundToStep(r.sigma1_px, json_steps::kPx))
+                         : nlohmann::ordered_json();
+    j["sigma2_px"] = std::isfinite(r.sigma2_px)
+                         ? nlohmann::ordered_json(RoundToStep(r.sigma2_px, json_steps::kPx))
+                         : nlohmann::ordered_json();
+    j["area_px"] = r.area_px;
+    j["edge_points"] = r.edge_points;
+    j["edge_contrast"] = RoundToStep(r.edge_contrast, 100);
+    j["cut_by_border"] = r.cut_by_border;
+    if (!r.circular) j["rejection"] = r.rejection;
+    return j;
+  };
+  nlohmann::ordered_json j;
+  j["k_conv_px"] = options.k_conv_px;
+  j["regions"] = found.regions;
+  j["regions_skipped"] = found.regions_skipped;
+  j["lamps"] = nlohmann::ordered_json::array();
+  for (const slam::CeilingLampRegion& r : found.lamps) j["lamps"].push_back(region(r));
+  j["rejected"] = nlohmann::ordered_json::array();
+  for (const slam::CeilingLampRegion& r : found.rejected) j["rejected"].push_back(region(r));
+  if (overlay) {
+    cv::Mat view = slam::MatView(*overlay);
+    const auto draw = [&](const slam::CeilingLampRegion& r, const cv::Scalar& colour) {
+      const double radius = r.radius_px > 0 ? r.radius_px : 6.0;
+      cv::circle(view, At(r.center_px), static_cast<int>(std::lround(radius * 16)), colour, 1,
+                 cv::LINE_AA, 4);
+      cv::drawMarker(
+          view, cv::Point(int(std::lround(r.center_px.x())), int(std::lround(r.center_px.y()))),
+          colour, cv::MARKER_CROSS, 7, 1);
+    };
+    for (const slam::CeilingLampRegion& r : found.rejected) draw(r, cv::Scalar(230, 0, 0));
+    for (const slam::CeilingLampRegion& r : found.lamps) draw(r, cv::Scalar(0, 230, 0));
+  }
+  return j;
+}
+
 nlohmann::ordered_json RunDetect(const DetectInput& input, Image8* overlay) {
   if (overlay) *overlay = input.rgb;
   nlohmann::ordered_json doc;
@@ -316,6 +407,10 @@ nlohmann::ordered_json RunDetect(const DetectInput& input, Image8* overlay) {
     doc["vanishing_point"] = VanishingPointSection(input, overlay);
   }
   if (input.camera == DetectCamera::kLateral) doc["door_plates"] = PlatesSection(input, overlay);
+  if (input.camera == DetectCamera::kUpward) {
+    doc["model"] = input.model ? std::string(input.model->name()) : "";
+    doc["lamps"] = LampsSection(input, overlay);
+  }
   doc["corners"] = CornersSection(input, overlay);
   return doc;
 }

@@ -169,6 +169,11 @@ TEST_CASE("ParseCommandLine fills the detect request", "[harness]") {
   CHECK(*full.detect.overlay_file == "o.png");
   CHECK(ParseCommandLine({"detect", "a.png", "--camera=lateral"}).detect.camera ==
         DetectCamera::kLateral);
+  const CommandLine upward =
+      ParseCommandLine({"detect", "a.png", "--camera", "upward", "--intrinsics", "i.json"});
+  CHECK(upward.detect.camera == DetectCamera::kUpward);
+  REQUIRE(upward.detect.intrinsics_file);
+  CHECK(*upward.detect.intrinsics_file == "i.json");
   CHECK_THAT(ParseCommandLine({"detect", "--help"}).help_text,
              Catch::Contains("Exit codes: 0 success"));
   CHECK_THAT(ParseCommandLine({"--help"}).help_text, Catch::Contains("detect"));
@@ -178,11 +183,15 @@ TEST_CASE("the detect command line is strict", "[harness]") {
   CHECK_THAT(ErrorOf({"detect"}), Catch::Contains("image is required"));
   CHECK_THAT(ErrorOf({"detect", ""}), Catch::StartsWith("command line: image: an empty"));
   CHECK_THAT(ErrorOf({"detect", "a.png", "b.png"}), Catch::Contains("b.png"));
-  for (const char* bad : {"rear", "", "Front", "front ", "upward"}) {
+  for (const char* bad : {"rear", "", "Front", "front ", "up"}) {
     INFO("--camera '" << bad << "'");
     CHECK_THAT(ErrorOf({"detect", "a.png", "--camera", bad}),
-               Catch::StartsWith("command line: --camera: expected front or lateral"));
+               Catch::StartsWith("command line: --camera: expected front, lateral or upward"));
   }
+  CHECK_THAT(ErrorOf({"detect", "a.png", "--intrinsics", "i.json"}),
+             Catch::StartsWith("command line: --intrinsics: only for --camera upward"));
+  CHECK_THAT(ErrorOf({"detect", "a.png", "--camera", "upward", "--intrinsics", ""}),
+             Catch::StartsWith("command line: --intrinsics: an empty file name"));
   CHECK_THAT(ErrorOf({"detect", "a.png", "--depth="}),
              Catch::StartsWith("command line: --depth: "));
   CHECK_THAT(ErrorOf({"detect", "a.png", "--depth", ""}),

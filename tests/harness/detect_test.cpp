@@ -2,6 +2,7 @@
 // the document's sections per camera, in-process (the command itself: cli_detect_test.py).
 #include "harness/detect.h"
 
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -96,6 +97,62 @@ TEST_CASE("LoadDetectInput refuses bad files, naming them", "[harness]") {
   CHECK_THAT(error_of("rgb.png", "rgb_depth.png"),
              Catch::Contains("rgb_depth.png: --depth: expected a 16-bit one-channel PNG"));
   CHECK(DetectCameraName(DetectCamera::kLateral) == "lateral");
+}
+
+TEST_CASE("detect --camera upward: lamps through the camera's model, bad intrinsics named",
+          "[harness][lamps]") {
+  test::ScratchDir dir("detect_upward");
+  // A bright disc on a grey ceiling, 640x480 (the default upward camera's size) and 320x240.
+  const auto ceiling = [](int width, int height) {
+    Image8 image(width, height, 3);
+    for (int y = 0; y < height; ++y) {
+      for (int x = 0; x < width; ++x) {
+        const bool lamp = std::hypot(x - 0.5 * width, y - 0.5 * height) < 20.0;
+        for (int c = 0; c < 3; ++c) image.Pixel(x, y)[c] = lamp ? 255 : 150;
+      }
+    }
+    return image;
+  };
+  WriteFileAtomic(dir.path() / "up.png", EncodePng(ceiling(640, 480), "up.png"));
+  WriteFileAtomic(dir.path() / "small.png", EncodePng(ceiling(320, 240), "small.png"));
+  DetectRequest request;
+  request.image_file = dir.path() / "up.png";
+  request.camera = DetectCamera::kUpward;
+  const DetectInput input = LoadDetectInput(request);
+  REQUIRE(input.model);
+  CHECK(input.model->name() == "kannala_brandt");
+  const nlohmann::ordered_json doc = RunDetect(input, nullptr);
+  CHECK(doc["camera"] == "upward");
+  CHECK(doc["model"] == "kannala_brandt");
+  REQUIRE(doc["lamps"]["lamps"].size() == 1);
+  CHECK(doc["lamps"]["lamps"][0]["center_px"][0].get<double>() == Approx(319.5).margin(0.5));
+  CHECK(doc["lamps"]["lamps"][0]["radius_px"].get<double>() == Approx(20.0).margin(1.0));
+  CHECK(doc.contains("corners"));
+
+  // Another size needs its model; a model of the wrong size or a broken file is named.
+  request.image_file = dir.path() / "small.png";
+  CHECK_THAT(test::InputErrorOf([&] { LoadDetectInput(request); }).what(),
+             Catch::Contains("small.png: --camera upward: the image is 320x240 px"));
+  WriteFileAtomic(dir.path() / "k.json",
+                  "{\"model\": \"kannala_brandt\", \"width\": 320, \"height\": 240, \"fx\": "
+                  "125.0, \"fy\": 125.0, \"cx\": 159.5, \"cy\": 119.5, \"distortion\": [0, 0, 0, "
+                  "0], \"robot_from_camera\": {\"t\": [0, 0, 0.4], \"q\": [0, 0, 0, 1]}}");
+  request.intrinsics_file = dir.path() / "k.json";
+  const DetectInput small = LoadDetectInput(request);
+  REQUIRE(small.model);
+  CHECK(small.model->width() == 320);
+  request.image_file = dir.path() / "up.png";
+  CHECK_THAT(test::InputErrorOf([&] { LoadDetectInput(request); }).what(),
+             Catch::Contains("k.json: width: the model is 320x240 px, the image 640x480"));
+  WriteFileAtomic(dir.path() / "bad.json", "{\"model\": \"fisheye9\"}");
+  request.intrinsics_file = dir.path() / "bad.json";
+  CHECK_THAT(test::InputErrorOf([&] { LoadDetectInput(request); }).what(),
+             Catch::Contains("bad.json"));
+  WriteFileAtomic(dir.path() / "list.json", "[1, 2]");
+  request.intrinsics_file = dir.path() / "list.json";
+  CHECK_THAT(test::InputErrorOf([&] { LoadDetectInput(request); }).what(),
+             Catch::Contains("list.json: expected a JSON object"));
+  CHECK(DetectCameraName(DetectCamera::kUpward) == "upward");
 }
 
 }  // namespace
