@@ -1,0 +1,121 @@
+#include "slam/features/corner_patches.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <opencv2/features2d.hpp>
+#include <opencv2/imgproc.hpp>
+
+namespace corridorsim::slam {
+
+const OptionTable<CornerPatchOptions>& CornerPatchOptionsTable() {
+  using O = CornerPatchOptions;
+  return StaticOptionTable<O>([](OptionTable<O>& t) {
+    t.AddEnum("detector", &O::detector,
+              {{"fast", CornerDetector::kFast}, {"harris", CornerDetector::kHarris}},
+              "corner detector: fast (P3) or harris (P2)");
+    t.Add("fast_threshold", &O::fast_threshold, "grey levels",
+          "FAST: intensity difference on the 16-pixel circle")
+        .Range(1, 254);
+    t.Add("harris_k", &O::harris_k, "", "Harris: k of det(M) - k trace(M)^2").Range(0.01, 0.25);
+    t.Add("harris_quality", &O::harris_quality, "",
+          "Harris: fraction of the best response a corner must reach")
+        .RangeOpenLow(0, 1);
+    t.Add("max_corners", &O::max_corners, "", "corners per image, strongest first").Range(1, 2000);
+    t.Add("min_distance_px", &O::min_distance_px, "px", "spacing of kept corners").Range(0, 200);
+    t.Add("patch_half_px", &O::patch_half_px, "px", "patch half side (patch 2 h + 1 square)")
+        .Range(1, 15);
+  });
+}
+
+std::optional<OptionsProblem> CornerPatchOptions::Check() const {
+  return CheckOptionBounds(CornerPatchOptionsTable(), *this);
+}
+
+std::vector<CornerWithResponse> DetectCorners(const cv::Mat& grey, const CornerPatchOptions& o) {
+  CheckOrDie(grey.type() == CV_8UC1, "slam::DetectCorners", "expected a grey CV_8UC1 image");
+  CheckOrDie(!o.Check(), "slam::DetectCorners", "the options fail their Check()");
+  std::vector<CornerWithResponse> all;
+  const int margin = o.patch_half_px + 2;
+  const auto inside = [&](double x, double y) {
+    return x >= margin && y >= margin && x < grey.cols - margin && y < grey.rows - margin;
+  };
+  if (o.detector == CornerDetector::kFast) {
+    std::vector<cv::KeyPoint> keypoints;
+    cv::FAST(grey, keypoints, o.fast_threshold, true, cv::FastFeatureDetector::TYPE_9_16);
+    for (const cv::KeyPoint& k : keypoints) {
+      if (inside(k.pt.x, k.pt.y)) all.push_back({{k.pt.x, k.pt.y}, k.response});
+    }
+  } else {
+    cv::Mat response;
+    cv::cornerHarris(grey, response, 3, 3, o.harris_k);
+    double best = 0.0;
+    cv::minMaxLoc(response, nullptr, &best);
+    cv::Mat dilated;
+    cv::dilate(response, dilated, cv::Mat());
+    for (int y = margin; y < grey.rows - margin; ++y) {
+      const float* r = response.ptr<float>(y);
+      const float* d = dilated.ptr<float>(y);
+      for (int x = margin; x < grey.cols - margin; ++x) {
+        if (r[x] > o.harris_quality * best && r[x] >= d[x]) all.push_back({{x, y}, r[x]});
+      }
+    }
+  }
+  // Strongest first, ties in raster order; then greedy spacing.
+  std::stable_sort(all.begin(), all.end(), [](const auto& a, const auto& b) {
+    if (a.response != b.response) return a.response > b.response;
+    if (a.pixel_px.y() != b.pixel_px.y()) return a.pixel_px.y() < b.pixel_px.y();
+    return a.pixel_px.x() < b.pixel_px.x();
+  });
+  std::vector<CornerWithResponse> kept;
+  const double min2 = o.min_distance_px * o.min_distance_px;
+  for (const CornerWithResponse& c : all) {
+    if (int(kept.size()) >= o.max_corners) break;
+    const bool crowded = std::any_of(kept.begin(), kept.end(), [&](const CornerWithResponse& k) {
+      return (k.pixel_px - c.pixel_px).squaredNorm() < min2;
+    });
+    if (!crowded) kept.push_back(c);
+  }
+  return kept;
+}
+
+std::optional<std::vector<float>> SamplePatch(const cv::Mat& grey, const Eigen::Vector2d& pixel,
+                                              double angle_rad, int half_px) {
+  const double c = std::cos(angle_rad), s = std::sin(angle_rad);
+  const int side = 2 * half_px + 1;
+  std::vector<float> patch(std::size_t(side * side));
+  double sum = 0.0;
+  for (int j = -half_px; j <= half_px; ++j) {
+    for (int i = -half_px; i <= half_px; ++i) {
+      const double x = pixel.x() + c * i - s * j, y = pixel.y() + s * i + c * j;
+      const int x0 = int(std::floor(x)), y0 = int(std::floor(y));
+      if (x0 < 0 || y0 < 0 || x0 + 1 >= grey.cols || y0 + 1 >= grey.rows) return std::nullopt;
+      const double fx = x - x0, fy = y - y0;
+      const std::uint8_t* r0 = grey.ptr<std::uint8_t>(y0);
+      const std::uint8_t* r1 = grey.ptr<std::uint8_t>(y0 + 1);
+      const double v = (1 - fy) * ((1 - fx) * r0[x0] + fx * r0[x0 + 1]) +
+                       fy * ((1 - fx) * r1[x0] + fx * r1[x0 + 1]);
+      patch[std::size_t((j + half_px) * side + i + half_px)] = float(v);
+      sum += v;
+    }
+  }
+  const double mean = sum / double(patch.size());
+  double norm2 = 0.0;
+  for (float& v : patch) {
+    v = float(v - mean);
+    norm2 += double(v) * v;
+  }
+  if (!(std::sqrt(norm2) > 1e-3)) return std::nullopt;
+  const double inv = 1.0 / std::sqrt(norm2);
+  for (float& v : patch) v = float(v * inv);
+  return patch;
+}
+
+double PatchCorrelation(const std::vector<float>& a, const std::vector<float>& b) {
+  CheckOrDie(a.size() == b.size(), "slam::PatchCorrelation", "patches of different sizes");
+  double dot = 0.0;
+  for (std::size_t i = 0; i < a.size(); ++i) dot += double(a[i]) * b[i];
+  return std::clamp(dot, -1.0, 1.0);
+}
+
+}  // namespace corridorsim::slam

@@ -1,0 +1,139 @@
+// slam/ekf/upward_models.cpp: the inverse-depth point landmark of the upward camera (P3 eq. 16,
+// P2 eq. 7 through the real lens), its polar coordinates, its initialisation, and the analytic
+// Jacobians against central differences.
+#include "slam/ekf/upward_models.h"
+
+#include <cmath>
+#include <numbers>
+
+#include <catch2/catch.hpp>
+
+#include "tests/support/jacobian_check.h"
+
+namespace corridorsim {
+namespace {
+
+using slam::ekf::InverseDepthPoint;
+
+// The default rig's upward camera: Kannala-Brandt 640x480, 110 deg, at (-0.05, 0, 0.4) m,
+// pitched up 90 deg.
+SE3 UpwardMount() {
+  // render::Mount{-0.05, 0, 0.4, yaw 0, pitch 90, roll 0}: image x (right) = the robot's -y,
+  // image y (down) = its +x, the optical axis up.
+  Eigen::Matrix3d r;
+  r.col(0) = Eigen::Vector3d(0, -1, 0);
+  r.col(1) = Eigen::Vector3d(1, 0, 0);
+  r.col(2) = Eigen::Vector3d(0, 0, 1);
+  return SE3(r, Eigen::Vector3d(-0.05, 0.0, 0.4));
+}
+CameraModel Fisheye() { return KannalaBrandt::FromFov(640, 480, 110.0 * std::numbers::pi / 180.0); }
+
+TEST_CASE("upward model: the optical axis points up", "[ekf][upward]") {
+  const SE3 mount = UpwardMount();
+  CHECK((mount.rotation() * Eigen::Vector3d::UnitZ() - Eigen::Vector3d::UnitZ()).norm() < 1e-12);
+}
+
+TEST_CASE("upward model: an initialised landmark projects back to its pixel at any depth",
+          "[ekf][upward]") {
+  const CameraModel model = Fisheye();
+  const SE2 pose(1.2, -0.4, 0.7);
+  for (const Eigen::Vector2d pixel :
+       {Eigen::Vector2d(100, 50), Eigen::Vector2d(330, 250), Eigen::Vector2d(600, 430)}) {
+    for (const double rho : {0.2, 0.5, 2.0}) {
+      const std::optional<InverseDepthPoint> l =
+          slam::ekf::InitInverseDepthPoint(pose, pixel, rho, UpwardMount(), model, 0.1);
+      REQUIRE(l);
+      const std::optional<Eigen::Vector2d> back =
+          slam::ekf::InverseDepthPixel(pose, *l, UpwardMount(), model);
+      REQUIRE(back);
+      CHECK((*back - pixel).norm() < 1e-6);
+      // The world point lies 1 / rho above the camera.
+      const Eigen::Vector3d p = slam::ekf::InverseDepthToPoint(*l, 0.4);
+      CHECK(p.z() == Approx(0.4 + 1.0 / rho));
+    }
+  }
+}
+
+TEST_CASE("upward model: a pinhole at the robot's origin looking up is P3 eq. 16",
+          "[ekf][upward]") {
+  // The identity mount: optical axis (z) up, image x along the robot's x, image y along its y.
+  const SE3 mount = SE3::Identity();
+  const CameraModel pinhole = PinholeRadTan::FromFov(640, 480, 120.0 * std::numbers::pi / 180.0);
+  const double f = pinhole.intrinsics().fx;
+  const SE2 pose(2.0, 1.0, 0.3);
+  const Eigen::Vector3d corner(3.1, 1.6, 2.5);
+  // The landmark as inverse depth: anchored at the robot, ray to the corner.
+  InverseDepthPoint l;
+  l << pose.x(), pose.y(), (corner.x() - pose.x()) / corner.z(),
+      (corner.y() - pose.y()) / corner.z(), 1.0 / corner.z();
+  const std::optional<Eigen::Vector2d> polar =
+      slam::ekf::InverseDepthPolar(pose, l, mount, pinhole);
+  REQUIRE(polar);
+  const double r_eq16 = std::hypot(corner.x() - pose.x(), corner.y() - pose.y()) * f / corner.z();
+  const double theta_eq16 = std::atan2(corner.y() - pose.y(), corner.x() - pose.x()) - pose.yaw();
+  CHECK((*polar)(0) == Approx(r_eq16).epsilon(1e-9));
+  CHECK(std::remainder((*polar)(1) - theta_eq16, 2 * std::numbers::pi) == Approx(0).margin(1e-9));
+}
+
+TEST_CASE("upward model: analytic Jacobians match central differences", "[ekf][upward]") {
+  const CameraModel model = Fisheye();
+  const SE3 mount = UpwardMount();
+  const Eigen::Vector3d x0(0.8, -0.3, 0.9);
+  InverseDepthPoint l;
+  l << 0.5, 0.1, 0.4, -0.3, 0.45;
+  Eigen::Matrix<double, 2, 3> d_pose;
+  Eigen::Matrix<double, 2, 5> d_landmark;
+  REQUIRE(slam::ekf::InverseDepthPolar(SE2(x0.x(), x0.y(), x0.z()), l, mount, model, &d_pose,
+                                       &d_landmark));
+  test::CheckJacobian(d_pose, test::NumericalJacobian<2, 3>(
+                                  [&](const Eigen::Vector3d& x) {
+                                    return *slam::ekf::InverseDepthPolar(SE2(x.x(), x.y(), x.z()),
+                                                                         l, mount, model);
+                                  },
+                                  x0));
+  test::CheckJacobian(d_landmark, test::NumericalJacobian<2, 5>(
+                                      [&](const InverseDepthPoint& y) {
+                                        return *slam::ekf::InverseDepthPolar(
+                                            SE2(x0.x(), x0.y(), x0.z()), y, mount, model);
+                                      },
+                                      l));
+  // Initialisation: over the pose and over (u, v, rho).
+  const Eigen::Vector3d z0(250.0, 180.0, 0.6);
+  Eigen::Matrix<double, 5, 3> a_pose, a_z;
+  REQUIRE(slam::ekf::InitInverseDepthPoint(SE2(x0.x(), x0.y(), x0.z()), z0.head<2>(), z0(2), mount,
+                                           model, 0.1, &a_pose, &a_z));
+  test::CheckJacobian(a_pose, test::NumericalJacobian<5, 3>(
+                                  [&](const Eigen::Vector3d& x) {
+                                    return *slam::ekf::InitInverseDepthPoint(
+                                        SE2(x.x(), x.y(), x.z()), z0.head<2>(), z0(2), mount, model,
+                                        0.1);
+                                  },
+                                  x0));
+  test::CheckJacobian(a_z, test::NumericalJacobian<5, 3>(
+                               [&](const Eigen::Vector3d& z) {
+                                 return *slam::ekf::InitInverseDepthPoint(
+                                     SE2(x0.x(), x0.y(), x0.z()), z.head<2>(), z(2), mount, model,
+                                     0.1);
+                               },
+                               z0));
+  Eigen::Matrix<double, 3, 5> d_point;
+  slam::ekf::InverseDepthToPoint(l, 0.4, &d_point);
+  test::CheckJacobian(
+      d_point,
+      test::NumericalJacobian<3, 5>(
+          [&](const InverseDepthPoint& y) { return slam::ekf::InverseDepthToPoint(y, 0.4); }, l));
+}
+
+TEST_CASE("upward model: no projection for rho <= 0 or a ray pointing down", "[ekf][upward]") {
+  const CameraModel model = Fisheye();
+  InverseDepthPoint l;
+  l << 0, 0, 0.1, 0.1, 0.0;
+  CHECK_FALSE(slam::ekf::InverseDepthPixel(SE2(), l, UpwardMount(), model));
+  l(4) = -0.5;
+  CHECK_FALSE(slam::ekf::InverseDepthPixel(SE2(), l, UpwardMount(), model));
+  // A corner pixel of the 110 deg fisheye is 92 deg from the axis: below the horizon.
+  CHECK_FALSE(slam::ekf::InitInverseDepthPoint(SE2(), {0.0, 0.0}, 0.5, UpwardMount(), model, 0.1));
+}
+
+}  // namespace
+}  // namespace corridorsim
