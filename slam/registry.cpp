@@ -1,8 +1,11 @@
 #include "slam/registry.h"
 
+#include <utility>
+
 #include "slam/odometry_pipeline.h"
 #include "slam/p1_harris_pipeline.h"
 #include "slam/p1_vp_doorplate_pipeline.h"
+#include "slam/p3_upward_pipeline.h"
 
 namespace corridorsim::slam {
 namespace {
@@ -12,7 +15,8 @@ namespace {
 template <class Options, class P>
 class TypedOptions : public PipelineOptions {
  public:
-  explicit TypedOptions(const OptionTable<Options>& table) : table_(table) {}
+  TypedOptions(const OptionTable<Options>& table, Options defaults)
+      : table_(table), options_(std::move(defaults)) {}
   const OptionTableBase& table() const override { return table_; }
   void* options() override { return &options_; }
   const void* options() const override { return &options_; }
@@ -27,10 +31,14 @@ class TypedOptions : public PipelineOptions {
   Options options_;
 };
 
+// `defaults` gives the type's defaults when several types share one options struct (p3_upward,
+// p3_corners, p2_upward); else the struct's own.
 template <class Options, class P>
-PipelineType Type(std::string name, const OptionTable<Options>& (*table)()) {
-  return {std::move(name), [table]() -> std::unique_ptr<PipelineOptions> {
-            return std::make_unique<TypedOptions<Options, P>>(table());
+PipelineType Type(std::string name, const OptionTable<Options>& (*table)(),
+                  Options (*defaults)() = nullptr) {
+  return {std::move(name), [table, defaults]() -> std::unique_ptr<PipelineOptions> {
+            return std::make_unique<TypedOptions<Options, P>>(table(),
+                                                              defaults ? defaults() : Options{});
           }};
 }
 
@@ -42,6 +50,12 @@ const std::vector<PipelineType>& PipelineTypes() {
       Type<P1HarrisOptions, P1HarrisPipeline>("p1_harris", &P1HarrisOptionsTable),
       Type<P1VpDoorplateOptions, P1VpDoorplatePipeline>("p1_vp_doorplate",
                                                         &P1VpDoorplateOptionsTable),
+      Type<P3UpwardOptions, P3UpwardPipeline>("p3_upward", &P3UpwardOptionsTable,
+                                              &P3UpwardDefaults),
+      Type<P3UpwardOptions, P3UpwardPipeline>("p3_corners", &P3UpwardOptionsTable,
+                                              &P3CornersDefaults),
+      Type<P3UpwardOptions, P3UpwardPipeline>("p2_upward", &P3UpwardOptionsTable,
+                                              &P2UpwardDefaults),
   };
   return types;
 }

@@ -1,0 +1,391 @@
+#include "slam/p3_upward_pipeline.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <utility>
+
+#include "slam/ekf/upward_models.h"
+#include "slam/features/image_conversion.h"
+
+namespace corridorsim::slam {
+namespace {
+
+using Clock = StageClock::Clock;
+constexpr auto* SecondsSince = &StageClock::SecondsSince;
+
+}  // namespace
+
+const OptionTable<P3UpwardOptions>& P3UpwardOptionsTable() {
+  return StaticOptionTable<P3UpwardOptions>([](OptionTable<P3UpwardOptions>& t) {
+    using O = P3UpwardOptions;
+    t.Add("k_m", &O::k_m, "m",
+          "k of the wheel noise Q = diag(k |s_l|, k |s_r|); set it to robot.odometry.random_k_m")
+        .Range(0, 0.1);
+    t.Add("use_corners", &O::use_corners, "", "corner landmarks (P3: FAST; P2: Harris)");
+    t.Add("use_lamps", &O::use_lamps, "", "circular lamp landmarks (P3 section II)");
+    t.Add("min_height_m", &O::min_height_m, "m", "lowest landmark height of the prior (P3: 0)")
+        .Range(-10, 100);
+    t.Add("max_height_m", &O::max_height_m, "m", "highest landmark height of the prior (P3: 5)")
+        .Range(-10, 100)
+        .Note("> min_height_m");
+    t.Add("min_above_camera_m", &O::min_above_camera_m, "m",
+          "landmarks are at least this far above the camera (the prior's near end)")
+        .Greater(0)
+        .Range(0, 100);
+    t.Add("corner_sigma_px", &O::corner_sigma_px, "px", "sigma of a corner's image position")
+        .Greater(0)
+        .Range(0, 100);
+    t.Add("lamp_sigma_px", &O::lamp_sigma_px, "px", "sigma of a lamp centre's image position")
+        .Greater(0)
+        .Range(0, 100);
+    t.Add("gate_chi2", &O::gate_chi2, "",
+          "NIS gate of an association (chi-square at 2 dof; 9.21 = 99 %)")
+        .Range(1, 1000);
+    t.Add("search_radius_px", &O::search_radius_px, "px",
+          "landmarks predicted within this of a detection are association candidates")
+        .Greater(0)
+        .Range(0, 1000);
+    t.Add("min_correlation", &O::min_correlation, "",
+          "corners: patch normalised cross-correlation needed to match")
+        .Range(-1, 1);
+    t.Add("min_polar_radius_px", &O::min_polar_radius_px, "px",
+          "detections closer to the principal point are not used (theta ill-defined)")
+        .Range(0, 1000);
+    t.Add("min_ray_z", &O::min_ray_z, "",
+          "a new landmark's ray must point within acos(this) of the vertical")
+        .RangeOpenLow(0, 1);
+    t.Add("new_landmark_clearance_px", &O::new_landmark_clearance_px, "px",
+          "a new landmark starts only this far from every predicted landmark")
+        .Range(0, 1000);
+    t.Add("max_new_corners_per_frame", &O::max_new_corners_per_frame, "",
+          "corner landmarks started per frame at most")
+        .Range(0, 1000);
+    t.Add("max_landmarks", &O::max_landmarks, "", "the state stops growing at this many landmarks")
+        .Range(1, 1500);
+    t.Add("delete_after", &O::delete_after, "",
+          "predictions in the image before a rarely matched landmark is deleted (P3 Fig. 16c)")
+        .Range(1, 100000);
+    t.Add("min_match_fraction", &O::min_match_fraction, "",
+          "landmarks matched in fewer of their predictions are deleted")
+        .Range(0, 1);
+    t.AddSection("corners", &O::corners, CornerPatchOptionsTable(), "the corner detector",
+                 &CornerPatchOptions::Check);
+    t.AddSection("lamps", &O::lamps, CeilingLampOptionsTable(), "the lamp detector",
+                 &CeilingLampOptions::Check);
+  });
+}
+
+std::optional<OptionsProblem> P3UpwardOptions::Check() const {
+  if (auto p = CheckOptionBounds(P3UpwardOptionsTable(), *this)) return p;
+  if (!(max_height_m > min_height_m)) {
+    return OptionsProblem{"max_height_m", "must be above min_height_m"};
+  }
+  return std::nullopt;
+}
+
+P3UpwardOptions P3UpwardDefaults() { return P3UpwardOptions{}; }
+
+P3UpwardOptions P3CornersDefaults() {
+  P3UpwardOptions o;
+  o.use_lamps = false;
+  return o;
+}
+
+P3UpwardOptions P2UpwardDefaults() {
+  P3UpwardOptions o;
+  o.use_lamps = false;
+  o.corners.detector = CornerDetector::kHarris;
+  return o;
+}
+
+struct P3UpwardPipeline::Observation {
+  LandmarkType type = LandmarkType::kCorner;
+  Eigen::Vector2d pixel = Eigen::Vector2d::Zero();
+  Eigen::Vector2d polar = Eigen::Vector2d::Zero();
+  double sigma_px = 1.0;
+  std::vector<float> patch;   // corners
+  std::size_t detection = 0;  // index into detections_
+  bool usable = true;         // far enough from the principal point
+};
+
+P3UpwardPipeline::P3UpwardPipeline(const P3UpwardOptions& options, const Calibration& calibration,
+                                   std::uint64_t /*seed: the lamp detector's seed is an option*/)
+    : options_(options), wheelbase_m_(calibration.wheelbase_m) {
+  CheckOrDie(!calibration.Check(), "slam::P3UpwardPipeline", "the calibration fails its Check()");
+  CheckOrDie(!options.Check(), "slam::P3UpwardPipeline", "the options fail their Check()");
+  if (const CameraCalibration* upward = calibration.Find("upward")) upward_ = *upward;
+  // P3 section V's prior as a Gaussian on the inverse height above the camera: +-2 sigma span
+  // the heights from the nearest (min_height, or min_above_camera above the camera) to max_height.
+  const double camera_z = upward_ ? ekf::CameraHeight(upward_->robot_from_camera) : 0.0;
+  const double near = std::max(options.min_height_m - camera_z, options.min_above_camera_m);
+  const double far = std::max(options.max_height_m - camera_z, 2.0 * near);
+  rho_prior_ = 0.5 * (1.0 / near + 1.0 / far);
+  rho_prior_sigma_ = 0.25 * (1.0 / near - 1.0 / far);
+}
+
+P3UpwardPipeline::~P3UpwardPipeline() = default;
+
+void P3UpwardPipeline::Initialize(TimeNs stamp_ns, const SE2& world_from_robot) {
+  state_ = StateAtKnownPose(world_from_robot);
+  stamp_ns_ = stamp_ns;
+}
+
+void P3UpwardPipeline::OnOdometry(const WheelOdometry& odometry) {
+  PredictOrRefuse(odometry, wheelbase_m_, options_.k_m, state_.get(), &stamp_ns_, &health_,
+                  &clock_);
+}
+
+void P3UpwardPipeline::OnCamera(const CameraInput& input) {
+  if (!state_ || !upward_ || input.image.camera_id != "upward") return;
+  if (FrameProblem(input, *upward_, last_frame_ns_) || IsBlackImage(input.image.image)) {
+    ++health_.rejected_frames;
+    return;
+  }
+  last_frame_ns_ = input.image.stamp_ns;
+  ProcessFrame(input);
+}
+
+void P3UpwardPipeline::ProcessFrame(const CameraInput& input) {
+  const TimeNs stamp_ns = input.image.stamp_ns;
+  const SE3& mount = upward_->robot_from_camera;
+  const CameraModel& model = upward_->model;
+  const Clock::time_point t_detect = Clock::now();
+  const cv::Mat grey = GreyMat(input.image.image);
+  const Eigen::Vector3d x = state_->RobotPose();
+  const SE2 pose(x.x(), x.y(), x.z());
+  // An upward camera's image turns by -yaw as the robot turns by yaw: patches sampled turned by
+  // -yaw are aligned with the world.
+  const double patch_angle = -pose.yaw();
+
+  std::vector<Observation> observations;
+  const auto observe = [&](LandmarkType type, const Eigen::Vector2d& pixel, double sigma_px) {
+    Observation o;
+    o.type = type;
+    o.pixel = pixel;
+    o.sigma_px = sigma_px;
+    const CameraIntrinsics k = model.intrinsics();
+    o.usable = (pixel - Eigen::Vector2d(k.cx, k.cy)).norm() >= options_.min_polar_radius_px &&
+               (pixel - Eigen::Vector2d(k.cx, k.cy)).norm() > 0.0;
+    if (o.usable) o.polar = ekf::PixelToPolar(pixel, model);
+    Detection d;
+    d.stamp_ns = stamp_ns;
+    d.camera_id = "upward";
+    d.type = type;
+    d.pixel = pixel;
+    o.detection = detections_.size();
+    detections_.push_back(d);
+    return o;
+  };
+  if (options_.use_lamps) {
+    for (const CeilingLampRegion& lamp :
+         DetectCeilingLamps(input.image.image, &model, options_.lamps).lamps) {
+      Observation o = observe(LandmarkType::kLamp, lamp.center_px, options_.lamp_sigma_px);
+      detections_[o.detection].radius_px = std::max(lamp.radius_px, 1e-3);
+      detections_[o.detection].score = lamp.sigma1_px;
+      observations.push_back(std::move(o));
+    }
+  }
+  if (options_.use_corners) {
+    for (const CornerWithResponse& c : DetectCorners(grey, options_.corners)) {
+      std::optional<std::vector<float>> patch =
+          SamplePatch(grey, c.pixel_px, patch_angle, options_.corners.patch_half_px);
+      if (!patch) continue;
+      Observation o = observe(LandmarkType::kCorner, c.pixel_px, options_.corner_sigma_px);
+      o.patch = std::move(*patch);
+      detections_[o.detection].score = c.response;
+      observations.push_back(std::move(o));
+    }
+  }
+  clock_.Add("detect", SecondsSince(t_detect));
+
+  const Clock::time_point t_update = Clock::now();
+  // Every landmark's prediction (P3 eq. 14).
+  struct Prediction {
+    Eigen::Vector2d pixel;
+    Eigen::Vector2d polar;
+    Eigen::Matrix<double, 2, 3> d_pose;
+    Eigen::Matrix<double, 2, 5> d_landmark;
+    bool in_image = false;
+  };
+  std::vector<Prediction> predictions(landmarks_.size());
+  for (std::size_t k = 0; k < landmarks_.size(); ++k) {
+    Prediction& p = predictions[k];
+    const ekf::InverseDepthPoint l = state_->Value(landmarks_[k].block);
+    Eigen::Matrix<double, 2, 3> d_pixel_d_pose;
+    Eigen::Matrix<double, 2, 5> d_pixel_d_landmark;
+    const std::optional<Eigen::Vector2d> pixel =
+        ekf::InverseDepthPixel(pose, l, mount, model, &d_pixel_d_pose, &d_pixel_d_landmark);
+    if (!pixel || !model.IsInImage(*pixel)) continue;
+    const CameraIntrinsics k_in = model.intrinsics();
+    if ((*pixel - Eigen::Vector2d(k_in.cx, k_in.cy)).norm() < options_.min_polar_radius_px) {
+      continue;
+    }
+    Eigen::Matrix2d d_polar_d_pixel;
+    p.pixel = *pixel;
+    p.polar = ekf::PixelToPolar(*pixel, model, &d_polar_d_pixel);
+    p.d_pose = d_polar_d_pixel * d_pixel_d_pose;
+    p.d_landmark = d_polar_d_pixel * d_pixel_d_landmark;
+    p.in_image = true;
+  }
+
+  // Association (P3: each detection against the landmarks of its type predicted near it), each
+  // landmark at most once per frame; lamps by the NIS alone, corners by their patch within the
+  // gate.
+  std::vector<ekf::Measurement> associated;
+  std::vector<std::pair<std::size_t, std::size_t>> pairs;  // (observation, landmark)
+  std::vector<double> associated_nis;
+  std::vector<bool> taken(landmarks_.size(), false);
+  std::vector<bool> explained(observations.size(), false);
+  for (std::size_t i = 0; i < observations.size(); ++i) {
+    const Observation& o = observations[i];
+    if (!o.usable) continue;
+    std::optional<std::size_t> best;
+    ekf::Measurement best_m;
+    double best_nis = 0.0, best_correlation = -2.0;
+    for (std::size_t k = 0; k < landmarks_.size(); ++k) {
+      const Prediction& p = predictions[k];
+      if (!p.in_image || taken[k] || landmarks_[k].type != o.type ||
+          (p.pixel - o.pixel).norm() > options_.search_radius_px) {
+        continue;
+      }
+      double correlation = 0.0;
+      if (o.type == LandmarkType::kCorner) {
+        correlation = PatchCorrelation(o.patch, landmarks_[k].patch);
+        if (correlation < options_.min_correlation) continue;
+      }
+      ekf::Measurement m;
+      m.blocks = {ekf::EkfState::robot(), landmarks_[k].block};
+      m.residual = o.polar - p.polar;
+      m.residual(1) = std::remainder(m.residual(1), 2.0 * std::numbers::pi);
+      m.jacobian.resize(2, 8);
+      m.jacobian << p.d_pose, p.d_landmark;
+      // Isotropic pixel noise in polar coordinates: sigma along r, sigma / r along theta.
+      const double s2 = o.sigma_px * o.sigma_px;
+      m.noise = Eigen::Vector2d(s2, s2 / (o.polar(0) * o.polar(0))).asDiagonal();
+      const std::optional<double> nis = state_->Nis(m);
+      if (!nis || *nis > options_.gate_chi2) continue;
+      const bool better = o.type == LandmarkType::kCorner
+                              ? (correlation > best_correlation ||
+                                 (correlation == best_correlation && *nis < best_nis))
+                              : (!best || *nis < best_nis);
+      if (!best || better) {
+        best = k;
+        best_m = std::move(m);
+        best_nis = *nis;
+        best_correlation = correlation;
+      }
+    }
+    if (best) {
+      taken[*best] = true;
+      explained[i] = true;
+      detections_[o.detection].landmark_id = landmarks_[*best].id;
+      associated.push_back(std::move(best_m));
+      pairs.emplace_back(i, *best);
+      associated_nis.push_back(best_nis);
+    }
+  }
+  if (!associated.empty()) {
+    // Each was gated on its own; the stacked update (P3 eqs. 18-20) is not gated again.
+    const ekf::UpdateResult result =
+        state_->UpdateStacked(associated, std::numeric_limits<double>::infinity());
+    if (result.reason == ekf::UpdateReason::kNotPositiveDefinite) {
+      ++health_.non_positive_covariance;
+    }
+    if (!result.accepted) ++health_.rejected_updates;
+    for (std::size_t a = 0; a < associated.size(); ++a) {
+      const Observation& o = observations[pairs[a].first];
+      innovations_.push_back({stamp_ns, o.type, associated_nis[a], 2, result.accepted});
+      if (result.accepted) {
+        ++landmarks_[pairs[a].second].updates;
+      } else {
+        detections_[o.detection].landmark_id = -1;
+      }
+    }
+  }
+
+  // P3 Fig. 16c: landmarks predicted in the image but rarely matched are deleted.
+  for (std::size_t k = landmarks_.size(); k-- > 0;) {
+    if (!predictions[k].in_image) continue;
+    PointLandmark& l = landmarks_[k];
+    ++l.predicted;
+    l.matched += taken[k];
+    if (l.predicted >= options_.delete_after &&
+        l.matched < options_.min_match_fraction * l.predicted) {
+      state_->Remove(l.block);
+      landmarks_.erase(landmarks_.begin() + std::ptrdiff_t(k));
+      predictions.erase(predictions.begin() + std::ptrdiff_t(k));
+    }
+  }
+
+  // New landmarks from the unexplained detections clear of every predicted landmark, from the
+  // updated pose, with the inverse-height prior (P3 section V).
+  const Eigen::Vector3d x_new = state_->RobotPose();
+  const SE2 updated(x_new.x(), x_new.y(), x_new.z());
+  int new_corners = 0;
+  for (std::size_t i = 0; i < observations.size(); ++i) {
+    const Observation& o = observations[i];
+    if (explained[i] || !o.usable) continue;
+    if (landmarks_.size() >= std::size_t(options_.max_landmarks)) break;
+    if (o.type == LandmarkType::kCorner && new_corners >= options_.max_new_corners_per_frame) {
+      continue;
+    }
+    const bool clear =
+        std::none_of(predictions.begin(), predictions.end(), [&](const Prediction& p) {
+          return p.in_image && (p.pixel - o.pixel).norm() < options_.new_landmark_clearance_px;
+        });
+    if (!clear) continue;
+    Eigen::Matrix<double, 5, 3> d_landmark_d_pose, d_landmark_d_z;
+    const std::optional<ekf::InverseDepthPoint> l =
+        ekf::InitInverseDepthPoint(updated, o.pixel, rho_prior_, mount, model, options_.min_ray_z,
+                                   &d_landmark_d_pose, &d_landmark_d_z);
+    if (!l) continue;
+    ekf::Augmentation a;
+    a.value = *l;
+    a.blocks = {ekf::EkfState::robot()};
+    a.d_value_d_blocks = d_landmark_d_pose;
+    a.d_value_d_measurement = d_landmark_d_z;
+    const double s2 = o.sigma_px * o.sigma_px;
+    a.measurement_noise = Eigen::Vector3d(s2, s2, rho_prior_sigma_ * rho_prior_sigma_).asDiagonal();
+    PointLandmark landmark;
+    landmark.id = next_landmark_id_++;
+    landmark.type = o.type;
+    landmark.block = state_->Augment(a);
+    landmark.patch = o.patch;
+    landmarks_.push_back(std::move(landmark));
+    detections_[o.detection].landmark_id = landmarks_.back().id;
+    detections_[o.detection].new_landmark = true;
+    new_corners += o.type == LandmarkType::kCorner;
+  }
+  clock_.Add("update", SecondsSince(t_update));
+}
+
+PoseEstimate P3UpwardPipeline::Estimate() const {
+  if (!state_) return {};
+  return EstimateOf(*state_, stamp_ns_);
+}
+
+std::vector<LandmarkEstimate> P3UpwardPipeline::Landmarks() const {
+  std::vector<LandmarkEstimate> out;
+  if (!state_ || !upward_) return out;
+  const double camera_z = ekf::CameraHeight(upward_->robot_from_camera);
+  for (const PointLandmark& l : landmarks_) {
+    const ekf::InverseDepthPoint v = state_->Value(l.block);
+    if (!(v(4) > 1e-3)) continue;  // at infinity: no point to report
+    const Eigen::Matrix<double, 5, 5> cov = state_->Covariance(l.block, l.block);
+    Eigen::Matrix<double, 3, 5> j;
+    LandmarkEstimate e;
+    e.id = l.id;
+    e.type = l.type;
+    e.position_in_world = ekf::InverseDepthToPoint(v, camera_z, &j);
+    e.covariance = j * cov * j.transpose();
+    // Converged once its height is known to a fifth (the inverse height's relative sigma).
+    e.status = std::sqrt(cov(4, 4)) < 0.2 * v(4) ? LandmarkStatus::kConverged
+                                                 : LandmarkStatus::kInitializing;
+    out.push_back(e);
+  }
+  return out;
+}
+
+}  // namespace corridorsim::slam
