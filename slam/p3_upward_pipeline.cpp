@@ -116,13 +116,15 @@ P3UpwardPipeline::P3UpwardPipeline(const P3UpwardOptions& options, const Calibra
   CheckOrDie(!calibration.Check(), "slam::P3UpwardPipeline", "the calibration fails its Check()");
   CheckOrDie(!options.Check(), "slam::P3UpwardPipeline", "the options fail their Check()");
   if (const CameraCalibration* upward = calibration.Find("upward")) upward_ = *upward;
-  // P3 section V's prior as a Gaussian on the inverse height above the camera: +-2 sigma span
-  // the heights from the nearest (min_height, or min_above_camera above the camera) to max_height.
+  // P3 section V's prior as a Gaussian on the inverse height above the camera (docs/p3.md): its
+  // mean the inverse of the middle height of the range, +2 sigma at the nearest height (min_height,
+  // or min_above_camera above the camera); -2 sigma lies beyond the farthest, at or past infinity
+  // (as Civera et al. take it: a far point's rho is known to be small, not its value).
   const double camera_z = upward_ ? ekf::CameraHeight(upward_->robot_from_camera) : 0.0;
   const double near = std::max(options.min_height_m - camera_z, options.min_above_camera_m);
   const double far = std::max(options.max_height_m - camera_z, 2.0 * near);
-  rho_prior_ = 0.5 * (1.0 / near + 1.0 / far);
-  rho_prior_sigma_ = 0.25 * (1.0 / near - 1.0 / far);
+  rho_prior_ = 2.0 / (near + far);
+  rho_prior_sigma_ = 0.5 * (1.0 / near - rho_prior_);
 }
 
 P3UpwardPipeline::~P3UpwardPipeline() = default;

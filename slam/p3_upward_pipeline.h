@@ -48,7 +48,7 @@ struct P3UpwardOptions {
   double lamp_sigma_px = 1.0;      // sigma of a lamp centre's image position
   double gate_chi2 = 9.21;         // NIS gate of an association (chi-square 99 % at 2 dof)
   double search_radius_px = 40.0;  // landmarks predicted within this of a detection are candidates
-  double min_correlation = 0.8;    // corners: patch NCC needed to match
+  double min_correlation = 0.9;    // corners: patch NCC needed to match
   double min_polar_radius_px = 12.0;  // closer to the principal point theta is ill-defined: unused
   double min_ray_z = 0.25;  // rays further than acos(this) from the vertical start no landmark
   double new_landmark_clearance_px = 15.0;  // a new landmark this far from every predicted one
