@@ -7,6 +7,7 @@ Usage: scenario_runs_test.py CORRIDORSIM SOURCE_DIR WORK_DIR [TestCase.test_name
   NEES over time is strongly correlated, so the band is judged on the average over seeds);
 - two runs of one scenario give byte-identical trajectories, metrics and exported datasets;
 - a failing expectation fails the run (exit code 3) with a readable report;
+- P1's and P3's comparisons on shortened corridors;
 - every shipped scenario loads and its world, path and pipelines build (`run --check`).
 """
 
@@ -170,6 +171,39 @@ class P1(unittest.TestCase):
         for name in ("p1_vp_doorplate.bt", "p1_vp_doorplate_semantic.json",
                      "p1_harris_frame_times.csv"):
             self.assertTrue(os.path.isfile(os.path.join(out, "maps", name)), name)
+
+
+class P3(unittest.TestCase):
+    """P3's comparison (Fig. 18) on a shortened corridor (tests/data/scenarios/p3_short.yaml):
+    corners + lamps within 0.1 m over the whole run and at most half the ATE of corners alone,
+    corners alone better than dead reckoning, the lamps detected and associated as the issue
+    asks, a filter without numerical trouble."""
+
+    def test_p3_lamps_and_corners_beat_corners_alone(self):
+        scenario = os.path.join(DATA, "p3_short.yaml")
+        out = fresh("p3")
+        result = run("run", scenario, "--out", out, "--no-plots", check=False)
+        self.assertEqual(result.returncode, 0, result.stdout + result.stderr)
+        with open(os.path.join(out, "metrics.json")) as f:
+            metrics = json.load(f)["pipelines"]
+        upward, corners, odometry = metrics["p3_upward"], metrics["p3_corners"], metrics["odometry"]
+        self.assertLessEqual(upward["ate_max_m"], 0.1)
+        self.assertLessEqual(upward["ate_rmse_m"], 0.5 * corners["ate_rmse_m"])
+        self.assertLess(corners["ate_rmse_m"], odometry["ate_rmse_m"])
+        lamps = upward["detection"]["lamp"]
+        self.assertGreaterEqual(lamps["recall"], 0.95)
+        self.assertGreaterEqual(lamps["precision"], 0.99)
+        self.assertLessEqual(lamps["mean_center_error_px"], 2.0)
+        self.assertGreaterEqual(upward["data_association"]["lamp"]["precision"], 0.99)
+        self.assertEqual(upward["map"]["lamp"]["spurious"], 0)
+        for pipeline in (upward, corners):
+            self.assertEqual(pipeline["health"]["non_positive_covariance"], 0)
+            self.assertEqual(pipeline["health"]["rejected_updates"], 0)
+        # The landmarks file holds corners and lamps as world points with covariances.
+        with open(os.path.join(out, "p3_upward_landmarks.json")) as f:
+            landmarks = json.load(f)
+        types = {l["type"] for l in landmarks}
+        self.assertEqual(types, {"corner", "lamp"})
 
 
 class ShippedScenarios(unittest.TestCase):
