@@ -209,7 +209,8 @@ void P3UpwardPipeline::ProcessFrame(const CameraInput& input) {
     Eigen::Vector2d polar;
     Eigen::Matrix<double, 2, 3> d_pose;
     Eigen::Matrix<double, 2, 5> d_landmark;
-    bool in_image = false;
+    bool in_image = false;  // projects into the image
+    bool usable = false;    // and far enough from the principal point to be measured
   };
   std::vector<Prediction> predictions(landmarks_.size());
   for (std::size_t k = 0; k < landmarks_.size(); ++k) {
@@ -220,16 +221,17 @@ void P3UpwardPipeline::ProcessFrame(const CameraInput& input) {
     const std::optional<Eigen::Vector2d> pixel =
         ekf::InverseDepthPixel(pose, l, mount, model, &d_pixel_d_pose, &d_pixel_d_landmark);
     if (!pixel || !model.IsInImage(*pixel)) continue;
+    p.pixel = *pixel;
+    p.in_image = true;
     const CameraIntrinsics k_in = model.intrinsics();
     if ((*pixel - Eigen::Vector2d(k_in.cx, k_in.cy)).norm() < options_.min_polar_radius_px) {
       continue;
     }
     Eigen::Matrix2d d_polar_d_pixel;
-    p.pixel = *pixel;
     p.polar = ekf::PixelToPolar(*pixel, model, &d_polar_d_pixel);
     p.d_pose = d_polar_d_pixel * d_pixel_d_pose;
     p.d_landmark = d_polar_d_pixel * d_pixel_d_landmark;
-    p.in_image = true;
+    p.usable = true;
   }
 
   // Association (P3: each detection against the landmarks of its type predicted near it), each
@@ -248,7 +250,7 @@ void P3UpwardPipeline::ProcessFrame(const CameraInput& input) {
     double best_nis = 0.0, best_correlation = -2.0;
     for (std::size_t k = 0; k < landmarks_.size(); ++k) {
       const Prediction& p = predictions[k];
-      if (!p.in_image || taken[k] || landmarks_[k].type != o.type ||
+      if (!p.usable || taken[k] || landmarks_[k].type != o.type ||
           (p.pixel - o.pixel).norm() > options_.search_radius_px) {
         continue;
       }
@@ -309,7 +311,7 @@ void P3UpwardPipeline::ProcessFrame(const CameraInput& input) {
 
   // P3 Fig. 16c: landmarks predicted in the image but rarely matched are deleted.
   for (std::size_t k = landmarks_.size(); k-- > 0;) {
-    if (!predictions[k].in_image) continue;
+    if (!predictions[k].usable) continue;
     PointLandmark& l = landmarks_[k];
     ++l.predicted;
     l.matched += taken[k];

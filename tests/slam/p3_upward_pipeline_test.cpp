@@ -1,0 +1,132 @@
+// Tests slam/p3_upward_pipeline.cpp on the frames the issue names: a black frame is refused and
+// counted; a frame of one flat colour and a frame of pure sensor noise give no lamp and leave the
+// pose alone; a frame full of lamps starts a bounded number of landmarks; the three registered
+// types carry their defaults; landmarks come out as world points in front of the camera. (Its
+// accuracy on rendered runs: tests/harness/scenario_runs_test.py, case P3.)
+#include "slam/p3_upward_pipeline.h"
+
+#include <cmath>
+
+#include <catch2/catch.hpp>
+
+#include "common/random.h"
+#include "slam/registry.h"
+#include "tests/support/pioneer_calibration.h"
+
+namespace corridorsim::slam {
+namespace {
+
+// The default rig's upward camera: Kannala-Brandt 640x480, 110 deg, at (-0.05, 0, 0.4) m looking
+// up, image x along the robot's -y.
+Calibration UpwardCalibration() {
+  Calibration c = test::PioneerCalibration();
+  Eigen::Matrix3d axes;  // columns: the optical x, y, z in the robot frame
+  axes << 0, 1, 0, -1, 0, 0, 0, 0, 1;
+  CameraCalibration upward;
+  upward.id = "upward";
+  upward.model = KannalaBrandt::FromFov(640, 480, 110.0 * M_PI / 180.0);
+  upward.robot_from_camera = SE3(axes, Eigen::Vector3d(-0.05, 0, 0.4));
+  c.cameras = {upward};
+  return c;
+}
+
+CameraInput Frame(TimeNs stamp, std::uint8_t level) {
+  CameraInput input;
+  input.image.stamp_ns = stamp;
+  input.image.camera_id = "upward";
+  input.image.image = Image8(640, 480, 3);
+  std::fill(input.image.image.data.begin(), input.image.image.data.end(), level);
+  return input;
+}
+
+void Disc(Image8* image, double cu, double cv, double radius) {
+  for (int v = 0; v < image->height; ++v) {
+    for (int u = 0; u < image->width; ++u) {
+      if (std::hypot(u - cu, v - cv) < radius) {
+        for (int c = 0; c < 3; ++c) image->Pixel(u, v)[c] = 255;
+      }
+    }
+  }
+}
+
+struct Fixture {
+  explicit Fixture(P3UpwardOptions options = P3UpwardDefaults())
+      : pipeline(options, UpwardCalibration(), 3) {
+    pipeline.Initialize(0, SE2(1.0, 0.0, 0.0));
+  }
+  P3UpwardPipeline pipeline;
+};
+
+TEST_CASE("P3: a black frame is refused and counted, the filter untouched", "[slam][p3]") {
+  Fixture f;
+  f.pipeline.OnCamera(Frame(1'000'000, 0));
+  CHECK(f.pipeline.health().rejected_frames == 1);
+  CHECK(f.pipeline.TakeDetections().empty());
+  CHECK(f.pipeline.Landmarks().empty());
+  CHECK(f.pipeline.Estimate().world_from_robot.x() == 1.0);
+}
+
+TEST_CASE("P3: a flat frame and a frame of noise give no lamp and no landmark of one",
+          "[slam][p3]") {
+  Fixture f;
+  f.pipeline.OnCamera(Frame(1'000'000, 255));  // one flat colour, saturated
+  CHECK(f.pipeline.TakeDetections().empty());
+  CameraInput noise = Frame(2'000'000, 0);
+  RandomStream rng(5, 0, "test.noise");
+  for (std::uint8_t& p : noise.image.image.data) p = std::uint8_t(rng.UniformInt(0, 255));
+  f.pipeline.OnCamera(noise);
+  for (const Detection& d : f.pipeline.TakeDetections()) CHECK(d.type == LandmarkType::kCorner);
+  for (const LandmarkEstimate& l : f.pipeline.Landmarks()) CHECK(l.type == LandmarkType::kCorner);
+  CHECK(f.pipeline.health().rejected_frames == 0);
+  CHECK(f.pipeline.health().non_positive_covariance == 0);
+  const PoseEstimate e = f.pipeline.Estimate();
+  CHECK(std::isfinite(e.world_from_robot.x()));
+  CHECK(e.world_from_robot.x() == Approx(1.0).margin(1e-9));  // at a known pose, it stays there
+}
+
+TEST_CASE("P3: a frame full of lamps starts lamp landmarks above the camera, bounded",
+          "[slam][p3]") {
+  P3UpwardOptions options = P3UpwardDefaults();
+  options.use_corners = false;
+  options.max_landmarks = 20;
+  Fixture f(options);
+  CameraInput full = Frame(1'000'000, 140);
+  int drawn = 0;
+  for (int i = 0; i < 9; ++i) {
+    for (int j = 0; j < 7; ++j) {
+      Disc(&full.image.image, 40.0 + 70.0 * i, 35.0 + 68.0 * j, 12.0);
+      ++drawn;
+    }
+  }
+  f.pipeline.OnCamera(full);
+  const std::vector<Detection> detections = f.pipeline.TakeDetections();
+  // Discs drawn round in a fisheye's pixels are round on the ceiling only near the axis: those
+  // are lamps, the outer ones are rejected as not circular (docs/detectors.md).
+  CHECK(int(detections.size()) > 20);
+  CHECK(int(detections.size()) < drawn);
+  const std::vector<LandmarkEstimate> landmarks = f.pipeline.Landmarks();
+  CHECK(landmarks.size() == 20);
+  for (const LandmarkEstimate& l : landmarks) {
+    CHECK(l.type == LandmarkType::kLamp);
+    CHECK(l.status == LandmarkStatus::kInitializing);  // one sighting: its height is the prior's
+    CHECK(l.position_in_world.z() > 0.4);
+  }
+}
+
+TEST_CASE("P3: the three registered types and their defaults", "[slam][p3]") {
+  for (const char* name : {"p3_upward", "p3_corners", "p2_upward"}) {
+    INFO(name);
+    const std::unique_ptr<PipelineOptions> options = NewPipelineOptions(name);
+    REQUIRE(options);
+    CHECK_FALSE(options->Check());
+    const auto* o = static_cast<const P3UpwardOptions*>(options->options());
+    CHECK(o->use_corners);
+    CHECK(o->use_lamps == (std::string(name) == "p3_upward"));
+    CHECK((o->corners.detector == CornerDetector::kHarris) == (std::string(name) == "p2_upward"));
+    const std::unique_ptr<Pipeline> pipeline = options->Create(UpwardCalibration(), 1);
+    CHECK(pipeline->cameras_used() == std::vector<std::string>{"upward"});
+  }
+}
+
+}  // namespace
+}  // namespace corridorsim::slam
