@@ -143,27 +143,78 @@ void PlateDetectorMetrics(const PipelineRecord& pipeline, const PipelineContext&
   out.Fraction("room_number_accuracy", read_correctly, read);
 }
 
+// Lamps as the issue scores P3's detector: only lit circular lamps are to be detected (recall
+// over those fully in the image and mostly visible); panel and switched-off lamps are what the
+// detector must reject (a detection of one is a false positive, and they are counted as
+// rejections); lamps cut by the border are scored apart (found, centre error); lamps mostly
+// hidden are neither hit nor missed.
 void LampDetectorMetrics(const PipelineRecord& pipeline, const PipelineContext& context,
                          const MetricWriter& out) {
   const DetectionsByFrame grouped = GroupDetections(pipeline, context, LandmarkType::kLamp);
   const MetricsOptions& options = *context.options;
-  Stats centre_error;
-  const DetectorCounts counts = ScoreFrames<render::LampTruth>(
-      grouped, LampsOf,
-      [&](const slam::Detection& d, const render::LampTruth& t) -> std::optional<double> {
-        const double distance_px = (d.pixel - t.center_px).norm();
-        if (distance_px > std::max(t.radius_px, options.min_gate_px)) return std::nullopt;
-        return distance_px;
-      },
-      [&](const render::LampTruth& t) {
-        return t.on && !t.cut_by_border && t.visible_fraction >= options.min_visible_fraction;
-      },
-      [&](const slam::Detection& d, const render::LampTruth& t) {
-        centre_error.Add((d.pixel - t.center_px).norm());
-      });
+  Stats centre_error, cut_error;
+  DetectorCounts counts;
+  std::size_t to_reject = 0, rejected = 0, cut = 0, cut_found = 0;
+  static const std::vector<const slam::Detection*> kNone;
+  for (const auto& [key, frame] : grouped.frames) {
+    const auto it = grouped.by_frame.find(key);
+    const std::vector<const slam::Detection*>& detections =
+        it == grouped.by_frame.end() ? kNone : it->second;
+    const std::vector<render::LampTruth>& truth = frame->lamps;
+    std::vector<Candidate> candidates;
+    for (std::size_t a = 0; a < detections.size(); ++a) {
+      for (std::size_t b = 0; b < truth.size(); ++b) {
+        const double distance_px = (detections[a]->pixel - truth[b].center_px).norm();
+        if (distance_px <= std::max(truth[b].radius_px, options.min_gate_px)) {
+          candidates.push_back({distance_px, a, b});
+        }
+      }
+    }
+    const auto matches = GreedyMatch(std::move(candidates), detections.size(), truth.size());
+    std::vector<const slam::Detection*> match_of(truth.size(), nullptr);
+    for (const auto& [a, b] : matches) match_of[b] = detections[a];
+    counts.detections += detections.size();
+    counts.false_positives += detections.size() - matches.size();
+    for (std::size_t b = 0; b < truth.size(); ++b) {
+      const render::LampTruth& t = truth[b];
+      const slam::Detection* d = match_of[b];
+      const bool visible = t.visible_fraction >= options.min_visible_fraction;
+      if (t.shape != worlds::LampShape::kCircular || !t.on) {
+        if (visible) {
+          ++to_reject;
+          rejected += d == nullptr;
+        }
+        counts.false_positives += d != nullptr;  // a panel or a dark lamp taken for a lamp
+      } else if (t.cut_by_border) {
+        if (visible) {
+          ++cut;
+          if (d) {
+            ++cut_found;
+            cut_error.Add((d->pixel - t.center_px).norm());
+          }
+        } else if (d) {
+          ++counts.ignored;
+        }
+      } else if (!visible) {
+        counts.ignored += d != nullptr;
+      } else if (d) {
+        ++counts.true_positives;
+        centre_error.Add((d->pixel - t.center_px).norm());
+      } else {
+        ++counts.false_negatives;
+      }
+    }
+  }
   AddCounts(counts, grouped.without_truth, out);
   out.Set("mean_center_error_px", centre_error.mean());
   out.Set("rmse_center_error_px", centre_error.rms());
+  out.Set("max_center_error_px", centre_error.maximum());
+  out.Count("to_reject", to_reject);
+  out.Count("rejected", rejected);
+  out.Fraction("rejected_fraction", rejected, to_reject);
+  out.Count("border_cut", cut);
+  out.Count("border_cut_found", cut_found);
+  out.Set("border_cut_max_center_error_px", cut_error.maximum());
 }
 
 void DoorDetectorMetrics(const PipelineRecord& pipeline, const PipelineContext& context,

@@ -15,6 +15,67 @@
 namespace corridorsim::metrics_tests {
 namespace {
 
+TEST_CASE(
+    "lamps: only lit circular lamps are to be found; panels and dark lamps rejected; "
+    "border-cut lamps apart",
+    "[metrics]") {
+  const worlds::World world;
+  const std::vector<TruthPose> truth = ArcTruth(1.0);
+  PipelineRecord record = Record("lamps", truth, [](const SE2& p) { return p; });
+  record.cameras_used = {"upward"};
+  FrameTruthSample upward = Frame("upward", 5);
+  const auto lamp = [](int id, const Vector2d& c, worlds::LampShape shape, bool on, bool cut,
+                       double visible) {
+    render::LampTruth l;
+    l.id = id;
+    l.center_px = c;
+    l.radius_px = 15;
+    l.shape = shape;
+    l.on = on;
+    l.cut_by_border = cut;
+    l.visible_fraction = visible;
+    return l;
+  };
+  using worlds::LampShape;
+  upward.truth.lamps = {
+      lamp(1, {100, 100}, LampShape::kCircular, true, false, 1.0),   // found, 1 px off
+      lamp(2, {300, 100}, LampShape::kCircular, true, false, 1.0),   // missed
+      lamp(3, {500, 100}, LampShape::kPanel, true, false, 1.0),      // taken for a lamp
+      lamp(4, {100, 300}, LampShape::kPanel, true, false, 1.0),      // rejected
+      lamp(5, {300, 300}, LampShape::kCircular, false, false, 1.0),  // dark, rejected
+      lamp(6, {630, 300}, LampShape::kCircular, true, true, 0.6),    // cut, found 2 px off
+      lamp(7, {630, 450}, LampShape::kCircular, true, true, 0.7),    // cut, missed
+      lamp(8, {300, 450}, LampShape::kCircular, true, false, 0.2),   // mostly hidden
+  };
+  const auto at = [](const Vector2d& px) {
+    slam::Detection d;
+    d.stamp_ns = 5;
+    d.camera_id = "upward";
+    d.type = LandmarkType::kLamp;
+    d.pixel = px;
+    d.radius_px = 15;
+    return d;
+  };
+  for (const Vector2d& px : {Vector2d(101, 100), Vector2d(500, 102), Vector2d(632, 300),
+                             Vector2d(300, 451), Vector2d(50, 450)}) {
+    record.detections.push_back(at(px));
+  }
+  const Json m = RunOne(world, truth, record, {upward});
+  const Json& lamps = m["detection"]["lamp"];
+  CHECK(lamps["detections"] == 5);
+  CHECK(lamps["true_positives"] == 1);
+  CHECK(lamps["false_negatives"] == 1);
+  CHECK(lamps["false_positives"] == 2);  // the panel taken for a lamp, the one at (50, 450)
+  CHECK(lamps["ignored"] == 1);          // the mostly hidden lamp's detection
+  CHECK(Num(lamps["recall"]) == Approx(0.5).margin(test::kMetricsJsonRatio));
+  CHECK(Num(lamps["max_center_error_px"]) == Approx(1.0).margin(test::kMetricsJsonPx));
+  CHECK(lamps["to_reject"] == 3);
+  CHECK(lamps["rejected"] == 2);
+  CHECK(lamps["border_cut"] == 2);
+  CHECK(lamps["border_cut_found"] == 1);
+  CHECK(Num(lamps["border_cut_max_center_error_px"]) == Approx(2.0).margin(test::kMetricsJsonPx));
+}
+
 TEST_CASE("detector precision, recall, IoU, centre error and door state against frame truth",
           "[metrics]") {
   const worlds::World world;

@@ -24,7 +24,8 @@ using metrics::MetricWriter;
 TEST_CASE("MetricNames lists the pipeline scalars in the schema order expectations have used",
           "[metrics][registry]") {
   // The names before the registry (schema version 1), in their order, with the vanishing point's
-  // hits, false positives and precision and the dense map's quality added since (P1);
+  // hits, false positives and precision and the dense map's quality added since (P1), and the
+  // lamp detector's rejections and border-cut lamps (P3);
   // the health counters that are written only when non-zero come after them.
   const std::vector<std::string> v1 = {
       "samples",
@@ -188,6 +189,13 @@ TEST_CASE("MetricNames lists the pipeline scalars in the schema order expectatio
       "detection.door_plate.room_number_accuracy",
       "detection.lamp.mean_center_error_px",
       "detection.lamp.rmse_center_error_px",
+      "detection.lamp.max_center_error_px",  // P3's scoring (issue 16), added since
+      "detection.lamp.to_reject",
+      "detection.lamp.rejected",
+      "detection.lamp.rejected_fraction",
+      "detection.lamp.border_cut",
+      "detection.lamp.border_cut_found",
+      "detection.lamp.border_cut_max_center_error_px",
       "detection.door.open_state_accuracy",
       "timing.frames",
       "timing.steps",
