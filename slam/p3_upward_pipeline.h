@@ -45,7 +45,7 @@ struct P3UpwardOptions {
   double max_height_m = 5.0;
   double min_above_camera_m = 0.5;
   double corner_sigma_px = 1.0;    // sigma of a corner's image position (each axis)
-  double lamp_sigma_px = 0.35;  // sigma of a lamp centre's image position (docs/p3.md)
+  double lamp_sigma_px = 0.35;     // sigma of a lamp centre's image position (docs/p3.md)
   double gate_chi2 = 9.21;         // NIS gate of an association (chi-square 99 % at 2 dof)
   double search_radius_px = 40.0;  // landmarks predicted within this of a detection are candidates
   double min_correlation = 0.9;    // corners: patch NCC needed to match

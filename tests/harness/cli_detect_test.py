@@ -189,7 +189,7 @@ def main():
             ([image, "--depth", small_depth], small_depth + ": --depth: the depth image is 320x240"),
             ([image, "--depth", rgb_depth], rgb_depth + ": --depth: expected a 16-bit"),
             ([image, "--depth", missing], missing + ": cannot be opened"),
-            ([image, "--camera", "rear"], "command line: --camera: expected front or lateral"),
+            ([image, "--camera", "rear"], "command line: --camera: expected front, lateral or upward"),
             ([image, "--camera", "lateral", "--depth", small_depth],
              "command line: --depth: only the front camera"),
             ([image, "--out", os.path.join(work, "no", "o.png")], "command line: --out: the folder")):

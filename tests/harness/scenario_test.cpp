@@ -534,9 +534,8 @@ TEST_CASE("pipelines are read by name with their options, and an unknown one is 
       "  odometry: {k_m: 0.0002}\n"
       "  orb_slam9: {}\n");
   CHECK(msg ==
-        ":3:3: pipelines.orb_slam9: unknown pipeline (known: odometry, p1_harris, p1_vp_doorplate; "
-        "another "
-        "name needs a `type:` key)");
+        ":3:3: pipelines.orb_slam9: unknown pipeline (known: odometry, p1_harris, p1_vp_doorplate, "
+        "p3_upward, p3_corners, p2_upward; another name needs a `type:` key)");
   const std::string bad = LoadError(
       "pipelines:\n"
       "  odometry:\n"
