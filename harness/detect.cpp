@@ -210,7 +210,8 @@ DetectInput LoadDetectInput(const DetectRequest& request) {
                              std::to_string(input.rgb.height));
       }
     } else {
-      const render::CameraOptions* upward = render::RigOptions::Default().Find("upward");
+      const render::RigOptions rig = render::RigOptions::Default();
+      const render::CameraOptions* upward = rig.Find("upward");
       CheckOrDie(upward != nullptr, "LoadDetectInput", "the default rig has no upward camera");
       if (upward->model.width() != input.rgb.width || upward->model.height() != input.rgb.height) {
         Bad(request.image_file,
