@@ -20,60 +20,14 @@ plate of every seed, against the 95 % band of the mean of that many chi-square(2
 Standard library only.
 """
 import argparse
-import concurrent.futures
 import json
 import math
 import os
-import subprocess
 import sys
 
+from study_common import average_nees, chi2_quantile, parse_seeds, run_all
+
 PIPELINE = "p1_vp_doorplate"
-
-
-def parse_seeds(text):
-    seeds = []
-    for part in text.split(","):
-        if "-" in part:
-            a, b = part.split("-", 1)
-            if not (a.isdigit() and b.isdigit()) or int(a) > int(b):
-                raise ValueError(f"--seeds: bad range '{part}'")
-            seeds.extend(range(int(a), int(b) + 1))
-        elif part.isdigit():
-            seeds.append(int(part))
-        else:
-            raise ValueError(f"--seeds: bad seed '{part}'")
-    if not seeds or len(seeds) > 1000:
-        raise ValueError("--seeds: between 1 and 1000 seeds")
-    return sorted(set(seeds))
-
-
-def chi2_quantile(p, dof):
-    """Wilson-Hilferty: accurate to a fraction of a percent for dof >= 3."""
-    # Standard normal quantile (Acklam's rational approximation is overkill: bisection on erf).
-    lo, hi = -10.0, 10.0
-    for _ in range(200):
-        mid = 0.5 * (lo + hi)
-        if 0.5 * (1.0 + math.erf(mid / math.sqrt(2.0))) < p:
-            lo = mid
-        else:
-            hi = mid
-    z = 0.5 * (lo + hi)
-    h = 2.0 / (9.0 * dof)
-    return dof * (1.0 - h + z * math.sqrt(h)) ** 3
-
-
-def run_one(args, seed):
-    out = os.path.join(args.out, f"seed_{seed}")
-    if args.resume and os.path.isfile(os.path.join(out, "metrics.json")):
-        return out  # a finished run of an earlier, interrupted study (run folders are atomic)
-    cmd = [args.corridorsim, "run", args.scenario, "--seed", str(seed), "--out", out, "--force",
-           "--no-plots"]
-    done = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-    # 0: all expectations passed; 3: some failed (the study judges on its own).
-    if done.returncode not in (0, 3):
-        sys.stderr.write(done.stdout[-4000:])
-        raise RuntimeError(f"seed {seed}: corridorsim exited {done.returncode}")
-    return out
 
 
 def read_nees(path):
@@ -146,12 +100,11 @@ def main(argv):
         sys.stderr.write("p1_study: error: --jobs: between 1 and 64\n")
         return 2
     os.makedirs(args.out, exist_ok=True)
-    with concurrent.futures.ThreadPoolExecutor(max_workers=args.jobs) as pool:
-        try:
-            dirs = dict(zip(seeds, pool.map(lambda s: run_one(args, s), seeds)))
-        except RuntimeError as e:
-            sys.stderr.write(f"p1_study: error: {e}\n")
-            return 1
+    try:
+        dirs = run_all(args, seeds, "p1_study")
+    except RuntimeError as e:
+        sys.stderr.write(f"p1_study: error: {e}\n")
+        return 1
 
     per_seed = {}
     nees_series = {}
@@ -172,22 +125,10 @@ def main(argv):
     summary = {}
     for name in per_seed[seeds[0]]:
         mean = lambda key: sum(per_seed[s][name][key] for s in seeds) / n
-        series = nees_series[name]
-        length = min(len(s) for s in series)
-        anees = []
-        for i in range(length):
-            column = [s[i] for s in series]
-            if all(math.isfinite(v) for v in column):
-                anees.append(sum(column) / n)
-        low, high = chi2_quantile(0.025, 3 * n) / n, chi2_quantile(0.975, 3 * n) / n
-        average = sum(anees) / len(anees) if anees else float("nan")
         summary[name] = {
             "ate_rmse_m": mean("ate_rmse_m"),
             "final_position_error_m": mean("final_position_error_m"),
-            "nees_average": average,
-            "nees_band": [low, high],
-            "anees_in_band_fraction": (sum(1 for a in anees if low <= a <= high) / len(anees)
-                                       if anees else None),
+            **average_nees(nees_series[name]),
         }
 
     targets = {}

@@ -23,12 +23,12 @@ association precision per landmark type, each over the counts summed over every 
 Standard library only.
 """
 import argparse
-import concurrent.futures
 import json
 import math
 import os
-import subprocess
 import sys
+
+from study_common import average_nees, parse_seeds, run_all
 
 PIPELINE = "p3_upward"
 CORNERS = "p3_corners"
@@ -37,58 +37,8 @@ MAX_ERROR_M = 0.1  # p3_upward's position error bound over the whole run
 SEED_FRACTION = (9, 10)  # ... in at least this fraction of the seeds (integer maths: no 0.9 * N)
 
 
-def parse_seeds(text):
-    seeds = []
-    for part in text.split(","):
-        if "-" in part:
-            a, b = part.split("-", 1)
-            if not (a.isdigit() and b.isdigit()) or int(a) > int(b):
-                raise ValueError(f"--seeds: bad range '{part}'")
-            seeds.extend(range(int(a), int(b) + 1))
-        elif part.isdigit():
-            seeds.append(int(part))
-        else:
-            raise ValueError(f"--seeds: bad seed '{part}'")
-    if not seeds or len(seeds) > 1000:
-        raise ValueError("--seeds: between 1 and 1000 seeds")
-    return sorted(set(seeds))
-
-
-def chi2_quantile(p, dof):
-    """Wilson-Hilferty: accurate to a fraction of a percent for dof >= 3."""
-    # Standard normal quantile (Acklam's rational approximation is overkill: bisection on erf).
-    lo, hi = -10.0, 10.0
-    for _ in range(200):
-        mid = 0.5 * (lo + hi)
-        if 0.5 * (1.0 + math.erf(mid / math.sqrt(2.0))) < p:
-            lo = mid
-        else:
-            hi = mid
-    z = 0.5 * (lo + hi)
-    h = 2.0 / (9.0 * dof)
-    return dof * (1.0 - h + z * math.sqrt(h)) ** 3
-
-
 def is_slam(name):
     return name.startswith("p2_") or name.startswith("p3_")
-
-
-def run_one(args, seed):
-    out = os.path.join(args.out, f"seed_{seed}")
-    if args.resume and os.path.isfile(os.path.join(out, "metrics.json")):
-        return out  # a finished run of an earlier, interrupted study (run folders are atomic)
-    cmd = [args.corridorsim, "run", args.scenario, "--seed", str(seed), "--out", out, "--force",
-           "--no-plots"]
-    done = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-    # 0: all expectations passed; 3: some failed (the study judges on its own); 4: the results are
-    # written but an extra (maps/) failed: the study needs only the results.
-    if done.returncode == 4:
-        sys.stderr.write(f"p3_study: warning: seed {seed}: an extra of the run failed (exit 4); "
-                         f"its results are used\n")
-    elif done.returncode not in (0, 3):
-        sys.stderr.write(done.stdout[-4000:])
-        raise RuntimeError(f"seed {seed}: corridorsim exited {done.returncode}")
-    return out
 
 
 def read_errors(path):
@@ -155,12 +105,11 @@ def main(argv):
         sys.stderr.write(f"p3_study: error: --corridorsim: no executable '{args.corridorsim}'\n")
         return 2
     os.makedirs(args.out, exist_ok=True)
-    with concurrent.futures.ThreadPoolExecutor(max_workers=args.jobs) as pool:
-        try:
-            dirs = dict(zip(seeds, pool.map(lambda s: run_one(args, s), seeds)))
-        except RuntimeError as e:
-            sys.stderr.write(f"p3_study: error: {e}\n")
-            return 1
+    try:
+        dirs = run_all(args, seeds, "p3_study", allow_extra_failure=True)
+    except RuntimeError as e:
+        sys.stderr.write(f"p3_study: error: {e}\n")
+        return 1
 
     per_seed = {}
     nees_series = {}
@@ -196,15 +145,6 @@ def main(argv):
             return sum(values) / n, max(values)
         ate_mean, ate_max = over_seeds("ate_rmse_m")
         final_mean, final_max = over_seeds("final_position_error_m")
-        series = nees_series[name]
-        length = min(len(s) for s in series)
-        anees = []
-        for i in range(length):
-            column = [s[i] for s in series]
-            if all(math.isfinite(v) for v in column):
-                anees.append(sum(column) / n)
-        low, high = chi2_quantile(0.025, 3 * n) / n, chi2_quantile(0.975, 3 * n) / n
-        average = sum(anees) / len(anees) if anees else float("nan")
         summary[name] = {
             "slam": is_slam(name),
             "ate_rmse_m": ate_mean,
@@ -212,10 +152,7 @@ def main(argv):
             "final_position_error_m": final_mean,
             "final_position_error_max_m": final_max,
             "max_position_error_m": over_seeds("max_position_error_m")[1],
-            "nees_average": average,
-            "nees_band": [low, high],
-            "anees_in_band_fraction": (sum(1 for a in anees if low <= a <= high) / len(anees)
-                                       if anees else None),
+            **average_nees(nees_series[name]),
         }
 
     if PIPELINE in summary:
