@@ -438,6 +438,10 @@ int CameraModel::height() const {
   return std::visit([](const auto& m) { return m.height; }, params_);
 }
 
+Eigen::Vector2d CameraModel::principal_point() const {
+  return std::visit([](const auto& m) { return Eigen::Vector2d(m.cx, m.cy); }, params_);
+}
+
 CameraIntrinsics CameraModel::intrinsics() const {
   return std::visit(
       [&](const auto& m) {

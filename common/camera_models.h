@@ -108,6 +108,8 @@ class CameraModel {
   int width() const;   // px
   int height() const;  // px
   CameraIntrinsics intrinsics() const;
+  /// (cx, cy), px: without building intrinsics() (no allocation; for per-pixel use).
+  Eigen::Vector2d principal_point() const;
   /// The largest incidence angle (rad from the optical axis) the model projects: the first
   /// turning point of the radial distortion for the pinhole (at most pi/2), of theta_d(theta) for
   /// the fisheye (at most pi). Points at or beyond it do not project.

@@ -153,6 +153,7 @@ void P3UpwardPipeline::ProcessFrame(const CameraInput& input) {
   const TimeNs stamp_ns = input.image.stamp_ns;
   const SE3& mount = upward_->robot_from_camera;
   const CameraModel& model = upward_->model;
+  const Eigen::Vector2d principal_point = model.principal_point();
   const Clock::time_point t_detect = Clock::now();
   const cv::Mat grey = GreyMat(input.image.image);
   const Eigen::Vector3d x = state_->RobotPose();
@@ -167,9 +168,8 @@ void P3UpwardPipeline::ProcessFrame(const CameraInput& input) {
     o.type = type;
     o.pixel = pixel;
     o.sigma_px = sigma_px;
-    const CameraIntrinsics k = model.intrinsics();
-    o.usable = (pixel - Eigen::Vector2d(k.cx, k.cy)).norm() >= options_.min_polar_radius_px &&
-               (pixel - Eigen::Vector2d(k.cx, k.cy)).norm() > 0.0;
+    const double radius_px = (pixel - principal_point).norm();
+    o.usable = radius_px >= options_.min_polar_radius_px && radius_px > 0.0;
     if (o.usable) o.polar = ekf::PixelToPolar(pixel, model);
     Detection d;
     d.stamp_ns = stamp_ns;
@@ -223,8 +223,7 @@ void P3UpwardPipeline::ProcessFrame(const CameraInput& input) {
     if (!pixel || !model.IsInImage(*pixel)) continue;
     p.pixel = *pixel;
     p.in_image = true;
-    const CameraIntrinsics k_in = model.intrinsics();
-    if ((*pixel - Eigen::Vector2d(k_in.cx, k_in.cy)).norm() < options_.min_polar_radius_px) {
+    if ((*pixel - principal_point).norm() < options_.min_polar_radius_px) {
       continue;
     }
     Eigen::Matrix2d d_polar_d_pixel;

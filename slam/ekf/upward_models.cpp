@@ -47,8 +47,8 @@ Eigen::Vector3d InverseDepthToPoint(const InverseDepthPoint& l, double camera_he
 
 Eigen::Vector2d PixelToPolar(const Eigen::Vector2d& pixel, const CameraModel& model,
                              Eigen::Matrix2d* d_polar_d_pixel) {
-  const CameraIntrinsics k = model.intrinsics();
-  const double du = pixel.x() - k.cx, dv = pixel.y() - k.cy;
+  const Eigen::Vector2d d = pixel - model.principal_point();
+  const double du = d.x(), dv = d.y();
   const double r2 = du * du + dv * dv, r = std::sqrt(r2);
   if (d_polar_d_pixel) *d_polar_d_pixel << du / r, dv / r, -dv / r2, du / r2;
   return {r, std::atan2(dv, du)};
@@ -106,8 +106,7 @@ std::optional<Eigen::Vector2d> InverseDepthPolar(const SE2& pose, const InverseD
       InverseDepthPixel(pose, l, robot_from_camera, model, d_polar_d_pose ? &d_pose : nullptr,
                         d_polar_d_landmark ? &d_landmark : nullptr);
   if (!pixel) return std::nullopt;
-  const CameraIntrinsics k = model.intrinsics();
-  if (!((*pixel - Eigen::Vector2d(k.cx, k.cy)).norm() > 0.0)) return std::nullopt;
+  if (!((*pixel - model.principal_point()).norm() > 0.0)) return std::nullopt;
   Eigen::Matrix2d d_polar_d_pixel;
   const Eigen::Vector2d polar = PixelToPolar(*pixel, model, &d_polar_d_pixel);
   if (d_polar_d_pose) *d_polar_d_pose = d_polar_d_pixel * d_pose;

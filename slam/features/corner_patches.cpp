@@ -6,6 +6,9 @@
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "slam/features/harris_corners.h"
+#include "slam/features/image_conversion.h"
+
 namespace corridorsim::slam {
 
 const OptionTable<CornerPatchOptions>& CornerPatchOptionsTable() {
@@ -47,19 +50,18 @@ std::vector<CornerWithResponse> DetectCorners(const cv::Mat& grey, const CornerP
       if (inside(k.pt.x, k.pt.y)) all.push_back({{k.pt.x, k.pt.y}, k.response});
     }
   } else {
-    cv::Mat response;
-    cv::cornerHarris(grey, response, 3, 3, o.harris_k);
-    double best = 0.0;
-    cv::minMaxLoc(response, nullptr, &best);
-    cv::Mat dilated;
-    cv::dilate(response, dilated, cv::Mat());
-    for (int y = margin; y < grey.rows - margin; ++y) {
-      const float* r = response.ptr<float>(y);
-      const float* d = dilated.ptr<float>(y);
-      for (int x = margin; x < grey.cols - margin; ++x) {
-        if (r[x] > o.harris_quality * best && r[x] >= d[x]) all.push_back({{x, y}, r[x]});
-      }
+    // P2's Harris corners are P1's detector (harris_corners.h): its selection already spaces and
+    // orders them; only the patch margin is applied here.
+    HarrisCornerOptions harris;
+    harris.max_corners = o.max_corners;
+    harris.quality_level = o.harris_quality;
+    harris.min_distance_px = o.min_distance_px;
+    harris.harris_k = o.harris_k;
+    std::vector<CornerWithResponse> kept;
+    for (const HarrisCorner& c : DetectHarrisCorners(ImageFromMat(grey), nullptr, harris)) {
+      if (inside(c.pixel_px.x(), c.pixel_px.y())) kept.push_back({c.pixel_px, c.response});
     }
+    return kept;
   }
   // Strongest first, ties in raster order; then greedy spacing.
   std::stable_sort(all.begin(), all.end(), [](const auto& a, const auto& b) {

@@ -25,7 +25,7 @@ enum class CornerDetector { kFast, kHarris };
 struct CornerPatchOptions {
   CornerDetector detector = CornerDetector::kFast;
   int fast_threshold = 20;       // FAST: intensity difference on the 16-pixel circle (grey levels)
-  double harris_k = 0.04;        // Harris: k of det(M) - k trace(M)^2 (block 3, Sobel 3)
+  double harris_k = 0.04;        // Harris (DetectHarrisCorners): k of det(M) - k trace(M)^2
   double harris_quality = 0.01;  // Harris: a corner's response must reach this fraction of the best
   int max_corners = 60;          // strongest first
   double min_distance_px = 12.0;  // no two corners closer than this; the stronger one stays
@@ -40,7 +40,8 @@ struct CornerWithResponse {
 };
 
 /// Corners of `grey` (CV_8UC1), strongest first (ties: row, then column), at least
-/// patch_half_px + 2 px from the border (so that a patch turned by any angle fits).
+/// patch_half_px + 2 px from the border (so that a patch turned by any angle fits). Harris is
+/// P1's detector (DetectHarrisCorners, sub-pixel), FAST OpenCV's (9/16, non-maximum suppression).
 std::vector<CornerWithResponse> DetectCorners(const cv::Mat& grey,
                                               const CornerPatchOptions& options);
 

@@ -353,7 +353,8 @@ TEST_CASE("CameraModel holds one kind and gives its parameters back", "[camera]"
   CHECK(CameraModel().width() == 0);
 }
 
-TEST_CASE("intrinsics() lists the distortion in OpenCV's order", "[camera]") {
+TEST_CASE("intrinsics() lists the distortion in OpenCV's order; principal_point() its (cx, cy)",
+          "[camera]") {
   test::CheckIntrinsics(CameraModel(DistortedPinhole()).intrinsics(),
                         {.model = "pinhole_radtan",
                          .width = 640,
@@ -372,6 +373,9 @@ TEST_CASE("intrinsics() lists the distortion in OpenCV's order", "[camera]") {
                                                       .cx = k.cx,
                                                       .cy = k.cy,
                                                       .distortion = {k.k1, k.k2, k.k3, k.k4}});
+  // principal_point() is intrinsics()' (cx, cy).
+  CHECK(CameraModel(DistortedPinhole()).principal_point() == Eigen::Vector2d(319.2, 240.7));
+  CHECK(CameraModel(k).principal_point() == Eigen::Vector2d(k.cx, k.cy));
 }
 
 TEST_CASE("analytic unprojection Jacobians match central differences at random pixels",

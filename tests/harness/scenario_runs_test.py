@@ -46,6 +46,16 @@ def fresh(name):
     return path
 
 
+def run_short(test, scenario, name):
+    """`corridorsim run` of tests/data/scenarios/<scenario> into WORK_DIR/<name>, which must pass
+    its expectations: the run folder and its metrics.json's pipelines."""
+    out = fresh(name)
+    result = run("run", os.path.join(DATA, scenario), "--out", out, "--no-plots", check=False)
+    test.assertEqual(result.returncode, 0, result.stdout + result.stderr)
+    with open(os.path.join(out, "metrics.json")) as f:
+        return out, json.load(f)["pipelines"]
+
+
 def read_errors(path):
     """Rows of <pipeline>_errors.csv; rows without a NEES (zero covariance at the start) dropped."""
     with open(path, newline="") as f:
@@ -145,12 +155,7 @@ class P1(unittest.TestCase):
     expectations assert the accuracy the issue asks for, scaled to the shorter corridor."""
 
     def test_p1_beats_its_baselines_and_maps_every_plate(self):
-        scenario = os.path.join(DATA, "p1_short.yaml")
-        out = fresh("p1")
-        result = run("run", scenario, "--out", out, "--no-plots", check=False)
-        self.assertEqual(result.returncode, 0, result.stdout + result.stderr)
-        with open(os.path.join(out, "metrics.json")) as f:
-            metrics = json.load(f)["pipelines"]
+        out, metrics = run_short(self, "p1_short.yaml", "p1")
         p1, odometry, harris = metrics["p1_vp_doorplate"], metrics["odometry"], metrics["p1_harris"]
         self.assertLessEqual(p1["ate_rmse_m"], 0.5 * odometry["ate_rmse_m"])
         self.assertLess(p1["ate_rmse_m"], harris["ate_rmse_m"])
@@ -180,12 +185,7 @@ class P3(unittest.TestCase):
     asks, a filter without numerical trouble."""
 
     def test_p3_lamps_and_corners_beat_corners_alone(self):
-        scenario = os.path.join(DATA, "p3_short.yaml")
-        out = fresh("p3")
-        result = run("run", scenario, "--out", out, "--no-plots", check=False)
-        self.assertEqual(result.returncode, 0, result.stdout + result.stderr)
-        with open(os.path.join(out, "metrics.json")) as f:
-            metrics = json.load(f)["pipelines"]
+        out, metrics = run_short(self, "p3_short.yaml", "p3")
         upward, corners, odometry = metrics["p3_upward"], metrics["p3_corners"], metrics["odometry"]
         self.assertLessEqual(upward["ate_max_m"], 0.1)
         self.assertLessEqual(upward["ate_rmse_m"], 0.5 * corners["ate_rmse_m"])
