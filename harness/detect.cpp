@@ -24,6 +24,7 @@
 #include "harness/frame_io.h"
 #include "render/camera_rig.h"
 #include "slam/features/ceiling_lamps.h"
+#include "slam/features/upward_doors.h"
 #include "slam/features/door_plates.h"
 #include "slam/features/harris_corners.h"
 #include "slam/features/image_conversion.h"
@@ -394,6 +395,51 @@ nlohmann::ordered_json LampsSection(const DetectInput& input, Image8* overlay) {
   return j;
 }
 
+nlohmann::ordered_json UpwardDoorsSection(const DetectInput& input, Image8* overlay) {
+  const slam::UpwardDoorOptions options;
+  const Eigen::Vector2d principal_point =
+      input.model ? input.model->principal_point()
+                  : Eigen::Vector2d(0.5 * (input.rgb.width - 1), 0.5 * (input.rgb.height - 1));
+  const cv::Mat grey = slam::GreyMat(input.rgb);
+  const slam::UpwardDoorDetection found =
+      slam::DetectUpwardDoorCandidates(grey, principal_point, options);
+  nlohmann::ordered_json j;
+  std::size_t vertical = 0;
+  for (const slam::UpwardLine& l : found.lines) vertical += l.vertical ? 1 : 0;
+  j["lines"] = found.lines.size();
+  j["vertical_lines"] = vertical;
+  j["columns"] = nlohmann::ordered_json::array();
+  for (const slam::DoorColumn& c : found.columns) {
+    j["columns"].push_back({{"angle_rad", RoundToStep(c.angle_rad, json_steps::kRad)},
+                            {"top_px", Px(c.top_px)},
+                            {"top_radius_px", RoundToStep(c.top_radius_px, json_steps::kPx)},
+                            {"bottom_radius_px", RoundToStep(c.bottom_radius_px, json_steps::kPx)},
+                            {"lines", c.lines}});
+  }
+  j["candidates"] = nlohmann::ordered_json::array();
+  for (const slam::UpwardDoorCandidate& c : found.candidates) {
+    j["candidates"].push_back({{"column_a", c.column_a},
+                               {"column_b", c.column_b},
+                               {"angle_a_rad", RoundToStep(c.angle_a_rad, json_steps::kRad)},
+                               {"angle_b_rad", RoundToStep(c.angle_b_rad, json_steps::kRad)},
+                               {"top_a_px", Px(c.top_a_px)},
+                               {"top_b_px", Px(c.top_b_px)},
+                               {"bar_coverage", RoundToStep(c.bar_coverage, 1000)}});
+  }
+  if (overlay) {
+    cv::Mat view = slam::MatView(*overlay);
+    for (const slam::UpwardLine& l : found.lines) {
+      if (l.vertical) cv::line(view, At(l.a_px), At(l.b_px), cv::Scalar(230, 0, 0), 1, cv::LINE_AA, 4);
+    }
+    for (const slam::UpwardDoorCandidate& c : found.candidates) {
+      cv::line(view, At(c.top_a_px), At(c.top_b_px), cv::Scalar(255, 160, 0), 2, cv::LINE_AA, 4);
+      cv::line(view, At(principal_point), At(c.top_a_px), cv::Scalar(255, 160, 0), 1, cv::LINE_AA, 4);
+      cv::line(view, At(principal_point), At(c.top_b_px), cv::Scalar(255, 160, 0), 1, cv::LINE_AA, 4);
+    }
+  }
+  return j;
+}
+
 nlohmann::ordered_json RunDetect(const DetectInput& input, Image8* overlay) {
   if (overlay) *overlay = input.rgb;
   nlohmann::ordered_json doc;
@@ -411,6 +457,7 @@ nlohmann::ordered_json RunDetect(const DetectInput& input, Image8* overlay) {
   if (input.camera == DetectCamera::kUpward) {
     doc["model"] = input.model ? std::string(input.model->name()) : "";
     doc["lamps"] = LampsSection(input, overlay);
+    doc["doors"] = UpwardDoorsSection(input, overlay);
   }
   doc["corners"] = CornersSection(input, overlay);
   return doc;

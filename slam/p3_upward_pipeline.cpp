@@ -25,6 +25,11 @@ const OptionTable<P3UpwardOptions>& P3UpwardOptionsTable() {
         .Range(0, 0.1);
     t.Add("use_corners", &O::use_corners, "", "corner landmarks (P3: FAST; P2: Harris)");
     t.Add("use_lamps", &O::use_lamps, "", "circular lamp landmarks (P3 section II)");
+    t.Add("use_doors", &O::use_doors, "",
+          "open doors as landmarks of two column bearings (P3 section III, eq. 17)");
+    t.Add("door_sigma_rad", &O::door_sigma_rad, "rad", "sigma of a door column's bearing")
+        .Greater(0)
+        .Range(0, 1);
     t.Add("min_height_m", &O::min_height_m, "m", "lowest landmark height of the prior (P3: 0)")
         .Range(-10, 100);
     t.Add("max_height_m", &O::max_height_m, "m", "highest landmark height of the prior (P3: 5)")
@@ -74,6 +79,11 @@ const OptionTable<P3UpwardOptions>& P3UpwardOptionsTable() {
                  &CornerPatchOptions::Check);
     t.AddSection("lamps", &O::lamps, CeilingLampOptionsTable(), "the lamp detector",
                  &CeilingLampOptions::Check);
+    t.AddSection("doors", &O::doors, UpwardDoorOptionsTable(), "the door candidates",
+                 &UpwardDoorOptions::Check);
+    t.AddSection("door_verifier", &O::door_verifier, DoorVerifierOptionsTable(),
+                 "the door candidates' particle filter and open-door test",
+                 &DoorVerifierOptions::Check);
   });
 }
 
@@ -90,6 +100,7 @@ P3UpwardOptions P3UpwardDefaults() { return P3UpwardOptions{}; }
 P3UpwardOptions P3CornersDefaults() {
   P3UpwardOptions o;
   o.use_lamps = false;
+  o.use_doors = false;
   return o;
 }
 
@@ -97,6 +108,7 @@ P3UpwardOptions P2UpwardDefaults() {
   P3UpwardOptions o;
   o.use_lamps = false;
   o.corners.detector = CornerDetector::kHarris;
+  o.door_verifier.sensor_model = DoorSensorModel::kTriangular;  // P2's sensor model
   return o;
 }
 
@@ -116,6 +128,9 @@ P3UpwardPipeline::P3UpwardPipeline(const P3UpwardOptions& options, const Calibra
   CheckOrDie(!calibration.Check(), "slam::P3UpwardPipeline", "the calibration fails its Check()");
   CheckOrDie(!options.Check(), "slam::P3UpwardPipeline", "the options fail their Check()");
   if (const CameraCalibration* upward = calibration.Find("upward")) upward_ = *upward;
+  if (upward_ && options.use_doors) {
+    verifier_.emplace(options.door_verifier, upward_->model, upward_->robot_from_camera);
+  }
   // P3 section V's prior as a Gaussian on the inverse height above the camera (docs/p3.md): its
   // mean the inverse of the middle height of the range, +2 sigma at the nearest height (min_height,
   // or min_above_camera above the camera); -2 sigma lies beyond the farthest, at or past infinity
@@ -198,6 +213,37 @@ void P3UpwardPipeline::ProcessFrame(const CameraInput& input) {
       o.patch = std::move(*patch);
       detections_[o.detection].score = c.response;
       observations.push_back(std::move(o));
+    }
+  }
+  // Door candidates (P3 section III-A) with their columns' bearings (P3 eq. 17's measurement).
+  struct DoorObservation {
+    UpwardDoorCandidate candidate;
+    Eigen::Vector2d bearings = Eigen::Vector2d::Zero();
+    std::size_t detection = 0;
+  };
+  std::vector<DoorObservation> door_observations;
+  if (verifier_) {
+    for (const UpwardDoorCandidate& c :
+         DetectUpwardDoorCandidates(grey, principal_point, options_.doors).candidates) {
+      const std::optional<ColumnSighting> a = SightColumnTop(c.top_a_px, model, mount);
+      const std::optional<ColumnSighting> b = SightColumnTop(c.top_b_px, model, mount);
+      if (!a || !b) continue;
+      DoorObservation o;
+      o.candidate = c;
+      o.bearings = Eigen::Vector2d(a->bearing_rad, b->bearing_rad);
+      Detection d;
+      d.stamp_ns = stamp_ns;
+      d.camera_id = "upward";
+      d.type = LandmarkType::kDoor;
+      d.pixel = 0.5 * (c.top_a_px + c.top_b_px);
+      const Eigen::Vector2d lo = c.top_a_px.cwiseMin(c.top_b_px).array() - 1.0;
+      const Eigen::Vector2d hi = c.top_a_px.cwiseMax(c.top_b_px).array() + 1.0;
+      d.box_px << lo, hi;
+      d.column_bearings_rad = o.bearings;
+      d.score = c.bar_coverage;
+      o.detection = detections_.size();
+      detections_.push_back(d);
+      door_observations.push_back(o);
     }
   }
   clock_.Add("detect", SecondsSince(t_detect));
@@ -289,6 +335,54 @@ void P3UpwardPipeline::ProcessFrame(const CameraInput& input) {
       associated_nis.push_back(best_nis);
     }
   }
+  // Doors: each candidate against the registered doors by their two bearings (P3 eq. 17).
+  const Eigen::Vector2d camera_xy = mount.translation().head<2>();
+  struct DoorPair {
+    std::size_t observation, door;
+    double nis;
+  };
+  std::vector<DoorPair> door_pairs;
+  std::vector<bool> door_explained(door_observations.size(), false);
+  {
+    std::vector<bool> door_taken(doors_.size(), false);
+    for (std::size_t i = 0; i < door_observations.size(); ++i) {
+      std::optional<std::size_t> best;
+      ekf::Measurement best_m;
+      double best_nis = 0.0;
+      for (std::size_t k = 0; k < doors_.size(); ++k) {
+        if (door_taken[k]) continue;
+        Eigen::Matrix<double, 2, 3> d_pose;
+        Eigen::Matrix<double, 2, 4> d_door;
+        const std::optional<Eigen::Vector2d> h = ekf::DoorBearings(
+            pose, state_->Value(doors_[k].block), camera_xy, &d_pose, &d_door);
+        if (!h) continue;
+        ekf::Measurement m;
+        m.blocks = {ekf::EkfState::robot(), doors_[k].block};
+        m.residual = door_observations[i].bearings - *h;
+        for (int c = 0; c < 2; ++c) {
+          m.residual(c) = std::remainder(m.residual(c), 2.0 * std::numbers::pi);
+        }
+        m.jacobian.resize(2, 7);
+        m.jacobian << d_pose, d_door;
+        m.noise = Eigen::Matrix2d::Identity() * options_.door_sigma_rad * options_.door_sigma_rad;
+        const std::optional<double> nis = state_->Nis(m);
+        if (!nis || *nis > options_.gate_chi2) continue;
+        if (!best || *nis < best_nis) {
+          best = k;
+          best_m = std::move(m);
+          best_nis = *nis;
+        }
+      }
+      if (!best) continue;
+      door_taken[*best] = true;
+      door_explained[i] = true;
+      Detection& d = detections_[door_observations[i].detection];
+      d.landmark_id = doors_[*best].id;
+      d.open = true;
+      associated.push_back(std::move(best_m));
+      door_pairs.push_back({i, *best, best_nis});
+    }
+  }
   if (!associated.empty()) {
     // Each was gated on its own; the stacked update (P3 eqs. 18-20) is not gated again.
     const ekf::UpdateResult result =
@@ -297,7 +391,15 @@ void P3UpwardPipeline::ProcessFrame(const CameraInput& input) {
       ++health_.non_positive_covariance;
     }
     if (!result.accepted) ++health_.rejected_updates;
-    for (std::size_t a = 0; a < associated.size(); ++a) {
+    for (const DoorPair& p : door_pairs) {
+      innovations_.push_back({stamp_ns, LandmarkType::kDoor, p.nis, 2, result.accepted});
+      if (result.accepted) {
+        ++doors_[p.door].updates;
+      } else {
+        detections_[door_observations[p.observation].detection].landmark_id = -1;
+      }
+    }
+    for (std::size_t a = 0; a < pairs.size(); ++a) {
       const Observation& o = observations[pairs[a].first];
       innovations_.push_back({stamp_ns, o.type, associated_nis[a], 2, result.accepted});
       if (result.accepted) {
@@ -361,6 +463,71 @@ void P3UpwardPipeline::ProcessFrame(const CameraInput& input) {
     detections_[o.detection].new_landmark = true;
     new_corners += o.type == LandmarkType::kCorner;
   }
+
+  // Door candidates not explained by a registered door: the particle filter and the open-door
+  // test (P3 section III-B); an open one becomes a landmark from its bearings and the filter's
+  // ranges (P3 eq. 17 inverted, ekf::DoorFromBearings).
+  if (verifier_) {
+    std::vector<UpwardDoorCandidate> unexplained;
+    std::vector<std::size_t> unexplained_index;
+    // Predicted bearings of the registered doors: a candidate sharing a column with one (a
+    // frame edge, a room's wall seen through it) is part of that door, not a new one.
+    std::vector<Eigen::Vector2d> registered;
+    for (const DoorLandmark& door : doors_) {
+      if (auto h = ekf::DoorBearings(updated, state_->Value(door.block), camera_xy)) {
+        registered.push_back(*h);
+      }
+    }
+    for (std::size_t i = 0; i < door_observations.size(); ++i) {
+      if (door_explained[i]) continue;
+      const Eigen::Vector2d& b = door_observations[i].bearings;
+      const auto near = [&](double x, double y) {
+        return std::abs(std::remainder(x - y, 2.0 * std::numbers::pi)) <=
+               options_.door_verifier.associate_rad;
+      };
+      if (std::any_of(registered.begin(), registered.end(), [&](const Eigen::Vector2d& h) {
+            return near(b(0), h(0)) || near(b(0), h(1)) || near(b(1), h(0)) || near(b(1), h(1));
+          })) {
+        continue;
+      }
+      unexplained.push_back(door_observations[i].candidate);
+      unexplained_index.push_back(i);
+    }
+    const std::vector<std::optional<DoorTrackReport>> reports =
+        verifier_->Process(unexplained, grey, pose);
+    for (std::size_t j = 0; j < reports.size(); ++j) {
+      if (!reports[j]) continue;
+      const DoorTrackReport& r = *reports[j];
+      const DoorObservation& o = door_observations[unexplained_index[j]];
+      Detection& d = detections_[o.detection];
+      if (r.state == DoorTrackState::kClosed) d.open = false;
+      if (r.state != DoorTrackState::kOpen || !r.decided_now) continue;
+      d.open = true;
+      const Eigen::Vector2d c = ekf::CameraXY(updated, camera_xy);
+      const Eigen::Vector4d z(o.bearings(0), o.bearings(1), (r.columns.head<2>() - c).norm(),
+                              (r.columns.tail<2>() - c).norm());
+      Eigen::Matrix<double, 4, 3> d_pose;
+      Eigen::Matrix<double, 4, 4> d_z;
+      ekf::Augmentation a;
+      a.value = ekf::DoorFromBearings(updated, z, camera_xy, &d_pose, &d_z);
+      a.blocks = {ekf::EkfState::robot()};
+      a.d_value_d_blocks = d_pose;
+      a.d_value_d_measurement = d_z;
+      const double sb = options_.door_sigma_rad * options_.door_sigma_rad;
+      const double sa = std::max(2.0 * r.range_sigma_m(0), 0.05);
+      const double sr = std::max(2.0 * r.range_sigma_m(1), 0.05);
+      a.measurement_noise = Eigen::Vector4d(sb, sb, sa * sa, sr * sr).asDiagonal();
+      DoorLandmark door;
+      door.id = next_landmark_id_++;
+      door.block = state_->Augment(a);
+      double height = 0.0;
+      for (const DoorParticle& p : r.particles) height += p(4);
+      door.top_height_m = r.particles.empty() ? 0.0 : height / double(r.particles.size());
+      doors_.push_back(door);
+      d.landmark_id = door.id;
+      d.new_landmark = true;
+    }
+  }
   clock_.Add("update", SecondsSince(t_update));
 }
 
@@ -386,6 +553,31 @@ std::vector<LandmarkEstimate> P3UpwardPipeline::Landmarks() const {
     // Converged once its height is known to a fifth (the inverse height's relative sigma).
     e.status = std::sqrt(cov(4, 4)) < 0.2 * v(4) ? LandmarkStatus::kConverged
                                                  : LandmarkStatus::kInitializing;
+    out.push_back(e);
+  }
+  for (const DoorLandmark& door : doors_) {
+    const Eigen::Vector4d v = state_->Value(door.block);
+    const Eigen::Matrix4d cov = state_->Covariance(door.block, door.block);
+    LandmarkEstimate e;
+    e.id = door.id;
+    e.type = LandmarkType::kDoor;
+    e.position_in_world =
+        Eigen::Vector3d(0.5 * (v(0) + v(2)), 0.5 * (v(1) + v(3)), door.top_height_m);
+    Eigen::Matrix<double, 2, 4> mid;
+    mid << 0.5, 0, 0.5, 0, 0, 0.5, 0, 0.5;
+    e.covariance.setZero();
+    e.covariance.topLeftCorner<2, 2>() = mid * cov * mid.transpose();
+    e.covariance(2, 2) = 1.0;  // the height is the particle filter's, not the EKF's
+    for (int c = 0; c < 2; ++c) {
+      LandmarkPoint p;
+      p.role = c == 0 ? "column_a" : "column_b";
+      p.position_in_world = Eigen::Vector3d(v(2 * c), v(2 * c + 1), door.top_height_m);
+      p.covariance.setZero();
+      p.covariance.topLeftCorner<2, 2>() = cov.block<2, 2>(2 * c, 2 * c);
+      p.covariance(2, 2) = 1.0;
+      e.points.push_back(p);
+    }
+    e.status = LandmarkStatus::kConverged;
     out.push_back(e);
   }
   return out;

@@ -28,8 +28,10 @@
 #include "slam/ekf/ekf_state.h"
 #include "slam/features/ceiling_lamps.h"
 #include "slam/features/corner_patches.h"
+#include "slam/features/upward_doors.h"
 #include "slam/filter_support.h"
 #include "slam/pipeline.h"
+#include "slam/upward_door_verifier.h"
 
 namespace corridorsim::slam {
 
@@ -38,6 +40,8 @@ struct P3UpwardOptions {
   double k_m = kDefaultWheelNoiseK_m;  // k of the wheel noise (P3 eq. 13's Q, as P1 eq. 17)
   bool use_corners = true;
   bool use_lamps = true;
+  bool use_doors = true;         // open doors as two-column landmarks (P3 section III, eq. 17)
+  double door_sigma_rad = 0.03;  // sigma of a column's bearing (P3 eq. 17's measurement)
   // P3 section V: landmark heights above the floor from min_height_m to max_height_m; the
   // inverse height above the camera is Gaussian with +-2 sigma spanning that range (heights
   // closer than min_above_camera_m to the camera's are not seen by an upward camera).
@@ -60,6 +64,8 @@ struct P3UpwardOptions {
   double min_match_fraction = 0.3;
   CornerPatchOptions corners;
   CeilingLampOptions lamps;
+  UpwardDoorOptions doors;             // the door candidates (slam/features/upward_doors.h)
+  DoorVerifierOptions door_verifier;  // their particle filter and test (upward_door_verifier.h)
   std::optional<OptionsProblem> Check() const;
 };
 const OptionTable<P3UpwardOptions>& P3UpwardOptionsTable();
@@ -98,6 +104,12 @@ class P3UpwardPipeline : public Pipeline {
     int matched = 0;           // frames it was matched
     int updates = 0;
   };
+  struct DoorLandmark {
+    int id = 0;
+    ekf::BlockId block;
+    double top_height_m = 0.0;  // the particle filter's height of the column tops
+    int updates = 0;
+  };
   struct Observation;  // one detection of a frame (the .cpp)
 
   void ProcessFrame(const CameraInput& input);
@@ -111,6 +123,8 @@ class P3UpwardPipeline : public Pipeline {
   TimeNs stamp_ns_ = 0;
   TimeNs last_frame_ns_ = -1;
   std::vector<PointLandmark> landmarks_;
+  std::vector<DoorLandmark> doors_;
+  std::optional<UpwardDoorVerifier> verifier_;
   int next_landmark_id_ = 0;
   std::vector<Detection> detections_;
   std::vector<Innovation> innovations_;

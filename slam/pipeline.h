@@ -125,6 +125,10 @@ struct Detection {
   PlateBox plate_box = PlateBox::kNumberRegion;      // plates: what box_px outlines
   std::string label;                                 // plates: recognised room number
   std::optional<bool> open;                          // doors: open (true) or closed
+  // Doors: the bearings of columns a and b from the camera centre in the robot frame (P3 eq. 17,
+  // rad); NaN when the detector does not give them.
+  Eigen::Vector2d column_bearings_rad =
+      Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN());
   // The detector's confidence, for precision-recall curves: plates the SVM margin s(x) (P1 eq.
   // 5), corners their Harris response, the vanishing point its line count; NaN when none.
   double score = std::numeric_limits<double>::quiet_NaN();

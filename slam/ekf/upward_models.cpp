@@ -1,6 +1,7 @@
 #include "slam/ekf/upward_models.h"
 
 #include <cmath>
+#include <numbers>
 
 namespace corridorsim::slam::ekf {
 namespace {
@@ -144,6 +145,70 @@ std::optional<InverseDepthPoint> InitInverseDepthPoint(
     (*d_landmark_d_measurement)(4, 2) = 1.0;
   }
   return l;
+}
+
+Eigen::Vector2d CameraXY(const SE2& pose, const Eigen::Vector2d& camera_xy,
+                         Eigen::Matrix<double, 2, 3>* d_xy_d_pose) {
+  const double c = std::cos(pose.yaw()), s = std::sin(pose.yaw());
+  const Eigen::Vector2d turned(c * camera_xy.x() - s * camera_xy.y(),
+                               s * camera_xy.x() + c * camera_xy.y());
+  if (d_xy_d_pose) {
+    *d_xy_d_pose << 1.0, 0.0, -turned.y(), 0.0, 1.0, turned.x();
+  }
+  return Eigen::Vector2d(pose.x(), pose.y()) + turned;
+}
+
+std::optional<Eigen::Vector2d> DoorBearings(const SE2& pose, const DoorColumns& door,
+                                            const Eigen::Vector2d& camera_xy,
+                                            Eigen::Matrix<double, 2, 3>* d_pose,
+                                            Eigen::Matrix<double, 2, 4>* d_door) {
+  Eigen::Matrix<double, 2, 3> d_c;
+  const Eigen::Vector2d c = CameraXY(pose, camera_xy, &d_c);
+  Eigen::Vector2d out;
+  if (d_pose) d_pose->setZero();
+  if (d_door) d_door->setZero();
+  for (int i = 0; i < 2; ++i) {
+    const double dx = door(2 * i) - c.x(), dy = door(2 * i + 1) - c.y();
+    const double q = dx * dx + dy * dy;
+    if (!(q > 1e-12)) return std::nullopt;
+    // P3 eq. 17.
+    out(i) = std::remainder(std::atan2(dy, dx) - pose.yaw(), 2.0 * std::numbers::pi);
+    const Eigen::RowVector2d d_c_row(dy / q, -dx / q);  // d theta / d C
+    if (d_pose) {
+      d_pose->row(i) = d_c_row * d_c;
+      (*d_pose)(i, 2) -= 1.0;
+    }
+    if (d_door) {
+      (*d_door)(i, 2 * i) = -dy / q;
+      (*d_door)(i, 2 * i + 1) = dx / q;
+    }
+  }
+  return out;
+}
+
+DoorColumns DoorFromBearings(const SE2& pose, const Eigen::Vector4d& z,
+                             const Eigen::Vector2d& camera_xy, Eigen::Matrix<double, 4, 3>* d_pose,
+                             Eigen::Matrix<double, 4, 4>* d_measurement) {
+  Eigen::Matrix<double, 2, 3> d_c;
+  const Eigen::Vector2d c = CameraXY(pose, camera_xy, &d_c);
+  DoorColumns door;
+  if (d_pose) d_pose->setZero();
+  if (d_measurement) d_measurement->setZero();
+  for (int i = 0; i < 2; ++i) {
+    const double angle = pose.yaw() + z(i), range = z(2 + i);
+    const Eigen::Vector2d u(std::cos(angle), std::sin(angle));
+    door.segment<2>(2 * i) = c + range * u;
+    const Eigen::Vector2d du(-u.y(), u.x());  // d u / d angle
+    if (d_pose) {
+      d_pose->block<2, 3>(2 * i, 0) = d_c;
+      d_pose->block<2, 1>(2 * i, 2) += range * du;
+    }
+    if (d_measurement) {
+      d_measurement->block<2, 1>(2 * i, i) = range * du;
+      d_measurement->block<2, 1>(2 * i, 2 + i) = u;
+    }
+  }
+  return door;
 }
 
 }  // namespace corridorsim::slam::ekf

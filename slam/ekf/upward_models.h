@@ -78,4 +78,29 @@ std::optional<InverseDepthPoint> InitInverseDepthPoint(
     Eigen::Matrix<double, 5, 3>* d_landmark_d_pose = nullptr,
     Eigen::Matrix<double, 5, 3>* d_landmark_d_measurement = nullptr);
 
+/// A door landmark (P3 eq. 11): its columns' positions (x_D1, y_D1, x_D2, y_D2) on the floor plan.
+using DoorColumns = Eigen::Vector4d;
+
+/// The camera centre's position on the floor plan for the robot pose `pose` and the mount's
+/// offset `camera_xy` (robot frame), with its Jacobian with respect to (x, y, yaw).
+Eigen::Vector2d CameraXY(const SE2& pose, const Eigen::Vector2d& camera_xy,
+                         Eigen::Matrix<double, 2, 3>* d_xy_d_pose = nullptr);
+
+/// P3 eq. 17: the bearings of the two columns from the camera centre in the robot frame,
+///   theta_Di = atan2(y_Di - y_C, x_Di - x_C) - theta_R  (wrapped to (-pi, pi]),
+/// with the camera centre C in place of the robot's origin (the mount's offset), and the
+/// Jacobians. nullopt when a column is at the camera centre.
+std::optional<Eigen::Vector2d> DoorBearings(const SE2& pose, const DoorColumns& door,
+                                            const Eigen::Vector2d& camera_xy,
+                                            Eigen::Matrix<double, 2, 3>* d_pose = nullptr,
+                                            Eigen::Matrix<double, 2, 4>* d_door = nullptr);
+
+/// The inverse of DoorBearings given each column's horizontal range from the camera centre:
+/// D_i = C + r_i (cos(theta_R + b_i), sin(theta_R + b_i)) for measurement (b_1, b_2, r_1, r_2),
+/// with the Jacobians (for the augmentation of a registered door).
+DoorColumns DoorFromBearings(const SE2& pose, const Eigen::Vector4d& bearings_and_ranges,
+                             const Eigen::Vector2d& camera_xy,
+                             Eigen::Matrix<double, 4, 3>* d_pose = nullptr,
+                             Eigen::Matrix<double, 4, 4>* d_measurement = nullptr);
+
 }  // namespace corridorsim::slam::ekf

@@ -135,5 +135,56 @@ TEST_CASE("upward model: no projection for rho <= 0 or a ray pointing down", "[e
   CHECK_FALSE(slam::ekf::InitInverseDepthPoint(SE2(), {0.0, 0.0}, 0.5, UpwardMount(), model, 0.1));
 }
 
+TEST_CASE("door model: P3 eq. 17 from the camera centre, its inverse and Jacobians",
+          "[ekf][upward][door]") {
+  const Eigen::Vector2d camera_xy(-0.05, 0.0);
+  const Eigen::Vector3d x0(1.0, 0.2, 0.3);
+  const SE2 pose(x0.x(), x0.y(), x0.z());
+  slam::ekf::DoorColumns door;
+  door << 2.0, 1.2, 3.0, 1.2;
+  Eigen::Matrix<double, 2, 3> d_pose;
+  Eigen::Matrix<double, 2, 4> d_door;
+  const std::optional<Eigen::Vector2d> b =
+      slam::ekf::DoorBearings(pose, door, camera_xy, &d_pose, &d_door);
+  REQUIRE(b);
+  // By hand: the camera sits 5 cm behind the robot's origin along its heading.
+  const Eigen::Vector2d c = Eigen::Vector2d(1.0, 0.2) - 0.05 * Eigen::Vector2d(std::cos(0.3),
+                                                                               std::sin(0.3));
+  CHECK((*b)(0) == Approx(std::atan2(1.2 - c.y(), 2.0 - c.x()) - 0.3).margin(1e-12));
+  CHECK((*b)(1) == Approx(std::atan2(1.2 - c.y(), 3.0 - c.x()) - 0.3).margin(1e-12));
+  test::CheckJacobian(d_pose, test::NumericalJacobian<2, 3>(
+                                  [&](const Eigen::Vector3d& x) {
+                                    return *slam::ekf::DoorBearings(SE2(x.x(), x.y(), x.z()),
+                                                                    door, camera_xy);
+                                  },
+                                  x0));
+  test::CheckJacobian(d_door, test::NumericalJacobian<2, 4>(
+                                  [&](const Eigen::Vector4d& d) {
+                                    return *slam::ekf::DoorBearings(pose, d, camera_xy);
+                                  },
+                                  door));
+  // The inverse: bearings and ranges give the door back.
+  const Eigen::Vector4d z((*b)(0), (*b)(1), (door.head<2>() - c).norm(),
+                          (door.tail<2>() - c).norm());
+  Eigen::Matrix<double, 4, 3> a_pose;
+  Eigen::Matrix<double, 4, 4> a_z;
+  CHECK((slam::ekf::DoorFromBearings(pose, z, camera_xy, &a_pose, &a_z) - door).norm() < 1e-12);
+  test::CheckJacobian(a_pose, test::NumericalJacobian<4, 3>(
+                                  [&](const Eigen::Vector3d& x) {
+                                    return slam::ekf::DoorFromBearings(SE2(x.x(), x.y(), x.z()), z,
+                                                                       camera_xy);
+                                  },
+                                  x0));
+  test::CheckJacobian(a_z, test::NumericalJacobian<4, 4>(
+                               [&](const Eigen::Vector4d& m) {
+                                 return slam::ekf::DoorFromBearings(pose, m, camera_xy);
+                               },
+                               z));
+  // A column on the camera centre has no bearing.
+  slam::ekf::DoorColumns at_camera = door;
+  at_camera.head<2>() = c;
+  CHECK_FALSE(slam::ekf::DoorBearings(pose, at_camera, camera_xy));
+}
+
 }  // namespace
 }  // namespace corridorsim

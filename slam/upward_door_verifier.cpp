@@ -1,0 +1,493 @@
+#include "slam/upward_door_verifier.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include <opencv2/imgproc.hpp>
+
+namespace corridorsim::slam {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+double Wrap(double angle) { return std::remainder(angle, 2.0 * kPi); }
+
+// The sensor model's factor for an error (P3 Fig. 8d: Gaussian; P2: triangular).
+double Likelihood(DoorSensorModel model, double error, double scale) {
+  const double e = error / scale;
+  if (model == DoorSensorModel::kGaussian) return std::exp(-0.5 * e * e);
+  return std::max(0.0, 1.0 - std::abs(e));
+}
+
+// Mean over `from` of the distance to the nearest point of `to` (P3 eq. 9's h_mod), by the
+// distance transform of `to` drawn in an image of `size`.
+double ModifiedHausdorff(const std::vector<Eigen::Vector2d>& from,
+                         const std::vector<Eigen::Vector2d>& to, const cv::Size& size) {
+  cv::Mat image(size, CV_8UC1, cv::Scalar(255));
+  for (const Eigen::Vector2d& p : to) {
+    const int u = int(std::lround(p.x())), v = int(std::lround(p.y()));
+    if (u >= 0 && v >= 0 && u < size.width && v < size.height) image.at<std::uint8_t>(v, u) = 0;
+  }
+  cv::Mat distance;
+  cv::distanceTransform(image, distance, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+  double sum = 0.0;
+  for (const Eigen::Vector2d& p : from) {
+    const int u = std::clamp(int(std::lround(p.x())), 0, size.width - 1);
+    const int v = std::clamp(int(std::lround(p.y())), 0, size.height - 1);
+    sum += distance.at<float>(v, u);
+  }
+  return from.empty() ? 0.0 : sum / double(from.size());
+}
+
+}  // namespace
+
+struct UpwardDoorVerifier::Sighting {
+  Eigen::Vector3d ray_a, ray_b;  // unit rays to the column tops, world frame
+  double bearing_a = 0.0, bearing_b = 0.0;  // world bearings from the camera centre
+  double elevation_a = 0.0, elevation_b = 0.0;
+};
+
+const OptionTable<DoorVerifierOptions>& DoorVerifierOptionsTable() {
+  using O = DoorVerifierOptions;
+  return StaticOptionTable<O>([](OptionTable<O>& t) {
+    t.Add("particles", &O::particles, "", "samples per door candidate (P3: 200)").Range(10, 10000);
+    t.AddEnum("sensor_model", &O::sensor_model,
+              {{"gaussian", DoorSensorModel::kGaussian},
+               {"triangular", DoorSensorModel::kTriangular}},
+              "the particle filter's sensor model: gaussian (P3) or triangular (P2)");
+    t.Add("bearing_error_rad", &O::bearing_error_rad, "rad",
+          "theta error of a column's bearing: sigma, or the triangle's half-width")
+        .Greater(0)
+        .Range(0, 1);
+    t.Add("elevation_error_rad", &O::elevation_error_rad, "rad",
+          "alpha, beta errors of a column top's elevation")
+        .Greater(0)
+        .Range(0, 1);
+    t.Add("min_top_height_m", &O::min_top_height_m, "m", "lowest column top of the prior")
+        .Range(0, 100);
+    t.Add("max_top_height_m", &O::max_top_height_m, "m", "highest column top of the prior")
+        .Range(0, 100)
+        .Note("> min_top_height_m");
+    t.Add("min_door_top_m", &O::min_door_top_m, "m",
+          "a converged candidate whose tops are lower is not a door")
+        .Range(0, 100);
+    t.Add("max_door_top_m", &O::max_door_top_m, "m", "nor one whose tops are higher")
+        .Range(0, 100)
+        .Note(">= min_door_top_m");
+    t.Add("min_door_width_m", &O::min_door_width_m, "m",
+          "a converged candidate whose columns are closer is not a door")
+        .Range(0, 100);
+    t.Add("max_door_width_m", &O::max_door_width_m, "m", "nor one whose columns are farther apart")
+        .Range(0, 100)
+        .Note(">= min_door_width_m");
+    t.Add("max_range_m", &O::max_range_m, "m", "columns drawn at most this far from the camera")
+        .Greater(0)
+        .Range(0, 1000);
+    t.Add("roughening_m", &O::roughening_m, "m", "jitter of the samples after resampling")
+        .Range(0, 10);
+    t.Add("associate_rad", &O::associate_rad, "rad",
+          "a candidate continues a track when both columns lie within this of it")
+        .Greater(0)
+        .Range(0, 3.2);
+    t.Add("converged_sigma_m", &O::converged_sigma_m, "m",
+          "columns known to this (samples' standard deviation) are verified")
+        .Greater(0)
+        .Range(0, 100);
+    t.Add("verify_baseline_m", &O::verify_baseline_m, "m",
+          "camera travel between the plane's edge points and their comparison")
+        .Greater(0)
+        .Range(0, 100);
+    t.Add("mhd_threshold_px", &O::mhd_threshold_px, "px",
+          "Hausdorff distance of the prediction above which a candidate is open (P3 eq. 9)")
+        .Greater(0)
+        .Range(0, 10000);
+    t.Add("opening_margin", &O::opening_margin, "",
+          "fraction of the opening left out at each side (the frame's own edges)")
+        .Range(0, 0.45);
+    t.Add("min_edge_points", &O::min_edge_points, "", "fewer edge points: no decision yet")
+        .Range(1, 100000);
+    t.Add("max_edge_points", &O::max_edge_points, "", "edge points kept on the plane at most")
+        .Range(1, 1000000);
+    t.Add("canny_low", &O::canny_low, "grey levels/px", "Canny's lower threshold").Range(0, 5000);
+    t.Add("canny_high", &O::canny_high, "grey levels/px", "Canny's upper threshold")
+        .Range(0, 5000)
+        .Note(">= canny_low");
+    t.Add("forget_after_frames", &O::forget_after_frames, "",
+          "a track not seen for this many frames is dropped")
+        .Range(1, 100000);
+    t.Add("max_tracks", &O::max_tracks, "", "candidates followed at once at most")
+        .Range(1, 1000);
+    t.Add("seed", &O::seed, "", "seed of the samples");
+  });
+}
+
+std::optional<OptionsProblem> DoorVerifierOptions::Check() const {
+  if (auto p = CheckOptionBounds(DoorVerifierOptionsTable(), *this)) return p;
+  if (!(max_top_height_m > min_top_height_m)) {
+    return OptionsProblem{"max_top_height_m", "must be above min_top_height_m"};
+  }
+  if (canny_high < canny_low) return OptionsProblem{"canny_high", "must be at least canny_low"};
+  if (max_door_top_m < min_door_top_m) {
+    return OptionsProblem{"max_door_top_m", "must be at least min_door_top_m"};
+  }
+  if (max_door_width_m < min_door_width_m) {
+    return OptionsProblem{"max_door_width_m", "must be at least min_door_width_m"};
+  }
+  return std::nullopt;
+}
+
+std::optional<ColumnSighting> SightColumnTop(const Eigen::Vector2d& pixel, const CameraModel& model,
+                                             const SE3& robot_from_camera) {
+  const Eigen::Vector3d ray = robot_from_camera.rotation() * model.Unproject(pixel);
+  const double horizontal = std::hypot(ray.x(), ray.y());
+  if (!(ray.z() > 0.0) || !(horizontal > 1e-9)) return std::nullopt;
+  return ColumnSighting{std::atan2(ray.y(), ray.x()), std::atan2(ray.z(), horizontal)};
+}
+
+UpwardDoorVerifier::UpwardDoorVerifier(const DoorVerifierOptions& options,
+                                       const CameraModel& model, const SE3& robot_from_camera)
+    : options_(options),
+      model_(model),
+      robot_from_camera_(robot_from_camera),
+      random_(options.seed, 0, "slam.upward_doors") {
+  CheckOrDie(!options.Check(), "slam::UpwardDoorVerifier", "the options fail their Check()");
+}
+
+bool UpwardDoorVerifier::Initialise(Track* track, const Sighting& s,
+                                    const SE3& world_from_camera) {
+  const Eigen::Vector3d c = world_from_camera.translation();
+  // Tops between the prior's heights, and no farther than max_range_m.
+  const double lo = std::max(options_.min_top_height_m, c.z() + 0.05);
+  double hi = options_.max_top_height_m;
+  for (const Eigen::Vector3d& ray : {s.ray_a, s.ray_b}) {
+    const double horizontal = std::hypot(ray.x(), ray.y());
+    if (horizontal > 1e-9) hi = std::min(hi, c.z() + options_.max_range_m * ray.z() / horizontal);
+  }
+  if (!(hi > lo)) return false;
+  const int n = options_.particles;
+  track->particles.resize(std::size_t(n));
+  track->weights.assign(std::size_t(n), 1.0 / n);
+  for (DoorParticle& p : track->particles) {
+    const double h = random_.Uniform(lo, hi);
+    const std::array<Eigen::Vector3d, 2> rays{s.ray_a, s.ray_b};
+    for (int i = 0; i < 2; ++i) {
+      // The ray turned by a bearing error about the vertical, cut at the height h.
+      const double turn = random_.Normal(0.0, options_.bearing_error_rad);
+      const double ct = std::cos(turn), st = std::sin(turn);
+      const Eigen::Vector3d& r = rays[std::size_t(i)];
+      const Eigen::Vector3d turned(ct * r.x() - st * r.y(), st * r.x() + ct * r.y(), r.z());
+      const double t = (h - c.z()) / turned.z();
+      p(2 * i) = c.x() + t * turned.x();
+      p(2 * i + 1) = c.y() + t * turned.y();
+    }
+    p(4) = h;
+  }
+  return true;
+}
+
+void UpwardDoorVerifier::Weigh(Track* track, const Sighting& s, const SE3& world_from_camera) {
+  const Eigen::Vector3d c = world_from_camera.translation();
+  const std::size_t n = track->particles.size();
+  double total = 0.0;
+  for (std::size_t k = 0; k < n; ++k) {
+    const DoorParticle& p = track->particles[k];
+    double w = track->weights[k];
+    const double bearings[2] = {s.bearing_a, s.bearing_b};
+    const double elevations[2] = {s.elevation_a, s.elevation_b};
+    for (int i = 0; i < 2; ++i) {
+      const double dx = p(2 * i) - c.x(), dy = p(2 * i + 1) - c.y();
+      const double bearing = std::atan2(dy, dx);
+      const double elevation = std::atan2(p(4) - c.z(), std::hypot(dx, dy));
+      w *= Likelihood(options_.sensor_model, Wrap(bearing - bearings[i]),
+                      options_.bearing_error_rad);
+      w *= Likelihood(options_.sensor_model, elevation - elevations[i],
+                      options_.elevation_error_rad);
+    }
+    track->weights[k] = w;
+    total += w;
+  }
+  if (!(total > 1e-300)) {
+    // No sample explains the sighting (a triangular model's zero, or a jump): start again from it.
+    Initialise(track, s, world_from_camera);
+    return;
+  }
+  double sum_sq = 0.0;
+  for (double& w : track->weights) {
+    w /= total;
+    sum_sq += w * w;
+  }
+  if (1.0 / sum_sq >= 0.5 * double(n)) return;
+  // Systematic resampling, then roughening.
+  std::vector<DoorParticle> resampled(n);
+  const double step = 1.0 / double(n);
+  double u = random_.Uniform(0.0, step), cumulative = track->weights[0];
+  std::size_t j = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    while (u > cumulative && j + 1 < n) cumulative += track->weights[++j];
+    resampled[k] = track->particles[j];
+    for (int d = 0; d < 5; ++d) resampled[k](d) += random_.Normal(0.0, options_.roughening_m);
+    u += step;
+  }
+  track->particles = std::move(resampled);
+  track->weights.assign(n, step);
+}
+
+DoorTrackReport UpwardDoorVerifier::Report(const Track& track) const {
+  DoorTrackReport r;
+  r.track_id = track.id;
+  r.state = track.state;
+  r.hausdorff_px = track.hausdorff_px;
+  Eigen::Vector4d mean = Eigen::Vector4d::Zero();
+  for (std::size_t k = 0; k < track.particles.size(); ++k) {
+    mean += track.weights[k] * track.particles[k].head<4>();
+  }
+  Eigen::Matrix4d cov = Eigen::Matrix4d::Zero();
+  for (std::size_t k = 0; k < track.particles.size(); ++k) {
+    const Eigen::Vector4d d = track.particles[k].head<4>() - mean;
+    cov += track.weights[k] * d * d.transpose();
+  }
+  r.columns = mean;
+  r.covariance = cov;
+  return r;
+}
+
+void UpwardDoorVerifier::EdgesInOpening(const cv::Mat& edges, const SE3& world_from_camera,
+                                        const Eigen::Vector4d& columns, double height,
+                                        std::vector<Eigen::Vector2d>* pixels,
+                                        std::vector<Eigen::Vector3d>* points) const {
+  pixels->clear();
+  points->clear();
+  const Eigen::Vector3d c = world_from_camera.translation();
+  const Eigen::Vector2d d1 = columns.head<2>(), d2 = columns.tail<2>();
+  const Eigen::Vector2d along = d2 - d1;
+  const double width = along.norm();
+  if (!(width > 1e-3) || !(height > 0.0)) return;
+  // P3 eq. 5: the plane's normal, the columns' direction turned by 90 degrees.
+  const Eigen::Vector2d normal(-along.y() / width, along.x() / width);
+  const double m = options_.opening_margin;
+  // The opening's image: the bounding box of its outline's points that project.
+  const Eigen::Matrix3d camera_from_world = world_from_camera.rotation().transpose();
+  double min_u = edges.cols, min_v = edges.rows, max_u = -1, max_v = -1;
+  for (int i = 0; i <= 10; ++i) {
+    for (int j = 0; j <= 10; ++j) {
+      const double s = m + (1.0 - 2.0 * m) * i / 10.0, z = height * (1.0 - m) * j / 10.0;
+      const Eigen::Vector2d xy = d1 + s * along;
+      const std::optional<Eigen::Vector2d> px =
+          model_.Project(camera_from_world * (Eigen::Vector3d(xy.x(), xy.y(), z) - c));
+      if (!px) continue;
+      min_u = std::min(min_u, px->x());
+      min_v = std::min(min_v, px->y());
+      max_u = std::max(max_u, px->x());
+      max_v = std::max(max_v, px->y());
+    }
+  }
+  const int u0 = std::max(0, int(std::floor(min_u))), v0 = std::max(0, int(std::floor(min_v)));
+  const int u1 = std::min(edges.cols - 1, int(std::ceil(max_u)));
+  const int v1 = std::min(edges.rows - 1, int(std::ceil(max_v)));
+  const Eigen::Matrix3d world_from_camera_r = world_from_camera.rotation();
+  for (int v = v0; v <= v1; ++v) {
+    const std::uint8_t* row = edges.ptr<std::uint8_t>(v);
+    for (int u = u0; u <= u1; ++u) {
+      if (!row[u]) continue;
+      const Eigen::Vector2d px(u, v);
+      const Eigen::Vector3d ray = world_from_camera_r * model_.Unproject(px);
+      // P3 eq. 8: t = -(n . (c - D1)) / (n . d).
+      const double denominator = normal.x() * ray.x() + normal.y() * ray.y();
+      if (std::abs(denominator) < 1e-9) continue;
+      const double t =
+          -(normal.x() * (c.x() - d1.x()) + normal.y() * (c.y() - d1.y())) / denominator;
+      if (!(t > 0.0)) continue;
+      const Eigen::Vector3d p = c + t * ray;
+      const double s = (p.head<2>() - d1).dot(along) / (width * width);
+      if (s < m || s > 1.0 - m || p.z() < 0.0 || p.z() > height * (1.0 - m)) continue;
+      pixels->push_back(px);
+      points->push_back(p);
+    }
+  }
+}
+
+std::vector<std::optional<DoorTrackReport>> UpwardDoorVerifier::Process(
+    const std::vector<UpwardDoorCandidate>& candidates, const cv::Mat& grey, const SE2& pose) {
+  ++frame_;
+  const SE3 world_from_camera = SE3::FromSE2(pose) * robot_from_camera_;
+  const Eigen::Vector3d c = world_from_camera.translation();
+  std::vector<std::optional<DoorTrackReport>> out(candidates.size());
+
+  // Each candidate's sighting: rays to its column tops in the world.
+  std::vector<std::optional<Sighting>> sightings(candidates.size());
+  for (std::size_t i = 0; i < candidates.size(); ++i) {
+    const std::optional<ColumnSighting> a =
+        SightColumnTop(candidates[i].top_a_px, model_, robot_from_camera_);
+    const std::optional<ColumnSighting> b =
+        SightColumnTop(candidates[i].top_b_px, model_, robot_from_camera_);
+    if (!a || !b) continue;
+    Sighting s;
+    s.ray_a = world_from_camera.rotation() * model_.Unproject(candidates[i].top_a_px);
+    s.ray_b = world_from_camera.rotation() * model_.Unproject(candidates[i].top_b_px);
+    s.bearing_a = Wrap(a->bearing_rad + pose.yaw());
+    s.bearing_b = Wrap(b->bearing_rad + pose.yaw());
+    s.elevation_a = a->elevation_rad;
+    s.elevation_b = b->elevation_rad;
+    sightings[i] = s;
+  }
+
+  // Association: each candidate to the track whose mean columns it sees within associate_rad,
+  // nearest first; each track at most once.
+  struct Pair {
+    double error;
+    std::size_t candidate, track;
+  };
+  std::vector<Pair> pairs;
+  for (std::size_t t = 0; t < tracks_.size(); ++t) {
+    const Eigen::Vector4d mean = Report(tracks_[t]).columns;
+    const double pa = std::atan2(mean(1) - c.y(), mean(0) - c.x());
+    const double pb = std::atan2(mean(3) - c.y(), mean(2) - c.x());
+    for (std::size_t i = 0; i < candidates.size(); ++i) {
+      if (!sightings[i]) continue;
+      const double e = std::max(std::abs(Wrap(sightings[i]->bearing_a - pa)),
+                                std::abs(Wrap(sightings[i]->bearing_b - pb)));
+      if (e <= options_.associate_rad) pairs.push_back({e, i, t});
+    }
+  }
+  std::sort(pairs.begin(), pairs.end(), [](const Pair& x, const Pair& y) {
+    return x.error < y.error || (x.error == y.error && (x.candidate < y.candidate ||
+                                                        (x.candidate == y.candidate &&
+                                                         x.track < y.track)));
+  });
+  std::vector<int> track_of(candidates.size(), -1);
+  std::vector<bool> track_taken(tracks_.size(), false);
+  for (const Pair& p : pairs) {
+    if (track_of[p.candidate] >= 0 || track_taken[p.track]) continue;
+    track_of[p.candidate] = int(p.track);
+    track_taken[p.track] = true;
+  }
+
+  cv::Mat edges;
+  const auto edge_image = [&]() -> const cv::Mat& {
+    if (edges.empty()) cv::Canny(grey, edges, options_.canny_low, options_.canny_high, 3, true);
+    return edges;
+  };
+
+  for (std::size_t i = 0; i < candidates.size(); ++i) {
+    if (!sightings[i]) continue;
+    const Sighting& s = *sightings[i];
+    if (track_of[i] < 0) {
+      // A candidate close to a track taken by a better one is a duplicate: not followed.
+      bool duplicate = false;
+      for (std::size_t t = 0; t < tracks_.size() && !duplicate; ++t) {
+        const Eigen::Vector4d mean = Report(tracks_[t]).columns;
+        const double pa = std::atan2(mean(1) - c.y(), mean(0) - c.x());
+        const double pb = std::atan2(mean(3) - c.y(), mean(2) - c.x());
+        duplicate = std::min(std::abs(Wrap(s.bearing_a - pa)), std::abs(Wrap(s.bearing_b - pb))) <=
+                    options_.associate_rad;
+      }
+      if (duplicate || tracks_.size() >= std::size_t(options_.max_tracks)) continue;
+      Track track;
+      track.id = next_id_;
+      if (!Initialise(&track, s, world_from_camera)) continue;
+      ++next_id_;
+      track.last_frame = frame_;
+      track.hausdorff_px = std::numeric_limits<double>::quiet_NaN();
+      tracks_.push_back(std::move(track));
+      track_taken.push_back(true);
+      track_of[i] = int(tracks_.size() - 1);
+      out[i] = Report(tracks_.back());
+      continue;
+    }
+    Track& track = tracks_[std::size_t(track_of[i])];
+    track.last_frame = frame_;
+    if (track.state == DoorTrackState::kClosed) {
+      out[i] = Report(track);
+      continue;
+    }
+    Weigh(&track, s, world_from_camera);
+    DoorTrackReport report = Report(track);
+    if (track.state == DoorTrackState::kEstimating) {
+      const double spread = std::sqrt(report.covariance.diagonal().maxCoeff());
+      if (spread < options_.converged_sigma_m) {
+        // The closed-door assumption (P3 Fig. 7): the opening's edge points on the plane.
+        double height = 0.0;
+        for (std::size_t k = 0; k < track.particles.size(); ++k) {
+          height += track.weights[k] * track.particles[k](4);
+        }
+        const double width = (report.columns.head<2>() - report.columns.tail<2>()).norm();
+        if (height < options_.min_door_top_m || height > options_.max_door_top_m ||
+            width < options_.min_door_width_m || width > options_.max_door_width_m) {
+          // Not a door's size (a cabinet, a poster, columns of two different things).
+          track.state = DoorTrackState::kClosed;
+          report.state = track.state;
+          report.decided_now = true;
+          out[i] = std::move(report);
+          continue;
+        }
+        std::vector<Eigen::Vector2d> pixels;
+        std::vector<Eigen::Vector3d> points;
+        EdgesInOpening(edge_image(), world_from_camera, report.columns, height, &pixels, &points);
+        if (int(points.size()) >= options_.min_edge_points) {
+          const std::size_t stride =
+              (points.size() + std::size_t(options_.max_edge_points) - 1) /
+              std::size_t(options_.max_edge_points);
+          for (std::size_t k = 0; k < points.size(); k += stride) {
+            track.plane_points.push_back(points[k]);
+          }
+          track.plane_camera_xy = c.head<2>();
+          track.plane_columns = report.columns;
+          track.plane_height = height;
+          track.state = DoorTrackState::kVerifying;
+        }
+      }
+    } else if (track.state == DoorTrackState::kVerifying &&
+               (c.head<2>() - track.plane_camera_xy).norm() >= options_.verify_baseline_m) {
+      // P3 eq. 9 between the prediction A and the new observation B.
+      const Eigen::Matrix3d camera_from_world = world_from_camera.rotation().transpose();
+      std::vector<Eigen::Vector2d> predicted;
+      for (const Eigen::Vector3d& p : track.plane_points) {
+        const std::optional<Eigen::Vector2d> px = model_.Project(camera_from_world * (p - c));
+        if (px && model_.IsInImage(*px)) predicted.push_back(*px);
+      }
+      std::vector<Eigen::Vector2d> observed;
+      std::vector<Eigen::Vector3d> unused;
+      EdgesInOpening(edge_image(), world_from_camera, track.plane_columns, track.plane_height,
+                     &observed, &unused);
+      if (int(predicted.size()) >= options_.min_edge_points &&
+          int(observed.size()) >= options_.min_edge_points) {
+        const cv::Size size(grey.cols, grey.rows);
+        track.hausdorff_px = std::max(ModifiedHausdorff(predicted, observed, size),
+                                      ModifiedHausdorff(observed, predicted, size));
+        track.state = track.hausdorff_px > options_.mhd_threshold_px ? DoorTrackState::kOpen
+                                                                     : DoorTrackState::kClosed;
+        report = Report(track);
+        report.decided_now = true;
+        report.particles = track.particles;
+      }
+    }
+    report.state = track.state;
+    report.hausdorff_px = track.hausdorff_px;
+    // Each column's range from the camera: its spread over the samples.
+    for (int col = 0; col < 2; ++col) {
+      double mean = 0.0, sq = 0.0, w = 0.0;
+      for (std::size_t k = 0; k < track.particles.size(); ++k) {
+        const double r = (track.particles[k].segment<2>(2 * col) - c.head<2>()).norm();
+        mean += track.weights[k] * r;
+        sq += track.weights[k] * r * r;
+        w += track.weights[k];
+      }
+      mean /= w;
+      report.range_sigma_m(col) = std::sqrt(std::max(0.0, sq / w - mean * mean));
+    }
+    out[i] = std::move(report);
+  }
+
+  // Open tracks leave (the SLAM holds them now); tracks unseen for long are forgotten.
+  tracks_.erase(std::remove_if(tracks_.begin(), tracks_.end(),
+                               [&](const Track& t) {
+                                 return t.state == DoorTrackState::kOpen ||
+                                        frame_ - t.last_frame >= options_.forget_after_frames;
+                               }),
+                tracks_.end());
+  return out;
+}
+
+}  // namespace corridorsim::slam

@@ -1,0 +1,153 @@
+#pragma once
+// P3 section III-B (P2 section 4): door candidates of the upward camera followed over frames,
+// their column positions estimated by a particle filter, and each verified as open or closed.
+//
+// Particle filter (P3 Fig. 8-9). A candidate is stationary: no motion model, only the sensor
+// model's weights. Each of `particles` samples (P3: 200) is a door hypothesis
+// (x_D1, y_D1, x_D2, y_D2, h): the columns on the floor plan and the height h of their tops.
+// At the first sighting the samples are drawn along the rays to the two column tops over the
+// height prior (top heights from min_top_height_m to max_top_height_m, ranges below
+// max_range_m), with a common h. Each later sighting weighs them by the errors of the columns'
+// bearings (theta error, P3 Fig. 8a) and of the tops' elevations (alpha, beta errors, Fig. 8c):
+// Gaussian (P3) or triangular (P2, zero beyond the maximal error). They are resampled
+// (systematic) when the effective sample size falls below half, then roughened.
+//
+// Verification (P3 Fig. 7, eqs. 5-9). Once the columns are known to converged_sigma_m, the
+// candidate is assumed closed: a vertical plane through the two columns (eqs. 5-6) holds
+// everything seen inside it. The Canny edge points inside the opening are projected onto that
+// plane along their rays (eqs. 7-8, through the calibrated lens instead of the pinhole's
+// (u, v, f)). After the camera has moved verify_baseline_m, the points are projected into the
+// new image (the prediction A) and compared with the edge points now seen inside the opening
+// (B) by the Hausdorff distance built of modified Hausdorff distances (eq. 9),
+//   H(A, B) = max(h_mod(A, B), h_mod(B, A)),  h_mod(A, B) = mean over a of min over b |a - b|.
+// A closed door (a leaf, a cabinet, a bookshelf, a wall) matches its prediction; through an open
+// door the room beyond moves with parallax: H above mhd_threshold_px is an open door.
+//
+// Deterministic: the samples come from a RandomStream seeded by `seed`.
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+
+#include "common/camera_models.h"
+#include "common/error.h"
+#include "common/options_table.h"
+#include "common/pose.h"
+#include "common/random.h"
+#include "slam/features/upward_doors.h"
+
+namespace corridorsim::slam {
+
+enum class DoorSensorModel { kGaussian, kTriangular };
+
+struct DoorVerifierOptions {
+  int particles = 200;  // P3
+  DoorSensorModel sensor_model = DoorSensorModel::kGaussian;
+  double bearing_error_rad = 0.03;    // theta error: sigma (Gaussian) or half-width (triangular)
+  double elevation_error_rad = 0.06;  // alpha, beta errors of the tops' elevation
+  double min_top_height_m = 1.0;      // height prior of the columns' tops
+  double max_top_height_m = 5.0;
+  // What a door is (beyond P3, against furniture and mixed pairs of columns): standard doors
+  // are 2.0-2.1 m high and 0.7-1.1 m wide in the clear; a converged candidate outside these
+  // bounds is rejected as not a door.
+  double min_door_top_m = 1.8;
+  double max_door_top_m = 2.4;
+  double min_door_width_m = 0.6;
+  double max_door_width_m = 1.4;
+  double max_range_m = 8.0;           // columns farther from the camera are not drawn
+  double roughening_m = 0.01;         // jitter after resampling
+  double associate_rad = 0.08;        // a candidate continues a track within this of its columns
+  double converged_sigma_m = 0.05;    // column positions known to this: verify
+  double verify_baseline_m = 0.3;     // camera travel between the plane's points and the test
+  double mhd_threshold_px = 5.0;      // H(A, B) above it: open (P3 eq. 9's threshold)
+  double opening_margin = 0.15;       // of the opening left out at each side (the frame's edges)
+  int min_edge_points = 30;           // fewer in A or B: no decision in this frame
+  int max_edge_points = 3000;         // points kept on the plane at most
+  double canny_low = 50.0;
+  double canny_high = 150.0;
+  int forget_after_frames = 15;  // a track not seen for this many frames is dropped
+  int max_tracks = 12;
+  std::uint64_t seed = 0;
+  std::optional<OptionsProblem> Check() const;
+};
+const OptionTable<DoorVerifierOptions>& DoorVerifierOptionsTable();
+
+enum class DoorTrackState { kEstimating, kVerifying, kOpen, kClosed };
+
+/// A door hypothesis of the particle filter: (x_D1, y_D1, x_D2, y_D2, h).
+using DoorParticle = Eigen::Matrix<double, 5, 1>;
+
+/// One candidate of a frame as its track stands after the frame.
+struct DoorTrackReport {
+  int track_id = 0;
+  DoorTrackState state = DoorTrackState::kEstimating;
+  bool decided_now = false;  // open or closed was decided in this frame
+  Eigen::Vector4d columns = Eigen::Vector4d::Zero();  // the particles' weighted mean
+  Eigen::Matrix4d covariance = Eigen::Matrix4d::Identity();
+  Eigen::Vector2d range_sigma_m = Eigen::Vector2d::Zero();  // of each column from the camera
+  double hausdorff_px = 0.0;  // H(A, B) of the decision (NaN before)
+  std::vector<DoorParticle> particles;  // the cloud at the decision (decided_now only)
+};
+
+/// The robot-frame bearing (from the camera centre) of a pixel's ray and its elevation above
+/// the camera's horizontal plane; nullopt for a ray pointing down.
+struct ColumnSighting {
+  double bearing_rad = 0.0;
+  double elevation_rad = 0.0;
+};
+std::optional<ColumnSighting> SightColumnTop(const Eigen::Vector2d& pixel, const CameraModel& model,
+                                             const SE3& robot_from_camera);
+
+class UpwardDoorVerifier {
+ public:
+  UpwardDoorVerifier(const DoorVerifierOptions& options, const CameraModel& model,
+                     const SE3& robot_from_camera);
+
+  /// One frame: the detector's candidates still unexplained (not matched to a registered door),
+  /// the grey image, the robot pose estimate. A report per candidate, or nullopt for one not
+  /// tracked (no sighting, or max_tracks reached). A track reports kOpen once, decided_now, and
+  /// is then dropped (the SLAM holds it as a landmark from there).
+  std::vector<std::optional<DoorTrackReport>> Process(
+      const std::vector<UpwardDoorCandidate>& candidates, const cv::Mat& grey, const SE2& pose);
+
+  int tracks() const { return int(tracks_.size()); }
+
+ private:
+  struct Track {
+    int id = 0;
+    DoorTrackState state = DoorTrackState::kEstimating;
+    std::vector<DoorParticle> particles;
+    std::vector<double> weights;
+    int last_frame = 0;
+    // The plane's edge points (world) and the camera position they were seen from.
+    std::vector<Eigen::Vector3d> plane_points;
+    Eigen::Vector2d plane_camera_xy = Eigen::Vector2d::Zero();
+    Eigen::Vector4d plane_columns = Eigen::Vector4d::Zero();
+    double plane_height = 0.0;
+    double hausdorff_px = 0.0;
+  };
+  struct Sighting;
+
+  bool Initialise(Track* track, const Sighting& s, const SE3& world_from_camera);
+  void Weigh(Track* track, const Sighting& s, const SE3& world_from_camera);
+  DoorTrackReport Report(const Track& track) const;
+  // Edge pixels whose rays meet the plane of (columns, height) inside the opening; with their
+  // points on the plane.
+  void EdgesInOpening(const cv::Mat& edges, const SE3& world_from_camera,
+                      const Eigen::Vector4d& columns, double height,
+                      std::vector<Eigen::Vector2d>* pixels,
+                      std::vector<Eigen::Vector3d>* points) const;
+
+  DoorVerifierOptions options_;
+  CameraModel model_;
+  SE3 robot_from_camera_;
+  RandomStream random_;
+  std::vector<Track> tracks_;
+  int next_id_ = 0;
+  int frame_ = 0;
+};
+
+}  // namespace corridorsim::slam
