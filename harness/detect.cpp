@@ -24,10 +24,10 @@
 #include "harness/frame_io.h"
 #include "render/camera_rig.h"
 #include "slam/features/ceiling_lamps.h"
-#include "slam/features/upward_doors.h"
 #include "slam/features/door_plates.h"
 #include "slam/features/harris_corners.h"
 #include "slam/features/image_conversion.h"
+#include "slam/features/upward_doors.h"
 #include "slam/features/vanishing_point.h"
 #include "worlds/image_io.h"
 
@@ -429,12 +429,15 @@ nlohmann::ordered_json UpwardDoorsSection(const DetectInput& input, Image8* over
   if (overlay) {
     cv::Mat view = slam::MatView(*overlay);
     for (const slam::UpwardLine& l : found.lines) {
-      if (l.vertical) cv::line(view, At(l.a_px), At(l.b_px), cv::Scalar(230, 0, 0), 1, cv::LINE_AA, 4);
+      if (l.vertical)
+        cv::line(view, At(l.a_px), At(l.b_px), cv::Scalar(230, 0, 0), 1, cv::LINE_AA, 4);
     }
     for (const slam::UpwardDoorCandidate& c : found.candidates) {
       cv::line(view, At(c.top_a_px), At(c.top_b_px), cv::Scalar(255, 160, 0), 2, cv::LINE_AA, 4);
-      cv::line(view, At(principal_point), At(c.top_a_px), cv::Scalar(255, 160, 0), 1, cv::LINE_AA, 4);
-      cv::line(view, At(principal_point), At(c.top_b_px), cv::Scalar(255, 160, 0), 1, cv::LINE_AA, 4);
+      cv::line(view, At(principal_point), At(c.top_a_px), cv::Scalar(255, 160, 0), 1, cv::LINE_AA,
+               4);
+      cv::line(view, At(principal_point), At(c.top_b_px), cv::Scalar(255, 160, 0), 1, cv::LINE_AA,
+               4);
     }
   }
   return j;

@@ -112,7 +112,8 @@ nlohmann::ordered_json LandmarksJson(const std::vector<slam::LandmarkEstimate>& 
 std::string DetectionsCsv(const std::vector<slam::Detection>& detections) {
   std::string csv =
       "stamp_s,camera,type,u_px,v_px,box_min_x_px,box_min_y_px,box_max_x_px,box_max_y_px,"
-      "plate_box,radius_px,label,open,score,recognition_score,landmark_id,new_landmark\n";
+      "plate_box,radius_px,label,open,score,recognition_score,landmark_id,new_landmark,"
+      "bearing_a_rad,bearing_b_rad\n";
   for (const slam::Detection& d : detections) {
     const bool boxed =
         d.type == slam::LandmarkType::kDoorPlate || d.type == slam::LandmarkType::kDoor;
@@ -136,7 +137,10 @@ std::string DetectionsCsv(const std::vector<slam::Detection>& detections) {
     csv += label + ",";
     csv += std::string(d.open ? (*d.open ? "1" : "0") : "") + ",";
     csv += CsvNumber(d.score, 6) + "," + CsvNumber(d.recognition_score, 6) + "," +
-           std::to_string(d.landmark_id) + "," + (d.new_landmark ? "1" : "0") + "\n";
+           std::to_string(d.landmark_id) + "," + (d.new_landmark ? "1" : "0") + ",";
+    // Doors: the columns' bearings (P3 eq. 17), empty when none.
+    csv += CsvNumber(d.column_bearings_rad(0), 8) + "," + CsvNumber(d.column_bearings_rad(1), 8) +
+           "\n";
   }
   return csv;
 }

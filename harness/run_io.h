@@ -36,7 +36,8 @@ nlohmann::ordered_json LandmarksJson(const std::vector<slam::LandmarkEstimate>& 
 
 /// `<pipeline>_detections.csv`: every detection, in the order the pipeline reported them:
 /// stamp_s, camera, type, u_px, v_px, box (min x, min y, max x, max y; empty for types without
-/// one), plate_box, radius_px, label, open, score, recognition_score, landmark_id, new_landmark.
+/// one), plate_box, radius_px, label, open, score, recognition_score, landmark_id, new_landmark,
+/// bearing_a_rad, bearing_b_rad (doors: the columns' bearings of P3 eq. 17; empty otherwise).
 std::string DetectionsCsv(const std::vector<slam::Detection>& detections);
 
 }  // namespace corridorsim

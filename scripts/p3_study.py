@@ -15,6 +15,10 @@ Targets (exit 3 when one is missed, 2 on bad input, 1 when a run fails):
     least 90 % of the seeds (at least ceil(0.9 N) of N seeds: 9 of 10);
   - p3_upward's ATE RMSE at most half of p3_corners' (mean over seeds);
   - p3_corners' ATE RMSE below odometry's (mean over seeds);
+  - where the runs have doors: p3_upward's open-door precision >= 95 % and recall >= 80 % in
+    every seed (map.door.open_precision, open_recall), no closed door and nothing but a door
+    registered (closed_registered, non_door_registered 0 over every seed);
+  - p3_upward's association precision >= 99 % for lamps and doors, where it made some;
   - for every SLAM pipeline, its average NEES (the mean over time of the NEES averaged over seeds)
     inside the 95 % chi-square band of N seeds' mean: [chi2(3N, 0.025) / N, chi2(3N, 0.975) / N].
 Also reported (not targets): per pipeline the mean and max over seeds of ATE RMSE and final
@@ -76,6 +80,10 @@ def finite_or_none(x):
     return x
 
 
+def num(x, spec):
+    return format(x, spec) if x is not None and math.isfinite(x) else "-"
+
+
 def ratio(a, b):
     return a / b if b else None
 
@@ -129,6 +137,8 @@ def main(argv):
                     row[name]["detection_lamp"] = m["detection"]["lamp"]
                 if "data_association" in m:
                     row[name]["data_association"] = m["data_association"]
+                if "map" in m and "door" in m["map"]:
+                    row[name]["map_door"] = m["map"]["door"]
         per_seed[seed] = row
         names = list(metrics)
         pipelines = names if pipelines is None else [p for p in pipelines if p in names]
@@ -194,6 +204,13 @@ def main(argv):
                            if None not in (t["correct"], t["possible"]) else None)
         if association:
             summary[PIPELINE]["data_association"] = association
+        doors = [r["map_door"] for r in rows if "map_door" in r]
+        if doors:
+            summary[PIPELINE]["map_door"] = {
+                k: sum(d.get(k) or 0 for d in doors)
+                for k in ("estimated", "open_registered", "closed_registered",
+                          "non_door_registered", "duplicates", "open_seen", "open_found")}
+            summary[PIPELINE]["map_door"]["seeds"] = len(doors)
 
     # Targets: each {passed, measured, required}; a pipeline the runs lack misses its targets.
     targets = {}
@@ -226,6 +243,33 @@ def main(argv):
            a is not None and b is not None and a < b,
            f"{a:.4f} m vs {b:.4f} m" if a is not None and b is not None else
            f"missing: {CORNERS} {a}, {ODOMETRY} {b}", "below")
+    # Doors and association (where the runs have them): open-door precision >= 95 % and recall
+    # >= 80 % in every run (a run is one traversal), closed doors and furniture never registered,
+    # association precision >= 99 % for lamps and doors.
+    if PIPELINE in summary and "map_door" in summary[PIPELINE]:
+        doors = {s: per_seed[s][PIPELINE].get("map_door") for s in seeds}
+        bad = [s for s, d in doors.items() if d is None or d.get("open_precision") is None
+               or d["open_precision"] < 0.95]
+        target("p3_upward_open_door_precision_95_percent_per_run", not bad,
+               f"worst {min((d or {}).get('open_precision') or 0 for d in doors.values()):.3f}"
+               f" (seeds below: {bad})", ">= 0.95 in every seed")
+        bad = [s for s, d in doors.items() if d is None or d.get("open_recall") is None
+               or d["open_recall"] < 0.8]
+        target("p3_upward_open_door_recall_80_percent_per_run", not bad,
+               f"worst {min((d or {}).get('open_recall') or 0 for d in doors.values()):.3f}"
+               f" (seeds below: {bad})", ">= 0.8 in every seed")
+        t = summary[PIPELINE]["map_door"]
+        target("p3_upward_no_closed_door_or_furniture_registered",
+               t["closed_registered"] == 0 and t["non_door_registered"] == 0,
+               f"closed {t['closed_registered']}, not a door {t['non_door_registered']}", "0 and 0")
+    if PIPELINE in summary:
+        for kind in ("lamp", "door"):
+            a = summary[PIPELINE].get("data_association", {}).get(kind)
+            if a and a["associations"]:
+                target(f"p3_upward_{kind}_association_precision_99_percent",
+                       a["precision"] is not None and a["precision"] >= 0.99,
+                       f"{num(a['precision'], '.4f')} ({a['correct']}/{a['associations']})",
+                       ">= 0.99")
     slam = [name for name in summary if summary[name]["slam"]]
     for name in [PIPELINE, CORNERS] + [p for p in slam if p not in (PIPELINE, CORNERS)]:
         key = f"{name}_average_nees_in_band"
@@ -242,9 +286,6 @@ def main(argv):
     with open(os.path.join(args.out, "study.json"), "w", encoding="utf-8") as f:
         json.dump(finite_or_none(study), f, indent=2)
         f.write("\n")
-
-    def num(x, spec):
-        return format(x, spec) if x is not None and math.isfinite(x) else "-"
 
     print(f"{n} seed(s): {args.seeds}")
     print(f"{'pipeline':<12} {'ATE mean m':>10} {'ATE max m':>9} {'final mean':>10} "
@@ -273,6 +314,12 @@ def main(argv):
                   f"{l['true_positives'] + l['false_positives']}), centre error mean "
                   f"{num(l['mean_center_error_px'], '.3f')} px, rmse "
                   f"{num(l['rmse_center_error_px'], '.3f')} px")
+        if "map_door" in p3:
+            d = p3["map_door"]
+            print(f"{PIPELINE} doors ({d['seeds']} seed(s)): {d['estimated']} registered, "
+                  f"{d['open_registered']} open, {d['closed_registered']} closed, "
+                  f"{d['non_door_registered']} not a door, {d['duplicates']} duplicates; open "
+                  f"doors seen {d['open_seen']}, registered {d['open_found']}")
         for kind, t in p3.get("data_association", {}).items():
             print(f"{PIPELINE} data association {kind}: precision {num(t['precision'], '.4f')} "
                   f"({t['correct']}/{t['associations']} correct), recall "

@@ -353,8 +353,8 @@ void P3UpwardPipeline::ProcessFrame(const CameraInput& input) {
         if (door_taken[k]) continue;
         Eigen::Matrix<double, 2, 3> d_pose;
         Eigen::Matrix<double, 2, 4> d_door;
-        const std::optional<Eigen::Vector2d> h = ekf::DoorBearings(
-            pose, state_->Value(doors_[k].block), camera_xy, &d_pose, &d_door);
+        const std::optional<Eigen::Vector2d> h =
+            ekf::DoorBearings(pose, state_->Value(doors_[k].block), camera_xy, &d_pose, &d_door);
         if (!h) continue;
         ekf::Measurement m;
         m.blocks = {ekf::EkfState::robot(), doors_[k].block};

@@ -64,7 +64,7 @@ struct P3UpwardOptions {
   double min_match_fraction = 0.3;
   CornerPatchOptions corners;
   CeilingLampOptions lamps;
-  UpwardDoorOptions doors;             // the door candidates (slam/features/upward_doors.h)
+  UpwardDoorOptions doors;            // the door candidates (slam/features/upward_doors.h)
   DoorVerifierOptions door_verifier;  // their particle filter and test (upward_door_verifier.h)
   std::optional<OptionsProblem> Check() const;
 };

@@ -1,6 +1,7 @@
 #include "slam/pipeline.h"
 
 #include <cmath>
+#include <numbers>
 
 #include "common/enum_names.h"
 #include "common/options_checker.h"
@@ -77,6 +78,14 @@ std::optional<std::string> DetectionProblem(const Detection& d) {
     return "has a recognition score but is not a door plate";
   }
   if (d.type != LandmarkType::kDoor && d.open) return "has an open state but is not a door";
+  const Eigen::Vector2d& b = d.column_bearings_rad;
+  if (d.type != LandmarkType::kDoor && !b.array().isNaN().all()) {
+    return "has column bearings but is not a door";
+  }
+  if (!b.array().isNaN().all() &&
+      !(b.allFinite() && b.cwiseAbs().maxCoeff() <= std::numbers::pi + 1e-9)) {
+    return "has column bearings that are not both angles in [-pi, pi]";
+  }
   return std::nullopt;
 }
 

@@ -44,7 +44,7 @@ double ModifiedHausdorff(const std::vector<Eigen::Vector2d>& from,
 }  // namespace
 
 struct UpwardDoorVerifier::Sighting {
-  Eigen::Vector3d ray_a, ray_b;  // unit rays to the column tops, world frame
+  Eigen::Vector3d ray_a, ray_b;             // unit rays to the column tops, world frame
   double bearing_a = 0.0, bearing_b = 0.0;  // world bearings from the camera centre
   double elevation_a = 0.0, elevation_b = 0.0;
 };
@@ -53,10 +53,10 @@ const OptionTable<DoorVerifierOptions>& DoorVerifierOptionsTable() {
   using O = DoorVerifierOptions;
   return StaticOptionTable<O>([](OptionTable<O>& t) {
     t.Add("particles", &O::particles, "", "samples per door candidate (P3: 200)").Range(10, 10000);
-    t.AddEnum("sensor_model", &O::sensor_model,
-              {{"gaussian", DoorSensorModel::kGaussian},
-               {"triangular", DoorSensorModel::kTriangular}},
-              "the particle filter's sensor model: gaussian (P3) or triangular (P2)");
+    t.AddEnum(
+        "sensor_model", &O::sensor_model,
+        {{"gaussian", DoorSensorModel::kGaussian}, {"triangular", DoorSensorModel::kTriangular}},
+        "the particle filter's sensor model: gaussian (P3) or triangular (P2)");
     t.Add("bearing_error_rad", &O::bearing_error_rad, "rad",
           "theta error of a column's bearing: sigma, or the triangle's half-width")
         .Greater(0)
@@ -117,8 +117,7 @@ const OptionTable<DoorVerifierOptions>& DoorVerifierOptionsTable() {
     t.Add("forget_after_frames", &O::forget_after_frames, "",
           "a track not seen for this many frames is dropped")
         .Range(1, 100000);
-    t.Add("max_tracks", &O::max_tracks, "", "candidates followed at once at most")
-        .Range(1, 1000);
+    t.Add("max_tracks", &O::max_tracks, "", "candidates followed at once at most").Range(1, 1000);
     t.Add("seed", &O::seed, "", "seed of the samples");
   });
 }
@@ -146,8 +145,8 @@ std::optional<ColumnSighting> SightColumnTop(const Eigen::Vector2d& pixel, const
   return ColumnSighting{std::atan2(ray.y(), ray.x()), std::atan2(ray.z(), horizontal)};
 }
 
-UpwardDoorVerifier::UpwardDoorVerifier(const DoorVerifierOptions& options,
-                                       const CameraModel& model, const SE3& robot_from_camera)
+UpwardDoorVerifier::UpwardDoorVerifier(const DoorVerifierOptions& options, const CameraModel& model,
+                                       const SE3& robot_from_camera)
     : options_(options),
       model_(model),
       robot_from_camera_(robot_from_camera),
@@ -155,8 +154,7 @@ UpwardDoorVerifier::UpwardDoorVerifier(const DoorVerifierOptions& options,
   CheckOrDie(!options.Check(), "slam::UpwardDoorVerifier", "the options fail their Check()");
 }
 
-bool UpwardDoorVerifier::Initialise(Track* track, const Sighting& s,
-                                    const SE3& world_from_camera) {
+bool UpwardDoorVerifier::Initialise(Track* track, const Sighting& s, const SE3& world_from_camera) {
   const Eigen::Vector3d c = world_from_camera.translation();
   // Tops between the prior's heights, and no farther than max_range_m.
   const double lo = std::max(options_.min_top_height_m, c.z() + 0.05);
@@ -352,9 +350,9 @@ std::vector<std::optional<DoorTrackReport>> UpwardDoorVerifier::Process(
     }
   }
   std::sort(pairs.begin(), pairs.end(), [](const Pair& x, const Pair& y) {
-    return x.error < y.error || (x.error == y.error && (x.candidate < y.candidate ||
-                                                        (x.candidate == y.candidate &&
-                                                         x.track < y.track)));
+    return x.error < y.error ||
+           (x.error == y.error &&
+            (x.candidate < y.candidate || (x.candidate == y.candidate && x.track < y.track)));
   });
   std::vector<int> track_of(candidates.size(), -1);
   std::vector<bool> track_taken(tracks_.size(), false);
@@ -426,9 +424,8 @@ std::vector<std::optional<DoorTrackReport>> UpwardDoorVerifier::Process(
         std::vector<Eigen::Vector3d> points;
         EdgesInOpening(edge_image(), world_from_camera, report.columns, height, &pixels, &points);
         if (int(points.size()) >= options_.min_edge_points) {
-          const std::size_t stride =
-              (points.size() + std::size_t(options_.max_edge_points) - 1) /
-              std::size_t(options_.max_edge_points);
+          const std::size_t stride = (points.size() + std::size_t(options_.max_edge_points) - 1) /
+                                     std::size_t(options_.max_edge_points);
           for (std::size_t k = 0; k < points.size(); k += stride) {
             track.plane_points.push_back(points[k]);
           }

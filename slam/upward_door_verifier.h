@@ -57,15 +57,15 @@ struct DoorVerifierOptions {
   double max_door_top_m = 2.4;
   double min_door_width_m = 0.6;
   double max_door_width_m = 1.4;
-  double max_range_m = 8.0;           // columns farther from the camera are not drawn
-  double roughening_m = 0.01;         // jitter after resampling
-  double associate_rad = 0.08;        // a candidate continues a track within this of its columns
-  double converged_sigma_m = 0.05;    // column positions known to this: verify
-  double verify_baseline_m = 0.3;     // camera travel between the plane's points and the test
-  double mhd_threshold_px = 5.0;      // H(A, B) above it: open (P3 eq. 9's threshold)
-  double opening_margin = 0.15;       // of the opening left out at each side (the frame's edges)
-  int min_edge_points = 30;           // fewer in A or B: no decision in this frame
-  int max_edge_points = 3000;         // points kept on the plane at most
+  double max_range_m = 8.0;         // columns farther from the camera are not drawn
+  double roughening_m = 0.01;       // jitter after resampling
+  double associate_rad = 0.08;      // a candidate continues a track within this of its columns
+  double converged_sigma_m = 0.05;  // column positions known to this: verify
+  double verify_baseline_m = 0.3;   // camera travel between the plane's points and the test
+  double mhd_threshold_px = 5.0;    // H(A, B) above it: open (P3 eq. 9's threshold)
+  double opening_margin = 0.15;     // of the opening left out at each side (the frame's edges)
+  int min_edge_points = 30;         // fewer in A or B: no decision in this frame
+  int max_edge_points = 3000;       // points kept on the plane at most
   double canny_low = 50.0;
   double canny_high = 150.0;
   int forget_after_frames = 15;  // a track not seen for this many frames is dropped
@@ -84,11 +84,11 @@ using DoorParticle = Eigen::Matrix<double, 5, 1>;
 struct DoorTrackReport {
   int track_id = 0;
   DoorTrackState state = DoorTrackState::kEstimating;
-  bool decided_now = false;  // open or closed was decided in this frame
+  bool decided_now = false;                           // open or closed was decided in this frame
   Eigen::Vector4d columns = Eigen::Vector4d::Zero();  // the particles' weighted mean
   Eigen::Matrix4d covariance = Eigen::Matrix4d::Identity();
   Eigen::Vector2d range_sigma_m = Eigen::Vector2d::Zero();  // of each column from the camera
-  double hausdorff_px = 0.0;  // H(A, B) of the decision (NaN before)
+  double hausdorff_px = 0.0;                                // H(A, B) of the decision (NaN before)
   std::vector<DoorParticle> particles;  // the cloud at the decision (decided_now only)
 };
 

@@ -70,7 +70,12 @@ void AddAssociationMetrics(const PipelineRecord& pipeline, const PipelineContext
     }
     std::optional<int> identity;
     double best_px = context.options->identity_gate_px;
-    for (const TruthPixel& t : FrameTruthPixels(*frame->second, type)) {
+    if (type == slam::LandmarkType::kDoor) {
+      identity = DoorIdentity(d, *frame->second, context.options->door_bearing_gate_rad, best_px);
+    }
+    for (const TruthPixel& t : type == slam::LandmarkType::kDoor
+                                   ? std::vector<TruthPixel>{}
+                                   : FrameTruthPixels(*frame->second, type)) {
       const double distance_px = (t.pixel - DetectionPixel(d)).norm();
       if (distance_px <= best_px) {
         best_px = distance_px;

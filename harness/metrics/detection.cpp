@@ -226,6 +226,11 @@ void DoorDetectorMetrics(const PipelineRecord& pipeline, const PipelineContext& 
   const DetectorCounts counts = ScoreFrames<render::DoorTruth>(
       grouped, DoorsOf,
       [&](const slam::Detection& d, const render::DoorTruth& t) -> std::optional<double> {
+        // By the columns' bearings (P3 eq. 17) where the detector gives them.
+        if (const std::optional<double> e = DoorBearingError(d, t)) {
+          if (*e > options.door_bearing_gate_rad) return std::nullopt;
+          return *e;
+        }
         const Vector2d centre_px = 0.5 * (t.column_a_px + t.column_b_px);
         const double gate_px =
             std::max(0.5 * (t.column_a_px - t.column_b_px).norm(), options.min_gate_px);

@@ -78,6 +78,11 @@ struct MetricsOptions {
   // A corner detection associated with a landmark is correct when it saw the point the
   // landmark's creating detection saw, within this distance (m).
   double seen_point_gate_m = 0.10;
+  // Doors (P3 eq. 11, 17): a detection is a door when both its column bearings lie within this
+  // of the door's (either order) ...
+  double door_bearing_gate_rad = 0.10;
+  // ... and a door landmark is a doorway when both its columns lie within this of the doorway's.
+  double door_column_gate_m = 0.40;
 };
 
 struct MetricsInput {

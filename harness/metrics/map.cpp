@@ -1,5 +1,6 @@
 #include "harness/metrics/map.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <set>
@@ -57,6 +58,112 @@ void SeenPointMapMetrics(const PipelineRecord& pipeline, const PipelineContext& 
   m.Set("z_rmse_m", z_error.rms());
 }
 
+// Doors as P3 states them (eq. 11): two column positions, matched one-to-one to the doorways
+// (greedy by the larger column error, either order, within door_column_gate_m). Beyond the
+// common map.<type> figures: which doorways the registered doors are (open, closed, none: a
+// cabinet, a bookshelf, a wall) and how many open doorways that were seen got registered.
+MapMatch DoorMapMetrics(const PipelineRecord& pipeline, const PipelineContext& context,
+                        const MetricWriter& m) {
+  const std::vector<worlds::Doorway>& doors = context.world->doors;
+  std::vector<const slam::LandmarkEstimate*> estimates;
+  std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> columns;
+  for (const slam::LandmarkEstimate& l : pipeline.landmarks) {
+    if (l.type != LandmarkType::kDoor) continue;
+    Eigen::Vector2d a = l.position_in_world.head<2>(), b = a;
+    for (const slam::LandmarkPoint& p : l.points) {
+      if (p.role == "column_a") a = p.position_in_world.head<2>();
+      if (p.role == "column_b") b = p.position_in_world.head<2>();
+    }
+    estimates.push_back(&l);
+    columns.emplace_back(a, b);
+  }
+  const auto error = [&](std::size_t e, const worlds::Doorway& d) {
+    const auto& [a, b] = columns[e];
+    return std::min(std::max((a - d.column_a).norm(), (b - d.column_b).norm()),
+                    std::max((a - d.column_b).norm(), (b - d.column_a).norm()));
+  };
+  const double gate = context.options->door_column_gate_m;
+  std::vector<Candidate> candidates;
+  for (std::size_t e = 0; e < estimates.size(); ++e) {
+    for (std::size_t t = 0; t < doors.size(); ++t) {
+      const double d = error(e, doors[t]);
+      if (d <= gate) candidates.push_back({d, e, t});
+    }
+  }
+  const auto matches = GreedyMatch(std::move(candidates), estimates.size(), doors.size());
+  MapMatch result;
+  Stats column_error;
+  Stats open_column_error;
+  std::set<std::size_t> matched_estimates;
+  std::set<int> matched_open;
+  std::size_t open_registered = 0, closed_registered = 0;
+  for (const auto& [e, t] : matches) {
+    result.truth_of_estimate[estimates[e]->id] = doors[t].id;
+    matched_estimates.insert(e);
+    const auto& [a, b] = columns[e];
+    const bool straight =
+        std::max((a - doors[t].column_a).norm(), (b - doors[t].column_b).norm()) <=
+        std::max((a - doors[t].column_b).norm(), (b - doors[t].column_a).norm());
+    for (const auto& [est, truth] :
+         {std::pair(a, straight ? doors[t].column_a : doors[t].column_b),
+          std::pair(b, straight ? doors[t].column_b : doors[t].column_a)}) {
+      column_error.Add((est - truth).norm());
+      if (doors[t].state != worlds::DoorState::kClosed) open_column_error.Add((est - truth).norm());
+    }
+    if (doors[t].state == worlds::DoorState::kClosed) {
+      ++closed_registered;
+    } else {
+      ++open_registered;
+      matched_open.insert(doors[t].id);
+    }
+  }
+  std::size_t duplicates = 0, non_door = 0;
+  for (std::size_t e = 0; e < estimates.size(); ++e) {
+    if (matched_estimates.count(e) != 0) continue;
+    const bool near_a_doorway =
+        std::any_of(doors.begin(), doors.end(), [&](const auto& d) { return error(e, d) <= gate; });
+    ++(near_a_doorway ? duplicates : non_door);
+  }
+  m.Count("estimated", estimates.size());
+  m.Count("matched", matches.size());
+  m.Count("spurious", estimates.size() - matches.size());
+  std::set<int> observed, open_seen;
+  for (const auto& [key, frame] : context.frames) {
+    for (const render::DoorTruth& t : frame->doors) {
+      if (!t.visible) continue;
+      observed.insert(t.id);
+      if (t.state != worlds::DoorState::kClosed) open_seen.insert(t.id);
+    }
+  }
+  if (context.frames.empty()) {
+    m.Null("observed");
+    m.Null("missed");
+  } else {
+    std::size_t missed = 0;
+    for (const int id : observed) {
+      missed += std::none_of(result.truth_of_estimate.begin(), result.truth_of_estimate.end(),
+                             [id](const auto& kv) { return kv.second == id; });
+    }
+    m.Count("observed", observed.size());
+    m.Count("missed", missed);
+  }
+  m.Set("mean_error_m", column_error.mean());
+  m.Set("rmse_m", column_error.rms());
+  m.Set("max_error_m", column_error.maximum());
+  m.Count("open_registered", open_registered);
+  m.Count("closed_registered", closed_registered);
+  m.Count("non_door_registered", non_door);
+  m.Count("duplicates", duplicates);
+  m.Count("open_seen", open_seen.size());
+  std::size_t open_found = 0;
+  for (const int id : open_seen) open_found += matched_open.count(id);
+  m.Count("open_found", open_found);
+  m.Fraction("open_precision", open_registered, estimates.size());
+  m.Fraction("open_recall", open_found, open_seen.size());
+  m.Set("open_column_rmse_m", open_column_error.rms());
+  return result;
+}
+
 }  // namespace
 
 MapMatch AddMapMetrics(const PipelineRecord& pipeline, const PipelineContext& context,
@@ -67,6 +174,9 @@ MapMatch AddMapMetrics(const PipelineRecord& pipeline, const PipelineContext& co
       SeenPointMapMetrics(pipeline, context, seen, out.Sub("map").Sub("corner"));
       return {};
     }
+  }
+  if (type == LandmarkType::kDoor) {
+    return DoorMapMetrics(pipeline, context, out.Sub("map").Sub("door"));
   }
   const std::vector<TruthLandmark> truth = TruthLandmarks(*context.world, type);
   std::vector<const slam::LandmarkEstimate*> estimates;

@@ -1,6 +1,8 @@
 #include "harness/metrics/matching.h"
 
 #include <algorithm>
+#include <cmath>
+#include <numbers>
 #include <set>
 #include <tuple>
 
@@ -107,6 +109,35 @@ std::vector<TruthPixel> FrameTruthPixels(const render::FrameTruth& truth, Landma
 Vector2d DetectionPixel(const slam::Detection& d) {
   if (d.type == LandmarkType::kDoor) return 0.5 * (d.box_px.head<2>() + d.box_px.tail<2>());
   return d.pixel;
+}
+
+std::optional<double> DoorBearingError(const slam::Detection& d, const render::DoorTruth& t) {
+  if (!d.column_bearings_rad.allFinite()) return std::nullopt;
+  const auto error = [](double a, double b) {
+    return std::abs(std::remainder(a - b, 2.0 * std::numbers::pi));
+  };
+  const Vector2d& b = d.column_bearings_rad;
+  const double straight = std::max(error(b(0), t.bearing_a_rad), error(b(1), t.bearing_b_rad));
+  const double crossed = std::max(error(b(0), t.bearing_b_rad), error(b(1), t.bearing_a_rad));
+  return std::min(straight, crossed);
+}
+
+std::optional<int> DoorIdentity(const slam::Detection& d, const render::FrameTruth& frame,
+                                double gate_rad, double gate_px) {
+  std::optional<int> identity;
+  const bool by_bearing = d.column_bearings_rad.allFinite();
+  double best = by_bearing ? gate_rad : gate_px;
+  for (const render::DoorTruth& t : frame.doors) {
+    if (!t.visible) continue;
+    const double e = by_bearing
+                         ? *DoorBearingError(d, t)
+                         : (0.5 * (t.column_a_px + t.column_b_px) - DetectionPixel(d)).norm();
+    if (e <= best) {
+      best = e;
+      identity = t.id;
+    }
+  }
+  return identity;
 }
 
 }  // namespace corridorsim::metrics

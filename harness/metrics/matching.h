@@ -4,6 +4,7 @@
 
 #include <cstddef>
 #include <map>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -58,5 +59,17 @@ std::vector<TruthPixel> FrameTruthPixels(const render::FrameTruth& truth, slam::
 
 /// Where a detection is in its image: doors by the centre of their box, the rest by their pixel.
 Eigen::Vector2d DetectionPixel(const slam::Detection& detection);
+
+/// The larger bearing error of a door detection's two columns against a truth door's (P3 eq.
+/// 17), the columns taken in the order that fits better; nullopt when the detection has no
+/// bearings.
+std::optional<double> DoorBearingError(const slam::Detection& detection,
+                                       const render::DoorTruth& truth);
+
+/// The visible truth door of the frame a door detection shows: the nearest by DoorBearingError
+/// within `gate_rad`, or (a detection without bearings) the nearest column midpoint within
+/// `gate_px`.
+std::optional<int> DoorIdentity(const slam::Detection& detection, const render::FrameTruth& frame,
+                                double gate_rad, double gate_px);
 
 }  // namespace corridorsim::metrics

@@ -83,8 +83,8 @@ std::vector<DoorColumn> GroupColumns(const std::vector<UpwardLine>& lines,
     for (std::size_t g = 0; g < group.size(); ++g) {
       if (!used[g]) continue;
       const double length = (group[g]->b_px - group[g]->a_px).norm();
-      direction += length * Eigen::Vector2d(std::cos(group[g]->angle_rad),
-                                            std::sin(group[g]->angle_rad));
+      direction +=
+          length * Eigen::Vector2d(std::cos(group[g]->angle_rad), std::sin(group[g]->angle_rad));
       ++c.lines;
     }
     c.angle_rad = AngleOf(direction);
@@ -167,10 +167,8 @@ const OptionTable<UpwardDoorOptions>& UpwardDoorOptionsTable() {
         .Range(0, 1);
     t.Add("max_lines", &O::max_lines, "", "line segments considered at most, longest first")
         .Range(1, 100000);
-    t.Add("max_columns", &O::max_columns, "", "columns kept at most, longest first")
-        .Range(2, 1000);
-    t.Add("max_candidates", &O::max_candidates, "", "door candidates kept at most")
-        .Range(1, 10000);
+    t.Add("max_columns", &O::max_columns, "", "columns kept at most, longest first").Range(2, 1000);
+    t.Add("max_candidates", &O::max_candidates, "", "door candidates kept at most").Range(1, 10000);
   });
 }
 
@@ -204,8 +202,8 @@ UpwardDoorDetection DetectUpwardDoorCandidates(const cv::Mat& grey,
   const Eigen::Vector2d& pp = principal_point;
 
   std::vector<cv::Vec4f> segments;
-  cv::Ptr<cv::LineSegmentDetector> lsd = cv::createLineSegmentDetector(cv::LSD_REFINE_STD,
-                                                                       o.lsd_scale);
+  cv::Ptr<cv::LineSegmentDetector> lsd =
+      cv::createLineSegmentDetector(cv::LSD_REFINE_STD, o.lsd_scale);
   lsd->detect(grey, segments);
   std::vector<UpwardLine> lines;
   const double cos_tolerance = std::cos(o.radial_tolerance_deg * kDeg);

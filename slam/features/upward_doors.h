@@ -39,12 +39,12 @@ struct UpwardDoorOptions {
   double min_column_px = 25.0;        // a column's radial extent at least this
   double min_door_angle_deg = 12.0;   // angular separation of a door's columns about the centre
   double max_door_angle_deg = 80.0;
-  double max_top_ratio = 1.6;         // larger over smaller column-top radius at most
-  double bar_margin = 0.1;            // bar lines lie within this fraction of the tops' chord radially
-  double bar_angle_slack = 0.15;      // the bar may reach this fraction of the span past a column
-  double min_bar_coverage = 0.6;      // of the columns' angular separation covered by bar lines
-  int max_lines = 2000;               // LSD segments considered at most (bounds the time)
-  int max_columns = 24;               // columns kept, longest first
+  double max_top_ratio = 1.6;     // larger over smaller column-top radius at most
+  double bar_margin = 0.1;        // bar lines lie within this fraction of the tops' chord radially
+  double bar_angle_slack = 0.15;  // the bar may reach this fraction of the span past a column
+  double min_bar_coverage = 0.6;  // of the columns' angular separation covered by bar lines
+  int max_lines = 2000;           // LSD segments considered at most (bounds the time)
+  int max_columns = 24;           // columns kept, longest first
   int max_candidates = 32;
   std::optional<OptionsProblem> Check() const;
 };

@@ -206,6 +206,32 @@ class P3(unittest.TestCase):
         self.assertEqual(types, {"corner", "lamp"})
 
 
+class P3Doors(unittest.TestCase):
+    """P3's doors (section III) on a shortened environment B
+    (tests/data/scenarios/p3_doors_short.yaml): open doors registered as landmarks with both
+    columns right, closed doors, the cabinet and the bookshelf never, door associations right."""
+
+    def test_open_doors_become_landmarks_and_nothing_else_does(self):
+        out, metrics = run_short(self, "p3_doors_short.yaml", "p3_doors")
+        upward = metrics["p3_upward"]
+        doors = upward["map"]["door"]
+        self.assertGreaterEqual(doors["open_seen"], 2)
+        self.assertGreaterEqual(doors["open_recall"], 0.8)
+        self.assertGreaterEqual(doors["open_precision"], 0.95)
+        self.assertEqual(doors["closed_registered"], 0)
+        self.assertEqual(doors["non_door_registered"], 0)
+        self.assertEqual(doors["duplicates"], 0)
+        self.assertLessEqual(doors["open_column_rmse_m"], 0.25)
+        self.assertGreaterEqual(upward["data_association"]["door"]["precision"], 0.99)
+        self.assertLess(upward["ate_rmse_m"], metrics["odometry"]["ate_rmse_m"])
+        self.assertEqual(upward["health"]["non_positive_covariance"], 0)
+        # Door landmarks carry their two columns (P3 eq. 11) with covariances.
+        with open(os.path.join(out, "p3_upward_landmarks.json")) as f:
+            landmarks = json.load(f)
+        for door in (l for l in landmarks if l["type"] == "door"):
+            self.assertEqual([p["role"] for p in door["points"]], ["column_a", "column_b"])
+
+
 class ShippedScenarios(unittest.TestCase):
     def test_every_shipped_scenario_loads_and_builds(self):
         folder = os.path.join(SOURCE_DIR, "scenarios")

@@ -85,6 +85,17 @@ TEST_CASE("a detection is checked for the fields its type needs", "[slam]") {
   Detection no_camera = Valid(LandmarkType::kCorner);
   no_camera.camera_id.clear();
   CHECK(DetectionProblem(no_camera));
+  // Column bearings (P3 eq. 17): doors only, both angles.
+  Detection door = Valid(LandmarkType::kDoor);
+  door.column_bearings_rad = Eigen::Vector2d(0.3, -2.0);
+  CHECK_FALSE(DetectionProblem(door));
+  door.column_bearings_rad(1) = 4.0;
+  CHECK(DetectionProblem(door));
+  door.column_bearings_rad(1) = std::numeric_limits<double>::quiet_NaN();
+  CHECK(DetectionProblem(door));
+  Detection lamp_with_bearings = Valid(LandmarkType::kLamp);
+  lamp_with_bearings.column_bearings_rad = Eigen::Vector2d(0.1, 0.2);
+  CHECK(DetectionProblem(lamp_with_bearings));
 }
 
 }  // namespace

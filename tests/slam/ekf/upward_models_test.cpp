@@ -148,14 +148,14 @@ TEST_CASE("door model: P3 eq. 17 from the camera centre, its inverse and Jacobia
       slam::ekf::DoorBearings(pose, door, camera_xy, &d_pose, &d_door);
   REQUIRE(b);
   // By hand: the camera sits 5 cm behind the robot's origin along its heading.
-  const Eigen::Vector2d c = Eigen::Vector2d(1.0, 0.2) - 0.05 * Eigen::Vector2d(std::cos(0.3),
-                                                                               std::sin(0.3));
+  const Eigen::Vector2d c =
+      Eigen::Vector2d(1.0, 0.2) - 0.05 * Eigen::Vector2d(std::cos(0.3), std::sin(0.3));
   CHECK((*b)(0) == Approx(std::atan2(1.2 - c.y(), 2.0 - c.x()) - 0.3).margin(1e-12));
   CHECK((*b)(1) == Approx(std::atan2(1.2 - c.y(), 3.0 - c.x()) - 0.3).margin(1e-12));
   test::CheckJacobian(d_pose, test::NumericalJacobian<2, 3>(
                                   [&](const Eigen::Vector3d& x) {
-                                    return *slam::ekf::DoorBearings(SE2(x.x(), x.y(), x.z()),
-                                                                    door, camera_xy);
+                                    return *slam::ekf::DoorBearings(SE2(x.x(), x.y(), x.z()), door,
+                                                                    camera_xy);
                                   },
                                   x0));
   test::CheckJacobian(d_door, test::NumericalJacobian<2, 4>(
