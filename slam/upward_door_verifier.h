@@ -55,7 +55,7 @@ struct DoorVerifierOptions {
   // bounds is rejected as not a door.
   double min_door_top_m = 1.8;
   double max_door_top_m = 2.4;
-  double min_door_width_m = 0.6;
+  double min_door_width_m = 0.7;
   double max_door_width_m = 1.4;
   double max_range_m = 8.0;         // columns farther from the camera are not drawn
   double roughening_m = 0.01;       // jitter after resampling
@@ -64,7 +64,7 @@ struct DoorVerifierOptions {
   double verify_baseline_m = 0.3;   // camera travel between the plane's points and the test
   double mhd_threshold_px = 5.0;    // H(A, B) above it: open (P3 eq. 9's threshold)
   double opening_margin = 0.15;     // of the opening left out at each side (the frame's edges)
-  int min_edge_points = 30;         // fewer in A or B: no decision in this frame
+  int min_edge_points = 80;         // fewer in A or B: no decision in this frame
   int max_edge_points = 3000;       // points kept on the plane at most
   double canny_low = 50.0;
   double canny_high = 150.0;
