@@ -481,8 +481,8 @@ void P3UpwardPipeline::ProcessFrame(const CameraInput& input) {
     for (std::size_t i = 0; i < door_observations.size(); ++i) {
       if (door_explained[i]) continue;
       const Eigen::Vector2d& b = door_observations[i].bearings;
-      const auto near = [&](double x, double y) {
-        return std::abs(std::remainder(x - y, 2.0 * std::numbers::pi)) <=
+      const auto near = [&](double first, double second) {
+        return std::abs(std::remainder(first - second, 2.0 * std::numbers::pi)) <=
                options_.door_verifier.associate_rad;
       };
       if (std::any_of(registered.begin(), registered.end(), [&](const Eigen::Vector2d& h) {

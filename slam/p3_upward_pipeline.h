@@ -41,7 +41,7 @@ struct P3UpwardOptions {
   bool use_corners = true;
   bool use_lamps = true;
   bool use_doors = true;         // open doors as two-column landmarks (P3 section III, eq. 17)
-  double door_sigma_rad = 0.03;  // sigma of a column's bearing (P3 eq. 17's measurement)
+  double door_sigma_rad = 0.02;  // sigma of a column's bearing (P3 eq. 17's measurement)
   // P3 section V: landmark heights above the floor from min_height_m to max_height_m; the
   // inverse height above the camera is Gaussian with +-2 sigma spanning that range (heights
   // closer than min_above_camera_m to the camera's are not seen by an upward camera).
@@ -57,7 +57,7 @@ struct P3UpwardOptions {
   double min_ray_z = 0.25;  // rays further than acos(this) from the vertical start no landmark
   double new_landmark_clearance_px = 15.0;  // a new landmark this far from every predicted one
   int max_new_corners_per_frame = 6;
-  int max_landmarks = 250;  // the state stops growing here
+  int max_landmarks = 400;  // the state stops growing here
   // P3 Fig. 16c: a landmark predicted in the image at least delete_after times and matched in
   // fewer than min_match_fraction of them is deleted.
   int delete_after = 8;
