@@ -10,7 +10,7 @@
 #include "render/camera_rig.h"
 #include "render/frame_truth.h"
 #include "slam/features/ceiling_lamps.h"
-#include "tests/support/uploaded_rig.h"
+#include "tests/support/upward_frames.h"
 #include "worlds/world.h"
 
 namespace corridorsim {
@@ -192,32 +192,15 @@ TEST_CASE("lamps: rendered upward frames, scored against the frame truth", "[lam
   world_options.lamps.circular_fraction = 0.7;
   world_options.lamps.reflector_fraction = 0.2;
   const worlds::World world = worlds::Generate(world_options, 4);
-  render::RigOptions rig_options = render::RigOptions::Default();
-  std::vector<render::CameraOptions> cameras;
-  for (render::CameraOptions c : rig_options.cameras) {
-    if (c.id != "upward") continue;
-    c.enabled = true;
-    cameras.push_back(c);
-  }
-  rig_options.cameras = cameras;
-  test::UploadedRig rig(world, rig_options);
-  const CameraModel& model = rig_options.cameras[0].model;
+  test::UpwardFrames frames(world);
+  const CameraModel& model = frames.model();
   int full = 0, found = 0, panels = 0, panels_rejected = 0, false_lamps = 0;
   double worst_px = 0.0;
   for (int k = 0; k < 12; ++k) {
     // Down the corridor's centre line, turning, so that lamps cross every part of the image.
     const SE3 world_from_robot = SE3::FromSE2(SE2(3.0 + 2.9 * k, 0.15 * (k % 3 - 1), 0.5 * k));
     render::CameraFrame frame;
-    rig.rig().RenderCamera(0, world_from_robot, 7, std::uint64_t(k), &frame);
-    render::FrameTruthInput input;
-    input.world = &world;
-    input.camera_id = frame.camera_id;
-    input.model = model;
-    input.world_from_camera = frame.world_from_camera;
-    input.world_from_robot = world_from_robot;
-    input.instance = &frame.instance;
-    input.semantic = &frame.semantic;
-    const render::FrameTruth truth = render::ComputeFrameTruth(input);
+    const render::FrameTruth truth = frames.Render(world_from_robot, std::uint64_t(k), &frame);
     const slam::CeilingLampDetection lamps =
         slam::DetectCeilingLamps(frame.rgb, &model, slam::CeilingLampOptions{});
     std::vector<bool> used(lamps.lamps.size(), false);

@@ -12,7 +12,7 @@
 #include "render/frame_truth.h"
 #include "slam/features/image_conversion.h"
 #include "slam/features/upward_doors.h"
-#include "tests/support/uploaded_rig.h"
+#include "tests/support/upward_frames.h"
 #include "worlds/world.h"
 
 namespace corridorsim {
@@ -114,31 +114,14 @@ TEST_CASE("door candidates: rendered upward frames, scored by the columns' image
   world_options.length_m = 40.0;
   world_options.doors.count = 16;
   const worlds::World world = worlds::Generate(world_options, 1);
-  render::RigOptions rig_options = render::RigOptions::Default();
-  std::vector<render::CameraOptions> cameras;
-  for (render::CameraOptions c : rig_options.cameras) {
-    if (c.id != "upward") continue;
-    c.enabled = true;
-    cameras.push_back(c);
-  }
-  rig_options.cameras = cameras;
-  test::UploadedRig rig(world, rig_options);
-  const CameraModel& model = rig_options.cameras[0].model;
+  test::UpwardFrames frames(world);
+  const CameraModel& model = frames.model();
   int doors = 0, found = 0;
   for (int k = 0; k < 16; ++k) {
     const SE3 world_from_robot =
         SE3::FromSE2(SE2(2.0 + 2.3 * k, 0.1 * (k % 3 - 1), 0.05 * (k % 5 - 2)));
     render::CameraFrame frame;
-    rig.rig().RenderCamera(0, world_from_robot, 7, std::uint64_t(k), &frame);
-    render::FrameTruthInput input;
-    input.world = &world;
-    input.camera_id = frame.camera_id;
-    input.model = model;
-    input.world_from_camera = frame.world_from_camera;
-    input.world_from_robot = world_from_robot;
-    input.instance = &frame.instance;
-    input.semantic = &frame.semantic;
-    const render::FrameTruth truth = render::ComputeFrameTruth(input);
+    const render::FrameTruth truth = frames.Render(world_from_robot, std::uint64_t(k), &frame);
     const slam::UpwardDoorDetection detection = slam::DetectUpwardDoorCandidates(
         slam::GreyMat(frame.rgb), model.principal_point(), slam::UpwardDoorOptions{});
     for (const render::DoorTruth& t : truth.doors) {
