@@ -6,6 +6,8 @@
 #include <numbers>
 #include <utility>
 
+#include <nlohmann/json.hpp>
+
 #include "slam/ekf/upward_models.h"
 #include "slam/features/image_conversion.h"
 
@@ -523,12 +525,44 @@ void P3UpwardPipeline::ProcessFrame(const CameraInput& input) {
       double height = 0.0;
       for (const DoorParticle& p : r.particles) height += p(4);
       door.top_height_m = r.particles.empty() ? 0.0 : height / double(r.particles.size());
+      door.registered_ns = stamp_ns;
+      door.hausdorff_px = r.hausdorff_px;
+      door.particles = r.particles;
       doors_.push_back(door);
       d.landmark_id = door.id;
       d.new_landmark = true;
     }
   }
   clock_.Add("update", SecondsSince(t_update));
+}
+
+std::vector<MapFile> P3UpwardPipeline::TakeMaps() {
+  std::vector<MapFile> maps;
+  if (!verifier_ || !state_) return maps;
+  nlohmann::ordered_json doors = nlohmann::ordered_json::array();
+  for (const DoorLandmark& door : doors_) {
+    const Eigen::Vector4d v = state_->Value(door.block);
+    nlohmann::ordered_json particles = nlohmann::ordered_json::array();
+    for (const DoorParticle& p : door.particles) {
+      particles.push_back({p(0), p(1), p(2), p(3), p(4)});
+    }
+    nlohmann::ordered_json d;
+    d["landmark_id"] = door.id;
+    d["registered_s"] = double(door.registered_ns) * 1e-9;
+    d["hausdorff_px"] = door.hausdorff_px;
+    d["top_height_m"] = door.top_height_m;
+    d["columns_m"] = {{v(0), v(1)}, {v(2), v(3)}};
+    d["particles"] = particles;
+    doors.push_back(d);
+  }
+  nlohmann::ordered_json map;
+  map["format"] = "corridorsim.upward_doors";
+  map["version"] = 1;
+  map["frame"] = "world";
+  map["particle"] = {"x_a_m", "y_a_m", "x_b_m", "y_b_m", "top_height_m"};
+  map["doors"] = doors;
+  maps.push_back({"_doors.json", map.dump(2) + "\n"});
+  return maps;
 }
 
 PoseEstimate P3UpwardPipeline::Estimate() const {

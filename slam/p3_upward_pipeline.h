@@ -91,6 +91,9 @@ class P3UpwardPipeline : public Pipeline {
   std::vector<LandmarkEstimate> Landmarks() const override;
   std::vector<Detection> TakeDetections() override { return std::move(detections_); }
   std::vector<Innovation> TakeInnovations() override { return std::move(innovations_); }
+  /// `_doors.json` (pipelines with doors): each registered door's registration, with the
+  /// particle filter's samples at that moment (P3 Fig. 9), its H(A, B) and its final columns.
+  std::vector<MapFile> TakeMaps() override;
   std::map<std::string, double> stage_seconds() const override { return clock_.seconds(); }
   PipelineHealth health() const override { return health_; }
 
@@ -109,6 +112,9 @@ class P3UpwardPipeline : public Pipeline {
     ekf::BlockId block;
     double top_height_m = 0.0;  // the particle filter's height of the column tops
     int updates = 0;
+    TimeNs registered_ns = 0;
+    double hausdorff_px = 0.0;              // H(A, B) of the open-door test (P3 eq. 9)
+    std::vector<DoorParticle> particles;  // the samples at registration (x1, y1, x2, y2, h)
   };
   struct Observation;  // one detection of a frame (the .cpp)
 

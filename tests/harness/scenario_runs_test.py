@@ -234,6 +234,20 @@ class P3Doors(unittest.TestCase):
             landmarks = json.load(f)
         for door in (l for l in landmarks if l["type"] == "door"):
             self.assertEqual([p["role"] for p in door["points"]], ["column_a", "column_b"])
+        # Each registration with the particle filter's samples at that moment (P3 Fig. 9), near
+        # the door's columns then.
+        with open(os.path.join(out, "maps", "p3_upward_doors.json")) as f:
+            registered = json.load(f)
+        self.assertEqual(registered["format"], "corridorsim.upward_doors")
+        self.assertEqual(len(registered["doors"]), doors["estimated"])
+        for door in registered["doors"]:
+            self.assertGreater(door["hausdorff_px"], 5.0)  # the open-door test's threshold
+            self.assertEqual(len(door["particles"]), 200)
+            n = len(door["particles"])
+            mean = [sum(p[k] for p in door["particles"]) / n for k in range(5)]
+            for k in range(4):
+                self.assertLess(abs(mean[k] - door["columns_m"][k // 2][k % 2]), 0.3)
+            self.assertTrue(1.8 <= mean[4] <= 2.4)  # a door's height (the verifier's bounds)
 
 
 class ShippedScenarios(unittest.TestCase):
