@@ -113,7 +113,7 @@ class P3UpwardPipeline : public Pipeline {
     double top_height_m = 0.0;  // the particle filter's height of the column tops
     int updates = 0;
     TimeNs registered_ns = 0;
-    double hausdorff_px = 0.0;              // H(A, B) of the open-door test (P3 eq. 9)
+    double hausdorff_px = 0.0;            // H(A, B) of the open-door test (P3 eq. 9)
     std::vector<DoorParticle> particles;  // the samples at registration (x1, y1, x2, y2, h)
   };
   struct Observation;  // one detection of a frame (the .cpp)
