@@ -331,6 +331,13 @@ std::vector<std::optional<DoorTrackReport>> UpwardDoorVerifier::Process(
     sightings[i] = s;
   }
 
+  // The world bearings of a track's mean columns from the camera centre.
+  const auto predicted_bearings = [&](const Track& track) {
+    const Eigen::Vector4d mean = Report(track).columns;
+    return std::pair<double, double>(std::atan2(mean(1) - c.y(), mean(0) - c.x()),
+                                     std::atan2(mean(3) - c.y(), mean(2) - c.x()));
+  };
+
   // Association: each candidate to the track whose mean columns it sees within associate_rad,
   // nearest first; each track at most once.
   struct Pair {
@@ -339,9 +346,7 @@ std::vector<std::optional<DoorTrackReport>> UpwardDoorVerifier::Process(
   };
   std::vector<Pair> pairs;
   for (std::size_t t = 0; t < tracks_.size(); ++t) {
-    const Eigen::Vector4d mean = Report(tracks_[t]).columns;
-    const double pa = std::atan2(mean(1) - c.y(), mean(0) - c.x());
-    const double pb = std::atan2(mean(3) - c.y(), mean(2) - c.x());
+    const auto [pa, pb] = predicted_bearings(tracks_[t]);
     for (std::size_t i = 0; i < candidates.size(); ++i) {
       if (!sightings[i]) continue;
       const double e = std::max(std::abs(Wrap(sightings[i]->bearing_a - pa)),
@@ -375,9 +380,7 @@ std::vector<std::optional<DoorTrackReport>> UpwardDoorVerifier::Process(
       // A candidate close to a track taken by a better one is a duplicate: not followed.
       bool duplicate = false;
       for (std::size_t t = 0; t < tracks_.size() && !duplicate; ++t) {
-        const Eigen::Vector4d mean = Report(tracks_[t]).columns;
-        const double pa = std::atan2(mean(1) - c.y(), mean(0) - c.x());
-        const double pb = std::atan2(mean(3) - c.y(), mean(2) - c.x());
+        const auto [pa, pb] = predicted_bearings(tracks_[t]);
         duplicate = std::min(std::abs(Wrap(s.bearing_a - pa)), std::abs(Wrap(s.bearing_b - pb))) <=
                     options_.associate_rad;
       }
