@@ -3,16 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numbers>
 
 #include <opencv2/imgproc.hpp>
 
 namespace corridorsim::slam {
 namespace {
-
-constexpr double kPi = std::numbers::pi;
-
-double Wrap(double angle) { return std::remainder(angle, 2.0 * kPi); }
 
 // The sensor model's factor for an error (P3 Fig. 8d: Gaussian; P2: triangular).
 double Likelihood(DoorSensorModel model, double error, double scale) {
@@ -198,7 +193,7 @@ void UpwardDoorVerifier::Weigh(Track* track, const Sighting& s, const SE3& world
       const double dx = p(2 * i) - c.x(), dy = p(2 * i + 1) - c.y();
       const double bearing = std::atan2(dy, dx);
       const double elevation = std::atan2(p(4) - c.z(), std::hypot(dx, dy));
-      w *= Likelihood(options_.sensor_model, Wrap(bearing - bearings[i]),
+      w *= Likelihood(options_.sensor_model, NormalizeAngle(bearing - bearings[i]),
                       options_.bearing_error_rad);
       w *= Likelihood(options_.sensor_model, elevation - elevations[i],
                       options_.elevation_error_rad);
@@ -324,8 +319,8 @@ std::vector<std::optional<DoorTrackReport>> UpwardDoorVerifier::Process(
     Sighting s;
     s.ray_a = world_from_camera.rotation() * model_.Unproject(candidates[i].top_a_px);
     s.ray_b = world_from_camera.rotation() * model_.Unproject(candidates[i].top_b_px);
-    s.bearing_a = Wrap(a->bearing_rad + pose.yaw());
-    s.bearing_b = Wrap(b->bearing_rad + pose.yaw());
+    s.bearing_a = NormalizeAngle(a->bearing_rad + pose.yaw());
+    s.bearing_b = NormalizeAngle(b->bearing_rad + pose.yaw());
     s.elevation_a = a->elevation_rad;
     s.elevation_b = b->elevation_rad;
     sightings[i] = s;
@@ -349,8 +344,8 @@ std::vector<std::optional<DoorTrackReport>> UpwardDoorVerifier::Process(
     const auto [pa, pb] = predicted_bearings(tracks_[t]);
     for (std::size_t i = 0; i < candidates.size(); ++i) {
       if (!sightings[i]) continue;
-      const double e = std::max(std::abs(Wrap(sightings[i]->bearing_a - pa)),
-                                std::abs(Wrap(sightings[i]->bearing_b - pb)));
+      const double e = std::max(std::abs(NormalizeAngle(sightings[i]->bearing_a - pa)),
+                                std::abs(NormalizeAngle(sightings[i]->bearing_b - pb)));
       if (e <= options_.associate_rad) pairs.push_back({e, i, t});
     }
   }
@@ -381,8 +376,8 @@ std::vector<std::optional<DoorTrackReport>> UpwardDoorVerifier::Process(
       bool duplicate = false;
       for (std::size_t t = 0; t < tracks_.size() && !duplicate; ++t) {
         const auto [pa, pb] = predicted_bearings(tracks_[t]);
-        duplicate = std::min(std::abs(Wrap(s.bearing_a - pa)), std::abs(Wrap(s.bearing_b - pb))) <=
-                    options_.associate_rad;
+        duplicate = std::min(std::abs(NormalizeAngle(s.bearing_a - pa)),
+                             std::abs(NormalizeAngle(s.bearing_b - pb))) <= options_.associate_rad;
       }
       if (duplicate || tracks_.size() >= std::size_t(options_.max_tracks)) continue;
       Track track;

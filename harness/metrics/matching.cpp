@@ -2,9 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 #include <set>
 #include <tuple>
+
+#include "common/pose.h"
 
 namespace corridorsim::metrics {
 
@@ -113,9 +114,7 @@ Vector2d DetectionPixel(const slam::Detection& d) {
 
 std::optional<double> DoorBearingError(const slam::Detection& d, const render::DoorTruth& t) {
   if (!d.column_bearings_rad.allFinite()) return std::nullopt;
-  const auto error = [](double a, double b) {
-    return std::abs(std::remainder(a - b, 2.0 * std::numbers::pi));
-  };
+  const auto error = [](double a, double b) { return std::abs(NormalizeAngle(a - b)); };
   const Vector2d& b = d.column_bearings_rad;
   const double straight = std::max(error(b(0), t.bearing_a_rad), error(b(1), t.bearing_b_rad));
   const double crossed = std::max(error(b(0), t.bearing_b_rad), error(b(1), t.bearing_a_rad));

@@ -1,7 +1,6 @@
 #include "slam/ekf/upward_models.h"
 
 #include <cmath>
-#include <numbers>
 
 namespace corridorsim::slam::ekf {
 namespace {
@@ -172,7 +171,7 @@ std::optional<Eigen::Vector2d> DoorBearings(const SE2& pose, const DoorColumns& 
     const double q = dx * dx + dy * dy;
     if (!(q > 1e-12)) return std::nullopt;
     // P3 eq. 17.
-    out(i) = std::remainder(std::atan2(dy, dx) - pose.yaw(), 2.0 * std::numbers::pi);
+    out(i) = NormalizeAngle(std::atan2(dy, dx) - pose.yaw());
     const Eigen::RowVector2d d_c_row(dy / q, -dx / q);  // d theta / d C
     if (d_pose) {
       d_pose->row(i) = d_c_row * d_c;

@@ -12,10 +12,11 @@
 //   point (the higher a point, the nearer the image centre).
 // - Each of the n(n-1)/2 pairs of columns whose angular separation is a door's (P3 Fig. 5b) is a
 //   candidate when a horizontal line lies in its search area (P3 Fig. 6, eqs. 3-4): the bar's
-//   end points are t1 p1 and t2 p2 (p1, p2 the column tops from the principal point,
-//   0 <= t1, t2 <= 1 + bar_margin), so its direction lies between the angle of p2 and that of
-//   p1 + 180 degrees (eq. 4); the segments that qualify must cover `min_bar_coverage` of the
-//   angle between the columns.
+//   end points are t1 p1 and t2 p2 (p1, p2 the column tops from the principal point), so its
+//   direction lies between the angle of p2 and that of p1 + 180 degrees (eq. 4). Here a bar
+//   segment must have that slope, its ends within `bar_angle_slack` of the columns' angle
+//   outside them and within `bar_margin` of the chord p1 p2 radially; the segments that qualify
+//   must cover `min_bar_coverage` of the angle between the columns.
 // A pure function of the image and the options.
 
 #include <optional>
