@@ -163,6 +163,7 @@ void PipelineRunner::Finish() {
     wall_seconds_ += SecondsSince(t0);
     for (slam::Detection& d : pipeline.TakeDetections()) record.detections.push_back(std::move(d));
     record.landmarks = pipeline.Landmarks();
+    record.areas = pipeline.Areas();
     record.occupancy_map = pipeline.occupancy_map();
     for (slam::Innovation& innovation : pipeline.TakeInnovations()) {
       record.innovations.push_back(innovation);

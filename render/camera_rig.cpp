@@ -109,6 +109,7 @@ RigOptions RigOptions::Default() {
   upward.id = "upward";
   upward.model = KannalaBrandt::FromFov(640, 480, 110.0 * kDegToRad);
   upward.mount = Mount{-0.05, 0.0, 0.4, 0.0, 90.0, 0.0};
+  upward.truth_depth = true;  // upward corners are scored against the point seen (docs/metrics.md)
   rig.cameras.push_back(upward);
   return rig;
 }
@@ -335,6 +336,10 @@ const OptionTable<CameraOptions>& CameraOptionsTable() {
     t.AddSection("mount", &C::mount, MountOptionsTable(),
                  "where the camera sits on the robot (docs/frames.md)");
     t.Add("depth", &C::depth, "", "a registered depth image").Note("pinhole only");
+    t.Add("truth_depth", &C::truth_depth, "",
+          "exact depth kept as frame truth only (any lens; never given to a pipeline): corner "
+          "detections are scored against the point seen at their pixel")
+        .Note("default true for the upward camera");
     t.Add("cube_face_px", &C::cube_face_px, "px",
           "fisheye: resolution of the cube faces it is drawn from (0 = matched to the model's "
           "centre)")
@@ -521,7 +526,7 @@ CameraBudget CameraBudgetOf(const CameraOptions& camera, int samples) {
   // scale 4) and the planning's bearings and faces (28).
   const std::uint64_t pass_pixels =
       std::uint64_t(b.pass_width_px) * std::uint64_t(b.pass_height_px) * std::uint64_t(b.passes);
-  const bool depth = camera.depth;
+  const bool depth = camera.ReadsDepth();
   const std::uint64_t per_pass_px = 17 + 8 + (depth ? 4 : 0);
   const std::uint64_t per_px =
       8 + (depth ? 8 : 0) + (IsUndistortedPinhole(model) ? 0 : 12 + 8 + (depth ? 4 : 0) + 28);
@@ -682,7 +687,7 @@ void CameraRenderer::PlanRemapPasses() {
   }
   lut_.resize(bearings.size());
   remap_.resize(bearings.size());
-  if (options_.depth) depth_scale_.assign(bearings.size(), 0.0f);
+  if (options_.ReadsDepth()) depth_scale_.assign(bearings.size(), 0.0f);
   for (std::size_t i = 0; i < bearings.size(); ++i) {
     if (face_of[i] < 0) continue;
     const int f = face_of[i];
@@ -715,7 +720,7 @@ void CameraRenderer::PlanRemapPasses() {
     r.pass = e.pass;
     r.nearest = static_cast<std::uint8_t>((nx - x0) | (ny - y0) << 1);
     // Camera z of the point at pass depth 1 along this ray: camera z = pass z * b.z / q.z.
-    if (options_.depth) depth_scale_[i] = static_cast<float>(bearings[i].z() / q.z());
+    if (options_.ReadsDepth()) depth_scale_[i] = static_cast<float>(bearings[i].z() / q.z());
   }
   PlanUnusedPixels();
 }
@@ -826,7 +831,7 @@ void CameraRenderer::Draw(const Scene& scene, Backend& backend, const SE3& world
   std::vector<std::vector<int>> visible(views.size());
   std::vector<DrawRequest> requests(views.size());
   for (std::size_t k = 0; k < views.size(); ++k) {
-    views[k].read_depth = options_.depth;
+    views[k].read_depth = options_.ReadsDepth();
     visible[k] = VisibleDrawables(scene, views[k]);
   }
   const auto gain = static_cast<float>(ExposureGain(scene, world_from_camera, visible));
@@ -853,7 +858,7 @@ void CameraRenderer::Finish(CameraFrame* frame) {
       std::swap(hires_.rgb, rendered_[0].rgb);
       std::swap(hires_.instance, rendered_[0].instance);
       std::swap(hires_.semantic, rendered_[0].semantic);
-      if (options_.depth) std::swap(hires_.depth_m, rendered_[0].depth_m);
+      if (options_.ReadsDepth()) std::swap(hires_.depth_m, rendered_[0].depth_m);
     } else {
       Compose(&hires_);
     }
@@ -864,7 +869,7 @@ void CameraRenderer::Finish(CameraFrame* frame) {
     std::swap(frame->rgb, r.rgb);
     std::swap(frame->instance, r.instance);
     std::swap(frame->semantic, r.semantic);
-    if (options_.depth) std::swap(frame->depth_m, r.depth_m);
+    if (options_.ReadsDepth()) std::swap(frame->depth_m, r.depth_m);
   } else {
     Compose(frame);
   }
@@ -879,7 +884,7 @@ void CameraRenderer::Downsample(const CameraFrame& hires, CameraFrame* frame) co
   const std::size_t pixels = static_cast<std::size_t>(width) * height;
   frame->instance.resize(pixels);
   frame->semantic.resize(pixels);
-  if (options_.depth) {
+  if (options_.ReadsDepth()) {
     frame->depth_m.width = width;
     frame->depth_m.height = height;
     frame->depth_m.data.resize(pixels);
@@ -904,7 +909,7 @@ void CameraRenderer::Downsample(const CameraFrame& hires, CameraFrame* frame) co
                                  static_cast<std::size_t>(u) * n + (n - 1) / 2;
       frame->instance[out] = hires.instance[centre];
       frame->semantic[out] = hires.semantic[centre];
-      if (options_.depth) frame->depth_m.data[out] = hires.depth_m.data[centre];
+      if (options_.ReadsDepth()) frame->depth_m.data[out] = hires.depth_m.data[centre];
     }
   }
 }
@@ -917,7 +922,7 @@ void CameraRenderer::Compose(CameraFrame* frame) const {
   }
   frame->instance.resize(n);
   frame->semantic.resize(n);
-  if (options_.depth) {
+  if (options_.ReadsDepth()) {
     frame->depth_m.width = width;
     frame->depth_m.height = height;
     frame->depth_m.data.resize(n);
@@ -927,11 +932,11 @@ void CameraRenderer::Compose(CameraFrame* frame) const {
   for (std::size_t k = 0; k < rendered_.size() && k < images.size(); ++k) {
     const RenderedView& r = rendered_[k];
     images[k] = {r.rgb.data.data(), r.instance.data(), r.semantic.data(),
-                 options_.depth ? r.depth_m.data.data() : nullptr, std::size_t(r.rgb.width)};
+                 options_.ReadsDepth() ? r.depth_m.data.data() : nullptr, std::size_t(r.rgb.width)};
   }
-  detail::NearestLabels(remap_, images, options_.depth ? depth_scale_.data() : nullptr,
+  detail::NearestLabels(remap_, images, options_.ReadsDepth() ? depth_scale_.data() : nullptr,
                         frame->instance.data(), frame->semantic.data(),
-                        options_.depth ? frame->depth_m.data.data() : nullptr);
+                        options_.ReadsDepth() ? frame->depth_m.data.data() : nullptr);
   detail::BilinearRgb(remap_, images, frame->rgb.data.data());
 }
 

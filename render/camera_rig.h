@@ -64,11 +64,15 @@ struct CameraOptions {
   CameraModel model;
   Mount mount;
   bool depth = false;  // a registered depth image (front RGB-D sensor)
-  bool noise = true;   // apply the noise models below (false: exact images)
+  // Exact depth rendered as frame truth only (any lens; pipelines never get it): the metrics score
+  // corner detections against the point seen at their pixel. Implied by `depth`.
+  bool truth_depth = false;
+  bool noise = true;  // apply the noise models below (false: exact images)
   DepthNoiseOptions depth_noise;
   RgbNoiseOptions rgb_noise;
   int cube_face_px = 0;  // fisheye: cube face resolution (0 = matched to the model's centre)
   ExposureOptions exposure;
+  bool ReadsDepth() const { return depth || truth_depth; }
 };
 
 /// Samples per pixel that `render.samples` allows: n x n per pixel with n odd, so one sample
@@ -140,7 +144,7 @@ struct CameraFrame {
   std::string camera_id;
   SE3 world_from_camera;
   Image8 rgb;                           // with noise when the camera's noise is on
-  ImageF depth_m;                       // exact z along the optical axis (depth cameras only)
+  ImageF depth_m;                       // exact z along the optical axis (ReadsDepth() only)
   ImageF noisy_depth_m;                 // after the depth noise model (depth cameras only)
   std::vector<std::uint32_t> instance;  // per pixel instance id (World ids), 0 = nothing
   std::vector<std::uint8_t> semantic;   // per pixel worlds::SemanticClass

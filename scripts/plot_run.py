@@ -16,6 +16,10 @@ Reads from RUN_DIR (metres, seconds, radians, world frame W; docs/frames.md):
                            box_min_x_px,box_min_y_px,box_max_x_px,box_max_y_px,plate_box,radius_px,
                            label,open,score,recognition_score,landmark_id,new_landmark
   maps/<pipeline>_frame_times.csv   (optional) stamp_s,landmarks,frame_ms per front frame
+  maps/<pipeline>_doors.json   (optional) corridorsim.upward_doors: each registered door's
+                           landmark_id, columns_m and particles [[x_a, y_a, x_b, y_b, h], ...]
+  maps/<pipeline>_areas.json   (optional) corridorsim.upward_areas: areas [{id, kind, door_landmark_id,
+                           polygon_m, landmark_ids}] (docs/p3.md "Areas")
 The pipelines are the keys of metrics.json's `pipelines`, or, when it has none, the stems of the
 other *.tum files. Every metrics key and every file marked optional may be absent: a plot whose
 data is absent is skipped.
@@ -27,6 +31,10 @@ Writes (each printed on its own line):
   landmarks_<pipeline>.png the map over the plan: each landmark with its 2-sigma ellipse (x-y block,
                            chi-square 2 dof 95 %), coloured by type, dashed while initialising,
                            plates with their read room number; vanishing points in the legend
+  doors_<pipeline>.png     the door particle clouds at registration (P3 Fig. 9): each sample's two
+                           columns, with the door landmark's final columns
+  areas_<pipeline>.png     the map divided at the doors (P2 Fig. 12): each room's outline and the
+                           landmarks coloured by their area, over the plan with the true rooms
   detections_<pipeline>.png  per detection type: u_px against time, detections per frame, and
                            the score of associated against unassociated detections
   frame_time_<pipeline>.png  frame time against the landmarks in the state and over time (P1
@@ -71,7 +79,7 @@ except ImportError as missing:
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402 (after choosing the backend)
 from matplotlib.lines import Line2D  # noqa: E402
-from matplotlib.patches import Circle, Ellipse, Rectangle  # noqa: E402
+from matplotlib.patches import Circle, Ellipse, Polygon, Rectangle  # noqa: E402
 
 # Single-sample 95 % bounds of chi-square (2.5 % and 97.5 % quantiles) by degrees of freedom.
 CHI2_95_BOUNDS = {1: (0.000982, 5.0239), 2: (0.0506, 7.3778), 3: (0.2158, 9.3484),
@@ -108,6 +116,7 @@ CHI2_2DOF_95 = 5.991  # 95 % quantile of chi-square with 2 dof: the ellipse is s
 # Bounds on what an input may hold (each becomes a loop count or a figure size).
 MAX_LANDMARKS = 100_000
 MAX_LANDMARK_POINTS = 16
+MAX_PARTICLES = 100_000    # samples of one door in maps/<pipeline>_doors.json
 MAX_CSV_ROWS = 2_000_000
 MAX_TEXT_CHARS = 64        # labels, roles and camera names
 MAX_PLATE_ANNOTATIONS = 80  # labelled plate tracks in detections_<pipeline>.png
@@ -258,8 +267,16 @@ def read_world(path):
         state = r.get(door, "state", "text", name)
         if state is not None and state not in DOOR_COLORS:
             r.fail(door, f"{name}.state", f"expected one of {sorted(DOOR_COLORS)}, got '{state}'")
+        footprint = None
+        room = r.get(door, "room", "object", name)
+        if room is not None:
+            lo, hi = r.vec2(room, "min", f"{name}.room"), r.vec2(room, "max", f"{name}.room")
+            if lo is None or hi is None:
+                r.fail(room, f"{name}.room", "needs min and max")
+            footprint = (lo, hi)
         world["doors"].append({"a": a, "b": b, "state": state,
-                               "room": r.get(door, "room_number", "text", name)})
+                               "room": r.get(door, "room_number", "text", name),
+                               "footprint": footprint})
     for name, plate in r.items(root, "door_plates"):
         center = r.vec2(plate, "center", name)
         if center is None:
@@ -481,6 +498,78 @@ def read_landmarks(path):
     return landmarks
 
 
+def read_format(r, root, expected):
+    """Checks a map file's `format` and `version` (1)."""
+    if root.get("format") != expected:
+        r.fail(root, "format", f"expected '{expected}', got {json.dumps(root.get('format'))[:40]}")
+    if root.get("version") != 1:
+        r.fail(root, "version", f"expected 1, got {json.dumps(root.get('version'))[:40]}")
+
+
+def finite_numbers(value, count):
+    return (isinstance(value, list) and len(value) == count and
+            all(is_number(v) and math.isfinite(v) for v in value))
+
+
+def read_upward_doors(path):
+    """maps/<pipeline>_doors.json (slam/p3_upward_pipeline.cpp) as a list of
+    {id, columns: ((xa, ya), (xb, yb)), particles: [(xa, ya, xb, yb, h)]}."""
+    root = load_json(path)
+    r = JsonReader(path)
+    read_format(r, root, "corridorsim.upward_doors")
+    doors = []
+    for name, door in r.items(root, "doors"):
+        if len(doors) == MAX_LANDMARKS:
+            r.fail(door, name, f"more than {MAX_LANDMARKS} doors")
+        lid = door.get("landmark_id")
+        if not (isinstance(lid, int) and not isinstance(lid, bool)):
+            r.fail(door, f"{name}.landmark_id", "expected an integer")
+        columns = door.get("columns_m")
+        if not (isinstance(columns, list) and len(columns) == 2 and
+                all(finite_numbers(c, 2) for c in columns)):
+            r.fail(door, f"{name}.columns_m", "expected [[x_a, y_a], [x_b, y_b]] in metres")
+        particles = r.get(door, "particles", "array", name) or []
+        if len(particles) > MAX_PARTICLES:
+            r.fail(door, f"{name}.particles", f"more than {MAX_PARTICLES} particles")
+        for i, sample in enumerate(particles):
+            if not finite_numbers(sample, 5):
+                r.fail(door, f"{name}.particles[{i}]",
+                       "expected [x_a, y_a, x_b, y_b, top_height] in metres")
+        doors.append({"id": lid, "columns": (tuple(columns[0]), tuple(columns[1])),
+                      "particles": [tuple(float(v) for v in p) for p in particles]})
+    return doors
+
+
+def read_areas(path):
+    """maps/<pipeline>_areas.json (slam/mapping/door_areas.h) as a list of
+    {id, kind, door, polygon: [(x, y)] or None, landmarks: set of ids}."""
+    root = load_json(path)
+    r = JsonReader(path)
+    read_format(r, root, "corridorsim.upward_areas")
+    areas = []
+    for name, area in r.items(root, "areas"):
+        if len(areas) == MAX_LANDMARKS:
+            r.fail(area, name, f"more than {MAX_LANDMARKS} areas")
+        aid = area.get("id")
+        if not (isinstance(aid, int) and not isinstance(aid, bool)):
+            r.fail(area, f"{name}.id", "expected an integer")
+        kind = r.get(area, "kind", "text", name)
+        if kind not in ("corridor", "room"):
+            r.fail(area, f"{name}.kind", f"expected corridor or room, got {json.dumps(kind)[:40]}")
+        polygon = r.get(area, "polygon_m", "array", name)
+        if kind == "room" and not (polygon and len(polygon) <= 64 and
+                                   all(finite_numbers(v, 2) for v in polygon)):
+            r.fail(area, f"{name}.polygon_m", "a room needs [[x, y], ...] in metres (at most 64)")
+        ids = r.get(area, "landmark_ids", "array", name) or []
+        if len(ids) > MAX_LANDMARKS or not all(isinstance(i, int) and not isinstance(i, bool)
+                                               for i in ids):
+            r.fail(area, f"{name}.landmark_ids", "expected landmark ids (integers)")
+        areas.append({"id": aid, "kind": kind, "door": area.get("door_landmark_id"),
+                      "polygon": [tuple(v) for v in polygon] if kind == "room" else None,
+                      "landmarks": set(ids)})
+    return areas
+
+
 def read_csv_table(path, columns):
     """The rows of a CSV file whose header holds every name in `columns` (in any order; other
     columns are ignored) as (line, {column: stripped cell}); quoted cells may hold commas and
@@ -655,6 +744,10 @@ def read_run(run_dir):
             "frame_times": read_optional(os.path.join(run_dir, "maps",
                                                       f"{name}_frame_times.csv"),
                                          read_frame_times),
+            "doors": read_optional(os.path.join(run_dir, "maps", f"{name}_doors.json"),
+                                   read_upward_doors),
+            "areas": read_optional(os.path.join(run_dir, "maps", f"{name}_areas.json"),
+                                   read_areas),
         }
     return run
 
@@ -1071,6 +1164,91 @@ def plot_landmarks(name, run, landmarks, plots_dir, written):
     save(fig, plots_dir, f"landmarks_{name}.png", written)
 
 
+def plot_door_particles(name, run, doors, plots_dir, written):
+    """doors_<name>.png: each registered door's particle cloud at registration (P3 Fig. 9), the
+    two columns of every sample (x-y, m), and the door landmark's final columns joined, over the
+    plan with the true doorways by state."""
+    extent = plan_extent(run)
+    truth = run["truth"]
+    samples = sum(len(d["particles"]) for d in doors)
+    handles = [Line2D([], [], color="0.55", lw=1.0, label="ground truth"),
+               Line2D([], [], ls="", marker=".", ms=4, color="C1",
+                      label="column a of a sample"),
+               Line2D([], [], ls="", marker=".", ms=4, color="C4",
+                      label="column b of a sample"),
+               Line2D([], [], color=TYPE_COLORS["door"], lw=1.5, marker="o", ms=5,
+                      label=f"door landmark, final columns ({len(doors)})")]
+    handles += world_handles("true door plate (room)")
+
+    def draw(ax):
+        draw_world(ax, run["world"])
+        ax.plot(truth[:, 1], truth[:, 2], color="0.55", lw=1.0, zorder=6)
+        for door in doors:
+            if door["particles"]:
+                p = np.array(door["particles"])
+                ax.plot(p[:, 0], p[:, 1], ls="", marker=".", ms=1.5, color="C1", alpha=0.5,
+                        zorder=7)
+                ax.plot(p[:, 2], p[:, 3], ls="", marker=".", ms=1.5, color="C4", alpha=0.5,
+                        zorder=7)
+            (xa, ya), (xb, yb) = door["columns"]
+            ax.plot([xa, xb], [ya, yb], color=TYPE_COLORS["door"], lw=1.5, marker="o", ms=4,
+                    zorder=8)
+            ax.annotate(str(door["id"]), ((xa + xb) / 2, (ya + yb) / 2), xytext=(3, 3),
+                        textcoords="offset points", fontsize=7, color=TYPE_COLORS["door"],
+                        zorder=9)
+
+    title = (f"{name}: door particle clouds at registration (P3 Fig. 9; {samples} samples of "
+             f"{len(doors)} doors) and the doors' final columns, frame W, metres")
+    save(plan_figure(extent, handles, title, draw), plots_dir, f"doors_{name}.png", written)
+
+
+def plot_areas(name, run, areas, landmarks, plots_dir, written):
+    """areas_<name>.png: the map divided at the doors (P2 Fig. 12): each room area's outline
+    filled in its own colour, the point landmarks coloured by their area (the corridor grey),
+    over the plan with the true rooms dotted."""
+    extent = plan_extent(run)
+    truth = run["truth"]
+    position = {lm["id"]: lm["position"] for lm in landmarks}
+    rooms = [a for a in areas if a["kind"] == "room"]
+    corridor = sum(len(a["landmarks"]) for a in areas if a["kind"] == "corridor")
+    colors = plt.get_cmap("tab10")
+
+    def color_of(area):
+        return "0.45" if area["kind"] == "corridor" else colors((area["id"] - 1) % 10)
+
+    handles = [Line2D([], [], color="0.55", lw=1.0, label="ground truth"),
+               Line2D([], [], ls="", marker="o", ms=4, color="0.45",
+                      label=f"corridor landmark ({corridor})"),
+               Line2D([], [], color="0.3", lw=0.8, ls=":", label="true room"),
+               Rectangle((0, 0), 1, 1, facecolor=colors(0), alpha=0.25,
+                         label=f"room area ({len(rooms)}) and its landmarks")]
+    handles += world_handles("true door plate (room)")
+
+    def draw(ax):
+        draw_world(ax, run["world"])
+        for door in run["world"]["doors"]:
+            if door["footprint"] is not None:
+                (x0, y0), (x1, y1) = door["footprint"]
+                ax.add_patch(Rectangle((x0, y0), x1 - x0, y1 - y0, fill=False, edgecolor="0.3",
+                                       lw=0.8, ls=":", zorder=2))
+        ax.plot(truth[:, 1], truth[:, 2], color="0.55", lw=1.0, zorder=6)
+        for area in areas:
+            c = color_of(area)
+            if area["polygon"]:
+                ax.add_patch(Polygon(area["polygon"], closed=True, facecolor=c, alpha=0.2,
+                                     edgecolor=c, lw=1.0, zorder=2))
+                x, y = area["polygon"][0]
+                ax.annotate(f"room {area['id']}", (x, y), fontsize=7, color=c, zorder=9)
+            xy = np.array([position[i][:2] for i in sorted(area["landmarks"]) if i in position])
+            if len(xy):
+                ax.plot(xy[:, 0], xy[:, 1], ls="", marker="o",
+                        ms=2.0 if area["kind"] == "corridor" else 4.0, color=c, zorder=8)
+
+    title = (f"{name}: the map divided at the doors (P2 Fig. 12): {len(rooms)} rooms, "
+             "landmarks coloured by area, frame W, metres")
+    save(plan_figure(extent, handles, title, draw), plots_dir, f"areas_{name}.png", written)
+
+
 def score_bins(values):
     """Histogram bins for the scores: 30 over their range, log-spaced when they are positive and
     span more than three decades (Harris responses); (bins, log)."""
@@ -1296,6 +1474,10 @@ def plot_run(run, plots_dir):
     for name, p in run["pipelines"].items():
         if p["landmarks"]:
             plot_landmarks(name, run, p["landmarks"], plots_dir, written)
+        if p["doors"]:
+            plot_door_particles(name, run, p["doors"], plots_dir, written)
+        if p["areas"] and p["landmarks"] is not None:
+            plot_areas(name, run, p["areas"], p["landmarks"], plots_dir, written)
         if p["detections"] is not None and p["detections"]["stamp_s"]:
             plot_detections(name, p["detections"], plots_dir, written)
         if p["frame_times"] is not None:

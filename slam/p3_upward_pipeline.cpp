@@ -86,6 +86,8 @@ const OptionTable<P3UpwardOptions>& P3UpwardOptionsTable() {
     t.AddSection("door_verifier", &O::door_verifier, DoorVerifierOptionsTable(),
                  "the door candidates' particle filter and open-door test",
                  &DoorVerifierOptions::Check);
+    t.AddSection("areas", &O::areas, DoorAreaOptionsTable(),
+                 "the map divided into areas at the doors (P2 Fig. 12)", &DoorAreaOptions::Check);
   });
 }
 
@@ -527,6 +529,7 @@ void P3UpwardPipeline::ProcessFrame(const CameraInput& input) {
       door.top_height_m = r.particles.empty() ? 0.0 : height / double(r.particles.size());
       door.registered_ns = stamp_ns;
       door.hausdorff_px = r.hausdorff_px;
+      door.camera_xy = c;
       door.particles = r.particles;
       doors_.push_back(door);
       d.landmark_id = door.id;
@@ -562,7 +565,44 @@ std::vector<MapFile> P3UpwardPipeline::TakeMaps() {
   map["particle"] = {"x_a_m", "y_a_m", "x_b_m", "y_b_m", "top_height_m"};
   map["doors"] = doors;
   maps.push_back({"_doors.json", map.dump(2) + "\n"});
+  // P2 Fig. 12: the areas (docs/p3.md "Areas").
+  nlohmann::ordered_json areas = nlohmann::ordered_json::array();
+  for (const MapArea& area : Areas()) {
+    nlohmann::ordered_json a;
+    a["id"] = area.id;
+    a["kind"] = area.kind == AreaKind::kCorridor ? "corridor" : "room";
+    a["door_landmark_id"] =
+        area.door_landmark_id >= 0 ? nlohmann::ordered_json(area.door_landmark_id) : nullptr;
+    nlohmann::ordered_json polygon = nlohmann::ordered_json::array();
+    for (const Eigen::Vector2d& p : area.polygon) polygon.push_back({p.x(), p.y()});
+    a["polygon_m"] = area.polygon.empty() ? nlohmann::ordered_json(nullptr) : polygon;
+    a["landmark_ids"] = area.landmark_ids;
+    areas.push_back(a);
+  }
+  nlohmann::ordered_json division;
+  division["format"] = "corridorsim.upward_areas";
+  division["version"] = 1;
+  division["frame"] = "world";
+  division["room_depth_m"] = options_.areas.room_depth_m;
+  division["room_reach_m"] = options_.areas.room_reach_m;
+  division["min_depth_m"] = options_.areas.min_depth_m;
+  division["areas"] = areas;
+  maps.push_back({"_areas.json", division.dump(2) + "\n"});
   return maps;
+}
+
+std::vector<MapArea> P3UpwardPipeline::Areas() const {
+  if (!verifier_ || !state_) return {};
+  std::vector<AreaDoor> doors;
+  for (const DoorLandmark& door : doors_) {
+    const Eigen::Vector4d v = state_->Value(door.block);
+    doors.push_back({door.id, v.head<2>(), v.tail<2>(), door.camera_xy});
+  }
+  std::vector<AreaPoint> points;
+  for (const LandmarkEstimate& l : Landmarks()) {
+    if (l.type != LandmarkType::kDoor) points.push_back({l.id, l.position_in_world.head<2>()});
+  }
+  return DivideAtDoors(doors, points, options_.areas);
 }
 
 PoseEstimate P3UpwardPipeline::Estimate() const {

@@ -30,6 +30,7 @@
 #include "slam/features/corner_patches.h"
 #include "slam/features/upward_doors.h"
 #include "slam/filter_support.h"
+#include "slam/mapping/door_areas.h"
 #include "slam/pipeline.h"
 #include "slam/upward_door_verifier.h"
 
@@ -66,6 +67,7 @@ struct P3UpwardOptions {
   CeilingLampOptions lamps;
   UpwardDoorOptions doors;            // the door candidates (slam/features/upward_doors.h)
   DoorVerifierOptions door_verifier;  // their particle filter and test (upward_door_verifier.h)
+  DoorAreaOptions areas;              // the map divided at the doors (slam/mapping/door_areas.h)
   std::optional<OptionsProblem> Check() const;
 };
 const OptionTable<P3UpwardOptions>& P3UpwardOptionsTable();
@@ -93,7 +95,9 @@ class P3UpwardPipeline : public Pipeline {
   std::vector<Innovation> TakeInnovations() override { return std::move(innovations_); }
   /// `_doors.json` (pipelines with doors): each registered door's registration, with the
   /// particle filter's samples at that moment (P3 Fig. 9), its H(A, B) and its final columns.
+  /// `_areas.json` too: Areas() (P2 Fig. 12).
   std::vector<MapFile> TakeMaps() override;
+  std::vector<MapArea> Areas() const override;
   std::map<std::string, double> stage_seconds() const override { return clock_.seconds(); }
   PipelineHealth health() const override { return health_; }
 
@@ -113,7 +117,8 @@ class P3UpwardPipeline : public Pipeline {
     double top_height_m = 0.0;  // the particle filter's height of the column tops
     int updates = 0;
     TimeNs registered_ns = 0;
-    double hausdorff_px = 0.0;            // H(A, B) of the open-door test (P3 eq. 9)
+    double hausdorff_px = 0.0;  // H(A, B) of the open-door test (P3 eq. 9)
+    Eigen::Vector2d camera_xy = Eigen::Vector2d::Zero();  // where it was registered from
     std::vector<DoorParticle> particles;  // the samples at registration (x1, y1, x2, y2, h)
   };
   struct Observation;  // one detection of a frame (the .cpp)

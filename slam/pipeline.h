@@ -108,6 +108,19 @@ struct LandmarkEstimate {
   std::string label;                  // door plates: the recognised room number ("" if none)
 };
 
+/// P2 Fig. 12: the map divided at the doors into the corridor and the rooms behind them
+/// (slam/mapping/door_areas.h says how).
+enum class AreaKind { kCorridor, kRoom };
+struct MapArea {
+  int id = 0;  // 0: the corridor; rooms 1, 2, ... in the order their doors were registered
+  AreaKind kind = AreaKind::kCorridor;
+  int door_landmark_id = -1;  // rooms: the door landmark leading into it
+  // Rooms: the outline, counter-clockwise, world x-y (m). The corridor has none: it is the rest
+  // of the plane.
+  std::vector<Eigen::Vector2d> polygon;
+  std::vector<int> landmark_ids;  // the point landmarks in it, ascending
+};
+
 /// What a door-plate detection's box outlines: P1 detects the number region (section 3.1); other
 /// detectors may report the whole plate.
 enum class PlateBox { kNumberRegion, kOutline };
@@ -190,6 +203,8 @@ class Pipeline {
   virtual void Finish() {}
   /// The maps built during the run, moved out (called once, after Finish()).
   virtual std::vector<MapFile> TakeMaps() { return {}; }
+  /// The map divided into areas at the doors (P2 Fig. 12), or empty for pipelines without doors.
+  virtual std::vector<MapArea> Areas() const { return {}; }
   /// The dense occupancy map for the map-quality metrics (valid until TakeMaps()), or nullptr.
   virtual const octomap::OcTree* occupancy_map() const { return nullptr; }
   /// Seconds spent per stage so far (e.g. "predict", "detect", "update").

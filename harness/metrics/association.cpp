@@ -7,8 +7,8 @@
 namespace corridorsim::metrics {
 namespace {
 
-// Corner detections in depth frames (the Harris baseline): an association is correct when the
-// detection saw the same world point as the detection that created its landmark (within
+// Corner detections in frames with exact depth (P1 Harris, P2/P3 upward): an association is correct
+// when the detection saw the same world point as the detection that created its landmark (within
 // seen_point_gate_m), exact from the rendered depth.
 void SeenPointAssociationMetrics(const PipelineRecord& pipeline, const PipelineContext& context,
                                  const MetricWriter& out) {

@@ -61,9 +61,11 @@ Json PipelineMetrics(const MetricsInput& input, const PipelineRecord& pipeline) 
   const std::size_t malformed_innovations = metrics::AddNisMetrics(pipeline.innovations, out);
 
   // Map and association per type; map.<type> comes first, so "map" precedes "data_association".
+  std::map<slam::LandmarkType, metrics::MapMatch> matches;
   for (const slam::LandmarkType type : metrics::kMapTypes) {
     if (!metrics::HasType(pipeline, type)) continue;
-    const metrics::MapMatch map = metrics::AddMapMetrics(pipeline, context, type, out);
+    const metrics::MapMatch& map = matches[type] =
+        metrics::AddMapMetrics(pipeline, context, type, out);
     if (!context.frames.empty() && metrics::HasDetections(pipeline, type)) {
       metrics::AddAssociationMetrics(pipeline, context, type, map, out);
     }
@@ -81,6 +83,7 @@ Json PipelineMetrics(const MetricsInput& input, const PipelineRecord& pipeline) 
     occupancy.Fraction("recall", static_cast<std::size_t>(q.truth_observed_recalled),
                        static_cast<std::size_t>(q.truth_observed));
   }
+  if (!pipeline.areas.empty()) metrics::AddAreaMetrics(pipeline, context, matches, out);
   metrics::AddDetectionMetrics(pipeline, context, out);
   AddTimingMetrics(pipeline, context, out);
 

@@ -47,10 +47,11 @@ struct PipelineRecord {
   std::vector<EstimateSample> estimates;          // at every odometry message, stamp order
   std::vector<slam::LandmarkEstimate> landmarks;  // the final map
   std::vector<slam::Detection> detections;        // all frames
-  // Corner detections in depth-camera frames: the point seen at the detection's pixel, by index
-  // into `detections` (absent where the depth there is invalid).
+  // Corner detections in frames with exact depth (CameraOptions::ReadsDepth): the point seen at
+  // the detection's pixel, by index into `detections` (absent where the depth there is invalid).
   std::map<std::size_t, SeenPoint> seen_points;
   std::vector<slam::Innovation> innovations;
+  std::vector<slam::MapArea> areas;             // Pipeline::Areas(): the map divided at the doors
   std::map<std::string, double> stage_seconds;  // the pipeline's own stages (s)
   slam::PipelineHealth health;
   // The pipeline's dense map (Pipeline::occupancy_map) for the map-quality metrics, or nullptr;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <optional>
 #include <set>
 #include <utility>
 #include <vector>
@@ -26,9 +27,10 @@ std::map<int, const SeenPoint*> SeenPointsOfLandmarks(const PipelineRecord& pipe
   return out;
 }
 
-// Corner landmarks made from detections in depth frames (P1's Harris baseline): each is scored
-// against the world point seen at its creating detection's pixel, exact from the rendered depth,
-// not against the nearest tile crossing (every estimate in a tiled ceiling has one within 1 m).
+// Corner landmarks made from detections in frames with exact depth (P1 Harris, P2/P3 upward):
+// each is scored against the world point seen at its creating detection's pixel, exact from the
+// rendered depth, not against the nearest tile crossing (every estimate in a tiled ceiling has one
+// within 1 m).
 void SeenPointMapMetrics(const PipelineRecord& pipeline, const PipelineContext& context,
                          const std::map<int, const SeenPoint*>& seen, const MetricWriter& m) {
   Stats error;
@@ -244,6 +246,82 @@ MapMatch AddMapMetrics(const PipelineRecord& pipeline, const PipelineContext& co
     m.Fraction("room_number_accuracy", labels_agree, matches.size());
   }
   return result;
+}
+
+void AddAreaMetrics(const PipelineRecord& pipeline, const PipelineContext& context,
+                    const std::map<LandmarkType, MapMatch>& matches, const MetricWriter& out) {
+  const worlds::World& world = *context.world;
+  // The doorway a point's true position is in the room of (-1: none, the corridor).
+  const auto doorway_of = [&](const Eigen::Vector3d& p) {
+    for (const worlds::Doorway& d : world.doors) {
+      if (d.room && d.room->footprint.contains(p.head<2>())) return d.id;
+    }
+    return -1;
+  };
+  const auto truth_of = [&](LandmarkType type, int estimate_id) -> int {
+    const auto m = matches.find(type);
+    if (m == matches.end()) return -1;
+    const auto it = m->second.truth_of_estimate.find(estimate_id);
+    return it == m->second.truth_of_estimate.end() ? -1 : it->second;
+  };
+  // The room area of each doorway (through the door landmark's match), and each landmark's area.
+  std::map<int, int> area_of_doorway;
+  std::map<int, int> area_of_landmark;
+  std::size_t rooms = 0, rooms_open = 0;
+  for (const slam::MapArea& area : pipeline.areas) {
+    for (const int id : area.landmark_ids) area_of_landmark[id] = area.id;
+    if (area.kind != slam::AreaKind::kRoom) continue;
+    ++rooms;
+    const int doorway = truth_of(LandmarkType::kDoor, area.door_landmark_id);
+    if (doorway < 0) continue;
+    const auto d = std::find_if(world.doors.begin(), world.doors.end(),
+                                [&](const worlds::Doorway& w) { return w.id == doorway; });
+    if (d != world.doors.end() && d->state != worlds::DoorState::kClosed) ++rooms_open;
+    area_of_doorway.emplace(doorway, area.id);
+  }
+  // The truth of each scored point landmark: corners their seen point, lamps their match.
+  std::map<int, Eigen::Vector3d> lamp_truth;
+  for (const TruthLandmark& t : TruthLandmarks(world, LandmarkType::kLamp)) {
+    lamp_truth.emplace(t.id, t.position_in_world);
+  }
+  const std::map<int, const SeenPoint*> seen = SeenPointsOfLandmarks(pipeline);
+  std::size_t scored = 0, unregistered = 0, correct = 0, in_rooms = 0, in_rooms_found = 0;
+  for (const slam::LandmarkEstimate& l : pipeline.landmarks) {
+    std::optional<Eigen::Vector3d> truth;
+    if (l.type == LandmarkType::kCorner) {
+      if (const auto it = seen.find(l.id); it != seen.end()) truth = it->second->p_in_world;
+    } else if (l.type == LandmarkType::kLamp) {
+      if (const auto it = lamp_truth.find(truth_of(LandmarkType::kLamp, l.id));
+          it != lamp_truth.end()) {
+        truth = it->second;
+      }
+    }
+    const auto assigned = area_of_landmark.find(l.id);
+    if (!truth || assigned == area_of_landmark.end()) continue;
+    ++scored;
+    const int doorway = doorway_of(*truth);
+    int expected = 0;  // the corridor
+    if (doorway >= 0) {
+      const auto room = area_of_doorway.find(doorway);
+      if (room == area_of_doorway.end()) {
+        ++unregistered;
+        continue;
+      }
+      expected = room->second;
+      ++in_rooms;
+      in_rooms_found += assigned->second == expected;
+    }
+    correct += assigned->second == expected;
+  }
+  const MetricWriter m = out.Sub("map").Sub("area");
+  m.Count("rooms", rooms);
+  m.Count("rooms_behind_open_doors", rooms_open);
+  m.Count("landmarks_scored", scored);
+  m.Count("in_unregistered_room", unregistered);
+  m.Count("assigned_correctly", correct);
+  m.Fraction("assignment_accuracy", correct, scored - unregistered);
+  m.Count("room_landmarks", in_rooms);
+  m.Count("room_landmarks_found", in_rooms_found);
 }
 
 }  // namespace corridorsim::metrics

@@ -19,4 +19,10 @@ struct MapMatch {
 MapMatch AddMapMetrics(const PipelineRecord& pipeline, const PipelineContext& context,
                        slam::LandmarkType type, const MetricWriter& out);
 
+/// Writes map.area under `out` for a pipeline that divided its map at the doors
+/// (PipelineRecord::areas non-empty): each scored point landmark's area against the area its true
+/// position lies in. `matches`: map.<type>'s matching per type (doors and lamps are used).
+void AddAreaMetrics(const PipelineRecord& pipeline, const PipelineContext& context,
+                    const std::map<slam::LandmarkType, MapMatch>& matches, const MetricWriter& out);
+
 }  // namespace corridorsim::metrics

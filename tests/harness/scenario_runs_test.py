@@ -248,6 +248,21 @@ class P3Doors(unittest.TestCase):
             for k in range(4):
                 self.assertLess(abs(mean[k] - door["columns_m"][k // 2][k % 2]), 0.3)
             self.assertTrue(1.8 <= mean[4] <= 2.4)  # a door's height (the verifier's bounds)
+        # The map divided at the doors (P2 Fig. 12): the corridor and a room behind each door,
+        # every point landmark in exactly one area, most of them where they truly are.
+        with open(os.path.join(out, "maps", "p3_upward_areas.json")) as f:
+            division = json.load(f)
+        self.assertEqual(division["format"], "corridorsim.upward_areas")
+        areas = division["areas"]
+        self.assertEqual([a["kind"] for a in areas], ["corridor"] + ["room"] * doors["estimated"])
+        self.assertEqual(sorted(a["door_landmark_id"] for a in areas[1:]),
+                         sorted(d["landmark_id"] for d in registered["doors"]))
+        points = sorted(l["id"] for l in landmarks if l["type"] != "door")
+        self.assertEqual(sorted(i for a in areas for i in a["landmark_ids"]), points)
+        for room in areas[1:]:
+            self.assertEqual(len(room["polygon_m"]), 4)
+        self.assertEqual(upward["map"]["area"]["rooms_behind_open_doors"], doors["open_registered"])
+        self.assertGreaterEqual(upward["map"]["area"]["assignment_accuracy"], 0.9)
 
 
 class ShippedScenarios(unittest.TestCase):

@@ -206,6 +206,32 @@ def write_slam_outputs(run_dir, name="odometry"):
     os.makedirs(os.path.join(run_dir, "maps"), exist_ok=True)
     with open(os.path.join(run_dir, "maps", f"{name}_frame_times.csv"), "w") as f:
         f.write("\n".join(frames) + "\n")
+    # The door's particle cloud at registration (200 samples about its columns) and the map
+    # divided at it: a room behind it holding two lamps, the rest in the corridor.
+    door_id = next(lm["id"] for lm in landmarks if lm["type"] == "door")
+    (xa, ya), (xb, yb) = door["column_a"], door["column_b"]
+    particles = [[xa + 0.02 * math.sin(k), ya + 0.03 * math.cos(k), xb + 0.02 * math.cos(k),
+                  yb + 0.03 * math.sin(k), 2.0 + 0.001 * k] for k in range(200)]
+    with open(os.path.join(run_dir, "maps", f"{name}_doors.json"), "w") as f:
+        json.dump({"format": "corridorsim.upward_doors", "version": 1, "frame": "world",
+                   "particle": ["x_a_m", "y_a_m", "x_b_m", "y_b_m", "top_height_m"],
+                   "doors": [{"landmark_id": door_id, "registered_s": 3.2, "hausdorff_px": 9.5,
+                              "top_height_m": 2.0, "columns_m": [[xa, ya], [xb, yb]],
+                              "particles": particles}]}, f, indent=2)
+    lamps = [lm["id"] for lm in landmarks if lm["type"] == "lamp"]
+    room = lamps[:2]
+    with open(os.path.join(run_dir, "maps", f"{name}_areas.json"), "w") as f:
+        json.dump({"format": "corridorsim.upward_areas", "version": 1, "frame": "world",
+                   "room_depth_m": 6.0, "room_reach_m": 2.0, "min_depth_m": 0.15,
+                   "areas": [{"id": 0, "kind": "corridor", "door_landmark_id": None,
+                              "polygon_m": None,
+                              "landmark_ids": [lm["id"] for lm in landmarks
+                                               if lm["id"] not in room and
+                                               lm["type"] not in ("door", "vanishing_point")]},
+                             {"id": 1, "kind": "room", "door_landmark_id": door_id,
+                              "polygon_m": [[xa - 2, ya], [xb + 2, yb], [xb + 2, yb + 4],
+                                            [xa - 2, ya + 4]],
+                              "landmark_ids": room}]}, f, indent=2)
 
 
 def run_script(*args):
@@ -386,12 +412,15 @@ def plot_python():
 
 class SlamPlotsTest(RunFolderCase):
     """A 55 m run folder with the odometry pipeline's landmarks, detections and frame times."""
-    NEW = ["landmarks_odometry.png", "detections_odometry.png", "frame_time_odometry.png"]
+    NEW = ["landmarks_odometry.png", "doors_odometry.png", "areas_odometry.png",
+           "detections_odometry.png", "frame_time_odometry.png"]
     EXPECTED = (["trajectories.png", "errors_odometry.png", "nees_odometry.png"] + NEW +
                 ["detectors.png", "summary.png"])
     LANDMARKS = "odometry_landmarks.json"
     DETECTIONS = "odometry_detections.csv"
     FRAME_TIMES = os.path.join("maps", "odometry_frame_times.csv")
+    DOORS = os.path.join("maps", "odometry_doors.json")
+    AREAS = os.path.join("maps", "odometry_areas.json")
 
     @classmethod
     def setUpClass(cls):
@@ -437,7 +466,8 @@ class SlamPlotsTest(RunFolderCase):
         self.assertEqual(result.returncode, 0, result.stderr)
         self.assertEqual([os.path.basename(p) for p in result.stdout.splitlines()],
                          ["trajectories.png", "errors_odometry.png", "nees_odometry.png",
-                          "frame_time_odometry.png", "detectors.png", "summary.png"])
+                          "doors_odometry.png", "frame_time_odometry.png", "detectors.png",
+                          "summary.png"])  # the areas need the landmarks
 
     def test_malformed_landmarks_exit_1_naming_file_line_and_key(self):
         def landmarks(edit):
@@ -466,6 +496,32 @@ class SlamPlotsTest(RunFolderCase):
              f + r"\[14\]\.points\[1\]\.covariance: expected 3 rows"),
             (self.LANDMARKS, landmarks(lambda a: a[4].update(label=["1", "2"])),
              f + r"\[4\]\.label: expected text"),
+        ])
+
+    def test_malformed_door_and_area_maps_exit_1_naming_file_line_and_key(self):
+        def edit(change):
+            def mutate(text):
+                root = json.loads(text)
+                change(root)
+                return json.dumps(root, indent=2)
+            return mutate
+
+        d = r"maps/odometry_doors\.json:\d+: "
+        a = r"maps/odometry_areas\.json:\d+: "
+        self.break_files([
+            (self.DOORS, edit(lambda r: r.update(format="corridorsim.doors")),
+             d + r"format: expected 'corridorsim.upward_doors'"),
+            (self.DOORS, edit(lambda r: r.update(version=2)), d + r"version: expected 1"),
+            (self.DOORS, edit(lambda r: r["doors"][0]["particles"][7].pop()),
+             d + r"doors\[0\]\.particles\[7\]: expected \[x_a, y_a, x_b, y_b, top_height\]"),
+            (self.DOORS, edit(lambda r: r["doors"][0].update(columns_m=[[1, 2]])),
+             d + r"doors\[0\]\.columns_m: expected"),
+            (self.AREAS, edit(lambda r: r["areas"][1].update(kind="office")),
+             a + r"areas\[1\]\.kind: expected corridor or room"),
+            (self.AREAS, edit(lambda r: r["areas"][1].update(polygon_m=None)),
+             a + r"areas\[1\]\.polygon_m: a room needs"),
+            (self.AREAS, edit(lambda r: r["areas"][0].update(landmark_ids=[1, "2"])),
+             a + r"areas\[0\]\.landmark_ids: expected landmark ids"),
         ])
 
     def test_landmark_errors_point_at_the_object(self):
