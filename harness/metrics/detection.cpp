@@ -102,7 +102,6 @@ DetectorCounts ScoreFrames(const DetectionsByFrame& grouped,
 }
 
 const std::vector<render::PlateTruth>& PlatesOf(const render::FrameTruth& f) { return f.plates; }
-const std::vector<render::LampTruth>& LampsOf(const render::FrameTruth& f) { return f.lamps; }
 const std::vector<render::DoorTruth>& DoorsOf(const render::FrameTruth& f) { return f.doors; }
 
 // The truth box a plate detection is matched against: the number region when the detector
