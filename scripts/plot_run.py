@@ -424,6 +424,10 @@ def is_number(value):
     return isinstance(value, (int, float)) and not isinstance(value, bool)
 
 
+def is_integer(value):
+    return isinstance(value, int) and not isinstance(value, bool)
+
+
 def read_point3(r, obj, where):
     """position_in_world and covariance of a landmark or one of its points: ((x, y, z) in m,
     3x3 list in m^2 with None for a null or non-finite entry: the writer emits null for NaN, and
@@ -469,7 +473,7 @@ def read_landmarks(path):
         if not isinstance(item, dict):
             r.fail(root, where, "expected an object")
         lid = item.get("id")
-        if not (isinstance(lid, int) and not isinstance(lid, bool) and lid >= 0):
+        if not (is_integer(lid) and lid >= 0):
             r.fail(item, f"{where}.id", f"expected a non-negative integer, got "
                    f"{json.dumps(lid)[:40]}")
         if landmarks and lid <= landmarks[-1]["id"]:
@@ -522,7 +526,7 @@ def read_upward_doors(path):
         if len(doors) == MAX_LANDMARKS:
             r.fail(door, name, f"more than {MAX_LANDMARKS} doors")
         lid = door.get("landmark_id")
-        if not (isinstance(lid, int) and not isinstance(lid, bool)):
+        if not is_integer(lid):
             r.fail(door, f"{name}.landmark_id", "expected an integer")
         columns = door.get("columns_m")
         if not (isinstance(columns, list) and len(columns) == 2 and
@@ -551,7 +555,7 @@ def read_areas(path):
         if len(areas) == MAX_LANDMARKS:
             r.fail(area, name, f"more than {MAX_LANDMARKS} areas")
         aid = area.get("id")
-        if not (isinstance(aid, int) and not isinstance(aid, bool)):
+        if not is_integer(aid):
             r.fail(area, f"{name}.id", "expected an integer")
         kind = r.get(area, "kind", "text", name)
         if kind not in ("corridor", "room"):
@@ -561,8 +565,7 @@ def read_areas(path):
                                    all(finite_numbers(v, 2) for v in polygon)):
             r.fail(area, f"{name}.polygon_m", "a room needs [[x, y], ...] in metres (at most 64)")
         ids = r.get(area, "landmark_ids", "array", name) or []
-        if len(ids) > MAX_LANDMARKS or not all(isinstance(i, int) and not isinstance(i, bool)
-                                               for i in ids):
+        if len(ids) > MAX_LANDMARKS or not all(is_integer(i) for i in ids):
             r.fail(area, f"{name}.landmark_ids", "expected landmark ids (integers)")
         areas.append({"id": aid, "kind": kind, "door": area.get("door_landmark_id"),
                       "polygon": [tuple(v) for v in polygon] if kind == "room" else None,

@@ -19,7 +19,6 @@ struct RoomFrame {
   Vector2d n;
   double half_width = 0.0;
   double lo = 0.0, hi = 0.0;  // the room's extent along t
-  double depth = 0.0;
 };
 
 std::optional<RoomFrame> FrameOf(const AreaDoor& door, int index, const DoorAreaOptions& o) {
@@ -37,7 +36,6 @@ std::optional<RoomFrame> FrameOf(const AreaDoor& door, int index, const DoorArea
   f.half_width = 0.5 * width;
   f.lo = -f.half_width - o.room_reach_m;
   f.hi = f.half_width + o.room_reach_m;
-  f.depth = o.room_depth_m;
   return f;
 }
 
@@ -128,7 +126,7 @@ std::vector<MapArea> DivideAtDoors(const std::vector<AreaDoor>& doors,
     // Counter-clockwise: (t, n) is clockwise when n = -perp(t), so order the corners by sign.
     const bool ccw = f.t.x() * f.n.y() - f.t.y() * f.n.x() > 0;
     const Vector2d c0 = f.origin + f.lo * f.t, c1 = f.origin + f.hi * f.t;
-    const Vector2d c2 = c1 + f.depth * f.n, c3 = c0 + f.depth * f.n;
+    const Vector2d c2 = c1 + options.room_depth_m * f.n, c3 = c0 + options.room_depth_m * f.n;
     room.polygon =
         ccw ? std::vector<Vector2d>{c0, c1, c2, c3} : std::vector<Vector2d>{c0, c3, c2, c1};
     areas.push_back(std::move(room));
@@ -141,7 +139,10 @@ std::vector<MapArea> DivideAtDoors(const std::vector<AreaDoor>& doors,
       const RoomFrame& f = rooms[k];
       const Vector2d d = p.xy - f.origin;
       const double along = d.dot(f.t), depth = d.dot(f.n);
-      if (depth < options.min_depth_m || depth > f.depth || along < f.lo || along > f.hi) continue;
+      if (depth < options.min_depth_m || depth > options.room_depth_m || along < f.lo ||
+          along > f.hi) {
+        continue;
+      }
       const double distance = d.norm();
       if (distance < best_distance) best_distance = distance, best = static_cast<int>(k) + 1;
     }
