@@ -96,4 +96,24 @@ PoseEstimate EstimateOf(const ekf::EkfState& state, TimeNs stamp_ns) {
   return e;
 }
 
+std::vector<std::size_t> AssignClosestFirst(const std::vector<GatedPair>& pairs) {
+  std::vector<std::size_t> order(pairs.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return pairs[a].cost < pairs[b].cost; });
+  std::vector<std::size_t> taken;
+  std::vector<std::size_t> observations_used, landmarks_used;
+  for (const std::size_t i : order) {
+    const GatedPair& p = pairs[i];
+    const auto used = [](const std::vector<std::size_t>& v, std::size_t x) {
+      return std::find(v.begin(), v.end(), x) != v.end();
+    };
+    if (used(observations_used, p.observation) || used(landmarks_used, p.landmark)) continue;
+    observations_used.push_back(p.observation);
+    landmarks_used.push_back(p.landmark);
+    taken.push_back(i);
+  }
+  return taken;
+}
+
 }  // namespace corridorsim::slam

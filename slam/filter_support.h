@@ -10,6 +10,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "common/sensor_messages.h"
 #include "common/time.h"
@@ -56,6 +57,20 @@ class StageClock;
 void PredictOrRefuse(const WheelOdometry& odometry, double wheelbase_m, double k_m,
                      ekf::EkfState* state, TimeNs* stamp_ns, PipelineHealth* health,
                      StageClock* clock);
+
+/// One gated pairing of an observation with a landmark and its cost (the NIS, or any score where
+/// smaller is better).
+struct GatedPair {
+  std::size_t observation = 0;
+  std::size_t landmark = 0;
+  double cost = 0.0;
+};
+
+/// Global nearest neighbour by greedy assignment: the pairs in order of increasing cost (ties:
+/// the order given), each observation and each landmark taken at most once. Returns the indices
+/// into `pairs` of the pairs taken, cheapest first. Unlike going through the observations in
+/// turn, an observation that gates onto a landmark cannot take it from a closer one.
+std::vector<std::size_t> AssignClosestFirst(const std::vector<GatedPair>& pairs);
 
 /// The robot pose of the filter as a PoseEstimate at `stamp_ns`.
 PoseEstimate EstimateOf(const ekf::EkfState& state, TimeNs stamp_ns);

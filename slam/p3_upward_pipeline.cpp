@@ -69,6 +69,9 @@ const OptionTable<P3UpwardOptions>& P3UpwardOptionsTable() {
     t.Add("max_new_corners_per_frame", &O::max_new_corners_per_frame, "",
           "corner landmarks started per frame at most")
         .Range(0, 1000);
+    t.Add("max_tracked_corners", &O::max_tracked_corners, "",
+          "new corners start only while fewer corners than this were matched in the frame")
+        .Range(0, 1000);
     t.Add("max_landmarks", &O::max_landmarks, "", "the state stops growing at this many landmarks")
         .Range(1, 1500);
     t.Add("delete_after", &O::delete_after, "",
@@ -348,13 +351,14 @@ void P3UpwardPipeline::ProcessFrame(const CameraInput& input) {
   std::vector<DoorPair> door_pairs;
   std::vector<bool> door_explained(door_observations.size(), false);
   {
-    std::vector<bool> door_taken(doors_.size(), false);
+    // Every gated (candidate, door) pair, then the closest pairs first (AssignClosestFirst): a
+    // candidate that shares one column with a door and takes the other from the room seen
+    // through it gates too while the door is young, and must not take the door from the
+    // candidate of its own two columns.
+    std::vector<GatedPair> gated;
+    std::vector<ekf::Measurement> measurements;
     for (std::size_t i = 0; i < door_observations.size(); ++i) {
-      std::optional<std::size_t> best;
-      ekf::Measurement best_m;
-      double best_nis = 0.0;
       for (std::size_t k = 0; k < doors_.size(); ++k) {
-        if (door_taken[k]) continue;
         Eigen::Matrix<double, 2, 3> d_pose;
         Eigen::Matrix<double, 2, 4> d_door;
         const std::optional<Eigen::Vector2d> h =
@@ -371,20 +375,18 @@ void P3UpwardPipeline::ProcessFrame(const CameraInput& input) {
         m.noise = Eigen::Matrix2d::Identity() * options_.door_sigma_rad * options_.door_sigma_rad;
         const std::optional<double> nis = state_->Nis(m);
         if (!nis || *nis > options_.gate_chi2) continue;
-        if (!best || *nis < best_nis) {
-          best = k;
-          best_m = std::move(m);
-          best_nis = *nis;
-        }
+        gated.push_back({i, k, *nis});
+        measurements.push_back(std::move(m));
       }
-      if (!best) continue;
-      door_taken[*best] = true;
-      door_explained[i] = true;
-      Detection& d = detections_[door_observations[i].detection];
-      d.landmark_id = doors_[*best].id;
+    }
+    for (const std::size_t g : AssignClosestFirst(gated)) {
+      const GatedPair& p = gated[g];
+      door_explained[p.observation] = true;
+      Detection& d = detections_[door_observations[p.observation].detection];
+      d.landmark_id = doors_[p.landmark].id;
       d.open = true;
-      associated.push_back(std::move(best_m));
-      door_pairs.push_back({i, *best, best_nis});
+      associated.push_back(std::move(measurements[g]));
+      door_pairs.push_back({p.observation, p.landmark, p.cost});
     }
   }
   if (!associated.empty()) {
@@ -433,13 +435,16 @@ void P3UpwardPipeline::ProcessFrame(const CameraInput& input) {
   const Eigen::Vector3d x_new = state_->RobotPose();
   const SE2 updated(x_new.x(), x_new.y(), x_new.z());
   int new_corners = 0;
+  const int matched_corners = int(std::count_if(pairs.begin(), pairs.end(), [&](const auto& p) {
+    return observations[p.first].type == LandmarkType::kCorner;
+  }));
+  const int corner_room =
+      std::min(options_.max_new_corners_per_frame, options_.max_tracked_corners - matched_corners);
   for (std::size_t i = 0; i < observations.size(); ++i) {
     const Observation& o = observations[i];
     if (explained[i] || !o.usable) continue;
     if (landmarks_.size() >= std::size_t(options_.max_landmarks)) break;
-    if (o.type == LandmarkType::kCorner && new_corners >= options_.max_new_corners_per_frame) {
-      continue;
-    }
+    if (o.type == LandmarkType::kCorner && new_corners >= corner_room) continue;
     const bool clear =
         std::none_of(predictions.begin(), predictions.end(), [&](const Prediction& p) {
           return p.in_image && (p.pixel - o.pixel).norm() < options_.new_landmark_clearance_px;

@@ -58,6 +58,10 @@ struct P3UpwardOptions {
   double min_ray_z = 0.25;  // rays further than acos(this) from the vertical start no landmark
   double new_landmark_clearance_px = 15.0;  // a new landmark this far from every predicted one
   int max_new_corners_per_frame = 6;
+  // New corners start only while fewer corners than this were matched in the frame (the view
+  // keeps this many tracked; more add little and fill the state): without it the 400 landmarks
+  // were spent two thirds down a 40 m corridor, and the rest of it ran on dead reckoning.
+  int max_tracked_corners = 20;
   int max_landmarks = 400;  // the state stops growing here
   // P3 Fig. 16c: a landmark predicted in the image at least delete_after times and matched in
   // fewer than min_match_fraction of them is deleted.

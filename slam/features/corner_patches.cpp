@@ -28,6 +28,9 @@ const OptionTable<CornerPatchOptions>& CornerPatchOptionsTable() {
     t.Add("min_distance_px", &O::min_distance_px, "px", "spacing of kept corners").Range(0, 200);
     t.Add("patch_half_px", &O::patch_half_px, "px", "patch half side (patch 2 h + 1 square)")
         .Range(1, 15);
+    t.Add("fast_subpixel_half_px", &O::fast_subpixel_half_px, "px",
+          "FAST: half side of the cv::cornerSubPix window refining each corner (0 = integer pixel)")
+        .Range(0, 10);
   });
 }
 
@@ -78,7 +81,27 @@ std::vector<CornerWithResponse> DetectCorners(const cv::Mat& grey, const CornerP
     });
     if (!crowded) kept.push_back(c);
   }
-  return kept;
+  if (o.fast_subpixel_half_px <= 0 || kept.empty()) return kept;
+  std::vector<cv::Point2f> points;
+  points.reserve(kept.size());
+  for (const CornerWithResponse& c : kept)
+    points.emplace_back(float(c.pixel_px.x()), float(c.pixel_px.y()));
+  const int w = o.fast_subpixel_half_px;
+  cv::cornerSubPix(grey, points, cv::Size(w, w), cv::Size(-1, -1),
+                   cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 20, 0.01));
+  std::vector<CornerWithResponse> refined;
+  refined.reserve(kept.size());
+  for (std::size_t i = 0; i < kept.size(); ++i) {
+    const double x = points[i].x, y = points[i].y;
+    if (!std::isfinite(x) || !std::isfinite(y) || !inside(x, y)) continue;
+    const Eigen::Vector2d pixel(x, y);
+    // Two corners of one crossing that the refinement brought together stay one corner.
+    const bool taken = std::any_of(refined.begin(), refined.end(), [&](const auto& k) {
+      return (k.pixel_px - pixel).squaredNorm() < 0.25 * min2;
+    });
+    if (!taken) refined.push_back({pixel, kept[i].response});
+  }
+  return refined;
 }
 
 std::optional<std::vector<float>> SamplePatch(const cv::Mat& grey, const Eigen::Vector2d& pixel,

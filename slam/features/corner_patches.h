@@ -30,6 +30,12 @@ struct CornerPatchOptions {
   int max_corners = 60;          // strongest first
   double min_distance_px = 12.0;  // no two corners closer than this; the stronger one stays
   int patch_half_px = 5;          // patches are (2 h + 1)^2 samples
+  // FAST: half side of cv::cornerSubPix's window that refines each kept corner (0 = the integer
+  // pixel FAST reports). On P3's tiled ceilings FAST fires on the four tile corners around a
+  // seam crossing, 3-4 px from its centre, a different one as the view changes; an 11 x 11
+  // window takes in the whole crossing and moves the corner onto it (median error about 0.1 px,
+  // docs/p3.md). A 7 x 7 window stops at the tile corner as often as not.
+  int fast_subpixel_half_px = 5;
   std::optional<OptionsProblem> Check() const;
 };
 const OptionTable<CornerPatchOptions>& CornerPatchOptionsTable();
@@ -41,7 +47,9 @@ struct CornerWithResponse {
 
 /// Corners of `grey` (CV_8UC1), strongest first (ties: row, then column), at least
 /// patch_half_px + 2 px from the border (so that a patch turned by any angle fits). Harris is
-/// P1's detector (DetectHarrisCorners, sub-pixel), FAST OpenCV's (9/16, non-maximum suppression).
+/// P1's detector (DetectHarrisCorners, sub-pixel), FAST OpenCV's (9/16, non-maximum suppression),
+/// each kept corner refined by cv::cornerSubPix when fast_subpixel_half_px > 0 (a corner the
+/// refinement moves out of the margin, or onto a stronger corner's place, is dropped).
 std::vector<CornerWithResponse> DetectCorners(const cv::Mat& grey,
                                               const CornerPatchOptions& options);
 

@@ -99,5 +99,20 @@ TEST_CASE("the prediction is P1 eqs. 13-17 on the robot block and leaves landmar
   CHECK((state.Covariance(landmark, landmark) - Eigen::Matrix2d::Identity() * 0.5).norm() == 0.0);
 }
 
+TEST_CASE("global nearest neighbour: the cheapest pairs first, each side once", "[slam]") {
+  // Observation 0 gates onto landmarks 0 and 1; observation 1 onto landmark 0 only, closer. In
+  // observation order, 0 would take landmark 0 and leave 1 with nothing.
+  const std::vector<slam::GatedPair> pairs = {{0, 0, 4.0}, {0, 1, 6.0}, {1, 0, 0.5}};
+  const std::vector<std::size_t> taken = slam::AssignClosestFirst(pairs);
+  REQUIRE(taken.size() == 2);
+  CHECK(taken[0] == 2);  // (1, 0) first: the cheapest
+  CHECK(taken[1] == 1);  // then (0, 1): landmark 0 is taken
+  // One landmark and two observations: only the closer one gets it.
+  CHECK(slam::AssignClosestFirst({{0, 0, 2.0}, {1, 0, 1.0}}) == std::vector<std::size_t>{1});
+  // Ties keep the order given; nothing in, nothing out.
+  CHECK(slam::AssignClosestFirst({{0, 0, 1.0}, {1, 0, 1.0}}) == std::vector<std::size_t>{0});
+  CHECK(slam::AssignClosestFirst({}).empty());
+}
+
 }  // namespace
 }  // namespace corridorsim::slam

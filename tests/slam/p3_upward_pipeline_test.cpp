@@ -8,8 +8,10 @@
 #include <cmath>
 
 #include <catch2/catch.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "common/random.h"
+#include "slam/features/image_conversion.h"
 #include "slam/registry.h"
 #include "tests/support/pioneer_calibration.h"
 
@@ -111,6 +113,42 @@ TEST_CASE("P3: a frame full of lamps starts lamp landmarks above the camera, bou
     CHECK(l.status == LandmarkStatus::kInitializing);  // one sighting: its height is the prior's
     CHECK(l.position_in_world.z() > 0.4);
   }
+}
+
+TEST_CASE("P3: new corners start only while fewer than max_tracked_corners are matched",
+          "[slam][p3]") {
+  // A tiled ceiling seen from a robot standing still: the same frame again and again. Each frame
+  // matches the corners already started; new ones start only while fewer than the target are
+  // matched, so the state stops growing at the target instead of taking every corner.
+  CameraInput tiles = Frame(0, 190);
+  for (int v = 0; v < 480; ++v) {
+    for (int u = 0; u < 640; ++u) {
+      if ((u + 17) % 44 < 3 || (v + 9) % 44 < 3) {
+        for (int c = 0; c < 3; ++c) tiles.image.image.Pixel(u, v)[c] = 70;
+      }
+    }
+  }
+  // Blurred as a lens blurs (FAST finds no corner on perfectly sharp seams).
+  cv::Mat view = MatView(tiles.image.image);
+  cv::GaussianBlur(view, view, cv::Size(5, 5), 1.0);
+  const auto corners_after = [&](int max_tracked, int frames) {
+    P3UpwardOptions options = P3UpwardDefaults();
+    options.use_lamps = false;
+    options.use_doors = false;
+    options.max_tracked_corners = max_tracked;
+    Fixture f(options);
+    for (int k = 1; k <= frames; ++k) {
+      tiles.image.stamp_ns = TimeNs(k) * 200'000'000;
+      f.pipeline.OnCamera(tiles);
+    }
+    return f.pipeline.Landmarks().size();
+  };
+  const std::size_t tracked = corners_after(20, 12);
+  INFO("corners with the target: " << tracked << ", without: " << corners_after(1000, 12));
+  CHECK(tracked >= 20);
+  CHECK(tracked <= 20 + 6);  // the last frame's start may overshoot by its new corners
+  CHECK(corners_after(20, 24) == tracked);        // and then it stops
+  CHECK(corners_after(1000, 12) > tracked + 10);  // without the target, more corners start
 }
 
 TEST_CASE("P3: the three registered types and their defaults", "[slam][p3]") {

@@ -3,11 +3,19 @@
 // by that angle (what lets the upward pipeline match corners after the robot turns).
 #include "slam/features/corner_patches.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <vector>
 
 #include <catch2/catch.hpp>
 #include <opencv2/imgproc.hpp>
+
+#include "common/pose.h"
+#include "render/frame_truth.h"
+#include "slam/features/image_conversion.h"
+#include "tests/support/upward_frames.h"
+#include "worlds/world.h"
 
 namespace corridorsim {
 namespace {
@@ -49,6 +57,62 @@ TEST_CASE("corners: FAST and Harris find the square's corners, strongest first, 
   }
   // A flat image has none.
   CHECK(slam::DetectCorners(cv::Mat(100, 100, CV_8UC1, cv::Scalar(90)), {}).empty());
+}
+
+// Appends the distance from each tile-seam crossing of the frame truth to the nearest corner,
+// for the crossings that have a corner within 5 px (the others were not detected).
+void AddCrossingErrors(const std::vector<slam::CornerWithResponse>& corners,
+                       const render::FrameTruth& truth, std::vector<double>* errors) {
+  for (const render::CornerTruth& t : truth.corners) {
+    if (t.kind != worlds::CornerKind::kTileSeam) continue;
+    double best = 99.0;
+    for (const auto& c : corners) best = std::min(best, (c.pixel_px - t.pixel).norm());
+    if (best <= 5.0) errors->push_back(best);
+  }
+}
+
+double Median(std::vector<double> v) {
+  REQUIRE(!v.empty());
+  std::nth_element(v.begin(), v.begin() + long(v.size() / 2), v.end());
+  return v[v.size() / 2];
+}
+
+TEST_CASE("corners: FAST corners refined to sub-pixel sit on the rendered seam crossings",
+          "[corners][render]") {
+  // FAST fires on the four tile corners around a crossing of the seams, 2-3 px from its centre;
+  // cornerSubPix moves the kept one onto the crossing. Scored on rendered upward frames of
+  // scenarios/p3_doors.yaml's corridor against the frame truth's tile-seam crossings.
+  worlds::WorldOptions world_options;
+  world_options.length_m = 40.0;
+  const worlds::World world = worlds::Generate(world_options, 3);
+  test::UpwardFrames frames(world);
+  slam::CornerPatchOptions o;  // FAST, refined by default
+  REQUIRE(o.fast_subpixel_half_px > 0);
+  std::vector<double> refined, integer;
+  for (int k = 0; k < 4; ++k) {
+    const SE3 world_from_robot = SE3::FromSE2(SE2(5.0 + 7.3 * k, 0.1 * (k % 3 - 1), 0.4 * k));
+    render::CameraFrame frame;
+    const render::FrameTruth truth = frames.Render(world_from_robot, std::uint64_t(k), &frame);
+    const cv::Mat grey = slam::GreyMat(frame.rgb);
+    o.fast_subpixel_half_px = slam::CornerPatchOptions{}.fast_subpixel_half_px;
+    AddCrossingErrors(slam::DetectCorners(grey, o), truth, &refined);
+    o.fast_subpixel_half_px = 0;
+    AddCrossingErrors(slam::DetectCorners(grey, o), truth, &integer);
+    // Refinement keeps every corner inside the patch margin, even with a wide window.
+    o.fast_subpixel_half_px = 10;
+    for (const auto& c : slam::DetectCorners(grey, o)) {
+      CHECK(c.pixel_px.x() >= o.patch_half_px + 2);
+      CHECK(c.pixel_px.y() >= o.patch_half_px + 2);
+      CHECK(c.pixel_px.x() < grey.cols - o.patch_half_px - 2);
+      CHECK(c.pixel_px.y() < grey.rows - o.patch_half_px - 2);
+    }
+  }
+  INFO("crossings with a corner: refined " << refined.size() << ", median error " << Median(refined)
+                                           << " px; integer " << integer.size() << ", median error "
+                                           << Median(integer) << " px");
+  CHECK(refined.size() >= 20);
+  CHECK(Median(refined) < 0.5);
+  CHECK(Median(integer) > 1.5);
 }
 
 TEST_CASE("patches: unit vectors; a turned image matches a patch turned by the same angle",
