@@ -33,7 +33,7 @@ struct CornerPatchOptions {
   // FAST: half side of cv::cornerSubPix's window that refines each kept corner (0 = the integer
   // pixel FAST reports). On P3's tiled ceilings FAST fires on the four tile corners around a
   // seam crossing, 3-4 px from its centre, a different one as the view changes; an 11 x 11
-  // window takes in the whole crossing and moves the corner onto it (median error about 0.1 px,
+  // window takes in the whole crossing and moves the corner onto it (median error 0.15 px,
   // docs/p3.md). A 7 x 7 window stops at the tile corner as often as not.
   int fast_subpixel_half_px = 5;
   std::optional<OptionsProblem> Check() const;
