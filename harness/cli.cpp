@@ -385,7 +385,8 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
       detect
           ->add_option("--intrinsics", detect_intrinsics,
                        "The upward camera's model as intrinsics.json holds it (docs/frames.md; a "
-                       "dataset's upward/intrinsics.json); default: the default rig's upward "
+                       "dataset's upward/intrinsics.json, or snapshot's intrinsics.json, whose "
+                       "\"upward\" entry is used); default: the default rig's upward "
                        "camera (Kannala-Brandt, 640x480, 110 deg)")
           ->type_name("FILE.json");
   CLI::Option* detect_out_option =

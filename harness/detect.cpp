@@ -197,6 +197,15 @@ DetectInput LoadDetectInput(const DetectRequest& request) {
       if (!json.is_object()) {
         throw InputError(SourceLocation{file, 0, 0}, "", "expected a JSON object (a camera model)");
       }
+      // snapshot's and run's intrinsics.json hold every camera by name: take the upward one.
+      if (!json.contains("model") && json.contains("upward")) {
+        nlohmann::ordered_json upward = json["upward"];
+        if (!upward.is_object()) {
+          throw InputError(SourceLocation{file, 0, 0}, "upward",
+                           "expected a JSON object (a camera model)");
+        }
+        json = std::move(upward);
+      }
       json.erase("robot_from_camera");  // dataset's intrinsics.json also holds the mount
       try {
         input.model = CameraModelFromJson(json);

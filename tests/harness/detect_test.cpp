@@ -141,6 +141,20 @@ TEST_CASE("detect --camera upward: lamps through the camera's model, bad intrins
   const DetectInput small = LoadDetectInput(request);
   REQUIRE(small.model);
   CHECK(small.model->width() == 320);
+  // snapshot's intrinsics.json: every camera of the rig by name; the upward one is used.
+  WriteFileAtomic(dir.path() / "rig.json",
+                  "{\"upward\": {\"model\": \"kannala_brandt\", \"width\": 320, \"height\": "
+                  "240, \"fx\": 125.0, \"fy\": 125.0, \"cx\": 159.5, \"cy\": 119.5, "
+                  "\"distortion\": [0, 0, 0, 0]}}");
+  request.intrinsics_file = dir.path() / "rig.json";
+  const DetectInput from_rig = LoadDetectInput(request);
+  REQUIRE(from_rig.model);
+  CHECK(from_rig.model->width() == 320);
+  WriteFileAtomic(dir.path() / "rig_bad.json", "{\"upward\": 3}");
+  request.intrinsics_file = dir.path() / "rig_bad.json";
+  CHECK_THAT(test::InputErrorOf([&] { LoadDetectInput(request); }).what(),
+             Catch::Contains("rig_bad.json: upward: expected a JSON object"));
+  request.intrinsics_file = dir.path() / "k.json";
   request.image_file = dir.path() / "up.png";
   CHECK_THAT(test::InputErrorOf([&] { LoadDetectInput(request); }).what(),
              Catch::Contains("k.json: width: the model is 320x240 px, the image 640x480"));
