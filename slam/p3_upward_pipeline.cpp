@@ -72,8 +72,12 @@ const OptionTable<P3UpwardOptions>& P3UpwardOptionsTable() {
     t.Add("max_tracked_corners", &O::max_tracked_corners, "",
           "new corners start only while fewer corners than this were matched in the frame")
         .Range(0, 1000);
-    t.Add("max_landmarks", &O::max_landmarks, "", "the state stops growing at this many landmarks")
+    t.Add("max_landmarks", &O::max_landmarks, "", "point landmarks in the state at most")
         .Range(1, 1500);
+    t.Add("retire_after_s", &O::retire_after_s, "s",
+          "with the state full, a new landmark replaces the corner matched longest ago if it is "
+          "out of view and unmatched this long (never: a large value)")
+        .Range(0, 1e6);
     t.Add("delete_after", &O::delete_after, "",
           "predictions in the image before a rarely matched landmark is deleted (P3 Fig. 16c)")
         .Range(1, 100000);
@@ -422,6 +426,7 @@ void P3UpwardPipeline::ProcessFrame(const CameraInput& input) {
     PointLandmark& l = landmarks_[k];
     ++l.predicted;
     l.matched += taken[k];
+    if (taken[k]) l.last_matched_ns = stamp_ns;
     if (l.predicted >= options_.delete_after &&
         l.matched < options_.min_match_fraction * l.predicted) {
       state_->Remove(l.block);
@@ -443,7 +448,6 @@ void P3UpwardPipeline::ProcessFrame(const CameraInput& input) {
   for (std::size_t i = 0; i < observations.size(); ++i) {
     const Observation& o = observations[i];
     if (explained[i] || !o.usable) continue;
-    if (landmarks_.size() >= std::size_t(options_.max_landmarks)) break;
     if (o.type == LandmarkType::kCorner && new_corners >= corner_room) continue;
     const bool clear =
         std::none_of(predictions.begin(), predictions.end(), [&](const Prediction& p) {
@@ -455,6 +459,23 @@ void P3UpwardPipeline::ProcessFrame(const CameraInput& input) {
         ekf::InitInverseDepthPoint(updated, o.pixel, rho_prior_, mount, model, options_.min_ray_z,
                                    &d_landmark_d_pose, &d_landmark_d_z);
     if (!l) continue;
+    if (landmarks_.size() >= std::size_t(options_.max_landmarks)) {
+      // The state is full: the corner matched longest ago makes room, if out of view and stale.
+      const TimeNs stale_before = stamp_ns - TimeNs(std::llround(options_.retire_after_s * 1e9));
+      std::optional<std::size_t> oldest;
+      for (std::size_t k = 0; k < landmarks_.size(); ++k) {
+        const PointLandmark& candidate = landmarks_[k];
+        if (candidate.type != LandmarkType::kCorner || predictions[k].in_image ||
+            candidate.last_matched_ns > stale_before) {
+          continue;
+        }
+        if (!oldest || candidate.last_matched_ns < landmarks_[*oldest].last_matched_ns) oldest = k;
+      }
+      if (!oldest) break;
+      state_->Remove(landmarks_[*oldest].block);
+      landmarks_.erase(landmarks_.begin() + std::ptrdiff_t(*oldest));
+      predictions.erase(predictions.begin() + std::ptrdiff_t(*oldest));
+    }
     ekf::Augmentation a;
     a.value = *l;
     a.blocks = {ekf::EkfState::robot()};
@@ -467,6 +488,7 @@ void P3UpwardPipeline::ProcessFrame(const CameraInput& input) {
     landmark.type = o.type;
     landmark.block = state_->Augment(a);
     landmark.patch = o.patch;
+    landmark.last_matched_ns = stamp_ns;
     landmarks_.push_back(std::move(landmark));
     detections_[o.detection].landmark_id = landmarks_.back().id;
     detections_[o.detection].new_landmark = true;

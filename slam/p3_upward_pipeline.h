@@ -62,7 +62,13 @@ struct P3UpwardOptions {
   // keeps this many tracked; more add little and fill the state): without it the 400 landmarks
   // were spent two thirds down a 40 m corridor, and the rest of it ran on dead reckoning.
   int max_tracked_corners = 20;
-  int max_landmarks = 400;  // the state stops growing here
+  int max_landmarks = 400;  // the state holds at most this many point landmarks
+  // With the state full, a new landmark takes the place of the corner landmark matched longest
+  // ago, if that one is out of view and unmatched for at least retire_after_s (it is marginalised
+  // out: removed with its rows of the covariance). Without it a full state stops mapping, and
+  // the rest of a long run goes on dead reckoning; with it the map keeps the most recent corners
+  // (and every lamp), and only a return after that long finds its old corners gone.
+  double retire_after_s = 20.0;
   // P3 Fig. 16c: a landmark predicted in the image at least delete_after times and matched in
   // fewer than min_match_fraction of them is deleted.
   int delete_after = 8;
@@ -110,9 +116,10 @@ class P3UpwardPipeline : public Pipeline {
     int id = 0;
     LandmarkType type = LandmarkType::kCorner;
     ekf::BlockId block;
-    std::vector<float> patch;  // corners: the patch at the first sighting
-    int predicted = 0;         // frames it was predicted in the image
-    int matched = 0;           // frames it was matched
+    std::vector<float> patch;    // corners: the patch at the first sighting
+    int predicted = 0;           // frames it was predicted in the image
+    int matched = 0;             // frames it was matched
+    TimeNs last_matched_ns = 0;  // started or last matched
     int updates = 0;
   };
   struct DoorLandmark {

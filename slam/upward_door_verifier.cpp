@@ -1,8 +1,10 @@
 #include "slam/upward_door_verifier.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
+#include <tuple>
 
 #include <opencv2/imgproc.hpp>
 
@@ -42,6 +44,7 @@ struct UpwardDoorVerifier::Sighting {
   Eigen::Vector3d ray_a, ray_b;             // unit rays to the column tops, world frame
   double bearing_a = 0.0, bearing_b = 0.0;  // world bearings from the camera centre
   double elevation_a = 0.0, elevation_b = 0.0;
+  double bar_coverage = 0.0;  // the candidate's
 };
 
 const OptionTable<DoorVerifierOptions>& DoorVerifierOptionsTable() {
@@ -77,6 +80,10 @@ const OptionTable<DoorVerifierOptions>& DoorVerifierOptionsTable() {
     t.Add("max_door_width_m", &O::max_door_width_m, "m", "nor one whose columns are farther apart")
         .Range(0, 100)
         .Note(">= min_door_width_m");
+    t.Add("min_median_bar_coverage", &O::min_median_bar_coverage, "",
+          "a converged candidate whose bar covered less of the span between its columns in the "
+          "median of its sightings is not a door")
+        .Range(0, 1);
     t.Add("max_range_m", &O::max_range_m, "m", "columns drawn at most this far from the camera")
         .Greater(0)
         .Range(0, 1000);
@@ -203,6 +210,7 @@ void UpwardDoorVerifier::Weigh(Track* track, const Sighting& s, const SE3& world
   }
   if (!(total > 1e-300)) {
     // No sample explains the sighting (a triangular model's zero, or a jump): start again from it.
+    track->bar_coverages.clear();
     Initialise(track, s, world_from_camera);
     return;
   }
@@ -323,36 +331,88 @@ std::vector<std::optional<DoorTrackReport>> UpwardDoorVerifier::Process(
     s.bearing_b = NormalizeAngle(b->bearing_rad + pose.yaw());
     s.elevation_a = a->elevation_rad;
     s.elevation_b = b->elevation_rad;
+    s.bar_coverage = candidates[i].bar_coverage;
     sightings[i] = s;
   }
 
-  // The world bearings of a track's mean columns from the camera centre.
-  const auto predicted_bearings = [&](const Track& track) {
-    const Eigen::Vector4d mean = Report(track).columns;
-    return std::pair<double, double>(std::atan2(mean(1) - c.y(), mean(0) - c.x()),
-                                     std::atan2(mean(3) - c.y(), mean(2) - c.x()));
+  const auto remember = [&](Track* track, const Sighting& s) {
+    if (track->bar_coverages.size() >= kMaxSightings) {
+      track->bar_coverages.erase(track->bar_coverages.begin());
+    }
+    track->bar_coverages.push_back(s.bar_coverage);
   };
 
-  // Association: each candidate to the track whose mean columns it sees within associate_rad,
-  // nearest first; each track at most once.
+  // Where a track's samples put each column, as seen from the camera now: the bearing of the
+  // mean columns and the interval about it holding the samples' central 95 % (weighted). Before
+  // the samples converge they spread along the rays of the first sighting, and only the samples
+  // at the true range keep seeing the columns where they are as the camera moves: a candidate is
+  // the track's when each column lies within associate_rad of that interval, not of the mean's
+  // bearing (which drifts off the columns while the mean's range is wrong).
+  struct Cloud {
+    std::array<double, 2> mean{};         // world bearings of the mean columns
+    std::array<double, 2> low{}, high{};  // the interval, relative to the mean
+  };
+  const auto cloud_of = [&](const Track& track) {
+    Cloud cloud;
+    const Eigen::Vector4d mean = Report(track).columns;
+    std::vector<std::pair<double, double>> offsets(track.particles.size());  // (offset, weight)
+    for (int col = 0; col < 2; ++col) {
+      cloud.mean[std::size_t(col)] = std::atan2(mean(2 * col + 1) - c.y(), mean(2 * col) - c.x());
+      for (std::size_t k = 0; k < track.particles.size(); ++k) {
+        const DoorParticle& p = track.particles[k];
+        const double bearing = std::atan2(p(2 * col + 1) - c.y(), p(2 * col) - c.x());
+        offsets[k] = {NormalizeAngle(bearing - cloud.mean[std::size_t(col)]), track.weights[k]};
+      }
+      std::sort(offsets.begin(), offsets.end());
+      double cumulative = 0.0, low = offsets.front().first, high = offsets.back().first;
+      bool have_low = false;
+      for (const auto& [offset, weight] : offsets) {
+        cumulative += weight;
+        if (!have_low && cumulative >= 0.025) {
+          low = offset;
+          have_low = true;
+        }
+        if (cumulative >= 0.975) {
+          high = offset;
+          break;
+        }
+      }
+      cloud.low[std::size_t(col)] = std::min(low, 0.0);
+      cloud.high[std::size_t(col)] = std::max(high, 0.0);
+    }
+    return cloud;
+  };
+  // How far a bearing lies outside a column's interval (0 inside).
+  const auto outside = [](const Cloud& cloud, int col, double bearing) {
+    const double d = NormalizeAngle(bearing - cloud.mean[std::size_t(col)]);
+    return std::max({0.0, cloud.low[std::size_t(col)] - d, d - cloud.high[std::size_t(col)]});
+  };
+  std::vector<Cloud> clouds;
+  clouds.reserve(tracks_.size());
+  for (const Track& track : tracks_) clouds.push_back(cloud_of(track));
+
+  // Association: each candidate to the track whose columns it sees within associate_rad of the
+  // samples' interval, nearest to the mean's bearings first; each track at most once.
   struct Pair {
-    double error;
+    double error, mean_error;
     std::size_t candidate, track;
   };
   std::vector<Pair> pairs;
   for (std::size_t t = 0; t < tracks_.size(); ++t) {
-    const auto [pa, pb] = predicted_bearings(tracks_[t]);
+    const Cloud& cloud = clouds[t];
     for (std::size_t i = 0; i < candidates.size(); ++i) {
       if (!sightings[i]) continue;
-      const double e = std::max(std::abs(NormalizeAngle(sightings[i]->bearing_a - pa)),
-                                std::abs(NormalizeAngle(sightings[i]->bearing_b - pb)));
-      if (e <= options_.associate_rad) pairs.push_back({e, i, t});
+      const double e = std::max(outside(cloud, 0, sightings[i]->bearing_a),
+                                outside(cloud, 1, sightings[i]->bearing_b));
+      const double mean_error =
+          std::max(std::abs(NormalizeAngle(sightings[i]->bearing_a - cloud.mean[0])),
+                   std::abs(NormalizeAngle(sightings[i]->bearing_b - cloud.mean[1])));
+      if (e <= options_.associate_rad) pairs.push_back({e, mean_error, i, t});
     }
   }
   std::sort(pairs.begin(), pairs.end(), [](const Pair& x, const Pair& y) {
-    return x.error < y.error ||
-           (x.error == y.error &&
-            (x.candidate < y.candidate || (x.candidate == y.candidate && x.track < y.track)));
+    return std::tie(x.error, x.mean_error, x.candidate, x.track) <
+           std::tie(y.error, y.mean_error, y.candidate, y.track);
   });
   std::vector<int> track_of(candidates.size(), -1);
   std::vector<bool> track_taken(tracks_.size(), false);
@@ -361,6 +421,7 @@ std::vector<std::optional<DoorTrackReport>> UpwardDoorVerifier::Process(
     track_of[p.candidate] = int(p.track);
     track_taken[p.track] = true;
   }
+  const std::size_t tracks_before = tracks_.size();
 
   cv::Mat edges;
   const auto edge_image = [&]() -> const cv::Mat& {
@@ -372,12 +433,15 @@ std::vector<std::optional<DoorTrackReport>> UpwardDoorVerifier::Process(
     if (!sightings[i]) continue;
     const Sighting& s = *sightings[i];
     if (track_of[i] < 0) {
-      // A candidate close to a track taken by a better one is a duplicate: not followed.
+      // A candidate sharing a column with a track that a better candidate continues in this
+      // frame is a duplicate (the same door paired with another line): not followed. A track
+      // not continued now (its candidate lost) or found closed does not hold its columns: the
+      // true pair of a door must not wait behind a wrong pairing of one of its columns.
       bool duplicate = false;
-      for (std::size_t t = 0; t < tracks_.size() && !duplicate; ++t) {
-        const auto [pa, pb] = predicted_bearings(tracks_[t]);
-        duplicate = std::min(std::abs(NormalizeAngle(s.bearing_a - pa)),
-                             std::abs(NormalizeAngle(s.bearing_b - pb))) <= options_.associate_rad;
+      for (std::size_t t = 0; t < tracks_before && !duplicate; ++t) {
+        if (!track_taken[t] || tracks_[t].state == DoorTrackState::kClosed) continue;
+        duplicate = std::min(outside(clouds[t], 0, s.bearing_a),
+                             outside(clouds[t], 1, s.bearing_b)) <= options_.associate_rad;
       }
       if (duplicate || tracks_.size() >= std::size_t(options_.max_tracks)) continue;
       Track track;
@@ -386,6 +450,7 @@ std::vector<std::optional<DoorTrackReport>> UpwardDoorVerifier::Process(
       ++next_id_;
       track.last_frame = frame_;
       track.hausdorff_px = std::numeric_limits<double>::quiet_NaN();
+      remember(&track, s);
       tracks_.push_back(std::move(track));
       track_taken.push_back(true);
       track_of[i] = int(tracks_.size() - 1);
@@ -399,6 +464,7 @@ std::vector<std::optional<DoorTrackReport>> UpwardDoorVerifier::Process(
       continue;
     }
     Weigh(&track, s, world_from_camera);
+    remember(&track, s);
     DoorTrackReport report = Report(track);
     if (track.state == DoorTrackState::kEstimating) {
       const double spread = std::sqrt(report.covariance.diagonal().maxCoeff());
@@ -409,8 +475,12 @@ std::vector<std::optional<DoorTrackReport>> UpwardDoorVerifier::Process(
           height += track.weights[k] * track.particles[k](4);
         }
         const double width = (report.columns.head<2>() - report.columns.tail<2>()).norm();
+        std::vector<double> coverage = track.bar_coverages;
+        const auto middle = coverage.begin() + std::ptrdiff_t(coverage.size() / 2);
+        if (!coverage.empty()) std::nth_element(coverage.begin(), middle, coverage.end());
         if (height < options_.min_door_top_m || height > options_.max_door_top_m ||
-            width < options_.min_door_width_m || width > options_.max_door_width_m) {
+            width < options_.min_door_width_m || width > options_.max_door_width_m ||
+            (!coverage.empty() && *middle < options_.min_median_bar_coverage)) {
           // Not a door's size (a cabinet, a poster, columns of two different things).
           track.state = DoorTrackState::kClosed;
           report.state = track.state;

@@ -57,10 +57,15 @@ struct DoorVerifierOptions {
   // shipped worlds' 0.98 m) and rejects a door's column paired with the wall of the room seen
   // through it (1.18-1.39 m; docs/p3.md). Worlds with wider doors (world.doors.width_m) need it
   // raised.
-  double min_door_top_m = 1.8;
+  double min_door_top_m = 1.9;
   double max_door_top_m = 2.4;
   double min_door_width_m = 0.7;
   double max_door_width_m = 1.15;
+  // A door's top bar spans it from column to column. A pair of two different things (a door's
+  // column and a poster's or a bookshelf's side) has a "bar" only where one of them has, which
+  // the candidates' min_bar_coverage lets through in single frames: a converged candidate whose
+  // bar covered less than this of the span in the median of its sightings is not a door.
+  double min_median_bar_coverage = 0.9;
   double max_range_m = 8.0;         // columns farther from the camera are not drawn
   double roughening_m = 0.01;       // jitter after resampling
   double associate_rad = 0.08;      // a candidate continues a track within this of its columns
@@ -132,8 +137,11 @@ class UpwardDoorVerifier {
     Eigen::Vector4d plane_columns = Eigen::Vector4d::Zero();
     double plane_height = 0.0;
     double hausdorff_px = 0.0;
+    // The bar coverage of the track's candidates, the last kMaxSightings of them.
+    std::vector<double> bar_coverages;
   };
   struct Sighting;
+  static constexpr std::size_t kMaxSightings = 200;
 
   bool Initialise(Track* track, const Sighting& s, const SE3& world_from_camera);
   void Weigh(Track* track, const Sighting& s, const SE3& world_from_camera);

@@ -5,6 +5,7 @@
 // accuracy on rendered runs: tests/harness/scenario_runs_test.py, case P3.)
 #include "slam/p3_upward_pipeline.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <catch2/catch.hpp>
@@ -150,6 +151,77 @@ TEST_CASE("P3: new corners start only while fewer than max_tracked_corners are m
   CHECK(tracked == 20);
   CHECK(corners_after(20, 24) == tracked);
   CHECK(corners_after(1000, 12) > tracked + 10);  // without the target, more corners start
+}
+
+TEST_CASE("P3: a full state retires the corner matched longest ago, out of view and stale",
+          "[slam][p3]") {
+  // The same tiled ceiling before and after a 10 m drive: the corners started at the start lie
+  // 10 m behind the camera after it (out of view, unmatched since), and the state is full.
+  CameraInput tiles = Frame(0, 190);
+  for (int v = 0; v < 480; ++v) {
+    for (int u = 0; u < 640; ++u) {
+      if ((u + 17) % 44 < 3 || (v + 9) % 44 < 3) {
+        for (int c = 0; c < 3; ++c) tiles.image.image.Pixel(u, v)[c] = 70;
+      }
+    }
+  }
+  cv::Mat view = MatView(tiles.image.image);
+  cv::GaussianBlur(view, view, cv::Size(5, 5), 1.0);
+  struct Outcome {
+    std::size_t before = 0, after = 0;  // landmarks in the state
+    int started_after = 0;              // of those after the drive, started after it
+  };
+  const auto drive = [&](double retire_after_s) {
+    P3UpwardOptions options = P3UpwardDefaults();
+    options.use_lamps = false;
+    options.use_doors = false;
+    options.max_tracked_corners = 1000;
+    options.max_landmarks = 20;
+    options.retire_after_s = retire_after_s;
+    Fixture f(options);
+    TimeNs t = 0;
+    for (int k = 0; k < 12; ++k) {
+      t += 200'000'000;
+      tiles.image.stamp_ns = t;
+      f.pipeline.OnCamera(tiles);
+    }
+    Outcome out;
+    out.before = f.pipeline.Landmarks().size();
+    int last_id_before = -1;
+    for (const LandmarkEstimate& l : f.pipeline.Landmarks()) {
+      last_id_before = std::max(last_id_before, l.id);
+    }
+    for (int k = 0; k < 200; ++k) {  // 10 m straight ahead in 10 s
+      WheelOdometry odometry;
+      odometry.interval_ns = 50'000'000;
+      t += odometry.interval_ns;
+      odometry.stamp_ns = t;
+      odometry.left_distance_m = odometry.right_distance_m = 0.05;
+      f.pipeline.OnOdometry(odometry);
+    }
+    for (int k = 0; k < 12; ++k) {
+      t += 200'000'000;
+      tiles.image.stamp_ns = t;
+      f.pipeline.OnCamera(tiles);
+    }
+    const std::vector<LandmarkEstimate> after = f.pipeline.Landmarks();
+    out.after = after.size();
+    out.started_after = int(std::count_if(after.begin(), after.end(),
+                                          [&](const auto& l) { return l.id > last_id_before; }));
+    INFO("x after the drive: " << f.pipeline.Estimate().world_from_robot.x());
+    CHECK(f.pipeline.Estimate().world_from_robot.x() == Approx(11.0).margin(0.5));
+    return out;
+  };
+  const Outcome retiring = drive(5.0);
+  CHECK(retiring.before == 20);
+  CHECK(retiring.after == 20);          // never more than max_landmarks
+  CHECK(retiring.started_after == 20);  // the new place mapped: every old corner retired
+  const Outcome never = drive(1e6);     // nothing stale enough: the state stops growing
+  CHECK(never.before == 20);
+  CHECK(never.after == 20);
+  CHECK(never.started_after == 0);
+  // Only stale corners go: 10 s after their last match, a bound of 30 s retires none.
+  CHECK(drive(30.0).started_after == 0);
 }
 
 TEST_CASE("P3: the three registered types and their defaults", "[slam][p3]") {
