@@ -133,23 +133,22 @@ TEST_CASE("detect --camera upward: lamps through the camera's model, bad intrins
   request.image_file = dir.path() / "small.png";
   CHECK_THAT(test::InputErrorOf([&] { LoadDetectInput(request); }).what(),
              Catch::Contains("small.png: --camera upward: the image is 320x240 px"));
-  WriteFileAtomic(dir.path() / "k.json",
-                  "{\"model\": \"kannala_brandt\", \"width\": 320, \"height\": 240, \"fx\": "
-                  "125.0, \"fy\": 125.0, \"cx\": 159.5, \"cy\": 119.5, \"distortion\": [0, 0, 0, "
-                  "0], \"robot_from_camera\": {\"t\": [0, 0, 0.4], \"q\": [0, 0, 0, 1]}}");
-  request.intrinsics_file = dir.path() / "k.json";
-  const DetectInput small = LoadDetectInput(request);
-  REQUIRE(small.model);
-  CHECK(small.model->width() == 320);
-  // snapshot's intrinsics.json: every camera of the rig by name; the upward one is used.
-  WriteFileAtomic(dir.path() / "rig.json",
-                  "{\"upward\": {\"model\": \"kannala_brandt\", \"width\": 320, \"height\": "
-                  "240, \"fx\": 125.0, \"fy\": 125.0, \"cx\": 159.5, \"cy\": 119.5, "
-                  "\"distortion\": [0, 0, 0, 0]}}");
-  request.intrinsics_file = dir.path() / "rig.json";
-  const DetectInput from_rig = LoadDetectInput(request);
-  REQUIRE(from_rig.model);
-  CHECK(from_rig.model->width() == 320);
+  const std::string model_320 =
+      "\"model\": \"kannala_brandt\", \"width\": 320, \"height\": 240, \"fx\": 125.0, "
+      "\"fy\": 125.0, \"cx\": 159.5, \"cy\": 119.5, \"distortion\": [0, 0, 0, 0]";
+  // A dataset's intrinsics.json (the model and the mount), and snapshot's (every camera of the
+  // rig by name: the upward one is used).
+  WriteFileAtomic(
+      dir.path() / "k.json",
+      "{" + model_320 + ", \"robot_from_camera\": {\"t\": [0, 0, 0.4], \"q\": [0, 0, 0, 1]}}");
+  WriteFileAtomic(dir.path() / "rig.json", "{\"upward\": {" + model_320 + "}}");
+  for (const char* file : {"k.json", "rig.json"}) {
+    INFO(file);
+    request.intrinsics_file = dir.path() / file;
+    const DetectInput small = LoadDetectInput(request);
+    REQUIRE(small.model);
+    CHECK(small.model->width() == 320);
+  }
   WriteFileAtomic(dir.path() / "rig_bad.json", "{\"upward\": 3}");
   request.intrinsics_file = dir.path() / "rig_bad.json";
   CHECK_THAT(test::InputErrorOf([&] { LoadDetectInput(request); }).what(),

@@ -52,6 +52,22 @@ void Disc(Image8* image, double cu, double cv, double radius) {
   }
 }
 
+// A ceiling of 44 px tiles with dark seams, blurred as a lens blurs (FAST finds no corner on
+// perfectly sharp seams).
+CameraInput TiledCeiling() {
+  CameraInput tiles = Frame(0, 190);
+  for (int v = 0; v < 480; ++v) {
+    for (int u = 0; u < 640; ++u) {
+      if ((u + 17) % 44 < 3 || (v + 9) % 44 < 3) {
+        for (int c = 0; c < 3; ++c) tiles.image.image.Pixel(u, v)[c] = 70;
+      }
+    }
+  }
+  cv::Mat view = MatView(tiles.image.image);
+  cv::GaussianBlur(view, view, cv::Size(5, 5), 1.0);
+  return tiles;
+}
+
 struct Fixture {
   explicit Fixture(P3UpwardOptions options = P3UpwardDefaults())
       : pipeline(options, UpwardCalibration(), 3) {
@@ -121,17 +137,7 @@ TEST_CASE("P3: new corners start only while fewer than max_tracked_corners are m
   // A tiled ceiling seen from a robot standing still: the same frame again and again. Each frame
   // matches the corners already started; new ones start only while fewer than the target are
   // matched, so the state stops growing at the target instead of taking every corner.
-  CameraInput tiles = Frame(0, 190);
-  for (int v = 0; v < 480; ++v) {
-    for (int u = 0; u < 640; ++u) {
-      if ((u + 17) % 44 < 3 || (v + 9) % 44 < 3) {
-        for (int c = 0; c < 3; ++c) tiles.image.image.Pixel(u, v)[c] = 70;
-      }
-    }
-  }
-  // Blurred as a lens blurs (FAST finds no corner on perfectly sharp seams).
-  cv::Mat view = MatView(tiles.image.image);
-  cv::GaussianBlur(view, view, cv::Size(5, 5), 1.0);
+  CameraInput tiles = TiledCeiling();
   const auto corners_after = [&](int max_tracked, int frames) {
     P3UpwardOptions options = P3UpwardDefaults();
     options.use_lamps = false;
@@ -157,16 +163,7 @@ TEST_CASE("P3: a full state retires the corner matched longest ago, out of view 
           "[slam][p3]") {
   // The same tiled ceiling before and after a 10 m drive: the corners started at the start lie
   // 10 m behind the camera after it (out of view, unmatched since), and the state is full.
-  CameraInput tiles = Frame(0, 190);
-  for (int v = 0; v < 480; ++v) {
-    for (int u = 0; u < 640; ++u) {
-      if ((u + 17) % 44 < 3 || (v + 9) % 44 < 3) {
-        for (int c = 0; c < 3; ++c) tiles.image.image.Pixel(u, v)[c] = 70;
-      }
-    }
-  }
-  cv::Mat view = MatView(tiles.image.image);
-  cv::GaussianBlur(view, view, cv::Size(5, 5), 1.0);
+  CameraInput tiles = TiledCeiling();
   struct Outcome {
     std::size_t before = 0, after = 0;  // landmarks in the state
     int started_after = 0;              // of those after the drive, started after it
