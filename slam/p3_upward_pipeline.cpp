@@ -461,9 +461,11 @@ void P3UpwardPipeline::ProcessFrame(const CameraInput& input) {
     if (!l) continue;
     if (landmarks_.size() >= std::size_t(options_.max_landmarks)) {
       // The state is full: the corner matched longest ago makes room, if out of view and stale.
+      // Only landmarks older than this frame have a prediction (the ones this frame started
+      // follow them in landmarks_, and were just seen).
       const TimeNs stale_before = stamp_ns - TimeNs(std::llround(options_.retire_after_s * 1e9));
       std::optional<std::size_t> oldest;
-      for (std::size_t k = 0; k < landmarks_.size(); ++k) {
+      for (std::size_t k = 0; k < predictions.size(); ++k) {
         const PointLandmark& candidate = landmarks_[k];
         if (candidate.type != LandmarkType::kCorner || predictions[k].in_image ||
             candidate.last_matched_ns > stale_before) {
