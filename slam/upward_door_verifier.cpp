@@ -90,7 +90,8 @@ const OptionTable<DoorVerifierOptions>& DoorVerifierOptionsTable() {
     t.Add("roughening_m", &O::roughening_m, "m", "jitter of the samples after resampling")
         .Range(0, 10);
     t.Add("associate_rad", &O::associate_rad, "rad",
-          "a candidate continues a track when both columns lie within this of it")
+          "a candidate continues a track when each column lies within this of the interval of "
+          "the track's samples' bearings (their central 95 %)")
         .Greater(0)
         .Range(0, 3.2);
     t.Add("converged_sigma_m", &O::converged_sigma_m, "m",
@@ -352,10 +353,11 @@ std::vector<std::optional<DoorTrackReport>> UpwardDoorVerifier::Process(
     std::array<double, 2> mean{};         // world bearings of the mean columns
     std::array<double, 2> low{}, high{};  // the interval, relative to the mean
   };
+  std::vector<std::pair<double, double>> offsets;  // (offset, weight), reused across tracks
   const auto cloud_of = [&](const Track& track) {
     Cloud cloud;
     const Eigen::Vector4d mean = Report(track).columns;
-    std::vector<std::pair<double, double>> offsets(track.particles.size());  // (offset, weight)
+    offsets.resize(track.particles.size());
     for (int col = 0; col < 2; ++col) {
       cloud.mean[std::size_t(col)] = std::atan2(mean(2 * col + 1) - c.y(), mean(2 * col) - c.x());
       for (std::size_t k = 0; k < track.particles.size(); ++k) {

@@ -66,9 +66,11 @@ struct DoorVerifierOptions {
   // the candidates' min_bar_coverage lets through in single frames: a converged candidate whose
   // bar covered less than this of the span in the median of its sightings is not a door.
   double min_median_bar_coverage = 0.9;
-  double max_range_m = 8.0;         // columns farther from the camera are not drawn
-  double roughening_m = 0.01;       // jitter after resampling
-  double associate_rad = 0.08;      // a candidate continues a track within this of its columns
+  double max_range_m = 8.0;    // columns farther from the camera are not drawn
+  double roughening_m = 0.01;  // jitter after resampling
+  // A candidate continues a track when each column lies within this of the interval holding the
+  // central 95 % of the track's samples' bearings of that column.
+  double associate_rad = 0.08;
   double converged_sigma_m = 0.05;  // column positions known to this: verify
   double verify_baseline_m = 0.3;   // camera travel between the plane's points and the test
   double mhd_threshold_px = 5.0;    // H(A, B) above it: open (P3 eq. 9's threshold)
