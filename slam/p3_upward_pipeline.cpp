@@ -511,13 +511,13 @@ void P3UpwardPipeline::ProcessFrame(const CameraInput& input) {
         registered.push_back(*h);
       }
     }
+    const auto near = [&](double first, double second) {
+      return std::abs(std::remainder(first - second, 2.0 * std::numbers::pi)) <=
+             options_.door_verifier.associate_rad;
+    };
     for (std::size_t i = 0; i < door_observations.size(); ++i) {
       if (door_explained[i]) continue;
       const Eigen::Vector2d& b = door_observations[i].bearings;
-      const auto near = [&](double first, double second) {
-        return std::abs(std::remainder(first - second, 2.0 * std::numbers::pi)) <=
-               options_.door_verifier.associate_rad;
-      };
       if (std::any_of(registered.begin(), registered.end(), [&](const Eigen::Vector2d& h) {
             return near(b(0), h(0)) || near(b(0), h(1)) || near(b(1), h(0)) || near(b(1), h(1));
           })) {
@@ -528,16 +528,12 @@ void P3UpwardPipeline::ProcessFrame(const CameraInput& input) {
     }
     const std::vector<std::optional<DoorTrackReport>> reports =
         verifier_->Process(unexplained, grey, pose);
-    for (std::size_t j = 0; j < reports.size(); ++j) {
-      if (!reports[j]) continue;
-      const DoorTrackReport& r = *reports[j];
-      const DoorObservation& o = door_observations[unexplained_index[j]];
-      Detection& d = detections_[o.detection];
-      if (r.state == DoorTrackState::kClosed) d.open = false;
-      if (r.state != DoorTrackState::kOpen || !r.decided_now) continue;
-      d.open = true;
+    // An open door becomes a landmark from the bearings (b_1, b_2) of its columns in the robot
+    // frame, sigma (s_1, s_2), and the filter's ranges: the augmentation of P3 eq. 17 inverted.
+    const auto add_door = [&](const DoorTrackReport& r, const Eigen::Vector2d& bearings,
+                              const Eigen::Vector2d& bearing_sigma) {
       const Eigen::Vector2d c = ekf::CameraXY(updated, camera_xy);
-      const Eigen::Vector4d z(o.bearings(0), o.bearings(1), (r.columns.head<2>() - c).norm(),
+      const Eigen::Vector4d z(bearings(0), bearings(1), (r.columns.head<2>() - c).norm(),
                               (r.columns.tail<2>() - c).norm());
       Eigen::Matrix<double, 4, 3> d_pose;
       Eigen::Matrix<double, 4, 4> d_z;
@@ -546,10 +542,11 @@ void P3UpwardPipeline::ProcessFrame(const CameraInput& input) {
       a.blocks = {ekf::EkfState::robot()};
       a.d_value_d_blocks = d_pose;
       a.d_value_d_measurement = d_z;
-      const double sb = options_.door_sigma_rad * options_.door_sigma_rad;
       const double sa = std::max(2.0 * r.range_sigma_m(0), 0.05);
       const double sr = std::max(2.0 * r.range_sigma_m(1), 0.05);
-      a.measurement_noise = Eigen::Vector4d(sb, sb, sa * sa, sr * sr).asDiagonal();
+      a.measurement_noise = Eigen::Vector4d(bearing_sigma(0) * bearing_sigma(0),
+                                            bearing_sigma(1) * bearing_sigma(1), sa * sa, sr * sr)
+                                .asDiagonal();
       DoorLandmark door;
       door.id = next_landmark_id_++;
       door.block = state_->Augment(a);
@@ -561,8 +558,34 @@ void P3UpwardPipeline::ProcessFrame(const CameraInput& input) {
       door.camera_xy = c;
       door.particles = r.particles;
       doors_.push_back(door);
-      d.landmark_id = door.id;
+      return door.id;
+    };
+    const Eigen::Vector2d measured_sigma(options_.door_sigma_rad, options_.door_sigma_rad);
+    for (std::size_t j = 0; j < reports.size(); ++j) {
+      if (!reports[j]) continue;
+      const DoorTrackReport& r = *reports[j];
+      const DoorObservation& o = door_observations[unexplained_index[j]];
+      Detection& d = detections_[o.detection];
+      if (r.state == DoorTrackState::kClosed) d.open = false;
+      if (r.state != DoorTrackState::kOpen || !r.decided_now) continue;
+      d.open = true;
+      d.landmark_id = add_door(r, o.bearings, measured_sigma);
       d.new_landmark = true;
+    }
+    // Doors decided open in a frame without a candidate of theirs: the bearings of the filter's
+    // columns, with the samples' spread of them (at least a measurement's sigma).
+    // Not one sharing a column with a registered door (two tracks of one door, one of them
+    // registered in this frame or before: the candidates' rule above).
+    for (const DoorTrackReport& r : verifier_->opened_without_candidate()) {
+      const std::optional<Eigen::Vector2d> bearings =
+          ekf::DoorBearings(updated, r.columns, camera_xy);
+      if (!bearings) continue;
+      const bool known = std::any_of(doors_.begin(), doors_.end(), [&](const DoorLandmark& door) {
+        const auto h = ekf::DoorBearings(updated, state_->Value(door.block), camera_xy);
+        return h && (near((*bearings)(0), (*h)(0)) || near((*bearings)(0), (*h)(1)) ||
+                     near((*bearings)(1), (*h)(0)) || near((*bearings)(1), (*h)(1)));
+      });
+      if (!known) add_door(r, *bearings, r.bearing_sigma_rad.cwiseMax(measured_sigma));
     }
   }
   clock_.Add("update", SecondsSince(t_update));

@@ -84,6 +84,10 @@ const OptionTable<DoorVerifierOptions>& DoorVerifierOptionsTable() {
           "a converged candidate whose bar covered less of the span between its columns in the "
           "median of its sightings is not a door")
         .Range(0, 1);
+    t.Add("min_column_clearance_m", &O::min_column_clearance_m, "m",
+          "a track with a column this close to where the robot has been is not a door")
+        .Range(0, 100)
+        .Note("< min_door_width_m / 2");
     t.Add("max_range_m", &O::max_range_m, "m", "columns drawn at most this far from the camera")
         .Greater(0)
         .Range(0, 1000);
@@ -127,6 +131,9 @@ const OptionTable<DoorVerifierOptions>& DoorVerifierOptionsTable() {
 
 std::optional<OptionsProblem> DoorVerifierOptions::Check() const {
   if (auto p = CheckOptionBounds(DoorVerifierOptionsTable(), *this)) return p;
+  if (!(2.0 * min_column_clearance_m < min_door_width_m)) {
+    return OptionsProblem{"min_column_clearance_m", "must be below min_door_width_m / 2"};
+  }
   if (!(max_top_height_m > min_top_height_m)) {
     return OptionsProblem{"max_top_height_m", "must be above min_top_height_m"};
   }
@@ -310,9 +317,68 @@ void UpwardDoorVerifier::EdgesInOpening(const cv::Mat& edges, const SE3& world_f
   }
 }
 
+void UpwardDoorVerifier::Spread(const Track& track, const Eigen::Vector3d& c,
+                                DoorTrackReport* report) const {
+  for (int col = 0; col < 2; ++col) {
+    const Eigen::Vector2d mean_xy = report->columns.segment<2>(2 * col) - c.head<2>();
+    const double mean_bearing = std::atan2(mean_xy.y(), mean_xy.x());
+    double mean = 0.0, sq = 0.0, bearing_sq = 0.0, w = 0.0;
+    for (std::size_t k = 0; k < track.particles.size(); ++k) {
+      const Eigen::Vector2d xy = track.particles[k].segment<2>(2 * col) - c.head<2>();
+      const double r = xy.norm();
+      const double b = NormalizeAngle(std::atan2(xy.y(), xy.x()) - mean_bearing);
+      mean += track.weights[k] * r;
+      sq += track.weights[k] * r * r;
+      bearing_sq += track.weights[k] * b * b;
+      w += track.weights[k];
+    }
+    mean /= w;
+    report->range_sigma_m(col) = std::sqrt(std::max(0.0, sq / w - mean * mean));
+    report->bearing_sigma_rad(col) = std::sqrt(bearing_sq / w);
+  }
+}
+
+bool UpwardDoorVerifier::Test(Track* track, const cv::Mat& edges,
+                              const SE3& world_from_camera) const {
+  const Eigen::Vector3d c = world_from_camera.translation();
+  if ((c.head<2>() - track->plane_camera_xy).norm() < options_.verify_baseline_m) return false;
+  // Free space: a column where the robot has been is no door's.
+  const Eigen::Vector4d columns = Report(*track).columns;
+  for (const Eigen::Vector2d& xy : path_) {
+    if ((columns.head<2>() - xy).norm() < options_.min_column_clearance_m ||
+        (columns.tail<2>() - xy).norm() < options_.min_column_clearance_m) {
+      track->state = DoorTrackState::kClosed;
+      return true;
+    }
+  }
+  // P3 eq. 9 between the prediction A and the new observation B.
+  const Eigen::Matrix3d camera_from_world = world_from_camera.rotation().transpose();
+  std::vector<Eigen::Vector2d> predicted;
+  for (const Eigen::Vector3d& p : track->plane_points) {
+    const std::optional<Eigen::Vector2d> px = model_.Project(camera_from_world * (p - c));
+    if (px && model_.IsInImage(*px)) predicted.push_back(*px);
+  }
+  std::vector<Eigen::Vector2d> observed;
+  std::vector<Eigen::Vector3d> unused;
+  EdgesInOpening(edges, world_from_camera, track->plane_columns, track->plane_height, &observed,
+                 &unused);
+  if (int(predicted.size()) < options_.min_edge_points ||
+      int(observed.size()) < options_.min_edge_points) {
+    return false;
+  }
+  const cv::Size size(edges.cols, edges.rows);
+  track->hausdorff_px = std::max(ModifiedHausdorff(predicted, observed, size),
+                                 ModifiedHausdorff(observed, predicted, size));
+  track->state = track->hausdorff_px > options_.mhd_threshold_px ? DoorTrackState::kOpen
+                                                                 : DoorTrackState::kClosed;
+  return true;
+}
+
 std::vector<std::optional<DoorTrackReport>> UpwardDoorVerifier::Process(
     const std::vector<UpwardDoorCandidate>& candidates, const cv::Mat& grey, const SE2& pose) {
   ++frame_;
+  if (path_.size() >= kPathPositions) path_.pop_front();
+  path_.push_back(pose.translation());
   const SE3 world_from_camera = SE3::FromSE2(pose) * robot_from_camera_;
   const Eigen::Vector3d c = world_from_camera.translation();
   std::vector<std::optional<DoorTrackReport>> out(candidates.size());
@@ -506,45 +572,32 @@ std::vector<std::optional<DoorTrackReport>> UpwardDoorVerifier::Process(
         }
       }
     } else if (track.state == DoorTrackState::kVerifying &&
-               (c.head<2>() - track.plane_camera_xy).norm() >= options_.verify_baseline_m) {
-      // P3 eq. 9 between the prediction A and the new observation B.
-      const Eigen::Matrix3d camera_from_world = world_from_camera.rotation().transpose();
-      std::vector<Eigen::Vector2d> predicted;
-      for (const Eigen::Vector3d& p : track.plane_points) {
-        const std::optional<Eigen::Vector2d> px = model_.Project(camera_from_world * (p - c));
-        if (px && model_.IsInImage(*px)) predicted.push_back(*px);
-      }
-      std::vector<Eigen::Vector2d> observed;
-      std::vector<Eigen::Vector3d> unused;
-      EdgesInOpening(edge_image(), world_from_camera, track.plane_columns, track.plane_height,
-                     &observed, &unused);
-      if (int(predicted.size()) >= options_.min_edge_points &&
-          int(observed.size()) >= options_.min_edge_points) {
-        const cv::Size size(grey.cols, grey.rows);
-        track.hausdorff_px = std::max(ModifiedHausdorff(predicted, observed, size),
-                                      ModifiedHausdorff(observed, predicted, size));
-        track.state = track.hausdorff_px > options_.mhd_threshold_px ? DoorTrackState::kOpen
-                                                                     : DoorTrackState::kClosed;
-        report = Report(track);
-        report.decided_now = true;
-        report.particles = track.particles;
-      }
+               Test(&track, edge_image(), world_from_camera)) {
+      report = Report(track);
+      report.decided_now = true;
+      report.particles = track.particles;
     }
     report.state = track.state;
     report.hausdorff_px = track.hausdorff_px;
-    // Each column's range from the camera: its spread over the samples.
-    for (int col = 0; col < 2; ++col) {
-      double mean = 0.0, sq = 0.0, w = 0.0;
-      for (std::size_t k = 0; k < track.particles.size(); ++k) {
-        const double r = (track.particles[k].segment<2>(2 * col) - c.head<2>()).norm();
-        mean += track.weights[k] * r;
-        sq += track.weights[k] * r * r;
-        w += track.weights[k];
-      }
-      mean /= w;
-      report.range_sigma_m(col) = std::sqrt(std::max(0.0, sq / w - mean * mean));
-    }
+    Spread(track, c, &report);
     out[i] = std::move(report);
+  }
+
+  // Tracks whose columns are known but that no candidate continued in this frame: the test needs
+  // only the opening's edges (a door passed abeam is often not paired in its last frames).
+  opened_without_candidate_.clear();
+  for (std::size_t t = 0; t < tracks_before; ++t) {
+    Track& track = tracks_[t];
+    if (track_taken[t] || track.state != DoorTrackState::kVerifying) continue;
+    if (!Test(&track, edge_image(), world_from_camera)) continue;
+    // Tested: still the track's sighting of the opening (not forgotten before its decision).
+    track.last_frame = frame_;
+    if (track.state != DoorTrackState::kOpen) continue;
+    DoorTrackReport report = Report(track);
+    report.decided_now = true;
+    report.particles = track.particles;
+    Spread(track, c, &report);
+    opened_without_candidate_.push_back(std::move(report));
   }
 
   // Open tracks leave (the SLAM holds them now); tracks unseen for long are forgotten.

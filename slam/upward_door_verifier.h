@@ -26,6 +26,7 @@
 // Deterministic: the samples come from a RandomStream seeded by `seed`.
 
 #include <cstdint>
+#include <deque>
 #include <optional>
 #include <vector>
 
@@ -66,6 +67,11 @@ struct DoorVerifierOptions {
   // the candidates' min_bar_coverage lets through in single frames: a converged candidate whose
   // bar covered less than this of the span in the median of its sightings is not a door.
   double min_median_bar_coverage = 0.9;
+  // Free space: a door's columns stand beside the robot's path, never on it. A track with a
+  // column within this of a position the robot has been at (the last kPathPositions frames) is
+  // not a door (a pairing of lines across the corridor). Below half the narrowest door
+  // (min_door_width_m), so a robot driving through a doorway's middle keeps it.
+  double min_column_clearance_m = 0.3;
   double max_range_m = 8.0;    // columns farther from the camera are not drawn
   double roughening_m = 0.01;  // jitter after resampling
   // A candidate continues a track when each column lies within this of the interval holding the
@@ -98,8 +104,9 @@ struct DoorTrackReport {
   bool decided_now = false;                           // open or closed was decided in this frame
   Eigen::Vector4d columns = Eigen::Vector4d::Zero();  // the particles' weighted mean
   Eigen::Matrix4d covariance = Eigen::Matrix4d::Identity();
-  Eigen::Vector2d range_sigma_m = Eigen::Vector2d::Zero();  // of each column from the camera
-  double hausdorff_px = 0.0;                                // H(A, B) of the decision (NaN before)
+  Eigen::Vector2d range_sigma_m = Eigen::Vector2d::Zero();      // of each column from the camera
+  Eigen::Vector2d bearing_sigma_rad = Eigen::Vector2d::Zero();  // of each column's bearing
+  double hausdorff_px = 0.0;            // H(A, B) of the decision (NaN before)
   std::vector<DoorParticle> particles;  // the cloud at the decision (decided_now only)
 };
 
@@ -123,6 +130,15 @@ class UpwardDoorVerifier {
   /// is then dropped (the SLAM holds it as a landmark from there).
   std::vector<std::optional<DoorTrackReport>> Process(
       const std::vector<UpwardDoorCandidate>& candidates, const cv::Mat& grey, const SE2& pose);
+
+  /// The tracks that Process decided open in its last frame without a candidate of theirs in it
+  /// (kOpen, decided_now, with their particles). A track whose columns are known (kVerifying) is
+  /// tested in every frame once the camera has moved verify_baseline_m, whether or not the
+  /// detector paired its columns again: a door passed abeam often gives no candidate in the last
+  /// frames it is seen, and the test needs only the opening's edges, not the pairing.
+  const std::vector<DoorTrackReport>& opened_without_candidate() const {
+    return opened_without_candidate_;
+  }
 
   int tracks() const { return int(tracks_.size()); }
 
@@ -148,6 +164,11 @@ class UpwardDoorVerifier {
   bool Initialise(Track* track, const Sighting& s, const SE3& world_from_camera);
   void Weigh(Track* track, const Sighting& s, const SE3& world_from_camera);
   DoorTrackReport Report(const Track& track) const;
+  // Each column's range and bearing from the camera centre c: their spread over the samples.
+  void Spread(const Track& track, const Eigen::Vector3d& c, DoorTrackReport* report) const;
+  // P3 eq. 9 on a kVerifying track once the camera has moved verify_baseline_m from where the
+  // plane's points were seen: the track becomes kOpen or kClosed; false while undecided.
+  bool Test(Track* track, const cv::Mat& edges, const SE3& world_from_camera) const;
   // Edge pixels whose rays meet the plane of (columns, height) inside the opening; with their
   // points on the plane.
   void EdgesInOpening(const cv::Mat& edges, const SE3& world_from_camera,
@@ -160,6 +181,10 @@ class UpwardDoorVerifier {
   SE3 robot_from_camera_;
   RandomStream random_;
   std::vector<Track> tracks_;
+  // The robot's positions of the last kPathPositions frames (free space for the columns' test).
+  static constexpr std::size_t kPathPositions = 1000;
+  std::deque<Eigen::Vector2d> path_;
+  std::vector<DoorTrackReport> opened_without_candidate_;
   int next_id_ = 0;
   int frame_ = 0;
 };

@@ -3,7 +3,8 @@
 // Hausdorff test (P3 eq. 9) must call a door whose texture lies in its plane closed, and one
 // through which a wall 2 m behind is seen open; a candidate of the wrong size, with a bar over
 // part of its span is no door; a wrong pairing of a door's
-// column does not keep the door's own pair from being followed.
+// column does not keep the door's own pair from being followed; a door whose columns are known
+// is tested in the frames the detector no longer pairs it in.
 #include "slam/upward_door_verifier.h"
 
 #include <cmath>
@@ -204,6 +205,73 @@ TEST_CASE("door verifier: a wrong pairing of a door's column does not hold the d
   }
   CHECK(wrong_rejected);
   CHECK(door_open);
+}
+
+// Drives past the door giving its candidate only until its track's columns are known
+// (kVerifying), then frames without it (the detector no longer pairing the door as it passes).
+// Returns the reports of tracks decided open without a candidate.
+std::vector<slam::DoorTrackReport> DriveUnpairedOnceKnown(const Door& door, double behind_m) {
+  const CameraModel model = Fisheye();
+  const SE3 mount = UpwardMount();
+  const std::vector<Eigen::Vector3d> texture = Texture(door, behind_m);
+  slam::UpwardDoorVerifier verifier({}, model, mount);
+  bool known = false;
+  std::vector<slam::DoorTrackReport> opened;
+  for (int k = 0; k <= 40; ++k) {
+    const SE2 pose(0.5 + 0.06 * k, 0.0, 0.0);
+    const Frame f = Render(door, texture, pose, model, mount);
+    if (!f.door_in_view) continue;
+    std::vector<slam::UpwardDoorCandidate> candidates;
+    if (!known) candidates.push_back(f.candidate);
+    const auto reports = verifier.Process(candidates, f.grey, pose);
+    REQUIRE(reports.size() == candidates.size());
+    if (!reports.empty() && reports[0]) {
+      REQUIRE_FALSE(reports[0]->decided_now);  // the test needs the camera moved 0.3 m
+      known = reports[0]->state == slam::DoorTrackState::kVerifying;
+    }
+    const auto& without = verifier.opened_without_candidate();
+    if (!known) REQUIRE(without.empty());
+    opened.insert(opened.end(), without.begin(), without.end());
+  }
+  return opened;
+}
+
+TEST_CASE("door verifier: a door whose columns are known is tested in frames it is not paired in",
+          "[doors][verifier]") {
+  const Door door;
+  const std::vector<slam::DoorTrackReport> open = DriveUnpairedOnceKnown(door, 2.0);
+  REQUIRE(open.size() == 1);
+  const slam::DoorTrackReport& r = open.front();
+  INFO("columns " << r.columns.transpose() << ", H " << r.hausdorff_px << " px");
+  CHECK(r.decided_now);
+  CHECK(r.state == slam::DoorTrackState::kOpen);
+  CHECK(r.hausdorff_px > slam::DoorVerifierOptions{}.mhd_threshold_px);
+  CHECK((r.columns.head<2>() - door.a).norm() < 0.1);
+  CHECK((r.columns.tail<2>() - door.b).norm() < 0.1);
+  CHECK(r.particles.size() == std::size_t(slam::DoorVerifierOptions{}.particles));
+  CHECK(r.bearing_sigma_rad.minCoeff() > 0.0);
+  CHECK(r.bearing_sigma_rad.maxCoeff() < 0.05);
+  // A leaf in the door's plane is tested the same way, and is not reported open.
+  CHECK(DriveUnpairedOnceKnown(door, 0.0).empty());
+}
+
+TEST_CASE("door verifier: a pair with a column where the robot has been is not a door",
+          "[doors][verifier]") {
+  // Two lines paired over the robot's path (the robot drives along y = 0 from x = 0.5 m): both
+  // columns 0.2 m beside it, open behind. Free space rejects the pair once the robot has passed
+  // column a; without the rule the plane test alone calls it open.
+  Door across;
+  across.a = Eigen::Vector2d(1.0, 0.2);
+  across.b = Eigen::Vector2d(1.9, 0.2);
+  const std::optional<slam::DoorTrackReport> r = DrivePast(across, 2.0, {});
+  REQUIRE(r);
+  CHECK(r->decided_now);
+  CHECK(r->state == slam::DoorTrackState::kClosed);
+  slam::DoorVerifierOptions no_free_space;
+  no_free_space.min_column_clearance_m = 0.0;
+  const std::optional<slam::DoorTrackReport> open = DrivePast(across, 2.0, no_free_space);
+  REQUIRE(open);
+  CHECK(open->state == slam::DoorTrackState::kOpen);
 }
 
 TEST_CASE("door verifier: the same frames give the same result", "[doors][verifier]") {
