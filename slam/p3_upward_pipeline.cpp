@@ -503,26 +503,26 @@ void P3UpwardPipeline::ProcessFrame(const CameraInput& input) {
   if (verifier_) {
     std::vector<UpwardDoorCandidate> unexplained;
     std::vector<std::size_t> unexplained_index;
-    // Predicted bearings of the registered doors: a candidate sharing a column with one (a
-    // frame edge, a room's wall seen through it) is part of that door, not a new one.
+    // Predicted bearings of the registered doors (and of those registered below in this frame):
+    // a candidate sharing a column with one (a frame edge, a room's wall seen through it) is
+    // part of that door, not a new one.
     std::vector<Eigen::Vector2d> registered;
     for (const DoorLandmark& door : doors_) {
       if (auto h = ekf::DoorBearings(updated, state_->Value(door.block), camera_xy)) {
         registered.push_back(*h);
       }
     }
-    const auto near = [&](double first, double second) {
-      return std::abs(std::remainder(first - second, 2.0 * std::numbers::pi)) <=
-             options_.door_verifier.associate_rad;
+    const auto of_registered = [&](const Eigen::Vector2d& b) {
+      const auto near = [&](double first, double second) {
+        return std::abs(std::remainder(first - second, 2.0 * std::numbers::pi)) <=
+               options_.door_verifier.associate_rad;
+      };
+      return std::any_of(registered.begin(), registered.end(), [&](const Eigen::Vector2d& h) {
+        return near(b(0), h(0)) || near(b(0), h(1)) || near(b(1), h(0)) || near(b(1), h(1));
+      });
     };
     for (std::size_t i = 0; i < door_observations.size(); ++i) {
-      if (door_explained[i]) continue;
-      const Eigen::Vector2d& b = door_observations[i].bearings;
-      if (std::any_of(registered.begin(), registered.end(), [&](const Eigen::Vector2d& h) {
-            return near(b(0), h(0)) || near(b(0), h(1)) || near(b(1), h(0)) || near(b(1), h(1));
-          })) {
-        continue;
-      }
+      if (door_explained[i] || of_registered(door_observations[i].bearings)) continue;
       unexplained.push_back(door_observations[i].candidate);
       unexplained_index.push_back(i);
     }
@@ -558,6 +558,7 @@ void P3UpwardPipeline::ProcessFrame(const CameraInput& input) {
       door.camera_xy = c;
       door.particles = r.particles;
       doors_.push_back(door);
+      registered.push_back(bearings);  // DoorBearings of the new door's value
       return door.id;
     };
     const Eigen::Vector2d measured_sigma(options_.door_sigma_rad, options_.door_sigma_rad);
@@ -573,19 +574,15 @@ void P3UpwardPipeline::ProcessFrame(const CameraInput& input) {
       d.new_landmark = true;
     }
     // Doors decided open in a frame without a candidate of theirs: the bearings of the filter's
-    // columns, with the samples' spread of them (at least a measurement's sigma).
-    // Not one sharing a column with a registered door (two tracks of one door, one of them
-    // registered in this frame or before: the candidates' rule above).
+    // columns, with the samples' spread of them (at least a measurement's sigma). Not one
+    // sharing a column with a registered door (two tracks of one door, one of them registered in
+    // this frame or before: the candidates' rule above).
     for (const DoorTrackReport& r : verifier_->opened_without_candidate()) {
       const std::optional<Eigen::Vector2d> bearings =
           ekf::DoorBearings(updated, r.columns, camera_xy);
-      if (!bearings) continue;
-      const bool known = std::any_of(doors_.begin(), doors_.end(), [&](const DoorLandmark& door) {
-        const auto h = ekf::DoorBearings(updated, state_->Value(door.block), camera_xy);
-        return h && (near((*bearings)(0), (*h)(0)) || near((*bearings)(0), (*h)(1)) ||
-                     near((*bearings)(1), (*h)(0)) || near((*bearings)(1), (*h)(1)));
-      });
-      if (!known) add_door(r, *bearings, r.bearing_sigma_rad.cwiseMax(measured_sigma));
+      if (bearings && !of_registered(*bearings)) {
+        add_door(r, *bearings, r.bearing_sigma_rad.cwiseMax(measured_sigma));
+      }
     }
   }
   clock_.Add("update", SecondsSince(t_update));

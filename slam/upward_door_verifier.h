@@ -164,7 +164,8 @@ class UpwardDoorVerifier {
   bool Initialise(Track* track, const Sighting& s, const SE3& world_from_camera);
   void Weigh(Track* track, const Sighting& s, const SE3& world_from_camera);
   DoorTrackReport Report(const Track& track) const;
-  // Each column's range and bearing from the camera centre c: their spread over the samples.
+  // Each column's range and bearing from the camera centre c: their spread over the samples,
+  // about report->columns (Report's mean, set before).
   void Spread(const Track& track, const Eigen::Vector3d& c, DoorTrackReport* report) const;
   // P3 eq. 9 on a kVerifying track once the camera has moved verify_baseline_m from where the
   // plane's points were seen: the track becomes kOpen or kClosed; false while undecided.
