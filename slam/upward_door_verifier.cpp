@@ -106,15 +106,6 @@ const OptionTable<DoorVerifierOptions>& DoorVerifierOptionsTable() {
           "camera travel between the plane's edge points and their comparison")
         .Greater(0)
         .Range(0, 100);
-    t.Add("max_view_angle_rad", &O::max_view_angle_rad, "rad",
-          "the opening is tested only from views within this angle of its normal (at its centre)")
-        .Greater(0)
-        .Range(0, 1.58);
-    t.Add("max_verify_parallax_rad", &O::max_verify_parallax_rad, "rad",
-          "the test's two views differ by at most this angle at the opening's centre; past it "
-          "the plane's edge points are taken again from the view the camera is in")
-        .Greater(0)
-        .Range(0, 3.2);
     t.Add("mhd_threshold_px", &O::mhd_threshold_px, "px",
           "Hausdorff distance of the prediction above which a candidate is open (P3 eq. 9)")
         .Greater(0)
@@ -347,37 +338,11 @@ void UpwardDoorVerifier::Spread(const Track& track, const Eigen::Vector3d& c,
   }
 }
 
-bool UpwardDoorVerifier::Frontal(const Eigen::Vector4d& columns, const Eigen::Vector3d& c) const {
-  const Eigen::Vector2d along = (columns.tail<2>() - columns.head<2>()).normalized();
-  const Eigen::Vector2d to_camera = c.head<2>() - 0.5 * (columns.head<2>() + columns.tail<2>());
-  return std::abs(to_camera.dot(along)) <= to_camera.norm() * std::sin(options_.max_view_angle_rad);
-}
-
-bool UpwardDoorVerifier::TakePlane(Track* track, const cv::Mat& edges,
-                                   const SE3& world_from_camera) const {
-  const Eigen::Vector4d columns = Report(*track).columns;
-  double height = 0.0;
-  for (std::size_t k = 0; k < track->particles.size(); ++k) {
-    height += track->weights[k] * track->particles[k](4);
-  }
-  std::vector<Eigen::Vector2d> pixels;
-  std::vector<Eigen::Vector3d> points;
-  EdgesInOpening(edges, world_from_camera, columns, height, &pixels, &points);
-  if (int(points.size()) < options_.min_edge_points) return false;
-  const std::size_t stride = (points.size() + std::size_t(options_.max_edge_points) - 1) /
-                             std::size_t(options_.max_edge_points);
-  track->plane_points.clear();
-  for (std::size_t k = 0; k < points.size(); k += stride) track->plane_points.push_back(points[k]);
-  track->plane_camera_xy = world_from_camera.translation().head<2>();
-  track->plane_columns = columns;
-  track->plane_height = height;
-  return true;
-}
-
 bool UpwardDoorVerifier::Test(Track* track, const cv::Mat& edges,
                               const SE3& world_from_camera) const {
   const Eigen::Vector3d c = world_from_camera.translation();
-  // Free space: a column where the robot has been is no door's (from any view).
+  if ((c.head<2>() - track->plane_camera_xy).norm() < options_.verify_baseline_m) return false;
+  // Free space: a column where the robot has been is no door's.
   const Eigen::Vector4d columns = Report(*track).columns;
   for (const Eigen::Vector2d& xy : path_) {
     if ((columns.head<2>() - xy).norm() < options_.min_column_clearance_m ||
@@ -386,22 +351,6 @@ bool UpwardDoorVerifier::Test(Track* track, const cv::Mat& edges,
       return true;
     }
   }
-  // Only views of the opening from the front (max_view_angle_rad), and views within
-  // max_verify_parallax_rad of each other at its centre: otherwise the plane's points are taken
-  // (again) from this view and the test waits for the baseline.
-  if (!Frontal(track->plane_columns, c)) return false;
-  const Eigen::Vector2d centre =
-      0.5 * (track->plane_columns.head<2>() + track->plane_columns.tail<2>());
-  const Eigen::Vector2d from_plane = track->plane_camera_xy - centre;
-  const Eigen::Vector2d from_here = c.head<2>() - centre;
-  const double parallax =
-      std::atan2(std::abs(from_plane.x() * from_here.y() - from_plane.y() * from_here.x()),
-                 from_plane.dot(from_here));
-  if (track->plane_points.empty() || parallax > options_.max_verify_parallax_rad) {
-    TakePlane(track, edges, world_from_camera);
-    return false;
-  }
-  if ((c.head<2>() - track->plane_camera_xy).norm() < options_.verify_baseline_m) return false;
   // P3 eq. 9 between the prediction A and the new observation B.
   const Eigen::Matrix3d camera_from_world = world_from_camera.rotation().transpose();
   std::vector<Eigen::Vector2d> predicted;
@@ -607,13 +556,20 @@ std::vector<std::optional<DoorTrackReport>> UpwardDoorVerifier::Process(
           out[i] = std::move(report);
           continue;
         }
-        // The plane's edge points are taken from a view of the opening from the front (now, or
-        // in a later frame by Test).
-        track.plane_columns = report.columns;
-        track.plane_height = height;
-        track.plane_points.clear();
-        track.state = DoorTrackState::kVerifying;
-        if (Frontal(report.columns, c)) TakePlane(&track, edge_image(), world_from_camera);
+        std::vector<Eigen::Vector2d> pixels;
+        std::vector<Eigen::Vector3d> points;
+        EdgesInOpening(edge_image(), world_from_camera, report.columns, height, &pixels, &points);
+        if (int(points.size()) >= options_.min_edge_points) {
+          const std::size_t stride = (points.size() + std::size_t(options_.max_edge_points) - 1) /
+                                     std::size_t(options_.max_edge_points);
+          for (std::size_t k = 0; k < points.size(); k += stride) {
+            track.plane_points.push_back(points[k]);
+          }
+          track.plane_camera_xy = c.head<2>();
+          track.plane_columns = report.columns;
+          track.plane_height = height;
+          track.state = DoorTrackState::kVerifying;
+        }
       }
     } else if (track.state == DoorTrackState::kVerifying &&
                Test(&track, edge_image(), world_from_camera)) {

@@ -21,9 +21,7 @@
 // (B) by the Hausdorff distance built of modified Hausdorff distances (eq. 9),
 //   H(A, B) = max(h_mod(A, B), h_mod(B, A)),  h_mod(A, B) = mean over a of min over b |a - b|.
 // A closed door (a leaf, a cabinet, a bookshelf, a wall) matches its prediction; through an open
-// door the room beyond moves with parallax: H above mhd_threshold_px is an open door. Both views
-// see the opening from the front (within max_view_angle_rad of its normal) and differ by at most
-// max_verify_parallax_rad at its centre; the plane's points are taken again where they do not.
+// door the room beyond moves with parallax: H above mhd_threshold_px is an open door.
 //
 // Deterministic: the samples come from a RandomStream seeded by `seed`.
 
@@ -81,25 +79,10 @@ struct DoorVerifierOptions {
   double associate_rad = 0.08;
   double converged_sigma_m = 0.05;  // column positions known to this: verify
   double verify_baseline_m = 0.3;   // camera travel between the plane's points and the test
-  // The opening is tested only from views within this angle of its normal (at its centre), the
-  // plane's points as the test's: seen more obliquely, the jambs (the wall's thickness, about
-  // 0.15 m) fill the tested part of the opening (all but opening_margin at each side, 0.14 m of
-  // a 0.9 m door at 40 deg) and hide the room behind an open door (p2.yaml: a closed door read
-  // open at 45-54 deg, an open one read closed at 40-47 deg; with 40 deg, p3_doors.yaml
-  // registered three closed doors tested at 38-43 deg; docs/p3.md).
-  double max_view_angle_rad = 30.0 * 3.14159265358979323846 / 180.0;
-  // The test's views differ by at most this angle at the opening's centre. The plane is known to
-  // about converged_sigma_m in depth; seen from directions this far apart, a closed door's edge
-  // points predicted from a plane that far off move by about f * sigma * sin(angle) / range:
-  // 5 px (mhd_threshold_px) at 25 deg, 1.3 m and f = 280-333 px/rad (the shipped 130 and
-  // 110 deg lenses). A track not decided within it takes the plane's points again from the view
-  // it is in (a closed door tested from behind, 1.7 m from where its plane was seen, read as
-  // parallax: p2.yaml, docs/p3.md).
-  double max_verify_parallax_rad = 25.0 * 3.14159265358979323846 / 180.0;
-  double mhd_threshold_px = 5.0;  // H(A, B) above it: open (P3 eq. 9's threshold)
-  double opening_margin = 0.15;   // of the opening left out at each side (the frame's edges)
-  int min_edge_points = 80;       // fewer in A or B: no decision in this frame
-  int max_edge_points = 3000;     // points kept on the plane at most
+  double mhd_threshold_px = 5.0;    // H(A, B) above it: open (P3 eq. 9's threshold)
+  double opening_margin = 0.15;     // of the opening left out at each side (the frame's edges)
+  int min_edge_points = 80;         // fewer in A or B: no decision in this frame
+  int max_edge_points = 3000;       // points kept on the plane at most
   double canny_low = 50.0;
   double canny_high = 150.0;
   int forget_after_frames = 15;  // a track not seen for this many frames is dropped
@@ -184,13 +167,6 @@ class UpwardDoorVerifier {
   // Each column's range and bearing from the camera centre c: their spread over the samples,
   // about report->columns (Report's mean, set before).
   void Spread(const Track& track, const Eigen::Vector3d& c, DoorTrackReport* report) const;
-  // Whether camera position c sees the opening of `columns` within max_view_angle_rad of its
-  // normal.
-  bool Frontal(const Eigen::Vector4d& columns, const Eigen::Vector3d& c) const;
-  // The plane (the samples' mean columns and height) and its edge points seen from this view (at
-  // most max_edge_points, evenly strided); false, and the track unchanged, with fewer than
-  // min_edge_points.
-  bool TakePlane(Track* track, const cv::Mat& edges, const SE3& world_from_camera) const;
   // P3 eq. 9 on a kVerifying track once the camera has moved verify_baseline_m from where the
   // plane's points were seen: the track becomes kOpen or kClosed; false while undecided.
   bool Test(Track* track, const cv::Mat& edges, const SE3& world_from_camera) const;

@@ -94,11 +94,9 @@ Frame Render(const Door& door, const std::vector<Eigen::Vector3d>& texture, cons
   return f;
 }
 
-// Drives along the corridor's centre line past the door; returns the final report of its track
-// (and, if decided_at is given, the robot's pose when it was decided).
+// Drives along the corridor's centre line past the door; returns the final report of its track.
 std::optional<slam::DoorTrackReport> DrivePast(const Door& door, double behind_m,
-                                               const slam::DoorVerifierOptions& options,
-                                               SE2* decided_at = nullptr) {
+                                               const slam::DoorVerifierOptions& options) {
   const CameraModel model = Fisheye();
   const SE3 mount = UpwardMount();
   const std::vector<Eigen::Vector3d> texture = Texture(door, behind_m);
@@ -111,20 +109,9 @@ std::optional<slam::DoorTrackReport> DrivePast(const Door& door, double behind_m
     const auto reports = verifier.Process({f.candidate}, f.grey, pose);
     REQUIRE(reports.size() == 1);
     if (reports[0]) last = reports[0];
-    if (last && last->decided_now) {
-      if (decided_at) *decided_at = pose;
-      break;
-    }
+    if (last && last->decided_now) break;
   }
   return last;
-}
-
-// The angle between the door's normal and the direction from its centre to the camera of `pose`.
-double ViewAngle(const Door& door, const SE2& pose) {
-  const Eigen::Vector2d camera = (SE3::FromSE2(pose) * UpwardMount()).translation().head<2>();
-  const Eigen::Vector2d along = (door.b - door.a).normalized();
-  const Eigen::Vector2d to_camera = camera - 0.5 * (door.a + door.b);
-  return std::asin(std::abs(to_camera.dot(along)) / to_camera.norm());
 }
 
 TEST_CASE("door verifier: the particle filter finds the columns; a leaf in the plane is closed",
@@ -282,57 +269,9 @@ TEST_CASE("door verifier: a pair with a column where the robot has been is not a
   CHECK(r->state == slam::DoorTrackState::kClosed);
   slam::DoorVerifierOptions no_free_space;
   no_free_space.min_column_clearance_m = 0.0;
-  // Seen edge-on from the path, such a pair is never in front of the camera: without the view
-  // rule too, the plane test alone calls it open.
-  no_free_space.max_view_angle_rad = 0.5 * std::numbers::pi;
-  no_free_space.max_verify_parallax_rad = std::numbers::pi;
   const std::optional<slam::DoorTrackReport> open = DrivePast(across, 2.0, no_free_space);
   REQUIRE(open);
   CHECK(open->state == slam::DoorTrackState::kOpen);
-}
-
-TEST_CASE("door verifier: an opening is tested only from views in front of it",
-          "[doors][verifier]") {
-  // Without the rule this drive decides the door 25 deg off its normal (the columns converge,
-  // the baseline is reached); with the bound at 20 deg the test waits until the camera sees the
-  // opening within it (the room behind an open door, or a recessed leaf's jambs, read wrong
-  // when seen obliquely; the default bound is 30 deg).
-  const Door door;
-  slam::DoorVerifierOptions any_view;
-  any_view.max_view_angle_rad = 0.5 * std::numbers::pi;
-  SE2 decided_any;
-  const std::optional<slam::DoorTrackReport> early = DrivePast(door, 2.0, any_view, &decided_any);
-  REQUIRE(early);
-  REQUIRE(early->decided_now);
-  CHECK(ViewAngle(door, decided_any) > 22.0 * std::numbers::pi / 180);
-  slam::DoorVerifierOptions front;
-  front.max_view_angle_rad = 20.0 * std::numbers::pi / 180;
-  SE2 decided;
-  const std::optional<slam::DoorTrackReport> r = DrivePast(door, 2.0, front, &decided);
-  REQUIRE(r);
-  REQUIRE(r->decided_now);
-  INFO("H " << r->hausdorff_px << " px, columns " << r->columns.transpose());
-  INFO("decided at x = " << decided.x() << " m, "
-                         << ViewAngle(door, decided) * 180 / std::numbers::pi
-                         << " deg off the normal");
-  // The plane's columns are the estimate (within 0.1 m of the truth here): a degree of slack.
-  CHECK(r->state == slam::DoorTrackState::kOpen);
-  CHECK(ViewAngle(door, decided) < front.max_view_angle_rad + 1.0 * std::numbers::pi / 180);
-}
-
-TEST_CASE("door verifier: views too far apart take the plane's points again", "[doors][verifier]") {
-  // With a parallax bound below what the baseline gives (0.3 m at 1.2 m: about 14 deg), every
-  // test view is too far from the plane's view: the plane is taken again each time and no
-  // decision comes; with the default bound the same drive decides.
-  slam::DoorVerifierOptions narrow;
-  narrow.max_verify_parallax_rad = 5.0 * std::numbers::pi / 180;
-  const std::optional<slam::DoorTrackReport> r = DrivePast(Door{}, 2.0, narrow);
-  REQUIRE(r);
-  CHECK_FALSE(r->decided_now);
-  CHECK(r->state == slam::DoorTrackState::kVerifying);
-  const std::optional<slam::DoorTrackReport> d = DrivePast(Door{}, 2.0, {});
-  REQUIRE(d);
-  CHECK(d->decided_now);
 }
 
 TEST_CASE("door verifier: the same frames give the same result", "[doors][verifier]") {
