@@ -137,7 +137,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   // Building the pipelines is part of the check too (`run --check` does it): a pipeline that
   // reads a camera the scenario disabled, say, is bad input reported there, at its line.
   try {
-    corridorsim::PipelineRunner pipelines(scenario, corridorsim::CalibrationOf(scenario));
+    corridorsim::PipelineRunner pipelines(scenario, corridorsim::CalibrationOf(scenario),
+                                          scenario.seed);
   } catch (const corridorsim::InputError& e) {
     CheckShortQuotes(e, text);
     return 0;

@@ -11,6 +11,7 @@
 #include <CLI/CLI.hpp>
 
 #include "common/error.h"
+#include "harness/study_file.h"
 #include "slam/registry.h"
 
 namespace corridorsim {
@@ -535,13 +536,59 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
       "Exit codes: 0 success, 3 an --expect check failed, 2 bad input (the file and field are "
       "named), 1 other failures.");
 
+  CLI::App* study = app.add_subcommand(
+      "study", "Run a scenario over many seeds (and sweep points) and aggregate the statistics");
+  JobOptions study_options(study, "out/study",
+                           "Study YAML (a scenario with a `study:` section, docs/studies.md) or a "
+                           "plain scenario file",
+                           "First seed (run i uses seed + i; default: study.first_seed, else the "
+                           "scenario's seed)",
+                           "Study folder (resumed when it holds the same study)");
+  std::string study_runs, study_jobs, study_shard;
+  CLI::Option* study_runs_option =
+      study->add_option("--runs", study_runs, "Seeds per sweep point (default: study.runs, 10)")
+          ->type_name("N");
+  CLI::Option* study_jobs_option =
+      study->add_option("--jobs", study_jobs, "Worker processes (default: the number of cores)")
+          ->type_name("J");
+  CLI::Option* study_shard_option =
+      study
+          ->add_option("--shard", study_shard,
+                       "Run only part K of N (run k of the plan belongs to part k mod N); "
+                       "`study merge` combines the parts")
+          ->type_name("K/N");
+  bool study_no_plots = false;
+  study->add_flag("--no-plots", study_no_plots, "Skip plots/ (matplotlib)")
+      ->disable_flag_override();
+  CLI::App* merge = study->add_subcommand(
+      "merge", "Combine study folders of one plan (shards) into one study folder and summary");
+  std::vector<std::string> merge_dirs;
+  merge->add_option("dirs", merge_dirs, "Study folders to combine")->required();
+  std::string merge_out = "out/study_merged";
+  merge->add_option("--out", merge_out, "The combined study folder")->capture_default_str();
+  bool merge_force = false, merge_no_plots = false;
+  merge->add_flag("--force", merge_force, "Replace a non-empty --out folder written by corridorsim")
+      ->disable_flag_override();
+  merge->add_flag("--no-plots", merge_no_plots, "Skip plots/ (matplotlib)")
+      ->disable_flag_override();
+  study->footer(
+      std::string(
+          "Each run is `corridorsim run <point scenario> --seed S --no-plots` in a process of its "
+          "own; finished runs are kept (runs/<point>/seed_<S>/) and skipped when the same study "
+          "is run again. Writes study.json (the plan), points/, runs/, status/, logs/, "
+          "summary.json, summary.csv, paired.csv, report.md, timing.json and plots/ "
+          "(docs/studies.md).\n") +
+      "Exit codes: 0 success; 1 a run failed or timed out (the others are summarised, the failed "
+      "ones named); 3 a study expectation failed; 4 only plots/ failed; 2 bad input (nothing "
+      "runs).");
+
   static const char* const kJobs[] = {"world",  "snapshot",        "run",     "drive", "where",
-                                      "detect", "train-detectors", "dataset", "score"};
+                                      "detect", "train-detectors", "dataset", "score", "study"};
   if (!args.empty() && !args[0].empty() && args[0][0] != '-' &&
       std::find(std::begin(kJobs), std::end(kJobs), args[0]) == std::end(kJobs)) {
     Fail("", "unknown subcommand " + Quoted(args[0]) +
                  ": expected world, snapshot, run, drive, where, detect, train-detectors, "
-                 "dataset or score (see corridorsim --help)");
+                 "dataset, score or study (see corridorsim --help)");
   }
   // CLI11 takes the arguments last first.
   std::vector<std::string> reversed(args.rbegin(), args.rend());
@@ -712,10 +759,46 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
     for (const std::string& e : score_expect) {
       r.expectations.push_back(ParseScoreExpectation(e, "--expect"));
     }
+  } else if (merge->parsed()) {
+    parsed.job = CommandLine::Job::kStudyMerge;
+    StudyRequest& r = parsed.study;
+    if (merge_out.empty()) Fail("--out", "an empty folder name");
+    if (merge_dirs.size() > static_cast<std::size_t>(kMaxShards)) {
+      Fail("dirs", "at most " + std::to_string(kMaxShards) + " folders");
+    }
+    for (const std::string& d : merge_dirs) {
+      if (d.empty()) Fail("dirs", "an empty folder name");
+      r.merge_dirs.emplace_back(d);
+    }
+    r.out_dir = merge_out;
+    r.force = merge_force;
+    r.plots = !merge_no_plots;
+  } else if (study->parsed()) {
+    parsed.job = CommandLine::Job::kStudy;
+    StudyRequest& r = parsed.study;
+    study_options.Resolve(&r);
+    const auto whole = [](const std::string& text, int max, const std::string& flag) {
+      const double v = ParseNumberArgument(text, max, flag);
+      if (v != std::floor(v) || v < 1)
+        Fail(flag, "must be a whole number in [1, " + std::to_string(max) + "] " + Got(text));
+      return static_cast<int>(v);
+    };
+    if (study_runs_option->count() > 0) r.runs = whole(study_runs, kMaxStudyRuns, "--runs");
+    if (study_jobs_option->count() > 0) r.jobs = whole(study_jobs, kMaxStudyJobs, "--jobs");
+    if (study_shard_option->count() > 0) {
+      const std::size_t slash = study_shard.find('/');
+      if (slash == std::string::npos) Fail("--shard", "expected K/N, e.g. 2/8 " + Got(study_shard));
+      const int k = whole(study_shard.substr(0, slash), kMaxShards, "--shard");
+      const int n = whole(study_shard.substr(slash + 1), kMaxShards, "--shard");
+      if (k > n) Fail("--shard", "K must lie in [1, N] " + Got(study_shard));
+      r.shard_index = k - 1;
+      r.shard_count = n;
+    }
+    r.plots = !study_no_plots;
   } else {
     Fail("",
          "a subcommand is required: world, snapshot, run, drive, where, detect, train-detectors, "
-         "dataset or score (see corridorsim --help)");
+         "dataset, score or study (see corridorsim --help)");
   }
   return parsed;
 }

@@ -16,6 +16,7 @@
 #include "harness/run.h"
 #include "harness/score_request.h"
 #include "harness/snapshot.h"
+#include "harness/study.h"
 #include "harness/train_detectors_request.h"
 #include "harness/where.h"
 
@@ -48,6 +49,8 @@ struct CommandLine {
     kTrainDetectors,
     kDataset,
     kScore,
+    kStudy,
+    kStudyMerge,
   };
   Job job = Job::kHelp;
   std::string help_text;  // kHelp: printed on stdout, exit 0
@@ -62,6 +65,7 @@ struct CommandLine {
   TrainDetectorsRequest train_detectors;
   DatasetRequest dataset;
   ScoreRequest score;
+  StudyRequest study;  // kStudy and kStudyMerge
 };
 
 /// Parses the arguments (without the program name). Throws InputError at

@@ -24,6 +24,7 @@
 #include "harness/scenario.h"
 #include "harness/score.h"
 #include "harness/snapshot.h"
+#include "harness/study.h"
 #include "harness/train_detectors.h"
 #include "harness/where.h"
 #include "slam/features/door_plates.h"
@@ -124,6 +125,11 @@ int Dispatch(CommandLine& command) {
       return RunDataset(command.dataset);
     case CommandLine::Job::kScore:
       return RunScore(command.score);
+    case CommandLine::Job::kStudy:
+      ResolveDefaultScenario(&command.study);
+      return RunStudy(command.study);
+    case CommandLine::Job::kStudyMerge:
+      return MergeStudies(command.study);
   }
   return kExitFailure;
 }

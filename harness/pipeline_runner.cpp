@@ -46,15 +46,17 @@ struct PipelineRunner::Run {
   double seconds = 0.0;  // wall time inside the pipeline
 };
 
-PipelineRunner::PipelineRunner(const Scenario& scenario, const slam::Calibration& calibration) {
+PipelineRunner::PipelineRunner(const Scenario& scenario, const slam::Calibration& calibration,
+                               std::uint64_t run_seed) {
   for (const render::CameraOptions& camera : scenario.rig.cameras) {
     true_models_.emplace(camera.id, camera.model);
   }
   for (const Scenario::PipelineEntry& entry : scenario.pipelines) {
     if (!entry.enabled) continue;
     Run run;
-    // Each pipeline's random choices draw from a stream of its own (docs/architecture.md).
-    const std::uint64_t seed = RandomStream(scenario.seed, 0, "slam." + entry.name).NextU64();
+    // Each pipeline's random choices draw from a stream of its own (docs/architecture.md), of
+    // the run's seed: `run --seed N` reseeds the pipelines with everything else.
+    const std::uint64_t seed = RandomStream(run_seed, 0, "slam." + entry.name).NextU64();
     try {
       run.pipeline = entry.options->Create(calibration, seed);
     } catch (const slam::ModelFileError& e) {

@@ -4,6 +4,7 @@
 // paired); its estimate is recorded at every odometry message, its detections at every frame,
 // and Finish() collects its map, innovations and health for the metrics.
 
+#include <cstdint>
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -21,9 +22,11 @@ namespace corridorsim {
 
 class PipelineRunner : public BusConsumer {
  public:
-  /// Creates the scenario's enabled pipelines. A pipeline that reads a camera the calibration
-  /// does not have is an InputError at `pipelines:`.
-  PipelineRunner(const Scenario& scenario, const slam::Calibration& calibration);
+  /// Creates the scenario's enabled pipelines, each seeded from the run's `seed` (the scenario's,
+  /// or --seed's) and its own name. A pipeline that reads a camera the calibration does not have
+  /// is an InputError at `pipelines:`.
+  PipelineRunner(const Scenario& scenario, const slam::Calibration& calibration,
+                 std::uint64_t seed);
   ~PipelineRunner() override;
 
   /// The cameras any pipeline reads.

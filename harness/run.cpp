@@ -72,7 +72,7 @@ int RunScenario(const RunRequest& request) {
   // Build: the pipelines (all on the same stream), then the world, path and cameras they need.
   SimulationSetup setup(scenario, request.seed.value_or(scenario.seed),
                         /*check_camera_placement=*/true);
-  PipelineRunner pipelines(scenario, CalibrationOf(scenario));
+  PipelineRunner pipelines(scenario, CalibrationOf(scenario), setup.seed());
   pipelines.Initialize(0, setup.robot_path().world_from_start);
   if (request.check_only) {
     std::printf("ok: %s (world %zu meshes, path %s %.1f m, %zu pipeline(s), %zu expectation(s))\n",

@@ -93,6 +93,15 @@ const OptionTable<Scenario>& ScenarioOptionsTable() {
               {"include", "", "", "",
                "a base scenario (path relative to this file); this file overrides it"}};
         });
+    t.AddCustom(
+        "study", "", [](YamlMap& root, S&) { root.Accept("study"); },
+        [](const S&, OptionsYamlWriter&) {},  // a run's echo is one run: no study
+        [](const S&) {
+          return std::vector<OptionDocRow>{
+              {"study", "", "", "",
+               "a study's settings (seeds, sweeps, expectations; docs/studies.md), read by "
+               "`corridorsim study` from the file it is given; `run` ignores it"}};
+        });
     t.Add("name", &S::name, "", "free text");
     t.Add("description", &S::description, "", "free text");
     t.Add("seed", &S::seed, "",
@@ -141,7 +150,9 @@ const OptionTable<Scenario>& ScenarioOptionsTable() {
   });
 }
 
-Scenario LoadScenario(const std::string& path) {
+Scenario LoadScenario(const std::string& path) { return LoadScenario(path, {}); }
+
+Scenario LoadScenario(const std::string& path, const std::vector<YamlDocument>& overrides) {
   Scenario scenario;
   scenario.file = path;
   scenario.world_location = SourceLocation{path, 0, 0};
@@ -150,7 +161,8 @@ Scenario LoadScenario(const std::string& path) {
   scenario.path_location = SourceLocation{path, 0, 0};
   scenario.pipelines_location = SourceLocation{path, 0, 0};
   // Documents stay alive while their maps are read: YamlMap points into them.
-  const std::vector<YamlDocument> chain = LoadWithIncludes(path);
+  std::vector<YamlDocument> chain = LoadWithIncludes(path);
+  chain.insert(chain.end(), overrides.begin(), overrides.end());
   for (const YamlDocument& doc : chain) {
     // A file without a key (0 bytes, only comments, `{}`) is a mistake, never "all defaults":
     // it would run the default simulation with nothing to score.

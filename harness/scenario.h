@@ -65,6 +65,9 @@ std::vector<OptionsDocBlock> ScenarioDocBlocks();
 /// at all (empty, only comments) is an error. A section written with nothing after it
 /// (`world:`, YAML null) overrides nothing, as `world: {}`.
 Scenario LoadScenario(const std::string& path);
+/// As above, then `overrides` applied in order on top of the chain (a study's sweep point: each a
+/// map of scenario keys, checked as strictly as a file's).
+Scenario LoadScenario(const std::string& path, const std::vector<YamlDocument>& overrides);
 
 /// Turns a problem found by a options's Check() or a generator into an InputError placed at the
 /// line that set the offending key (`section` is "world", "sensors", "robot", "path" or

@@ -2,6 +2,7 @@
 // Starting another program without a shell: the arguments go to it as a vector, so no character
 // of a path (quote, semicolon, `$(...)`, newline) is ever interpreted.
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,30 @@ struct ChildStatus {
 /// it: stdin reads /dev/null, stdout and stderr are this process's (flushed first). Never uses a
 /// shell. `argv` must not be empty.
 ChildStatus RunChildProcess(const std::vector<std::string>& argv);
+
+/// A child started without waiting for it (a study's worker runs). Its stdout and stderr go to
+/// one log file (created or truncated), stdin reads /dev/null; never a shell.
+class ChildProcess {
+ public:
+  /// Starts `argv` (argv[0] searched on PATH when it has no '/'). On failure the object is not
+  /// running and Poll() returns a status whose `error` says why.
+  ChildProcess(const std::vector<std::string>& argv, const std::string& log_file);
+  ~ChildProcess();  // kills and reaps a child still running (SIGKILL)
+  ChildProcess(const ChildProcess&) = delete;
+  ChildProcess& operator=(const ChildProcess&) = delete;
+
+  /// The status once it ended (reaped then), else nothing. Never blocks.
+  std::optional<ChildStatus> Poll();
+  /// SIGKILL (it is reaped by the next Poll()).
+  void Kill();
+  /// Its peak resident memory in MiB once ended (from wait4's rusage), else 0.
+  double peak_rss_mib() const { return peak_rss_mib_; }
+
+ private:
+  int pid_ = -1;
+  std::optional<ChildStatus> done_;
+  double peak_rss_mib_ = 0.0;
+};
 
 /// "exited 3", "was killed by signal 9 (Killed)", "could not be started: <why>".
 std::string DescribeChildStatus(const ChildStatus& status);

@@ -1,0 +1,676 @@
+#include "harness/study.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <memory>
+#include <stdexcept>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+
+#include "common/error.h"
+#include "common/io/atomic_file.h"
+#include "common/io/child_process.h"
+#include "common/io/sha256.h"
+#include "harness/provenance.h"
+#include "harness/run_folder.h"
+#include "harness/study_file.h"
+#include "harness/study_summary.h"
+
+namespace corridorsim {
+namespace {
+
+namespace fs = std::filesystem;
+using json = nlohmann::ordered_json;
+using Clock = std::chrono::steady_clock;
+
+constexpr std::uint64_t kMaxPlanBytes = std::uint64_t{64} << 20;
+constexpr const char* kMarker = StagedDirectory::kOutputFolderMarker;
+
+double Seconds(Clock::time_point since) {
+  return std::chrono::duration<double>(Clock::now() - since).count();
+}
+
+std::string SeedName(std::uint64_t seed) { return "seed_" + std::to_string(seed); }
+
+fs::path RunFolder(const fs::path& dir, const std::string& point, std::uint64_t seed) {
+  return dir / "runs" / point / SeedName(seed);
+}
+fs::path StatusFile(const fs::path& dir, const std::string& point, std::uint64_t seed) {
+  return dir / "status" / point / (SeedName(seed) + ".json");
+}
+fs::path LogFile(const fs::path& dir, const std::string& point, std::uint64_t seed) {
+  return dir / "logs" / point / (SeedName(seed) + ".log");
+}
+
+// The plan: everything the runs' bytes and the summary depend on, and nothing else (not the
+// study file's path, the workers or the shard), so that a resumed, sharded or merged study can
+// check that it continues the same study.
+json PlanJson(const StudySpec& spec, const std::vector<std::string>& point_yaml) {
+  json plan;
+  plan["schema_version"] = 1;
+  plan["build"] = ProjectVersion();
+  plan["runs_per_point"] = spec.runs;
+  plan["first_seed"] = spec.first_seed;
+  plan["run_timeout_s"] = spec.run_timeout_s;
+  plan["divergence_nees"] = spec.divergence_nees;
+  plan["time_step_s"] = spec.time_step_s;
+  plan["pipelines"] = spec.pipelines;
+  plan["metrics"] = spec.metrics;
+  plan["vary"] = spec.vary_keys;
+  json points = json::array();
+  for (std::size_t i = 0; i < spec.points.size(); ++i) {
+    json values = json::object();
+    for (const auto& [key, value] : spec.points[i].values) values[key] = value;
+    points.push_back({{"id", spec.points[i].id},
+                      {"vary", values},
+                      {"scenario", "points/" + spec.points[i].id + ".yaml"},
+                      {"scenario_sha256", Sha256Hex(point_yaml[i])}});
+  }
+  plan["points"] = std::move(points);
+  json expectations = json::array();
+  for (const StudyExpectation& e : spec.expectations) expectations.push_back(e.text);
+  plan["expectations"] = std::move(expectations);
+  return plan;
+}
+
+// The summary's view of a plan (for `merge`, which has the folders, not the study file).
+StudySpec SpecFromPlan(const json& plan, const fs::path& file) {
+  StudySpec spec;
+  try {
+    spec.runs = plan.at("runs_per_point").get<int>();
+    spec.first_seed = plan.at("first_seed").get<std::uint64_t>();
+    spec.run_timeout_s = plan.at("run_timeout_s").get<double>();
+    spec.divergence_nees = plan.at("divergence_nees").get<double>();
+    spec.time_step_s = plan.at("time_step_s").get<double>();
+    spec.pipelines = plan.at("pipelines").get<std::vector<std::string>>();
+    spec.metrics = plan.at("metrics").get<std::vector<std::string>>();
+    spec.vary_keys = plan.at("vary").get<std::vector<std::string>>();
+    for (const json& p : plan.at("points")) {
+      StudyPoint point;
+      point.id = p.at("id").get<std::string>();
+      for (const auto& [key, value] : p.at("vary").items()) {
+        point.values.emplace_back(key, value.get<std::string>());
+      }
+      spec.points.push_back(std::move(point));
+    }
+    for (const json& text : plan.at("expectations")) {
+      StudyExpectation e;
+      if (auto error = ParseStudyExpectation(text.get<std::string>(), &e)) {
+        throw std::runtime_error(*error);
+      }
+      spec.expectations.push_back(std::move(e));
+    }
+  } catch (const std::exception& e) {
+    throw InputError(SourceLocation{file.string(), 0, 0}, "",
+                     std::string("not a study plan of this build: ") + e.what());
+  }
+  if (spec.runs < 1 || spec.runs > kMaxStudyRuns || spec.points.empty() ||
+      spec.points.size() > static_cast<std::size_t>(kMaxSweepPoints) || spec.pipelines.empty() ||
+      spec.metrics.empty()) {
+    throw InputError(SourceLocation{file.string(), 0, 0}, "", "a study plan out of bounds");
+  }
+  return spec;
+}
+
+json ReadPlan(const fs::path& file) {
+  try {
+    return json::parse(ReadRegularFile(file, kMaxPlanBytes));
+  } catch (const json::exception& e) {
+    throw InputError(SourceLocation{file.string(), 0, 0}, "", std::string("not JSON: ") + e.what());
+  }
+}
+
+// Prepares the study folder: new (created with its marker), the same study (resumed), or with
+// --force an earlier corridorsim output (removed first). Anything else is bad input.
+void PrepareFolder(const fs::path& dir, const std::string& plan_text, bool force,
+                   const std::string& option) {
+  const SourceLocation command_line{"command line", 0, 0};
+  std::error_code error;
+  if (fs::exists(dir, error) && !fs::is_directory(dir, error)) {
+    throw InputError(command_line, option, "'" + dir.string() + "' is not a folder");
+  }
+  const bool empty = !fs::exists(dir, error) || fs::is_empty(dir, error);
+  if (!empty) {
+    const fs::path plan_file = dir / "study.json";
+    const bool same = fs::is_regular_file(plan_file, error) &&
+                      ReadRegularFile(plan_file, kMaxPlanBytes) == plan_text;
+    if (same && !force) return;  // resumed
+    if (!force) {
+      throw InputError(command_line, option,
+                       "'" + dir.string() +
+                           (fs::exists(plan_file, error)
+                                ? "' holds another study (its study.json differs: another "
+                                  "scenario, sweep, seeds or build)"
+                                : "' is not empty and holds no study") +
+                           ": pass --force to start it over, or choose another folder");
+    }
+    if (!fs::exists(dir / kMarker, error)) {
+      throw InputError(command_line, option,
+                       "'" + dir.string() + "' was not written by corridorsim (no " + kMarker +
+                           "): --force replaces only corridorsim's own folders");
+    }
+    fs::remove_all(dir, error);
+    if (error) {
+      throw InputError(command_line, option,
+                       "cannot remove '" + dir.string() + "': " + error.message());
+    }
+  }
+  fs::create_directories(dir, error);
+  if (error) {
+    throw InputError(command_line, option,
+                     "cannot create '" + dir.string() + "': " + error.message());
+  }
+  EnsureWritableDirectory(dir);
+  WriteFileAtomic(dir / kMarker, "");
+  WriteFileAtomic(dir / "study.json", plan_text);
+}
+
+// Every planned run's outcome as the folder records it: finished when its run folder has
+// metrics.json (run folders are committed whole), failed or timed out when its status says so.
+std::vector<StudyRunRecord> CollectRecords(const StudySpec& spec, const fs::path& dir) {
+  std::vector<StudyRunRecord> records;
+  for (std::size_t p = 0; p < spec.points.size(); ++p) {
+    for (int i = 0; i < spec.runs; ++i) {
+      StudyRunRecord r;
+      r.point = p;
+      r.seed = spec.first_seed + static_cast<std::uint64_t>(i);
+      r.folder = RunFolder(dir, spec.points[p].id, r.seed);
+      std::error_code error;
+      if (fs::is_regular_file(r.folder / "metrics.json", error)) {
+        r.outcome = StudyRunRecord::Outcome::kFinished;
+      } else if (const fs::path status = StatusFile(dir, spec.points[p].id, r.seed);
+                 fs::is_regular_file(status, error)) {
+        try {
+          const json s = json::parse(ReadRegularFile(status, kMaxPlanBytes));
+          const std::string outcome = s.at("outcome").get<std::string>();
+          r.outcome = outcome == "timed_out" ? StudyRunRecord::Outcome::kTimedOut
+                                             : StudyRunRecord::Outcome::kFailed;
+          r.detail = s.value("detail", "");
+        } catch (const std::exception&) {
+          r.outcome = StudyRunRecord::Outcome::kFailed;
+          r.detail = "an unreadable status file";
+        }
+      }
+      records.push_back(std::move(r));
+    }
+  }
+  return records;
+}
+
+std::string FormatDuration(double s) {
+  char text[32];
+  const long total = std::lround(std::max(0.0, s));
+  if (total >= 3600) {
+    std::snprintf(text, sizeof text, "%ldh%02ldm", total / 3600, (total % 3600) / 60);
+  } else {
+    std::snprintf(text, sizeof text, "%ldm%02lds", total / 60, total % 60);
+  }
+  return text;
+}
+
+std::string Fixed(const json& v, int decimals) {
+  if (!v.is_number()) return "-";
+  return FormatFixed(v.get<double>(), decimals);
+}
+
+// report.md: the numbers, the expectations and how they were made.
+std::string ReportMarkdown(const StudySpec& spec, const StudySummary& summary,
+                           const std::string& command, bool plots) {
+  std::string md = "# Study report\n\n";
+  md += "Made by `" + command + "` with corridorsim " + ProjectVersion() + ".\n\n";
+  md += std::to_string(spec.points.size()) + " point(s) x " + std::to_string(spec.runs) +
+        " run(s), seeds " + std::to_string(spec.first_seed) + " to " +
+        std::to_string(spec.first_seed + static_cast<std::uint64_t>(spec.runs) - 1) +
+        "; pipelines ";
+  for (std::size_t i = 0; i < spec.pipelines.size(); ++i) {
+    md += (i ? ", " : "") + ("`" + spec.pipelines[i] + "`");
+  }
+  md +=
+      ". Intervals are 95 % percentile-bootstrap intervals of the mean over seeds; NEES is "
+      "averaged over runs at each time and compared with the 95 % chi-square band of N runs "
+      "(docs/studies.md).\n\n";
+  for (const json& point : summary.json["points"]) {
+    md += "## Point " + point["id"].get<std::string>();
+    std::string values;
+    for (const auto& [key, value] : point["vary"].items()) {
+      values += (values.empty() ? "" : ", ") + key + " = " + value.get<std::string>();
+    }
+    md += values.empty() ? "\n\n" : " (" + values + ")\n\n";
+    const json& runs = point["runs"];
+    md += "Runs: " + std::to_string(runs["finished"].get<int>()) + " finished, " +
+          std::to_string(runs["failed"].get<int>()) + " failed, " +
+          std::to_string(runs["timed_out"].get<int>()) + " timed out, " +
+          std::to_string(runs["not_run"].get<int>()) + " not run here.\n\n";
+    md +=
+        "| pipeline | ATE RMSE mean [95 % CI] (m) | median | p95 | RPE 1 m (m) | final error (m) "
+        "| average NEES (in band) | diverged |\n|---|---|---|---|---|---|---|---|\n";
+    for (const auto& [name, p] : point["pipelines"].items()) {
+      const json& ate = p["metrics"]["ate_rmse_m"];
+      md += "| `" + name + "` | " + Fixed(ate["mean"], 4) + " [" + Fixed(ate["ci_low"], 4) + ", " +
+            Fixed(ate["ci_high"], 4) + "] | " + Fixed(ate["median"], 4) + " | " +
+            Fixed(ate["p95"], 4) + " | " + Fixed(p["metrics"]["rpe_1m_trans_rmse_m"]["mean"], 4) +
+            " | " + Fixed(p["metrics"]["final_position_error_m"]["mean"], 4) + " | " +
+            Fixed(p["nees"]["average"], 2) + " (" + Fixed(p["nees"]["in_band_fraction"], 2) +
+            ") | " + std::to_string(p["runs"]["diverged"].get<int>()) + " |\n";
+    }
+    md +=
+        "\nPaired on the same seeds (ATE RMSE, a - b):\n\n| a | b | n | mean difference [95 % CI] "
+        "(m) | ratio of means [95 % CI] | a lower | sign test p | Wilcoxon p |\n"
+        "|---|---|---|---|---|---|---|---|\n";
+    for (const json& pair : point["paired"]) {
+      const json& m = pair["metrics"]["ate_rmse_m"];
+      md += "| `" + pair["a"].get<std::string>() + "` | `" + pair["b"].get<std::string>() + "` | " +
+            std::to_string(m["n"].get<int>()) + " | " + Fixed(m["diff"], 4) + " [" +
+            Fixed(m["diff_ci_low"], 4) + ", " + Fixed(m["diff_ci_high"], 4) + "] | " +
+            Fixed(m["ratio"], 3) + " [" + Fixed(m["ratio_ci_low"], 3) + ", " +
+            Fixed(m["ratio_ci_high"], 3) + "] | " +
+            (m["a_lower"].is_number() ? std::to_string(m["a_lower"].get<int>()) : "-") + " | " +
+            Fixed(m["p_sign"], 4) + " | " + Fixed(m["p_wilcoxon"], 4) + " |\n";
+    }
+    if (!point["expectations"].empty()) {
+      md += "\n| expectation | measured | result |\n|---|---|---|\n";
+      for (const json& e : point["expectations"]) {
+        md += "| `" + e["expectation"].get<std::string>() + "` | " + Fixed(e["measured"], 6) +
+              " | " + (e["passed"].get<bool>() ? "passed" : "**FAILED**") + " |\n";
+      }
+    }
+    md += "\n";
+  }
+  if (plots) {
+    md +=
+        "## Plots\n\n![ATE per pipeline](plots/ate_box.png)\n\n"
+        "![Position error over time](plots/error_over_time.png)\n\n"
+        "![NEES over time](plots/nees.png)\n\n";
+    if (!spec.vary_keys.empty()) md += "![Sweep](plots/sweep.png)\n\n";
+  }
+  md +=
+      "Files: summary.json (everything above, with the per-run values and the series), "
+      "summary.csv, paired.csv, runs/<point>/seed_<N>/ (each a `corridorsim run` folder), "
+      "points/<point>.yaml (each point's scenario), timing.json (wall clock, memory).\n";
+  return md;
+}
+
+std::string CommandText(const StudyRequest& request) {
+  std::string text = "corridorsim study";
+  if (!request.merge_dirs.empty()) {
+    text += " merge";
+    for (const fs::path& d : request.merge_dirs) text += " " + d.string();
+  } else {
+    text += " " + request.scenario_file;
+    if (request.runs) text += " --runs " + std::to_string(*request.runs);
+    if (request.seed) text += " --seed " + std::to_string(*request.seed);
+    if (request.shard_count > 1) {
+      text += " --shard " + std::to_string(request.shard_index + 1) + "/" +
+              std::to_string(request.shard_count);
+    }
+  }
+  return text + " --out " + request.out_dir.string();
+}
+
+std::optional<std::string> MakeStudyPlots(const fs::path& dir) {
+  const fs::path script = fs::path(CORRIDORSIM_SCRIPTS_DIR) / "plot_study.py";
+  const ChildStatus status = RunChildProcess({"python3", script.string(), dir.string()});
+  if (status.succeeded()) return std::nullopt;
+  return "python3 '" + script.string() + "' '" + dir.string() + "' " + DescribeChildStatus(status);
+}
+
+// Writes the summary files, the report and the plots; prints the closing table. Returns the
+// exit code.
+int FinishStudy(const StudySpec& spec, const fs::path& dir, const StudyRequest& request,
+                json timing) {
+  const Clock::time_point start = Clock::now();
+  const std::vector<StudyRunRecord> records = CollectRecords(spec, dir);
+  const StudySummary summary = SummarizeStudy(spec, records);
+  WriteFileAtomic(dir / "summary.json", summary.json.dump(2) + "\n");
+  WriteFileAtomic(dir / "summary.csv", summary.csv);
+  WriteFileAtomic(dir / "paired.csv", summary.paired_csv);
+  WriteFileAtomic(dir / "report.md",
+                  ReportMarkdown(spec, summary, CommandText(request), request.plots));
+  timing["summary_seconds"] = Seconds(start);
+  std::optional<std::string> plot_error;
+  if (request.plots) {
+    const Clock::time_point t_plots = Clock::now();
+    plot_error = MakeStudyPlots(dir);
+    timing["plot_seconds"] = Seconds(t_plots);
+  }
+  WriteFileAtomic(dir / "timing.json", timing.dump(2) + "\n");
+
+  std::printf("\nstudy: %zu point(s) x %d seed(s)\n", spec.points.size(), spec.runs);
+  for (const json& point : summary.json["points"]) {
+    std::printf("%s:", point["id"].get<std::string>().c_str());
+    for (const auto& [key, value] : point["vary"].items()) {
+      std::printf(" %s=%s", key.c_str(), value.get<std::string>().c_str());
+    }
+    std::printf(" (%d finished)\n", point["runs"]["finished"].get<int>());
+    for (const auto& [name, p] : point["pipelines"].items()) {
+      const json& ate = p["metrics"]["ate_rmse_m"];
+      std::printf("  %-20s ATE RMSE mean %s m [%s, %s], median %s, NEES %s, diverged %d\n",
+                  name.c_str(), Fixed(ate["mean"], 4).c_str(), Fixed(ate["ci_low"], 4).c_str(),
+                  Fixed(ate["ci_high"], 4).c_str(), Fixed(ate["median"], 4).c_str(),
+                  Fixed(p["nees"]["average"], 2).c_str(), p["runs"]["diverged"].get<int>());
+    }
+  }
+  for (const StudyExpectationResult& r : summary.results) {
+    std::printf("%s %s: %s (measured %s)\n", r.passed ? "passed" : "FAILED", r.point.c_str(),
+                r.expectation->text.c_str(),
+                r.measured ? FormatFixed(*r.measured, 6).c_str() : "nothing");
+  }
+  std::printf(
+      "wrote %s/{study.json, summary.json, summary.csv, paired.csv, report.md, "
+      "timing.json%s, runs/, points/}\n",
+      dir.string().c_str(), plot_error || !request.plots ? "" : ", plots/");
+  int code = 0;
+  if (summary.failed_runs > 0) {
+    std::printf("study: %d run(s) failed or timed out:\n", summary.failed_runs);
+    for (const StudyRunRecord& r : records) {
+      if (r.outcome != StudyRunRecord::Outcome::kFailed &&
+          r.outcome != StudyRunRecord::Outcome::kTimedOut) {
+        continue;
+      }
+      std::printf("  %s seed %llu: %s (log: %s)\n", spec.points[r.point].id.c_str(),
+                  static_cast<unsigned long long>(r.seed), r.detail.c_str(),
+                  LogFile(dir, spec.points[r.point].id, r.seed).string().c_str());
+    }
+    code = 1;
+  } else if (!summary.all_passed()) {
+    code = 3;
+  } else if (plot_error) {
+    code = 4;
+  }
+  if (plot_error)
+    std::fprintf(stderr, "corridorsim: warning: plots/ failed: %s\n", plot_error->c_str());
+  if (summary.not_run > 0) {
+    std::printf(
+        "note: %d run(s) of the plan are not in this folder (other shards; `corridorsim "
+        "study merge` combines them)\n",
+        summary.not_run);
+  }
+  return code;
+}
+
+std::string SelfExecutable() {
+  std::error_code error;
+  const fs::path self = fs::read_symlink("/proc/self/exe", error);
+  if (error)
+    throw std::runtime_error("cannot find this program (/proc/self/exe): " + error.message());
+  return self.string();
+}
+
+}  // namespace
+
+int RunStudy(const StudyRequest& request) {
+  const Clock::time_point study_start = Clock::now();
+  const StudySpec spec = LoadStudy(request.scenario_file, request.runs, request.seed);
+  std::vector<std::string> point_yaml;
+  for (const StudyPoint& point : spec.points) {
+    point_yaml.push_back(ResolvedScenarioYaml(point.scenario, spec.first_seed));
+  }
+  const std::string plan_text = PlanJson(spec, point_yaml).dump(2) + "\n";
+  const fs::path dir = request.out_dir;
+  PrepareFolder(dir, plan_text, request.force, "--out");
+  for (std::size_t i = 0; i < spec.points.size(); ++i) {
+    const fs::path file = dir / "points" / (spec.points[i].id + ".yaml");
+    std::error_code error;
+    fs::create_directories(file.parent_path(), error);
+    WriteFileAtomic(file, point_yaml[i]);
+  }
+  if (request.shard_count > 1) {
+    WriteFileAtomic(
+        dir / "shard.json",
+        json{{"shard", request.shard_index + 1}, {"of", request.shard_count}}.dump(2) + "\n");
+  }
+
+  // The runs of this shard (run k of the plan belongs to shard k mod N) not finished yet.
+  struct Todo {
+    std::size_t point;
+    std::uint64_t seed;
+  };
+  std::vector<Todo> todo;
+  std::size_t planned_here = 0, already = 0;
+  std::map<std::string, std::pair<double, int>> ate;  // running mean ATE per pipeline
+  const auto add_ate = [&](const fs::path& folder) {
+    try {
+      const json m = json::parse(ReadRegularFile(folder / "metrics.json", kMaxPlanBytes));
+      for (const std::string& name : spec.pipelines) {
+        const json& v = m["pipelines"][name]["ate_rmse_m"];
+        if (v.is_number()) {
+          ate[name].first += v.get<double>();
+          ++ate[name].second;
+        }
+      }
+    } catch (const std::exception&) {
+      // the summary reports a damaged folder; progress only skips it
+    }
+  };
+  long index = 0;
+  for (std::size_t p = 0; p < spec.points.size(); ++p) {
+    for (int i = 0; i < spec.runs; ++i, ++index) {
+      if (index % request.shard_count != request.shard_index) continue;
+      ++planned_here;
+      const std::uint64_t seed = spec.first_seed + static_cast<std::uint64_t>(i);
+      const fs::path folder = RunFolder(dir, spec.points[p].id, seed);
+      std::error_code error;
+      if (fs::is_regular_file(folder / "metrics.json", error)) {
+        ++already;
+        add_ate(folder);
+        continue;
+      }
+      todo.push_back({p, seed});
+    }
+  }
+  int jobs = request.jobs > 0 ? request.jobs
+                              : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  jobs = std::min(jobs, kMaxStudyJobs);
+  const std::string program = request.run_program.empty() ? SelfExecutable() : request.run_program;
+  std::printf(
+      "study: %s, %zu point(s) x %d seed(s) = %zu run(s)%s; %zu already finished, %zu "
+      "to run, %d worker(s); folder %s\n",
+      request.scenario_file.c_str(), spec.points.size(), spec.runs,
+      spec.points.size() * static_cast<std::size_t>(spec.runs),
+      request.shard_count > 1
+          ? (", shard " + std::to_string(request.shard_index + 1) + "/" +
+             std::to_string(request.shard_count) + ": " + std::to_string(planned_here))
+                .c_str()
+          : "",
+      already, todo.size(), jobs, dir.string().c_str());
+  std::fflush(stdout);
+
+  struct Active {
+    Todo run;
+    std::unique_ptr<ChildProcess> child;
+    Clock::time_point start;
+    bool timed_out = false;
+  };
+  std::vector<Active> active;
+  std::size_t next = 0, done = 0;
+  int failed = 0;
+  double run_seconds_sum = 0.0, peak_rss_mib = 0.0;
+  json run_timing = json::array();
+  const Clock::time_point loop_start = Clock::now();
+  while (next < todo.size() || !active.empty()) {
+    while (static_cast<int>(active.size()) < jobs && next < todo.size()) {
+      const Todo& t = todo[next++];
+      const std::string& id = spec.points[t.point].id;
+      std::error_code error;
+      fs::create_directories(RunFolder(dir, id, t.seed).parent_path(), error);
+      fs::create_directories(LogFile(dir, id, t.seed).parent_path(), error);
+      fs::create_directories(StatusFile(dir, id, t.seed).parent_path(), error);
+      fs::remove(StatusFile(dir, id, t.seed), error);
+      const std::vector<std::string> argv = {program,
+                                             "run",
+                                             (dir / "points" / (id + ".yaml")).string(),
+                                             "--seed",
+                                             std::to_string(t.seed),
+                                             "--out",
+                                             RunFolder(dir, id, t.seed).string(),
+                                             "--force",
+                                             "--no-plots"};
+      active.push_back({t, std::make_unique<ChildProcess>(argv, LogFile(dir, id, t.seed).string()),
+                        Clock::now()});
+    }
+    bool changed = false;
+    for (auto it = active.begin(); it != active.end();) {
+      const double elapsed = Seconds(it->start);
+      if (!it->timed_out && elapsed > spec.run_timeout_s) {
+        it->child->Kill();
+        it->timed_out = true;
+      }
+      const std::optional<ChildStatus> status = it->child->Poll();
+      if (!status) {
+        ++it;
+        continue;
+      }
+      const std::string& id = spec.points[it->run.point].id;
+      const fs::path folder = RunFolder(dir, id, it->run.seed);
+      std::error_code error;
+      const bool results = fs::is_regular_file(folder / "metrics.json", error);
+      // 0, 3 (a scenario expectation failed) and 4 (an extra failed) leave the results written.
+      const bool finished =
+          !it->timed_out && status->started && status->signal == 0 &&
+          (status->exit_code == 0 || status->exit_code == 3 || status->exit_code == 4) && results;
+      std::string outcome = finished ? "finished" : it->timed_out ? "timed_out" : "failed";
+      std::string detail =
+          it->timed_out ? "timed out after " + FormatFixed(spec.run_timeout_s, 0) + " s"
+                        : DescribeChildStatus(*status) +
+                              (status->exit_code == 0 && !results ? " without metrics.json" : "");
+      if (!finished && results) {
+        fs::remove_all(folder, error);  // a timed-out run that committed: not a result
+      }
+      json record = {{"point", id},
+                     {"seed", it->run.seed},
+                     {"outcome", outcome},
+                     {"detail", detail},
+                     {"exit_code", status->exit_code},
+                     {"signal", status->signal},
+                     {"wall_seconds", elapsed},
+                     {"peak_rss_mib", it->child->peak_rss_mib()}};
+      WriteFileAtomic(StatusFile(dir, id, it->run.seed), record.dump(2) + "\n");
+      run_timing.push_back(record);
+      ++done;
+      run_seconds_sum += elapsed;
+      peak_rss_mib = std::max(peak_rss_mib, it->child->peak_rss_mib());
+      if (finished) {
+        add_ate(folder);
+      } else {
+        ++failed;
+      }
+      const double per_run = run_seconds_sum / static_cast<double>(done);
+      const std::size_t left = todo.size() - done;
+      std::string means;
+      for (const std::string& name : spec.pipelines) {
+        if (ate[name].second == 0) continue;
+        means += " " + name + " " + FormatFixed(ate[name].first / ate[name].second, 4);
+      }
+      std::printf(
+          "study: [%zu/%zu] %s seed %llu %s in %.0f s; %zu running, %d failed, ETA %s; "
+          "mean ATE (m):%s\n",
+          done + already, planned_here, id.c_str(), static_cast<unsigned long long>(it->run.seed),
+          finished ? "finished" : detail.c_str(), elapsed, active.size() - 1, failed,
+          FormatDuration(per_run * static_cast<double>(left) /
+                         std::max(1, std::min<int>(jobs, static_cast<int>(left + 1))))
+              .c_str(),
+          means.c_str());
+      std::fflush(stdout);
+      it = active.erase(it);
+      changed = true;
+    }
+    if (!changed) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  const double loop_seconds = Seconds(loop_start);
+  json timing;
+  timing["jobs"] = jobs;
+  timing["runs_executed"] = done;
+  timing["runs_already_finished"] = already;
+  timing["wall_seconds_before_runs"] =
+      std::chrono::duration<double>(loop_start - study_start).count();
+  timing["runs_wall_seconds"] = loop_seconds;
+  timing["run_seconds_sum"] = run_seconds_sum;
+  timing["throughput_runs_per_hour"] =
+      loop_seconds > 0 ? 3600.0 * static_cast<double>(done) / loop_seconds : 0.0;
+  timing["peak_rss_mib_max"] = peak_rss_mib;
+  timing["runs"] = std::move(run_timing);
+  return FinishStudy(spec, dir, request, std::move(timing));
+}
+
+int MergeStudies(const StudyRequest& request) {
+  const SourceLocation command_line{"command line", 0, 0};
+  if (request.merge_dirs.empty()) throw InputError(command_line, "DIR", "no study folder given");
+  std::string plan_text;
+  for (const fs::path& d : request.merge_dirs) {
+    const fs::path plan_file = d / "study.json";
+    std::error_code error;
+    if (!fs::is_regular_file(plan_file, error)) {
+      throw InputError(command_line, "DIR", "'" + d.string() + "' holds no study.json");
+    }
+    const std::string text = ReadRegularFile(plan_file, kMaxPlanBytes);
+    if (plan_text.empty()) {
+      plan_text = text;
+    } else if (text != plan_text) {
+      throw InputError(SourceLocation{plan_file.string(), 0, 0}, "",
+                       "another study than " + (request.merge_dirs[0] / "study.json").string() +
+                           " (the plans differ)");
+    }
+    const fs::path out_abs = fs::weakly_canonical(request.out_dir, error);
+    if (fs::weakly_canonical(d, error) == out_abs) {
+      throw InputError(command_line, "--out", "must not be one of the folders merged");
+    }
+  }
+  const fs::path first_plan = request.merge_dirs[0] / "study.json";
+  const StudySpec spec = SpecFromPlan(ReadPlan(first_plan), first_plan);
+  const fs::path dir = request.out_dir;
+  PrepareFolder(dir, plan_text, request.force, "--out");
+  std::error_code error;
+  fs::create_directories(dir / "points", error);
+  for (const StudyPoint& point : spec.points) {
+    const fs::path from = request.merge_dirs[0] / "points" / (point.id + ".yaml");
+    WriteFileAtomic(dir / "points" / (point.id + ".yaml"), ReadRegularFile(from, kMaxPlanBytes));
+  }
+  // Each run from the first folder that finished it, else the first that recorded a failure.
+  int copied = 0;
+  for (const StudyPoint& point : spec.points) {
+    for (int i = 0; i < spec.runs; ++i) {
+      const std::uint64_t seed = spec.first_seed + static_cast<std::uint64_t>(i);
+      const fs::path target = RunFolder(dir, point.id, seed);
+      if (fs::is_regular_file(target / "metrics.json", error)) continue;  // resumed merge
+      for (const fs::path& d : request.merge_dirs) {
+        const fs::path source = RunFolder(d, point.id, seed);
+        if (fs::is_regular_file(source / "metrics.json", error)) {
+          const fs::path staging = target.string() + ".merging";
+          fs::remove_all(staging, error);
+          fs::create_directories(staging.parent_path(), error);
+          fs::copy(source, staging, fs::copy_options::recursive, error);
+          if (error) {
+            throw std::runtime_error("cannot copy '" + source.string() + "': " + error.message());
+          }
+          fs::rename(staging, target, error);
+          if (error) {
+            throw std::runtime_error("cannot move '" + staging.string() + "' to '" +
+                                     target.string() + "': " + error.message());
+          }
+          ++copied;
+          break;
+        }
+        const fs::path status = StatusFile(d, point.id, seed);
+        if (fs::is_regular_file(status, error)) {
+          fs::create_directories(StatusFile(dir, point.id, seed).parent_path(), error);
+          WriteFileAtomic(StatusFile(dir, point.id, seed), ReadRegularFile(status, kMaxPlanBytes));
+          break;
+        }
+      }
+    }
+  }
+  std::printf("study merge: %zu folder(s), %d run folder(s) copied into %s\n",
+              request.merge_dirs.size(), copied, dir.string().c_str());
+  json timing;
+  timing["merged_folders"] = request.merge_dirs.size();
+  timing["runs_copied"] = copied;
+  return FinishStudy(spec, dir, request, std::move(timing));
+}
+
+}  // namespace corridorsim

@@ -1,0 +1,42 @@
+#pragma once
+// `corridorsim study`: a scenario over many seeds (and sweep points), each run a `corridorsim run`
+// child process of its own, J at a time; then the aggregate (harness/study_summary.h). A study
+// folder is resumable: finished runs are kept and skipped, so a killed study loses at most the
+// runs in flight. `--shard K/N` runs a deterministic part; `study merge` combines parts into the
+// summary a whole study gives, byte for byte (docs/studies.md).
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "harness/job.h"
+
+namespace corridorsim {
+
+inline constexpr int kMaxStudyJobs = 256;
+inline constexpr int kMaxShards = 100000;
+
+struct StudyRequest : JobRequest {
+  std::optional<int> runs;  // --runs: seeds per point (overrides study.runs)
+  int jobs = 0;             // --jobs: worker processes; 0 = the number of cores
+  int shard_index = 0;      // --shard K/N: this part is K - 1 of N
+  int shard_count = 1;
+  bool plots = true;  // --no-plots skips plots/
+  // `study merge DIR... --out OUT`: the parts to combine (instead of running a study).
+  std::vector<std::filesystem::path> merge_dirs;
+  // The program that runs each run (`corridorsim run`); empty: this executable.
+  std::string run_program;
+};
+
+/// Runs (or resumes) the study and writes the summary. Returns 0; 1 when a run failed or timed
+/// out (the study goes on and names them at the end); 3 when a study expectation failed; 4 when
+/// only plots/ failed. Throws InputError for bad input, before any run starts.
+int RunStudy(const StudyRequest& request);
+
+/// `study merge`: combines study folders of the same plan (shards, or partial resumes) into
+/// request.out_dir and writes its summary. Same exit codes as RunStudy.
+int MergeStudies(const StudyRequest& request);
+
+}  // namespace corridorsim
