@@ -582,13 +582,34 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
       "ones named); 3 a study expectation failed; 4 only plots/ failed; 2 bad input (nothing "
       "runs).");
 
+  CLI::App* test = app.add_subcommand(
+      "test", "Run scenarios and studies as a test suite and write a JUnit XML report");
+  std::vector<std::string> test_files;
+  test->add_option("files", test_files,
+                   "Scenario or study files (default: ./scenarios/default.yaml if it exists, "
+                   "else the shipped one)");
+  std::string test_out = "out/test", test_junit;
+  test->add_option("--out", test_out, "Folder of the runs and studies (one folder per file)")
+      ->capture_default_str();
+  CLI::Option* test_junit_option =
+      test->add_option("--junit", test_junit, "Write the JUnit XML report to this file")
+          ->type_name("FILE");
+  test->footer(
+      "Each expectation of a scenario (or each study expectation at each sweep point) is one "
+      "test case; a failure gives the measured value and the threshold, system-out the run "
+      "folder as [[ATTACHMENT|path]]; a run that cannot finish is an error case with its log's "
+      "tail (docs/ci.md).\n"
+      "Exit codes: 0 every case passed; 3 an expectation failed; 1 a run or study could not "
+      "finish; 2 bad input (nothing runs).");
+
   static const char* const kJobs[] = {"world",  "snapshot",        "run",     "drive", "where",
-                                      "detect", "train-detectors", "dataset", "score", "study"};
+                                      "detect", "train-detectors", "dataset", "score", "study",
+                                      "test"};
   if (!args.empty() && !args[0].empty() && args[0][0] != '-' &&
       std::find(std::begin(kJobs), std::end(kJobs), args[0]) == std::end(kJobs)) {
     Fail("", "unknown subcommand " + Quoted(args[0]) +
                  ": expected world, snapshot, run, drive, where, detect, train-detectors, "
-                 "dataset, score or study (see corridorsim --help)");
+                 "dataset, score, study or test (see corridorsim --help)");
   }
   // CLI11 takes the arguments last first.
   std::vector<std::string> reversed(args.rbegin(), args.rend());
@@ -759,6 +780,22 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
     for (const std::string& e : score_expect) {
       r.expectations.push_back(ParseScoreExpectation(e, "--expect"));
     }
+  } else if (test->parsed()) {
+    parsed.job = CommandLine::Job::kTest;
+    TestRequest& r = parsed.test;
+    if (test_files.size() > static_cast<std::size_t>(kMaxSuiteFiles)) {
+      Fail("files", "at most " + std::to_string(kMaxSuiteFiles) + " files");
+    }
+    for (const std::string& f : test_files) {
+      if (f.empty()) Fail("files", "an empty file name");
+    }
+    r.files = test_files;
+    if (test_out.empty()) Fail("--out", "an empty folder name");
+    r.out_dir = test_out;
+    if (test_junit_option->count() > 0) {
+      if (test_junit.empty()) Fail("--junit", "an empty file name");
+      r.junit_file = test_junit;
+    }
   } else if (merge->parsed()) {
     parsed.job = CommandLine::Job::kStudyMerge;
     StudyRequest& r = parsed.study;
@@ -798,7 +835,7 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
   } else {
     Fail("",
          "a subcommand is required: world, snapshot, run, drive, where, detect, train-detectors, "
-         "dataset, score or study (see corridorsim --help)");
+         "dataset, score, study or test (see corridorsim --help)");
   }
   return parsed;
 }

@@ -17,6 +17,7 @@
 #include "harness/score_request.h"
 #include "harness/snapshot.h"
 #include "harness/study.h"
+#include "harness/suite.h"
 #include "harness/train_detectors_request.h"
 #include "harness/where.h"
 
@@ -51,6 +52,7 @@ struct CommandLine {
     kScore,
     kStudy,
     kStudyMerge,
+    kTest,
   };
   Job job = Job::kHelp;
   std::string help_text;  // kHelp: printed on stdout, exit 0
@@ -66,6 +68,7 @@ struct CommandLine {
   DatasetRequest dataset;
   ScoreRequest score;
   StudyRequest study;  // kStudy and kStudyMerge
+  TestRequest test;
 };
 
 /// Parses the arguments (without the program name). Throws InputError at

@@ -1,8 +1,8 @@
 // The corridorsim command. Subcommands: run (the main job), world, snapshot, drive, where, detect,
-// train-detectors, dataset, score. The command line is parsed by ParseCommandLine
-// (harness/cli.h); this file only dispatches. Exit codes: 0 success, 2 bad input (one message
-// naming file, line and key, or the command-line flag), 3 an expectation failed (run, score), 4 a
-// run's results are written but an extra failed, 1 any other failure.
+// train-detectors, dataset, score, study (and study merge), test. The command line is parsed by
+// ParseCommandLine (harness/cli.h); this file only dispatches. Exit codes: 0 success, 2 bad input
+// (one message naming file, line and key, or the command-line flag), 3 an expectation failed (run,
+// score), 4 a run's results are written but an extra failed, 1 any other failure.
 
 #include <chrono>
 #include <cstdio>
@@ -25,6 +25,7 @@
 #include "harness/score.h"
 #include "harness/snapshot.h"
 #include "harness/study.h"
+#include "harness/suite.h"
 #include "harness/train_detectors.h"
 #include "harness/where.h"
 #include "slam/features/door_plates.h"
@@ -130,6 +131,13 @@ int Dispatch(CommandLine& command) {
       return RunStudy(command.study);
     case CommandLine::Job::kStudyMerge:
       return MergeStudies(command.study);
+    case CommandLine::Job::kTest:
+      if (command.test.files.empty()) {
+        JobRequest request;
+        ResolveDefaultScenario(&request);
+        command.test.files.push_back(request.scenario_file);
+      }
+      return RunTestSuite(command.test);
   }
   return kExitFailure;
 }

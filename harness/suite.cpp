@@ -1,0 +1,307 @@
+#include "harness/suite.h"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <memory>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+
+#include "common/error.h"
+#include "common/io/atomic_file.h"
+#include "common/io/child_process.h"
+#include "harness/run_folder.h"
+#include "harness/study_file.h"
+
+namespace corridorsim {
+namespace {
+
+namespace fs = std::filesystem;
+using json = nlohmann::ordered_json;
+using Clock = std::chrono::steady_clock;
+constexpr std::uint64_t kMaxResultBytes = std::uint64_t{256} << 20;
+constexpr std::uint64_t kLogTailBytes = 4000;
+
+std::string Xml(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    const auto u = static_cast<unsigned char>(c);
+    switch (c) {
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      case '\'':
+        out += "&apos;";
+        break;
+      default:
+        // XML 1.0 allows tab, newline and carriage return among the control characters only.
+        if (u < 0x20 && c != '\t' && c != '\n' && c != '\r') {
+          out += '?';
+        } else {
+          out += c;
+        }
+    }
+  }
+  return out;
+}
+
+std::string Seconds3(double s) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3f", s);
+  return text;
+}
+
+std::string LogTail(const fs::path& log) {
+  std::error_code error;
+  const auto size = fs::file_size(log, error);
+  if (error) return "";
+  try {
+    const std::string text = ReadRegularFile(log, size + 1);
+    return text.size() > kLogTailBytes ? "..." + text.substr(text.size() - kLogTailBytes) : text;
+  } catch (const std::exception&) {
+    return "";
+  }
+}
+
+std::string SelfExecutable() {
+  std::error_code error;
+  const fs::path self = fs::read_symlink("/proc/self/exe", error);
+  if (error) throw std::runtime_error("cannot find this program (/proc/self/exe)");
+  return self.string();
+}
+
+std::string Measured(const json& value) {
+  return value.is_number() ? FormatFixed(value.get<double>(), 6) : std::string("nothing");
+}
+
+ChildStatus RunLogged(const std::vector<std::string>& argv, const fs::path& log) {
+  ChildProcess child(argv, log.string());
+  while (true) {
+    if (const std::optional<ChildStatus> status = child.Poll()) return *status;
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+}
+
+}  // namespace
+
+std::string JunitXml(const std::vector<SuiteFile>& files) {
+  int tests = 0, failures = 0, errors = 0;
+  double seconds = 0.0;
+  for (const SuiteFile& f : files) {
+    seconds += f.seconds;
+    for (const SuiteCase& c : f.cases) {
+      ++tests;
+      failures += c.result == SuiteCase::Result::kFailed;
+      errors += c.result == SuiteCase::Result::kError;
+    }
+  }
+  std::string xml = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
+  xml += "<testsuites name=\"corridorsim\" tests=\"" + std::to_string(tests) + "\" failures=\"" +
+         std::to_string(failures) + "\" errors=\"" + std::to_string(errors) + "\" time=\"" +
+         Seconds3(seconds) + "\">\n";
+  for (const SuiteFile& f : files) {
+    int f_failures = 0, f_errors = 0;
+    for (const SuiteCase& c : f.cases) {
+      f_failures += c.result == SuiteCase::Result::kFailed;
+      f_errors += c.result == SuiteCase::Result::kError;
+    }
+    xml += "  <testsuite name=\"" + Xml(f.name) + "\" tests=\"" + std::to_string(f.cases.size()) +
+           "\" failures=\"" + std::to_string(f_failures) + "\" errors=\"" +
+           std::to_string(f_errors) + "\" skipped=\"0\" time=\"" + Seconds3(f.seconds) + "\">\n";
+    xml += "    <properties>\n      <property name=\"file\" value=\"" + Xml(f.file) + "\"/>\n" +
+           "      <property name=\"kind\" value=\"" + (f.study ? "study" : "scenario") +
+           "\"/>\n    </properties>\n";
+    for (const SuiteCase& c : f.cases) {
+      xml += "    <testcase classname=\"" + Xml(c.classname) + "\" name=\"" + Xml(c.name) +
+             "\" time=\"" + Seconds3(c.seconds) + "\">\n";
+      if (c.result == SuiteCase::Result::kFailed) {
+        xml += "      <failure message=\"" + Xml(c.message) + "\" type=\"expectation\">" +
+               Xml(c.details) + "</failure>\n";
+      } else if (c.result == SuiteCase::Result::kError) {
+        xml += "      <error message=\"" + Xml(c.message) + "\" type=\"run\">" + Xml(c.details) +
+               "</error>\n";
+      }
+      if (!c.attachment.empty()) {
+        xml += "      <system-out>[[ATTACHMENT|" + Xml(c.attachment) + "]]</system-out>\n";
+      }
+      xml += "    </testcase>\n";
+    }
+    xml += "  </testsuite>\n";
+  }
+  xml += "</testsuites>\n";
+  return xml;
+}
+
+int RunTestSuite(const TestRequest& request) {
+  // Every file is checked before anything runs: a bad one is exit 2 with nothing run.
+  std::vector<SuiteFile> files;
+  for (const std::string& file : request.files) {
+    const StudySpec spec = LoadStudy(file, std::nullopt, std::nullopt);
+    SuiteFile f;
+    f.file = file;
+    f.name = fs::path(file).stem().string();
+    f.study = spec.has_section;
+    files.push_back(std::move(f));
+  }
+  if (request.junit_file) {
+    // Checked now, so that a suite never runs for an hour and then cannot write its report.
+    const fs::path parent = fs::absolute(*request.junit_file).parent_path();
+    std::error_code error;
+    if (!fs::is_directory(parent, error) || ::access(parent.c_str(), W_OK) != 0) {
+      throw InputError(SourceLocation{"command line", 0, 0}, "--junit",
+                       "'" + parent.string() + "' is not a writable folder");
+    }
+  }
+  std::error_code error;
+  fs::create_directories(request.out_dir, error);
+  EnsureWritableDirectory(request.out_dir);
+  const std::string program = request.program.empty() ? SelfExecutable() : request.program;
+
+  int code = 0;
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    SuiteFile& f = files[i];
+    char prefix[32];
+    std::snprintf(prefix, sizeof prefix, "%03zu_", i);
+    const fs::path folder = request.out_dir / (prefix + f.name);
+    const fs::path log = request.out_dir / (prefix + f.name + ".log");
+    std::vector<std::string> argv = {program,     f.study ? "study" : "run", f.file,
+                                     "--out",     folder.string(),           "--force",
+                                     "--no-plots"};
+    std::printf("test: [%zu/%zu] %s %s\n", i + 1, files.size(), f.study ? "study" : "run",
+                f.file.c_str());
+    std::fflush(stdout);
+    const Clock::time_point start = Clock::now();
+    const ChildStatus status = RunLogged(argv, log);
+    f.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    const std::string classname = "corridorsim." + f.name;
+    const auto error_case = [&](const std::string& name, const std::string& message) {
+      SuiteCase c;
+      c.classname = classname;
+      c.name = name;
+      c.seconds = f.seconds;
+      c.result = SuiteCase::Result::kError;
+      c.message = message;
+      c.details = LogTail(log);
+      c.attachment = fs::absolute(log).string();
+      f.cases.push_back(std::move(c));
+    };
+    const std::string results_file = f.study ? "summary.json" : "metrics.json";
+    const bool written = fs::is_regular_file(folder / results_file, error);
+    // `run`: 0, 3 (an expectation failed) and 4 (an extra failed) leave the results written;
+    // `study`: 1 too (a run failed; the others are summarised).
+    const bool usable = status.started && status.signal == 0 && written &&
+                        (status.exit_code == 0 || status.exit_code == 3 || status.exit_code == 4 ||
+                         (f.study && status.exit_code == 1));
+    if (!usable) {
+      error_case(f.study ? "study" : "run",
+                 std::string(f.study ? "corridorsim study " : "corridorsim run ") +
+                     DescribeChildStatus(status) + " (log: " + log.string() + ")");
+      code = code == 0 || code == 3 ? 1 : code;
+      std::printf("test: %s: ERROR, %s\n", f.file.c_str(), DescribeChildStatus(status).c_str());
+      continue;
+    }
+    json results;
+    try {
+      results = json::parse(ReadRegularFile(folder / results_file, kMaxResultBytes));
+    } catch (const std::exception& e) {
+      error_case("results", std::string("unreadable ") + results_file + ": " + e.what());
+      code = code == 0 || code == 3 ? 1 : code;
+      continue;
+    }
+    const std::string attachment = fs::absolute(folder).string();
+    const auto add = [&](const std::string& name, bool passed, const std::string& measured,
+                         double seconds) {
+      SuiteCase c;
+      c.classname = classname;
+      c.name = name;
+      c.seconds = seconds;
+      c.result = passed ? SuiteCase::Result::kPassed : SuiteCase::Result::kFailed;
+      if (!passed) {
+        c.message = "measured " + measured + ", expected " + name;
+        c.details = c.message + " (" + attachment + ")";
+      }
+      c.attachment = attachment;
+      f.cases.push_back(std::move(c));
+    };
+    if (!f.study) {
+      const json& expectations = results["expectations"];
+      if (!expectations.is_array() || expectations.empty()) {
+        add("run finishes", true, "", f.seconds);
+      }
+      const double each = expectations.is_array() && !expectations.empty()
+                              ? f.seconds / static_cast<double>(expectations.size())
+                              : 0.0;
+      for (const json& e : expectations) {
+        add(e.value("text", ""), e.value("passed", false), Measured(e["measured"]), each);
+      }
+    } else {
+      std::size_t count = 0;
+      for (const json& p : results["points"]) count += p["expectations"].size();
+      const double each = count ? f.seconds / static_cast<double>(count) : 0.0;
+      for (const json& p : results["points"]) {
+        const std::string point = p.value("id", "");
+        std::string values;
+        for (const auto& [key, value] : p["vary"].items()) {
+          values += (values.empty() ? "" : ", ") + key + "=" + value.get<std::string>();
+        }
+        const std::string label = values.empty() ? "" : point + " (" + values + "): ";
+        for (const json& e : p["expectations"]) {
+          add(label + e.value("expectation", ""), e.value("passed", false), Measured(e["measured"]),
+              each);
+        }
+        for (const char* outcome : {"failed_seeds", "timed_out_seeds"}) {
+          for (const json& seed : p["runs"][outcome]) {
+            error_case(point + " seed " + std::to_string(seed.get<std::uint64_t>()),
+                       std::string("a run of the study ") +
+                           (outcome[0] == 'f' ? "failed" : "timed out") + " (" +
+                           (folder / "logs" / point /
+                            ("seed_" + std::to_string(seed.get<std::uint64_t>()) + ".log"))
+                               .string() +
+                           ")");
+          }
+        }
+      }
+      if (count == 0 && f.cases.empty()) add("study finishes", true, "", f.seconds);
+    }
+    int failed = 0, errors = 0;
+    for (const SuiteCase& c : f.cases) {
+      failed += c.result == SuiteCase::Result::kFailed;
+      errors += c.result == SuiteCase::Result::kError;
+    }
+    if (errors > 0) {
+      code = code == 0 || code == 3 ? 1 : code;
+    } else if (failed > 0 && code == 0) {
+      code = 3;
+    }
+    std::printf("test: %s: %zu case(s), %d failed, %d error(s) in %.1f s\n", f.file.c_str(),
+                f.cases.size(), failed, errors, f.seconds);
+  }
+  const std::string xml = JunitXml(files);
+  if (request.junit_file) {
+    WriteFileAtomic(*request.junit_file, xml);
+    std::printf("test: wrote %s\n", request.junit_file->string().c_str());
+  }
+  int tests = 0, failures = 0, errors = 0;
+  for (const SuiteFile& f : files) {
+    for (const SuiteCase& c : f.cases) {
+      ++tests;
+      failures += c.result == SuiteCase::Result::kFailed;
+      errors += c.result == SuiteCase::Result::kError;
+    }
+  }
+  std::printf("test: %d case(s), %d failed, %d error(s)\n", tests, failures, errors);
+  return code;
+}
+
+}  // namespace corridorsim
