@@ -1,0 +1,218 @@
+#!/usr/bin/env python3
+"""`corridorsim study` and `corridorsim test` as a user runs them, on a short camera-less
+scenario: the summary is the same bytes for 1 and 2 workers and for shards merged; a rerun skips
+finished runs; a failed run and a timed-out run are recorded with their seeds and the study goes
+on (exit 1); study expectations give exit 3; bad input exits 2 before anything runs, naming the
+file, line and key; `test` writes JUnit XML that a standard XML reader parses with one test case
+per expectation.
+
+Usage: cli_study_test.py CORRIDORSIM SOURCE_DIR WORK_DIR"""
+
+import json
+import os
+import shutil
+import subprocess
+import sys
+import xml.etree.ElementTree as ET
+
+
+def fail(message):
+    print("FAIL: " + message)
+    sys.exit(1)
+
+
+def run(binary, args, expect, cwd):
+    result = subprocess.run([binary] + args, cwd=cwd, capture_output=True, text=True)
+    if result.returncode != expect:
+        fail("%s: exit %d, expected %d\nstdout:\n%s\nstderr:\n%s" % (
+            " ".join(args), result.returncode, expect, result.stdout[-3000:], result.stderr))
+    return result
+
+
+def read(path):
+    with open(path, "rb") as f:
+        return f.read()
+
+
+def same_files(a, b, names):
+    for name in names:
+        if read(os.path.join(a, name)) != read(os.path.join(b, name)):
+            fail("%s differs between %s and %s" % (name, a, b))
+
+
+def main():
+    binary, source, work = sys.argv[1], sys.argv[2], sys.argv[3]
+    shutil.rmtree(work, ignore_errors=True)
+    os.makedirs(work)
+    base = os.path.join(source, "scenarios", "umbmark_cw.yaml")
+    study = os.path.join(work, "sweep.yaml")
+    with open(study, "w") as f:
+        f.write("""include: %s
+duration_s: 8
+pipelines:
+  odometry_tight:
+    type: odometry
+study:
+  runs: 3
+  first_seed: 11
+  vary:
+    robot.odometry.random_k_m: [1.0e-5, 1.0e-3]
+  expectations:
+    - odometry.ate_rmse_m.mean < 5
+    - paired(odometry, odometry_tight).ate_rmse_m.diff <= 0
+    - odometry.runs.diverged < 4
+    - runs.failed < 1
+""" % base)
+    summary_files = ["summary.json", "summary.csv", "paired.csv"]
+
+    # One worker and two workers: the same bytes, in the summary and in every run.
+    run(binary, ["study", study, "--jobs", "1", "--out", "j1", "--no-plots"], 0, work)
+    out = run(binary, ["study", study, "--jobs", "2", "--out", "j2", "--no-plots"], 0, work)
+    if "ATE RMSE mean" not in out.stdout or "mean ATE (m): odometry" not in out.stdout:
+        fail("no closing table or progress line:\n" + out.stdout)
+    same_files(os.path.join(work, "j1"), os.path.join(work, "j2"), summary_files)
+    for point in ("p000", "p001"):
+        for seed in (11, 12, 13):
+            run_dir = os.path.join("runs", point, "seed_%d" % seed)
+            same_files(os.path.join(work, "j1", run_dir), os.path.join(work, "j2", run_dir),
+                       ["metrics.json", "odometry.tum"])
+    summary = json.loads(read(os.path.join(work, "j1", "summary.json")))
+    points = summary["points"]
+    if [p["vary"]["robot.odometry.random_k_m"] for p in points] != ["1.0e-5", "1.0e-3"]:
+        fail("sweep points: %s" % [p["vary"] for p in points])
+    low, high = (p["pipelines"]["odometry"]["metrics"]["ate_rmse_m"] for p in points)
+    if not (low["n"] == 3 and high["n"] == 3 and low["mean"] < high["mean"]):
+        fail("more odometry noise must give a larger ATE: %s vs %s" % (low, high))
+    if not (low["ci_low"] <= low["mean"] <= low["ci_high"] and low["min"] <= low["median"]):
+        fail("inconsistent statistics: %s" % low)
+    values = points[0]["pipelines"]["odometry"]["values"]
+    if values["seed"] != [11, 12, 13] or len(values["ate_rmse_m"]) != 3:
+        fail("per-seed values: %s" % values)
+    series = points[0]["pipelines"]["odometry"]["series"]
+    if not series["t"] or len(series["anees"]) != len(series["t"]):
+        fail("NEES series: %s" % list(series))
+    # Each run is the run `corridorsim run` gives for that seed.
+    run(binary, ["run", os.path.join(work, "j1", "points", "p001.yaml"), "--seed", "12", "--out",
+                 "single", "--no-plots"], 0, work)
+    same_files(os.path.join(work, "single"), os.path.join(work, "j1", "runs", "p001", "seed_12"),
+               ["metrics.json"])
+    pairs = points[0]["paired"]
+    if len(pairs) != 1 or pairs[0]["metrics"]["ate_rmse_m"]["n"] != 3:
+        fail("paired comparison: %s" % pairs)
+    csv_lines = read(os.path.join(work, "j1", "summary.csv")).decode().splitlines()
+    if not csv_lines[0].startswith("point,robot.odometry.random_k_m,pipeline,metric,n,mean"):
+        fail("summary.csv header: " + csv_lines[0])
+    if len(csv_lines) != 1 + 2 * 2 * len(summary["metrics"]):
+        fail("summary.csv rows: %d" % len(csv_lines))
+
+    # Shards merged: the same summary as the whole study.
+    for k in (1, 2, 3):
+        run(binary, ["study", study, "--shard", "%d/3" % k, "--out", "shard%d" % k, "--no-plots"],
+            0, work)
+    run(binary, ["study", "merge", "shard1", "shard2", "shard3", "--out", "merged",
+                 "--no-plots"], 0, work)
+    same_files(os.path.join(work, "j1"), os.path.join(work, "merged"), summary_files)
+
+    # A rerun skips finished runs; a missing run folder is run again.
+    out = run(binary, ["study", study, "--out", "j1", "--no-plots"], 0, work)
+    if "6 already finished, 0 to run" not in out.stdout:
+        fail("rerun did not skip the finished runs:\n" + out.stdout)
+    shutil.rmtree(os.path.join(work, "j1", "runs", "p000", "seed_12"))
+    out = run(binary, ["study", study, "--out", "j1", "--no-plots"], 0, work)
+    if "5 already finished, 1 to run" not in out.stdout:
+        fail("rerun did not run the missing run:\n" + out.stdout)
+    same_files(os.path.join(work, "j1"), os.path.join(work, "j2"), summary_files)
+
+    # A run that fails is recorded with its seed, the others are summarised, exit 1.
+    blocker = os.path.join(work, "j1", "runs", "p001", "seed_13")
+    shutil.rmtree(blocker)
+    with open(blocker, "w") as f:
+        f.write("not a folder\n")
+    out = run(binary, ["study", study, "--out", "j1", "--no-plots"], 1, work)
+    if "p001 seed 13: exited 2" not in out.stdout:
+        fail("the failed run is not named:\n" + out.stdout)
+    summary = json.loads(read(os.path.join(work, "j1", "summary.json")))
+    if summary["points"][1]["runs"]["failed_seeds"] != [13]:
+        fail("failed seeds: %s" % summary["points"][1]["runs"])
+    status = json.loads(read(os.path.join(work, "j1", "status", "p001", "seed_13.json")))
+    if status["outcome"] != "failed" or status["seed"] != 13:
+        fail("status: %s" % status)
+    os.remove(blocker)
+    run(binary, ["study", study, "--out", "j1", "--no-plots"], 0, work)
+    same_files(os.path.join(work, "j1"), os.path.join(work, "j2"), summary_files)
+
+    # A study folder of another plan is not mixed with this one.
+    other = os.path.join(work, "other.yaml")
+    with open(other, "w") as f:
+        f.write(read(study).decode().replace("runs: 3", "runs: 2"))
+    out = run(binary, ["study", other, "--out", "j1", "--no-plots"], 2, work)
+    if "--force" not in out.stderr:
+        fail("another plan in the same folder: " + out.stderr)
+
+    # A run over its time limit is killed and recorded as timed out.
+    slow = os.path.join(work, "slow.yaml")
+    with open(slow, "w") as f:
+        f.write("include: %s\nduration_s: 30\nstudy:\n  runs: 1\n  run_timeout_s: 1\n"
+                % os.path.join(source, "scenarios", "p3_lamps.yaml"))
+    out = run(binary, ["study", slow, "--out", "slow", "--no-plots"], 1, work)
+    if "timed out after 1 s" not in out.stdout:
+        fail("no timeout:\n" + out.stdout)
+
+    # A failed study expectation: exit 3, the results written.
+    strict = os.path.join(work, "strict.yaml")
+    with open(strict, "w") as f:
+        f.write(read(study).decode().replace("odometry.ate_rmse_m.mean < 5",
+                                             "odometry.ate_rmse_m.mean < 0.000001"))
+    out = run(binary, ["study", strict, "--out", "strict", "--no-plots"], 3, work)
+    if "FAILED p000: odometry.ate_rmse_m.mean < 0.000001" not in out.stdout:
+        fail("the failed expectation is not named:\n" + out.stdout)
+
+    # Bad input: exit 2 with file:line: key, and nothing runs.
+    bad = os.path.join(work, "bad.yaml")
+    with open(bad, "w") as f:
+        f.write("include: %s\nstudy:\n  vary:\n    robot.odometry.random_k_m: [1.0e-5, oops]\n"
+                % base)
+    out = run(binary, ["study", bad, "--out", "bad"], 2, work)
+    if "bad.yaml:4:" not in out.stderr or "study.vary.robot.odometry.random_k_m" not in out.stderr:
+        fail("bad sweep value: " + out.stderr)
+    if os.path.exists(os.path.join(work, "bad", "runs")):
+        fail("a run started for bad input")
+    for args, pattern in (
+            (["study", study, "--shard", "4/3"], "--shard"),
+            (["study", study, "--jobs", "0"], "--jobs"),
+            (["study", study, "--runs", "1.5"], "--runs"),
+            (["study", "merge", "j1", "strict", "--out", "m2"], "plans differ")):
+        out = run(binary, args, 2, work)
+        if pattern not in out.stderr:
+            fail("%s: %s" % (args, out.stderr))
+
+    # `corridorsim test`: JUnit XML with one case per expectation.
+    scenario = os.path.join(work, "checked.yaml")
+    with open(scenario, "w") as f:
+        f.write("include: %s\nduration_s: 8\nexpectations:\n  - odometry.ate_rmse_m < 1e-9\n"
+                "  - odometry.ate_rmse_m < 100\n" % base)
+    out = run(binary, ["test", scenario, study, "--out", "suite", "--junit", "junit.xml"], 3, work)
+    root = ET.parse(os.path.join(work, "junit.xml")).getroot()
+    if root.tag != "testsuites" or root.get("tests") != "10" or root.get("failures") != "1":
+        fail("junit.xml: %s %s" % (root.tag, root.attrib))
+    suites = root.findall("testsuite")
+    if [s.get("name") for s in suites] != ["checked", "sweep"]:
+        fail("test suites: %s" % [s.get("name") for s in suites])
+    failure = suites[0].find("testcase/failure")
+    if failure is None or "measured" not in failure.get("message") or \
+            "< 1e-9" not in failure.get("message"):
+        fail("failure message: %s" % (failure.attrib if failure is not None else None))
+    for case in root.iter("testcase"):
+        if float(case.get("time")) < 0 or "[[ATTACHMENT|" not in case.find("system-out").text:
+            fail("test case %s: time or attachment" % case.get("name"))
+    names = [c.get("name") for c in suites[1].findall("testcase")]
+    if "p001 (robot.odometry.random_k_m=1.0e-3): runs.failed < 1" not in names:
+        fail("study cases: %s" % names)
+    out = run(binary, ["test", scenario, bad, "--out", "suite2"], 2, work)
+    if os.path.exists(os.path.join(work, "suite2")):
+        fail("test ran something before rejecting a bad file")
+    print("PASS")
+
+
+if __name__ == "__main__":
+    main()

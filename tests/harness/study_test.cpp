@@ -1,0 +1,254 @@
+// The study's statistics against reference values (numpy's percentile, scipy.stats' binomtest
+// and wilcoxon, computed once and written here), its expectations' grammar, and a study file's
+// errors placed at the line that caused them.
+
+#include <cmath>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <catch2/catch.hpp>
+
+#include "harness/study_file.h"
+#include "harness/study_stats.h"
+#include "harness/suite.h"
+#include "tests/support/expect_input_error.h"
+#include "tests/support/scratch_dir.h"
+
+namespace corridorsim {
+namespace {
+
+using Catch::Matchers::WithinAbs;
+using Catch::Matchers::WithinRel;
+
+void Write(const std::filesystem::path& path, const std::string& text) {
+  std::ofstream(path) << text;
+}
+
+std::string Scenarios() { return std::string(CORRIDORSIM_SOURCE_DIR "/scenarios"); }
+
+TEST_CASE("quantiles interpolate between order statistics (numpy's default)", "[study]") {
+  const std::vector<double> v = {3, 1, 4, 1, 5, 9, 2, 6};
+  // numpy.percentile(v, [50, 95, 25]) = [3.5, 7.95, 1.75]
+  CHECK_THAT(study::Quantile(v, 0.5), WithinAbs(3.5, 1e-12));
+  CHECK_THAT(study::Quantile(v, 0.95), WithinAbs(7.95, 1e-12));
+  CHECK_THAT(study::Quantile(v, 0.25), WithinAbs(1.75, 1e-12));
+  CHECK(study::Quantile(v, 0.0) == 1.0);
+  CHECK(study::Quantile(v, 1.0) == 9.0);
+  CHECK(study::Quantile({7.0}, 0.95) == 7.0);
+}
+
+TEST_CASE("the sign test is the exact binomial test", "[study]") {
+  // scipy.stats.binomtest(9, 10).pvalue and binomtest(2, 12).pvalue
+  std::vector<double> nine_of_ten(9, 1.0);
+  nine_of_ten.push_back(-1.0);
+  CHECK_THAT(study::SignTestP(nine_of_ten), WithinRel(0.021484375, 1e-9));
+  std::vector<double> two_of_twelve = {0.1, 0.2};
+  for (int i = 0; i < 10; ++i) two_of_twelve.push_back(-0.5);
+  two_of_twelve.push_back(0.0);  // zeros are dropped
+  CHECK_THAT(study::SignTestP(two_of_twelve), WithinRel(0.03857421875, 1e-9));
+  CHECK(study::SignTestP({0.0, 0.0}) == 1.0);
+  CHECK(study::SignTestP({}) == 1.0);
+}
+
+TEST_CASE("the Wilcoxon signed-rank test matches scipy, exact and approximate", "[study]") {
+  // scipy.stats.wilcoxon(d, method='exact').pvalue
+  CHECK_THAT(study::WilcoxonSignedRankP({0.5, -0.2, 0.3, 0.7, 0.1, 0.9, -0.4, 0.6}),
+             WithinRel(0.109375, 1e-9));
+  // All ten positive: W- = 0, p = 2 / 2^10.
+  CHECK_THAT(study::WilcoxonSignedRankP({1, 2, 3, 4, 5, 6, 7, 8, 9, 10}),
+             WithinRel(2.0 / 1024.0, 1e-9));
+  // With ties: the normal approximation, tie and continuity corrected
+  // (scipy.stats.wilcoxon(d, correction=True, method='approx').pvalue).
+  CHECK_THAT(study::WilcoxonSignedRankP({1, 1, 2, -1, 3, 3, 3, -2, 4, 5, 1}),
+             WithinRel(0.028189356302630857, 1e-6));
+  CHECK(study::WilcoxonSignedRankP({0.0}) == 1.0);
+  // Symmetric differences give a large p.
+  CHECK(study::WilcoxonSignedRankP({1, -1.5, 2, -2.5, 3, -3.5}) > 0.5);
+}
+
+TEST_CASE("bootstrap intervals are seeded, hold the mean and shrink with more seeds", "[study]") {
+  std::vector<double> v;
+  for (int i = 0; i < 20; ++i) v.push_back(0.02 + 0.001 * ((i * 7) % 11));
+  const study::Interval a = study::BootstrapMeanInterval(v, "x");
+  const study::Interval b = study::BootstrapMeanInterval(v, "x");
+  CHECK(a.low == b.low);
+  CHECK(a.high == b.high);
+  double mean = 0.0;
+  for (double x : v) mean += x / 20.0;
+  CHECK(a.low < mean);
+  CHECK(a.high > mean);
+  std::vector<double> more;
+  for (int k = 0; k < 10; ++k) more.insert(more.end(), v.begin(), v.end());
+  const study::Interval c = study::BootstrapMeanInterval(more, "x");
+  CHECK(c.high - c.low < 0.5 * (a.high - a.low));
+  CHECK(study::BootstrapMeanInterval({0.3}, "x").low == 0.3);
+
+  // Paired: b = a + 0.01 exactly gives a difference interval of [-0.01, -0.01].
+  std::vector<double> shifted = v;
+  for (double& x : shifted) x += 0.01;
+  const study::PairedIntervals p = study::BootstrapPairedIntervals(v, shifted, "y");
+  CHECK_THAT(p.diff.low, WithinAbs(-0.01, 1e-12));
+  CHECK_THAT(p.diff.high, WithinAbs(-0.01, 1e-12));
+  CHECK(p.ratio.low < 1.0);
+  CHECK(p.ratio.high < 1.0);
+}
+
+TEST_CASE("study expectations name a statistic of a pipeline, a pair, NEES or runs", "[study]") {
+  StudyExpectation e;
+  REQUIRE_FALSE(ParseStudyExpectation("p3_upward.ate_rmse_m.mean < 0.05", &e));
+  CHECK(e.kind == StudyExpectation::Kind::kPipelineStat);
+  CHECK(e.pipeline == "p3_upward");
+  CHECK(e.metric == "ate_rmse_m");
+  CHECK(e.stat == "mean");
+  CHECK(e.op == StudyExpectation::Op::kLess);
+  CHECK(e.value == 0.05);
+  REQUIRE_FALSE(ParseStudyExpectation("paired(p3_upward, p3_corners).ate_rmse_m.ratio <= 0.5", &e));
+  CHECK(e.kind == StudyExpectation::Kind::kPaired);
+  CHECK(e.pipeline == "p3_upward");
+  CHECK(e.other == "p3_corners");
+  CHECK(e.stat == "ratio");
+  CHECK(e.op == StudyExpectation::Op::kLessEqual);
+  REQUIRE_FALSE(ParseStudyExpectation("p1_harris.map.corner.rmse_m.p95>=0", &e));
+  CHECK(e.metric == "map.corner.rmse_m");
+  CHECK(e.stat == "p95");
+  CHECK(e.op == StudyExpectation::Op::kGreaterEqual);
+  REQUIRE_FALSE(ParseStudyExpectation("odometry.nees.in_band_fraction > 0.5", &e));
+  CHECK(e.kind == StudyExpectation::Kind::kNees);
+  REQUIRE_FALSE(ParseStudyExpectation("odometry.runs.diverged < 1", &e));
+  CHECK(e.kind == StudyExpectation::Kind::kRuns);
+  REQUIRE_FALSE(ParseStudyExpectation("runs.failed < 1", &e));
+  CHECK(e.kind == StudyExpectation::Kind::kFailedRuns);
+  for (const char* bad : {"odometry.ate_rmse_m.mean", "odometry.ate_rmse_m.mean < x",
+                          "odometry < 1", "paired(a).x.diff < 0", "paired(a, b)x.diff < 0",
+                          "odometry.ate_rmse_m.mean < inf", "odometry.ate_rmse_m.mean < 0x10"}) {
+    INFO(bad);
+    CHECK(ParseStudyExpectation(bad, &e));
+  }
+}
+
+TEST_CASE("a study file's errors name the file, line and key", "[study]") {
+  test::ScratchDir dir("study_file_errors");
+  const std::string base = Scenarios() + "/umbmark_cw.yaml";
+  const auto write = [&](const std::string& body) {
+    const std::filesystem::path file = dir.path() / "s.yaml";
+    Write(file, "include: " + base + "\nduration_s: 5\n" + body);
+    return file.string();
+  };
+  const auto error_of = [&](const std::string& body) {
+    const std::string file = write(body);
+    return test::InputErrorOf([&] { LoadStudy(file, std::nullopt, std::nullopt); });
+  };
+
+  SECTION("a sweep value the key does not take, at the value's line") {
+    const InputError e =
+        error_of("study:\n  vary:\n    robot.odometry.random_k_m:\n      - 1.0e-5\n      - -3\n");
+    CHECK(e.location().line == 7);
+    CHECK(e.key() == "study.vary.robot.odometry.random_k_m");
+    CHECK(test::Contains(e.message(), "-3"));
+  }
+  SECTION("a sweep key the scenario does not have") {
+    const InputError e = error_of("study:\n  vary:\n    robot.odometry.no_such_key: [1, 2]\n");
+    CHECK(e.location().line == 5);
+    CHECK(test::Contains(e.key(), "study.vary.robot.odometry.no_such_key"));
+  }
+  SECTION("the seed is not swept") {
+    const InputError e = error_of("study:\n  vary:\n    seed: [1, 2]\n");
+    CHECK(e.location().line == 5);
+  }
+  SECTION("overlapping sweep keys") {
+    const InputError e =
+        error_of("study:\n  vary:\n    robot.odometry: [{}]\n    robot.odometry.random_k_m: [1]\n");
+    CHECK(e.location().line == 6);
+    CHECK(test::Contains(e.message(), "overlaps"));
+  }
+  SECTION("an unknown study key") {
+    const InputError e = error_of("study:\n  runz: 4\n");
+    CHECK(e.location().line == 4);
+    CHECK(test::Contains(e.key(), "runz"));
+  }
+  SECTION("runs out of bounds") {
+    const InputError e = error_of("study:\n  runs: 0\n");
+    CHECK(e.key() == "study.runs");
+  }
+  SECTION("an expectation on a pipeline that does not run") {
+    const InputError e =
+        error_of("study:\n  expectations:\n    - p3_upward.ate_rmse_m.mean < 0.1\n");
+    CHECK(e.location().line == 5);
+    CHECK(test::Contains(e.message(), "does not run"));
+  }
+  SECTION("an expectation on a metric the study does not summarise") {
+    const InputError e =
+        error_of("study:\n  expectations:\n    - odometry.map.corner.rmse_m.mean < 0.1\n");
+    CHECK(test::Contains(e.message(), "study.metrics"));
+  }
+  SECTION("an unknown extra metric") {
+    const InputError e = error_of("study:\n  metrics: [ate_rmse_m, no_such_metric]\n");
+    CHECK(e.key() == "study.metrics");
+  }
+  SECTION("too many points") {
+    std::string values = "[";
+    for (int i = 0; i < 40; ++i) values += (i ? ", " : "") + std::to_string(1e-5 * (i + 1));
+    values += "]";
+    const InputError e = error_of("study:\n  vary:\n    robot.odometry.random_k_m: " + values +
+                                  "\n    world.plates.count: " + values + "\n");
+    CHECK(test::Contains(e.message(), "points"));
+  }
+}
+
+TEST_CASE("a sweep gives one scenario per point, the last key fastest", "[study]") {
+  test::ScratchDir dir("study_points");
+  const std::filesystem::path file = dir.path() / "s.yaml";
+  Write(file, "include: " + Scenarios() +
+                  "/umbmark_cw.yaml\nstudy:\n  runs: 3\n  first_seed: 5\n  vary:\n"
+                  "    robot.odometry.random_k_m: [1.0e-5, 1.0e-3]\n"
+                  "    world.plates.count: [2, 3]\n");
+  const StudySpec spec = LoadStudy(file.string(), std::nullopt, std::nullopt);
+  REQUIRE(spec.points.size() == 4);
+  CHECK(spec.runs == 3);
+  CHECK(spec.first_seed == 5);
+  CHECK(spec.points[1].id == "p001");
+  CHECK(spec.points[1].values[0].second == "1.0e-5");
+  CHECK(spec.points[1].values[1].second == "3");
+  CHECK(spec.points[1].scenario.world.plates.count == 3);
+  CHECK(spec.points[2].scenario.robot.odometry.random_k_m == 1.0e-3);
+  CHECK(spec.points[2].scenario.world.plates.count == 2);
+  // The command line overrides the file.
+  const StudySpec more = LoadStudy(file.string(), 7, 100);
+  CHECK(more.runs == 7);
+  CHECK(more.first_seed == 100);
+  // A plain scenario is a study of one point at its seed.
+  const StudySpec plain = LoadStudy(Scenarios() + "/umbmark_cw.yaml", std::nullopt, std::nullopt);
+  CHECK_FALSE(plain.has_section);
+  CHECK(plain.points.size() == 1);
+  CHECK(plain.runs == 10);
+}
+
+TEST_CASE("the JUnit report escapes text and counts failures and errors", "[study]") {
+  SuiteFile f;
+  f.file = "a&b.yaml";
+  f.name = "a&b";
+  f.seconds = 2.5;
+  SuiteCase passed;
+  passed.classname = "corridorsim.a&b";
+  passed.name = "odometry.ate_rmse_m < 1";
+  f.cases.push_back(passed);
+  SuiteCase failed = passed;
+  failed.result = SuiteCase::Result::kFailed;
+  failed.message = "measured 2.000000, expected odometry.ate_rmse_m < 1";
+  f.cases.push_back(failed);
+  SuiteCase error = passed;
+  error.name = "run";
+  error.result = SuiteCase::Result::kError;
+  error.details = std::string("log \x01 tail");
+  f.cases.push_back(error);
+  const std::string xml = JunitXml({f});
+  CHECK(test::Contains(xml, "tests=\"3\" failures=\"1\" errors=\"1\""));
+  CHECK(test::Contains(xml, "name=\"a&amp;b\""));
+  CHECK(test::Contains(xml, "name=\"odometry.ate_rmse_m &lt; 1\""));
+  CHECK(test::Contains(xml, "<failure message=\"measured 2.000000, expected"));
+  CHECK(test::Contains(xml, "log ? tail"));  // no control character reaches the XML
+}
+
+}  // namespace
+}  // namespace corridorsim
