@@ -394,12 +394,14 @@ int FinishStudy(const StudySpec& spec, const fs::path& dir, const StudyRequest& 
   return code;
 }
 
+// This very program, by /proc/self/exe itself rather than the path it points to: rebuilding
+// corridorsim while a study runs (the linker writes a new file) cannot change its later runs.
 std::string SelfExecutable() {
   std::error_code error;
-  const fs::path self = fs::read_symlink("/proc/self/exe", error);
-  if (error)
-    throw std::runtime_error("cannot find this program (/proc/self/exe): " + error.message());
-  return self.string();
+  if (!std::filesystem::exists("/proc/self/exe", error)) {
+    throw std::runtime_error("cannot find this program (/proc/self/exe)");
+  }
+  return "/proc/self/exe";
 }
 
 }  // namespace

@@ -74,11 +74,14 @@ std::string LogTail(const fs::path& log) {
   }
 }
 
+// This very program, by /proc/self/exe itself rather than the path it points to: rebuilding
+// corridorsim while a study runs (the linker writes a new file) cannot change its later runs.
 std::string SelfExecutable() {
   std::error_code error;
-  const fs::path self = fs::read_symlink("/proc/self/exe", error);
-  if (error) throw std::runtime_error("cannot find this program (/proc/self/exe)");
-  return self.string();
+  if (!std::filesystem::exists("/proc/self/exe", error)) {
+    throw std::runtime_error("cannot find this program (/proc/self/exe)");
+  }
+  return "/proc/self/exe";
 }
 
 std::string Measured(const json& value) {
