@@ -560,6 +560,25 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
   bool study_no_plots = false;
   study->add_flag("--no-plots", study_no_plots, "Skip plots/ (matplotlib)")
       ->disable_flag_override();
+  bool study_slurm = false, study_submit = false;
+  std::string study_slurm_tasks, study_task_minutes;
+  study
+      ->add_flag("--slurm", study_slurm,
+                 "Write a Slurm job array (one task per shard) and a merge job into <out>/slurm/ "
+                 "instead of running here (one run is run here first to measure the cost)")
+      ->disable_flag_override();
+  study->add_flag("--submit", study_submit, "With --slurm: submit both jobs with sbatch")
+      ->disable_flag_override();
+  CLI::Option* study_slurm_tasks_option =
+      study
+          ->add_option("--slurm-tasks", study_slurm_tasks,
+                       "With --slurm: the number of array tasks (default: from the measured cost)")
+          ->type_name("N");
+  CLI::Option* study_task_minutes_option =
+      study
+          ->add_option("--slurm-task-minutes", study_task_minutes,
+                       "With --slurm: the run time a task packs (default 60)")
+          ->type_name("MIN");
   CLI::App* merge = study->add_subcommand(
       "merge", "Combine study folders of one plan (shards) into one study folder and summary");
   std::vector<std::string> merge_dirs;
@@ -832,6 +851,20 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
       r.shard_count = n;
     }
     r.plots = !study_no_plots;
+    r.slurm = study_slurm;
+    r.submit = study_submit;
+    if (study_submit && !study_slurm) Fail("--submit", "only with --slurm");
+    if (study_slurm_tasks_option->count() > 0) {
+      if (!study_slurm) Fail("--slurm-tasks", "only with --slurm");
+      r.slurm_tasks = whole(study_slurm_tasks, kMaxSlurmTasks, "--slurm-tasks");
+    }
+    if (study_task_minutes_option->count() > 0) {
+      if (!study_slurm) Fail("--slurm-task-minutes", "only with --slurm");
+      r.slurm_task_minutes = whole(study_task_minutes, 100000, "--slurm-task-minutes");
+    }
+    if (study_slurm && study_shard_option->count() > 0) {
+      Fail("--shard", "--slurm writes the shards itself");
+    }
   } else {
     Fail("",
          "a subcommand is required: world, snapshot, run, drive, where, detect, train-detectors, "

@@ -385,6 +385,15 @@ int FinishStudy(const StudySpec& spec, const fs::path& dir, const StudyRequest& 
   }
   if (plot_error)
     std::fprintf(stderr, "corridorsim: warning: plots/ failed: %s\n", plot_error->c_str());
+  if (request.shard_count > 1 && code != 0) {
+    // A shard holds part of the runs: its expectations and failures are judged by `study merge`
+    // (a Slurm merge job runs only after every task exited 0: --dependency=afterok).
+    std::printf(
+        "study: shard %d/%d done; the study's verdict (exit %d here) is given by `study "
+        "merge`\n",
+        request.shard_index + 1, request.shard_count, code);
+    code = 0;
+  }
   if (summary.not_run > 0) {
     std::printf(
         "note: %d run(s) of the plan are not in this folder (other shards; `corridorsim "
@@ -406,35 +415,127 @@ std::string SelfExecutable() {
 
 }  // namespace
 
-int RunStudy(const StudyRequest& request) {
-  const Clock::time_point study_start = Clock::now();
-  const StudySpec spec = LoadStudy(request.scenario_file, request.runs, request.seed);
+namespace {
+
+struct PlannedRun {
+  std::size_t point;
+  std::uint64_t seed;
+};
+
+// The study loaded, its folder prepared (plan, points, shard) and the runs this shard still has
+// to run.
+struct PreparedStudy {
+  StudySpec spec;
+  fs::path dir;
+  std::vector<PlannedRun> todo;
+  std::size_t planned_here = 0;
+  std::size_t already = 0;
+};
+
+PreparedStudy PrepareStudy(const StudyRequest& request) {
+  PreparedStudy p;
+  p.spec = LoadStudy(request.scenario_file, request.runs, request.seed);
+  const StudySpec& spec = p.spec;
   std::vector<std::string> point_yaml;
   for (const StudyPoint& point : spec.points) {
     point_yaml.push_back(ResolvedScenarioYaml(point.scenario, spec.first_seed));
   }
   const std::string plan_text = PlanJson(spec, point_yaml).dump(2) + "\n";
-  const fs::path dir = request.out_dir;
-  PrepareFolder(dir, plan_text, request.force, "--out");
+  p.dir = request.out_dir;
+  PrepareFolder(p.dir, plan_text, request.force, "--out");
   for (std::size_t i = 0; i < spec.points.size(); ++i) {
-    const fs::path file = dir / "points" / (spec.points[i].id + ".yaml");
+    const fs::path file = p.dir / "points" / (spec.points[i].id + ".yaml");
     std::error_code error;
     fs::create_directories(file.parent_path(), error);
     WriteFileAtomic(file, point_yaml[i]);
   }
   if (request.shard_count > 1) {
     WriteFileAtomic(
-        dir / "shard.json",
+        p.dir / "shard.json",
         json{{"shard", request.shard_index + 1}, {"of", request.shard_count}}.dump(2) + "\n");
   }
-
   // The runs of this shard (run k of the plan belongs to shard k mod N) not finished yet.
-  struct Todo {
-    std::size_t point;
-    std::uint64_t seed;
-  };
-  std::vector<Todo> todo;
-  std::size_t planned_here = 0, already = 0;
+  long index = 0;
+  for (std::size_t point = 0; point < spec.points.size(); ++point) {
+    for (int i = 0; i < spec.runs; ++i, ++index) {
+      if (index % request.shard_count != request.shard_index) continue;
+      ++p.planned_here;
+      const std::uint64_t seed = spec.first_seed + static_cast<std::uint64_t>(i);
+      std::error_code error;
+      if (fs::is_regular_file(RunFolder(p.dir, spec.points[point].id, seed) / "metrics.json",
+                              error)) {
+        ++p.already;
+        continue;
+      }
+      p.todo.push_back({point, seed});
+    }
+  }
+  return p;
+}
+
+// Starts one run: `corridorsim run <point scenario> --seed S --out runs/<point>/seed_S`.
+std::unique_ptr<ChildProcess> StartRun(const std::string& program, const StudySpec& spec,
+                                       const fs::path& dir, const PlannedRun& run) {
+  const std::string& id = spec.points[run.point].id;
+  std::error_code error;
+  fs::create_directories(RunFolder(dir, id, run.seed).parent_path(), error);
+  fs::create_directories(LogFile(dir, id, run.seed).parent_path(), error);
+  fs::create_directories(StatusFile(dir, id, run.seed).parent_path(), error);
+  fs::remove(StatusFile(dir, id, run.seed), error);
+  const std::vector<std::string> argv = {program,
+                                         "run",
+                                         (dir / "points" / (id + ".yaml")).string(),
+                                         "--seed",
+                                         std::to_string(run.seed),
+                                         "--out",
+                                         RunFolder(dir, id, run.seed).string(),
+                                         "--force",
+                                         "--no-plots"};
+  return std::make_unique<ChildProcess>(argv, LogFile(dir, id, run.seed).string());
+}
+
+// How a run ended, recorded in status/<point>/seed_<S>.json (and returned).
+json RecordRun(const StudySpec& spec, const fs::path& dir, const PlannedRun& run,
+               const ChildStatus& status, bool timed_out, double elapsed, double peak_rss_mib) {
+  const std::string& id = spec.points[run.point].id;
+  const fs::path folder = RunFolder(dir, id, run.seed);
+  std::error_code error;
+  const bool results = fs::is_regular_file(folder / "metrics.json", error);
+  // 0, 3 (a scenario expectation failed) and 4 (an extra failed) leave the results written.
+  const bool finished = !timed_out && status.started && status.signal == 0 &&
+                        (status.exit_code == 0 || status.exit_code == 3 || status.exit_code == 4) &&
+                        results;
+  const std::string outcome = finished ? "finished" : timed_out ? "timed_out" : "failed";
+  const std::string detail =
+      timed_out ? "timed out after " + FormatFixed(spec.run_timeout_s, 0) + " s"
+                : DescribeChildStatus(status) +
+                      (status.exit_code == 0 && !results ? " without metrics.json" : "");
+  if (!finished && results) {
+    fs::remove_all(folder, error);  // a timed-out run that committed: not a result
+  }
+  json record = {{"point", id},
+                 {"seed", run.seed},
+                 {"outcome", outcome},
+                 {"detail", detail},
+                 {"exit_code", status.exit_code},
+                 {"signal", status.signal},
+                 {"wall_seconds", elapsed},
+                 {"peak_rss_mib", peak_rss_mib}};
+  WriteFileAtomic(StatusFile(dir, id, run.seed), record.dump(2) + "\n");
+  return record;
+}
+
+}  // namespace
+
+int RunStudy(const StudyRequest& request) {
+  if (request.slurm) return WriteSlurmStudy(request);
+  const Clock::time_point study_start = Clock::now();
+  const PreparedStudy prepared = PrepareStudy(request);
+  const StudySpec& spec = prepared.spec;
+  const fs::path& dir = prepared.dir;
+  const std::vector<PlannedRun>& todo = prepared.todo;
+  const std::size_t planned_here = prepared.planned_here, already = prepared.already;
+
   std::map<std::string, std::pair<double, int>> ate;  // running mean ATE per pipeline
   const auto add_ate = [&](const fs::path& folder) {
     try {
@@ -450,21 +551,8 @@ int RunStudy(const StudyRequest& request) {
       // the summary reports a damaged folder; progress only skips it
     }
   };
-  long index = 0;
-  for (std::size_t p = 0; p < spec.points.size(); ++p) {
-    for (int i = 0; i < spec.runs; ++i, ++index) {
-      if (index % request.shard_count != request.shard_index) continue;
-      ++planned_here;
-      const std::uint64_t seed = spec.first_seed + static_cast<std::uint64_t>(i);
-      const fs::path folder = RunFolder(dir, spec.points[p].id, seed);
-      std::error_code error;
-      if (fs::is_regular_file(folder / "metrics.json", error)) {
-        ++already;
-        add_ate(folder);
-        continue;
-      }
-      todo.push_back({p, seed});
-    }
+  for (const StudyRunRecord& r : CollectRecords(spec, dir)) {
+    if (r.outcome == StudyRunRecord::Outcome::kFinished) add_ate(r.folder);
   }
   int jobs = request.jobs > 0 ? request.jobs
                               : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
@@ -484,7 +572,7 @@ int RunStudy(const StudyRequest& request) {
   std::fflush(stdout);
 
   struct Active {
-    Todo run;
+    PlannedRun run;
     std::unique_ptr<ChildProcess> child;
     Clock::time_point start;
     bool timed_out = false;
@@ -497,24 +585,8 @@ int RunStudy(const StudyRequest& request) {
   const Clock::time_point loop_start = Clock::now();
   while (next < todo.size() || !active.empty()) {
     while (static_cast<int>(active.size()) < jobs && next < todo.size()) {
-      const Todo& t = todo[next++];
-      const std::string& id = spec.points[t.point].id;
-      std::error_code error;
-      fs::create_directories(RunFolder(dir, id, t.seed).parent_path(), error);
-      fs::create_directories(LogFile(dir, id, t.seed).parent_path(), error);
-      fs::create_directories(StatusFile(dir, id, t.seed).parent_path(), error);
-      fs::remove(StatusFile(dir, id, t.seed), error);
-      const std::vector<std::string> argv = {program,
-                                             "run",
-                                             (dir / "points" / (id + ".yaml")).string(),
-                                             "--seed",
-                                             std::to_string(t.seed),
-                                             "--out",
-                                             RunFolder(dir, id, t.seed).string(),
-                                             "--force",
-                                             "--no-plots"};
-      active.push_back({t, std::make_unique<ChildProcess>(argv, LogFile(dir, id, t.seed).string()),
-                        Clock::now()});
+      const PlannedRun& t = todo[next++];
+      active.push_back({t, StartRun(program, spec, dir, t), Clock::now()});
     }
     bool changed = false;
     for (auto it = active.begin(); it != active.end();) {
@@ -529,36 +601,16 @@ int RunStudy(const StudyRequest& request) {
         continue;
       }
       const std::string& id = spec.points[it->run.point].id;
-      const fs::path folder = RunFolder(dir, id, it->run.seed);
-      std::error_code error;
-      const bool results = fs::is_regular_file(folder / "metrics.json", error);
-      // 0, 3 (a scenario expectation failed) and 4 (an extra failed) leave the results written.
-      const bool finished =
-          !it->timed_out && status->started && status->signal == 0 &&
-          (status->exit_code == 0 || status->exit_code == 3 || status->exit_code == 4) && results;
-      std::string outcome = finished ? "finished" : it->timed_out ? "timed_out" : "failed";
-      std::string detail =
-          it->timed_out ? "timed out after " + FormatFixed(spec.run_timeout_s, 0) + " s"
-                        : DescribeChildStatus(*status) +
-                              (status->exit_code == 0 && !results ? " without metrics.json" : "");
-      if (!finished && results) {
-        fs::remove_all(folder, error);  // a timed-out run that committed: not a result
-      }
-      json record = {{"point", id},
-                     {"seed", it->run.seed},
-                     {"outcome", outcome},
-                     {"detail", detail},
-                     {"exit_code", status->exit_code},
-                     {"signal", status->signal},
-                     {"wall_seconds", elapsed},
-                     {"peak_rss_mib", it->child->peak_rss_mib()}};
-      WriteFileAtomic(StatusFile(dir, id, it->run.seed), record.dump(2) + "\n");
-      run_timing.push_back(record);
+      json record =
+          RecordRun(spec, dir, it->run, *status, it->timed_out, elapsed, it->child->peak_rss_mib());
+      const bool finished = record["outcome"] == "finished";
+      const std::string detail = record["detail"].get<std::string>();
+      run_timing.push_back(std::move(record));
       ++done;
       run_seconds_sum += elapsed;
       peak_rss_mib = std::max(peak_rss_mib, it->child->peak_rss_mib());
       if (finished) {
-        add_ate(folder);
+        add_ate(RunFolder(dir, id, it->run.seed));
       } else {
         ++failed;
       }
@@ -598,6 +650,195 @@ int RunStudy(const StudyRequest& request) {
   timing["peak_rss_mib_max"] = peak_rss_mib;
   timing["runs"] = std::move(run_timing);
   return FinishStudy(spec, dir, request, std::move(timing));
+}
+
+namespace {
+
+// A path as one word of a POSIX shell: single-quoted, ' as '\''.
+std::string ShellWord(const std::string& text) {
+  std::string out = "'";
+  for (char c : text) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
+}  // namespace
+
+int WriteSlurmStudy(const StudyRequest& request) {
+  if (request.shard_count > 1) {
+    throw InputError(SourceLocation{"command line", 0, 0}, "--slurm",
+                     "writes the shards itself: not with --shard");
+  }
+  PreparedStudy prepared = PrepareStudy(request);
+  const StudySpec& spec = prepared.spec;
+  const fs::path dir = fs::absolute(prepared.dir);
+  // The cost of one run: a finished run's record, else the plan's first run, run here.
+  double run_seconds = 0.0, run_rss_mib = 0.0;
+  for (const StudyPoint& point : spec.points) {
+    for (int i = 0; i < spec.runs && run_seconds == 0.0; ++i) {
+      const fs::path status =
+          StatusFile(dir, point.id, spec.first_seed + static_cast<std::uint64_t>(i));
+      std::error_code error;
+      if (!fs::is_regular_file(status, error)) continue;
+      try {
+        const json s = json::parse(ReadRegularFile(status, kMaxPlanBytes));
+        if (s.at("outcome") == "finished") {
+          run_seconds = s.at("wall_seconds").get<double>();
+          run_rss_mib = s.at("peak_rss_mib").get<double>();
+        }
+      } catch (const std::exception&) {
+        // not a usable record: measured below
+      }
+    }
+  }
+  if (run_seconds == 0.0) {
+    const PlannedRun first{0, spec.first_seed};
+    std::printf("study --slurm: measuring the cost of one run (%s seed %llu) here\n",
+                spec.points[0].id.c_str(), static_cast<unsigned long long>(first.seed));
+    std::fflush(stdout);
+    const Clock::time_point start = Clock::now();
+    std::unique_ptr<ChildProcess> child = StartRun(SelfExecutable(), spec, dir, first);
+    std::optional<ChildStatus> status;
+    bool timed_out = false;
+    while (!(status = child->Poll())) {
+      if (!timed_out && Seconds(start) > spec.run_timeout_s) {
+        child->Kill();
+        timed_out = true;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+    const json record =
+        RecordRun(spec, dir, first, *status, timed_out, Seconds(start), child->peak_rss_mib());
+    if (record["outcome"] != "finished") {
+      std::printf("study --slurm: the measuring run %s (log: %s); nothing submitted\n",
+                  record["detail"].get<std::string>().c_str(),
+                  LogFile(dir, spec.points[0].id, first.seed).string().c_str());
+      return 1;
+    }
+    run_seconds = record["wall_seconds"].get<double>();
+    run_rss_mib = record["peak_rss_mib"].get<double>();
+  }
+  // Packing: about slurm_task_minutes of runs per task, at most kMaxSlurmTasks tasks.
+  const long total = static_cast<long>(spec.points.size()) * spec.runs;
+  long tasks = request.slurm_tasks > 0
+                   ? request.slurm_tasks
+                   : static_cast<long>(std::ceil(static_cast<double>(total) * run_seconds /
+                                                 (60.0 * request.slurm_task_minutes)));
+  tasks = std::clamp<long>(tasks, 1, std::min<long>(total, kMaxSlurmTasks));
+  const long runs_per_task = (total + tasks - 1) / tasks;
+  // Resources per task: one core; memory and time from the measured run with margins (a run's
+  // cost varies with its world: 1.5x memory plus 256 MiB, 2x time plus 5 minutes).
+  const long mem_mib = static_cast<long>(std::ceil(run_rss_mib * 1.5 + 256.0));
+  const long minutes = static_cast<long>(
+      std::ceil((static_cast<double>(runs_per_task) * run_seconds * 2.0 + 300.0) / 60.0));
+  const std::string program = fs::read_symlink("/proc/self/exe").string();
+  const std::string study_file = fs::absolute(request.scenario_file).string();
+  std::string seed_args;
+  if (request.runs) seed_args += " --runs " + std::to_string(*request.runs);
+  if (request.seed) seed_args += " --seed " + std::to_string(*request.seed);
+  const fs::path slurm_dir = dir / "slurm";
+  std::error_code error;
+  fs::create_directories(slurm_dir, error);
+  fs::create_directories(dir / "shards", error);
+  const std::string array_script =
+      "#!/bin/bash\n"
+      "# corridorsim study as a Slurm job array (written by `corridorsim study --slurm`; "
+      "docs/studies.md). Task K of N runs part K of the plan into shards/K.\n"
+      "#SBATCH --job-name=corridorsim-study\n"
+      "#SBATCH --array=1-" +
+      std::to_string(tasks) +
+      "\n"
+      "#SBATCH --ntasks=1\n#SBATCH --cpus-per-task=1\n"
+      "#SBATCH --mem=" +
+      std::to_string(mem_mib) +
+      "M\n"
+      "#SBATCH --time=" +
+      std::to_string(minutes) +
+      "\n"
+      "#SBATCH --output=" +
+      (slurm_dir / "task_%a.log").string() +
+      "\n"
+      "# Measured: one run " +
+      FormatFixed(run_seconds, 1) + " s and " + FormatFixed(run_rss_mib, 0) + " MiB; " +
+      std::to_string(runs_per_task) +
+      " run(s) per task.\n"
+      "set -euo pipefail\n"
+      "exec " +
+      ShellWord(program) + " study " + ShellWord(study_file) + seed_args +
+      " --shard \"${SLURM_ARRAY_TASK_ID}/" + std::to_string(tasks) +
+      "\" --jobs 1 --no-plots --out " + ShellWord((dir / "shards").string()) +
+      "/\"${SLURM_ARRAY_TASK_ID}\"\n";
+  const std::string merge_script =
+      "#!/bin/bash\n"
+      "# Merges the job array's shards into the study folder (written by `corridorsim study "
+      "--slurm`); submitted with --dependency=afterok on the array.\n"
+      "#SBATCH --job-name=corridorsim-merge\n"
+      "#SBATCH --ntasks=1\n#SBATCH --cpus-per-task=1\n#SBATCH --mem=1024M\n#SBATCH --time=60\n"
+      "#SBATCH --output=" +
+      (slurm_dir / "merge.log").string() +
+      "\n"
+      "set -euo pipefail\n"
+      "shards=()\n"
+      "for k in $(seq 1 " +
+      std::to_string(tasks) + "); do shards+=(" + ShellWord((dir / "shards").string()) +
+      "/\"$k\"); done\n"
+      "exec " +
+      ShellWord(program) + " study merge \"${shards[@]}\" --out " + ShellWord(dir.string()) +
+      (request.plots ? "" : " --no-plots") + "\n";
+  WriteFileAtomic(slurm_dir / "study.sbatch", array_script);
+  WriteFileAtomic(slurm_dir / "merge.sbatch", merge_script);
+  std::printf(
+      "study --slurm: %ld run(s) in %ld task(s) of %ld run(s), each 1 core, %ld MiB, %ld "
+      "min; wrote %s and %s\n",
+      total, tasks, runs_per_task, mem_mib, minutes, (slurm_dir / "study.sbatch").string().c_str(),
+      (slurm_dir / "merge.sbatch").string().c_str());
+  if (!request.submit) {
+    std::printf(
+        "submit with: id=$(sbatch --parsable %s) && sbatch --dependency=afterok:${id%%%%;*} "
+        "%s\n",
+        ShellWord((slurm_dir / "study.sbatch").string()).c_str(),
+        ShellWord((slurm_dir / "merge.sbatch").string()).c_str());
+    return 0;
+  }
+  const auto sbatch = [&](const std::vector<std::string>& args,
+                          const std::string& name) -> std::optional<std::string> {
+    const fs::path log = slurm_dir / (name + ".sbatch.out");
+    std::vector<std::string> argv = {"sbatch", "--parsable"};
+    argv.insert(argv.end(), args.begin(), args.end());
+    ChildProcess child(argv, log.string());
+    std::optional<ChildStatus> status;
+    while (!(status = child.Poll())) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    std::string out;
+    try {
+      out = ReadRegularFile(log, 1 << 20);
+    } catch (const std::exception&) {
+    }
+    std::string id;
+    for (char c : out) {
+      if (c < '0' || c > '9') break;
+      id += c;
+    }
+    if (!status->succeeded() || id.empty()) {
+      std::printf("study --slurm: sbatch %s (%s)\n", DescribeChildStatus(*status).c_str(),
+                  out.c_str());
+      return std::nullopt;
+    }
+    return id;
+  };
+  const std::optional<std::string> array_id =
+      sbatch({(slurm_dir / "study.sbatch").string()}, "study");
+  if (!array_id) return 1;
+  const std::optional<std::string> merge_id =
+      sbatch({"--dependency=afterok:" + *array_id, (slurm_dir / "merge.sbatch").string()}, "merge");
+  if (!merge_id) return 1;
+  WriteFileAtomic(
+      slurm_dir / "jobs.json",
+      json{{"array_job", *array_id}, {"merge_job", *merge_id}, {"tasks", tasks}}.dump(2) + "\n");
+  std::printf(
+      "study --slurm: submitted array job %s and merge job %s; the summary appears in %s "
+      "when the merge job ends (squeue -j %s,%s)\n",
+      array_id->c_str(), merge_id->c_str(), dir.string().c_str(), array_id->c_str(),
+      merge_id->c_str());
+  return 0;
 }
 
 int MergeStudies(const StudyRequest& request) {

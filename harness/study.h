@@ -28,12 +28,29 @@ struct StudyRequest : JobRequest {
   std::vector<std::filesystem::path> merge_dirs;
   // The program that runs each run (`corridorsim run`); empty: this executable.
   std::string run_program;
+  // --slurm: write a Slurm job array (one task per shard) and a merge job that depends on it;
+  // --submit: submit both with sbatch. slurm_tasks > 0 fixes the number of tasks, else it follows
+  // the measured cost of a run and slurm_task_minutes.
+  bool slurm = false;
+  bool submit = false;
+  int slurm_tasks = 0;
+  double slurm_task_minutes = 60.0;
 };
+
+/// Slurm's default MaxArraySize allows array indices up to 1000: at most this many tasks.
+inline constexpr int kMaxSlurmTasks = 1000;
 
 /// Runs (or resumes) the study and writes the summary. Returns 0; 1 when a run failed or timed
 /// out (the study goes on and names them at the end); 3 when a study expectation failed; 4 when
 /// only plots/ failed. Throws InputError for bad input, before any run starts.
 int RunStudy(const StudyRequest& request);
+
+/// `study --slurm`: prepares the study folder, measures the cost of one run (the plan's first,
+/// run here and kept as a result, unless the folder has a finished run with its cost), writes
+/// slurm/study.sbatch (a job array: task K runs `study --shard K/N` into shards/K) and
+/// slurm/merge.sbatch (`study merge shards/* --out` the study folder), and with --submit submits
+/// them (`sbatch --dependency=afterok:<array job>`). Returns 0, 1 when sbatch fails.
+int WriteSlurmStudy(const StudyRequest& request);
 
 /// `study merge`: combines study folders of the same plan (shards, or partial resumes) into
 /// request.out_dir and writes its summary. Same exit codes as RunStudy.

@@ -14,6 +14,9 @@ PACKAGES=(
   catch2
   # plots; the example detector of the README (examples/)
   python3-matplotlib python3-opencv
+  # `corridorsim study --slurm`'s test: a single-node Slurm on this machine
+  # (scripts/slurm_local.sh, tests/slurm/)
+  munge slurm-client slurmctld slurmd
 )
 
 missing=()

@@ -72,7 +72,7 @@ ChildProcess::ChildProcess(const std::vector<std::string>& argv, const std::stri
   int e = posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
   if (e == 0) {
     e = posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log_file.c_str(),
-                                         O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+                                         O_WRONLY | O_CREAT | O_TRUNC, 0644);
   }
   if (e == 0) e = posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
   pid_t pid = -1;

@@ -71,6 +71,9 @@ study:
     if "ATE RMSE mean" not in out.stdout or "mean ATE (m): odometry" not in out.stdout:
         fail("no closing table or progress line:\n" + out.stdout)
     same_files(os.path.join(work, "j1"), os.path.join(work, "j2"), summary_files)
+    log = read(os.path.join(work, "j1", "logs", "p000", "seed_11.log")).decode()
+    if "run: " not in log:
+        fail("a run's log holds not its output: %r" % log[:200])
     for point in ("p000", "p001"):
         for seed in (11, 12, 13):
             run_dir = os.path.join("runs", point, "seed_%d" % seed)
