@@ -20,6 +20,7 @@
 #include "harness/provenance.h"
 #include "harness/run_folder.h"
 #include "harness/study_file.h"
+#include "harness/study_stats.h"
 #include "harness/study_summary.h"
 
 namespace corridorsim {
@@ -320,6 +321,57 @@ std::optional<std::string> MakeStudyPlots(const fs::path& dir) {
   return "python3 '" + script.string() + "' '" + dir.string() + "' " + DescribeChildStatus(status);
 }
 
+// P1 Fig. 16 over a study: the frame costs of the runs' maps/<pipeline>_frame_times.csv (the
+// pipelines that write one), binned by the landmarks in the state. Wall clock, so not part of
+// the deterministic summary: frame_times.csv beside timing.json. Returns false when no run has
+// such a file (nothing written).
+bool WriteFrameTimes(const StudySpec& spec, const std::vector<StudyRunRecord>& records,
+                     const fs::path& dir) {
+  constexpr int kBin = 10;  // landmarks per bin
+  std::string csv = "point,pipeline,landmarks_low,landmarks_high,frames,mean_ms,median_ms,p95_ms\n";
+  bool any = false;
+  for (std::size_t p = 0; p < spec.points.size(); ++p) {
+    for (const std::string& name : spec.pipelines) {
+      std::map<int, std::vector<double>> bins;
+      for (const StudyRunRecord& r : records) {
+        if (r.point != p || r.outcome != StudyRunRecord::Outcome::kFinished) continue;
+        const fs::path file = r.folder / "maps" / (name + "_frame_times.csv");
+        std::error_code error;
+        if (!fs::is_regular_file(file, error)) continue;
+        std::string text;
+        try {
+          text = ReadRegularFile(file, std::uint64_t{256} << 20);
+        } catch (const std::exception&) {
+          continue;
+        }
+        std::size_t pos = text.find('\n');
+        while (pos != std::string::npos && pos + 1 < text.size()) {
+          const std::size_t end = std::min(text.find('\n', pos + 1), text.size());
+          double stamp = 0.0, ms = 0.0;
+          int landmarks = 0;
+          if (std::sscanf(text.c_str() + pos + 1, "%lf,%d,%lf", &stamp, &landmarks, &ms) == 3 &&
+              landmarks >= 0 && std::isfinite(ms)) {
+            bins[landmarks / kBin].push_back(ms);
+          }
+          pos = end;
+        }
+      }
+      for (const auto& [bin, values] : bins) {
+        any = true;
+        double sum = 0.0;
+        for (double v : values) sum += v;
+        csv += spec.points[p].id + "," + name + "," + std::to_string(bin * kBin) + "," +
+               std::to_string(bin * kBin + kBin - 1) + "," + std::to_string(values.size()) + "," +
+               FormatFixed(sum / static_cast<double>(values.size()), 3) + "," +
+               FormatFixed(study::Quantile(values, 0.5), 3) + "," +
+               FormatFixed(study::Quantile(values, 0.95), 3) + "\n";
+      }
+    }
+  }
+  if (any) WriteFileAtomic(dir / "frame_times.csv", csv);
+  return any;
+}
+
 // Writes the summary files, the report and the plots; prints the closing table. Returns the
 // exit code.
 int FinishStudy(const StudySpec& spec, const fs::path& dir, const StudyRequest& request,
@@ -332,6 +384,7 @@ int FinishStudy(const StudySpec& spec, const fs::path& dir, const StudyRequest& 
   WriteFileAtomic(dir / "paired.csv", summary.paired_csv);
   WriteFileAtomic(dir / "report.md",
                   ReportMarkdown(spec, summary, CommandText(request), request.plots));
+  if (WriteFrameTimes(spec, records, dir)) timing["frame_times"] = "frame_times.csv";
   timing["summary_seconds"] = Seconds(start);
   std::optional<std::string> plot_error;
   if (request.plots) {

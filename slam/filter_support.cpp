@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "common/wheel_odometry_model.h"
 
@@ -114,6 +115,17 @@ std::vector<std::size_t> AssignClosestFirst(const std::vector<GatedPair>& pairs)
     taken.push_back(i);
   }
   return taken;
+}
+
+MapFile FrameCostsCsv(const std::vector<FrameCost>& costs) {
+  std::string csv = "stamp_s,landmarks,frame_ms\n";
+  char line[96];
+  for (const FrameCost& f : costs) {
+    std::snprintf(line, sizeof line, "%.9f,%d,%.3f\n", ToSeconds(f.stamp_ns), f.landmarks,
+                  1e3 * f.seconds);
+    csv += line;
+  }
+  return {"_frame_times.csv", std::move(csv)};
 }
 
 }  // namespace corridorsim::slam

@@ -75,6 +75,16 @@ std::vector<std::size_t> AssignClosestFirst(const std::vector<GatedPair>& pairs)
 /// The robot pose of the filter as a PoseEstimate at `stamp_ns`.
 PoseEstimate EstimateOf(const ekf::EkfState& state, TimeNs stamp_ns);
 
+/// P1 Fig. 16: what one camera frame cost the filter against the landmarks in its state.
+struct FrameCost {
+  TimeNs stamp_ns = 0;
+  int landmarks = 0;     // in the state after the frame
+  double seconds = 0.0;  // the filter's work on the frame (detection, association, updates)
+};
+/// `maps/<pipeline>_frame_times.csv`: "stamp_s,landmarks,frame_ms" (wall clock: not
+/// byte-reproducible, like timing.json).
+MapFile FrameCostsCsv(const std::vector<FrameCost>& costs);
+
 /// Wall seconds per stage ("predict", "detect", ...), accumulated.
 class StageClock {
  public:

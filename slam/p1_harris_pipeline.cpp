@@ -228,15 +228,7 @@ std::vector<LandmarkEstimate> P1HarrisPipeline::Landmarks() const {
 }
 
 std::vector<MapFile> P1HarrisPipeline::TakeMaps() {
-  // P1 Fig. 16: the cost of a frame against the landmarks in the state.
-  std::string csv = "stamp_s,landmarks,frame_ms\n";
-  char line[96];
-  for (const FrameTime& f : frame_times_) {
-    std::snprintf(line, sizeof line, "%.9f,%d,%.3f\n", ToSeconds(f.stamp_ns), f.landmarks,
-                  1e3 * f.seconds);
-    csv += line;
-  }
-  return {{"_frame_times.csv", std::move(csv)}};
+  return {FrameCostsCsv(frame_times_)};  // P1 Fig. 16
 }
 
 }  // namespace corridorsim::slam

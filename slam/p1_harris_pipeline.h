@@ -65,12 +65,6 @@ class P1HarrisPipeline : public Pipeline {
     int id = 0;
     ekf::BlockId block;
   };
-  struct FrameTime {
-    TimeNs stamp_ns = 0;
-    int landmarks = 0;     // in the state after the frame
-    double seconds = 0.0;  // detection, association, updates and augmentation
-  };
-
   Eigen::Matrix3d MeasurementNoise(double depth_m) const;
 
   P1HarrisOptions options_;
@@ -83,7 +77,7 @@ class P1HarrisPipeline : public Pipeline {
   int next_landmark_id_ = 0;
   std::vector<Detection> detections_;
   std::vector<Innovation> innovations_;
-  std::vector<FrameTime> frame_times_;
+  std::vector<FrameCost> frame_times_;  // detection, association, updates, augmentation
   PipelineHealth health_;
   StageClock clock_;
 };

@@ -127,8 +127,14 @@ void P1VpDoorplatePipeline::OnCamera(const CameraInput& input) {
     return;
   }
   last_frame_ns_[id] = input.image.stamp_ns;
+  const Clock::time_point t_frame = Clock::now();
+  octomap_seconds_in_frame_ = 0.0;
   if (id == "front") OnFront(input);
   if (id == "lateral") OnLateral(input);
+  // P1 Fig. 16: the filter's cost of the frame (the OctoMap's insertion is mapping, not the
+  // filter) against the landmarks in its state (the vanishing point and the plates).
+  frame_times_.push_back({input.image.stamp_ns, static_cast<int>(Landmarks().size()),
+                          std::max(0.0, SecondsSince(t_frame) - octomap_seconds_in_frame_)});
 }
 
 void P1VpDoorplatePipeline::OnFront(const CameraInput& input) {
@@ -165,7 +171,8 @@ void P1VpDoorplatePipeline::OnFront(const CameraInput& input) {
     const SE3 world_from_camera =
         SE3::FromSE2(SE2(x.x(), x.y(), x.z())) * front_->robot_from_camera;
     mapper_->OnDepth(input.depth->depth_m, world_from_camera);
-    clock_.Add("octomap", SecondsSince(t0));
+    octomap_seconds_in_frame_ = SecondsSince(t0);
+    clock_.Add("octomap", octomap_seconds_in_frame_);
   }
 }
 
@@ -437,6 +444,7 @@ std::vector<Innovation> P1VpDoorplatePipeline::TakeInnovations() { return std::m
 std::vector<MapFile> P1VpDoorplatePipeline::TakeMaps() {
   std::vector<MapFile> maps;
   if (mapper_) maps.push_back({".bt", mapper_->BinaryBytes()});
+  maps.push_back(FrameCostsCsv(frame_times_));  // P1 Fig. 16
   if (options_.use_door_plates) {
     maps.push_back({"_semantic.json", SemanticMapToJson(SemanticMapFromLandmarks(Landmarks()))});
   }

@@ -130,6 +130,8 @@ class P1VpDoorplatePipeline : public Pipeline {
   std::map<std::string, TimeNs> last_frame_ns_;
   std::vector<VpLandmark> vps_;
   std::map<std::string, PlateLandmark> plates_;  // by room number (P1 Table 1's signature)
+  std::vector<FrameCost> frame_times_;           // P1 Fig. 16
+  double octomap_seconds_in_frame_ = 0.0;
   std::map<std::string, PendingPlate> pending_;
   int next_landmark_id_ = 0;
   std::vector<Detection> detections_;
