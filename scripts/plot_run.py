@@ -15,7 +15,7 @@ Reads from RUN_DIR (metres, seconds, radians, world frame W; docs/frames.md):
   <pipeline>_detections.csv   (optional) every detection: stamp_s,camera,type,u_px,v_px,
                            box_min_x_px,box_min_y_px,box_max_x_px,box_max_y_px,plate_box,radius_px,
                            label,open,score,recognition_score,landmark_id,new_landmark
-  maps/<pipeline>_frame_times.csv   (optional) stamp_s,landmarks,frame_ms per front frame
+  maps/<pipeline>_frame_times.csv   (optional) stamp_s,landmarks,frame_ms per camera frame
   maps/<pipeline>_doors.json   (optional) corridorsim.upward_doors: each registered door's
                            landmark_id, columns_m and particles [[x_a, y_a, x_b, y_b, h], ...]
   maps/<pipeline>_areas.json   (optional) corridorsim.upward_areas: areas [{id, kind, door_landmark_id,
@@ -701,7 +701,7 @@ def read_detections(path):
 
 
 def read_frame_times(path):
-    """maps/<pipeline>_frame_times.csv (slam/p1_harris_pipeline.cpp) as arrays stamp_s (s,
+    """maps/<pipeline>_frame_times.csv (slam/filter_support.h, FrameCostsCsv) as arrays stamp_s (s,
     increasing), landmarks (count) and frame_ms (ms)."""
     out = {"stamp_s": [], "landmarks": [], "frame_ms": []}
     for line, cells in read_csv_table(path, list(out)):
