@@ -1,0 +1,802 @@
+#!/usr/bin/python3
+"""Plots of a finished `corridorsim study`: writes STUDY_DIR/plots/*.png.
+
+    scripts/plot_study.py STUDY_DIR
+
+Reads STUDY_DIR/summary.json (harness/study_summary.cpp, schema_version 1): `vary` (the swept
+keys), `pipelines`, and `points`, each with its `id`, its `vary` values (YAML text) and per
+pipeline the `values` per seed (`seed`, `ate_rmse_m`, ...; null where a run has none),
+`metrics.ate_rmse_m` (mean and 95 % bootstrap CI over the seeds), `runs.diverged_seeds`, `nees`
+(average, in_band_fraction) and `series` (the runs' statistics on a time grid: t in s, RMS
+position error and sigma in m, mean x / y error in m, the average NEES with its band). Every key
+but `points` and each point's `id` and `pipelines` may be absent: what it would draw is left out
+(a panel says "no data"); nulls are skipped.
+
+Writes (each printed on its own line; the names are fixed, report.md links them):
+  ate_box.png          ATE RMSE over the seeds: one panel per sweep point, a box per pipeline
+                       (quartiles, median, whiskers to 1.5 IQR), every seed as a dot (spread
+                       sideways by a fixed sequence, no randomness; diverged runs in red) and the
+                       mean with its 95 % bootstrap CI beside the box.
+  error_over_time.png  the RMS over the runs of the planar position error against time, the mean
+                       x and y errors, and the +-2 sigma band of the filter's RMS position sigma
+                       (P3 Fig. 18 over seeds): a row per pipeline, a column per sweep point; x
+                       shared, y shared within a row (a pipeline across the points).
+  nees.png             the average NEES over the runs against time with the 95 % band of the mean
+                       of N chi-square(3) values, laid out as error_over_time.png; a log y axis
+                       when a row's values span more than two decades.
+  sweep.png            only with a sweep (`vary` not empty): a panel per swept key, the mean ATE
+                       RMSE with its CI against the key's value, one line per pipeline (and per
+                       combination of the other keys' values). Numeric values (Python float())
+                       make a numeric axis, logarithmic when all are positive and span more than
+                       a decade; other values are placed in sweep order as categories. Lines are
+                       offset slightly in x so that their error bars stay apart.
+With many sweep points, ate_box.png shows at most 24 (in at most 6 rows, fewer columns when many
+pipelines widen the panels) and the time plots at most 6, evenly spaced in sweep order (the
+figure's title says so; summary.csv has every point). Pipelines are those of the top-level
+`pipelines`, then any other a point names; one absent at a point leaves its place empty. Values
+beyond 1e100 in magnitude (a diverged filter's) are skipped like nulls.
+
+Exit status: 0 when the plots were written; 2 when STUDY_DIR or its summary.json is missing or
+malformed (one line: `plot_study.py: <file>: <what>`, naming the key) or on a bad command line;
+1 when matplotlib is missing or a plot cannot be written. summary.json is read and checked before
+anything is drawn, so a bad input leaves no partial plots. The PNGs carry no software or date
+metadata, so the same summary.json and matplotlib version give the same bytes.
+"""
+
+import argparse
+import json
+import math
+import os
+import sys
+import textwrap
+import warnings
+
+# Debian's python3-matplotlib and python3-numpy live in /usr/bin/python3's site-packages; a pyenv
+# or venv `python3` that comes first on PATH may not see them, so the script re-runs itself there.
+SYSTEM_PYTHON = "/usr/bin/python3"
+REEXEC_ENV = "CORRIDORSIM_PLOT_REEXEC"
+PROG = "plot_study.py"
+try:
+    import matplotlib
+    import numpy as np
+except ImportError as missing:
+    if (not os.environ.get(REEXEC_ENV) and os.path.exists(SYSTEM_PYTHON) and
+            os.path.realpath(sys.executable) != os.path.realpath(SYSTEM_PYTHON)):
+        os.environ[REEXEC_ENV] = "1"
+        os.execv(SYSTEM_PYTHON, [SYSTEM_PYTHON, os.path.abspath(__file__)] + sys.argv[1:])
+    print(f"{PROG}: {missing.name} is not installed for {sys.executable} "
+          "(scripts/setup.sh installs python3-matplotlib)", file=sys.stderr)
+    sys.exit(1)
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402 (after choosing the backend)
+import matplotlib.ticker  # noqa: E402
+from matplotlib.lines import Line2D  # noqa: E402
+from matplotlib.patches import Patch  # noqa: E402
+
+SCHEMA_VERSION = 1
+ATE = "ate_rmse_m"
+NEES_DOF = 3  # x, y, yaw (the producer's kPoseDof; summary.json's nees.dof overrides it)
+SERIES_KEYS = ["t", "runs_with_nees", "anees", "band_low", "band_high", "position_error_rms_m",
+               "position_sigma_rms_m", "error_x_mean_m", "error_y_mean_m"]
+
+# Bounds on what summary.json may hold (the producer's are far below: harness/study_file.h).
+MAX_SUMMARY_BYTES = 1 << 30
+MAX_POINTS = 10_000
+MAX_PIPELINES = 64
+MAX_SEEDS = 100_000
+MAX_SERIES = 1_000_000
+MAX_TEXT_CHARS = 200
+MAX_ABS_VALUE = 1e100   # larger magnitudes (a diverged filter's) are skipped like nulls: beyond
+                        # it matplotlib's axis arithmetic overflows
+
+# How much one figure shows.
+MAX_BOX_POINTS = 24     # panels of ate_box.png
+MAX_BOX_ROWS = 6
+MAX_FIGURE_WIDTH = 28.0  # inches: ate_box.png takes fewer columns of wider panels
+MAX_SERIES_POINTS = 6   # columns of error_over_time.png and nees.png
+BOX_COLUMNS = 4
+MAX_LEGEND_LINES = 30   # entries in a sweep panel's legend
+LOG_DECADES = 2.0       # a y axis turns logarithmic when its values span more than this
+DPI = 100
+GRID = {"lw": 0.3, "color": "0.85"}
+
+
+class InputError(Exception):
+    """A missing or malformed input: the file and what is wrong."""
+
+    def __init__(self, path, message):
+        super().__init__(message)
+        self.path, self.message = path, message
+
+    def __str__(self):
+        return f"{self.path}: {self.message}"
+
+
+# ------------------------------------------------------------------------------------------------
+# Reading summary.json
+
+def load_json(path):
+    if not os.path.isfile(path):
+        raise InputError(path, "missing")
+    try:
+        if os.path.getsize(path) > MAX_SUMMARY_BYTES:
+            raise InputError(path, f"larger than {MAX_SUMMARY_BYTES >> 20} MiB")
+        with open(path, encoding="utf-8") as f:
+            text = f.read()
+    except (OSError, UnicodeDecodeError) as e:
+        raise InputError(path, f"cannot be read: {e}") from None
+    try:
+        # NaN and Infinity are not JSON; the producer writes null for them, and so do we.
+        root = json.loads(text, parse_constant=lambda _: None)
+    except json.JSONDecodeError as e:
+        raise InputError(path, f"line {e.lineno} column {e.colno}: invalid JSON: {e.msg}") \
+            from None
+    except RecursionError:
+        raise InputError(path, "invalid JSON: nested too deeply") from None
+    except ValueError as e:  # e.g. an integer of more digits than Python converts
+        raise InputError(path, f"invalid JSON: {str(e)[:80]}") from None
+    if not isinstance(root, dict):
+        raise InputError(path, "the top level is not a JSON object")
+    return root
+
+
+def is_number(value):
+    return isinstance(value, (int, float)) and not isinstance(value, bool)
+
+
+def shown(value):
+    try:
+        return json.dumps(value)[:40]
+    except (TypeError, ValueError):
+        return type(value).__name__
+
+
+class Checker:
+    """Typed access to summary.json's keys; errors name the file and the key's path."""
+
+    def __init__(self, path):
+        self.path = path
+
+    def fail(self, where, message):
+        raise InputError(self.path, f"{where}: {message}" if where else message)
+
+    def get(self, obj, key, kind, where, required=False):
+        """obj[key] if it is of `kind` ('object', 'array', 'number', 'integer', 'text'); None when
+        absent or null (an error when `required`)."""
+        name = f"{where}.{key}" if where else key
+        value = obj.get(key)
+        if value is None:
+            if required:
+                self.fail(name, "missing")
+            return None
+        ok = {
+            "object": isinstance(value, dict),
+            "array": isinstance(value, list),
+            "number": is_number(value),
+            "integer": isinstance(value, int) and not isinstance(value, bool),
+            "text": isinstance(value, str) or is_number(value),
+        }[kind]
+        if not ok:
+            self.fail(name, f"expected {'an' if kind[0] in 'aeio' else 'a'} {kind}, "
+                      f"got {shown(value)}")
+        return value
+
+    def text(self, obj, key, where, required=False):
+        value = self.get(obj, key, "text", where, required)
+        if value is None:
+            return None
+        value = str(value)
+        if len(value) > MAX_TEXT_CHARS:
+            self.fail(f"{where}.{key}", f"longer than {MAX_TEXT_CHARS} characters")
+        return value
+
+    def numbers(self, obj, key, where, length=None, limit=MAX_SERIES, of="times"):
+        """obj[key] as a float array (NaN for null, non-finite or beyond MAX_ABS_VALUE); None when
+        absent. `length`:
+        the array must have that many entries (as many as the `of`)."""
+        name = f"{where}.{key}"
+        values = self.get(obj, key, "array", where)
+        if values is None:
+            return None
+        if len(values) > limit:
+            self.fail(name, f"more than {limit} entries")
+        if length is not None and len(values) != length:
+            self.fail(name, f"has {len(values)} entries, expected {length} (as many as the "
+                      f"{of})")
+        if all(type(v) in (float, int) or v is None for v in values):  # the common case, fast
+            try:
+                out = np.array(values, dtype=float)  # None becomes NaN
+                out[~(np.abs(out) <= MAX_ABS_VALUE)] = math.nan
+                return out
+            except OverflowError:
+                pass  # an integer beyond a double: the loop below
+        out = np.full(len(values), math.nan)
+        for i, v in enumerate(values):
+            if v is None:
+                continue
+            if not is_number(v):
+                self.fail(f"{name}[{i}]", f"expected a number or null, got {shown(v)}")
+            try:
+                out[i] = float(v)
+            except OverflowError:
+                pass  # an integer beyond a double: not finite, skipped as null
+        out[~(np.abs(out) <= MAX_ABS_VALUE)] = math.nan
+        return out
+
+
+def finite(value):
+    """value as a float when it is a number within MAX_ABS_VALUE, else None."""
+    if value is None:
+        return None
+    try:
+        v = float(value)
+    except OverflowError:
+        return None
+    return v if abs(v) <= MAX_ABS_VALUE else None
+
+
+def read_pipeline(c, entry, where):
+    """One pipeline at one point."""
+    if not isinstance(entry, dict):
+        c.fail(where, "expected an object")
+    p = {"finished": None, "diverged": set(), "seeds": np.zeros(0), "ate": np.zeros(0),
+         "ate_mean": None, "ate_ci": None, "nees_average": None, "nees_in_band": None,
+         "nees_dof": NEES_DOF, "series": None}
+    runs = c.get(entry, "runs", "object", where)
+    if runs is not None:
+        p["finished"] = c.get(runs, "finished", "integer", f"{where}.runs")
+        diverged = c.numbers(runs, "diverged_seeds", f"{where}.runs", limit=MAX_SEEDS)
+        if diverged is not None:
+            p["diverged"] = {float(s) for s in diverged if np.isfinite(s)}
+    values = c.get(entry, "values", "object", where)
+    if values is not None:
+        seeds = c.numbers(values, "seed", f"{where}.values", limit=MAX_SEEDS)
+        if seeds is None:
+            seeds = np.zeros(0) if values.get(ATE) is None else None
+        ate = c.numbers(values, ATE, f"{where}.values",
+                        length=None if seeds is None else len(seeds), limit=MAX_SEEDS,
+                        of="seeds")
+        if seeds is None:  # ate_rmse_m without its seeds
+            c.fail(f"{where}.values.seed", "missing (ate_rmse_m is there)")
+        p["seeds"], p["ate"] = seeds, np.zeros(0) if ate is None else ate
+    metrics = c.get(entry, "metrics", "object", where)
+    if metrics is not None:
+        ate = c.get(metrics, ATE, "object", f"{where}.metrics")
+        if ate is not None:
+            w = f"{where}.metrics.{ATE}"
+            p["ate_mean"] = finite(c.get(ate, "mean", "number", w))
+            lo = finite(c.get(ate, "ci_low", "number", w))
+            hi = finite(c.get(ate, "ci_high", "number", w))
+            if lo is not None and hi is not None:
+                if lo > hi:
+                    c.fail(w, f"ci_low {lo:.9g} is above ci_high {hi:.9g}")
+                p["ate_ci"] = (lo, hi)
+    if p["ate_mean"] is None and np.isfinite(p["ate"]).any():
+        p["ate_mean"] = float(np.nanmean(p["ate"]))
+    nees = c.get(entry, "nees", "object", where)
+    if nees is not None:
+        for key, out in [("average", "nees_average"), ("in_band_fraction", "nees_in_band")]:
+            p[out] = finite(c.get(nees, key, "number", f"{where}.nees"))
+        dof = c.get(nees, "dof", "integer", f"{where}.nees")
+        if dof is not None:
+            if not 1 <= dof <= 1000:
+                c.fail(f"{where}.nees.dof", f"expected 1 to 1000, got {dof}")
+            p["nees_dof"] = dof
+    series = c.get(entry, "series", "object", where)
+    if series is not None:
+        w = f"{where}.series"
+        t = c.numbers(series, "t", w)
+        if t is None:
+            t = np.zeros(0)
+            if any(series.get(k) for k in SERIES_KEYS[1:]):
+                c.fail(f"{w}.t", "missing (the other series are there)")
+        s = {"t": t}
+        for key in SERIES_KEYS[1:]:
+            values = c.numbers(series, key, w, length=len(t))
+            s[key] = np.full(len(t), math.nan) if values is None else values
+        p["series"] = s
+    return p
+
+
+def read_summary(study_dir):
+    """Reads and checks summary.json; raises InputError on the first problem."""
+    if not os.path.isdir(study_dir):
+        raise InputError(study_dir, "is not a directory")
+    path = os.path.join(study_dir, "summary.json")
+    root = load_json(path)
+    c = Checker(path)
+    version = c.get(root, "schema_version", "integer", "")
+    if version is not None and version != SCHEMA_VERSION:
+        c.fail("schema_version", f"{version} is not supported (this script reads "
+               f"{SCHEMA_VERSION})")
+    vary = c.get(root, "vary", "array", "") or []
+    for i, key in enumerate(vary):
+        if not isinstance(key, str) or not key or len(key) > MAX_TEXT_CHARS:
+            c.fail(f"vary[{i}]", f"expected a key name, got {shown(key)}")
+    if len(set(vary)) != len(vary):
+        c.fail("vary", "names a key twice")
+    names = c.get(root, "pipelines", "array", "")
+    if names is not None:
+        for i, name in enumerate(names):
+            if not isinstance(name, str) or len(name) > MAX_TEXT_CHARS:
+                c.fail(f"pipelines[{i}]", f"expected a pipeline name, got {shown(name)}")
+        names = list(dict.fromkeys(names))
+    raw_points = c.get(root, "points", "array", "", required=True)
+    if not raw_points:
+        c.fail("points", "empty")
+    if len(raw_points) > MAX_POINTS:
+        c.fail("points", f"more than {MAX_POINTS} points")
+    points, seen_names = [], []
+    for i, item in enumerate(raw_points):
+        where = f"points[{i}]"
+        if not isinstance(item, dict):
+            c.fail(where, "expected an object")
+        pid = c.text(item, "id", where, required=True)
+        values = c.get(item, "vary", "object", where) or {}
+        point_vary = {}
+        for key in vary:
+            value = values.get(key)
+            if value is None or isinstance(value, (dict, list, bool)):
+                c.fail(f"{where}.vary", f"no value (YAML text) for the swept key '{key}'"
+                       if value is None else f"{key}: expected YAML text, got {shown(value)}")
+            point_vary[key] = str(value)[:MAX_TEXT_CHARS]
+        entries = c.get(item, "pipelines", "object", where, required=True)
+        pipelines = {}
+        for name, entry in entries.items():
+            if len(name) > MAX_TEXT_CHARS:
+                c.fail(f"{where}.pipelines", f"a pipeline name is longer than {MAX_TEXT_CHARS} "
+                       "characters")
+            pipelines[name] = read_pipeline(c, entry, f"{where}.pipelines.{name}")
+            if name not in seen_names:
+                seen_names.append(name)
+        points.append({"id": pid, "vary": point_vary, "pipelines": pipelines})
+    names = (names or []) + [n for n in seen_names if n not in (names or [])]
+    if not names:
+        c.fail("pipelines", "no pipeline, at the top level or at any point")
+    if len(names) > MAX_PIPELINES:
+        c.fail("pipelines", f"more than {MAX_PIPELINES} pipelines")
+    return {"vary": vary, "pipelines": names, "points": points}
+
+
+# ------------------------------------------------------------------------------------------------
+# Drawing
+
+def plain(text):
+    """Text drawn as it is: matplotlib reads '$...$' as mathtext, which a name may contain."""
+    return str(text).replace("$", r"\$")
+
+
+def save(fig, plots_dir, name, written):
+    """Writes the figure atomically (temporary file, then rename) and without metadata."""
+    path = os.path.join(plots_dir, name)
+    tmp = path + ".tmp"
+    try:
+        fig.savefig(tmp, format="png", dpi=DPI, metadata={"Software": None})
+        os.replace(tmp, path)
+    finally:
+        plt.close(fig)
+        if os.path.exists(tmp):
+            os.remove(tmp)
+    written.append(path)
+
+
+def pipeline_color(index, count):
+    if count <= 10:
+        return f"C{index}"
+    return plt.get_cmap("tab20")(index % 20)
+
+
+def point_label(point, width=None):
+    """'p001: key = value, ...', wrapped to `width` characters."""
+    text = point["id"]
+    if point["vary"]:
+        text += ": " + ", ".join(f"{k} = {v}" for k, v in point["vary"].items())
+    text = plain(text)
+    return "\n".join(textwrap.wrap(text, width)) if width else text
+
+
+def shown_points(points, limit):
+    """At most `limit` points, evenly spaced in sweep order (first and last included)."""
+    if len(points) <= limit:
+        return list(points)
+    picks = sorted(set(int(round(i)) for i in np.linspace(0, len(points) - 1, limit)))
+    return [points[i] for i in picks]
+
+
+def subset_note(shown, points):
+    if len(shown) == len(points):
+        return ""
+    return (f" ({len(shown)} of {len(points)} sweep points, evenly spaced; summary.csv has "
+            "all)")
+
+
+def wants_log(values):
+    """True when the finite positive `values` span more than LOG_DECADES decades."""
+    v = np.asarray(values, dtype=float)
+    v = v[np.isfinite(v) & (v > 0)]
+    return v.size >= 2 and math.log10(v.max()) - math.log10(v.min()) > LOG_DECADES
+
+
+def no_data(ax, text="no data"):
+    ax.text(0.5, 0.5, text, ha="center", va="center", color="0.4", transform=ax.transAxes)
+
+
+def fmt(v, spec=".3g"):
+    return "–" if v is None else format(v, spec)
+
+
+def jitter(n, width):
+    """n sideways offsets in [-width/2, width/2): the golden-ratio sequence (no randomness)."""
+    return ((np.arange(n) * 0.6180339887498949) % 1.0 - 0.5) * width
+
+
+def finish_layout(fig, title, handles):
+    """The title on top, the figure's legend in rows under the panels (as many entries a row as
+    the width takes), and the panels laid out between them."""
+    height = fig.get_figheight()
+    fig.suptitle(title, y=1.0 - 0.12 / height, va="top")
+    ncol = max(1, min(len(handles), int(fig.get_figwidth() / 3.3)))
+    rows = math.ceil(len(handles) / ncol)
+    fig.legend(handles=handles, loc="lower center", ncol=ncol, fontsize=9, frameon=False)
+    fig.tight_layout(rect=(0, (0.08 + 0.24 * rows) / height, 1, 1.0 - 0.5 / height))
+
+
+def plot_ate_box(study, plots_dir, written):
+    """ate_box.png: ATE RMSE over the seeds, a panel per sweep point, a box per pipeline."""
+    names = study["pipelines"]
+    panel_w = max(4.2, 0.95 * len(names) + 1.8)
+    ncols = max(1, min(len(study["points"]), BOX_COLUMNS, int(MAX_FIGURE_WIDTH / panel_w)))
+    points = shown_points(study["points"], min(MAX_BOX_POINTS, ncols * MAX_BOX_ROWS))
+    nrows = math.ceil(len(points) / ncols)
+    rotate = max(len(n) for n in names) > 12 if names else False
+    fig, axes = plt.subplots(nrows, ncols, figsize=(panel_w * ncols, 3.9 * nrows + 1.3),
+                             squeeze=False)
+    wrap = max(30, int(panel_w * 11))
+    any_diverged = False
+    for ax, point in zip(axes.flat, points):
+        ticks, all_values = [], []
+        for j, name in enumerate(names):
+            p = point["pipelines"].get(name)
+            if p is None:
+                ticks.append(f"{plain(name)}\n(absent)")
+                continue
+            values, seeds = p["ate"], p["seeds"]
+            finite = np.isfinite(values)
+            nulls = int((~finite).sum())
+            count = int(finite.sum())
+            ticks.append(f"{plain(name)}\n{count} seed{'' if count == 1 else 's'}" +
+                         (f", {nulls} null" if nulls else ""))
+            if not finite.any():
+                ax.text(j, 0.5, "no values", ha="center", va="center", color="0.4",
+                        rotation=90, transform=ax.get_xaxis_transform())
+                continue
+            v = values[finite]
+            all_values.extend(v.tolist())
+            color = pipeline_color(j, len(names))
+            ax.boxplot([v], positions=[j], widths=0.5, showfliers=False, manage_ticks=False,
+                       patch_artist=True, zorder=2,
+                       boxprops={"facecolor": "none", "edgecolor": "0.25"},
+                       medianprops={"color": "0.1", "lw": 1.5},
+                       whiskerprops={"color": "0.25"}, capprops={"color": "0.25"})
+            diverged = np.array([s in p["diverged"] for s in seeds[finite]], dtype=bool)
+            any_diverged |= bool(diverged.any())
+            x = j + jitter(v.size, 0.42)
+            ax.scatter(x[~diverged], v[~diverged], s=16, color=color, alpha=0.75,
+                       edgecolors="none", zorder=3)
+            if diverged.any():
+                ax.scatter(x[diverged], v[diverged], s=26, facecolors="none",
+                           edgecolors="#d72828", linewidths=1.2, zorder=3)
+            mean = p["ate_mean"]
+            if mean is not None:
+                if p["ate_ci"] is not None:
+                    lo, hi = p["ate_ci"]
+                    yerr = [[max(mean - lo, 0.0)], [max(hi - mean, 0.0)]]
+                    all_values.extend([lo, hi])
+                else:
+                    yerr = None
+                ax.errorbar([j + 0.36], [mean], yerr=yerr, fmt="D", ms=5, color="k",
+                            mfc="#ffb000", capsize=3, lw=1.0, zorder=4)
+                all_values.append(mean)
+        ax.set_xticks(range(len(names)), ticks, fontsize=8, rotation=30 if rotate else 0,
+                      ha="right" if rotate else "center")
+        ax.set_xlim(-0.6, len(names) - 0.4)
+        if wants_log(all_values):
+            ax.set_yscale("log")
+        elif all_values:
+            ax.set_ylim(bottom=0.0, top=max(all_values) * 1.08 if max(all_values) > 0 else 1.0)
+        else:
+            no_data(ax, "no ATE values")
+        ax.set_ylabel("ATE RMSE [m]")
+        ax.set_title(point_label(point, wrap), fontsize=9)
+        ax.grid(True, axis="y", **GRID)
+    for ax in axes.flat[len(points):]:
+        ax.axis("off")
+    handles = [Line2D([], [], ls="", marker="o", color="0.45", ms=5, label="one seed"),
+               Line2D([], [], color="0.1", lw=1.5, label="median; box: quartiles; "
+                      "whiskers: 1.5 IQR"),
+               Line2D([], [], ls="-", marker="D", ms=5, color="k", mfc="#ffb000",
+                      label="mean with its 95 % bootstrap CI")]
+    if any_diverged:
+        handles.insert(1, Line2D([], [], ls="", marker="o", ms=6, mfc="none", mec="#d72828",
+                                 label="diverged run"))
+    finish_layout(fig, "ATE RMSE over the seeds, per pipeline" +
+                  subset_note(points, study["points"]), handles)
+    save(fig, plots_dir, "ate_box.png", written)
+
+
+def series_grid(study, title_of, draw, plots_dir, name, written, suptitle, legend_handles,
+                log_of=None):
+    """A figure with a row per pipeline and a column per shown sweep point (named above its top
+    panel); x shared by all panels, y within a row. title_of(pipeline, p) gives a panel's
+    title; draw(ax, p) draws one panel and returns its y values (for log_of(axes, values), which
+    sets a row's y axis) or None when it had nothing to draw."""
+    names = study["pipelines"]
+    points = shown_points(study["points"], MAX_SERIES_POINTS)
+    nrows, ncols = len(names), len(points)
+    panel_w = 10.0 if ncols == 1 else max(4.8, 16.0 / ncols)
+    fig, axes = plt.subplots(nrows, ncols, figsize=(panel_w * ncols, 2.7 * nrows + 1.4),
+                             squeeze=False, sharex=True)
+    # y is shared within a row (one pipeline across the sweep points), never between pipelines:
+    # dead reckoning's metres would flatten a SLAM pipeline's centimetres.
+    row_values = [[] for _ in names]
+    for col, point in enumerate(points):
+        for row, pipeline in enumerate(names):
+            ax = axes[row, col]
+            if col > 0:
+                ax.sharey(axes[row, 0])
+            p = point["pipelines"].get(pipeline)
+            values = None
+            if p is None:
+                no_data(ax, "pipeline absent at this point")
+            elif p["series"] is None or p["series"]["t"].size == 0:
+                no_data(ax, "no series" if p["finished"] != 0 else "no finished run")
+            else:
+                values = draw(ax, p)
+                if values is None:
+                    no_data(ax)
+            if values is not None:
+                row_values[row].extend(values)
+            # The column's sweep point above its top panel; each panel names its pipeline.
+            width = max(30, int(panel_w * 11))
+            title = "\n".join(textwrap.wrap(title_of(pipeline, p), width))
+            if row == 0:
+                title = point_label(point, width) + "\n" + title
+            ax.set_title(title, fontsize=9)
+            ax.grid(True, **GRID)
+            ax.tick_params(labelbottom=True)
+            if row == nrows - 1:
+                ax.set_xlabel("time [s]")
+    if log_of is not None:
+        for row in range(nrows):
+            log_of([axes[row, col] for col in range(ncols)], row_values[row])
+    finish_layout(fig, suptitle + subset_note(points, study["points"]), legend_handles)
+    save(fig, plots_dir, name, written)
+
+
+def plot_error_over_time(study, plots_dir, written):
+    """error_over_time.png: per pipeline and point, the RMS over the runs of the planar position
+    error (m) against time (s), the mean x and y errors, and +-2 sigma of the RMS position sigma."""
+
+    def draw(ax, p):
+        s = p["series"]
+        t, err, sigma = s["t"], s["position_error_rms_m"], s["position_sigma_rms_m"]
+        ex, ey = s["error_x_mean_m"], s["error_y_mean_m"]
+        if not (np.isfinite(err).any() or np.isfinite(sigma).any()):
+            return None
+        ax.axhline(0.0, color="0.6", lw=0.6)
+        if np.isfinite(sigma).any():
+            ax.fill_between(t, -2.0 * sigma, 2.0 * sigma, color="C3", alpha=0.12, lw=0)
+            ax.plot(t, 2.0 * sigma, color="C3", lw=0.9, ls="--")
+            ax.plot(t, -2.0 * sigma, color="C3", lw=0.9, ls="--")
+        ax.plot(t, ex, color="C1", lw=0.8)
+        ax.plot(t, ey, color="C2", lw=0.8)
+        ax.plot(t, err, color="C0", lw=1.5)
+        ax.set_ylabel("position error [m]")
+        return np.concatenate([err, 2.0 * sigma, -2.0 * sigma, ex, ey]).tolist()
+
+    def title(pipeline, p):
+        runs = "" if p is None or p["finished"] is None else f" ({p['finished']} runs)"
+        return f"{plain(pipeline)}{runs}"
+
+    handles = [Line2D([], [], color="C0", lw=1.5, label="RMS position error over the runs"),
+               Line2D([], [], color="C1", lw=0.8, label="mean x error"),
+               Line2D([], [], color="C2", lw=0.8, label="mean y error"),
+               Patch(facecolor="C3", alpha=0.25, edgecolor="C3", ls="--",
+                     label="±2σ, σ = RMS over the runs of √(σx² + σy²)")]
+    series_grid(study, title, draw, plots_dir, "error_over_time.png", written,
+                "Planar position error over time (estimate − truth, world frame) with the "
+                "filter's ±2σ (P3 Fig. 18 over seeds)", handles)
+
+
+def plot_nees(study, plots_dir, written):
+    """nees.png: per pipeline and point, the NEES averaged over the runs against time (s) with
+    the 95 % band of the mean of N chi-square(dof) values."""
+    dofs = sorted({p["nees_dof"] for point in study["points"]
+                   for p in point["pipelines"].values()}) or [NEES_DOF]
+
+    def draw(ax, p):
+        s = p["series"]
+        t, anees, lo, hi = s["t"], s["anees"], s["band_low"], s["band_high"]
+        if not np.isfinite(anees).any():
+            return None
+        ax.fill_between(t, lo, hi, color="C2", alpha=0.18, lw=0)
+        ax.plot(t, lo, color="C2", lw=0.7, ls="--")
+        ax.plot(t, hi, color="C2", lw=0.7, ls="--")
+        ax.axhline(p["nees_dof"], color="0.4", lw=0.7, ls=":")
+        ax.plot(t, anees, color="C0", lw=1.3)
+        ax.set_ylabel(f"average NEES ({p['nees_dof']} dof)")
+        return np.concatenate([anees, lo, hi, [p["nees_dof"]]]).tolist()
+
+    def title(pipeline, p):
+        text = plain(pipeline)
+        if p is not None:
+            inside = None if p["nees_in_band"] is None else 100.0 * p["nees_in_band"]
+            text += (f": average {fmt(p['nees_average'])}, {fmt(inside, '.0f')} % of the "
+                     "times in the band")
+        return text
+
+    def log_of(axes, values):
+        if wants_log(values):
+            v = np.asarray(values, dtype=float)
+            v = v[np.isfinite(v) & (v > 0)]
+            for ax in axes:
+                ax.set_yscale("log")
+            axes[0].set_ylim(v.min() / 1.5, v.max() * 1.5)
+        elif values:
+            v = np.asarray(values, dtype=float)
+            v = v[np.isfinite(v)]
+            if v.size:
+                axes[0].set_ylim(min(0.0, v.min()), v.max() * 1.08 if v.max() > 0 else 1.0)
+
+    dof_text = "/".join(str(d) for d in dofs)
+    handles = [Line2D([], [], color="C0", lw=1.3, label="NEES averaged over the runs"),
+               Patch(facecolor="C2", alpha=0.3, edgecolor="C2", ls="--",
+                     label=f"95 % band of the mean of N χ²({dof_text}) values"),
+               Line2D([], [], color="0.4", lw=0.7, ls=":", label=f"expected value ({dof_text})")]
+    series_grid(study, title, draw, plots_dir, "nees.png", written,
+                "Average NEES of the pose (x, y, yaw) over time against its 95 % band", handles,
+                log_of)
+
+
+def as_number(text):
+    """float(text) when it is a number within MAX_ABS_VALUE, else None."""
+    try:
+        return finite(float(text))
+    except (TypeError, ValueError, OverflowError):
+        return None
+
+
+def plot_sweep(study, plots_dir, written):
+    """sweep.png: a panel per swept key: the mean ATE RMSE (m) with its CI against the key's
+    value, one line per pipeline and combination of the other keys' values."""
+    keys, names, points = study["vary"], study["pipelines"], study["points"]
+    fig, axes = plt.subplots(len(keys), 1, figsize=(12, 4.6 * len(keys)), squeeze=False)
+    markers = "osD^vP*Xh<>p"
+    styles = ["-", "--", "-.", ":"]
+    for ax, key in zip(axes[:, 0], keys):
+        others = [k for k in keys if k != key]
+        texts = list(dict.fromkeys(pt["vary"][key] for pt in points))
+        numbers = [as_number(v) for v in texts]
+        numeric = all(v is not None for v in numbers)
+        log_x = numeric and min(numbers) > 0 and max(numbers) / min(numbers) > 10.0
+        x_of = dict(zip(texts, numbers)) if numeric else {v: i for i, v in enumerate(texts)}
+        combos = list(dict.fromkeys(tuple(pt["vary"][k] for k in others) for pt in points))
+        lines = [(j, name, combo) for j, name in enumerate(names) for combo in combos]
+        # Sideways offsets so that the lines' error bars stay apart: together at most 20 % of
+        # the smallest gap between two values (in decades on a log axis).
+        positions = sorted(set(math.log10(v) if log_x else v for v in x_of.values()))
+        gaps = np.diff(positions)
+        unit = float(gaps.min()) if gaps.size else (1.0 if log_x or not numeric else
+                                                    max(abs(positions[0]), 1.0))
+        spread = min(0.03 * (len(lines) - 1), 0.2) * unit
+        all_y = []
+        for k, (j, name, combo) in enumerate(lines):
+            shift = (k / (len(lines) - 1) - 0.5) * spread if len(lines) > 1 else 0.0
+            xs, ys, lo, hi = [], [], [], []
+            for pt in points:
+                if tuple(pt["vary"][o] for o in others) != combo:
+                    continue
+                p = pt["pipelines"].get(name)
+                if p is None or p["ate_mean"] is None:
+                    continue
+                x = x_of[pt["vary"][key]]
+                x = x * 10.0 ** shift if log_x else x + shift
+                mean = p["ate_mean"]
+                ci = p["ate_ci"] if p["ate_ci"] is not None else (mean, mean)
+                xs.append(x)
+                ys.append(mean)
+                lo.append(max(mean - ci[0], 0.0))
+                hi.append(max(ci[1] - mean, 0.0))
+                all_y.extend([mean, ci[0], ci[1]])
+            if not xs:
+                continue
+            order = np.argsort(xs, kind="stable")
+            xs, ys = np.array(xs)[order], np.array(ys)[order]
+            yerr = np.array([lo, hi])[:, order]
+            if len(names) > 1:
+                color = pipeline_color(j, len(names))
+                c = combos.index(combo)
+                marker, style = markers[c % len(markers)], styles[(c // len(markers)) % 4]
+            else:
+                c = combos.index(combo)
+                color, marker, style = pipeline_color(c, len(combos)), "o", "-"
+            parts = [plain(name)] if len(names) > 1 or not others else []
+            parts += [plain(f"{o} = {v}") for o, v in zip(others, combo)]
+            label = ", ".join(parts) if k < MAX_LEGEND_LINES else None
+            ax.errorbar(xs, ys, yerr=yerr, color=color, marker=marker, ls=style, ms=5, lw=1.2,
+                        capsize=3, elinewidth=0.9, label=label)
+        if log_x:
+            ax.set_xscale("log")
+        if not numeric:
+            ax.set_xticks(range(len(texts)), [plain(v) for v in texts],
+                          rotation=30 if len(texts) > 6 else 0,
+                          ha="right" if len(texts) > 6 else "center")
+            ax.set_xlim(-0.5, len(texts) - 0.5)
+        elif len(texts) <= 12:  # each value its own labelled tick, as the sweep wrote it
+            ax.set_xticks(numbers, [plain(v) for v in texts])
+            ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+            if len(texts) == 1:
+                v = numbers[0]
+                ax.set_xlim(*((v / 10.0, v * 10.0) if log_x else (v - 1.0, v + 1.0)))
+        if wants_log(all_y):
+            ax.set_yscale("log")
+        elif all_y:
+            ax.set_ylim(bottom=0.0, top=max(all_y) * 1.1 if max(all_y) > 0 else 1.0)
+        else:
+            no_data(ax, "no ATE means")
+        ax.set_xlabel(plain(key) + ("" if numeric else " (sweep order)")
+                      + (", log scale" if log_x else ""))
+        ax.set_ylabel("ATE RMSE, mean over seeds [m]")
+        against = f" for each value of {', '.join(plain(o) for o in others)}" if others else ""
+        ax.set_title(f"mean ATE RMSE against {plain(key)}{against} (error bars: 95 % "
+                     "bootstrap CI over the seeds)", fontsize=10)
+        ax.grid(True, which="major", **GRID)
+        if ax.get_legend_handles_labels()[0]:
+            extra = len(lines) - MAX_LEGEND_LINES
+            ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8,
+                      title=f"{extra} more lines not listed" if extra > 0 else None,
+                      title_fontsize=8)
+    fig.suptitle("Sweep: mean ATE RMSE per pipeline against the swept values")
+    fig.tight_layout()
+    save(fig, plots_dir, "sweep.png", written)
+
+
+def plot_study(study, plots_dir):
+    """Draws every plot; returns the paths written."""
+    os.makedirs(plots_dir, exist_ok=True)
+    written = []
+    plot_ate_box(study, plots_dir, written)
+    plot_error_over_time(study, plots_dir, written)
+    plot_nees(study, plots_dir, written)
+    if study["vary"]:
+        plot_sweep(study, plots_dir, written)
+    return written
+
+
+def main(argv):
+    parser = argparse.ArgumentParser(prog=PROG, description="Writes STUDY_DIR/plots/*.png for a "
+                                     "finished `corridorsim study`.")
+    parser.add_argument("study_dir", metavar="STUDY_DIR")
+    args = parser.parse_args(argv)
+    try:
+        study = read_summary(args.study_dir)
+    except InputError as e:
+        print(f"{PROG}: {e}", file=sys.stderr)
+        return 2
+    plots_dir = os.path.join(args.study_dir, "plots")
+    # Values near the limits of a double (a diverged filter's) overflow in matplotlib's tick
+    # arithmetic: the plot is still drawn, so the warnings are left out.
+    warnings.filterwarnings("ignore", category=RuntimeWarning)
+    try:
+        paths = plot_study(study, plots_dir)
+    except OSError as e:
+        print(f"{PROG}: {e.filename or plots_dir}: cannot write: {e.strerror or e}",
+              file=sys.stderr)
+        return 1
+    for path in paths:
+        print(path)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
