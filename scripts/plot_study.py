@@ -30,6 +30,9 @@ Writes (each printed on its own line; the names are fixed, report.md links them)
                        make a numeric axis, logarithmic when all are positive and span more than
                        a decade; other values are placed in sweep order as categories. Lines are
                        offset slightly in x so that their error bars stay apart.
+  frame_times.png      only when the study has frame_times.csv (pipelines that record their cost
+                       per frame: P1's): the median and 95th percentile time per camera frame
+                       against the landmarks in the state, per pipeline (P1 Fig. 16 over seeds).
 With many sweep points, ate_box.png shows at most 24 (in at most 6 rows, fewer columns when many
 pipelines widen the panels) and the time plots at most 6, evenly spaced in sweep order (the
 figure's title says so; summary.csv has every point). Pipelines are those of the top-level
@@ -761,7 +764,64 @@ def plot_sweep(study, plots_dir, written):
     save(fig, plots_dir, "sweep.png", written)
 
 
-def plot_study(study, plots_dir):
+def read_frame_times(study_dir):
+    """STUDY_DIR/frame_times.csv (harness/study.cpp, WriteFrameTimes: point, pipeline,
+    landmarks_low, landmarks_high, frames, mean_ms, median_ms, p95_ms), or None when the study
+    has none (no pipeline of its runs records frame costs). Raises InputError when malformed."""
+    path = os.path.join(study_dir, "frame_times.csv")
+    if not os.path.isfile(path):
+        return None
+    header = "point,pipeline,landmarks_low,landmarks_high,frames,mean_ms,median_ms,p95_ms"
+    rows = []
+    try:
+        with open(path, encoding="utf-8") as f:
+            lines = f.read(64 << 20).splitlines()
+    except (OSError, UnicodeDecodeError) as e:
+        raise InputError(path, f"cannot read: {e}")
+    if not lines or lines[0] != header:
+        raise InputError(path, f"line 1: expected the header '{header}'")
+    for number, line in enumerate(lines[1:], start=2):
+        cells = line.split(",")
+        try:
+            if len(cells) != 8:
+                raise ValueError("8 fields expected")
+            low, high, frames = int(cells[2]), int(cells[3]), int(cells[4])
+            mean, median, p95 = (float(c) for c in cells[5:8])
+            if not all(math.isfinite(v) and 0 <= v <= MAX_ABS_VALUE for v in (mean, median, p95)):
+                raise ValueError("a time out of range")
+        except ValueError as e:
+            raise InputError(path, f"line {number}: {e}")
+        rows.append({"point": cells[0], "pipeline": cells[1], "low": low, "high": high,
+                     "frames": frames, "mean": mean, "median": median, "p95": p95})
+    return rows
+
+
+def plot_frame_times(rows, plots_dir, written):
+    """frame_times.png (P1 Fig. 16 over seeds): per pipeline (and point), the median time per
+    camera frame against the landmarks in the state, with the 95th percentile; wall clock."""
+    fig, ax = plt.subplots(figsize=(8.0, 4.8))
+    series = {}
+    for r in rows:
+        series.setdefault((r["point"], r["pipeline"]), []).append(r)
+    points = sorted({k[0] for k in series})
+    for i, ((point, pipeline), rs) in enumerate(sorted(series.items())):
+        x = [(r["low"] + r["high"]) / 2.0 for r in rs]
+        label = plain(pipeline) + (f" ({point})" if len(points) > 1 else "")
+        color = f"C{i % 10}"
+        ax.plot(x, [r["median"] for r in rs], color=color, lw=1.5, marker="o", ms=3, label=label)
+        ax.plot(x, [r["p95"] for r in rs], color=color, lw=0.8, ls="--")
+    ax.plot([], [], color="0.4", lw=0.8, ls="--", label="95th percentile")
+    ax.set_xlabel("landmarks in the state")
+    ax.set_ylabel("time per camera frame [ms]")
+    ax.grid(True, **GRID)
+    ax.legend(fontsize=8)
+    ax.set_title("Filter time per frame against the landmarks in the state (P1 Fig. 16 over "
+                 "seeds; wall clock)", fontsize=10)
+    fig.tight_layout()
+    save(fig, plots_dir, "frame_times.png", written)
+
+
+def plot_study(study, plots_dir, frame_times=None):
     """Draws every plot; returns the paths written."""
     os.makedirs(plots_dir, exist_ok=True)
     written = []
@@ -770,6 +830,8 @@ def plot_study(study, plots_dir):
     plot_nees(study, plots_dir, written)
     if study["vary"]:
         plot_sweep(study, plots_dir, written)
+    if frame_times:
+        plot_frame_times(frame_times, plots_dir, written)
     return written
 
 
@@ -780,6 +842,7 @@ def main(argv):
     args = parser.parse_args(argv)
     try:
         study = read_summary(args.study_dir)
+        frame_times = read_frame_times(args.study_dir)
     except InputError as e:
         print(f"{PROG}: {e}", file=sys.stderr)
         return 2
@@ -788,7 +851,7 @@ def main(argv):
     # arithmetic: the plot is still drawn, so the warnings are left out.
     warnings.filterwarnings("ignore", category=RuntimeWarning)
     try:
-        paths = plot_study(study, plots_dir)
+        paths = plot_study(study, plots_dir, frame_times)
     except OSError as e:
         print(f"{PROG}: {e.filename or plots_dir}: cannot write: {e.strerror or e}",
               file=sys.stderr)

@@ -49,6 +49,23 @@ def main():
     if images[0] != images[1]:
         fail("the plots are not the same bytes twice")
 
+    # frame_times.csv (P1's pipelines write frame costs; written here by hand) adds its plot; a
+    # malformed one is bad input.
+    frame_times = os.path.join(work, "st", "frame_times.csv")
+    with open(frame_times, "w") as f:
+        f.write("point,pipeline,landmarks_low,landmarks_high,frames,mean_ms,median_ms,p95_ms\n"
+                "p000,odometry,0,9,10,1.5,1.2,3.0\np000,odometry,10,19,12,2.5,2.2,4.0\n")
+    done = subprocess.run([sys.executable, script, os.path.join(work, "st")],
+                          capture_output=True, text=True)
+    if done.returncode != 0 or "frame_times.png" not in done.stdout:
+        fail("frame_times.csv: exit %d, %s %s" % (done.returncode, done.stdout, done.stderr))
+    with open(frame_times, "a") as f:
+        f.write("p000,odometry,20,29,x,1,1,1\n")
+    done = subprocess.run([sys.executable, script, os.path.join(work, "st")],
+                          capture_output=True, text=True)
+    if done.returncode != 2 or "frame_times.csv: line 4" not in done.stderr:
+        fail("malformed frame_times.csv: exit %d, %s" % (done.returncode, done.stderr))
+
     broken = os.path.join(work, "broken")
     os.makedirs(broken)
     with open(os.path.join(broken, "summary.json"), "w") as f:
