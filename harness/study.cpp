@@ -456,16 +456,6 @@ int FinishStudy(const StudySpec& spec, const fs::path& dir, const StudyRequest& 
   return code;
 }
 
-// This very program, by /proc/self/exe itself rather than the path it points to: rebuilding
-// corridorsim while a study runs (the linker writes a new file) cannot change its later runs.
-std::string SelfExecutable() {
-  std::error_code error;
-  if (!std::filesystem::exists("/proc/self/exe", error)) {
-    throw std::runtime_error("cannot find this program (/proc/self/exe)");
-  }
-  return "/proc/self/exe";
-}
-
 }  // namespace
 
 namespace {
@@ -610,7 +600,7 @@ int RunStudy(const StudyRequest& request) {
   int jobs = request.jobs > 0 ? request.jobs
                               : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
   jobs = std::min(jobs, kMaxStudyJobs);
-  const std::string program = request.run_program.empty() ? SelfExecutable() : request.run_program;
+  const std::string program = request.run_program.empty() ? ThisProgram() : request.run_program;
   std::printf(
       "study: %s, %zu point(s) x %d seed(s) = %zu run(s)%s; %zu already finished, %zu "
       "to run, %d worker(s); folder %s\n",
@@ -749,7 +739,7 @@ int WriteSlurmStudy(const StudyRequest& request) {
                 spec.points[0].id.c_str(), static_cast<unsigned long long>(first.seed));
     std::fflush(stdout);
     const Clock::time_point start = Clock::now();
-    std::unique_ptr<ChildProcess> child = StartRun(SelfExecutable(), spec, dir, first);
+    std::unique_ptr<ChildProcess> child = StartRun(ThisProgram(), spec, dir, first);
     std::optional<ChildStatus> status;
     bool timed_out = false;
     while (!(status = child->Poll())) {

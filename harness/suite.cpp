@@ -74,16 +74,6 @@ std::string LogTail(const fs::path& log) {
   }
 }
 
-// This very program, by /proc/self/exe itself rather than the path it points to: rebuilding
-// corridorsim while a study runs (the linker writes a new file) cannot change its later runs.
-std::string SelfExecutable() {
-  std::error_code error;
-  if (!std::filesystem::exists("/proc/self/exe", error)) {
-    throw std::runtime_error("cannot find this program (/proc/self/exe)");
-  }
-  return "/proc/self/exe";
-}
-
 std::string Measured(const json& value) {
   return value.is_number() ? FormatFixed(value.get<double>(), 6) : std::string("nothing");
 }
@@ -169,7 +159,7 @@ int RunTestSuite(const TestRequest& request) {
   std::error_code error;
   fs::create_directories(request.out_dir, error);
   EnsureWritableDirectory(request.out_dir);
-  const std::string program = request.program.empty() ? SelfExecutable() : request.program;
+  const std::string program = request.program.empty() ? ThisProgram() : request.program;
 
   int code = 0;
   for (std::size_t i = 0; i < files.size(); ++i) {

@@ -118,6 +118,13 @@ void ChildProcess::Kill() {
   if (!done_ && pid_ >= 0) ::kill(pid_, SIGKILL);
 }
 
+std::string ThisProgram() {
+  if (::access("/proc/self/exe", X_OK) != 0) {
+    throw std::runtime_error("cannot find this program (/proc/self/exe)");
+  }
+  return "/proc/self/exe";
+}
+
 std::string DescribeChildStatus(const ChildStatus& status) {
   if (!status.started) return "could not be started: " + status.error;
   if (!status.error.empty()) return status.error;

@@ -47,6 +47,11 @@ class ChildProcess {
   double peak_rss_mib_ = 0.0;
 };
 
+/// This very program as a path to start again: /proc/self/exe itself rather than the file it
+/// points to, so that rebuilding the program while it runs (the linker writes a new file) cannot
+/// change what its children run. Throws std::runtime_error without /proc.
+std::string ThisProgram();
+
 /// "exited 3", "was killed by signal 9 (Killed)", "could not be started: <why>".
 std::string DescribeChildStatus(const ChildStatus& status);
 

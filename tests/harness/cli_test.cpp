@@ -149,8 +149,9 @@ TEST_CASE("where takes a room number, a run folder and optionally one pipeline",
   }
   CHECK_THAT(ParseCommandLine({"where", "--help"}).help_text,
              Catch::Contains("Exit codes: 0 success, 2 bad input"));
-  CHECK_THAT(ErrorOf({"wher"}),
-             Catch::Contains("drive, where, detect, train-detectors, dataset or score"));
+  CHECK_THAT(
+      ErrorOf({"wher"}),
+      Catch::Contains("drive, where, detect, train-detectors, dataset, score, study or test"));
 }
 
 TEST_CASE("ParseCommandLine fills the detect request", "[harness]") {
@@ -204,7 +205,49 @@ TEST_CASE("the detect command line is strict", "[harness]") {
   CHECK_THAT(ErrorOf({"detect", "a.png", "--force"}), Catch::Contains("--force"));
   CHECK_THAT(ErrorOf({"detekt", "a.png"}),
              Catch::Contains("expected world, snapshot, run, drive, where, detect, "
-                             "train-detectors, dataset or score"));
+                             "train-detectors, dataset, score, study or test"));
+}
+
+TEST_CASE("ParseCommandLine fills the study, study merge and test requests", "[harness]") {
+  const CommandLine study = ParseCommandLine(
+      {"study", "s.yaml", "--runs", "20", "--jobs", "2", "--shard", "3/8", "--seed", "5"});
+  CHECK(study.job == Job::kStudy);
+  CHECK(study.study.scenario_file == "s.yaml");
+  CHECK(study.study.runs == 20);
+  CHECK(study.study.jobs == 2);
+  CHECK(study.study.shard_index == 2);
+  CHECK(study.study.shard_count == 8);
+  CHECK(study.study.seed == 5u);
+  CHECK(study.study.out_dir == "out/study");
+  const CommandLine slurm =
+      ParseCommandLine({"study", "s.yaml", "--slurm", "--submit", "--slurm-tasks", "12"});
+  CHECK(slurm.study.slurm);
+  CHECK(slurm.study.submit);
+  CHECK(slurm.study.slurm_tasks == 12);
+  const CommandLine merge = ParseCommandLine({"study", "merge", "a", "b", "--out", "m"});
+  CHECK(merge.job == Job::kStudyMerge);
+  REQUIRE(merge.study.merge_dirs.size() == 2);
+  CHECK(merge.study.merge_dirs[1] == "b");
+  CHECK(merge.study.out_dir == "m");
+  const CommandLine test = ParseCommandLine({"test", "a.yaml", "b.yaml", "--junit", "j.xml"});
+  CHECK(test.job == Job::kTest);
+  CHECK(test.test.files.size() == 2);
+  CHECK(test.test.junit_file == std::filesystem::path("j.xml"));
+  for (const auto& [args, flag] : std::vector<std::pair<std::vector<std::string>, std::string>>{
+           {{"study", "s.yaml", "--runs", "0"}, "--runs"},
+           {{"study", "s.yaml", "--runs", "10001"}, "--runs"},
+           {{"study", "s.yaml", "--jobs", "1.5"}, "--jobs"},
+           {{"study", "s.yaml", "--shard", "9/8"}, "--shard"},
+           {{"study", "s.yaml", "--shard", "0/8"}, "--shard"},
+           {{"study", "s.yaml", "--shard", "3"}, "--shard"},
+           {{"study", "s.yaml", "--submit"}, "--submit"},
+           {{"study", "s.yaml", "--slurm-tasks", "3"}, "--slurm-tasks"},
+           {{"study", "s.yaml", "--slurm", "--slurm-tasks", "1001"}, "--slurm-tasks"},
+           {{"study", "s.yaml", "--slurm", "--shard", "1/2"}, "--shard"},
+           {{"test", "a.yaml", "--junit", ""}, "--junit"}}) {
+    INFO(args[2]);
+    CHECK_THAT(ErrorOf(args), Catch::Contains(flag));
+  }
 }
 
 TEST_CASE("ParseCommandLine fills the dataset request", "[harness]") {
