@@ -30,7 +30,7 @@ struct StudyExpectation {
     kRuns,          // <pipeline>.runs.<stat>: finished, diverged
     kPaired,        // paired(<a>, <b>).<metric>.<stat>: diff, diff_ci_low, diff_ci_high, ratio,
                     // ratio_ci_low, ratio_ci_high, p_sign, p_wilcoxon
-    kFailedRuns,    // runs.failed: runs that crashed or timed out (over every point)
+    kFailedRuns,    // runs.failed: runs of the point that crashed or timed out
   };
   Kind kind = Kind::kPipelineStat;
   std::string pipeline;  // a (kPipelineStat, kNees, kRuns, kPaired)
