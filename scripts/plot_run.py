@@ -702,13 +702,14 @@ def read_detections(path):
 
 def read_frame_times(path):
     """maps/<pipeline>_frame_times.csv (slam/filter_support.h, FrameCostsCsv) as arrays stamp_s (s,
-    increasing), landmarks (count) and frame_ms (ms)."""
+    non-decreasing: a pipeline that reads two cameras records a frame of each, which may share a
+    stamp), landmarks (count) and frame_ms (ms)."""
     out = {"stamp_s": [], "landmarks": [], "frame_ms": []}
     for line, cells in read_csv_table(path, list(out)):
         c = CsvCells(path, line, cells)
         stamp = c.number("stamp_s", lo=0.0)
-        if out["stamp_s"] and stamp <= out["stamp_s"][-1]:
-            c.fail("stamp_s", f"{stamp:.9g} does not follow the previous {out['stamp_s'][-1]:.9g}")
+        if out["stamp_s"] and stamp < out["stamp_s"][-1]:
+            c.fail("stamp_s", f"{stamp:.9g} is before the previous {out['stamp_s'][-1]:.9g}")
         out["stamp_s"].append(stamp)
         out["landmarks"].append(c.integer("landmarks", 0, MAX_LANDMARKS))
         out["frame_ms"].append(c.number("frame_ms", lo=0.0))

@@ -595,8 +595,8 @@ class SlamPlotsTest(RunFolderCase):
     def test_malformed_frame_times_exit_1_naming_file_and_line(self):
         f = r"maps/odometry_frame_times\.csv:"
         self.break_files([
-            (self.FRAME_TIMES, lambda s: replace_line(s, 3, "0.000000000,5,2.1"),
-             f + r"3: stamp_s: 0 does not follow the previous 0"),
+            (self.FRAME_TIMES, lambda s: replace_line(s, 4, "0.100000000,5,2.1"),
+             f + r"4: stamp_s: 0\.1 is before the previous 0\.3"),
             (self.FRAME_TIMES, lambda s: replace_line(s, 4, "0.900000000,-1,2.1"),
              f + r"4: landmarks: -1 is outside"),
             (self.FRAME_TIMES, lambda s: replace_line(s, 4, "0.900000000,4,fast"),
