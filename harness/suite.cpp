@@ -182,7 +182,7 @@ int RunTestSuite(const TestRequest& request) {
       SuiteCase c;
       c.classname = classname;
       c.name = name;
-      c.seconds = f.seconds;
+      c.seconds = f.seconds;  // shared with the file's other cases below, if it has any
       c.result = SuiteCase::Result::kError;
       c.message = message;
       c.details = LogTail(log);
@@ -213,12 +213,10 @@ int RunTestSuite(const TestRequest& request) {
       continue;
     }
     const std::string attachment = fs::absolute(folder).string();
-    const auto add = [&](const std::string& name, bool passed, const std::string& measured,
-                         double seconds) {
+    const auto add = [&](const std::string& name, bool passed, const std::string& measured) {
       SuiteCase c;
       c.classname = classname;
       c.name = name;
-      c.seconds = seconds;
       c.result = passed ? SuiteCase::Result::kPassed : SuiteCase::Result::kFailed;
       if (!passed) {
         c.message = "measured " + measured + ", expected " + name;
@@ -230,18 +228,14 @@ int RunTestSuite(const TestRequest& request) {
     if (!f.study) {
       const json& expectations = results["expectations"];
       if (!expectations.is_array() || expectations.empty()) {
-        add("run finishes", true, "", f.seconds);
+        add("run finishes", true, "");
       }
-      const double each = expectations.is_array() && !expectations.empty()
-                              ? f.seconds / static_cast<double>(expectations.size())
-                              : 0.0;
       for (const json& e : expectations) {
-        add(e.value("text", ""), e.value("passed", false), Measured(e["measured"]), each);
+        add(e.value("text", ""), e.value("passed", false), Measured(e["measured"]));
       }
     } else {
       std::size_t count = 0;
       for (const json& p : results["points"]) count += p["expectations"].size();
-      const double each = count ? f.seconds / static_cast<double>(count) : 0.0;
       for (const json& p : results["points"]) {
         const std::string point = p.value("id", "");
         std::string values;
@@ -250,8 +244,8 @@ int RunTestSuite(const TestRequest& request) {
         }
         const std::string label = values.empty() ? "" : point + " (" + values + "): ";
         for (const json& e : p["expectations"]) {
-          add(label + e.value("expectation", ""), e.value("passed", false), Measured(e["measured"]),
-              each);
+          add(label + e.value("expectation", ""), e.value("passed", false),
+              Measured(e["measured"]));
         }
         for (const char* outcome : {"failed_seeds", "timed_out_seeds"}) {
           for (const json& seed : p["runs"][outcome]) {
@@ -265,8 +259,11 @@ int RunTestSuite(const TestRequest& request) {
           }
         }
       }
-      if (count == 0 && f.cases.empty()) add("study finishes", true, "", f.seconds);
+      if (count == 0 && f.cases.empty()) add("study finishes", true, "");
     }
+    // The file's time shared by its cases, so that the suite's total is the files' total (the
+    // cases of one file ran in one process and cannot be timed apart).
+    for (SuiteCase& c : f.cases) c.seconds = f.seconds / static_cast<double>(f.cases.size());
     int failed = 0, errors = 0;
     for (const SuiteCase& c : f.cases) {
       failed += c.result == SuiteCase::Result::kFailed;

@@ -62,7 +62,8 @@ class Builder {
         lamps_rng_(seed, 0, "worlds.lamps"),
         ceiling_rng_(seed, 0, "worlds.ceiling"),
         distractors_rng_(seed, 0, "worlds.distractors"),
-        textures_rng_(seed, 0, "worlds.textures") {
+        textures_rng_(seed, 0, "worlds.textures"),
+        plain_rng_(seed, 0, "worlds.ceiling.plain") {
     w_.options = options;
     w_.seed = seed;
     DrawAppearance(RandomStream(seed, 0, "worlds.appearance"));
@@ -693,11 +694,52 @@ class Builder {
       const int floor_id = next_id_++;
       AddHorizontalRect(NewMesh(Id("floor", floor_id), mat_.floor, floor_id, SemanticClass::kFloor),
                         cell, 0.0, true, kFloorPeriodM);
-      const int ceiling_id = next_id_++;
-      AddHorizontalRect(
-          NewMesh(Id("ceiling", ceiling_id), mat_.ceiling, ceiling_id, SemanticClass::kCeiling),
-          cell, s_.height_m, false, tile * kCeilingTilesPerTexture, tile_offset_);
+      for (const auto& [rect, plain] : CeilingStretches(cell)) {
+        const int ceiling_id = next_id_++;
+        Mesh& mesh = NewMesh(Id("ceiling", ceiling_id), plain ? mat_.room_ceiling : mat_.ceiling,
+                             ceiling_id, SemanticClass::kCeiling);
+        if (plain) {
+          AddHorizontalRect(mesh, rect, s_.height_m, false, kWallPeriodM);
+          plain_ceiling_.push_back(rect);
+        } else {
+          AddHorizontalRect(mesh, rect, s_.height_m, false, tile * kCeilingTilesPerTexture,
+                            tile_offset_);
+        }
+      }
     }
+  }
+
+  // The cell's ceiling cut along its longer side into stretches of about plain_stretch_m, each
+  // plain (plastered like the rooms', no tiles) with chance plain_fraction, neighbours of one
+  // kind merged. Without plain stretches the cell is one tiled stretch and nothing is drawn, so
+  // such worlds are the ones generated before this option existed.
+  std::vector<std::pair<AlignedBox2d, bool>> CeilingStretches(const AlignedBox2d& cell) {
+    const CeilingOptions& c = s_.ceiling;
+    if (c.plain_fraction <= 0) return {{cell, false}};
+    const int axis = cell.sizes().x() >= cell.sizes().y() ? 0 : 1;
+    const double length = cell.sizes()[axis];
+    // Bounded: the corridor's length (world bounds) over plain_stretch_m >= 0.5 m.
+    const int n = std::max(1, static_cast<int>(std::lround(length / c.plain_stretch_m)));
+    std::vector<std::pair<AlignedBox2d, bool>> out;
+    for (int k = 0; k < n; ++k) {
+      const bool plain = plain_rng_.Uniform(0, 1) < c.plain_fraction;
+      AlignedBox2d part = cell;
+      part.min()[axis] = cell.min()[axis] + length * k / n;
+      part.max()[axis] = k + 1 == n ? cell.max()[axis] : cell.min()[axis] + length * (k + 1) / n;
+      if (!out.empty() && out.back().second == plain) {
+        out.back().first.max()[axis] = part.max()[axis];
+      } else {
+        out.emplace_back(part, plain);
+      }
+    }
+    return out;
+  }
+
+  bool OnPlainCeiling(const Vector2d& p, double margin) const {
+    for (const AlignedBox2d& rect : plain_ceiling_) {
+      if (Inflated(rect, margin).contains(p)) return true;
+    }
+    return false;
   }
 
   // ---- ceiling fixtures and corner points ---------------------------------------------------
@@ -802,7 +844,7 @@ class Builder {
           const double y = tile_offset_.y() + double(j) * tile;
           if (y >= cell.max().y() - 1e-9) break;
           const Vector2d p(x, y);
-          if (NearWall(p, margin)) continue;
+          if (NearWall(p, margin) || OnPlainCeiling(p, margin)) continue;
           const AlignedBox2d dot(p - Vector2d(0.01, 0.01), p + Vector2d(0.01, 0.01));
           if (!CeilingFree(dot)) continue;
           AddCorner(CornerKind::kTileSeam, Vector3d(x, y, s_.height_m));
@@ -979,6 +1021,7 @@ class Builder {
   LayoutPlan plan_;
   int next_id_ = 1;  // 0 is "nothing" in label images
   RandomStream doors_rng_, plates_rng_, lamps_rng_, ceiling_rng_, distractors_rng_, textures_rng_;
+  RandomStream plain_rng_;  // plain ceiling stretches: its own stream, so other draws keep theirs
   Materials mat_{};
   std::vector<std::vector<Interval>> occupied_;        // per wall: taken stretches
   std::vector<std::vector<Interval>> door_cuts_;       // per wall: door openings
@@ -993,6 +1036,7 @@ class Builder {
   static constexpr double kKeepoutCellM = 2.0;
   std::map<std::pair<long, long>, std::vector<std::size_t>> keepout_cells_;
   Vector2d tile_offset_ = Vector2d::Zero();
+  std::vector<AlignedBox2d> plain_ceiling_;  // corridor ceiling without tiles
 };
 
 }  // namespace

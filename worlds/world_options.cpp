@@ -159,6 +159,14 @@ const OptionTable<CeilingOptions>& CeilingOptionsTable() {
         .Greater(0)
         .Range(0.5, 100);
     t.Add("sprinkler_spacing_m", &C::sprinkler_spacing_m, "m", "").Greater(0).Range(0.5, 100);
+    t.Add("plain_fraction", &C::plain_fraction, "",
+          "chance that a stretch of corridor ceiling is plain plaster without tiles (no tile "
+          "corners: P3's corner-poor places)")
+        .Range(0, 1);
+    t.Add("plain_stretch_m", &C::plain_stretch_m, "m",
+          "length of those stretches along the corridor (each drawn plain or tiled)")
+        .Greater(0)
+        .Range(0.5, 100);
   });
 }
 

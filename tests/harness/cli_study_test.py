@@ -40,6 +40,15 @@ def same_files(a, b, names):
             fail("%s differs between %s and %s" % (name, a, b))
 
 
+def check_case_times(root):
+    """Each suite's cases share its time: they add up to it (3 decimals each), none negative."""
+    for suite in root.findall("testsuite"):
+        cases = [float(c.get("time")) for c in suite.findall("testcase")]
+        if min(cases) < 0 or abs(sum(cases) - float(suite.get("time"))) > 0.001 * len(cases):
+            fail("suite %s: case times %s against %s" % (suite.get("name"), cases,
+                                                           suite.get("time")))
+
+
 def main():
     binary, source, work = sys.argv[1], sys.argv[2], sys.argv[3]
     shutil.rmtree(work, ignore_errors=True)
@@ -208,9 +217,17 @@ study:
     for case in root.iter("testcase"):
         if float(case.get("time")) < 0 or "[[ATTACHMENT|" not in case.find("system-out").text:
             fail("test case %s: time or attachment" % case.get("name"))
+    check_case_times(root)
     names = [c.get("name") for c in suites[1].findall("testcase")]
     if "p001 (robot.odometry.random_k_m=1.0e-3): runs.failed < 1" not in names:
         fail("study cases: %s" % names)
+    # A study whose run timed out: an error case naming the seed; its time is counted once.
+    run(binary, ["test", slow, "--out", "suite3", "--junit", "slow.xml"], 1, work)
+    root = ET.parse(os.path.join(work, "slow.xml")).getroot()
+    errors = [c for c in root.iter("testcase") if c.find("error") is not None]
+    if root.get("errors") != "1" or len(errors) != 1 or errors[0].get("name") != "p000 seed 1":
+        fail("slow.xml: %s %s" % (root.attrib, [c.get("name") for c in root.iter("testcase")]))
+    check_case_times(root)
     out = run(binary, ["test", scenario, bad, "--out", "suite2"], 2, work)
     if os.path.exists(os.path.join(work, "suite2")):
         fail("test ran something before rejecting a bad file")

@@ -752,6 +752,58 @@ TEST_CASE("changing the number of posters moves no door, plate or lamp",
   }
 }
 
+TEST_CASE("plain ceiling stretches carry no tile corners and the rooms' plaster; tiles elsewhere",
+          "[worlds][generator]") {
+  for (const WorldOptions& base : LayoutOptions()) {
+    INFO(LayoutName(base.layout));
+    const World tiled = Generate(base, 3);
+    WorldOptions half = base;
+    half.ceiling.plain_fraction = 0.5;
+    half.ceiling.plain_stretch_m = 3.0;
+    WorldOptions all = base;
+    all.ceiling.plain_fraction = 1.0;
+    const auto material = [](const World& w, const Mesh& m) { return w.materials[m.material].name; };
+    const auto count_tile_corners = [](const World& w) {
+      return std::count_if(w.corner_points.begin(), w.corner_points.end(),
+                           [](const CornerPoint& p) { return p.kind == CornerKind::kTileSeam; });
+    };
+
+    // All plain: no tile corner, every corridor ceiling mesh plastered; fixtures stay.
+    const World plain = Generate(all, 3);
+    CHECK(count_tile_corners(plain) == 0);
+    CHECK(plain.corner_points.size() > 0);  // vents, sprinklers, smoke detectors
+    for (const Mesh& m : plain.meshes) {
+      if (m.semantic_class == SemanticClass::kCeiling) CHECK(material(plain, m) == "room_ceiling");
+    }
+
+    // Half: tile corners only under tiled meshes, each plain mesh free of them, and fewer of them.
+    const World mixed = Generate(half, 3);
+    std::vector<AlignedBox2d> plain_rects, tiled_rects;
+    for (const Mesh& m : mixed.meshes) {
+      if (m.semantic_class != SemanticClass::kCeiling) continue;
+      const AlignedBox2d rect(m.bounds.min().head<2>().cast<double>(),
+                              m.bounds.max().head<2>().cast<double>());
+      (material(mixed, m) == "ceiling" ? tiled_rects : plain_rects).push_back(rect);
+    }
+    CHECK(!plain_rects.empty());
+    CHECK(!tiled_rects.empty());
+    for (const CornerPoint& p : mixed.corner_points) {
+      if (p.kind != CornerKind::kTileSeam) continue;
+      INFO("tile corner " << p.id << " at " << p.position.transpose());
+      const Vector2d xy = p.position.head<2>();
+      CHECK(InsideAny(tiled_rects, xy));
+      for (const AlignedBox2d& r : plain_rects) CHECK_FALSE(r.contains(xy));
+    }
+    CHECK(count_tile_corners(mixed) < count_tile_corners(tiled));
+    CHECK(count_tile_corners(mixed) > 0);
+
+    // The stretches come from their own stream: doors, plates and lamps do not move.
+    CHECK(DoorColumns(mixed) == DoorColumns(tiled));
+    CheckEachPair(mixed.lamps, tiled.lamps,
+                  [](const Lamp& a, const Lamp& b) { CHECK(a.center == b.center); });
+  }
+}
+
 // ---- all_options the generator cannot place
 // ----------------------------------------------------------
 
