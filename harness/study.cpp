@@ -704,6 +704,42 @@ std::string ShellWord(const std::string& text) {
   return out + "'";
 }
 
+// The run measured for --slurm lies in the study folder; its shard (run k of the plan belongs
+// to shard k mod N) gets a copy, so that the array task does not run it again. Best effort: a
+// copy that fails leaves the shard to run it. The copy goes through a staging name, so a
+// half-copied run never looks finished.
+void KeepMeasuredRun(const StudyRequest& request, const StudySpec& spec, const fs::path& dir,
+                     const PlannedRun& run, long tasks) {
+  const std::string& id = spec.points[run.point].id;
+  if (!fs::is_regular_file(RunFolder(dir, id, run.seed) / "metrics.json")) return;
+  const long index =
+      static_cast<long>(run.point) * spec.runs + static_cast<long>(run.seed - spec.first_seed);
+  StudyRequest part = request;
+  part.shard_count = static_cast<int>(tasks);
+  part.shard_index = static_cast<int>(index % tasks);
+  part.out_dir = dir / "shards" / std::to_string(part.shard_index + 1);
+  part.force = false;
+  try {
+    const fs::path shard = PrepareStudy(part).dir;
+    const fs::path target = RunFolder(shard, id, run.seed);
+    if (fs::exists(target / "metrics.json")) return;
+    const fs::path staging = target.string() + ".partial-slurm";
+    fs::remove_all(staging);
+    fs::create_directories(target.parent_path());
+    fs::copy(RunFolder(dir, id, run.seed), staging, fs::copy_options::recursive);
+    for (const fs::path& file : {LogFile(dir, id, run.seed), StatusFile(dir, id, run.seed)}) {
+      const fs::path to = shard / fs::relative(file, dir);
+      fs::create_directories(to.parent_path());
+      fs::copy_file(file, to, fs::copy_options::overwrite_existing);
+    }
+    fs::remove_all(target);
+    fs::rename(staging, target);
+  } catch (const std::exception& e) {
+    std::printf("study --slurm: the measured run stays with its shard to run again (%s)\n",
+                e.what());
+  }
+}
+
 }  // namespace
 
 int WriteSlurmStudy(const StudyRequest& request) {
@@ -716,10 +752,11 @@ int WriteSlurmStudy(const StudyRequest& request) {
   const fs::path dir = fs::absolute(prepared.dir);
   // The cost of one run: a finished run's record, else the plan's first run, run here.
   double run_seconds = 0.0, run_rss_mib = 0.0;
-  for (const StudyPoint& point : spec.points) {
+  PlannedRun measured{0, spec.first_seed};
+  for (std::size_t point = 0; point < spec.points.size(); ++point) {
     for (int i = 0; i < spec.runs && run_seconds == 0.0; ++i) {
-      const fs::path status =
-          StatusFile(dir, point.id, spec.first_seed + static_cast<std::uint64_t>(i));
+      measured = {point, spec.first_seed + static_cast<std::uint64_t>(i)};
+      const fs::path status = StatusFile(dir, spec.points[point].id, measured.seed);
       std::error_code error;
       if (!fs::is_regular_file(status, error)) continue;
       try {
@@ -735,6 +772,7 @@ int WriteSlurmStudy(const StudyRequest& request) {
   }
   if (run_seconds == 0.0) {
     const PlannedRun first{0, spec.first_seed};
+    measured = first;
     std::printf("study --slurm: measuring the cost of one run (%s seed %llu) here\n",
                 spec.points[0].id.c_str(), static_cast<unsigned long long>(first.seed));
     std::fflush(stdout);
@@ -768,6 +806,7 @@ int WriteSlurmStudy(const StudyRequest& request) {
                                                  (60.0 * request.slurm_task_minutes)));
   tasks = std::clamp<long>(tasks, 1, std::min<long>(total, kMaxSlurmTasks));
   const long runs_per_task = (total + tasks - 1) / tasks;
+  KeepMeasuredRun(request, spec, dir, measured, tasks);
   // Resources per task: one core; memory and time from the measured run with margins (a run's
   // cost varies with its world: 1.5x memory plus 256 MiB, 2x time plus 5 minutes).
   const long mem_mib = static_cast<long>(std::ceil(run_rss_mib * 1.5 + 256.0));

@@ -46,10 +46,11 @@ inline constexpr int kMaxSlurmTasks = 1000;
 int RunStudy(const StudyRequest& request);
 
 /// `study --slurm`: prepares the study folder, measures the cost of one run (the plan's first,
-/// run here and kept as a result, unless the folder has a finished run with its cost), writes
-/// slurm/study.sbatch (a job array: task K runs `study --shard K/N` into shards/K) and
-/// slurm/merge.sbatch (`study merge shards/* --out` the study folder), and with --submit submits
-/// them (`sbatch --dependency=afterok:<array job>`). Returns 0, 1 when sbatch fails.
+/// run here and kept as a result, in its shard's folder too, unless the folder has a finished run
+/// with its cost), writes slurm/study.sbatch (a job array: task K runs `study --shard K/N` into
+/// shards/K) and slurm/merge.sbatch (`study merge shards/* --out` the study folder), and with
+/// --submit submits them (`sbatch --dependency=afterok:<array job>`). Returns 0, 1 when sbatch
+/// fails.
 int WriteSlurmStudy(const StudyRequest& request);
 
 /// `study merge`: combines study folders of the same plan (shards, or partial resumes) into

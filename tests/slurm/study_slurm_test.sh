@@ -93,6 +93,10 @@ done
 tasks="$(scontrol show job -o "$array_id" | grep -c 'JobState=COMPLETED')"
 [ "$tasks" -eq 3 ] || fail "$tasks array tasks completed, expected 3"
 
+# The run measured here before submitting is given to its shard (task 1), not run again.
+grep -q "1 already finished, 1 to run" slurm_study/slurm/task_1.log ||
+  fail "task 1 ran the measured run again: $(head -n 3 slurm_study/slurm/task_1.log)"
+
 # The same study here, in one process: the same summary, byte for byte.
 "$corridorsim" study study.yaml --no-plots --out local > local.log || fail "local study failed"
 for f in summary.json summary.csv paired.csv; do

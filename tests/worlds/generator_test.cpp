@@ -762,7 +762,9 @@ TEST_CASE("plain ceiling stretches carry no tile corners and the rooms' plaster;
     half.ceiling.plain_stretch_m = 3.0;
     WorldOptions all = base;
     all.ceiling.plain_fraction = 1.0;
-    const auto material = [](const World& w, const Mesh& m) { return w.materials[m.material].name; };
+    const auto material = [](const World& w, const Mesh& m) {
+      return w.materials[m.material].name;
+    };
     const auto count_tile_corners = [](const World& w) {
       return std::count_if(w.corner_points.begin(), w.corner_points.end(),
                            [](const CornerPoint& p) { return p.kind == CornerKind::kTileSeam; });
