@@ -189,7 +189,7 @@ int RunScenario(const RunRequest& request) {
       pipelines.seconds(), metrics_seconds, write_seconds, export_seconds, plot_seconds);
   std::printf(
       "wrote %s/{scenario.yaml, world.json, ground_truth.tum, <pipeline>.tum, "
-      "<pipeline>_cov.txt, <pipeline>_errors.csv, <pipeline>_landmarks.json, "
+      "<pipeline>_cov.txt, <pipeline>_errors.csv, <pipeline>_nis.csv, <pipeline>_landmarks.json, "
       "<pipeline>_detections.csv, metrics.json, timing.json, events.json, "
       "provenance.json%s}%s\n",
       out->path().string().c_str(), plots_written ? ", plots/" : "",

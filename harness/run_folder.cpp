@@ -78,6 +78,9 @@ void WriteRunFolder(const std::filesystem::path& out, const Scenario& scenario, 
     WriteFileAtomic(out / (record.name + ".tum"), tum.str());
     WriteFileAtomic(out / (record.name + "_cov.txt"), cov.str());
     WriteFileAtomic(out / (record.name + "_errors.csv"), ErrorSeriesCsv(truth.poses(), record));
+    if (const std::string nis = NisSeriesCsv(record); !nis.empty()) {
+      WriteFileAtomic(out / (record.name + "_nis.csv"), nis);
+    }
     if (!record.landmarks.empty()) {
       WriteFileAtomic(out / (record.name + "_landmarks.json"),
                       LandmarksJson(record.landmarks).dump(2) + "\n");

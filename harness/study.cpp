@@ -287,6 +287,7 @@ std::string ReportMarkdown(const StudySpec& spec, const StudySummary& summary,
     md +=
         "## Plots\n\n![ATE per pipeline](plots/ate_box.png)\n\n"
         "![Position error over time](plots/error_over_time.png)\n\n"
+        "![Error per axis (x, y, yaw) over time](plots/error_axes.png)\n\n"
         "![NEES over time](plots/nees.png)\n\n";
     if (!spec.vary_keys.empty()) md += "![Sweep](plots/sweep.png)\n\n";
   }

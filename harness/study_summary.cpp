@@ -63,7 +63,7 @@ std::optional<double> NumberAt(const json& root, const std::string& dotted) {
 }
 
 struct ErrorSample {
-  double t, ex, ey, sx, sy, nees;  // nees NaN when absent
+  double t, ex, ey, eyaw, sx, sy, syaw, nees;  // nees NaN when absent
 };
 
 // <pipeline>_errors.csv (harness/metrics/consistency.h): t,ex_m,ey_m,eyaw_rad,sigma_x_m,
@@ -95,10 +95,95 @@ std::vector<ErrorSample> ReadErrors(const std::filesystem::path& file) {
       }
     }
     if (fields < 7) throw std::runtime_error(file.string() + ": a malformed line");
-    samples.push_back({v[0], v[1], v[2], v[4], v[5], fields == 8 ? v[7] : kNaN});
+    samples.push_back({v[0], v[1], v[2], v[3], v[4], v[5], v[6], fields == 8 ? v[7] : kNaN});
     pos = end + 1;
   }
   return samples;
+}
+
+// NIS of one landmark type pooled in bins of the study's time step: per bin, the accepted
+// innovations of every run (count, sum of NIS, sum of degrees of freedom).
+struct NisBin {
+  double count = 0, nis_sum = 0, dof_sum = 0;
+};
+using NisBins = std::map<std::string, std::map<long, NisBin>>;  // type -> bin -> pooled
+
+// <pipeline>_nis.csv (harness/metrics/consistency.h): t,type,dof,nis,accepted. A run without
+// landmark updates has none.
+void ReadNis(const std::filesystem::path& file, double step_s, NisBins* bins) {
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(file, error)) return;
+  const std::string text = ReadRegularFile(file, kMaxErrorsBytes);
+  std::size_t pos = text.find('\n');
+  if (pos == std::string::npos || text.compare(0, pos, "t,type,dof,nis,accepted") != 0) {
+    throw std::runtime_error(file.string() + ": not a NIS CSV of this build");
+  }
+  ++pos;
+  while (pos < text.size()) {
+    const std::size_t end = std::min(text.find('\n', pos), text.size());
+    const std::string line = text.substr(pos, end - pos);
+    pos = end + 1;
+    const std::size_t c1 = line.find(','), c2 = line.find(',', c1 + 1), c3 = line.find(',', c2 + 1),
+                      c4 = line.find(',', c3 + 1);
+    if (c4 == std::string::npos) throw std::runtime_error(file.string() + ": a malformed line");
+    char* next = nullptr;
+    const double t = std::strtod(line.c_str(), &next);
+    const double dof = std::strtod(line.c_str() + c2 + 1, &next);
+    const double nis = std::strtod(line.c_str() + c3 + 1, &next);
+    if (!(t >= 0) || !(t < 1e9) || !(dof >= 1) || !(nis >= 0) || !std::isfinite(nis)) {
+      throw std::runtime_error(file.string() + ": a line out of range");
+    }
+    if (line.compare(c4 + 1, std::string::npos, "1") != 0) continue;  // gated out
+    NisBin& bin = (*bins)[line.substr(c1 + 1, c2 - c1 - 1)][static_cast<long>(t / step_s)];
+    bin.count += 1;
+    bin.nis_sum += nis;
+    bin.dof_sum += dof;
+  }
+}
+
+// The NIS of each type over time: bins of step_s merged k at a time so that at most
+// kMaxSeriesPoints remain; per bin the mean NIS of the pooled innovations against the 95 % band
+// of the mean of K chi-square values, [chi2(sum d, 0.025) / K, chi2(sum d, 0.975) / K].
+void AddNisSeries(const NisBins& bins, double step_s, json* nis_json) {
+  for (const auto& [type, by_bin] : bins) {
+    if (by_bin.empty()) continue;
+    const long last = by_bin.rbegin()->first;
+    const long k = std::max<long>(1, (last + kMaxSeriesPoints) / kMaxSeriesPoints);
+    std::map<long, NisBin> merged;
+    for (const auto& [index, bin] : by_bin) {
+      NisBin& m = merged[index / k];
+      m.count += bin.count;
+      m.nis_sum += bin.nis_sum;
+      m.dof_sum += bin.dof_sum;
+    }
+    json t = json::array(), count = json::array(), anis = json::array(), low = json::array(),
+         high = json::array();
+    double sum = 0;
+    int inside = 0;
+    for (const auto& [index, bin] : merged) {
+      const double a = bin.nis_sum / bin.count;
+      const double lo =
+          metrics::ChiSquareQuantile(bin.dof_sum, metrics::kBandLowerTail) / bin.count;
+      const double hi =
+          metrics::ChiSquareQuantile(bin.dof_sum, metrics::kBandUpperTail) / bin.count;
+      t.push_back(Num(static_cast<double>(index * k) * step_s));
+      count.push_back(bin.count);
+      anis.push_back(Num(a));
+      low.push_back(Num(lo));
+      high.push_back(Num(hi));
+      sum += a;
+      inside += a >= lo && a <= hi;
+    }
+    json& out = (*nis_json)[type];
+    out["time_average"] = Num(sum / static_cast<double>(merged.size()));
+    out["time_in_band_fraction"] = Num(static_cast<double>(inside) / merged.size());
+    out["series"] = {{"step_s", Num(static_cast<double>(k) * step_s)},
+                     {"t", std::move(t)},
+                     {"count", std::move(count)},
+                     {"anis", std::move(anis)},
+                     {"band_low", std::move(low)},
+                     {"band_high", std::move(high)}};
+  }
 }
 
 json Describe(const std::vector<double>& values, const std::string& stream) {
@@ -138,6 +223,7 @@ struct PipelineRuns {
     double in_band_fraction_sum = 0;
   };
   std::map<std::string, Nis> nis;  // landmark type -> pooled
+  NisBins nis_bins;                // landmark type -> time bin -> pooled
 };
 
 json SeriesJson(const std::vector<std::vector<ErrorSample>>& runs, double step_s, double* average,
@@ -150,13 +236,18 @@ json SeriesJson(const std::vector<std::vector<ErrorSample>>& runs, double step_s
   const auto points = static_cast<std::size_t>(std::floor(t_end / step)) + 1;
   json t = json::array(), n = json::array(), anees = json::array(), low = json::array(),
        high = json::array(), err = json::array(), sigma = json::array(), ex = json::array(),
-       ey = json::array();
+       ey = json::array(), err_n_series = json::array();
+  // Per axis (P3 Fig. 18's rows): the RMS error over runs and the RMS of the filters' sigma.
+  const char* kAxes[3] = {"x_m", "y_m", "yaw_rad"};
+  json axis_err[3] = {json::array(), json::array(), json::array()};
+  json axis_sigma[3] = {json::array(), json::array(), json::array()};
   std::vector<std::size_t> cursor(runs.size(), 0);
   double anees_sum = 0.0;
   int anees_points = 0, inside = 0;
   for (std::size_t i = 0; i < points; ++i) {
     const double grid = static_cast<double>(i) * step;
     double nees_sum = 0.0, e2 = 0.0, s2 = 0.0, sx = 0.0, sy = 0.0;
+    double axis_e2[3] = {0, 0, 0}, axis_s2[3] = {0, 0, 0};
     int nees_n = 0, err_n = 0;
     for (std::size_t r = 0; r < runs.size(); ++r) {
       // Each run's first sample at or after the grid time, within the step.
@@ -169,6 +260,11 @@ json SeriesJson(const std::vector<std::vector<ErrorSample>>& runs, double step_s
         s2 += s.sx * s.sx + s.sy * s.sy;
         sx += s.ex;
         sy += s.ey;
+        const double e[3] = {s.ex, s.ey, s.eyaw}, sd[3] = {s.sx, s.sy, s.syaw};
+        for (int k = 0; k < 3; ++k) {
+          axis_e2[k] += std::isfinite(e[k]) ? e[k] * e[k] : 0.0;
+          axis_s2[k] += std::isfinite(sd[k]) ? sd[k] * sd[k] : 0.0;
+        }
         ++err_n;
       }
       if (std::isfinite(s.nees)) {
@@ -179,6 +275,11 @@ json SeriesJson(const std::vector<std::vector<ErrorSample>>& runs, double step_s
     if (err_n == 0 && nees_n == 0) continue;
     t.push_back(Num(grid));
     n.push_back(nees_n);
+    err_n_series.push_back(err_n);
+    for (int k = 0; k < 3; ++k) {
+      axis_err[k].push_back(err_n ? Num(std::sqrt(axis_e2[k] / err_n)) : json(nullptr));
+      axis_sigma[k].push_back(err_n ? Num(std::sqrt(axis_s2[k] / err_n)) : json(nullptr));
+    }
     err.push_back(err_n ? Num(std::sqrt(e2 / err_n)) : json(nullptr));
     sigma.push_back(err_n ? Num(std::sqrt(s2 / err_n)) : json(nullptr));
     ex.push_back(err_n ? Num(sx / err_n) : json(nullptr));
@@ -216,6 +317,11 @@ json SeriesJson(const std::vector<std::vector<ErrorSample>>& runs, double step_s
   out["position_sigma_rms_m"] = std::move(sigma);
   out["error_x_mean_m"] = std::move(ex);
   out["error_y_mean_m"] = std::move(ey);
+  out["runs_with_error"] = std::move(err_n_series);
+  for (int k = 0; k < 3; ++k) {
+    out[std::string("error_rms_") + kAxes[k]] = std::move(axis_err[k]);
+    out[std::string("sigma_rms_") + kAxes[k]] = std::move(axis_sigma[k]);
+  }
   return out;
 }
 
@@ -341,6 +447,7 @@ StudySummary SummarizeStudy(const StudySpec& spec, const std::vector<StudyRunRec
           }
         }
         pr.series.push_back(ReadErrors(run.folder / (name + "_errors.csv")));
+        ReadNis(run.folder / (name + "_nis.csv"), spec.time_step_s, &pr.nis_bins);
       }
     }
     for (const char* outcome : {"finished", "failed", "timed_out", "not_run"}) {
@@ -401,6 +508,7 @@ StudySummary SummarizeStudy(const StudySpec& spec, const std::vector<StudyRunRec
             {"runs_with_mean_in_band", pooled.runs_in_band},
             {"in_band_fraction_mean", Num(pooled.in_band_fraction_sum / pooled.runs)}};
       }
+      AddNisSeries(pr.nis_bins, spec.time_step_s, &nis_json);
       pj["nis"] = std::move(nis_json);
       pj["series"] = std::move(series);
       pj["values"] = std::move(values_json);

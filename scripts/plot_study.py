@@ -21,6 +21,12 @@ Writes (each printed on its own line; the names are fixed, report.md links them)
                        x and y errors, and the +-2 sigma band of the filter's RMS position sigma
                        (P3 Fig. 18 over seeds): a row per pipeline, a column per sweep point; x
                        shared, y shared within a row (a pipeline across the points).
+  error_axes.png       P3 Fig. 18's layout over seeds: a row per axis (x, y, yaw), a column per
+                       pipeline, the RMS error over the runs with +-2 times the RMS of the
+                       filter's sigma on that axis; the first sweep point only (x shared).
+  nis_over_time.png    only when a pipeline has landmark updates: per pipeline (first sweep
+                       point) the mean NIS of each landmark type over time, the runs'
+                       innovations pooled per time bin, with the 95 % band of that mean.
   nees.png             the average NEES over the runs against time with the 95 % band of the mean
                        of N chi-square(3) values, laid out as error_over_time.png; a log y axis
                        when a row's values span more than two decades.
@@ -79,8 +85,10 @@ from matplotlib.patches import Patch  # noqa: E402
 SCHEMA_VERSION = 1
 ATE = "ate_rmse_m"
 NEES_DOF = 3  # x, y, yaw (the producer's kPoseDof; summary.json's nees.dof overrides it)
+AXES = [("x_m", "x error [m]"), ("y_m", "y error [m]"), ("yaw_rad", "yaw error [rad]")]
 SERIES_KEYS = ["t", "runs_with_nees", "anees", "band_low", "band_high", "position_error_rms_m",
-               "position_sigma_rms_m", "error_x_mean_m", "error_y_mean_m"]
+               "position_sigma_rms_m", "error_x_mean_m", "error_y_mean_m", "runs_with_error"] + \
+    [f"{kind}_rms_{axis}" for axis, _ in AXES for kind in ("error", "sigma")]
 
 # Bounds on what summary.json may hold (the producer's are far below: harness/study_file.h).
 MAX_SUMMARY_BYTES = 1 << 30
@@ -285,6 +293,23 @@ def read_pipeline(c, entry, where):
             if not 1 <= dof <= 1000:
                 c.fail(f"{where}.nees.dof", f"expected 1 to 1000, got {dof}")
             p["nees_dof"] = dof
+    p["nis"] = {}
+    nis = c.get(entry, "nis", "object", where) or {}
+    if len(nis) > MAX_PIPELINES:
+        c.fail(f"{where}.nis", f"more than {MAX_PIPELINES} landmark types")
+    for kind, entry_of_type in nis.items():
+        w = f"{where}.nis.{kind}"
+        if not isinstance(entry_of_type, dict):
+            c.fail(w, "expected an object")
+        ns = c.get(entry_of_type, "series", "object", w)
+        if ns is None:
+            continue
+        t = c.numbers(ns, "t", f"{w}.series")
+        if t is None:
+            continue
+        p["nis"][str(kind)[:MAX_TEXT_CHARS]] = {"t": t, **{
+            key: c.numbers(ns, key, f"{w}.series", length=len(t), of="times")
+            for key in ("anis", "band_low", "band_high")}}
     series = c.get(entry, "series", "object", where)
     if series is not None:
         w = f"{where}.series"
@@ -611,6 +636,79 @@ def plot_error_over_time(study, plots_dir, written):
                 "filter's ±2σ (P3 Fig. 18 over seeds)", handles)
 
 
+def plot_error_axes(study, plots_dir, written):
+    """error_axes.png: P3 Fig. 18's rows (x, y, yaw) per pipeline at the first point: the RMS
+    error over the runs and +-2 RMS sigma of that axis."""
+    point = study["points"][0]
+    names = [n for n in study["pipelines"] if point["pipelines"].get(n) is not None]
+    if not names:
+        return
+    fig, axes = plt.subplots(len(AXES), len(names), figsize=(4.6 * len(names) + 0.6, 7.8),
+                             squeeze=False, sharex=True)
+    for col, name in enumerate(names):
+        p = point["pipelines"][name]
+        for row, (axis, label) in enumerate(AXES):
+            ax = axes[row, col]  # y not shared: dead reckoning's metres would flatten SLAM's
+            s = p["series"]
+            err = None if s is None else s[f"error_rms_{axis}"]
+            if err is None or not np.isfinite(err).any():
+                no_data(ax, "no series")
+            else:
+                t, sigma = s["t"], s[f"sigma_rms_{axis}"]
+                ax.axhline(0.0, color="0.6", lw=0.6)
+                ax.fill_between(t, -2.0 * sigma, 2.0 * sigma, color="C3", alpha=0.12, lw=0)
+                ax.plot(t, 2.0 * sigma, color="C3", lw=0.9, ls="--")
+                ax.plot(t, -2.0 * sigma, color="C3", lw=0.9, ls="--")
+                ax.plot(t, err, color="C0", lw=1.3)
+            if row == 0:
+                runs = "" if p["finished"] is None else f" ({p['finished']} runs)"
+                ax.set_title(plain(name) + runs, fontsize=9)
+            if col == 0:
+                ax.set_ylabel(label)
+            if row == len(AXES) - 1:
+                ax.set_xlabel("time [s]")
+            ax.grid(True, **GRID)
+    handles = [Line2D([], [], color="C0", lw=1.3, label="RMS error over the runs"),
+               Patch(facecolor="C3", alpha=0.25, edgecolor="C3", ls="--",
+                     label="±2σ, σ = RMS over the runs of the filter's σ on the axis")]
+    finish_layout(fig, "Pose error per axis over time (P3 Fig. 18 over seeds)"
+                  + ("" if len(study["points"]) == 1 else ", " + point_label(point, 60)), handles)
+    save(fig, plots_dir, "error_axes.png", written)
+
+
+def plot_nis(study, plots_dir, written):
+    """nis_over_time.png, only when a pipeline has landmark updates: per pipeline at the first
+    point, the mean NIS of each landmark type over time (innovations of all runs pooled per time
+    bin) with the 95 % band of that mean."""
+    point = study["points"][0]
+    names = [n for n in study["pipelines"]
+             if point["pipelines"].get(n) is not None and point["pipelines"][n]["nis"]]
+    if not names:
+        return
+    fig, axes = plt.subplots(len(names), 1, figsize=(11, 2.8 * len(names) + 1.2), squeeze=False,
+                             sharex=True)
+    for row, name in enumerate(names):
+        ax = axes[row, 0]
+        for k, (kind, ns) in enumerate(sorted(point["pipelines"][name]["nis"].items())):
+            colour = f"C{k % 10}"
+            if ns["band_low"] is not None and ns["band_high"] is not None:
+                ax.fill_between(ns["t"], ns["band_low"], ns["band_high"], color=colour,
+                                alpha=0.12, lw=0, step="post")
+            if ns["anis"] is not None:
+                ax.step(ns["t"], ns["anis"], where="post", color=colour, lw=1.0,
+                        label=f"{plain(kind)}: mean NIS, its 95 % band shaded")
+        ax.set_title(plain(name), fontsize=9)
+        ax.set_ylabel("mean NIS")
+        ax.grid(True, **GRID)
+        ax.legend(fontsize=8, loc="upper right")
+        if row == len(names) - 1:
+            ax.set_xlabel("time [s]")
+    finish_layout(fig, "NIS per landmark type over time, the runs' innovations pooled per time "
+                  "bin" + ("" if len(study["points"]) == 1 else ", " + point_label(point, 60)),
+                  [])
+    save(fig, plots_dir, "nis_over_time.png", written)
+
+
 def plot_nees(study, plots_dir, written):
     """nees.png: per pipeline and point, the NEES averaged over the runs against time (s) with
     the 95 % band of the mean of N chi-square(dof) values."""
@@ -827,6 +925,8 @@ def plot_study(study, plots_dir, frame_times=None):
     written = []
     plot_ate_box(study, plots_dir, written)
     plot_error_over_time(study, plots_dir, written)
+    plot_error_axes(study, plots_dir, written)
+    plot_nis(study, plots_dir, written)
     plot_nees(study, plots_dir, written)
     if study["vary"]:
         plot_sweep(study, plots_dir, written)

@@ -139,4 +139,18 @@ std::string ErrorSeriesCsv(const std::vector<TruthPose>& truth, const PipelineRe
   return csv;
 }
 
+std::string NisSeriesCsv(const PipelineRecord& pipeline) {
+  if (pipeline.innovations.empty()) return "";
+  std::string csv = "t,type,dof,nis,accepted\n";
+  char line[160];
+  for (const slam::Innovation& i : pipeline.innovations) {
+    if (i.dof < 1 || !std::isfinite(i.nis) || i.nis < 0.0) continue;
+    std::snprintf(line, sizeof(line), "%.9f,%s,%d,%.6f,%d\n", ToSeconds(i.stamp_ns),
+                  slam::LandmarkTypeName(i.type).c_str(), i.dof,
+                  RoundToStep(i.nis, json_steps::kRatio), i.accepted ? 1 : 0);
+    csv += line;
+  }
+  return csv;
+}
+
 }  // namespace corridorsim

@@ -22,6 +22,12 @@ namespace corridorsim {
 /// is not positive definite.
 std::string ErrorSeriesCsv(const std::vector<TruthPose>& truth, const PipelineRecord& pipeline);
 
+/// <pipeline>_nis.csv: one line per landmark update, in the pipeline's order: t (s), the landmark
+/// type, the innovation's degrees of freedom, its NIS, and 1 when the update was applied (0: gated
+/// out). Header `t,type,dof,nis,accepted`. Malformed innovations (the metrics count them) are
+/// left out. Empty (no file) for a pipeline without landmark updates.
+std::string NisSeriesCsv(const PipelineRecord& pipeline);
+
 namespace metrics {
 
 /// The smallest sigma (m for x and y, rad for yaw) a sample's covariance must have for its NEES

@@ -8,7 +8,9 @@ per expectation.
 
 Usage: cli_study_test.py CORRIDORSIM SOURCE_DIR WORK_DIR"""
 
+import csv
 import json
+import math
 import os
 import shutil
 import subprocess
@@ -38,6 +40,62 @@ def same_files(a, b, names):
     for name in names:
         if read(os.path.join(a, name)) != read(os.path.join(b, name)):
             fail("%s differs between %s and %s" % (name, a, b))
+
+
+def check_axis_series(series, error_files):
+    """The per-axis series recomputed here from the runs' errors CSVs: at each grid time, each
+    run's first sample in [t, t + step), the RMS over runs of the error and of the sigma."""
+    runs = []
+    for path in error_files:
+        with open(path) as f:
+            rows = list(csv.DictReader(f))
+        runs.append([{k: float(v) if v else math.nan for k, v in r.items()} for r in rows])
+    step = series["step_s"]
+    columns = {"x_m": ("ex_m", "sigma_x_m"), "y_m": ("ey_m", "sigma_y_m"),
+               "yaw_rad": ("eyaw_rad", "sigma_yaw_rad")}
+    for i, t in enumerate(series["t"]):
+        samples = []
+        for rows in runs:
+            first = next((r for r in rows if r["t"] >= t - 1e-9), None)
+            if first is not None and first["t"] < t + step:
+                samples.append(first)
+        if series["runs_with_error"][i] != len(samples):
+            fail("runs_with_error at t=%g: %s, expected %d" % (t, series["runs_with_error"][i],
+                                                                len(samples)))
+        for axis, (error, sigma) in columns.items():
+            for key, column in (("error_rms_" + axis, error), ("sigma_rms_" + axis, sigma)):
+                expected = math.sqrt(sum(r[column] ** 2 for r in samples) / len(samples))
+                got = series[key][i]
+                if abs(got - expected) > 1e-6 * max(1.0, abs(expected)):
+                    fail("%s at t=%g: %r, expected %r" % (key, t, got, expected))
+
+
+def check_nis_series(nis, nis_files, step):
+    """Each type's NIS series recomputed from the runs' NIS CSVs: the accepted innovations in
+    [k step, (k + 1) step) pooled, their count and mean."""
+    bins = {}
+    for path in nis_files:
+        with open(path) as f:
+            for r in csv.DictReader(f):
+                if r["accepted"] == "1":
+                    b = bins.setdefault(r["type"], {}).setdefault(int(float(r["t"]) // step),
+                                                                  [0, 0.0])
+                    b[0] += 1
+                    b[1] += float(r["nis"])
+    if sorted(bins) != sorted(k for k in nis if "series" in nis[k]) or "lamp" not in bins:
+        fail("NIS types: %s against %s" % (sorted(bins), sorted(nis)))
+    for kind, by_bin in bins.items():
+        series = nis[kind]["series"]
+        keys = sorted(by_bin)
+        if series["t"] != [k * step for k in keys] or \
+                series["count"] != [by_bin[k][0] for k in keys]:
+            fail("NIS %s bins: %s %s" % (kind, series["t"], series["count"]))
+        for k, got in zip(keys, series["anis"]):
+            if abs(got - by_bin[k][1] / by_bin[k][0]) > 1e-6:
+                fail("NIS %s at bin %d: %r" % (kind, k, got))
+        mean = sum(series["anis"]) / len(series["anis"])
+        if abs(nis[kind]["time_average"] - mean) > 1e-6:
+            fail("NIS %s time average %r, expected %r" % (kind, nis[kind]["time_average"], mean))
 
 
 def check_case_times(root):
@@ -103,6 +161,8 @@ study:
     series = points[0]["pipelines"]["odometry"]["series"]
     if not series["t"] or len(series["anees"]) != len(series["t"]):
         fail("NEES series: %s" % list(series))
+    check_axis_series(series, [os.path.join(work, "j1", "runs", "p000", "seed_%d" % seed,
+                                            "odometry_errors.csv") for seed in (11, 12, 13)])
     # Each run is the run `corridorsim run` gives for that seed.
     run(binary, ["run", os.path.join(work, "j1", "points", "p001.yaml"), "--seed", "12", "--out",
                  "single", "--no-plots"], 0, work)
@@ -160,6 +220,17 @@ study:
     out = run(binary, ["study", other, "--out", "j1", "--no-plots"], 2, work)
     if "--force" not in out.stderr:
         fail("another plan in the same folder: " + out.stderr)
+
+    # NIS over time: each landmark type's innovations of all runs pooled per time bin.
+    landmarks = os.path.join(work, "landmarks.yaml")
+    with open(landmarks, "w") as f:
+        f.write("include: %s\nduration_s: 6\nstudy:\n  runs: 2\n"
+                % os.path.join(source, "scenarios", "p3_lamps.yaml"))
+    run(binary, ["study", landmarks, "--out", "nis", "--no-plots", "--jobs", "2"], 0, work)
+    summary = json.loads(read(os.path.join(work, "nis", "summary.json")))
+    nis = summary["points"][0]["pipelines"]["p3_upward"]["nis"]
+    check_nis_series(nis, [os.path.join(work, "nis", "runs", "p000", "seed_%d" % seed,
+                                        "p3_upward_nis.csv") for seed in (1, 2)], 1.0)
 
     # A run over its time limit is killed and recorded as timed out.
     slow = os.path.join(work, "slow.yaml")

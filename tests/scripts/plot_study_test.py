@@ -30,7 +30,7 @@ def main():
     if done.returncode != 0:
         fail("study exited %d: %s" % (done.returncode, done.stderr))
     script = os.path.join(source, "scripts", "plot_study.py")
-    names = ["ate_box.png", "error_over_time.png", "nees.png", "sweep.png"]
+    names = ["ate_box.png", "error_over_time.png", "error_axes.png", "nees.png", "sweep.png"]
     images = []
     for _ in range(2):
         done = subprocess.run([sys.executable, script, os.path.join(work, "st")],
