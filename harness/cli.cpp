@@ -308,7 +308,8 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
           "Writes the results first: scenario.yaml (resolved, with the seed), world.json, "
           "ground_truth.tum (the planar truth at 100 Hz and every odometry stamp, as drive "
           "writes it), <pipeline>.tum, <pipeline>_cov.txt (ov_eval), "
-          "<pipeline>_errors.csv, <pipeline>_nis.csv, <pipeline>_landmarks.json, <pipeline>_detections.csv, "
+          "<pipeline>_errors.csv, <pipeline>_nis.csv, <pipeline>_landmarks.json, "
+          "<pipeline>_detections.csv, "
           "metrics.json (docs/metrics.md), timing.json, events.json, "
           "provenance.json (what the bytes depend on: build, compiler, Mesa, backend); then "
           "the extras: maps/, the --export dataset, plots/ (python3 scripts/plot_run.py).\n") +

@@ -66,8 +66,8 @@ struct CeilingOptions {
   double sprinkler_spacing_m = 3.6;
   // Stretches of plain (plastered) ceiling without tiles: corner-poor places like those where
   // P3's corner-only SLAM "observed only a few" corners (P3 section V, Fig. 18a).
-  double plain_fraction = 0.0;     // chance that a stretch of the corridor ceiling is plain
-  double plain_stretch_m = 4.0;    // length of each stretch along the corridor
+  double plain_fraction = 0.0;   // chance that a stretch of the corridor ceiling is plain
+  double plain_stretch_m = 4.0;  // length of each stretch along the corridor
 };
 
 struct DistractorOptions {
