@@ -712,7 +712,8 @@ std::string ShellWord(const std::string& text) {
 void KeepMeasuredRun(const StudyRequest& request, const StudySpec& spec, const fs::path& dir,
                      const PlannedRun& run, long tasks) {
   const std::string& id = spec.points[run.point].id;
-  if (!fs::is_regular_file(RunFolder(dir, id, run.seed) / "metrics.json")) return;
+  std::error_code error;
+  if (!fs::is_regular_file(RunFolder(dir, id, run.seed) / "metrics.json", error)) return;
   const long index =
       static_cast<long>(run.point) * spec.runs + static_cast<long>(run.seed - spec.first_seed);
   StudyRequest part = request;
