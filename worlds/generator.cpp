@@ -700,7 +700,11 @@ class Builder {
                              ceiling_id, SemanticClass::kCeiling);
         if (plain) {
           AddHorizontalRect(mesh, rect, s_.height_m, false, kWallPeriodM);
+          const std::size_t index = plain_ceiling_.size();
           plain_ceiling_.push_back(rect);
+          ForKeepoutCells(rect, [&](const std::pair<long, long>& grid) {
+            plain_cells_[grid].push_back(index);
+          });
         } else {
           AddHorizontalRect(mesh, rect, s_.height_m, false, tile * kCeilingTilesPerTexture,
                             tile_offset_);
@@ -735,11 +739,21 @@ class Builder {
     return out;
   }
 
+  // Whether p lies on a plain stretch or within `margin` of one: only the stretches filed under
+  // the grid cells around p are tested (a corridor has up to thousands of stretches and a
+  // million tile corners).
   bool OnPlainCeiling(const Vector2d& p, double margin) const {
-    for (const AlignedBox2d& rect : plain_ceiling_) {
-      if (Inflated(rect, margin).contains(p)) return true;
-    }
-    return false;
+    if (plain_ceiling_.empty()) return false;
+    bool on = false;
+    const AlignedBox2d around(p - Vector2d(margin, margin), p + Vector2d(margin, margin));
+    ForKeepoutCells(around, [&](const std::pair<long, long>& grid) {
+      const auto it = plain_cells_.find(grid);
+      if (it == plain_cells_.end()) return;
+      for (const std::size_t i : it->second) {
+        on = on || Inflated(plain_ceiling_[i], margin).contains(p);
+      }
+    });
+    return on;
   }
 
   // ---- ceiling fixtures and corner points ---------------------------------------------------
@@ -1037,6 +1051,7 @@ class Builder {
   std::map<std::pair<long, long>, std::vector<std::size_t>> keepout_cells_;
   Vector2d tile_offset_ = Vector2d::Zero();
   std::vector<AlignedBox2d> plain_ceiling_;  // corridor ceiling without tiles
+  std::map<std::pair<long, long>, std::vector<std::size_t>> plain_cells_;  // by keepout grid cell
 };
 
 }  // namespace
