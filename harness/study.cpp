@@ -260,6 +260,21 @@ std::string ReportMarkdown(const StudySpec& spec, const StudySummary& summary,
             Fixed(p["nees"]["average"], 2) + " (" + Fixed(p["nees"]["in_band_fraction"], 2) +
             ") | " + std::to_string(p["runs"]["diverged"].get<int>()) + " |\n";
     }
+    std::string nis_rows;
+    for (const auto& [name, p] : point["pipelines"].items()) {
+      for (const auto& [type, n] : p["nis"].items()) {
+        nis_rows += "| `" + name + "` | " + type + " | " + Fixed(n["count"], 0) + " | " +
+                    Fixed(n["mean"], 3) + " | " + Fixed(n.value("time_average", json()), 3) +
+                    " | " + Fixed(n.value("time_in_band_fraction", json()), 2) + " |\n";
+      }
+    }
+    if (!nis_rows.empty()) {
+      md +=
+          "\nNIS per landmark type (applied updates of all runs; over time: pooled per time bin "
+          "against the band of their mean):\n\n| pipeline | landmark type | updates | mean NIS "
+          "| mean over time | time in band |\n|---|---|---|---|---|---|\n" +
+          nis_rows;
+    }
     md +=
         "\nPaired on the same seeds (ATE RMSE, a - b):\n\n| a | b | n | mean difference [95 % CI] "
         "(m) | ratio of means [95 % CI] | a lower | sign test p | Wilcoxon p |\n"
@@ -290,6 +305,11 @@ std::string ReportMarkdown(const StudySpec& spec, const StudySummary& summary,
         "![Error per axis (x, y, yaw) over time](plots/error_axes.png)\n\n"
         "![NEES over time](plots/nees.png)\n\n";
     if (!spec.vary_keys.empty()) md += "![Sweep](plots/sweep.png)\n\n";
+    bool any_nis = false;  // plot_study.py draws the first point's NIS
+    for (const auto& [name, p] : summary.json["points"][0]["pipelines"].items()) {
+      any_nis = any_nis || !p["nis"].empty();
+    }
+    if (any_nis) md += "![NIS per landmark type over time](plots/nis_over_time.png)\n\n";
   }
   md +=
       "Files: summary.json (everything above, with the per-run values and the series), "
