@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <memory>
@@ -263,7 +264,9 @@ int RunTestSuite(const TestRequest& request) {
     }
     // The file's time shared by its cases, so that the suite's total is the files' total (the
     // cases of one file ran in one process and cannot be timed apart).
-    for (SuiteCase& c : f.cases) c.seconds = f.seconds / static_cast<double>(f.cases.size());
+    for (SuiteCase& c : f.cases) {
+      c.seconds = f.seconds / static_cast<double>(std::max<std::size_t>(f.cases.size(), 1));
+    }
     int failed = 0, errors = 0;
     for (const SuiteCase& c : f.cases) {
       failed += c.result == SuiteCase::Result::kFailed;
