@@ -121,23 +121,30 @@ void ReadNis(const std::filesystem::path& file, double step_s, NisBins* bins) {
   ++pos;
   while (pos < text.size()) {
     const std::size_t end = std::min(text.find('\n', pos), text.size());
-    const std::string line = text.substr(pos, end - pos);
-    pos = end + 1;
-    const std::size_t c1 = line.find(','), c2 = line.find(',', c1 + 1), c3 = line.find(',', c2 + 1),
-                      c4 = line.find(',', c3 + 1);
-    if (c4 == std::string::npos) throw std::runtime_error(file.string() + ": a malformed line");
-    char* next = nullptr;
-    const double t = std::strtod(line.c_str(), &next);
-    const double dof = std::strtod(line.c_str() + c2 + 1, &next);
-    const double nis = std::strtod(line.c_str() + c3 + 1, &next);
+    // Fields by their commas, within this line (no copy of the line).
+    std::size_t comma[4];
+    std::size_t from = pos;
+    for (std::size_t& c : comma) {
+      c = text.find(',', from);
+      if (c >= end) throw std::runtime_error(file.string() + ": a malformed line");
+      from = c + 1;
+    }
+    const char* p = text.c_str();
+    const double t = std::strtod(p + pos, nullptr);
+    const double dof = std::strtod(p + comma[1] + 1, nullptr);
+    const double nis = std::strtod(p + comma[2] + 1, nullptr);
     if (!(t >= 0) || !(t < 1e9) || !(dof >= 1) || !(nis >= 0) || !std::isfinite(nis)) {
       throw std::runtime_error(file.string() + ": a line out of range");
     }
-    if (line.compare(c4 + 1, std::string::npos, "1") != 0) continue;  // gated out
-    NisBin& bin = (*bins)[line.substr(c1 + 1, c2 - c1 - 1)][static_cast<long>(t / step_s)];
-    bin.count += 1;
-    bin.nis_sum += nis;
-    bin.dof_sum += dof;
+    const bool applied = end - comma[3] == 2 && text[comma[3] + 1] == '1';
+    if (applied) {
+      NisBin& bin = (*bins)[text.substr(comma[0] + 1, comma[1] - comma[0] - 1)]
+                           [static_cast<long>(t / step_s)];
+      bin.count += 1;
+      bin.nis_sum += nis;
+      bin.dof_sum += dof;
+    }
+    pos = end + 1;
   }
 }
 
@@ -145,8 +152,7 @@ void ReadNis(const std::filesystem::path& file, double step_s, NisBins* bins) {
 // kMaxSeriesPoints remain; per bin the mean NIS of the pooled innovations against the 95 % band
 // of the mean of K chi-square values, [chi2(sum d, 0.025) / K, chi2(sum d, 0.975) / K].
 void AddNisSeries(const NisBins& bins, double step_s, json* nis_json) {
-  for (const auto& [type, by_bin] : bins) {
-    if (by_bin.empty()) continue;
+  for (const auto& [type, by_bin] : bins) {  // a type is there with at least one bin
     const long last = by_bin.rbegin()->first;
     const long k = std::max<long>(1, (last + kMaxSeriesPoints) / kMaxSeriesPoints);
     std::map<long, NisBin> merged;
@@ -176,7 +182,8 @@ void AddNisSeries(const NisBins& bins, double step_s, json* nis_json) {
     }
     json& out = (*nis_json)[type];
     out["time_average"] = Num(sum / static_cast<double>(merged.size()));
-    out["time_in_band_fraction"] = Num(static_cast<double>(inside) / merged.size());
+    out["time_in_band_fraction"] =
+        Num(static_cast<double>(inside) / static_cast<double>(merged.size()));
     out["series"] = {{"step_s", Num(static_cast<double>(k) * step_s)},
                      {"t", std::move(t)},
                      {"count", std::move(count)},

@@ -68,6 +68,13 @@ void AddNeesMetrics(const MatchedTrajectory& matched, const MetricWriter& out) {
   out.Set("nees_final", last);
 }
 
+namespace {
+// An innovation no NIS statistic can use (counted by AddNisMetrics, left out of the CSV).
+bool MalformedInnovation(const slam::Innovation& innovation) {
+  return innovation.dof < 1 || !std::isfinite(innovation.nis) || innovation.nis < 0.0;
+}
+}  // namespace
+
 std::size_t AddNisMetrics(const std::vector<slam::Innovation>& innovations,
                           const MetricWriter& out) {
   std::size_t malformed = 0;
@@ -79,7 +86,7 @@ std::size_t AddNisMetrics(const std::vector<slam::Innovation>& innovations,
     double dof_sum = 0.0;
     for (const slam::Innovation& innovation : innovations) {
       if (innovation.type != type) continue;
-      if (innovation.dof < 1 || !std::isfinite(innovation.nis) || innovation.nis < 0.0) {
+      if (MalformedInnovation(innovation)) {
         ++malformed;
         continue;
       }
@@ -144,7 +151,7 @@ std::string NisSeriesCsv(const PipelineRecord& pipeline) {
   std::string csv = "t,type,dof,nis,accepted\n";
   char line[160];
   for (const slam::Innovation& i : pipeline.innovations) {
-    if (i.dof < 1 || !std::isfinite(i.nis) || i.nis < 0.0) continue;
+    if (metrics::MalformedInnovation(i)) continue;
     std::snprintf(line, sizeof(line), "%.9f,%s,%d,%.6f,%d\n", ToSeconds(i.stamp_ns),
                   slam::LandmarkTypeName(i.type).c_str(), i.dof,
                   RoundToStep(i.nis, json_steps::kRatio), i.accepted ? 1 : 0);
