@@ -558,6 +558,13 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
                        "Run only part K of N (run k of the plan belongs to part k mod N); "
                        "`study merge` combines the parts")
           ->type_name("K/N");
+  std::vector<std::string> study_may_diverge;
+  study
+      ->add_option("--may-diverge", study_may_diverge,
+                   "Pipelines whose diverged runs do not fail the study (baselines; added to "
+                   "study.may_diverge)")
+      ->delimiter(',')
+      ->type_name("PIPELINE[,PIPELINE]");
   bool study_no_plots = false;
   study->add_flag("--no-plots", study_no_plots, "Skip plots/ (matplotlib)")
       ->disable_flag_override();
@@ -598,9 +605,9 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
           "is run again. Writes study.json (the plan), points/, runs/, status/, logs/, "
           "summary.json, summary.csv, paired.csv, report.md, timing.json and plots/ "
           "(docs/studies.md).\n") +
-      "Exit codes: 0 success; 1 a run failed or timed out (the others are summarised, the failed "
-      "ones named); 3 a study expectation failed; 4 only plots/ failed; 2 bad input (nothing "
-      "runs).");
+      "Exit codes: 0 success; 1 a run failed or timed out, or a pipeline not in may_diverge "
+      "diverged (the others are summarised, each one named); 3 a study expectation failed; 4 "
+      "only plots/ failed; 2 bad input (nothing runs).");
 
   CLI::App* test = app.add_subcommand(
       "test", "Run scenarios and studies as a test suite and write a JUnit XML report");
@@ -852,6 +859,8 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
       r.shard_count = n;
     }
     r.plots = !study_no_plots;
+    if (study_may_diverge.size() > 64) Fail("--may-diverge", "at most 64 pipelines");
+    r.may_diverge = study_may_diverge;
     r.slurm = study_slurm;
     r.submit = study_submit;
     if (study_submit && !study_slurm) Fail("--submit", "only with --slurm");

@@ -60,6 +60,7 @@ json PlanJson(const StudySpec& spec, const std::vector<std::string>& point_yaml)
   plan["first_seed"] = spec.first_seed;
   plan["run_timeout_s"] = spec.run_timeout_s;
   plan["divergence_nees"] = spec.divergence_nees;
+  plan["may_diverge"] = spec.may_diverge;
   plan["time_step_s"] = spec.time_step_s;
   plan["pipelines"] = spec.pipelines;
   plan["metrics"] = spec.metrics;
@@ -88,6 +89,7 @@ StudySpec SpecFromPlan(const json& plan, const fs::path& file) {
     spec.first_seed = plan.at("first_seed").get<std::uint64_t>();
     spec.run_timeout_s = plan.at("run_timeout_s").get<double>();
     spec.divergence_nees = plan.at("divergence_nees").get<double>();
+    spec.may_diverge = plan.at("may_diverge").get<std::vector<std::string>>();
     spec.time_step_s = plan.at("time_step_s").get<double>();
     spec.pipelines = plan.at("pipelines").get<std::vector<std::string>>();
     spec.metrics = plan.at("metrics").get<std::vector<std::string>>();
@@ -258,7 +260,24 @@ std::string ReportMarkdown(const StudySpec& spec, const StudySummary& summary,
             Fixed(ate["p95"], 4) + " | " + Fixed(p["metrics"]["rpe_1m_trans_rmse_m"]["mean"], 4) +
             " | " + Fixed(p["metrics"]["final_position_error_m"]["mean"], 4) + " | " +
             Fixed(p["nees"]["average"], 2) + " (" + Fixed(p["nees"]["in_band_fraction"], 2) +
-            ") | " + std::to_string(p["runs"]["diverged"].get<int>()) + " |\n";
+            ") | " + std::to_string(p["runs"]["diverged"].get<int>()) +
+            (p["runs"]["may_diverge"].get<bool>() ? " (may diverge)" : "") + " |\n";
+    }
+    std::string diverged_rows;
+    for (const auto& [name, p] : point["pipelines"].items()) {
+      const json& seeds = p["runs"]["diverged_seeds"];
+      for (std::size_t i = 0; i < seeds.size(); ++i) {
+        diverged_rows += "| `" + name + "` | " + std::to_string(seeds[i].get<std::uint64_t>()) +
+                         " | " + p["runs"]["diverged_why"][i].get<std::string>() + " | " +
+                         (p["runs"]["may_diverge"].get<bool>() ? "no (may diverge)" : "**yes**") +
+                         " |\n";
+      }
+    }
+    if (!diverged_rows.empty()) {
+      md +=
+          "\nDiverged runs (docs/studies.md, \"Failures\"):\n\n| pipeline | seed | why | fails the "
+          "study |\n|---|---|---|---|\n" +
+          diverged_rows;
     }
     std::string nis_rows;
     for (const auto& [name, p] : point["pipelines"].items()) {
@@ -318,6 +337,14 @@ std::string ReportMarkdown(const StudySpec& spec, const StudySummary& summary,
   return md;
 }
 
+// " --may-diverge a,b" as given, or "" (PrepareStudy has checked each name against the study's
+// pipelines, whose names are [a-z0-9_] words: no quoting needed).
+std::string MayDivergeArgument(const StudyRequest& request) {
+  std::string names;
+  for (const std::string& name : request.may_diverge) names += (names.empty() ? "" : ",") + name;
+  return names.empty() ? "" : " --may-diverge " + names;
+}
+
 std::string CommandText(const StudyRequest& request) {
   std::string text = "corridorsim study";
   if (!request.merge_dirs.empty()) {
@@ -327,6 +354,7 @@ std::string CommandText(const StudyRequest& request) {
     text += " " + request.scenario_file;
     if (request.runs) text += " --runs " + std::to_string(*request.runs);
     if (request.seed) text += " --seed " + std::to_string(*request.seed);
+    text += MayDivergeArgument(request);
     if (request.shard_count > 1) {
       text += " --shard " + std::to_string(request.shard_index + 1) + "/" +
               std::to_string(request.shard_count);
@@ -393,6 +421,14 @@ bool WriteFrameTimes(const StudySpec& spec, const std::vector<StudyRunRecord>& r
   return any;
 }
 
+void PrintDivergences(const std::vector<StudyDivergence>& list, const fs::path& dir) {
+  for (const StudyDivergence& d : list) {
+    std::printf("  %s seed %llu: %s diverged: %s (run: %s)\n", d.point.c_str(),
+                static_cast<unsigned long long>(d.seed), d.pipeline.c_str(), d.why.c_str(),
+                RunFolder(dir, d.point, d.seed).string().c_str());
+  }
+}
+
 // Writes the summary files, the report and the plots; prints the closing table. Returns the
 // exit code.
 int FinishStudy(const StudySpec& spec, const fs::path& dir, const StudyRequest& request,
@@ -452,9 +488,31 @@ int FinishStudy(const StudySpec& spec, const fs::path& dir, const StudyRequest& 
                   LogFile(dir, spec.points[r.point].id, r.seed).string().c_str());
     }
     code = 1;
-  } else if (!summary.all_passed()) {
+  }
+  if (!summary.allowed_divergences.empty()) {
+    // Expected (baselines): one line per point and pipeline, the seeds only.
+    std::printf("study: %zu run(s) of pipelines that may diverge (study.may_diverge) diverged:",
+                summary.allowed_divergences.size());
+    const StudyDivergence* last = nullptr;
+    for (const StudyDivergence& d : summary.allowed_divergences) {
+      const bool first = !last || last->point != d.point || last->pipeline != d.pipeline;
+      if (first) std::printf("\n  %s %s: seeds", d.point.c_str(), d.pipeline.c_str());
+      std::printf("%s %llu", first ? "" : ",", static_cast<unsigned long long>(d.seed));
+      last = &d;
+    }
+    std::printf("\n");
+  }
+  if (!summary.divergences.empty()) {
+    std::printf(
+        "study: %zu run(s) diverged (a pipeline that is expected to, such as a baseline, goes "
+        "in study.may_diverge or --may-diverge):\n",
+        summary.divergences.size());
+    PrintDivergences(summary.divergences, dir);
+    code = 1;
+  }
+  if (code == 0 && !summary.all_passed()) {
     code = 3;
-  } else if (plot_error) {
+  } else if (code == 0 && plot_error) {
     code = 4;
   }
   if (plot_error)
@@ -499,6 +557,7 @@ struct PreparedStudy {
 PreparedStudy PrepareStudy(const StudyRequest& request) {
   PreparedStudy p;
   p.spec = LoadStudy(request.scenario_file, request.runs, request.seed);
+  AddMayDiverge(&p.spec, request.may_diverge, "--may-diverge");
   const StudySpec& spec = p.spec;
   std::vector<std::string> point_yaml;
   for (const StudyPoint& point : spec.points) {
@@ -839,6 +898,7 @@ int WriteSlurmStudy(const StudyRequest& request) {
   std::string seed_args;
   if (request.runs) seed_args += " --runs " + std::to_string(*request.runs);
   if (request.seed) seed_args += " --seed " + std::to_string(*request.seed);
+  seed_args += MayDivergeArgument(request);
   const fs::path slurm_dir = dir / "slurm";
   std::error_code error;
   fs::create_directories(slurm_dir, error);

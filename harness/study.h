@@ -24,6 +24,9 @@ struct StudyRequest : JobRequest {
   int shard_index = 0;      // --shard K/N: this part is K - 1 of N
   int shard_count = 1;
   bool plots = true;  // --no-plots skips plots/
+  // --may-diverge: pipelines whose diverged runs do not fail the study (besides the study
+  // file's study.may_diverge).
+  std::vector<std::string> may_diverge;
   // `study merge DIR... --out OUT`: the parts to combine (instead of running a study).
   std::vector<std::filesystem::path> merge_dirs;
   // The program that runs each run (`corridorsim run`); empty: this executable.
@@ -41,7 +44,8 @@ struct StudyRequest : JobRequest {
 inline constexpr int kMaxSlurmTasks = 1000;
 
 /// Runs (or resumes) the study and writes the summary. Returns 0; 1 when a run failed or timed
-/// out (the study goes on and names them at the end); 3 when a study expectation failed; 4 when
+/// out, or a pipeline not listed in may_diverge diverged (the study goes on and names them at
+/// the end); 3 when a study expectation failed; 4 when
 /// only plots/ failed. Throws InputError for bad input, before any run starts.
 int RunStudy(const StudyRequest& request);
 

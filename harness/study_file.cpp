@@ -288,6 +288,22 @@ std::optional<std::string> ParseStudyExpectation(const std::string& text, StudyE
   return std::nullopt;
 }
 
+void AddMayDiverge(StudySpec* spec, const std::vector<std::string>& names,
+                   const std::string& option) {
+  for (const std::string& name : names) {
+    if (!Contains(spec->pipelines, name)) {
+      throw InputError(SourceLocation{"command line", 0, 0}, option,
+                       "'" + InputExcerpt(name) + "' is not a pipeline of this study (it runs " +
+                           Join(spec->pipelines) + ")");
+    }
+  }
+  std::vector<std::string> merged;
+  for (const std::string& name : spec->pipelines) {
+    if (Contains(spec->may_diverge, name) || Contains(names, name)) merged.push_back(name);
+  }
+  spec->may_diverge = std::move(merged);
+}
+
 StudySpec LoadStudy(const std::string& path, std::optional<int> runs,
                     std::optional<std::uint64_t> first_seed) {
   StudySpec spec;
@@ -340,6 +356,19 @@ StudySpec LoadStudy(const std::string& path, std::optional<int> runs,
       }
     }
     study.Read("expectations", expectation_texts, &expectation_locations);
+    std::vector<std::string> may_diverge;
+    std::vector<SourceLocation> may_diverge_locations;
+    if (study.Read("may_diverge", may_diverge, &may_diverge_locations)) {
+      for (std::size_t i = 0; i < may_diverge.size(); ++i) {
+        if (!Contains(spec.pipelines, may_diverge[i])) {
+          throw InputError(may_diverge_locations[i], "study.may_diverge",
+                           "'" + InputExcerpt(may_diverge[i]) +
+                               "' is not a pipeline of this scenario (it runs " +
+                               Join(spec.pipelines) + ")");
+        }
+      }
+      AddMayDiverge(&spec, may_diverge, "study.may_diverge");
+    }
     study.Accept("vary");
     study.RejectUnknownKeys();
     sweeps = ReadSweeps(top, top.root["study"]["vary"]);

@@ -65,6 +65,11 @@ struct StudySpec {
   std::vector<StudyPoint> points;      // at least one
   std::vector<std::string> pipelines;  // enabled, in scenario order (the same at every point)
   std::vector<StudyExpectation> expectations;
+  // Pipelines whose divergence is expected (baselines such as odometry): their diverged runs are
+  // counted and reported but do not fail the study; a diverged run of any other pipeline makes
+  // `study` exit 1 naming it (docs/studies.md, "Failures"). `study.may_diverge` and
+  // --may-diverge, in scenario order.
+  std::vector<std::string> may_diverge;
 };
 
 /// The per-pipeline metrics every study summarises (before the file's `metrics:`).
@@ -74,6 +79,11 @@ const std::vector<std::string>& DefaultStudyMetrics();
 /// Throws InputError naming file, line and key.
 StudySpec LoadStudy(const std::string& path, std::optional<int> runs,
                     std::optional<std::uint64_t> first_seed);
+
+/// Adds `names` (the command line's --may-diverge) to spec->may_diverge, keeping scenario order.
+/// A name that is not an enabled pipeline is an InputError at "command line", key `option`.
+void AddMayDiverge(StudySpec* spec, const std::vector<std::string>& names,
+                   const std::string& option);
 
 /// Parses one study expectation (see StudyExpectation); returns the error, or nothing.
 std::optional<std::string> ParseStudyExpectation(const std::string& text, StudyExpectation* out);

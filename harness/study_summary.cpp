@@ -218,11 +218,37 @@ json Describe(const std::vector<double>& values, const std::string& stream) {
   return out;
 }
 
+// Why a pipeline's run counts as diverged (docs/studies.md, "Failures"), or nothing.
+std::optional<std::string> DivergedWhy(const json& m, double divergence_nees) {
+  const auto nees = NumberAt(m, "nees_mean");
+  if (!nees) return "no average NEES";
+  if (!NumberAt(m, "ate_rmse_m")) return "no ATE";
+  const auto count = [&](const char* key) {
+    return NumberAt(m, std::string("health.") + key).value_or(0.0);
+  };
+  char text[160];
+  if (const double n = count("non_finite_estimates"); n > 0) {
+    std::snprintf(text, sizeof text, "non-finite estimates (%.0f)", n);
+    return std::string(text);
+  }
+  if (const double n = count("non_positive_covariance"); n > 0) {
+    std::snprintf(text, sizeof text, "non-positive covariance (%.0f)", n);
+    return std::string(text);
+  }
+  if (*nees > divergence_nees) {
+    std::snprintf(text, sizeof text, "average NEES %.4g > divergence_nees %g", *nees,
+                  divergence_nees);
+    return std::string(text);
+  }
+  return std::nullopt;
+}
+
 // One pipeline at one point: its per-run values and series.
 struct PipelineRuns {
   std::vector<std::uint64_t> seeds;                               // finished runs, in seed order
   std::map<std::string, std::map<std::uint64_t, double>> values;  // metric -> seed -> value
   std::vector<std::uint64_t> diverged;
+  std::vector<std::string> diverged_why;  // parallel to `diverged`
   std::vector<std::vector<ErrorSample>> series;
   struct Nis {
     double count = 0, weighted_sum = 0;
@@ -383,6 +409,7 @@ StudySummary SummarizeStudy(const StudySpec& spec, const std::vector<StudyRunRec
   root["pipelines"] = spec.pipelines;
   root["metrics"] = spec.metrics;
   root["divergence_nees"] = Num(spec.divergence_nees);
+  root["may_diverge"] = spec.may_diverge;
   root["bootstrap"] = {{"resamples", study::kBootstrapResamples},
                        {"level", study::kConfidenceLevel},
                        {"method", "percentile bootstrap of the mean over seeds"}};
@@ -432,12 +459,10 @@ StudySummary SummarizeStudy(const StudySpec& spec, const std::vector<StudyRunRec
         for (const std::string& metric : spec.metrics) {
           if (const auto v = NumberAt(m, metric)) pr.values[metric][run.seed] = *v;
         }
-        const auto nees = NumberAt(m, "nees_mean");
-        const auto ate = NumberAt(m, "ate_rmse_m");
-        const bool diverged = !nees || !ate || *nees > spec.divergence_nees ||
-                              NumberAt(m, "health.non_positive_covariance").value_or(0) > 0 ||
-                              NumberAt(m, "health.non_finite_estimates").value_or(0) > 0;
-        if (diverged) pr.diverged.push_back(run.seed);
+        if (auto why = DivergedWhy(m, spec.divergence_nees)) {
+          pr.diverged.push_back(run.seed);
+          pr.diverged_why.push_back(std::move(*why));
+        }
         if (m.contains("nis") && m["nis"].is_object()) {
           for (const auto& [type, n] : m["nis"].items()) {
             const auto count = NumberAt(n, "count");
@@ -471,9 +496,17 @@ StudySummary SummarizeStudy(const StudySpec& spec, const std::vector<StudyRunRec
     for (const std::string& name : spec.pipelines) {
       PipelineRuns& pr = per_pipeline[name];
       json pj;
+      const bool may_diverge = std::find(spec.may_diverge.begin(), spec.may_diverge.end(), name) !=
+                               spec.may_diverge.end();
       pj["runs"] = {{"finished", pr.seeds.size()},
                     {"diverged", pr.diverged.size()},
-                    {"diverged_seeds", pr.diverged}};
+                    {"diverged_seeds", pr.diverged},
+                    {"diverged_why", pr.diverged_why},
+                    {"may_diverge", may_diverge}};
+      for (std::size_t i = 0; i < pr.diverged.size(); ++i) {
+        (may_diverge ? summary.allowed_divergences : summary.divergences)
+            .push_back({point.id, name, pr.diverged[i], pr.diverged_why[i]});
+      }
       json metrics_json, values_json;
       values_json["seed"] = pr.seeds;
       for (const std::string& metric : spec.metrics) {
@@ -646,6 +679,7 @@ StudySummary SummarizeStudy(const StudySpec& spec, const std::vector<StudyRunRec
   summary.failed_runs = failed_total;
   root["points"] = std::move(points);
   root["all_expectations_passed"] = summary.all_passed();
+  root["diverged_runs_failing"] = summary.divergences.size();
   return summary;
 }
 

@@ -33,12 +33,23 @@ struct StudyExpectationResult {
   bool passed = false;
 };
 
+/// A run in which a pipeline diverged (docs/studies.md, "Failures").
+struct StudyDivergence {
+  std::string point;  // the sweep point's id
+  std::string pipeline;
+  std::uint64_t seed = 0;
+  std::string why;  // "average NEES 243 > 100", "non-positive covariance (3 times)", ...
+};
+
 struct StudySummary {
   nlohmann::ordered_json json;  // summary.json
   std::string csv;              // summary.csv: one row per point, pipeline and metric
   std::string paired_csv;       // paired.csv: one row per point, pair and metric
   std::vector<StudyExpectationResult> results;
   int failed_runs = 0;  // failed or timed out, over every point
+  // Divergences of pipelines not in StudySpec::may_diverge (they fail the study), and of those
+  // in it (reported only), over every point, in point, pipeline and seed order.
+  std::vector<StudyDivergence> divergences, allowed_divergences;
   int not_run = 0;
   bool all_passed() const;
 };

@@ -248,6 +248,21 @@ int RunTestSuite(const TestRequest& request) {
           add(label + e.value("expectation", ""), e.value("passed", false),
               Measured(e["measured"]));
         }
+        // A pipeline not allowed to diverge (study.may_diverge): one case, failed with the
+        // seeds and reasons of its diverged runs.
+        for (const auto& [name, pipeline] : p["pipelines"].items()) {
+          const json& r = pipeline["runs"];
+          if (r.value("may_diverge", false)) continue;
+          std::string seeds;
+          const json& diverged = r["diverged_seeds"];
+          for (std::size_t k = 0; k < diverged.size(); ++k) {
+            seeds += (seeds.empty() ? "" : "; ") + std::string("seed ") +
+                     std::to_string(diverged[k].get<std::uint64_t>()) + ": " +
+                     r["diverged_why"][k].get<std::string>();
+          }
+          add(label + name + " does not diverge", diverged.empty(),
+              std::to_string(diverged.size()) + " diverged run(s) (" + seeds + ")");
+        }
         for (const char* outcome : {"failed_seeds", "timed_out_seeds"}) {
           for (const json& seed : p["runs"][outcome]) {
             error_case(point + " seed " + std::to_string(seed.get<std::uint64_t>()),

@@ -40,13 +40,28 @@ expectations: []
     return path
 
 
+def all_runs_finished(out):
+    try:
+        with open(os.path.join(out, "summary.json")) as f:
+            points = json.load(f)["points"]
+    except (OSError, ValueError, KeyError):
+        return False
+    return all(p["runs"]["failed"] == 0 and p["runs"]["timed_out"] == 0 and
+               p["runs"]["not_run"] == 0 for p in points)
+
+
 def study(binary, scenario, runs, jobs, out):
     shutil.rmtree(out, ignore_errors=True)
     start = time.monotonic()
     done = subprocess.run([binary, "study", scenario, "--runs", str(runs), "--jobs", str(jobs),
                            "--out", out, "--no-plots"], capture_output=True, text=True)
     wall = time.monotonic() - start
-    if done.returncode != 0:
+    # Exit 1 with every run finished means only that a pipeline diverged (the study names it):
+    # that is the filter's accuracy, not the study's speed, which is measured all the same.
+    if done.returncode == 1 and all_runs_finished(out):
+        print("bench_study: note: runs diverged with %d worker(s) (accuracy, not speed):\n%s" % (
+            jobs, done.stdout[done.stdout.find("run(s) diverged"):][-1000:]))
+    elif done.returncode != 0:
         sys.exit("bench_study: the study with %d worker(s) exited %d:\n%s%s" % (
             jobs, done.returncode, done.stdout[-2000:], done.stderr[-2000:]))
     with open(os.path.join(out, "timing.json")) as f:

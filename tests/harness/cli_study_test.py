@@ -250,6 +250,32 @@ study:
     if "FAILED p000: odometry.ate_rmse_m.mean < 0.000001" not in out.stdout:
         fail("the failed expectation is not named:\n" + out.stdout)
 
+    # A diverged run (here: average NEES above a low divergence_nees) fails the study, exit 1,
+    # naming point, seed, pipeline and reason; a pipeline in may_diverge is reported only.
+    diverging = os.path.join(work, "diverging.yaml")
+    with open(diverging, "w") as f:
+        f.write(read(study).decode().replace("  runs: 3\n", "  runs: 3\n  divergence_nees: 5\n"))
+    out = run(binary, ["study", diverging, "--out", "div", "--no-plots"], 1, work)
+    if "p001 seed 12: odometry diverged: average NEES" not in out.stdout or \
+            "p000 seed" in out.stdout.split("run(s) diverged")[-1]:
+        fail("the diverged runs are not named (only p001's diverge):\n" + out.stdout)
+    runs = json.loads(read(os.path.join(work, "div", "summary.json")))["points"][1]["pipelines"][
+        "odometry"]["runs"]
+    if runs["diverged_seeds"] != [11, 12, 13] or runs["may_diverge"] or \
+            not runs["diverged_why"][0].startswith("average NEES"):
+        fail("diverged runs in summary.json: %s" % runs)
+    out = run(binary, ["study", diverging, "--out", "div2", "--no-plots", "--may-diverge",
+                       "odometry_tight,odometry"], 0, work)
+    if "p001 odometry: seeds 11, 12, 13" not in out.stdout:
+        fail("allowed divergences are not reported:\n" + out.stdout)
+    with open(diverging.replace(".yaml", "_allowed.yaml"), "w") as f:
+        f.write(read(diverging).decode().replace(
+            "  divergence_nees: 5\n", "  divergence_nees: 5\n  may_diverge: [odometry_tight]\n"))
+    out = run(binary, ["study", diverging.replace(".yaml", "_allowed.yaml"), "--out", "div3",
+                       "--no-plots"], 1, work)
+    if "odometry_tight diverged" in out.stdout or "odometry diverged" not in out.stdout:
+        fail("study.may_diverge exempts only the pipelines it names:\n" + out.stdout)
+
     # Bad input: exit 2 with file:line: key, and nothing runs.
     bad = os.path.join(work, "bad.yaml")
     with open(bad, "w") as f:
@@ -264,6 +290,7 @@ study:
             (["study", study, "--shard", "4/3"], "--shard"),
             (["study", study, "--jobs", "0"], "--jobs"),
             (["study", study, "--runs", "1.5"], "--runs"),
+            (["study", study, "--may-diverge", "odometry,nope"], "--may-diverge: 'nope'"),
             (["study", "merge", "j1", "strict", "--out", "m2"], "plans differ")):
         out = run(binary, args, 2, work)
         if pattern not in out.stderr:
@@ -276,7 +303,8 @@ study:
                 "  - odometry.ate_rmse_m < 100\n" % base)
     out = run(binary, ["test", scenario, study, "--out", "suite", "--junit", "junit.xml"], 3, work)
     root = ET.parse(os.path.join(work, "junit.xml")).getroot()
-    if root.tag != "testsuites" or root.get("tests") != "10" or root.get("failures") != "1":
+    # checked: 2 expectations; sweep: 2 points x (4 expectations + 2 "does not diverge").
+    if root.tag != "testsuites" or root.get("tests") != "14" or root.get("failures") != "1":
         fail("junit.xml: %s %s" % (root.tag, root.attrib))
     suites = root.findall("testsuite")
     if [s.get("name") for s in suites] != ["checked", "sweep"]:
@@ -290,8 +318,19 @@ study:
             fail("test case %s: time or attachment" % case.get("name"))
     check_case_times(root)
     names = [c.get("name") for c in suites[1].findall("testcase")]
-    if "p001 (robot.odometry.random_k_m=1.0e-3): runs.failed < 1" not in names:
-        fail("study cases: %s" % names)
+    for name in ("p001 (robot.odometry.random_k_m=1.0e-3): runs.failed < 1",
+                 "p001 (robot.odometry.random_k_m=1.0e-3): odometry_tight does not diverge"):
+        if name not in names:
+            fail("study cases: %s" % names)
+    # A diverged run of a pipeline not in may_diverge: a failed case naming seed and reason.
+    run(binary, ["test", diverging, "--out", "suite4", "--junit", "diverging.xml"], 3, work)
+    root = ET.parse(os.path.join(work, "diverging.xml")).getroot()
+    failed = {c.get("name"): c.find("failure").get("message") for c in root.iter("testcase")
+              if c.find("failure") is not None}
+    if sorted(failed) != ["p001 (robot.odometry.random_k_m=1.0e-3): odometry does not diverge",
+                          "p001 (robot.odometry.random_k_m=1.0e-3): odometry_tight does not "
+                          "diverge"] or "seed 12: average NEES" not in "".join(failed.values()):
+        fail("diverging.xml: %s" % failed)
     # A study whose run timed out: an error case naming the seed; its time is counted once.
     run(binary, ["test", slow, "--out", "suite3", "--junit", "slow.xml"], 1, work)
     root = ET.parse(os.path.join(work, "slow.xml")).getroot()

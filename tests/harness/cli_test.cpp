@@ -219,6 +219,10 @@ TEST_CASE("ParseCommandLine fills the study, study merge and test requests", "[h
   CHECK(study.study.shard_count == 8);
   CHECK(study.study.seed == 5u);
   CHECK(study.study.out_dir == "out/study");
+  CHECK(study.study.may_diverge.empty());
+  const CommandLine baselines = ParseCommandLine(
+      {"study", "s.yaml", "--may-diverge", "odometry,p1_harris", "--may-diverge", "x"});
+  CHECK(baselines.study.may_diverge == std::vector<std::string>{"odometry", "p1_harris", "x"});
   const CommandLine slurm =
       ParseCommandLine({"study", "s.yaml", "--slurm", "--submit", "--slurm-tasks", "12"});
   CHECK(slurm.study.slurm);
