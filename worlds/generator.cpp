@@ -190,8 +190,16 @@ class Builder {
         AddTexture("room_ceiling", MakeRoomCeilingTexture(textures_rng_, int(px * kWallPeriodM)));
     const int door_tex = AddTexture("door_leaf", MakeDoorTexture(textures_rng_, 128, 256));
     const int vent_tex = AddTexture("vent", MakeVentTexture(96));
+    // Plain corridor walls: drawn last, from a stream of their own, so that the other textures
+    // stay what they are.
+    int corridor_wall_tex = wall_tex;
+    if (s_.wall_finish == WallFinish::kPlain) {
+      RandomStream plain_walls(w_.seed, 0, "worlds.walls.plain");
+      corridor_wall_tex =
+          AddTexture("wall_plain", MakePlainWallTexture(plain_walls, int(px * kWallPeriodM)));
+    }
     const AppearanceDraw& look = w_.appearance;  // 1 without appearance randomisation
-    mat_.wall = TexturedMaterial("wall", wall_tex, look.wall);
+    mat_.wall = TexturedMaterial("wall", corridor_wall_tex, look.wall);
     mat_.room_wall = TexturedMaterial("room_wall", wall_tex,
                                       Vector3f(0.95f, 0.9f, 0.8f).cwiseProduct(look.wall));
     mat_.floor = TexturedMaterial("floor", floor_tex, look.floor);

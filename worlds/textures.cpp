@@ -138,6 +138,11 @@ Image8 MakeWallTexture(RandomStream& rng, int size_px) {
   return ToImage(img);
 }
 
+Image8 MakePlainWallTexture(RandomStream& rng, int size_px) {
+  const cv::Vec3d paint(rng.Uniform(200, 235), rng.Uniform(195, 230), rng.Uniform(180, 220));
+  return ToImage(Tinted(SmoothNoise(rng, size_px, 4), paint, 0.03));
+}
+
 Image8 MakeFloorTexture(RandomStream& rng, int size_px, int tiles) {
   const cv::Vec3d base(rng.Uniform(120, 170), rng.Uniform(115, 160), rng.Uniform(100, 150));
   cv::Mat img = Tinted(SmoothNoise(rng, size_px, 16), base, 0.08);

@@ -15,6 +15,9 @@ namespace corridorsim::worlds {
 
 /// Painted plaster: a seeded pale colour, blotches, speckles and scuffs. Covers period_px square.
 Image8 MakeWallTexture(RandomStream& rng, int size_px);
+/// Smooth paint without speckles or scuffs (world.wall_finish: plain): a seeded pale colour with
+/// faint large blotches, next to no corner features.
+Image8 MakePlainWallTexture(RandomStream& rng, int size_px);
 /// Linoleum tiles with seams and speckles; `tiles` tiles across the texture.
 Image8 MakeFloorTexture(RandomStream& rng, int size_px, int tiles);
 /// Suspended-ceiling tiles: `tiles` x `tiles` tiles with dark seams on tile borders (the seam

@@ -25,6 +25,11 @@ constexpr EnumName<Layout> kLayoutNames[] = {{Layout::kStraight, "straight"},
 
 std::string LayoutName(Layout layout) { return NameOf(kLayoutNames, layout); }
 
+constexpr EnumName<WallFinish> kWallFinishNames[] = {{WallFinish::kSpeckled, "speckled"},
+                                                     {WallFinish::kPlain, "plain"}};
+
+std::string WallFinishName(WallFinish finish) { return NameOf(kWallFinishNames, finish); }
+
 namespace {
 
 const OptionTable<DoorOptions>& DoorOptionsTable() {
@@ -269,6 +274,10 @@ const OptionTable<WorldOptions>& WorldOptionsTable() {
     t.Add("texture_px_per_m", &W::texture_px_per_m, "px/m",
           "resolution of wall, floor and ceiling textures")
         .Range(20, 1000);
+    t.AddEnum("wall_finish", &W::wall_finish, kWallFinishNames,
+              "the corridor walls' paint: speckled (blotches, speckles, scuffs: corner features) "
+              "or plain (smooth paint, next to no corners; a corner-poor corridor with "
+              "ceiling.plain_fraction); rooms stay speckled");
     t.AddSection("doors", &W::doors, DoorOptionsTable(), "doorways, their frames and rooms");
     t.AddSection("plates", &W::plates, PlateOptionsTable(), "door plates");
     t.AddSection("lamps", &W::lamps, LampOptionsTable(), "ceiling lamps");

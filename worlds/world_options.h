@@ -15,6 +15,9 @@
 namespace corridorsim::worlds {
 
 enum class Layout { kStraight, kLTurn, kTJunction, kLoop };
+/// The corridor walls' paint: speckled (blotches, speckles and scuffs: corner features) or plain
+/// (smooth paint, next to no corners). Rooms keep the speckled paint.
+enum class WallFinish { kSpeckled, kPlain };
 
 struct DoorOptions {
   int count = 16;                    // doorways along the side walls, both sides together
@@ -114,6 +117,7 @@ struct WorldOptions {
   double height_m = 2.7;  // floor to ceiling
   double wall_thickness_m = 0.15;
   int texture_px_per_m = 200;  // resolution of wall, floor and ceiling textures
+  WallFinish wall_finish = WallFinish::kSpeckled;
   DoorOptions doors;
   PlateOptions plates;
   LampOptions lamps;
@@ -153,5 +157,6 @@ const OptionTable<WorldOptions>& WorldOptionsTable();
 void ParseWorldOptions(YamlMap& map, WorldOptions& options);
 
 std::string LayoutName(Layout layout);
+std::string WallFinishName(WallFinish finish);
 
 }  // namespace corridorsim::worlds

@@ -806,6 +806,60 @@ TEST_CASE("plain ceiling stretches carry no tile corners and the rooms' plaster;
   }
 }
 
+TEST_CASE("plain walls: the corridor's walls smooth, the rooms' speckled, the rest unchanged",
+          "[worlds][generator]") {
+  WorldOptions options;
+  const World speckled = Generate(options, 4);
+  options.wall_finish = WallFinish::kPlain;
+  const World plain = Generate(options, 4);
+  const auto texture_of = [](const World& w, const std::string& material) -> const Image8* {
+    for (const Material& m : w.materials) {
+      if (m.name == material) return m.texture >= 0 ? &w.textures[m.texture].image : nullptr;
+    }
+    return nullptr;
+  };
+  // Pixels with a step of more than 8 grey levels to their right or lower neighbour: speckles,
+  // scuffs and seams, the corners' stuff; smooth paint has none.
+  const auto steps = [](const Image8& image) {
+    const auto grey = [&](int x, int y) {
+      const std::size_t i = (static_cast<std::size_t>(y) * image.width + x) * image.channels;
+      return (image.data[i] + image.data[i + 1] + image.data[i + 2]) / 3;
+    };
+    int count = 0;
+    for (int y = 0; y + 1 < image.height; ++y) {
+      for (int x = 0; x + 1 < image.width; ++x) {
+        const int g = grey(x, y);
+        count += std::abs(g - grey(x + 1, y)) > 8 || std::abs(g - grey(x, y + 1)) > 8;
+      }
+    }
+    return count;
+  };
+  const Image8* corridor = texture_of(plain, "wall");
+  const Image8* rooms = texture_of(plain, "room_wall");
+  REQUIRE(corridor);
+  REQUIRE(rooms);
+  CHECK(steps(*corridor) == 0);
+  CHECK(steps(*rooms) > 1000);
+  CHECK(steps(*rooms) == steps(*texture_of(speckled, "wall")));  // the rooms keep their paint
+  // Only the corridor walls' texture differs: the same meshes, doors, lamps and corner points.
+  REQUIRE(plain.meshes.size() == speckled.meshes.size());
+  for (std::size_t i = 0; i < plain.meshes.size(); ++i) {
+    CHECK(plain.meshes[i].name == speckled.meshes[i].name);
+  }
+  CHECK(DoorColumns(plain) == DoorColumns(speckled));
+  CHECK(plain.corner_points.size() == speckled.corner_points.size());
+  CheckEachPair(plain.lamps, speckled.lamps,
+                [](const Lamp& a, const Lamp& b) { CHECK(a.center == b.center); });
+  REQUIRE(plain.textures.size() == speckled.textures.size() + 1);
+  for (const Texture& t : speckled.textures) {
+    INFO("texture " << t.name);
+    const auto same = std::find_if(plain.textures.begin(), plain.textures.end(),
+                                   [&](const Texture& p) { return p.name == t.name; });
+    REQUIRE(same != plain.textures.end());
+    CHECK((same->image.data == t.image.data));
+  }
+}
+
 // ---- all_options the generator cannot place
 // ----------------------------------------------------------
 
