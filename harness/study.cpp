@@ -149,7 +149,7 @@ void PrepareFolder(const fs::path& dir, const std::string& plan_text, bool force
                        "'" + dir.string() +
                            (fs::exists(plan_file, error)
                                 ? "' holds another study (its study.json differs: another "
-                                  "scenario, sweep, seeds or build)"
+                                  "scenario, sweep, seeds, expectations, may_diverge or build)"
                                 : "' is not empty and holds no study") +
                            ": pass --force to start it over, or choose another folder");
     }
@@ -263,14 +263,21 @@ std::string ReportMarkdown(const StudySpec& spec, const StudySummary& summary,
             ") | " + std::to_string(p["runs"]["diverged"].get<int>()) +
             (p["runs"]["may_diverge"].get<bool>() ? " (may diverge)" : "") + " |\n";
     }
+    // Diverged runs that fail the study one per row; a may_diverge baseline's in one row.
     std::string diverged_rows;
     for (const auto& [name, p] : point["pipelines"].items()) {
       const json& seeds = p["runs"]["diverged_seeds"];
+      if (seeds.empty()) continue;
+      if (p["runs"]["may_diverge"].get<bool>()) {
+        std::string list;
+        for (const json& seed : seeds) list += (list.empty() ? "" : ", ") + seed.dump();
+        diverged_rows += "| `" + name + "` | " + list + " | (" + std::to_string(seeds.size()) +
+                         " runs) | no (may diverge) |\n";
+        continue;
+      }
       for (std::size_t i = 0; i < seeds.size(); ++i) {
-        diverged_rows += "| `" + name + "` | " + std::to_string(seeds[i].get<std::uint64_t>()) +
-                         " | " + p["runs"]["diverged_why"][i].get<std::string>() + " | " +
-                         (p["runs"]["may_diverge"].get<bool>() ? "no (may diverge)" : "**yes**") +
-                         " |\n";
+        diverged_rows += "| `" + name + "` | " + seeds[i].dump() + " | " +
+                         p["runs"]["diverged_why"][i].get<std::string>() + " | **yes** |\n";
       }
     }
     if (!diverged_rows.empty()) {

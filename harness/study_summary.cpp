@@ -220,9 +220,6 @@ json Describe(const std::vector<double>& values, const std::string& stream) {
 
 // Why a pipeline's run counts as diverged (docs/studies.md, "Failures"), or nothing.
 std::optional<std::string> DivergedWhy(const json& m, double divergence_nees) {
-  const auto nees = NumberAt(m, "nees_mean");
-  if (!nees) return "no average NEES";
-  if (!NumberAt(m, "ate_rmse_m")) return "no ATE";
   const auto count = [&](const char* key) {
     return NumberAt(m, std::string("health.") + key).value_or(0.0);
   };
@@ -235,6 +232,9 @@ std::optional<std::string> DivergedWhy(const json& m, double divergence_nees) {
     std::snprintf(text, sizeof text, "non-positive covariance (%.0f)", n);
     return std::string(text);
   }
+  const auto nees = NumberAt(m, "nees_mean");
+  if (!nees) return "no average NEES";
+  if (!NumberAt(m, "ate_rmse_m")) return "no ATE";
   if (*nees > divergence_nees) {
     std::snprintf(text, sizeof text, "average NEES %.4g > divergence_nees %g", *nees,
                   divergence_nees);

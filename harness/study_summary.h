@@ -38,7 +38,7 @@ struct StudyDivergence {
   std::string point;  // the sweep point's id
   std::string pipeline;
   std::uint64_t seed = 0;
-  std::string why;  // "average NEES 243 > 100", "non-positive covariance (3 times)", ...
+  std::string why;  // "average NEES 243 > divergence_nees 100", "non-positive covariance (3)"...
 };
 
 struct StudySummary {

@@ -268,6 +268,20 @@ study:
                        "odometry_tight,odometry"], 0, work)
     if "p001 odometry: seeds 11, 12, 13" not in out.stdout:
         fail("allowed divergences are not reported:\n" + out.stdout)
+    # Shards exit 0 (their verdict is the merge's); the merge exits 1 on the divergences.
+    for k in (1, 2):
+        run(binary, ["study", diverging, "--shard", "%d/2" % k, "--out", "dshard%d" % k,
+                     "--no-plots"], 0, work)
+    out = run(binary, ["study", "merge", "dshard1", "dshard2", "--out", "dmerged", "--no-plots"],
+              1, work)
+    if "p001 seed 13: odometry_tight diverged" not in out.stdout:
+        fail("the merge does not name the diverged runs:\n" + out.stdout)
+    # --slurm hands --may-diverge to every array task (their plans must be the study's).
+    run(binary, ["study", diverging, "--slurm", "--slurm-tasks", "2", "--may-diverge", "odometry",
+                 "--out", "dslurm", "--no-plots"], 0, work)
+    if " --may-diverge odometry " not in read(os.path.join(work, "dslurm", "slurm",
+                                                           "study.sbatch")).decode():
+        fail("the array script does not pass --may-diverge")
     with open(diverging.replace(".yaml", "_allowed.yaml"), "w") as f:
         f.write(read(diverging).decode().replace(
             "  divergence_nees: 5\n", "  divergence_nees: 5\n  may_diverge: [odometry_tight]\n"))
