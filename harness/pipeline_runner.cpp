@@ -175,15 +175,23 @@ void PipelineRunner::Finish() {
   }
 }
 
-std::string PipelineRunner::ErrorsLine(const TruthRecorder& truth) const {
-  std::string errors;
+std::vector<PipelineRunner::Latest> PipelineRunner::LatestEstimates() const {
+  std::vector<Latest> latest;
   for (const PipelineRecord& record : records_) {
     if (record.estimates.empty()) continue;
     const EstimateSample& e = record.estimates.back();
+    latest.push_back({record.name, e.stamp_ns, e.world_from_robot.translation()});
+  }
+  return latest;
+}
+
+std::string PipelineRunner::ErrorsLine(const std::vector<Latest>& latest,
+                                       const TruthRecorder& truth) {
+  std::string errors;
+  for (const Latest& e : latest) {
     if (const TruthPose* t = truth.At(e.stamp_ns)) {
-      const double error_m =
-          (e.world_from_robot.translation() - t->world_from_robot.translation()).norm();
-      errors += record.name + " " + FormatFixed(error_m, 3) + " m  ";
+      const double error_m = (e.position - t->world_from_robot.translation()).norm();
+      errors += e.name + " " + FormatFixed(error_m, 3) + " m  ";
     }
   }
   return errors;

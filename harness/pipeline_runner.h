@@ -46,8 +46,15 @@ class PipelineRunner : public BusConsumer {
   void Finish();
   /// One record per pipeline, scenario order.
   const std::vector<PipelineRecord>& records() const { return records_; }
+  /// Each pipeline's latest estimate (for a progress line read on another thread).
+  struct Latest {
+    std::string name;
+    TimeNs stamp_ns = 0;
+    Eigen::Vector2d position = Eigen::Vector2d::Zero();
+  };
+  std::vector<Latest> LatestEstimates() const;
   /// Each pipeline's current position error against `truth`: "name 0.123 m  ...".
-  std::string ErrorsLine(const TruthRecorder& truth) const;
+  static std::string ErrorsLine(const std::vector<Latest>& latest, const TruthRecorder& truth);
   /// Writes each pipeline's maps (Pipeline::TakeMaps) as `dir/<pipeline><suffix>`, each file
   /// atomically; prints where. Call once, after Finish() and the metrics (the maps are moved
   /// out, and the records' occupancy maps are no longer valid).

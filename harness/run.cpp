@@ -4,15 +4,19 @@
 #include <chrono>
 #include <cstdio>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <set>
 #include <stdexcept>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "common/error.h"
 #include "common/io/atomic_file.h"
+#include "harness/async_consumer.h"
 #include "harness/calibration.h"
 #include "harness/export_consumer.h"
 #include "harness/pipeline_runner.h"
@@ -26,6 +30,11 @@
 
 namespace corridorsim {
 namespace {
+
+// Camera sets queued for the pipelines' thread at most (a frame being rendered waits for room):
+// two let the next frame render while the pipelines work on this one, and bound the memory of
+// copied frames.
+constexpr std::size_t kPipelineQueueFrames = 2;
 
 // --export and --out are separate folders: neither may hold the other (each replaces its folder
 // whole when committed).
@@ -100,15 +109,33 @@ int RunScenario(const RunRequest& request) {
   // Loop: the simulation publishes, the consumers listen.
   TruthRecorder truth(pipelines.cameras_used());
   EventLog events;
-  ProgressLine progress("run", simulation, [&] { return pipelines.ErrorsLine(truth); });
+  // The pipelines run on a thread of their own, a frame or two behind the loop, so that the next
+  // frames render while they work (harness/async_consumer.h: the same calls in the same order,
+  // the same bytes). The progress line reads a snapshot of their latest estimates.
+  std::mutex latest_mutex;
+  std::vector<PipelineRunner::Latest> latest;
+  AsyncConsumer async_pipelines(pipelines, kPipelineQueueFrames, [&] {
+    std::vector<PipelineRunner::Latest> now = pipelines.LatestEstimates();
+    const std::lock_guard<std::mutex> lock(latest_mutex);
+    latest = std::move(now);
+  });
+  ProgressLine progress("run", simulation, [&] {
+    std::vector<PipelineRunner::Latest> copy;
+    {
+      const std::lock_guard<std::mutex> lock(latest_mutex);
+      copy = latest;
+    }
+    return PipelineRunner::ErrorsLine(copy, truth);
+  });
   SensorBus bus(setup.camera_ids());
   bus.Subscribe(&truth);
   if (exporter) bus.Subscribe(&*exporter);
-  bus.Subscribe(&pipelines);
+  bus.Subscribe(&async_pipelines);
   bus.Subscribe(&events);
   bus.Subscribe(&progress);
   const WallClock::time_point loop_start = WallClock::now();
   bus.Run(simulation);
+  async_pipelines.Drain();
 
   // Finish: pipelines, then metrics (deterministic) and timing (wall clock) in separate files.
   pipelines.Finish();
@@ -140,6 +167,7 @@ int RunScenario(const RunRequest& request) {
         {"physics", physics_seconds},
         {"rendering", render_seconds},
         {"pipelines", pipelines.seconds()},
+        {"pipelines_wait", async_pipelines.wait_seconds()},
         {"metrics", metrics_seconds},
         {"writing", write_seconds},
         {"export", export_seconds},

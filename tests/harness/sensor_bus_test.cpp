@@ -1,11 +1,14 @@
 #include "harness/sensor_bus.h"
 
+#include <cstdint>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include <catch2/catch.hpp>
 
+#include "harness/async_consumer.h"
 #include "sim/robot_path.h"
 #include "sim/simulation.h"
 #include "worlds/world.h"
@@ -198,6 +201,92 @@ TEST_CASE(
   for (std::size_t i = 0; i < checker.truths.size(); ++i) {
     CHECK(checker.truths[i] == static_cast<TimeNs>(i + 1) * 10'000'000);
   }
+}
+
+}  // namespace corridorsim
+
+namespace corridorsim {
+namespace {
+
+// Records the frames' first pixel too: the copy must carry the image, not a dangling pointer.
+class FrameRecorder : public BusConsumer {
+ public:
+  explicit FrameRecorder(std::vector<std::string>* log) : log_(log) {}
+  void OnStart(const sim::TruthSample& t) override { Add("start", t.stamp_ns); }
+  void OnTruth(const sim::TruthSample& t) override { Add("truth", t.stamp_ns); }
+  void OnOdometry(const WheelOdometry& o) override { Add("odometry", o.stamp_ns); }
+  void OnCameraSet(const CameraSet& set) override {
+    std::string slots;
+    for (const CameraSlot& s : set.cameras) {
+      slots += s.camera_id + (s.message ? "=" + std::to_string(s.message->frame.rgb.data.at(0))
+                                        : std::string("-"));
+    }
+    Add("set[" + slots + "]", set.stamp_ns);
+    if (throw_at_ == set.stamp_ns) throw std::runtime_error("pipeline failed");
+  }
+  void OnEvent(const sim::Event& e) override { Add("event", e.stamp_ns); }
+  void OnStepEnd(const sim::TruthSample& truth, bool last) override {
+    Add(last ? "end(last)" : "end", truth.stamp_ns);
+  }
+  TimeNs throw_at_ = -1;
+
+ private:
+  void Add(const std::string& what, TimeNs stamp) {
+    log_->push_back(what + "@" + std::to_string(stamp));
+  }
+  std::vector<std::string>* log_;
+};
+
+sim::StepOutput StepWithFrames(TimeNs end, std::uint8_t pixel) {
+  sim::StepOutput step;
+  step.truth.stamp_ns = end;
+  step.truth_samples = {Truth(end - 50)};
+  step.odometry = {Odometry(end - 50)};
+  step.frames = {Frame(end - 50, 0), Frame(end - 50, 2)};
+  for (sim::CameraMessage& m : step.frames) {
+    m.frame.rgb = Image8(2, 2, 3);
+    m.frame.rgb.data[0] = static_cast<std::uint8_t>(pixel + m.camera);
+  }
+  step.events = {Drop(end - 50, "lateral")};
+  return step;
+}
+
+}  // namespace
+
+TEST_CASE("an async consumer sees the calls of an inline one, in order, with the frames copied",
+          "[harness][bus]") {
+  std::vector<std::string> inline_log, async_log;
+  FrameRecorder inline_recorder(&inline_log), async_recorder(&async_log);
+  int snapshots = 0;  // after_step runs on the worker after each step end
+  AsyncConsumer async(async_recorder, 1, [&] { ++snapshots; });
+  SensorBus bus(kCameras);
+  bus.Subscribe(&inline_recorder);
+  bus.Subscribe(&async);
+  for (int k = 1; k <= 20; ++k) {
+    // Each step's frames are destroyed when the step goes out of scope: the queue holds copies.
+    const sim::StepOutput step = StepWithFrames(k * 100, static_cast<std::uint8_t>(10 * k));
+    bus.Publish(step, k == 20);
+  }
+  async.Drain();
+  CHECK(async_log == inline_log);
+  CHECK(async_log.size() == 20 * 5);
+  CHECK(async_log[2] == "set[front=10lateral-upward=12]@50");
+  CHECK(snapshots == 20);
+}
+
+TEST_CASE("an async consumer's exception reaches the loop at the next call or at Drain",
+          "[harness][bus]") {
+  std::vector<std::string> log;
+  FrameRecorder recorder(&log);
+  recorder.throw_at_ = 250;
+  AsyncConsumer async(recorder, 1);
+  SensorBus bus(kCameras);
+  bus.Subscribe(&async);
+  const auto run = [&] {
+    for (int k = 1; k <= 10; ++k) bus.Publish(StepWithFrames(k * 100, 1), k == 10);
+    async.Drain();
+  };
+  CHECK_THROWS_WITH(run(), "pipeline failed");
 }
 
 }  // namespace corridorsim

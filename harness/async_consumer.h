@@ -1,0 +1,45 @@
+#pragma once
+// A bus consumer run on a thread of its own: every call is copied (frames included: a message
+// lives only during its delivery) and replayed on one worker thread in the order the bus made it
+// (common/io/serial_worker.h). The consumer sees exactly the calls it would have seen inline, so
+// its outputs are the same bytes; the loop meanwhile steps and renders the next frames. Used for
+// the pipelines of a run (docs/architecture.md, "The run loop"). Frames bound the queue.
+
+#include <cstddef>
+#include <functional>
+
+#include "common/io/serial_worker.h"
+#include "harness/sensor_bus.h"
+
+namespace corridorsim {
+
+class AsyncConsumer : public BusConsumer {
+ public:
+  /// `inner` must outlive this object and must not be touched by other threads until Drain()
+  /// returns. At most `max_frames` camera sets wait in the queue. `after_step`, if given, runs on
+  /// the worker after each of inner's OnStepEnd (e.g. to publish a snapshot of its state).
+  AsyncConsumer(BusConsumer& inner, std::size_t max_frames, std::function<void()> after_step = {});
+
+  void OnStart(const sim::TruthSample& truth) override;
+  void OnTruth(const sim::TruthSample& truth) override;
+  void OnOdometry(const WheelOdometry& odometry) override;
+  void OnCameraSet(const CameraSet& set) override;
+  void OnEvent(const sim::Event& event) override;
+  void OnStepEnd(const sim::TruthSample& truth, bool last) override;
+
+  /// Waits until the inner consumer has seen every call; rethrows the first exception it threw.
+  void Drain();
+  /// Seconds the loop waited on the worker (a full queue, Drain) and the worker's busy seconds.
+  double wait_seconds() const { return wait_seconds_; }
+  double busy_seconds() const { return worker_.busy_seconds(); }
+
+ private:
+  void Submit(std::function<void()> job, std::size_t weight);
+
+  BusConsumer& inner_;
+  std::function<void()> after_step_;
+  SerialWorker worker_;
+  double wait_seconds_ = 0.0;
+};
+
+}  // namespace corridorsim
