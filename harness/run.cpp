@@ -109,17 +109,23 @@ int RunScenario(const RunRequest& request) {
   // Loop: the simulation publishes, the consumers listen.
   TruthRecorder truth(pipelines.cameras_used());
   EventLog events;
-  // The pipelines run on a thread of their own, a frame or two behind the loop, so that the next
-  // frames render while they work (harness/async_consumer.h: the same calls in the same order,
-  // the same bytes). The progress line reads a snapshot of their latest estimates.
+  // Pipelines that read cameras run on a thread of their own, a frame or two behind the loop, so
+  // that the next frames render while they work (harness/async_consumer.h: the same calls in the
+  // same order, the same bytes); the progress line then reads a snapshot of their latest
+  // estimates. Without cameras they run inline: handing every odometry message and physics step
+  // to a thread would cost more than the pipelines do.
   std::mutex latest_mutex;
   std::vector<PipelineRunner::Latest> latest;
-  AsyncConsumer async_pipelines(pipelines, kPipelineQueueFrames, [&] {
-    std::vector<PipelineRunner::Latest> now = pipelines.LatestEstimates();
-    const std::lock_guard<std::mutex> lock(latest_mutex);
-    latest = std::move(now);
-  });
+  std::optional<AsyncConsumer> async_pipelines;
+  if (!pipelines.cameras_used().empty()) {
+    async_pipelines.emplace(pipelines, kPipelineQueueFrames, [&] {
+      std::vector<PipelineRunner::Latest> now = pipelines.LatestEstimates();
+      const std::lock_guard<std::mutex> lock(latest_mutex);
+      latest = std::move(now);
+    });
+  }
   ProgressLine progress("run", simulation, [&] {
+    if (!async_pipelines) return PipelineRunner::ErrorsLine(pipelines.LatestEstimates(), truth);
     std::vector<PipelineRunner::Latest> copy;
     {
       const std::lock_guard<std::mutex> lock(latest_mutex);
@@ -130,12 +136,12 @@ int RunScenario(const RunRequest& request) {
   SensorBus bus(setup.camera_ids());
   bus.Subscribe(&truth);
   if (exporter) bus.Subscribe(&*exporter);
-  bus.Subscribe(&async_pipelines);
+  bus.Subscribe(async_pipelines ? static_cast<BusConsumer*>(&*async_pipelines) : &pipelines);
   bus.Subscribe(&events);
   bus.Subscribe(&progress);
   const WallClock::time_point loop_start = WallClock::now();
   bus.Run(simulation);
-  async_pipelines.Drain();
+  if (async_pipelines) async_pipelines->Drain();
 
   // Finish: pipelines, then metrics (deterministic) and timing (wall clock) in separate files.
   pipelines.Finish();
@@ -167,7 +173,7 @@ int RunScenario(const RunRequest& request) {
         {"physics", physics_seconds},
         {"rendering", render_seconds},
         {"pipelines", pipelines.seconds()},
-        {"pipelines_wait", async_pipelines.wait_seconds()},
+        {"pipelines_wait", async_pipelines ? async_pipelines->wait_seconds() : 0.0},
         {"metrics", metrics_seconds},
         {"writing", write_seconds},
         {"export", export_seconds},
