@@ -289,12 +289,13 @@ std::optional<std::string> ParseStudyExpectation(const std::string& text, StudyE
 }
 
 void AddMayDiverge(StudySpec* spec, const std::vector<std::string>& names,
-                   const std::string& option) {
-  for (const std::string& name : names) {
-    if (!Contains(spec->pipelines, name)) {
-      throw InputError(SourceLocation{"command line", 0, 0}, option,
-                       "'" + InputExcerpt(name) + "' is not a pipeline of this study (it runs " +
-                           Join(spec->pipelines) + ")");
+                   const std::string& option, const std::vector<SourceLocation>& locations) {
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    if (!Contains(spec->pipelines, names[i])) {
+      throw InputError(
+          i < locations.size() ? locations[i] : SourceLocation{"command line", 0, 0}, option,
+          "'" + InputExcerpt(names[i]) + "' is not a pipeline of this study (it runs " +
+              Join(spec->pipelines) + ")");
     }
   }
   std::vector<std::string> merged;
@@ -359,15 +360,7 @@ StudySpec LoadStudy(const std::string& path, std::optional<int> runs,
     std::vector<std::string> may_diverge;
     std::vector<SourceLocation> may_diverge_locations;
     if (study.Read("may_diverge", may_diverge, &may_diverge_locations)) {
-      for (std::size_t i = 0; i < may_diverge.size(); ++i) {
-        if (!Contains(spec.pipelines, may_diverge[i])) {
-          throw InputError(may_diverge_locations[i], "study.may_diverge",
-                           "'" + InputExcerpt(may_diverge[i]) +
-                               "' is not a pipeline of this scenario (it runs " +
-                               Join(spec.pipelines) + ")");
-        }
-      }
-      AddMayDiverge(&spec, may_diverge, "study.may_diverge");
+      AddMayDiverge(&spec, may_diverge, "study.may_diverge", may_diverge_locations);
     }
     study.Accept("vary");
     study.RejectUnknownKeys();

@@ -80,10 +80,11 @@ const std::vector<std::string>& DefaultStudyMetrics();
 StudySpec LoadStudy(const std::string& path, std::optional<int> runs,
                     std::optional<std::uint64_t> first_seed);
 
-/// Adds `names` (the command line's --may-diverge) to spec->may_diverge, keeping scenario order.
-/// A name that is not an enabled pipeline is an InputError at "command line", key `option`.
+/// Adds `names` (study.may_diverge, or the command line's --may-diverge) to spec->may_diverge,
+/// keeping scenario order. A name that is not an enabled pipeline is an InputError under key
+/// `option` at its entry of `locations`, or at "command line" without one.
 void AddMayDiverge(StudySpec* spec, const std::vector<std::string>& names,
-                   const std::string& option);
+                   const std::string& option, const std::vector<SourceLocation>& locations = {});
 
 /// Parses one study expectation (see StudyExpectation); returns the error, or nothing.
 std::optional<std::string> ParseStudyExpectation(const std::string& text, StudyExpectation* out);

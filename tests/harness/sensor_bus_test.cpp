@@ -257,8 +257,9 @@ TEST_CASE("an async consumer sees the calls of an inline one, in order, with the
           "[harness][bus]") {
   std::vector<std::string> inline_log, async_log;
   FrameRecorder inline_recorder(&inline_log), async_recorder(&async_log);
-  int snapshots = 0;  // after_step runs on the worker after each step end
-  AsyncConsumer async(async_recorder, 1, [&] { ++snapshots; });
+  // after_batch runs on the worker after each batch; it sees every call up to the batch's end.
+  std::vector<std::size_t> snapshots;
+  AsyncConsumer async(async_recorder, 1, [&] { snapshots.push_back(async_log.size()); });
   SensorBus bus(kCameras);
   bus.Subscribe(&inline_recorder);
   bus.Subscribe(&async);
@@ -271,7 +272,12 @@ TEST_CASE("an async consumer sees the calls of an inline one, in order, with the
   CHECK(async_log == inline_log);
   CHECK(async_log.size() == 20 * 5);
   CHECK(async_log[2] == "set[front=10lateral-upward=12]@50");
-  CHECK(snapshots == 20);
+  // Each camera set closes a batch (truth, odometry, set; then the event and step end wait for
+  // the next one), and the last step end closes the last.
+  std::vector<std::size_t> expected_snapshots;
+  for (std::size_t k = 1; k <= 20; ++k) expected_snapshots.push_back(5 * k - 2);
+  expected_snapshots.push_back(100);
+  CHECK(snapshots == expected_snapshots);
 }
 
 TEST_CASE("an async consumer's exception reaches the loop at the next call or at Drain",
