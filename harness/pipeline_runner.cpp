@@ -43,7 +43,8 @@ std::optional<SeenPoint> SeenAt(const render::CameraFrame& frame, const CameraMo
 struct PipelineRunner::Run {
   std::unique_ptr<slam::Pipeline> pipeline;
   std::set<std::string> cameras;
-  double seconds = 0.0;  // wall time inside the pipeline
+  double seconds = 0.0;      // wall time inside the pipeline
+  double cpu_seconds = 0.0;  // CPU time of the threads that ran its calls, during them
 };
 
 PipelineRunner::PipelineRunner(const Scenario& scenario, const slam::Calibration& calibration,
@@ -97,8 +98,10 @@ void PipelineRunner::OnOdometry(const WheelOdometry& odometry) {
   for (std::size_t i = 0; i < runs_.size(); ++i) {
     Run& run = runs_[i];
     const WallClock::time_point t0 = WallClock::now();
+    const double cpu0 = ThreadCpuSeconds();
     run.pipeline->OnOdometry(odometry);
     const slam::PoseEstimate e = run.pipeline->Estimate();
+    run.cpu_seconds += ThreadCpuSeconds() - cpu0;
     run.seconds += SecondsSince(t0);
     wall_seconds_ += SecondsSince(t0);
     records_[i].estimates.push_back({odometry.stamp_ns, e.world_from_robot, e.covariance});
@@ -125,7 +128,9 @@ void PipelineRunner::OnCameraSet(const CameraSet& set) {
     const WallClock::time_point t_frame = WallClock::now();
     const auto process = [this, &input](std::size_t i) {
       const WallClock::time_point t0 = WallClock::now();
+      const double cpu0 = ThreadCpuSeconds();
       runs_[i].pipeline->OnCamera(input);
+      runs_[i].cpu_seconds += ThreadCpuSeconds() - cpu0;
       runs_[i].seconds += SecondsSince(t0);
     };
     std::vector<std::future<void>> others;
@@ -160,7 +165,9 @@ void PipelineRunner::Finish() {
     slam::Pipeline& pipeline = *runs_[i].pipeline;
     PipelineRecord& record = records_[i];
     const WallClock::time_point t0 = WallClock::now();
+    const double cpu0 = ThreadCpuSeconds();
     pipeline.Finish();
+    runs_[i].cpu_seconds += ThreadCpuSeconds() - cpu0;
     runs_[i].seconds += SecondsSince(t0);
     wall_seconds_ += SecondsSince(t0);
     for (slam::Detection& d : pipeline.TakeDetections()) record.detections.push_back(std::move(d));
@@ -171,6 +178,7 @@ void PipelineRunner::Finish() {
       record.innovations.push_back(innovation);
     }
     record.stage_seconds = pipeline.stage_seconds();
+    record.cpu_seconds = runs_[i].cpu_seconds;
     record.health = pipeline.health();
   }
 }

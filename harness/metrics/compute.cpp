@@ -40,9 +40,12 @@ void AddTimingMetrics(const PipelineRecord& pipeline, const metrics::PipelineCon
       t.MapValue("stage_ms_per_frame", stage, seconds * 1e3 / static_cast<double>(frames));
     }
     t.Set("total_ms_per_frame", total_s * 1e3 / static_cast<double>(frames));
+    t.Set("cpu_ms_per_frame", pipeline.cpu_seconds * 1e3 / static_cast<double>(frames));
   } else {
     t.Null("total_ms_per_frame");
+    t.Null("cpu_ms_per_frame");
   }
+  t.Set("cpu_seconds", pipeline.cpu_seconds);
   if (steps > 0) {
     t.Set("total_ms_per_step", total_s * 1e3 / static_cast<double>(steps));
   } else {

@@ -53,6 +53,9 @@ struct PipelineRecord {
   std::vector<slam::Innovation> innovations;
   std::vector<slam::MapArea> areas;             // Pipeline::Areas(): the map divided at the doors
   std::map<std::string, double> stage_seconds;  // the pipeline's own stages (s)
+  // CPU seconds of the threads that ran the calls into the pipeline, during them (the runner's
+  // measure: its cost whatever shared the cores, as stage_seconds is wall time).
+  double cpu_seconds = 0.0;
   slam::PipelineHealth health;
   // The pipeline's dense map (Pipeline::occupancy_map) for the map-quality metrics, or nullptr;
   // owned by the pipeline, valid until its maps are written.

@@ -222,7 +222,7 @@ TEST_CASE("MetricNames lists the pipeline scalars in the schema order expectatio
       "health.rejected_updates",
   };
   const std::vector<std::string> names = MetricNames();
-  REQUIRE(names.size() == v1.size() + 5);
+  REQUIRE(names.size() == v1.size() + 7);
   CHECK(std::vector<std::string>(names.begin(), names.begin() + static_cast<long>(v1.size())) ==
         v1);
   CHECK(names[v1.size()] == "health.rejected_odometry");
@@ -230,6 +230,8 @@ TEST_CASE("MetricNames lists the pipeline scalars in the schema order expectatio
   CHECK(names[v1.size() + 2] == "health.malformed_innovations");
   CHECK(names[v1.size() + 3] == "health.non_finite_covariances");
   CHECK(names[v1.size() + 4] == "health.non_finite_estimates");
+  CHECK(names[v1.size() + 5] == "timing.cpu_ms_per_frame");
+  CHECK(names[v1.size() + 6] == "timing.cpu_seconds");
 }
 
 TEST_CASE("every metric is declared once with a unit, a step and a meaning",

@@ -37,6 +37,7 @@ TEST_CASE("identical trajectories give zero errors", "[metrics]") {
   CHECK_FALSE(m.contains("data_association"));
   CHECK_FALSE(m.contains("detection"));
   CHECK(m["timing"]["total_ms_per_frame"].is_null());
+  CHECK(m["timing"]["cpu_ms_per_frame"].is_null());
 }
 
 TEST_CASE("a constant offset gives that ATE unaligned and none aligned", "[metrics]") {
