@@ -1,14 +1,17 @@
 #include "harness/sensor_bus.h"
 
+#include <chrono>
 #include <cstdint>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <utility>
 #include <vector>
 
 #include <catch2/catch.hpp>
 
 #include "harness/async_consumer.h"
+#include "harness/stopwatch.h"
 #include "sim/robot_path.h"
 #include "sim/simulation.h"
 #include "worlds/world.h"
@@ -293,6 +296,22 @@ TEST_CASE("an async consumer's exception reaches the loop at the next call or at
     async.Drain();
   };
   CHECK_THROWS_WITH(run(), "pipeline failed");
+}
+
+TEST_CASE("a thread's CPU clock counts its work, not its sleep (timing.json's cpu_ms_per_frame)",
+          "[harness]") {
+  using namespace std::chrono_literals;
+  const double before_sleep = ThreadCpuSeconds();
+  std::this_thread::sleep_for(50ms);
+  CHECK(ThreadCpuSeconds() - before_sleep < 0.02);
+  // Work until the clock has moved 10 ms (at most 10 s of wall time, however busy the machine).
+  const double before_work = ThreadCpuSeconds();
+  const WallClock::time_point deadline = WallClock::now() + 10s;
+  volatile double sink = 0.0;
+  while (ThreadCpuSeconds() - before_work < 0.01 && WallClock::now() < deadline) {
+    for (int k = 0; k < 10000; ++k) sink = sink + k;
+  }
+  CHECK(ThreadCpuSeconds() - before_work >= 0.01);
 }
 
 }  // namespace corridorsim
