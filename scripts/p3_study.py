@@ -22,7 +22,9 @@ Targets (exit 3 when one is missed, 2 on bad input, 1 when a run fails):
   - for every SLAM pipeline, its average NEES (the mean over time of the NEES averaged over seeds)
     inside the 95 % chi-square band of N seeds' mean: [chi2(3N, 0.025) / N, chi2(3N, 0.975) / N].
 Also reported (not targets): per pipeline the mean and max over seeds of ATE RMSE and final
-position error; for p3_upward the lamp detector's recall, precision and centre error and the data
+position error, and the mean over seeds of the position error's RMSE along and across the robot's
+true heading (from ground_truth.tum: in a corridor, the error along the track, which only the
+odometry's scale sets for an upward camera, and the lateral error); for p3_upward the lamp detector's recall, precision and centre error and the data
 association precision per landmark type, each over the counts summed over every seed.
 Standard library only.
 """
@@ -45,12 +47,28 @@ def is_slam(name):
     return name.startswith("p2_") or name.startswith("p3_")
 
 
-def read_errors(path):
+def read_truth_yaw(path):
+    """ground_truth.tum (TUM: timestamp tx ty tz qx qy qz qw, planar): {timestamp text: yaw}."""
+    yaw = {}
+    with open(path, encoding="utf-8") as f:
+        for line in f:
+            cells = line.split()
+            if not cells or cells[0].startswith("#") or len(cells) != 8:
+                continue
+            qz, qw = float(cells[6]), float(cells[7])
+            yaw[cells[0]] = 2.0 * math.atan2(qz, qw)
+    return yaw
+
+
+def read_errors(path, truth_yaw):
     """<pipeline>_errors.csv: t, ex_m, ey_m, eyaw_rad, sigma_*, nees (empty while the covariance is
-    singular, at the start). Returns the NEES series (nan where missing) and the planar position
-    error's max over time with its time."""
+    singular, at the start). Returns the NEES series (nan where missing), the planar position
+    error's max over time with its time, and the RMSE of its components along and across the
+    robot's true heading (`truth_yaw`, read_truth_yaw; samples without a true pose are left out of
+    those two): in a corridor, the error along the track and the lateral error."""
     nees = []
     max_error, max_t, samples = float("nan"), None, 0
+    along2, across2, track_samples = 0.0, 0.0, 0
     with open(path, encoding="utf-8") as f:
         header = f.readline().strip().split(",")
         ct, cx, cy, cn = (header.index(k) for k in ("t", "ex_m", "ey_m", "nees"))
@@ -61,12 +79,22 @@ def read_errors(path):
             else:
                 nees.append(float("nan"))
             if len(cells) > cy and cells[cx] not in ("", "nan") and cells[cy] not in ("", "nan"):
-                e = math.hypot(float(cells[cx]), float(cells[cy]))
+                ex, ey = float(cells[cx]), float(cells[cy])
+                e = math.hypot(ex, ey)
                 samples += 1
                 if not e <= max_error:  # also takes the first sample (max_error nan)
                     max_error, max_t = e, float(cells[ct])
+                yaw = truth_yaw.get(cells[ct])
+                if yaw is not None:
+                    along2 += (ex * math.cos(yaw) + ey * math.sin(yaw)) ** 2
+                    across2 += (-ex * math.sin(yaw) + ey * math.cos(yaw)) ** 2
+                    track_samples += 1
     return nees, {"max_position_error_m": max_error if samples else None,
-                  "max_position_error_t_s": max_t, "error_samples": samples}
+                  "max_position_error_t_s": max_t, "error_samples": samples,
+                  "along_track_rmse_m": (math.sqrt(along2 / track_samples) if track_samples
+                                         else None),
+                  "cross_track_rmse_m": (math.sqrt(across2 / track_samples) if track_samples
+                                         else None)}
 
 
 def finite_or_none(x):
@@ -126,10 +154,11 @@ def main(argv):
         with open(os.path.join(d, "metrics.json"), encoding="utf-8") as f:
             metrics = json.load(f)["pipelines"]
         row = {}
+        truth_yaw = read_truth_yaw(os.path.join(d, "ground_truth.tum"))
         for name, m in metrics.items():
             row[name] = {k: m.get(k) for k in ("ate_rmse_m", "ate_max_m", "final_position_error_m",
                                                "nees_mean")}
-            nees, errors = read_errors(os.path.join(d, f"{name}_errors.csv"))
+            nees, errors = read_errors(os.path.join(d, f"{name}_errors.csv"), truth_yaw)
             row[name].update(errors)
             nees_series.setdefault(name, []).append(nees)
             if name == PIPELINE:
@@ -162,6 +191,8 @@ def main(argv):
             "final_position_error_m": final_mean,
             "final_position_error_max_m": final_max,
             "max_position_error_m": over_seeds("max_position_error_m")[1],
+            "along_track_rmse_m": over_seeds("along_track_rmse_m")[0],
+            "cross_track_rmse_m": over_seeds("cross_track_rmse_m")[0],
             **average_nees(nees_series[name]),
         }
 
@@ -297,6 +328,14 @@ def main(argv):
               f"{num(s['final_position_error_max_m'], '9.4f')} "
               f"{num(s['max_position_error_m'], '9.4f')} {num(s['nees_average'], '9.2f')} "
               f"{band if s['slam'] else '':>15}")
+    print("error along / across the true track, RMSE (mean over seeds): " + ", ".join(
+        f"{name} {num(s['along_track_rmse_m'], '.4f')} / {num(s['cross_track_rmse_m'], '.4f')} m"
+        for name, s in summary.items()))
+    if PIPELINE in summary and CORNERS in summary:
+        a, b = summary[PIPELINE]["along_track_rmse_m"], summary[CORNERS]["ate_rmse_m"]
+        if a is not None and b:
+            print(f"{PIPELINE}'s error along the track alone is {a / b:.3f} of {CORNERS}' ATE RMSE "
+                  f"(the ATE ratio's floor while that part stays)")
     if PIPELINE in summary:
         for s in seeds:
             r = per_seed[s][PIPELINE]

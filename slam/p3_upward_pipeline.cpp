@@ -69,6 +69,10 @@ const OptionTable<P3UpwardOptions>& P3UpwardOptionsTable() {
     t.Add("max_new_corners_per_frame", &O::max_new_corners_per_frame, "",
           "corner landmarks started per frame at most")
         .Range(0, 1000);
+    t.Add("first_frame_corners", &O::first_frame_corners, "",
+          "a frame that finds the map empty (the first) starts at least this many corners (0: "
+          "as many as any frame)")
+        .Range(0, 1000);
     t.Add("max_tracked_corners", &O::max_tracked_corners, "",
           "new corners start only while fewer corners than this were matched in the frame")
         .Range(0, 1000);
@@ -443,8 +447,12 @@ void P3UpwardPipeline::ProcessFrame(const CameraInput& input) {
   const int matched_corners = int(std::count_if(pairs.begin(), pairs.end(), [&](const auto& p) {
     return observations[p.first].type == LandmarkType::kCorner;
   }));
-  const int corner_room =
+  // A frame that finds the map empty (the first) may start more: its corners fix the heading of
+  // all the map that follows them (docs/p3.md, "The first frame anchors the heading").
+  const int regular_room =
       std::min(options_.max_new_corners_per_frame, options_.max_tracked_corners - matched_corners);
+  const int corner_room =
+      landmarks_.empty() ? std::max(options_.first_frame_corners, regular_room) : regular_room;
   for (std::size_t i = 0; i < observations.size(); ++i) {
     const Observation& o = observations[i];
     if (explained[i] || !o.usable) continue;

@@ -62,6 +62,10 @@ struct P3UpwardOptions {
   // keeps this many tracked; more add little and fill the state): without it the 400 landmarks
   // were spent two thirds down a 40 m corridor, and the rest of it ran on dead reckoning.
   int max_tracked_corners = 20;
+  // A frame that finds the map empty (the first) starts at least this many corners (0: as many
+  // as any frame). The first frame is the only one whose heading the filter knows exactly, so its
+  // landmarks fix the heading of all the map chained to them (docs/p3.md).
+  int first_frame_corners = 0;
   int max_landmarks = 400;  // the state holds at most this many point landmarks
   // With the state full, a new landmark takes the place of the corner landmark matched longest
   // ago, if that one is out of view and unmatched for at least retire_after_s (it is marginalised

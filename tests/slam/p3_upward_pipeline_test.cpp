@@ -159,6 +159,29 @@ TEST_CASE("P3: new corners start only while fewer than max_tracked_corners are m
   CHECK(corners_after(1000, 12) > tracked + 10);  // without the target, more corners start
 }
 
+TEST_CASE("P3: a frame that finds the map empty starts first_frame_corners corners", "[slam][p3]") {
+  // The tiled ceiling's first frame: by default it starts max_new_corners_per_frame corners like
+  // any frame; with first_frame_corners it starts that many (the ceiling has more than enough),
+  // and the next frame, matching them all, starts none (max_tracked_corners is reached).
+  CameraInput tiles = TiledCeiling();
+  const auto corners_after = [&](int first_frame_corners, int frames) {
+    P3UpwardOptions options = P3UpwardDefaults();
+    options.use_lamps = false;
+    options.use_doors = false;
+    options.first_frame_corners = first_frame_corners;
+    Fixture f(options);
+    for (int k = 1; k <= frames; ++k) {
+      tiles.image.stamp_ns = TimeNs(k) * 200'000'000;
+      f.pipeline.OnCamera(tiles);
+    }
+    return f.pipeline.Landmarks().size();
+  };
+  CHECK(corners_after(0, 1) == std::size_t(P3UpwardDefaults().max_new_corners_per_frame));
+  CHECK(corners_after(20, 1) == 20);
+  CHECK(corners_after(20, 2) == 20);
+  CHECK(corners_after(3, 1) == std::size_t(P3UpwardDefaults().max_new_corners_per_frame));
+}
+
 TEST_CASE("P3: a full state retires the corner matched longest ago, out of view and stale",
           "[slam][p3]") {
   // The same tiled ceiling before and after a 10 m drive: the corners started at the start lie
