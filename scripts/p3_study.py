@@ -23,9 +23,10 @@ Targets (exit 3 when one is missed, 2 on bad input, 1 when a run fails):
     inside the 95 % chi-square band of N seeds' mean: [chi2(3N, 0.025) / N, chi2(3N, 0.975) / N].
 Also reported (not targets): per pipeline the mean and max over seeds of ATE RMSE and final
 position error, and the mean over seeds of the position error's RMSE along and across the robot's
-true heading (from ground_truth.tum: in a corridor, the error along the track, which only the
-odometry's scale sets for an upward camera, and the lateral error); for p3_upward the lamp detector's recall, precision and centre error and the data
-association precision per landmark type, each over the counts summed over every seed.
+true heading (from ground_truth.tum: in a corridor, the error along the track, which for an
+upward camera only the wheels' distance sets, and the lateral error); for p3_upward the lamp
+detector's recall, precision and centre error and the data association precision per landmark
+type, each over the counts summed over every seed.
 Standard library only.
 """
 import argparse
