@@ -132,23 +132,35 @@ TEST_CASE("P3: a frame full of lamps starts lamp landmarks above the camera, bou
   }
 }
 
+// P3's pipeline with corners only.
+P3UpwardOptions CornersOnly() {
+  P3UpwardOptions options = P3UpwardDefaults();
+  options.use_lamps = false;
+  options.use_doors = false;
+  return options;
+}
+
+// The landmarks in the state after `frames` frames of the tiled ceiling seen from a robot
+// standing still (the same frame again and again, 5 Hz).
+std::size_t LandmarksAfterStillFrames(const P3UpwardOptions& options, int frames) {
+  CameraInput tiles = TiledCeiling();
+  Fixture f(options);
+  for (int k = 1; k <= frames; ++k) {
+    tiles.image.stamp_ns = TimeNs(k) * 200'000'000;
+    f.pipeline.OnCamera(tiles);
+  }
+  return f.pipeline.Landmarks().size();
+}
+
 TEST_CASE("P3: new corners start only while fewer than max_tracked_corners are matched",
           "[slam][p3]") {
   // A tiled ceiling seen from a robot standing still: the same frame again and again. Each frame
   // matches the corners already started; new ones start only while fewer than the target are
   // matched, so the state stops growing at the target instead of taking every corner.
-  CameraInput tiles = TiledCeiling();
-  const auto corners_after = [&](int max_tracked, int frames) {
-    P3UpwardOptions options = P3UpwardDefaults();
-    options.use_lamps = false;
-    options.use_doors = false;
+  const auto corners_after = [](int max_tracked, int frames) {
+    P3UpwardOptions options = CornersOnly();
     options.max_tracked_corners = max_tracked;
-    Fixture f(options);
-    for (int k = 1; k <= frames; ++k) {
-      tiles.image.stamp_ns = TimeNs(k) * 200'000'000;
-      f.pipeline.OnCamera(tiles);
-    }
-    return f.pipeline.Landmarks().size();
+    return LandmarksAfterStillFrames(options, frames);
   };
   const std::size_t tracked = corners_after(20, 12);
   INFO("corners with the target: " << tracked << ", without: " << corners_after(1000, 12));
@@ -163,18 +175,10 @@ TEST_CASE("P3: a frame that finds the map empty starts first_frame_corners corne
   // The tiled ceiling's first frame: by default it starts max_new_corners_per_frame corners like
   // any frame; with first_frame_corners it starts that many (the ceiling has more than enough),
   // and the next frame, matching them all, starts none (max_tracked_corners is reached).
-  CameraInput tiles = TiledCeiling();
-  const auto corners_after = [&](int first_frame_corners, int frames) {
-    P3UpwardOptions options = P3UpwardDefaults();
-    options.use_lamps = false;
-    options.use_doors = false;
+  const auto corners_after = [](int first_frame_corners, int frames) {
+    P3UpwardOptions options = CornersOnly();
     options.first_frame_corners = first_frame_corners;
-    Fixture f(options);
-    for (int k = 1; k <= frames; ++k) {
-      tiles.image.stamp_ns = TimeNs(k) * 200'000'000;
-      f.pipeline.OnCamera(tiles);
-    }
-    return f.pipeline.Landmarks().size();
+    return LandmarksAfterStillFrames(options, frames);
   };
   CHECK(corners_after(0, 1) == std::size_t(P3UpwardDefaults().max_new_corners_per_frame));
   CHECK(corners_after(20, 1) == 20);
