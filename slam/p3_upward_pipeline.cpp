@@ -448,7 +448,7 @@ void P3UpwardPipeline::ProcessFrame(const CameraInput& input) {
     return observations[p.first].type == LandmarkType::kCorner;
   }));
   // A frame that finds the map empty (the first) may start more: its corners fix the heading of
-  // all the map that follows them (docs/p3.md, "The first frame anchors the heading").
+  // all the map that follows them (docs/p3.md, "Where environment B's error comes from").
   const int regular_room =
       std::min(options_.max_new_corners_per_frame, options_.max_tracked_corners - matched_corners);
   const int corner_room =
