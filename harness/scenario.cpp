@@ -21,6 +21,23 @@ bool IsPipelineName(const std::string& name) {
   });
 }
 
+// A YAML map none of whose keys a scenario has is some other file (`include: /etc/shadow`, a
+// config of another program): reported by its position and kind only, never by its content,
+// which an "unknown key" message would quote.
+void RequireScenarioKey(const YamlDocument& doc) {
+  const auto& fields = ScenarioOptionsTable().fields();
+  for (const auto& kv : doc.root) {
+    const bool known =
+        kv.first.IsScalar() && std::any_of(fields.begin(), fields.end(), [&](const OptionField& f) {
+          return f.key == kv.first.Scalar();
+        });
+    if (known) return;
+  }
+  throw InputError(SourceLocation{doc.file, 0, 0}, "",
+                   "not a corridorsim scenario: a YAML map of " + std::to_string(doc.root.size()) +
+                       " key(s), none of them a scenario key (docs/scenarios.md)");
+}
+
 // `pipelines:` maps pipeline names to their options; `type:` says which pipeline type the entry
 // runs (default: its name), so that one scenario can compare variants of one type. Options
 // accumulate over the include chain; a child file cannot change an entry's type.
@@ -170,6 +187,7 @@ Scenario LoadScenario(const std::string& path, const std::vector<YamlDocument>& 
       throw InputError(SourceLocation{doc.file, 0, 0}, "",
                        "the scenario is empty (no keys: nothing but comments or blank lines)");
     }
+    RequireScenarioKey(doc);
     YamlMap root(doc, doc.root, "", &scenario.sources);
     for (auto [key, location] : {std::pair{"world", &scenario.world_location},
                                  {"sensors", &scenario.sensors_location},

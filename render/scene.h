@@ -94,13 +94,18 @@ struct Scene {
 
 Scene BuildScene(const worlds::World& world, const SceneOptions& options = {});
 
+/// The near clipping distance of every camera view (m): a surface closer to a camera's optical
+/// centre than this is clipped, and the camera sees through it (sim/placement.h keeps cameras
+/// farther than this from every wall, solid, floor and ceiling).
+inline constexpr double kNearPlaneM = 0.05;
+
 /// A pinhole view frustum (no distortion) in the OpenCV optical convention, for culling and for
 /// the backends: the camera sees x right, y down, z forward.
 struct View {
   SE3 world_from_camera;
   int width = 0, height = 0;
   double fx = 0, fy = 0, cx = 0, cy = 0;  // pixels; (0,0) is the centre of the top-left pixel
-  double near_m = 0.05;
+  double near_m = kNearPlaneM;
   double far_m = 60.0;
   bool read_depth = true;  // read back the metric depth buffer (cameras without depth skip it)
 };

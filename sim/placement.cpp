@@ -22,7 +22,8 @@ using Eigen::Vector3d;
 constexpr double kDeg = std::numbers::pi / 180.0;
 constexpr double kTouchM = 1e-9;          // touching a solid is not intersecting it
 constexpr double kMaxTurnStepRad = kDeg;  // turns and arcs: at most this per step
-constexpr double kFloorStepM = 0.05;      // cameras: corridor/room membership along a chord
+constexpr double kFloorStepM = 0.02;      // cameras: corridor/room clearance along a chord (under
+                                          // render::kCameraClearanceM - kNearPlaneM)
 constexpr double kStraightEpsM = 1e-9;
 
 std::string Num(double v) { return FormatNumber(v); }
@@ -169,56 +170,6 @@ bool SegmentEntersBox(const Vector3d& a, const Vector3d& b, const worlds::Collis
   return true;
 }
 
-// Where a camera's optical centre is: inside the corridor or a room, or why not.
-enum class Space { kInside, kBelowFloor, kAboveCeiling, kOutside };
-
-// A corridor segment's floor rectangle runs half a width past an end that meets another
-// segment's (the corner square of an L or a loop), else to the end wall (worlds/layout.cpp).
-bool SharesEnd(const worlds::World& world, const worlds::CorridorSegment& seg, const Vector2d& p) {
-  return std::any_of(world.segments.begin(), world.segments.end(),
-                     [&](const worlds::CorridorSegment& other) {
-                       return other.id != seg.id &&
-                              ((other.start - p).norm() < 1e-6 || (other.end - p).norm() < 1e-6);
-                     });
-}
-
-Space Locate(const worlds::World& world, const Vector3d& p, double* ceiling_m) {
-  Space space = Space::kOutside;
-  const auto consider = [&](double height_m) {
-    if (p.z() > 0 && p.z() < height_m) {
-      space = Space::kInside;
-    } else if (space != Space::kInside) {
-      space = p.z() <= 0 ? Space::kBelowFloor : Space::kAboveCeiling;
-      *ceiling_m = height_m;
-    }
-  };
-  for (const worlds::CorridorSegment& seg : world.segments) {
-    const Vector2d d = seg.direction(), q = p.head<2>() - seg.start;
-    const double along = q.dot(d), across = q.dot(Vector2d(-d.y(), d.x()));
-    const double len = (seg.end - seg.start).norm();
-    const double before = SharesEnd(world, seg, seg.start) ? seg.width_m / 2 : 0.0;
-    const double after = SharesEnd(world, seg, seg.end) ? seg.width_m / 2 : 0.0;
-    if (along >= -before && along <= len + after && std::abs(across) <= seg.width_m / 2) {
-      consider(seg.height_m);
-    }
-  }
-  for (const worlds::Doorway& door : world.doors) {
-    // The opening through the wall (a closed door's leaf is a solid of its own), and the room.
-    const Vector2d u = (door.column_b - door.column_a).normalized();
-    const Vector2d q = p.head<2>() - door.column_a;
-    const double along = q.dot(u), depth = -q.dot(door.inward_normal);
-    const double span = (door.column_b - door.column_a).norm();
-    if (along >= door.column_width_m / 2 && along <= span - door.column_width_m / 2 && depth >= 0 &&
-        depth <= world.options.wall_thickness_m) {
-      consider(door.top_height_m);
-    }
-    if (door.room && door.room->footprint.contains(p.head<2>())) {
-      consider(door.room->ceiling_height_m);
-    }
-  }
-  return space;
-}
-
 std::string Where(const SE2& pose, double along_m) {
   return "at (" + Num(pose.x()) + ", " + Num(pose.y()) + ") m heading " +
          Num(std::round(pose.yaw() / kDeg * 10) / 10) + " deg, " +
@@ -329,28 +280,27 @@ class Sweep {
                        ") m, the robot " + Where(next, along_m_) + ", is " + what};
         return true;
       };
-      const AlignedBox2d extent(a.head<2>().cwiseMin(b.head<2>()),
-                                a.head<2>().cwiseMax(b.head<2>()));
+      // Solids within the clearance of the chord (the boxes grown by it), then the corridor's
+      // boundary at steps along it (render::CameraSpaceProblem: walls, floor, ceilings).
+      const double r = render::kCameraClearanceM;
+      const AlignedBox2d extent(Vector2d(a.head<2>().cwiseMin(b.head<2>()).array() - r),
+                                Vector2d(a.head<2>().cwiseMax(b.head<2>()).array() + r));
       const worlds::CollisionBox* first = nullptr;
       grid_.ForEachNear(extent, [&](const worlds::CollisionBox& solid) {
-        if (SegmentEntersBox(a, b, solid)) first = &solid;
+        worlds::CollisionBox grown = solid;
+        grown.half_extents.array() += r;
+        if (SegmentEntersBox(a, b, grown)) first = &solid;
         return first != nullptr;
       });
-      if (first) return camera_hit(b, "inside a " + SolidName(*first));
+      if (first) {
+        return camera_hit(b, "inside a " + SolidName(*first) + " or within " + Num(r) +
+                                 " m of it (the near plane, " + Num(render::kNearPlaneM) +
+                                 " m, and 1 cm): it would see through it");
+      }
       const int n = std::max(1, static_cast<int>(std::ceil((b - a).norm() / kFloorStepM)));
       for (int k = 0; k <= n; ++k) {
         const Vector3d p = a + (b - a) * (static_cast<double>(k) / n);
-        double ceiling_m = 0.0;
-        switch (Locate(world_, p, &ceiling_m)) {
-          case Space::kInside:
-            continue;
-          case Space::kAboveCeiling:
-            return camera_hit(p, "above the ceiling (" + Num(ceiling_m) + " m high)");
-          case Space::kBelowFloor:
-            return camera_hit(p, "below the floor");
-          case Space::kOutside:
-            return camera_hit(p, "outside the corridor (in or behind a wall)");
-        }
+        if (auto problem = render::CameraSpaceProblem(world_, p)) return camera_hit(p, *problem);
       }
     }
     // Only a script can get here, through no solid: the world's bounds end every sweep.

@@ -1,9 +1,12 @@
 #pragma once
 // Physical sanity of a scenario against its world, checked before anything runs: the robot's
-// chassis (ChassisBoxes) swept along the WHOLE planned path must stay clear of the world's solids
-// (walls, closed door leaves, door frames, furniture: worlds::World::collision_boxes), and every
-// checked camera's optical centre must stay out of them and inside the corridor or a room, above
-// the floor and below the ceiling. Doorways the path passes are no obstacle; closed doors are.
+// chassis (ChassisBoxes) swept along the WHOLE planned path, turns and turnarounds included, must
+// stay clear of the world's solids (walls, closed door leaves, door frames, furniture:
+// worlds::World::collision_boxes), and every checked camera's optical centre must stay farther
+// than render::kCameraClearanceM (its views' near plane and 1 cm) from them and inside the
+// corridor or a room, that far from its walls, floor and ceiling: a camera closer to a surface
+// than its near plane sees through it (a camera 1 m ahead of the axle at a corridor's end wall
+// rendered black frames). Doorways the path passes are no obstacle; closed doors are.
 //
 // The path is swept as the robot is asked to drive it: straight legs exactly (the footprint's
 // convex hull at both ends of a leg is the area a translating box covers), in-place turns and a

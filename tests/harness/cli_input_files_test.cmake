@@ -35,3 +35,19 @@ if(NOT rc EQUAL 2 OR NOT err MATCHES "long_expectation.yaml:3:5: expectations: .
    OR err MATCHES "${long_run}")
   message(FATAL_ERROR "long expectation: exit ${rc}, ${err_length} bytes of message:\n${err}")
 endif()
+
+# A file that is not a scenario (none of its keys is a scenario key), included or given: named by
+# its position and kind only, never quoted (`include: /etc/shadow` quoted its first line).
+file(WRITE "${WORK_DIR}/secrets.yaml" "zqxroot: s3cr3t-hash-1\nzqxdaemon: s3cr3t-hash-2\n")
+file(WRITE "${WORK_DIR}/include_not_scenario.yaml" "seed: 2\ninclude: secrets.yaml\n")
+cli_run(EXIT 2 WHAT "include of a file that is not a scenario"
+        STDERR "^corridorsim: error: [^\n]*secrets.yaml: not a corridorsim scenario: a YAML map of 2 key\\(s\\), none of them a scenario key [^\n]*\n$"
+        ARGS run "${WORK_DIR}/include_not_scenario.yaml" --check)
+if(CLI_STDERR MATCHES "s3cr3t|zqx")
+  message(FATAL_ERROR "the message quotes the file's content:\n${CLI_STDERR}")
+endif()
+cli_run(EXIT 2 WHAT "not a scenario given" STDERR "secrets.yaml: not a corridorsim scenario"
+        ARGS run "${WORK_DIR}/secrets.yaml" --check)
+if(CLI_STDERR MATCHES "s3cr3t|zqx")
+  message(FATAL_ERROR "the message quotes the file's content:\n${CLI_STDERR}")
+endif()

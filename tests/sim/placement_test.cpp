@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <tuple>
 
 #include <catch2/catch.hpp>
 
@@ -138,6 +139,53 @@ TEST_CASE("a camera 0.6 m to the side that meets the end wall only during a turn
   mount.y_m = -mount.y_m;
   const render::RigOptions other = WithMount("lateral", mount);
   CHECK_FALSE(CheckPathPlacement(world, RobotOptions{}, path, &other));
+}
+
+TEST_CASE("a camera 1 m ahead of the axle that reaches the end wall at a turnaround is refused",
+          "[sim][placement]") {
+  // A 5 m corridor's round trip turns 1 m before the end wall: the optical centre touches the
+  // wall's face, closer than the near plane, and rendered black frames until this was checked.
+  const worlds::World world = Corridor(5.0);
+  const RobotPath path = BuildRobotPath(world, RobotPathOptions{});
+  render::Mount mount;
+  mount.x_m = 1.0;
+  mount.z_m = 0.45;
+  const render::RigOptions rig = WithMount("front", mount);
+  CHECK_FALSE(render::CheckCameraPlacement(world, rig, SE3::FromSE2(path.world_from_start)));
+  const auto problem = CheckPathPlacement(world, RobotOptions{}, path, &rig);
+  REQUIRE(problem);
+  CHECK(problem->section == "sensors");
+  CHECK(problem->problem.key == "front.mount");
+  CHECK_THAT(problem->problem.message, Catch::Contains("it would see through it"));
+  // The same camera 0.7 m ahead keeps a clearance of 0.3 m and fits.
+  mount.x_m = 0.7;
+  const render::RigOptions shorter = WithMount("front", mount);
+  CHECK_FALSE(CheckPathPlacement(world, RobotOptions{}, path, &shorter));
+}
+
+TEST_CASE("a camera closer to a wall, the floor or the ceiling than its near plane is refused",
+          "[sim][placement]") {
+  const worlds::World world = Corridor(12.0);
+  const SE3 robot = SE3::FromSE2(SE2(6.0, 0.0, 0.0));
+  for (const auto& [y_m, z_m, what] :
+       {std::tuple{1.17, 0.5, "of a wall"},  // inner face y = 1.2
+        std::tuple{0.0, 2.66, "ceiling"}, std::tuple{0.0, 0.03, "floor"}}) {
+    CAPTURE(y_m, z_m);
+    render::Mount mount;
+    mount.y_m = y_m;
+    mount.z_m = z_m;
+    const render::RigOptions rig = WithMount("front", mount);
+    const auto problem = render::CheckCameraPlacement(world, rig, robot);
+    REQUIRE(problem);
+    CHECK(problem->key == "front.mount");
+    CHECK_THAT(problem->message, Catch::Contains(what));
+    CHECK(CheckPathPlacement(world, RobotOptions{}, StandAt(SE2(6.0, 0.0, 0.0)), &rig));
+    // 2 cm farther in, it is clear.
+    mount.y_m = y_m > 0 ? y_m - 0.03 : 0.0;
+    mount.z_m = z_m > 1 ? z_m - 0.03 : z_m < 0.1 ? z_m + 0.05 : z_m;
+    const render::RigOptions clear = WithMount("front", mount);
+    CHECK_FALSE(render::CheckCameraPlacement(world, clear, robot));
+  }
 }
 
 TEST_CASE("a script that drives into a wall is refused at path.commands", "[sim][placement]") {
