@@ -17,35 +17,62 @@ scripts/setup.sh
 
 configure_and_build() {  # build_dir, extra cmake args...
   local dir="$1"; shift
+  local start=$SECONDS
   if [ ! -f "$dir/build.ninja" ]; then
     cmake -S . -B "$dir" -G Ninja "$@" > /dev/null
   fi
   cmake --build "$dir" --parallel "$jobs" ${CORRIDORSIM_BUILD_TARGET:+--target "$CORRIDORSIM_BUILD_TARGET"}
+  echo "bootstrap: $dir built in $((SECONDS - start)) s"
 }
 
-# Runs every fuzz target of build-fuzz/fuzz/fuzzers.tsv for $1 seconds each; the corpus each run
-# grows and any crash input stay under build-fuzz/fuzz-runs/<target>/.
+# timed NAME COMMAND...: runs it and says how long it took (docs/ci.md reads these lines).
+timed() {
+  local name="$1"; shift
+  local start=$SECONDS rc=0
+  "$@" || rc=$?
+  echo "bootstrap: $name took $((SECONDS - start)) s (exit $rc)"
+  return "$rc"
+}
+
+# Runs every fuzz target of build-fuzz/fuzz/fuzzers.tsv for $1 seconds each, $jobs at a time
+# (each is one process); the corpus each run grows and any crash input stay under
+# build-fuzz/fuzz-runs/<target>/.
+run_one_fuzzer() {  # seconds name binary corpus dict
+  local seconds="$1" name="$2" binary="$3" corpus="$4" dict="$5"
+  local work="build-fuzz/fuzz-runs/$name"
+  rm -rf "$work"
+  mkdir -p "$work/corpus" "$work/artifacts"
+  cp -R "$corpus/." "$work/corpus/"
+  local args=(-max_total_time="$seconds" -timeout=1 -rss_limit_mb=2048 -detect_leaks=1
+              -print_final_stats=1 -artifact_prefix="$work/artifacts/")
+  if [ "$dict" != "-" ]; then args+=(-dict="$dict"); fi
+  ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
+  UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+    "$binary" "${args[@]}" "$work/corpus" > "$work/log.txt" 2>&1
+}
+
 run_fuzzers() {
   local seconds="$1" failed=0 name binary corpus dict
+  local names=() pids=()
   while IFS=$'\t' read -r name binary corpus dict; do
-    local work="build-fuzz/fuzz-runs/$name"
-    rm -rf "$work"
-    mkdir -p "$work/corpus" "$work/artifacts"
-    cp -R "$corpus/." "$work/corpus/"
-    local args=(-max_total_time="$seconds" -timeout=1 -rss_limit_mb=2048 -detect_leaks=1
-                -print_final_stats=1 -artifact_prefix="$work/artifacts/")
-    if [ "$dict" != "-" ]; then args+=(-dict="$dict"); fi
-    echo "fuzz: $name for ${seconds} s (corpus $work/corpus, crashes $work/artifacts)"
-    if ! ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
-         UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-         "$binary" "${args[@]}" "$work/corpus" > "$work/log.txt" 2>&1; then
-      failed=1
-      echo "fuzz: $name FAILED (log $work/log.txt, inputs $work/artifacts):" >&2
-      tail -n 40 "$work/log.txt" >&2
-    else
-      grep -E '^stat::|^Done' "$work/log.txt" || true
-    fi
+    while [ "$(jobs -rp | wc -l)" -ge "$jobs" ]; do wait -n || true; done
+    echo "fuzz: $name for ${seconds} s (corpus build-fuzz/fuzz-runs/$name/corpus, crashes build-fuzz/fuzz-runs/$name/artifacts)"
+    run_one_fuzzer "$seconds" "$name" "$binary" "$corpus" "$dict" &
+    names+=("$name")
+    pids+=("$!")
   done < build-fuzz/fuzz/fuzzers.tsv
+  local i
+  for i in "${!pids[@]}"; do
+    name="${names[$i]}"
+    if ! wait "${pids[$i]}"; then
+      failed=1
+      echo "fuzz: $name FAILED (log build-fuzz/fuzz-runs/$name/log.txt, inputs build-fuzz/fuzz-runs/$name/artifacts):" >&2
+      tail -n 40 "build-fuzz/fuzz-runs/$name/log.txt" >&2
+    else
+      echo "fuzz: $name:"
+      grep -E '^stat::|^Done' "build-fuzz/fuzz-runs/$name/log.txt" || true
+    fi
+  done
   return "$failed"
 }
 
@@ -59,13 +86,13 @@ case "$mode" in
     ;;
   test)
     configure_and_build build -DCMAKE_BUILD_TYPE=Release
-    ctest --test-dir build --output-on-failure --parallel "$jobs"
+    timed "the Release suite (ctest)" ctest --test-dir build --output-on-failure --parallel "$jobs"
     ;;
   sanitize)
     configure_and_build build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCORRIDORSIM_SANITIZE=ON \
       -DCORRIDORSIM_BUILD_BENCHMARKS=OFF
     ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-      ctest --test-dir build-asan --output-on-failure --parallel "$jobs" -L unit \
+      timed "the sanitized unit tests (ctest -L unit)" ctest --test-dir build-asan --output-on-failure --parallel "$jobs" -L unit \
         -E "ten thousand frames|scripts.plot_run"
     # Both run in the Release suite: 10,000 frames under ASan take minutes, and the plot script's
     # test is Python only (no instrumented code, 4 minutes).
@@ -89,7 +116,7 @@ case "$mode" in
     CORRIDORSIM_BUILD_TARGET=corridorsim_fuzzers configure_and_build build-fuzz \
       -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_C_COMPILER=clang \
       -DCORRIDORSIM_FUZZ=ON -DCORRIDORSIM_BUILD_TESTS=OFF -DCORRIDORSIM_BUILD_BENCHMARKS=OFF
-    run_fuzzers "$seconds"
+    timed "the fuzz runs" run_fuzzers "$seconds"
     ;;
   *)
     echo "usage: scripts/bootstrap.sh [run|test|sanitize|fuzz [SECONDS]|build]" >&2
