@@ -1067,6 +1067,18 @@ int WriteSlurmStudy(const StudyRequest& request) {
 
 namespace {
 
+// True when `status` records a run that failed or timed out (a status that says "finished"
+// stands for a run folder, which must be there).
+bool RecordedFailure(const fs::path& status) {
+  std::error_code error;
+  if (!fs::is_regular_file(status, error)) return false;
+  try {
+    return json::parse(ReadRegularFile(status, kMaxPlanBytes)).value("outcome", "") != "finished";
+  } catch (const std::exception&) {
+    return true;  // unreadable: recorded as a failure (CollectRecords)
+  }
+}
+
 // Every run of the plan must be in one of the folders to merge (finished, or recorded as failed
 // or timed out), or already in the output folder of a resumed merge: a merge that lacks runs (a
 // shard not given, or one that has not ended) would summarise part of the study and judge its
@@ -1100,7 +1112,7 @@ void RequireCompleteMerge(const StudySpec& spec, const StudyRequest& request,
       const std::uint64_t seed = spec.first_seed + static_cast<std::uint64_t>(i);
       const bool found = std::any_of(sources.begin(), sources.end(), [&](const fs::path& d) {
         return fs::is_regular_file(RunFolder(d, point.id, seed) / "metrics.json", error) ||
-               fs::is_regular_file(StatusFile(d, point.id, seed), error);
+               RecordedFailure(StatusFile(d, point.id, seed));
       });
       if (found) continue;
       if (++missing <= static_cast<long>(kListed)) {
@@ -1156,7 +1168,20 @@ int MergeStudies(const StudyRequest& request) {
     }
   }
   const fs::path first_plan = request.merge_dirs[0] / "study.json";
-  const StudySpec spec = SpecFromPlan(ReadPlan(first_plan), first_plan);
+  const json plan = ReadPlan(first_plan);
+  const StudySpec spec = SpecFromPlan(plan, first_plan);
+  // The points' scenarios, read (and checked against the plan's hashes) before anything is
+  // written.
+  std::vector<std::string> point_yaml;
+  for (std::size_t i = 0; i < spec.points.size(); ++i) {
+    const fs::path from = request.merge_dirs[0] / "points" / (spec.points[i].id + ".yaml");
+    point_yaml.push_back(ReadRegularFile(from, kMaxPlanBytes));
+    if (Sha256Hex(point_yaml.back()) != plan["points"][i].value("scenario_sha256", "")) {
+      throw InputError(
+          SourceLocation{from.string(), 0, 0}, "",
+          "not the scenario of the plan (its SHA-256 differs from " + first_plan.string() + "'s)");
+    }
+  }
   const fs::path dir = request.out_dir;
   std::error_code error;
   const fs::path out_abs = fs::weakly_canonical(dir, error);
@@ -1175,37 +1200,42 @@ int MergeStudies(const StudyRequest& request) {
   RequireCompleteMerge(spec, request, plan_text);
   PrepareFolder(dir, plan_text, request.force, "--out");
   fs::create_directories(dir / "points", error);
-  for (const StudyPoint& point : spec.points) {
-    const fs::path from = request.merge_dirs[0] / "points" / (point.id + ".yaml");
-    WriteFileAtomic(dir / "points" / (point.id + ".yaml"), ReadRegularFile(from, kMaxPlanBytes));
+  for (std::size_t i = 0; i < spec.points.size(); ++i) {
+    WriteFileAtomic(dir / "points" / (spec.points[i].id + ".yaml"), point_yaml[i]);
   }
-  // Each run from the first folder that finished it, else the first that recorded a failure.
+  // Each run from the first folder that finished it, else the first that recorded a failure
+  // (RequireCompleteMerge has made sure that one of them does).
   int copied = 0;
   for (const StudyPoint& point : spec.points) {
     for (int i = 0; i < spec.runs; ++i) {
       const std::uint64_t seed = spec.first_seed + static_cast<std::uint64_t>(i);
       const fs::path target = RunFolder(dir, point.id, seed);
       if (fs::is_regular_file(target / "metrics.json", error)) continue;  // resumed merge
-      for (const fs::path& d : request.merge_dirs) {
-        const fs::path source = RunFolder(d, point.id, seed);
-        if (fs::is_regular_file(source / "metrics.json", error)) {
-          const fs::path staging = target.string() + ".merging";
-          fs::remove_all(staging, error);
-          fs::create_directories(staging.parent_path(), error);
-          fs::copy(source, staging, fs::copy_options::recursive, error);
-          if (error) {
-            throw std::runtime_error("cannot copy '" + source.string() + "': " + error.message());
-          }
-          fs::rename(staging, target, error);
-          if (error) {
-            throw std::runtime_error("cannot move '" + staging.string() + "' to '" +
-                                     target.string() + "': " + error.message());
-          }
-          ++copied;
-          break;
+      const auto finished = std::find_if(
+          request.merge_dirs.begin(), request.merge_dirs.end(), [&](const fs::path& d) {
+            return fs::is_regular_file(RunFolder(d, point.id, seed) / "metrics.json", error);
+          });
+      if (finished != request.merge_dirs.end()) {
+        const fs::path source = RunFolder(*finished, point.id, seed);
+        const fs::path staging = target.string() + ".merging";
+        fs::remove_all(staging, error);
+        fs::create_directories(staging.parent_path(), error);
+        fs::copy(source, staging, fs::copy_options::recursive, error);
+        if (error) {
+          throw std::runtime_error("cannot copy '" + source.string() + "': " + error.message());
         }
+        fs::remove_all(target, error);  // an unfinished leftover of a resumed merge
+        fs::rename(staging, target, error);
+        if (error) {
+          throw std::runtime_error("cannot move '" + staging.string() + "' to '" + target.string() +
+                                   "': " + error.message());
+        }
+        ++copied;
+        continue;
+      }
+      for (const fs::path& d : request.merge_dirs) {
         const fs::path status = StatusFile(d, point.id, seed);
-        if (fs::is_regular_file(status, error)) {
+        if (RecordedFailure(status)) {
           fs::create_directories(StatusFile(dir, point.id, seed).parent_path(), error);
           WriteFileAtomic(StatusFile(dir, point.id, seed), ReadRegularFile(status, kMaxPlanBytes));
           break;

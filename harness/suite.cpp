@@ -206,7 +206,20 @@ int RunTestSuite(const TestRequest& request) {
     std::error_code error;
     if (!fs::is_directory(parent, error) || ::access(parent.c_str(), W_OK) != 0) {
       throw InputError(SourceLocation{"command line", 0, 0}, "--junit",
-                       "'" + parent.string() + "' is not a writable folder");
+                       "'" + InputExcerpt(parent.string()) + "' is not a writable folder");
+    }
+    if (fs::exists(fs::symlink_status(*request.junit_file, error)) &&
+        !fs::is_regular_file(fs::symlink_status(*request.junit_file, error))) {
+      throw InputError(SourceLocation{"command line", 0, 0}, "--junit",
+                       "'" + InputExcerpt(request.junit_file->string()) +
+                           "' exists and is not a regular file (the report replaces a file)");
+    }
+    for (const SuiteFile& f : files) {
+      if (fs::equivalent(f.file, *request.junit_file, error)) {
+        throw InputError(SourceLocation{"command line", 0, 0}, "--junit",
+                         "'" + InputExcerpt(request.junit_file->string()) +
+                             "' is one of the files to test: the report would replace it");
+      }
     }
   }
   std::error_code error;
