@@ -13,6 +13,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <string>
 #include <system_error>
 
@@ -87,6 +88,15 @@ inline bool IncludeStaysInside(const std::string& text) {
   return true;
 }
 
+/// Writes the input to input.yaml in IncludeFolder() and returns its path; nothing when its
+/// `include:` would leave that folder (the target then returns -1: not a useful input).
+inline std::optional<std::filesystem::path> WriteInput(const std::string& text) {
+  if (!IncludeStaysInside(text)) return std::nullopt;
+  const std::filesystem::path input = IncludeFolder() / "input.yaml";
+  WriteFile(input, text);
+  return input;
+}
+
 /// A message quotes at most a short excerpt of the input (InputExcerpt: a path at most 240
 /// bytes, a key 120, a value 80): any 300 bytes of it in a row contain one of these aligned
 /// 250-byte windows (a step of 50), and no quote of 240 bytes or less does.
@@ -96,6 +106,21 @@ inline void CheckShortQuotes(const InputError& error, const std::string& text) {
     if (message.find(text.substr(at, 250)) != std::string::npos) {
       Bug("an error message quotes the input at length: " + message);
     }
+  }
+}
+
+/// Runs `load` (the target's loader on the input): true when it loaded, false when it refused
+/// the input with an InputError (a short one: CheckShortQuotes); any other exception is a bug.
+template <class Load>
+bool LoadedOrRefused(const std::string& text, const std::string& loader, Load&& load) {
+  try {
+    load();
+    return true;
+  } catch (const InputError& e) {
+    CheckShortQuotes(e, text);
+    return false;  // bad input, reported as it should be
+  } catch (const std::exception& e) {
+    Bug(loader + " threw something other than InputError: " + e.what());
   }
 }
 

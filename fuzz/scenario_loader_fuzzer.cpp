@@ -20,6 +20,7 @@
 #include <cstdint>
 #include <exception>
 #include <filesystem>
+#include <optional>
 #include <string>
 
 #include "common/error.h"
@@ -34,10 +35,7 @@ namespace {
 namespace fs = std::filesystem;
 using corridorsim::fuzz::Bug;
 using corridorsim::fuzz::CheckShortQuotes;
-using corridorsim::fuzz::IncludeStaysInside;
 using corridorsim::fuzz::WriteFile;
-
-fs::path g_dir;  // the private folder (fuzz/fuzz_support.h): the includable files, the input
 
 std::string Echo(const corridorsim::Scenario& scenario) {
   return corridorsim::OptionsYaml(corridorsim::ScenarioOptionsTable(), scenario);
@@ -45,24 +43,15 @@ std::string Echo(const corridorsim::Scenario& scenario) {
 
 }  // namespace
 
-extern "C" int LLVMFuzzerInitialize(int*, char***) {
-  g_dir = corridorsim::fuzz::IncludeFolder();
-  return 0;
-}
-
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);
-  if (!IncludeStaysInside(text)) return -1;
-  const fs::path input = g_dir / "input.yaml";
-  WriteFile(input, text);
+  const std::optional<fs::path> written = corridorsim::fuzz::WriteInput(text);
+  if (!written) return -1;
+  const fs::path& input = *written;
   corridorsim::Scenario scenario;
-  try {
-    scenario = corridorsim::LoadScenario(input.string());
-  } catch (const corridorsim::InputError& e) {
-    CheckShortQuotes(e, text);
-    return 0;  // bad input, reported as it should be
-  } catch (const std::exception& e) {
-    Bug(std::string("LoadScenario threw something other than InputError: ") + e.what());
+  if (!corridorsim::fuzz::LoadedOrRefused(
+          text, "LoadScenario", [&] { scenario = corridorsim::LoadScenario(input.string()); })) {
+    return 0;
   }
   // Building the pipelines is part of the check too (`run --check` does it): a pipeline that
   // reads a camera the scenario disabled, say, is bad input reported there, at its line.
@@ -77,7 +66,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   // The echo is a fixed point: it loads, and loading it echoes the same text.
   const std::string echo = Echo(scenario);
-  const fs::path echo_path = g_dir / "echo.yaml";
+  const fs::path echo_path = corridorsim::fuzz::IncludeFolder() / "echo.yaml";
   WriteFile(echo_path, echo);
   std::string again;
   try {

@@ -36,9 +36,6 @@ using corridorsim::InputError;
 using corridorsim::StudyExpectation;
 using corridorsim::StudySpec;
 using corridorsim::fuzz::Bug;
-using corridorsim::fuzz::CheckShortQuotes;
-
-fs::path g_dir;
 
 // The bounds of a loaded study and the consistency of what it holds.
 void CheckSpec(const StudySpec& spec) {
@@ -88,30 +85,22 @@ void CheckSpec(const StudySpec& spec) {
 
 }  // namespace
 
-extern "C" int LLVMFuzzerInitialize(int*, char***) {
-  g_dir = corridorsim::fuzz::IncludeFolder();
-  return 0;
-}
-
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);
-  if (!corridorsim::fuzz::IncludeStaysInside(text)) return -1;
-  const fs::path input = g_dir / "input.yaml";
-  corridorsim::fuzz::WriteFile(input, text);
+  const std::optional<fs::path> written = corridorsim::fuzz::WriteInput(text);
+  if (!written) return -1;
+  const fs::path& input = *written;
   StudySpec spec;
-  try {
-    spec = corridorsim::LoadStudy(input.string(), std::nullopt, std::nullopt);
-  } catch (const InputError& e) {
-    CheckShortQuotes(e, text);
-    return 0;  // bad input, reported as it should be
-  } catch (const std::exception& e) {
-    Bug(std::string("LoadStudy threw something other than InputError: ") + e.what());
+  if (!corridorsim::fuzz::LoadedOrRefused(text, "LoadStudy", [&] {
+        spec = corridorsim::LoadStudy(input.string(), std::nullopt, std::nullopt);
+      })) {
+    return 0;
   }
   CheckSpec(spec);
   // Each point's scenario is what `corridorsim run` gets (points/<id>.yaml): it loads again.
   // The first and the last point (a sweep's extremes) stand for all.
   for (const std::size_t i : {std::size_t{0}, spec.points.size() - 1}) {
-    const fs::path point = g_dir / "point.yaml";
+    const fs::path point = corridorsim::fuzz::IncludeFolder() / "point.yaml";
     corridorsim::fuzz::WriteFile(
         point, corridorsim::ResolvedScenarioYaml(spec.points[i].scenario, spec.first_seed));
     try {
