@@ -858,7 +858,8 @@ void KeepMeasuredRun(const StudyRequest& request, const StudySpec& spec, const f
     const fs::path staging = target.string() + ".partial-slurm";
     fs::remove_all(staging);
     fs::create_directories(target.parent_path());
-    fs::copy(RunFolder(dir, id, run.seed), staging, fs::copy_options::recursive);
+    fs::copy(RunFolder(dir, id, run.seed), staging,
+             fs::copy_options::recursive | fs::copy_options::copy_symlinks);
     for (const fs::path& file : {LogFile(dir, id, run.seed), StatusFile(dir, id, run.seed)}) {
       const fs::path to = shard / fs::relative(file, dir);
       fs::create_directories(to.parent_path());
@@ -1220,7 +1221,10 @@ int MergeStudies(const StudyRequest& request) {
         const fs::path staging = target.string() + ".merging";
         fs::remove_all(staging, error);
         fs::create_directories(staging.parent_path(), error);
-        fs::copy(source, staging, fs::copy_options::recursive, error);
+        // Links are copied as links: a link in a folder to merge is never followed (one to "/"
+        // would copy the file system).
+        fs::copy(source, staging, fs::copy_options::recursive | fs::copy_options::copy_symlinks,
+                 error);
         if (error) {
           throw std::runtime_error("cannot copy '" + source.string() + "': " + error.message());
         }

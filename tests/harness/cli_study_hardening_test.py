@@ -195,7 +195,16 @@ def check_merge(binary, work, short):
     if "SHA-256" not in err or os.path.exists(os.path.join(work, "merged")):
         fail("a changed point scenario: " + err)
     write(point, original)
+    # A link in a run folder is copied as a link, never followed (one to "/" would copy the
+    # file system).
+    outside = os.path.join(work, "outside")
+    os.makedirs(outside)
+    write(os.path.join(outside, "big"), "x" * 1000)
+    os.symlink(outside, os.path.join(parts[0], "runs", "p000", "seed_1", "link"))
     out, _ = run(binary, ["study", "merge"] + parts + ["--out", "merged", "--no-plots"], 0, work)
+    link = os.path.join(work, "merged", "runs", "p000", "seed_1", "link")
+    if not os.path.islink(link) or os.readlink(link) != outside:
+        fail("a link in a merged run folder was followed")
     summary = json.load(open(os.path.join(work, "merged", "summary.json")))
     if summary["points"][0]["runs"]["finished"] != 3:
         fail("the complete merge: %s" % summary["points"][0]["runs"])
