@@ -749,6 +749,9 @@ int RunStudy(const StudyRequest& request) {
         ++it;
         continue;
       }
+      // Stopping (Ctrl-C reaches the runs of a terminal's process group too): a run that ended
+      // now is not recorded as failed; the stop above waits for it.
+      if (StopSignal() != 0) break;
       const std::string& id = spec.points[it->run.point].id;
       json record =
           RecordRun(spec, dir, it->run, *status, it->timed_out, elapsed, it->child->peak_rss_mib());

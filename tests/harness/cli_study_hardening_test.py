@@ -161,6 +161,25 @@ def check_kill(binary, work, slow):
     # A stopped run is not recorded as failed: the study resumes it.
     if os.path.exists(os.path.join(work, "study_SIGINT", "status", "p000", "seed_1.json")):
         fail("a run stopped with its study was recorded")
+    # Ctrl-C in a terminal: SIGINT to the whole process group, the runs with their study. They
+    # end at once; none of them is recorded as failed.
+    proc = subprocess.Popen([binary, "study", slow, "--jobs", "2", "--out", "group",
+                             "--no-plots"], cwd=work, stdout=subprocess.DEVNULL,
+                            stderr=subprocess.PIPE, start_new_session=True)
+    try:
+        wait_for(lambda: len(processes_with("group/")) >= 2, 120, "the runs of group to start")
+        time.sleep(1.0)
+        os.killpg(proc.pid, signal.SIGINT)
+        _, err = proc.communicate(timeout=60)
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait()
+    if proc.returncode != -signal.SIGINT or processes_with("group/"):
+        fail("Ctrl-C of a study's process group: %d %s" % (proc.returncode, err))
+    status = os.path.join(work, "group", "status", "p000")
+    if os.path.isdir(status) and os.listdir(status):
+        fail("runs stopped with their study were recorded: %s" % os.listdir(status))
 
 
 def check_merge(binary, work, short):
