@@ -16,21 +16,16 @@
 // `include:` is absolute or climbs out with `..` is skipped (returns -1), so that no include
 // reaches outside that folder.
 
-#include <sys/stat.h>
-#include <unistd.h>
-
+#include <cstddef>
 #include <cstdint>
-#include <cstdio>
-#include <cstdlib>
 #include <exception>
 #include <filesystem>
-#include <fstream>
+#include <optional>
 #include <string>
-#include <system_error>
 
 #include "common/error.h"
 #include "common/io/options_yaml.h"
-#include "common/io/yaml_reader.h"
+#include "fuzz/fuzz_support.h"
 #include "harness/calibration.h"
 #include "harness/pipeline_runner.h"
 #include "harness/scenario.h"
@@ -38,57 +33,9 @@
 namespace {
 
 namespace fs = std::filesystem;
-
-fs::path g_dir;  // the private folder: copies of the includable files, the input, the echo
-
-void RemoveFolder() {
-  std::error_code ignored;
-  fs::remove_all(g_dir, ignored);
-}
-
-[[noreturn]] void Bug(const std::string& what) {
-  std::fprintf(stderr, "scenario_loader_fuzzer: BUG: %s\n", what.c_str());
-  std::fflush(stderr);
-  std::abort();
-}
-
-void WriteFile(const fs::path& path, const std::string& bytes) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-  if (!out) Bug("cannot write " + path.string());
-}
-
-// True when the input's `include:` (if it parses and has one) stays inside g_dir. The included
-// copies include only each other by plain names.
-bool IncludeStaysInside(const std::string& text) {
-  try {
-    const corridorsim::YamlDocument doc = corridorsim::YamlDocument::FromString(text, "input.yaml");
-    const YAML::Node include = doc.root["include"];
-    if (!include || !include.IsScalar()) return true;
-    const fs::path target(include.Scalar());
-    if (target.is_absolute() || target.has_root_name() || target.has_root_directory()) {
-      return false;
-    }
-    for (const fs::path& part : target) {
-      if (part == "..") return false;
-    }
-  } catch (const corridorsim::InputError&) {
-    // The loader stops at the same error before it follows any include.
-  }
-  return true;
-}
-
-// A message quotes at most a short excerpt of the input (InputExcerpt: a path at most 240 bytes,
-// a key 120, a value 80): any 300 bytes of it in a row contain one of these aligned 250-byte
-// windows (a step of 50), and no quote of 240 bytes or less does.
-void CheckShortQuotes(const corridorsim::InputError& error, const std::string& text) {
-  const std::string message = error.what();
-  for (std::size_t at = 0; at + 250 <= text.size(); at += 50) {
-    if (message.find(text.substr(at, 250)) != std::string::npos) {
-      Bug("an error message quotes the input at length: " + message);
-    }
-  }
-}
+using corridorsim::fuzz::Bug;
+using corridorsim::fuzz::CheckShortQuotes;
+using corridorsim::fuzz::WriteFile;
 
 std::string Echo(const corridorsim::Scenario& scenario) {
   return corridorsim::OptionsYaml(corridorsim::ScenarioOptionsTable(), scenario);
@@ -96,43 +43,15 @@ std::string Echo(const corridorsim::Scenario& scenario) {
 
 }  // namespace
 
-extern "C" int LLVMFuzzerInitialize(int*, char***) {
-  char pattern[] = "/tmp/corridorsim_fuzz_XXXXXX";
-  const char* dir = ::mkdtemp(pattern);
-  if (!dir) Bug("mkdtemp failed");
-  g_dir = dir;
-  std::atexit(&RemoveFolder);
-  const fs::path source(CORRIDORSIM_SOURCE_DIR);
-  for (const fs::path& folder : {source / "scenarios", source / "tests/data/includes"}) {
-    for (const fs::directory_entry& entry : fs::directory_iterator(folder)) {
-      if (entry.path().extension() == ".yaml") {
-        fs::copy_file(entry.path(), g_dir / entry.path().filename(),
-                      fs::copy_options::overwrite_existing);
-      }
-    }
-  }
-  if (::mkfifo((g_dir / "fifo.yaml").c_str(), 0600) != 0) Bug("mkfifo failed");
-  fs::create_symlink("/dev/zero", g_dir / "zero.yaml");
-  fs::create_symlink(g_dir / "link_loop2.yaml", g_dir / "link_loop.yaml");
-  fs::create_symlink(g_dir / "link_loop.yaml", g_dir / "link_loop2.yaml");
-  fs::create_symlink(g_dir / "nowhere.yaml", g_dir / "dangling.yaml");
-  fs::create_directory(g_dir / "folder.yaml");
-  return 0;
-}
-
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);
-  if (!IncludeStaysInside(text)) return -1;
-  const fs::path input = g_dir / "input.yaml";
-  WriteFile(input, text);
+  const std::optional<fs::path> written = corridorsim::fuzz::WriteInput(text);
+  if (!written) return -1;
+  const fs::path& input = *written;
   corridorsim::Scenario scenario;
-  try {
-    scenario = corridorsim::LoadScenario(input.string());
-  } catch (const corridorsim::InputError& e) {
-    CheckShortQuotes(e, text);
-    return 0;  // bad input, reported as it should be
-  } catch (const std::exception& e) {
-    Bug(std::string("LoadScenario threw something other than InputError: ") + e.what());
+  if (!corridorsim::fuzz::LoadedOrRefused(
+          text, "LoadScenario", [&] { scenario = corridorsim::LoadScenario(input.string()); })) {
+    return 0;
   }
   // Building the pipelines is part of the check too (`run --check` does it): a pipeline that
   // reads a camera the scenario disabled, say, is bad input reported there, at its line.
@@ -147,7 +66,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   // The echo is a fixed point: it loads, and loading it echoes the same text.
   const std::string echo = Echo(scenario);
-  const fs::path echo_path = g_dir / "echo.yaml";
+  const fs::path echo_path = corridorsim::fuzz::IncludeFolder() / "echo.yaml";
   WriteFile(echo_path, echo);
   std::string again;
   try {

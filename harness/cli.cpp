@@ -561,8 +561,8 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
   std::vector<std::string> study_may_diverge;
   study
       ->add_option("--may-diverge", study_may_diverge,
-                   "Pipelines whose diverged runs do not fail the study (baselines; added to "
-                   "study.may_diverge)")
+                   "Pipelines whose diverged runs do not fail the study (added to the "
+                   "scenario's baseline: true pipelines and study.may_diverge)")
       ->delimiter(',')
       ->type_name("PIPELINE[,PIPELINE]");
   bool study_no_plots = false;
@@ -605,9 +605,11 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
           "is run again. Writes study.json (the plan), points/, runs/, status/, logs/, "
           "summary.json, summary.csv, paired.csv, report.md, timing.json and plots/ "
           "(docs/studies.md).\n") +
-      "Exit codes: 0 success; 1 a run failed or timed out, or a pipeline not in may_diverge "
-      "diverged (the others are summarised, each one named); 3 a study expectation failed; 4 "
-      "only plots/ failed; 2 bad input (nothing runs).");
+      "Exit codes: 0 success; 1 a run failed or timed out, or a pipeline that is neither a "
+      "baseline nor in may_diverge diverged (the others are summarised, each one named); 3 a "
+      "study expectation failed; 4 only plots/ failed; 2 bad input (nothing runs), or `study "
+      "merge` folders that lack runs of the plan (nothing is written). Ctrl-C or SIGTERM stops "
+      "the runs in flight too; the same command resumes the study.");
 
   CLI::App* test = app.add_subcommand(
       "test", "Run scenarios and studies as a test suite and write a JUnit XML report");

@@ -64,7 +64,7 @@ void ParsePipelines(YamlMap& pipelines, Scenario& scenario) {
                         : pipelines.Fail(name, "unknown pipeline (known: " + known +
                                                    "; another name needs a `type:` key)");
       }
-      scenario.pipelines.push_back({name, type, std::move(options), true});
+      scenario.pipelines.push_back({name, type, std::move(options), true, false});
       entry = scenario.pipelines.end() - 1;
     } else if (type != entry->type) {
       map.Fail("type", "the pipeline '" + name + "' is of type '" + entry->type +
@@ -72,6 +72,7 @@ void ParsePipelines(YamlMap& pipelines, Scenario& scenario) {
                            InputExcerpt(type) + "')");
     }
     map.Read("enabled", entry->enabled);
+    map.Read("baseline", entry->baseline);
     ReadOptionFields(map, entry->options->table(), entry->options->options());
     map.RejectUnknownKeys();
   }
@@ -83,6 +84,8 @@ void EchoPipelines(const Scenario& scenario, OptionsYamlWriter& out) {
     out.BeginMap(entry.name);
     out.Scalar("type", entry.type);
     out.Scalar("enabled", entry.enabled ? "true" : "false");
+    // Only when set, so that the echo of a scenario without baselines stays what it was.
+    if (entry.baseline) out.Scalar("baseline", "true");
     WriteOptions(out, entry.options->table(), entry.options->options());
     out.EndMap();
   }

@@ -38,6 +38,10 @@ struct Scenario {
     std::string type;  // the pipeline type (slam/registry.h): `type:`, default the name
     std::shared_ptr<slam::PipelineOptions> options;
     bool enabled = true;
+    // `baseline: true`: a reference the scenario compares against (dead reckoning, P1's Harris
+    // EKF), not a system under test: a study reports and counts its diverged runs but never
+    // fails on them (docs/studies.md, "Failures"). A harness key, not a pipeline option.
+    bool baseline = false;
   };
   std::vector<PipelineEntry> pipelines;
   // `expectations:` as written (the last file that has the key wins), with where each was set.

@@ -6,9 +6,12 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <map>
 #include <memory>
+#include <set>
 #include <stdexcept>
+#include <string_view>
 #include <thread>
 
 #include <nlohmann/json.hpp>
@@ -373,6 +376,7 @@ std::string CommandText(const StudyRequest& request) {
 std::optional<std::string> MakeStudyPlots(const fs::path& dir) {
   const fs::path script = fs::path(CORRIDORSIM_SCRIPTS_DIR) / "plot_study.py";
   const ChildStatus status = RunChildProcess({"python3", script.string(), dir.string()});
+  if (const int signal = StopSignal()) DieOfSignal(signal);  // forwarded to python3, which ended
   if (status.succeeded()) return std::nullopt;
   return "python3 '" + script.string() + "' '" + dir.string() + "' " + DescribeChildStatus(status);
 }
@@ -498,8 +502,10 @@ int FinishStudy(const StudySpec& spec, const fs::path& dir, const StudyRequest& 
   }
   if (!summary.allowed_divergences.empty()) {
     // Expected (baselines): one line per point and pipeline, the seeds only.
-    std::printf("study: %zu run(s) of pipelines that may diverge (study.may_diverge) diverged:",
-                summary.allowed_divergences.size());
+    std::printf(
+        "study: %zu run(s) of pipelines that may diverge (baselines, study.may_diverge) "
+        "diverged:",
+        summary.allowed_divergences.size());
     const StudyDivergence* last = nullptr;
     for (const StudyDivergence& d : summary.allowed_divergences) {
       const bool first = !last || last->point != d.point || last->pipeline != d.pipeline;
@@ -511,8 +517,8 @@ int FinishStudy(const StudySpec& spec, const fs::path& dir, const StudyRequest& 
   }
   if (!summary.divergences.empty()) {
     std::printf(
-        "study: %zu run(s) diverged (a pipeline that is expected to, such as a baseline, goes "
-        "in study.may_diverge or --may-diverge):\n",
+        "study: %zu run(s) diverged (a pipeline that is expected to is marked `baseline: true` "
+        "in the scenario's pipelines, or goes in study.may_diverge or --may-diverge):\n",
         summary.divergences.size());
     PrintDivergences(summary.divergences, dir);
     code = 1;
@@ -713,7 +719,20 @@ int RunStudy(const StudyRequest& request) {
   double run_seconds_sum = 0.0, peak_rss_mib = 0.0;
   json run_timing = json::array();
   const Clock::time_point loop_start = Clock::now();
+  CatchStopSignals();
   while (next < todo.size() || !active.empty()) {
+    if (const int signal = StopSignal()) {
+      // Stopped (Ctrl-C, kill): the runs in flight are stopped too and waited for, so that none
+      // commits after the study has ended; they run again when the study is resumed.
+      for (Active& a : active) a.child->Signal(signal);
+      for (Active& a : active) a.child->Wait();
+      std::fprintf(stderr,
+                   "corridorsim: study stopped by signal %d (%s) with %zu run(s) in flight, "
+                   "stopped too; %zu of %zu run(s) of this folder finished: the same command "
+                   "resumes it\n",
+                   signal, ::strsignal(signal), active.size(), done + already, planned_here);
+      DieOfSignal(signal);
+    }
     while (static_cast<int>(active.size()) < jobs && next < todo.size()) {
       const PlannedRun& t = todo[next++];
       active.push_back({t, StartRun(program, spec, dir, t), Clock::now()});
@@ -730,6 +749,9 @@ int RunStudy(const StudyRequest& request) {
         ++it;
         continue;
       }
+      // Stopping (Ctrl-C reaches the runs of a terminal's process group too): a run that ended
+      // now is not recorded as failed; the stop above waits for it.
+      if (StopSignal() != 0) break;
       const std::string& id = spec.points[it->run.point].id;
       json record =
           RecordRun(spec, dir, it->run, *status, it->timed_out, elapsed, it->child->peak_rss_mib());
@@ -791,6 +813,31 @@ std::string ShellWord(const std::string& text) {
   return out + "'";
 }
 
+// The study folder goes into the scripts' `#SBATCH --output=` lines. Slurm reads such a line
+// with a syntax of its own (whitespace ends the value, quotes and '\' are its own, '#' starts a
+// comment) and expands %-patterns in a file name; a newline would end the line, and what follows
+// it would be a command of every task. None of that can be quoted there: such a folder is
+// refused (exit 2) before anything is written.
+void RequireSbatchPath(const fs::path& path, const std::string& option) {
+  const std::string text = path.string();
+  for (const char c : text) {
+    const auto u = static_cast<unsigned char>(c);
+    const bool control = u < 0x20 || u == 0x7F;
+    if (!control && std::string_view(" %\\\"'#").find(c) == std::string_view::npos) continue;
+    std::string what = std::string("'") + c + "'";
+    if (control) {
+      char hex[8];
+      std::snprintf(hex, sizeof hex, "%02X", static_cast<unsigned>(u));
+      what = std::string("a control character (\\x") + hex + ")";
+    }
+    throw InputError(SourceLocation{"command line", 0, 0}, option,
+                     "'" + InputExcerpt(text) + "' holds " + what +
+                         ", which the #SBATCH lines of a Slurm script cannot hold (no "
+                         "whitespace, quotes, '\\', '#', '%' or control characters): choose "
+                         "another folder");
+  }
+}
+
 // The run measured for --slurm lies in the study folder; its shard (run k of the plan belongs
 // to shard k mod N) gets a copy, so that the array task does not run it again. Best effort: a
 // copy that fails leaves the shard to run it. The copy goes through a staging name, so a
@@ -814,7 +861,8 @@ void KeepMeasuredRun(const StudyRequest& request, const StudySpec& spec, const f
     const fs::path staging = target.string() + ".partial-slurm";
     fs::remove_all(staging);
     fs::create_directories(target.parent_path());
-    fs::copy(RunFolder(dir, id, run.seed), staging, fs::copy_options::recursive);
+    fs::copy(RunFolder(dir, id, run.seed), staging,
+             fs::copy_options::recursive | fs::copy_options::copy_symlinks);
     for (const fs::path& file : {LogFile(dir, id, run.seed), StatusFile(dir, id, run.seed)}) {
       const fs::path to = shard / fs::relative(file, dir);
       fs::create_directories(to.parent_path());
@@ -835,6 +883,7 @@ int WriteSlurmStudy(const StudyRequest& request) {
     throw InputError(SourceLocation{"command line", 0, 0}, "--slurm",
                      "writes the shards itself: not with --shard");
   }
+  RequireSbatchPath(fs::absolute(request.out_dir), "--out");
   PreparedStudy prepared = PrepareStudy(request);
   const StudySpec& spec = prepared.spec;
   const fs::path dir = fs::absolute(prepared.dir);
@@ -865,10 +914,18 @@ int WriteSlurmStudy(const StudyRequest& request) {
                 spec.points[0].id.c_str(), static_cast<unsigned long long>(first.seed));
     std::fflush(stdout);
     const Clock::time_point start = Clock::now();
+    CatchStopSignals();
     std::unique_ptr<ChildProcess> child = StartRun(ThisProgram(), spec, dir, first);
     std::optional<ChildStatus> status;
     bool timed_out = false;
     while (!(status = child->Poll())) {
+      if (const int signal = StopSignal()) {
+        child->Signal(signal);
+        child->Wait();
+        std::fprintf(stderr, "corridorsim: study --slurm stopped by signal %d (%s)\n", signal,
+                     ::strsignal(signal));
+        DieOfSignal(signal);
+      }
       if (!timed_out && Seconds(start) > spec.run_timeout_s) {
         child->Kill();
         timed_out = true;
@@ -976,8 +1033,8 @@ int WriteSlurmStudy(const StudyRequest& request) {
     std::vector<std::string> argv = {"sbatch", "--parsable"};
     argv.insert(argv.end(), args.begin(), args.end());
     ChildProcess child(argv, log.string());
-    std::optional<ChildStatus> status;
-    while (!(status = child.Poll())) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    const std::optional<ChildStatus> status = child.Wait();
+    if (const int signal = StopSignal()) DieOfSignal(signal);
     std::string out;
     try {
       out = ReadRegularFile(log, 1 << 20);
@@ -1012,6 +1069,86 @@ int WriteSlurmStudy(const StudyRequest& request) {
   return 0;
 }
 
+namespace {
+
+// True when `status` records a run that failed or timed out (a status that says "finished"
+// stands for a run folder, which must be there).
+bool RecordedFailure(const fs::path& status) {
+  std::error_code error;
+  if (!fs::is_regular_file(status, error)) return false;
+  try {
+    return json::parse(ReadRegularFile(status, kMaxPlanBytes)).value("outcome", "") != "finished";
+  } catch (const std::exception&) {
+    return true;  // unreadable: recorded as a failure (CollectRecords)
+  }
+}
+
+// Every run of the plan must be in one of the folders to merge (finished, or recorded as failed
+// or timed out), or already in the output folder of a resumed merge: a merge that lacks runs (a
+// shard not given, or one that has not ended) would summarise part of the study and judge its
+// expectations on that part. Refused as incomplete input (exit 2), naming the missing runs and,
+// when the folders are shards, the shards they belong to.
+void RequireCompleteMerge(const StudySpec& spec, const StudyRequest& request,
+                          const std::string& plan_text) {
+  constexpr std::size_t kListed = 12;  // runs and shards named in the message
+  std::vector<fs::path> sources = request.merge_dirs;
+  std::error_code error;
+  const fs::path out_plan = request.out_dir / "study.json";
+  if (!request.force && fs::is_regular_file(out_plan, error) &&
+      ReadRegularFile(out_plan, kMaxPlanBytes) == plan_text) {
+    sources.push_back(request.out_dir);
+  }
+  long shards = 0;  // N of the folders' --shard K/N, when they say so alike
+  for (const fs::path& d : request.merge_dirs) {
+    try {
+      const json shard = json::parse(ReadRegularFile(d / "shard.json", kMaxPlanBytes));
+      const long of = shard.at("of").get<long>();
+      shards = shards == 0 || shards == of ? of : -1;
+    } catch (const std::exception&) {
+      // not a shard (a whole or resumed study folder)
+    }
+  }
+  long missing = 0, index = 0;
+  std::string runs;
+  std::set<long> missing_shards;
+  for (const StudyPoint& point : spec.points) {
+    for (int i = 0; i < spec.runs; ++i, ++index) {
+      const std::uint64_t seed = spec.first_seed + static_cast<std::uint64_t>(i);
+      const bool found = std::any_of(sources.begin(), sources.end(), [&](const fs::path& d) {
+        return fs::is_regular_file(RunFolder(d, point.id, seed) / "metrics.json", error) ||
+               RecordedFailure(StatusFile(d, point.id, seed));
+      });
+      if (found) continue;
+      if (++missing <= static_cast<long>(kListed)) {
+        runs += (runs.empty() ? "" : ", ") + point.id + " seed " + std::to_string(seed);
+      }
+      if (shards > 0) missing_shards.insert(index % shards + 1);
+    }
+  }
+  if (missing == 0) return;
+  std::string message = std::to_string(missing) + " of the plan's " + std::to_string(index) +
+                        " run(s) are in none of the folders (" + runs +
+                        (missing > static_cast<long>(kListed) ? ", ..." : "") + ")";
+  if (!missing_shards.empty()) {
+    std::string list;
+    std::size_t listed = 0;
+    for (const long k : missing_shards) {
+      if (++listed > kListed) {
+        list += ", ...";
+        break;
+      }
+      list += (list.empty() ? "" : ", ") + std::to_string(k) + "/" + std::to_string(shards);
+    }
+    message += "; missing from shard(s) " + list;
+  }
+  throw InputError(SourceLocation{"command line", 0, 0}, "DIR",
+                   message +
+                       ": the merge is incomplete; merge every shard, each once it has ended "
+                       "(a shard resumes with its own command)");
+}
+
+}  // namespace
+
 int MergeStudies(const StudyRequest& request) {
   const SourceLocation command_line{"command line", 0, 0};
   if (request.merge_dirs.empty()) throw InputError(command_line, "DIR", "no study folder given");
@@ -1030,48 +1167,82 @@ int MergeStudies(const StudyRequest& request) {
                        "another study than " + (request.merge_dirs[0] / "study.json").string() +
                            " (the plans differ)");
     }
-    const fs::path out_abs = fs::weakly_canonical(request.out_dir, error);
-    if (fs::weakly_canonical(d, error) == out_abs) {
+    if (fs::weakly_canonical(d, error) == fs::weakly_canonical(request.out_dir, error)) {
       throw InputError(command_line, "--out", "must not be one of the folders merged");
     }
   }
   const fs::path first_plan = request.merge_dirs[0] / "study.json";
-  const StudySpec spec = SpecFromPlan(ReadPlan(first_plan), first_plan);
-  const fs::path dir = request.out_dir;
-  PrepareFolder(dir, plan_text, request.force, "--out");
-  std::error_code error;
-  fs::create_directories(dir / "points", error);
-  for (const StudyPoint& point : spec.points) {
-    const fs::path from = request.merge_dirs[0] / "points" / (point.id + ".yaml");
-    WriteFileAtomic(dir / "points" / (point.id + ".yaml"), ReadRegularFile(from, kMaxPlanBytes));
+  const json plan = ReadPlan(first_plan);
+  const StudySpec spec = SpecFromPlan(plan, first_plan);
+  // The points' scenarios, read (and checked against the plan's hashes) before anything is
+  // written.
+  std::vector<std::string> point_yaml;
+  for (std::size_t i = 0; i < spec.points.size(); ++i) {
+    const fs::path from = request.merge_dirs[0] / "points" / (spec.points[i].id + ".yaml");
+    point_yaml.push_back(ReadRegularFile(from, kMaxPlanBytes));
+    if (Sha256Hex(point_yaml.back()) != plan["points"][i].value("scenario_sha256", "")) {
+      throw InputError(
+          SourceLocation{from.string(), 0, 0}, "",
+          "not the scenario of the plan (its SHA-256 differs from " + first_plan.string() + "'s)");
+    }
   }
-  // Each run from the first folder that finished it, else the first that recorded a failure.
+  const fs::path dir = request.out_dir;
+  std::error_code error;
+  const fs::path out_abs = fs::weakly_canonical(dir, error);
+  if (request.force) {
+    // --force removes the output folder first: never while it holds a folder to merge (the
+    // layout of --slurm merges <study>/shards/K into <study>; that merge resumes, no --force).
+    for (const fs::path& d : request.merge_dirs) {
+      const fs::path inside = fs::weakly_canonical(d, error).lexically_relative(out_abs);
+      if (!inside.empty() && *inside.begin() != "..") {
+        throw InputError(command_line, "--force",
+                         "'" + InputExcerpt(dir.string()) + "' holds '" + InputExcerpt(d.string()) +
+                             "', a folder to merge, which --force would remove before it is read");
+      }
+    }
+  }
+  RequireCompleteMerge(spec, request, plan_text);
+  PrepareFolder(dir, plan_text, request.force, "--out");
+  fs::create_directories(dir / "points", error);
+  for (std::size_t i = 0; i < spec.points.size(); ++i) {
+    WriteFileAtomic(dir / "points" / (spec.points[i].id + ".yaml"), point_yaml[i]);
+  }
+  // Each run from the first folder that finished it, else the first that recorded a failure
+  // (RequireCompleteMerge has made sure that one of them does).
   int copied = 0;
   for (const StudyPoint& point : spec.points) {
     for (int i = 0; i < spec.runs; ++i) {
       const std::uint64_t seed = spec.first_seed + static_cast<std::uint64_t>(i);
       const fs::path target = RunFolder(dir, point.id, seed);
       if (fs::is_regular_file(target / "metrics.json", error)) continue;  // resumed merge
-      for (const fs::path& d : request.merge_dirs) {
-        const fs::path source = RunFolder(d, point.id, seed);
-        if (fs::is_regular_file(source / "metrics.json", error)) {
-          const fs::path staging = target.string() + ".merging";
-          fs::remove_all(staging, error);
-          fs::create_directories(staging.parent_path(), error);
-          fs::copy(source, staging, fs::copy_options::recursive, error);
-          if (error) {
-            throw std::runtime_error("cannot copy '" + source.string() + "': " + error.message());
-          }
-          fs::rename(staging, target, error);
-          if (error) {
-            throw std::runtime_error("cannot move '" + staging.string() + "' to '" +
-                                     target.string() + "': " + error.message());
-          }
-          ++copied;
-          break;
+      const auto finished = std::find_if(
+          request.merge_dirs.begin(), request.merge_dirs.end(), [&](const fs::path& d) {
+            return fs::is_regular_file(RunFolder(d, point.id, seed) / "metrics.json", error);
+          });
+      if (finished != request.merge_dirs.end()) {
+        const fs::path source = RunFolder(*finished, point.id, seed);
+        const fs::path staging = target.string() + ".merging";
+        fs::remove_all(staging, error);
+        fs::create_directories(staging.parent_path(), error);
+        // Links are copied as links: a link in a folder to merge is never followed (one to "/"
+        // would copy the file system).
+        fs::copy(source, staging, fs::copy_options::recursive | fs::copy_options::copy_symlinks,
+                 error);
+        if (error) {
+          throw std::runtime_error("cannot copy '" + source.string() + "': " + error.message());
         }
+        fs::remove_all(target, error);  // an unfinished leftover of a resumed merge
+        fs::rename(staging, target, error);
+        if (error) {
+          throw std::runtime_error("cannot move '" + staging.string() + "' to '" + target.string() +
+                                   "': " + error.message());
+        }
+        ++copied;
+        continue;
+      }
+      for (const fs::path& d : request.merge_dirs) {
         const fs::path status = StatusFile(d, point.id, seed);
-        if (fs::is_regular_file(status, error)) {
+        if (RecordedFailure(status)) {
           fs::create_directories(StatusFile(dir, point.id, seed).parent_path(), error);
           WriteFileAtomic(StatusFile(dir, point.id, seed), ReadRegularFile(status, kMaxPlanBytes));
           break;

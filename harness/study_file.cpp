@@ -164,6 +164,15 @@ std::vector<std::string> EnabledPipelines(const Scenario& scenario) {
   return names;
 }
 
+// The enabled pipelines the scenario marks `baseline: true`.
+std::vector<std::string> Baselines(const Scenario& scenario) {
+  std::vector<std::string> names;
+  for (const Scenario::PipelineEntry& e : scenario.pipelines) {
+    if (e.enabled && e.baseline) names.push_back(e.name);
+  }
+  return names;
+}
+
 void CheckExpectation(const StudySpec& spec, const StudyExpectation& e) {
   const auto fail = [&](const std::string& message) {
     throw InputError(e.location, "study.expectations",
@@ -314,6 +323,7 @@ StudySpec LoadStudy(const std::string& path, std::optional<int> runs,
   spec.first_seed = base.seed;
   spec.pipelines = EnabledPipelines(base);
   RequireScoredPipeline(base);
+  AddMayDiverge(&spec, Baselines(base), "baseline");  // a scenario's baselines may diverge
 
   const std::vector<YamlDocument> chain = LoadWithIncludes(path);
   const YamlDocument& top = chain.back();
@@ -427,6 +437,12 @@ StudySpec LoadStudy(const std::string& path, std::optional<int> runs,
       throw InputError(sweeps.front().key_location, "study.vary." + sweeps.front().key,
                        "every point of a sweep must run the same pipelines (point " + point.id +
                            " runs " + Join(EnabledPipelines(point.scenario)) + ")");
+    }
+    if (Baselines(point.scenario) != Baselines(base)) {
+      throw InputError(sweeps.front().key_location, "study.vary." + sweeps.front().key,
+                       "every point of a sweep must have the same baselines (point " + point.id +
+                           " has " + Join(Baselines(point.scenario)) + ", the study " +
+                           Join(Baselines(base)) + ")");
     }
     spec.points.push_back(std::move(point));
   }

@@ -67,8 +67,8 @@ struct StudySpec {
   std::vector<StudyExpectation> expectations;
   // Pipelines whose divergence is expected (baselines such as odometry): their diverged runs are
   // counted and reported but do not fail the study; a diverged run of any other pipeline makes
-  // `study` exit 1 naming it (docs/studies.md, "Failures"). `study.may_diverge` and
-  // --may-diverge, in scenario order.
+  // `study` exit 1 naming it (docs/studies.md, "Failures"). The scenario's `baseline: true`
+  // pipelines, `study.may_diverge` and --may-diverge, in scenario order.
   std::vector<std::string> may_diverge;
 };
 

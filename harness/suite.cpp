@@ -5,14 +5,16 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
+#include <fstream>
 #include <memory>
-#include <thread>
 
 #include <nlohmann/json.hpp>
 
 #include "common/error.h"
 #include "common/io/atomic_file.h"
 #include "common/io/child_process.h"
+#include "common/io/yaml_reader.h"
 #include "harness/run_folder.h"
 #include "harness/study_file.h"
 
@@ -26,33 +28,64 @@ constexpr std::uint64_t kMaxResultBytes = std::uint64_t{256} << 20;
 constexpr std::size_t kMaxListedSeeds = 10;  // diverged seeds named in one failure message
 constexpr std::uint64_t kLogTailBytes = 4000;
 
-std::string Xml(const std::string& text) {
+// `text` as XML 1.0 character data (or, with `attribute`, an attribute value in double quotes):
+// markup characters escaped; every byte that is not part of a well-formed UTF-8 character, and
+// every character XML 1.0 forbids (the control characters other than tab, newline and carriage
+// return; U+FFFE, U+FFFF), replaced by U+FFFD. Tab, newline and carriage return are written as
+// character references where a reader would otherwise normalise them (in attributes; CR in text).
+std::string Xml(const std::string& text, bool attribute = false) {
+  static const char* const kReplacement = "\xEF\xBF\xBD";  // U+FFFD
   std::string out;
-  for (char c : text) {
-    const auto u = static_cast<unsigned char>(c);
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      case '\'':
-        out += "&apos;";
-        break;
-      default:
-        // XML 1.0 allows tab, newline and carriage return among the control characters only.
-        if (u < 0x20 && c != '\t' && c != '\n' && c != '\r') {
-          out += '?';
-        } else {
-          out += c;
-        }
+  out.reserve(text.size());
+  for (std::size_t i = 0; i < text.size();) {
+    const auto u = static_cast<unsigned char>(text[i]);
+    if (u < 0x80) {
+      ++i;
+      switch (u) {
+        case '&':
+          out += "&amp;";
+          break;
+        case '<':
+          out += "&lt;";
+          break;
+        case '>':
+          out += "&gt;";
+          break;
+        case '"':
+          out += "&quot;";
+          break;
+        case '\'':
+          out += "&apos;";
+          break;
+        case '\t':
+          out += attribute ? "&#9;" : "\t";
+          break;
+        case '\n':
+          out += attribute ? "&#10;" : "\n";
+          break;
+        case '\r':
+          out += "&#13;";
+          break;
+        default:
+          if (u < 0x20) {
+            out += kReplacement;
+          } else {
+            out += static_cast<char>(u);
+          }
+      }
+      continue;
+    }
+    const std::size_t n = Utf8Length(text, i);
+    // U+FFFE and U+FFFF (EF BF BE, EF BF BF) are well-formed UTF-8 but not XML characters.
+    const bool non_character = n == 3 && u == 0xEF &&
+                               static_cast<unsigned char>(text[i + 1]) == 0xBF &&
+                               static_cast<unsigned char>(text[i + 2]) >= 0xBE;
+    if (n == 0 || non_character) {
+      out += kReplacement;
+      i += n == 0 ? 1 : n;
+    } else {
+      out.append(text, i, n);
+      i += n;
     }
   }
   return out;
@@ -64,28 +97,45 @@ std::string Seconds3(double s) {
   return text;
 }
 
+// The last kLogTailBytes of a log (only they are read), cut at a UTF-8 character boundary.
 std::string LogTail(const fs::path& log) {
-  std::error_code error;
-  const auto size = fs::file_size(log, error);
-  if (error) return "";
-  try {
-    const std::string text = ReadRegularFile(log, size + 1);
-    return text.size() > kLogTailBytes ? "..." + text.substr(text.size() - kLogTailBytes) : text;
-  } catch (const std::exception&) {
-    return "";
+  std::ifstream in(log, std::ios::binary);
+  if (!in) return "";
+  in.seekg(0, std::ios::end);
+  const std::streamoff size = in.tellg();
+  if (size <= 0) return "";
+  const auto tail = static_cast<std::streamoff>(kLogTailBytes);
+  const std::streamoff start = size > tail ? size - tail : 0;
+  in.seekg(start);
+  std::string text(static_cast<std::size_t>(size - start), '\0');
+  in.read(text.data(), static_cast<std::streamsize>(text.size()));
+  text.resize(static_cast<std::size_t>(std::max<std::streamsize>(in.gcount(), 0)));
+  if (start == 0) return text;
+  // A cut inside a character drops its continuation bytes (at most 3: a longer run is not UTF-8,
+  // and Xml() replaces it).
+  std::size_t skip = 0;
+  while (skip < 3 && skip < text.size() &&
+         (static_cast<unsigned char>(text[skip]) & 0xC0) == 0x80) {
+    ++skip;
   }
+  return "..." + text.substr(skip);
 }
 
 std::string Measured(const json& value) {
   return value.is_number() ? FormatFixed(value.get<double>(), 6) : std::string("nothing");
 }
 
+// Runs one file's job; a stop signal (CatchStopSignals) is forwarded to it, and once it has
+// ended the suite ends as the signal ends a process: the job's children end with it.
 ChildStatus RunLogged(const std::vector<std::string>& argv, const fs::path& log) {
   ChildProcess child(argv, log.string());
-  while (true) {
-    if (const std::optional<ChildStatus> status = child.Poll()) return *status;
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  const ChildStatus status = child.Wait();
+  if (const int signal = StopSignal()) {
+    std::fprintf(stderr, "corridorsim: test stopped by signal %d (%s); no report written\n", signal,
+                 ::strsignal(signal));
+    DieOfSignal(signal);
   }
+  return status;
 }
 
 }  // namespace
@@ -111,21 +161,22 @@ std::string JunitXml(const std::vector<SuiteFile>& files) {
       f_failures += c.result == SuiteCase::Result::kFailed;
       f_errors += c.result == SuiteCase::Result::kError;
     }
-    xml += "  <testsuite name=\"" + Xml(f.name) + "\" tests=\"" + std::to_string(f.cases.size()) +
-           "\" failures=\"" + std::to_string(f_failures) + "\" errors=\"" +
-           std::to_string(f_errors) + "\" skipped=\"0\" time=\"" + Seconds3(f.seconds) + "\">\n";
-    xml += "    <properties>\n      <property name=\"file\" value=\"" + Xml(f.file) + "\"/>\n" +
-           "      <property name=\"kind\" value=\"" + (f.study ? "study" : "scenario") +
+    xml += "  <testsuite name=\"" + Xml(f.name, true) + "\" tests=\"" +
+           std::to_string(f.cases.size()) + "\" failures=\"" + std::to_string(f_failures) +
+           "\" errors=\"" + std::to_string(f_errors) + "\" skipped=\"0\" time=\"" +
+           Seconds3(f.seconds) + "\">\n";
+    xml += "    <properties>\n      <property name=\"file\" value=\"" + Xml(f.file, true) +
+           "\"/>\n" + "      <property name=\"kind\" value=\"" + (f.study ? "study" : "scenario") +
            "\"/>\n    </properties>\n";
     for (const SuiteCase& c : f.cases) {
-      xml += "    <testcase classname=\"" + Xml(c.classname) + "\" name=\"" + Xml(c.name) +
-             "\" time=\"" + Seconds3(c.seconds) + "\">\n";
+      xml += "    <testcase classname=\"" + Xml(c.classname, true) + "\" name=\"" +
+             Xml(c.name, true) + "\" time=\"" + Seconds3(c.seconds) + "\">\n";
       if (c.result == SuiteCase::Result::kFailed) {
-        xml += "      <failure message=\"" + Xml(c.message) + "\" type=\"expectation\">" +
+        xml += "      <failure message=\"" + Xml(c.message, true) + "\" type=\"expectation\">" +
                Xml(c.details) + "</failure>\n";
       } else if (c.result == SuiteCase::Result::kError) {
-        xml += "      <error message=\"" + Xml(c.message) + "\" type=\"run\">" + Xml(c.details) +
-               "</error>\n";
+        xml += "      <error message=\"" + Xml(c.message, true) + "\" type=\"run\">" +
+               Xml(c.details) + "</error>\n";
       }
       if (!c.attachment.empty()) {
         xml += "      <system-out>[[ATTACHMENT|" + Xml(c.attachment) + "]]</system-out>\n";
@@ -155,13 +206,27 @@ int RunTestSuite(const TestRequest& request) {
     std::error_code error;
     if (!fs::is_directory(parent, error) || ::access(parent.c_str(), W_OK) != 0) {
       throw InputError(SourceLocation{"command line", 0, 0}, "--junit",
-                       "'" + parent.string() + "' is not a writable folder");
+                       "'" + InputExcerpt(parent.string()) + "' is not a writable folder");
+    }
+    if (fs::exists(fs::symlink_status(*request.junit_file, error)) &&
+        !fs::is_regular_file(fs::symlink_status(*request.junit_file, error))) {
+      throw InputError(SourceLocation{"command line", 0, 0}, "--junit",
+                       "'" + InputExcerpt(request.junit_file->string()) +
+                           "' exists and is not a regular file (the report replaces a file)");
+    }
+    for (const SuiteFile& f : files) {
+      if (fs::equivalent(f.file, *request.junit_file, error)) {
+        throw InputError(SourceLocation{"command line", 0, 0}, "--junit",
+                         "'" + InputExcerpt(request.junit_file->string()) +
+                             "' is one of the files to test: the report would replace it");
+      }
     }
   }
   std::error_code error;
   fs::create_directories(request.out_dir, error);
   EnsureWritableDirectory(request.out_dir);
   const std::string program = request.program.empty() ? ThisProgram() : request.program;
+  CatchStopSignals();
 
   int code = 0;
   for (std::size_t i = 0; i < files.size(); ++i) {

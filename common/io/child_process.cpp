@@ -1,54 +1,153 @@
 #include "common/io/child_process.h"
 
 #include <fcntl.h>
-#include <spawn.h>
+#include <signal.h>
+#include <sys/prctl.h>
 #include <sys/resource.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <cerrno>
+#include <chrono>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <stdexcept>
-
-extern char** environ;
+#include <thread>
 
 namespace corridorsim {
+namespace {
 
-ChildStatus RunChildProcess(const std::vector<std::string>& argv) {
-  if (argv.empty()) throw std::invalid_argument("RunChildProcess: no program");
+constexpr int kStopSignals[] = {SIGINT, SIGTERM, SIGHUP};
+constexpr std::size_t kStopSignalCount = sizeof kStopSignals / sizeof kStopSignals[0];
+volatile std::sig_atomic_t g_stop_signal = 0;
+bool g_catching[kStopSignalCount] = {};  // written by CatchStopSignals only, read after fork()
+
+extern "C" void OnStopSignal(int signal) {
+  if (g_stop_signal == 0) g_stop_signal = signal;
+}
+
+// argv[0] as a path to exec: itself when it holds a '/', else the first executable file of that
+// name on PATH (as posix_spawnp and execvp search it). Empty, with *error, when there is none.
+std::string ResolveProgram(const std::string& name, std::string* error) {
+  if (name.find('/') != std::string::npos) return name;
+  const char* path = std::getenv("PATH");
+  const std::string dirs = path && *path ? path : "/bin:/usr/bin";
+  int why = ENOENT;
+  for (std::size_t start = 0;;) {
+    const std::size_t colon = dirs.find(':', start);
+    std::string dir = dirs.substr(start, colon == std::string::npos ? colon : colon - start);
+    if (dir.empty()) dir = ".";
+    const std::string candidate = dir + "/" + name;
+    struct stat info {};
+    if (::stat(candidate.c_str(), &info) == 0 && S_ISREG(info.st_mode)) {
+      if (::access(candidate.c_str(), X_OK) == 0) return candidate;
+      why = EACCES;
+    }
+    if (colon == std::string::npos) break;
+    start = colon + 1;
+  }
+  *error = std::strerror(why);
+  return "";
+}
+
+// Starts `argv` with stdin from /dev/null and stdout and stderr to `out_fd` (-1: this
+// process's); returns its pid, or -1 with *error. The child is killed when the calling thread
+// ends (PR_SET_PDEATHSIG), gets the default action of the stop signals this process catches, and
+// reports a failed exec through a close-on-exec pipe.
+pid_t Spawn(const std::vector<std::string>& argv, int out_fd, std::string* error) {
+  const std::string program = ResolveProgram(argv[0], error);
+  if (program.empty()) return -1;
   std::vector<char*> args;
   args.reserve(argv.size() + 1);
   for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
   args.push_back(nullptr);
-
+  const int in_fd = ::open("/dev/null", O_RDONLY | O_CLOEXEC);
+  if (in_fd < 0) {
+    *error = std::string("/dev/null: ") + std::strerror(errno);
+    return -1;
+  }
+  int report[2];
+  if (::pipe2(report, O_CLOEXEC) != 0) {
+    *error = std::strerror(errno);
+    ::close(in_fd);
+    return -1;
+  }
   std::fflush(nullptr);  // what this process printed comes before the child's output
-  ChildStatus status;
-  posix_spawn_file_actions_t actions;
-  if (int e = posix_spawn_file_actions_init(&actions); e != 0) {
-    status.error = std::strerror(e);
-    return status;
-  }
-  int e = posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
-  pid_t pid = -1;
-  if (e == 0) e = posix_spawnp(&pid, args[0], &actions, nullptr, args.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  if (e != 0) {
-    status.error = std::strerror(e);
-    return status;
-  }
-  status.started = true;
-  int wstatus = 0;
-  while (::waitpid(pid, &wstatus, 0) < 0) {
-    if (errno != EINTR) {
-      status.error = std::string("waitpid failed: ") + std::strerror(errno);
-      return status;
+  // Every signal blocked across fork(): none reaches the child before it has reset the
+  // handlers it inherits (a forwarded SIGINT would otherwise only set this process's flag in it).
+  sigset_t all, old;
+  sigfillset(&all);
+  ::pthread_sigmask(SIG_SETMASK, &all, &old);
+  const pid_t parent = ::getpid();
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    // The child: async-signal-safe calls only, until exec.
+    for (std::size_t i = 0; i < kStopSignalCount; ++i) {
+      if (!g_catching[i]) continue;
+      struct sigaction action {};
+      action.sa_handler = SIG_DFL;
+      ::sigemptyset(&action.sa_mask);
+      ::sigaction(kStopSignals[i], &action, nullptr);
     }
+    int e = 0;
+    if (::prctl(PR_SET_PDEATHSIG, SIGKILL) != 0) e = errno;
+    // The parent may have ended before prctl(): then nobody waits for this child.
+    if (e == 0 && ::getppid() != parent) ::_exit(127);
+    const auto place = [&e](int fd, int target) {
+      if (e != 0) return;
+      if (fd == target) {
+        if (::fcntl(target, F_SETFD, 0) != 0) e = errno;  // keep it open across exec
+      } else if (::dup2(fd, target) < 0) {
+        e = errno;
+      }
+    };
+    place(in_fd, STDIN_FILENO);
+    if (out_fd >= 0) {
+      place(out_fd, STDOUT_FILENO);
+      place(out_fd, STDERR_FILENO);
+    }
+    if (e == 0) {
+      ::sigprocmask(SIG_SETMASK, &old, nullptr);
+      ::execv(program.c_str(), args.data());
+      e = errno;
+    }
+    ssize_t ignored = ::write(report[1], &e, sizeof e);
+    (void)ignored;
+    ::_exit(127);
   }
-  if (WIFEXITED(wstatus)) status.exit_code = WEXITSTATUS(wstatus);
-  if (WIFSIGNALED(wstatus)) status.signal = WTERMSIG(wstatus);
-  return status;
+  const int fork_errno = errno;
+  ::pthread_sigmask(SIG_SETMASK, &old, nullptr);
+  ::close(report[1]);
+  ::close(in_fd);
+  if (pid < 0) {
+    ::close(report[0]);
+    *error = std::strerror(fork_errno);
+    return -1;
+  }
+  int child_errno = 0;
+  ssize_t got = 0;
+  while ((got = ::read(report[0], &child_errno, sizeof child_errno)) < 0 && errno == EINTR) {
+  }
+  ::close(report[0]);
+  if (got > 0) {  // exec failed: reap the child
+    int wstatus = 0;
+    while (::waitpid(pid, &wstatus, 0) < 0 && errno == EINTR) {
+    }
+    *error = std::strerror(child_errno);
+    return -1;
+  }
+  return pid;
+}
+
+}  // namespace
+
+ChildStatus RunChildProcess(const std::vector<std::string>& argv) {
+  if (argv.empty()) throw std::invalid_argument("RunChildProcess: no program");
+  ChildProcess child(argv, "");
+  return child.Wait();
 }
 
 ChildProcess::ChildProcess(const std::vector<std::string>& argv, const std::string& log_file) {
@@ -58,28 +157,18 @@ ChildProcess::ChildProcess(const std::vector<std::string>& argv, const std::stri
     done_ = failed;
     return;
   }
-  std::vector<char*> args;
-  args.reserve(argv.size() + 1);
-  for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
-  args.push_back(nullptr);
-  std::fflush(nullptr);
-  posix_spawn_file_actions_t actions;
-  if (int e = posix_spawn_file_actions_init(&actions); e != 0) {
-    failed.error = std::strerror(e);
-    done_ = failed;
-    return;
+  int out_fd = -1;
+  if (!log_file.empty()) {
+    out_fd = ::open(log_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    if (out_fd < 0) {
+      failed.error = std::strerror(errno);
+      done_ = failed;
+      return;
+    }
   }
-  int e = posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
-  if (e == 0) {
-    e = posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log_file.c_str(),
-                                         O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  }
-  if (e == 0) e = posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
-  pid_t pid = -1;
-  if (e == 0) e = posix_spawnp(&pid, args[0], &actions, nullptr, args.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  if (e != 0) {
-    failed.error = std::strerror(e);
+  const pid_t pid = Spawn(argv, out_fd, &failed.error);
+  if (out_fd >= 0) ::close(out_fd);
+  if (pid < 0) {
     done_ = failed;
     return;
   }
@@ -114,8 +203,50 @@ std::optional<ChildStatus> ChildProcess::Poll() {
   return done_;
 }
 
+ChildStatus ChildProcess::Wait() {
+  while (true) {
+    if (const std::optional<ChildStatus> status = Poll()) return *status;
+    if (const int signal = StopSignal(); signal != 0 && !forwarded_) Signal(signal);
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+}
+
 void ChildProcess::Kill() {
   if (!done_ && pid_ >= 0) ::kill(pid_, SIGKILL);
+}
+
+void ChildProcess::Signal(int signal) {
+  if (!done_ && pid_ >= 0) ::kill(pid_, signal);
+  forwarded_ = true;
+}
+
+void CatchStopSignals() {
+  for (std::size_t i = 0; i < kStopSignalCount; ++i) {
+    if (g_catching[i]) continue;
+    struct sigaction old {};
+    if (::sigaction(kStopSignals[i], nullptr, &old) != 0 || old.sa_handler == SIG_IGN) continue;
+    struct sigaction action {};
+    action.sa_handler = OnStopSignal;
+    ::sigemptyset(&action.sa_mask);
+    action.sa_flags = SA_RESTART;
+    if (::sigaction(kStopSignals[i], &action, nullptr) == 0) g_catching[i] = true;
+  }
+}
+
+int StopSignal() { return g_stop_signal; }
+
+void DieOfSignal(int signal) {
+  std::fflush(nullptr);
+  struct sigaction action {};
+  action.sa_handler = SIG_DFL;
+  ::sigemptyset(&action.sa_mask);
+  ::sigaction(signal, &action, nullptr);
+  sigset_t set;
+  ::sigemptyset(&set);
+  ::sigaddset(&set, signal);
+  ::pthread_sigmask(SIG_UNBLOCK, &set, nullptr);
+  ::raise(signal);
+  ::_exit(128 + signal);
 }
 
 std::string ThisProgram() {

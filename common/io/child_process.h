@@ -1,6 +1,11 @@
 #pragma once
 // Starting another program without a shell: the arguments go to it as a vector, so no character
 // of a path (quote, semicolon, `$(...)`, newline) is ever interpreted.
+//
+// A child never outlives the job that started it: it is killed (SIGKILL, prctl's
+// PR_SET_PDEATHSIG) when the thread that started it ends, however that thread ends (kill -9
+// included), and a job that catches stop signals (CatchStopSignals) forwards them to its
+// children and waits for them before it ends.
 
 #include <optional>
 #include <string>
@@ -19,12 +24,14 @@ struct ChildStatus {
 };
 
 /// Runs `argv[0]` (searched on PATH when it has no '/') with the arguments `argv` and waits for
-/// it: stdin reads /dev/null, stdout and stderr are this process's (flushed first). Never uses a
-/// shell. `argv` must not be empty.
+/// it (ChildProcess::Wait): stdin reads /dev/null, stdout and stderr are this process's (flushed
+/// first). Never uses a shell. `argv` must not be empty.
 ChildStatus RunChildProcess(const std::vector<std::string>& argv);
 
 /// A child started without waiting for it (a study's worker runs). Its stdout and stderr go to
-/// one log file (created or truncated), stdin reads /dev/null; never a shell.
+/// one log file (created or truncated; empty: this process's), stdin reads /dev/null; never a
+/// shell. It is killed when the thread that started it ends (see above): start children from a
+/// thread that outlives them (the main thread).
 class ChildProcess {
  public:
   /// Starts `argv` (argv[0] searched on PATH when it has no '/'). On failure the object is not
@@ -36,16 +43,37 @@ class ChildProcess {
 
   /// The status once it ended (reaped then), else nothing. Never blocks.
   std::optional<ChildStatus> Poll();
+  /// Waits until it ended. A stop signal this process catches meanwhile (StopSignal()) is
+  /// forwarded to the child once, and the wait goes on until it has ended.
+  ChildStatus Wait();
   /// SIGKILL (it is reaped by the next Poll()).
   void Kill();
+  /// Sends `signal` to a child still running (a stop signal forwarded).
+  void Signal(int signal);
+  /// Its process id while it runs or before it is reaped, else -1.
+  int pid() const { return done_ ? -1 : pid_; }
   /// Its peak resident memory in MiB once ended (from wait4's rusage), else 0.
   double peak_rss_mib() const { return peak_rss_mib_; }
 
  private:
   int pid_ = -1;
+  bool forwarded_ = false;
   std::optional<ChildStatus> done_;
   double peak_rss_mib_ = 0.0;
 };
+
+/// From now on SIGINT, SIGTERM and SIGHUP, each unless this process was started with it ignored
+/// (nohup, a background job of a script), do not end this process but are recorded
+/// (StopSignal()), so that a job with children can stop them, wait for them and then end as the
+/// signal would have ended it (DieOfSignal). Children started later get the default actions back.
+void CatchStopSignals();
+
+/// The first stop signal caught since CatchStopSignals(), or 0.
+int StopSignal();
+
+/// Ends this process as `signal` ends it by default (its default action restored and the signal
+/// raised; exit 128 + signal should it survive that), stdout and stderr flushed first.
+[[noreturn]] void DieOfSignal(int signal);
 
 /// This very program as a path to start again: /proc/self/exe itself rather than the file it
 /// points to, so that rebuilding the program while it runs (the linker writes a new file) cannot

@@ -33,6 +33,11 @@ inline constexpr std::size_t kMaxYamlTextBytes = std::size_t{4} << 20;  // 4 MiB
 inline constexpr int kMaxYamlDepth = 64;                                // nested maps and lists
 inline constexpr int kMaxIncludeChain = 16;  // files in one `include:` chain
 
+/// The length of the UTF-8 character starting at text[i], or 0 if it is not well formed
+/// (overlong forms, surrogates, code points above U+10FFFF and a sequence cut by the end of
+/// `text` included). `i` must be less than text.size().
+std::size_t Utf8Length(std::string_view text, std::size_t i);
+
 /// User text made safe to put into a message: control characters as `\xNN`, at most `max_bytes`
 /// (a longer text keeps its head and tail around "..."), never split inside a UTF-8 character.
 std::string InputExcerpt(std::string_view text, std::size_t max_bytes = 80);

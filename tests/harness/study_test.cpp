@@ -10,6 +10,7 @@
 
 #include <catch2/catch.hpp>
 
+#include "common/io/yaml_reader.h"
 #include "harness/study_file.h"
 #include "harness/study_stats.h"
 #include "harness/study_summary.h"
@@ -340,7 +341,91 @@ TEST_CASE("the JUnit report escapes text and counts failures and errors", "[stud
   CHECK(test::Contains(xml, "name=\"a&amp;b\""));
   CHECK(test::Contains(xml, "name=\"odometry.ate_rmse_m &lt; 1\""));
   CHECK(test::Contains(xml, "<failure message=\"measured 2.000000, expected"));
-  CHECK(test::Contains(xml, "log ? tail"));  // no control character reaches the XML
+  // No control character reaches the XML: U+FFFD stands for it.
+  CHECK(test::Contains(xml, "log \xEF\xBF\xBD tail"));
+}
+
+// True when `text` is UTF-8 holding only characters XML 1.0 allows.
+bool IsXmlText(const std::string& text) {
+  for (std::size_t i = 0; i < text.size();) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    if (c < 0x20 && c != '\t' && c != '\n' && c != '\r') return false;
+    const std::size_t n = Utf8Length(text, i);
+    if (n == 0) return false;
+    if (n == 3 && text.compare(i, 2, "\xEF\xBF") == 0 &&
+        static_cast<unsigned char>(text[i + 2]) >= 0xBE) {
+      return false;  // U+FFFE, U+FFFF
+    }
+    i += n;
+  }
+  return true;
+}
+
+TEST_CASE("the JUnit report is XML 1.0 text whatever bytes its names and logs hold", "[study]") {
+  // A study named in Japanese whose runs failed: its log's tail cut inside a character (the
+  // continuation bytes of U+6587 first), bytes that are not UTF-8, control characters, U+FFFF.
+  SuiteFile f;
+  f.file = "/tmp/\xE5\xA4\xB1\xE6\x95\x97\x01\xE9.yaml";
+  f.name = "\xE5\xA4\xB1\xE6\x95\x97\x01\xE9";
+  SuiteCase error;
+  error.classname = "corridorsim." + f.name;
+  error.name = "p000 seed 1\nline two\ttab";
+  error.result = SuiteCase::Result::kError;
+  error.message = "a run of the study failed (\xE6\x96";
+  error.details =
+      "\x96\x87\xE5\xAD\x97 \x1B[31mred\x1B[0m \xC0\xAF \xED\xA0\x80 \xEF\xBF\xBF "
+      "\xF4\x90\x80\x80 ok \xE6\x96\x87\r\n\xE6";
+  error.attachment = "/tmp/\xE5\xA4\xB1\xE6\x95\x97\x7F\x02";
+  f.cases.push_back(error);
+  const std::string xml = JunitXml({f});
+  CHECK(IsXmlText(xml));
+  const std::string fffd = "\xEF\xBF\xBD";
+  // Well-formed characters stay; each bad byte or forbidden character is one U+FFFD.
+  CHECK(test::Contains(xml, "name=\"\xE5\xA4\xB1\xE6\x95\x97" + fffd + fffd + "\""));
+  CHECK(test::Contains(xml, fffd + fffd + "\xE5\xAD\x97 " + fffd + "[31mred"));
+  CHECK(test::Contains(xml, " ok \xE6\x96\x87&#13;\n" + fffd + "</error>"));
+  // Newlines and tabs of attribute values survive a reader's normalisation.
+  CHECK(test::Contains(xml, "name=\"p000 seed 1&#10;line two&#9;tab\""));
+  CHECK(test::Contains(xml, "message=\"a run of the study failed (" + fffd + fffd + "\""));
+}
+
+TEST_CASE("a scenario's baselines may diverge in a study; the key is the harness's", "[study]") {
+  test::ScratchDir dir("study_baselines");
+  // default.yaml marks dead reckoning and P1's Harris EKF as baselines, not P1's system.
+  const StudySpec p1 = LoadStudy(Scenarios() + "/default.yaml", std::nullopt, std::nullopt);
+  CHECK(p1.may_diverge == std::vector<std::string>{"odometry", "p1_harris"});
+  // Where dead reckoning is what a scenario studies, it is not a baseline.
+  const StudySpec umbmark = LoadStudy(Scenarios() + "/umbmark_cw.yaml", std::nullopt, 7);
+  CHECK(umbmark.may_diverge.empty());
+  // Marked in a child, echoed (only where set) and loaded again from the echo; a disabled
+  // baseline is not a pipeline of the study.
+  const std::filesystem::path file = dir.path() / "s.yaml";
+  Write(file, "include: " + Scenarios() +
+                  "/umbmark_cw.yaml\npipelines:\n  tight:\n    type: odometry\n    baseline: "
+                  "true\n  off:\n    type: odometry\n    enabled: false\n    baseline: true\n");
+  const Scenario scenario = LoadScenario(file.string());
+  const std::string echo = ResolvedScenarioYaml(scenario, 3);
+  CHECK(test::Contains(echo,
+                       "  tight:\n    type: odometry\n    enabled: true\n    baseline: true\n"));
+  CHECK(test::Contains(echo, "  odometry:\n    type: odometry\n    enabled: true\n    k_m:"));
+  const std::filesystem::path again = dir.path() / "again.yaml";
+  Write(again, echo);
+  const StudySpec spec = LoadStudy(again.string(), std::nullopt, std::nullopt);
+  CHECK(spec.pipelines == std::vector<std::string>{"odometry", "tight"});
+  CHECK(spec.may_diverge == std::vector<std::string>{"tight"});
+  // Not a pipeline option: a value that is not a bool is an error at the key.
+  Write(file,
+        "include: " + Scenarios() + "/umbmark_cw.yaml\npipelines:\n  odometry:\n    baseline: 3\n");
+  const InputError e = test::InputErrorOf([&] { LoadScenario(file.string()); });
+  CHECK(e.location().line == 4);
+  CHECK(test::Contains(e.key(), "baseline"));
+  // A sweep cannot change which pipelines are baselines.
+  Write(file,
+        "include: " + Scenarios() +
+            "/umbmark_cw.yaml\nstudy:\n  vary:\n    pipelines.odometry.baseline: [false, true]\n");
+  const InputError sweep =
+      test::InputErrorOf([&] { LoadStudy(file.string(), std::nullopt, std::nullopt); });
+  CHECK(test::Contains(sweep.message(), "the same baselines"));
 }
 
 }  // namespace

@@ -1,9 +1,12 @@
 // Tests common/io/child_process.cpp.
 #include "common/io/child_process.h"
 
+#include <chrono>
 #include <csignal>
 #include <filesystem>
+#include <memory>
 #include <string>
+#include <thread>
 
 #include <catch2/catch.hpp>
 
@@ -56,6 +59,43 @@ TEST_CASE("RunChildProcess gives the child /dev/null as stdin", "[common]") {
       RunChildProcess({"sh", "-c", "readlink /proc/self/fd/0 > \"$1\"", "sh", where.string()});
   CHECK(status.succeeded());
   CHECK(test::FileBytes(where) == "/dev/null\n");
+}
+
+TEST_CASE("a child ends with the thread that started it, however that ends", "[common]") {
+  // PR_SET_PDEATHSIG: a job killed with SIGKILL cannot stop its children itself; they are killed
+  // by the kernel when it ends. Here the starting thread ends and leaves the child behind.
+  std::unique_ptr<ChildProcess> child;
+  const auto start = std::chrono::steady_clock::now();
+  std::thread([&] {
+    child = std::make_unique<ChildProcess>(std::vector<std::string>{"sleep", "20"}, "");
+  }).join();
+  REQUIRE(child->pid() > 0);
+  const ChildStatus status = child->Wait();
+  CHECK(status.signal == SIGKILL);
+  CHECK(std::chrono::steady_clock::now() - start < std::chrono::seconds(10));
+}
+
+TEST_CASE("a signal sent to a child ends it; Wait reaps it", "[common]") {
+  ChildProcess child({"sleep", "20"}, "");
+  REQUIRE(child.pid() > 0);
+  child.Signal(SIGTERM);
+  const ChildStatus status = child.Wait();
+  CHECK(status.signal == SIGTERM);
+  CHECK(child.pid() == -1);
+}
+
+TEST_CASE("a child's output goes to its log file; a program not there is reported", "[common]") {
+  const test::ScratchDir dir("corridorsim_child_log");
+  const fs::path log = dir.path() / "child.log";
+  ChildProcess child({"sh", "-c", "echo out; echo err >&2"}, log.string());
+  CHECK(child.Wait().succeeded());
+  CHECK(test::FileBytes(log) == "out\nerr\n");
+  ChildProcess missing({"corridorsim-no-such-program"}, log.string());
+  const ChildStatus status = missing.Wait();
+  CHECK_FALSE(status.started);
+  CHECK_THAT(status.error, Catch::Contains("No such file"));
+  ChildProcess no_log({"true"}, (dir.path() / "no" / "such" / "folder.log").string());
+  CHECK_FALSE(no_log.Wait().started);
 }
 
 }  // namespace
