@@ -74,3 +74,38 @@ cli_run(EXIT 2 WHAT "unknown camera" STDERR "command line: --camera: 'front' is 
         ARGS score "${WORK_DIR}/d.json" --dataset "${ds}" --camera front)
 cli_run(EXIT 2 WHAT "bad expectation" STDERR "command line: --expect: unknown class 'lamps'"
         ARGS score "${WORK_DIR}/d.json" --dataset "${ds}" --expect lamps.ap50>=1)
+
+# Hostile sizes are bounded before parsing (50 MB of `[` needed more than 3.5 GB and died of
+# std::bad_alloc, exit 1): nesting at its line and column, in every JSON file score reads.
+string(REPEAT "[" 1000000 deep)
+file(WRITE "${WORK_DIR}/deep.json" "${deep}")
+cli_run(EXIT 2 WHAT "deep detections" NOT_EXISTS "${WORK_DIR}/bad"
+        STDERR "deep.json:1:65: more than 64 nested arrays and objects\n$"
+        ARGS score "${WORK_DIR}/deep.json" --dataset "${ds}" --out "${WORK_DIR}/bad")
+file(COPY_FILE "${ds}/dataset.json" "${WORK_DIR}/manifest.json")
+file(COPY_FILE "${ds}/upward/annotations.json" "${WORK_DIR}/annotations.json")
+file(WRITE "${ds}/upward/annotations.json" "{\"images\": ${deep}")
+cli_run(EXIT 2 WHAT "deep annotations" STDERR "upward/annotations.json:1:75: more than 64 nested"
+        ARGS score "${WORK_DIR}/d.json" --dataset "${ds}")
+file(WRITE "${ds}/dataset.json" "${deep}")
+cli_run(EXIT 2 WHAT "deep manifest" STDERR "ds/dataset.json:1:65: more than 64 nested"
+        ARGS score "${WORK_DIR}/d.json" --dataset "${ds}")
+file(COPY_FILE "${WORK_DIR}/manifest.json" "${ds}/dataset.json")
+# An image's width must fit: an int64 was cut to an int before.
+file(WRITE "${ds}/upward/annotations.json"
+     "{\"images\": [{\"id\": 1, \"width\": 4294967360, \"height\": 48}], \"annotations\": []}")
+cli_run(EXIT 2 WHAT "huge width" STDERR "annotations.json: images\\[0\\]\\.width: outside \\[1, 65536\\] px"
+        ARGS score "${WORK_DIR}/d.json" --dataset "${ds}")
+file(COPY_FILE "${WORK_DIR}/annotations.json" "${ds}/upward/annotations.json")
+# A detections FIFO is refused without blocking.
+execute_process(COMMAND mkfifo "${WORK_DIR}/fifo.json" RESULT_VARIABLE fifo_rc)
+if(NOT fifo_rc EQUAL 0)
+  message(FATAL_ERROR "mkfifo failed")
+endif()
+cli_run(EXIT 2 WHAT "FIFO detections" STDERR "fifo.json: not a regular file"
+        ARGS score "${WORK_DIR}/fifo.json" --dataset "${ds}")
+# A camera of dataset.json names a folder of the dataset, never a path out of it.
+file(WRITE "${ds}/dataset.json" "{\"format\": \"corridorsim dataset\", \"cameras\": [\"../ds/upward\"]}\n")
+cli_run(EXIT 2 WHAT "camera path" STDERR "ds/dataset.json: \\.?cameras\\[0\\]: expected a camera name"
+        ARGS score "${WORK_DIR}/d.json" --dataset "${ds}")
+file(COPY_FILE "${WORK_DIR}/manifest.json" "${ds}/dataset.json")
