@@ -82,21 +82,27 @@ file(WRITE "${WORK_DIR}/deep.json" "${deep}")
 cli_run(EXIT 2 WHAT "deep detections" NOT_EXISTS "${WORK_DIR}/bad"
         STDERR "deep.json:1:65: more than 64 nested arrays and objects\n$"
         ARGS score "${WORK_DIR}/deep.json" --dataset "${ds}" --out "${WORK_DIR}/bad")
-file(COPY_FILE "${ds}/dataset.json" "${WORK_DIR}/manifest.json")
-file(COPY_FILE "${ds}/upward/annotations.json" "${WORK_DIR}/annotations.json")
-file(WRITE "${ds}/upward/annotations.json" "{\"images\": ${deep}")
-cli_run(EXIT 2 WHAT "deep annotations" STDERR "upward/annotations.json:1:75: more than 64 nested"
-        ARGS score "${WORK_DIR}/d.json" --dataset "${ds}")
-file(WRITE "${ds}/dataset.json" "${deep}")
-cli_run(EXIT 2 WHAT "deep manifest" STDERR "ds/dataset.json:1:65: more than 64 nested"
-        ARGS score "${WORK_DIR}/d.json" --dataset "${ds}")
-file(COPY_FILE "${WORK_DIR}/manifest.json" "${ds}/dataset.json")
+# expect_bad_dataset_file(<what> <file of the dataset> <text> <stderr regex>): with <text> in the
+# file, score exits 2 with the message; the file is restored after.
+function(expect_bad_dataset_file what file text pattern)
+  file(COPY_FILE "${ds}/${file}" "${WORK_DIR}/saved")
+  file(WRITE "${ds}/${file}" "${text}")
+  cli_run(EXIT 2 WHAT "${what}" STDERR "${pattern}"
+          ARGS score "${WORK_DIR}/d.json" --dataset "${ds}")
+  file(COPY_FILE "${WORK_DIR}/saved" "${ds}/${file}")
+endfunction()
+expect_bad_dataset_file("deep annotations" upward/annotations.json "{\"images\": ${deep}"
+                        "upward/annotations.json:1:75: more than 64 nested")
+expect_bad_dataset_file("deep manifest" dataset.json "${deep}"
+                        "ds/dataset.json:1:65: more than 64 nested")
 # An image's width must fit: an int64 was cut to an int before.
-file(WRITE "${ds}/upward/annotations.json"
-     "{\"images\": [{\"id\": 1, \"width\": 4294967360, \"height\": 48}], \"annotations\": []}")
-cli_run(EXIT 2 WHAT "huge width" STDERR "annotations.json: images\\[0\\]\\.width: outside \\[1, 65536\\] px"
-        ARGS score "${WORK_DIR}/d.json" --dataset "${ds}")
-file(COPY_FILE "${WORK_DIR}/annotations.json" "${ds}/upward/annotations.json")
+expect_bad_dataset_file("huge width" upward/annotations.json
+  "{\"images\": [{\"id\": 1, \"width\": 4294967360, \"height\": 48}], \"annotations\": []}"
+  "annotations.json: images\\[0\\]\\.width: outside \\[1, 65536\\] px")
+# A camera of dataset.json names a folder of the dataset, never a path out of it.
+expect_bad_dataset_file("camera path" dataset.json
+  "{\"format\": \"corridorsim dataset\", \"cameras\": [\"../ds/upward\"]}\n"
+  "ds/dataset.json: \\.?cameras\\[0\\]: expected a camera name")
 # A detections FIFO is refused without blocking.
 execute_process(COMMAND mkfifo "${WORK_DIR}/fifo.json" RESULT_VARIABLE fifo_rc)
 if(NOT fifo_rc EQUAL 0)
@@ -104,8 +110,3 @@ if(NOT fifo_rc EQUAL 0)
 endif()
 cli_run(EXIT 2 WHAT "FIFO detections" STDERR "fifo.json: not a regular file"
         ARGS score "${WORK_DIR}/fifo.json" --dataset "${ds}")
-# A camera of dataset.json names a folder of the dataset, never a path out of it.
-file(WRITE "${ds}/dataset.json" "{\"format\": \"corridorsim dataset\", \"cameras\": [\"../ds/upward\"]}\n")
-cli_run(EXIT 2 WHAT "camera path" STDERR "ds/dataset.json: \\.?cameras\\[0\\]: expected a camera name"
-        ARGS score "${WORK_DIR}/d.json" --dataset "${ds}")
-file(COPY_FILE "${WORK_DIR}/manifest.json" "${ds}/dataset.json")
