@@ -202,6 +202,13 @@ endforeach()
 if(with_plate LESS 6)
   message(FATAL_ERROR "plate poses: ${with_plate} of 12 frames show a plate within 3.6 m")
 endif()
+# train-detectors checks its models' folder before it reads or trains anything (a file in its
+# place failed with exit 1 after the training).
+file(WRITE "${WORK_DIR}/models_file" "")
+cli_run(EXIT 2 WHAT "train-detectors --out a file"
+        STDERR "command line: --out: .*models_file"
+        ARGS train-detectors --dataset "${WORK_DIR}/plates" --eval-dataset "${WORK_DIR}/plates"
+        --out "${WORK_DIR}/models_file")
 cli_run(EXIT 2 WHAT "plate poses without the lateral camera"
         STDERR "command line: --poses: plates: aims the lateral camera"
         NOT_EXISTS "${WORK_DIR}/bad" ARGS dataset "${scenario}" --cameras upward --poses plates
