@@ -544,14 +544,13 @@ void WriteManifestAndCheck(const fs::path& dir, const std::string& manifest, boo
     if (!force) {
       throw InputError(
           kCommandLine, "--out",
-          existing ? manifest_path.string() +
-                         " was written with other arguments (first "
-                         "difference: `" +
-                         FirstDifference(*existing, manifest) +
-                         "`); use --force to replace the dataset, or another --out"
-                   : dir.string() +
-                         " holds another corridorsim job's output (no dataset.json); use --force "
-                         "to replace it, or another --out");
+          existing
+              ? manifest_path.string() + " was written with other arguments (first difference: `" +
+                    FirstDifference(*existing, manifest) +
+                    "`); use --force to replace the dataset, or another --out"
+              : dir.string() +
+                    " holds another corridorsim job's output (no dataset.json); use --force "
+                    "to replace it, or another --out");
     }
     for (const fs::directory_entry& entry : fs::directory_iterator(dir)) {
       fs::remove_all(entry.path());
