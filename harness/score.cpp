@@ -535,7 +535,13 @@ ScoreDataset ParseScoreDataset(std::string_view text, const std::string& file) {
     }
     label.category_id = static_cast<int>(category);
     label.bbox = Pixels<4>(f.At("bbox"));
-    if (f.Has("circle")) label.circle = Pixels<3>(f.At("circle"));
+    if (label.bbox[2] < 0.0 || label.bbox[3] < 0.0) {
+      f.At("bbox").Fail("a box with negative width or height");
+    }
+    if (f.Has("circle")) {
+      label.circle = Pixels<3>(f.At("circle"));
+      if ((*label.circle)[2] < 0.0) f.At("circle").Fail("a negative radius");
+    }
     if (f.Has("keypoints")) {
       const auto k = Pixels<3>(f.At("keypoints"));
       label.point = std::array<double, 2>{k[0], k[1]};

@@ -386,6 +386,11 @@ TEST_CASE("bad annotations files name the file and the field", "[harness][score]
         "a.json: images[0].height: outside [1, 65536] px");
   CHECK(error(image, "{\"image_id\": 1, \"category_id\": 1, \"bbox\": [0, 0, 1e300, 1e300]}") ==
         "a.json: annotations[0].bbox: a coordinate beyond +-1e+06 px");
+  CHECK(error(image, "{\"image_id\": 1, \"category_id\": 1, \"bbox\": [0, 0, -1, 1]}") ==
+        "a.json: annotations[0].bbox: a box with negative width or height");
+  CHECK(error(image,
+              "{\"image_id\": 1, \"category_id\": 3, \"bbox\": [0, 0, 1, 1], "
+              "\"circle\": [1, 1, -2]}") == "a.json: annotations[0].circle: a negative radius");
   // score.png draws a panel per appearance key: their number is bounded.
   std::string keys;
   for (int k = 0; k <= int(kMaxAppearanceKeys); ++k) {
