@@ -316,7 +316,7 @@ TEST_CASE("bad detections files name the file, the entry and the field", "[harne
       {"\"image_id\": 1, \"category_id\": 1, \"score\": 1, \"bbox\": [0,0,1,1], \"room_number\": "
        "101",
        "d.json: [1].room_number: expected a string"},
-      // Huge geometry that still overlaps the image: areas would overflow to inf and IoU to NaN.
+      // Huge geometry that still overlaps the image: its area would overflow to inf.
       {"\"image_id\": 1, \"category_id\": 1, \"score\": 1, \"bbox\": [-1e300,0,2e300,1]",
        "d.json: [1].bbox: a coordinate beyond +-1e+06 px"},
       {"\"image_id\": 1, \"category_id\": 3, \"score\": 1, \"circle\": [5,5,1e200]",
