@@ -3,15 +3,14 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <fstream>
 #include <map>
 #include <numbers>
 #include <optional>
 #include <set>
-#include <sstream>
 
 #include "common/error.h"
 #include "common/io/atomic_file.h"
@@ -446,26 +445,22 @@ void WriteDatasetAnnotations(const fs::path& dir, const std::string& camera, int
     for (int f = 0; f < frames_per_world; ++f) {
       const fs::path file =
           dir / camera / "truth" / (DatasetFrameStem(w, f, worlds, frames_per_world) + ".json");
-      std::ifstream in(file, std::ios::binary);
-      std::ostringstream text;
-      text << in.rdbuf();
-      if (!in) throw std::runtime_error(file.string() + ": cannot be read");
-      Json truth;
-      try {
-        truth = Json::parse(text.str());
-      } catch (const nlohmann::json::exception& e) {
-        throw std::runtime_error(file.string() + ": " + e.what());
-      }
+      const std::string name = file.string();
+      const Json truth = ParseJsonInput(ReadRegularFile(file, kMaxDatasetTruthBytes), name);
+      const JsonField top{name, "", truth};
+      if (!truth.is_object()) top.Fail("expected an object");
       const std::int64_t image_id = std::int64_t(w) * frames_per_world + f + 1;
       Json image{{"id", image_id}};
       for (const char* key : {"file_name", "width", "height", "world_index", "frame_index",
                               "world_seed", "world_from_camera"}) {
-        image[key] = truth.at(key);
+        image[key] = top.At(key).value;
       }
       if (truth.contains("vanishing_point")) image["vanishing_point"] = truth["vanishing_point"];
       if (truth.contains("appearance")) image["appearance"] = truth["appearance"];
       coco["images"].push_back(std::move(image));
-      for (const Json& a : truth.at("annotations")) {
+      top.At("annotations").ArraySize();
+      for (const Json& a : truth["annotations"]) {
+        if (!a.is_object()) top.At("annotations").Fail("expected an array of objects");
         Json annotation{{"id", ++annotation_id}, {"image_id", image_id}};
         for (const auto& [key, value] : a.items()) annotation[key] = value;
         coco["annotations"].push_back(std::move(annotation));
@@ -506,14 +501,6 @@ std::string ManifestJson(const Scenario& scenario, std::uint64_t seed,
   return j.dump(2) + "\n";
 }
 
-std::optional<std::string> ReadSmallFile(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return std::nullopt;
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 // The first top-level key whose value differs between two manifests, for the refusal message.
 std::string FirstDifference(const std::string& existing, const std::string& wanted) {
   try {
@@ -527,37 +514,52 @@ std::string FirstDifference(const std::string& existing, const std::string& want
   return "(formatting)";
 }
 
-// An empty or missing folder is filled; one holding this dataset's manifest is resumed; one with
-// another manifest is cleared with --force, else refused; one with files but no manifest is never
-// touched (--force deletes only what `dataset` wrote).
+// A folder with files is this job's only when it holds StagedDirectory::kOutputFolderMarker
+// (a regular file, not a link), which `dataset` writes before anything else: an empty or missing
+// folder is filled; one of ours holding this dataset's manifest is resumed; one of ours with
+// another manifest (or another corridorsim job's folder) is cleared with --force, else refused;
+// one without the marker is never touched, whatever it holds (a dataset.json of the user's).
 void WriteManifestAndCheck(const fs::path& dir, const std::string& manifest, bool force) {
   std::error_code error;
   const fs::path manifest_path = dir / "dataset.json";
+  const fs::path marker = dir / StagedDirectory::kOutputFolderMarker;
   if (fs::exists(dir, error) && !fs::is_directory(dir, error)) {
     throw InputError(kCommandLine, "--out", dir.string() + " exists and is not a folder");
   }
   const bool has_files = fs::is_directory(dir, error) && !fs::is_empty(dir, error);
   if (has_files) {
-    const std::optional<std::string> existing = ReadSmallFile(manifest_path);
-    if (!existing) {
+    if (!fs::is_regular_file(fs::symlink_status(marker, error))) {
       throw InputError(kCommandLine, "--out",
-                       dir.string() +
-                           " holds files but no dataset.json: not a dataset folder "
-                           "(dataset never deletes a folder it did not write)");
+                       dir.string() + " holds files that corridorsim did not write (it has no " +
+                           StagedDirectory::kOutputFolderMarker +
+                           "): dataset resumes or replaces only its own folders; choose another "
+                           "--out");
     }
-    if (*existing == manifest) return;  // resume
+    const bool has_manifest = fs::exists(fs::symlink_status(manifest_path, error));
+    const std::optional<std::string> existing =
+        has_manifest
+            ? std::optional<std::string>(ReadRegularFile(manifest_path, kMaxDatasetManifestBytes))
+            : std::nullopt;
+    if (existing == manifest) return;  // resume
     if (!force) {
-      throw InputError(kCommandLine, "--out",
-                       (dir / "dataset.json").string() +
-                           " was written with other arguments (first difference: `" +
-                           FirstDifference(*existing, manifest) +
-                           "`); use --force to replace the dataset, or another --out");
+      throw InputError(
+          kCommandLine, "--out",
+          existing
+              ? manifest_path.string() + " was written with other arguments (first difference: `" +
+                    FirstDifference(*existing, manifest) +
+                    "`); use --force to replace the dataset, or another --out"
+              : dir.string() +
+                    " holds another corridorsim job's output (no dataset.json); use --force "
+                    "to replace it, or another --out");
     }
     for (const fs::directory_entry& entry : fs::directory_iterator(dir)) {
       fs::remove_all(entry.path());
     }
   }
   EnsureWritableDirectory(dir);
+  WriteFileAtomic(marker,
+                  "This folder was written by corridorsim dataset: it resumes into it, and "
+                  "`--force` may replace it whole.\n");
   WriteFileAtomic(manifest_path, manifest);
 }
 
@@ -696,14 +698,23 @@ std::vector<DatasetFrame> DatasetWorld::Render(int f) {
 DatasetManifest ReadDatasetManifest(const fs::path& dir) {
   DatasetManifest m;
   m.file = (dir / "dataset.json").string();
-  m.json = ParseJsonInput(ReadRegularFile(dir / "dataset.json", 1 << 20), m.file);
+  m.json = ParseJsonInput(ReadRegularFile(dir / "dataset.json", kMaxDatasetManifestBytes), m.file);
   const JsonField top{m.file, "", m.json};
   if (!m.json.is_object()) top.Fail("expected an object");
   if (top.At("format").String() != "corridorsim dataset") {
     top.At("format").Fail("expected \"corridorsim dataset\"");
   }
   const JsonField cameras = top.At("cameras");
-  for (std::size_t i = 0; i < cameras.ArraySize(); ++i) m.cameras.push_back(cameras.At(i).String());
+  for (std::size_t i = 0; i < cameras.ArraySize(); ++i) {
+    // A camera names a folder of DIR: a plain name, never a path out of it.
+    const std::string id = cameras.At(i).String();
+    if (id.empty() || id.size() > 64 || !std::all_of(id.begin(), id.end(), [](char c) {
+          return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-';
+        })) {
+      cameras.At(i).Fail("expected a camera name: 1 to 64 letters, digits, '_' or '-'");
+    }
+    m.cameras.push_back(id);
+  }
   return m;
 }
 

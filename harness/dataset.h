@@ -68,7 +68,8 @@ std::string DatasetFrameStem(int world_index, int frame_index, int worlds, int f
 std::string DatasetWorldStem(int world_index, int worlds);
 
 /// Rebuilds `dir/<camera>/annotations.json` from the camera's truth files (all of them must
-/// exist). Image ids are world_index * frames_per_world + frame_index + 1.
+/// exist; one that cannot be read or parsed, or lacks a key, is an InputError naming it). Image ids
+/// are world_index * frames_per_world + frame_index + 1.
 void WriteDatasetAnnotations(const std::filesystem::path& dir, const std::string& camera,
                              int worlds, int frames_per_world);
 
@@ -114,8 +115,12 @@ struct DatasetManifest {
   nlohmann::ordered_json json;
   std::vector<std::string> cameras;
 };
-/// Reads DIR/dataset.json (at most 1 MiB): an object whose `format` is "corridorsim dataset", with
-/// a `cameras` array of names. Throws InputError naming the file and field otherwise.
+/// Bounds of the dataset files its readers parse: the manifest and a frame's truth file.
+inline constexpr std::uint64_t kMaxDatasetManifestBytes = std::uint64_t{1} << 20;  // 1 MiB
+inline constexpr std::uint64_t kMaxDatasetTruthBytes = std::uint64_t{64} << 20;    // 64 MiB
+/// Reads DIR/dataset.json (at most kMaxDatasetManifestBytes): an object whose `format` is
+/// "corridorsim dataset", with a `cameras` array of names. Throws InputError naming the file and
+/// field otherwise.
 DatasetManifest ReadDatasetManifest(const std::filesystem::path& dir);
 
 /// Runs the job; returns the exit code. Throws InputError for bad input.

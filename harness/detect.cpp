@@ -483,6 +483,12 @@ void RunDetectJob(const DetectRequest& request) {
       throw InputError(SourceLocation{"command line", 0, 0}, "--out",
                        "the folder '" + parent.string() + "' does not exist");
     }
+    // Checked before the detectors run: the image goes to a file of that name, never a folder.
+    if (!request.overlay_file->has_filename() ||
+        std::filesystem::is_directory(*request.overlay_file, error)) {
+      throw InputError(SourceLocation{"command line", 0, 0}, "--out",
+                       "'" + request.overlay_file->string() + "' is a folder, not a PNG file name");
+    }
   }
   const DetectInput input = LoadDetectInput(request);
   Image8 overlay;
@@ -491,7 +497,9 @@ void RunDetectJob(const DetectRequest& request) {
     WriteFileAtomic(*request.overlay_file,
                     EncodePng(overlay, request.overlay_file->filename().string()));
   }
-  std::fputs((doc.dump(2) + "\n").c_str(), stdout);
+  std::fputs(
+      (doc.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n").c_str(),
+      stdout);
 }
 
 }  // namespace corridorsim

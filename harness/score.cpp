@@ -12,6 +12,7 @@
 #include <limits>
 #include <numbers>
 #include <numeric>
+#include <set>
 
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
@@ -30,7 +31,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
-constexpr std::uint64_t kMaxAnnotationsFileBytes = std::uint64_t{1} << 30;
 
 using Field = JsonField;
 
@@ -210,6 +210,18 @@ std::string FormatNumber(double v) {
   char buffer[32];
   std::snprintf(buffer, sizeof(buffer), "%g", v);
   return buffer;
+}
+
+// N numbers of pixel geometry, each within +-kMaxScoreCoordinatePx.
+template <std::size_t N>
+std::array<double, N> Pixels(const Field& f) {
+  const std::array<double, N> v = f.Numbers<N>();
+  for (const double x : v) {
+    if (std::abs(x) > kMaxScoreCoordinatePx) {
+      f.Fail("a coordinate beyond +-" + FormatNumber(kMaxScoreCoordinatePx) + " px");
+    }
+  }
+  return v;
 }
 
 Json EvaluateClass(const ScoreDataset& dataset, const std::vector<ScoreDetection>& detections,
@@ -478,6 +490,7 @@ ScoreDataset ParseScoreDataset(std::string_view text, const std::string& file) {
   if (!root.is_object()) FailInFile(file, "", "expected a COCO object");
   const Field top{file, "", root};
   ScoreDataset dataset;
+  std::set<std::string> appearance_keys;
   const Field images = top.At("images");
   if (!images.value.is_array()) images.Fail("expected an array");
   for (std::size_t i = 0; i < images.value.size(); ++i) {
@@ -485,14 +498,24 @@ ScoreDataset ParseScoreDataset(std::string_view text, const std::string& file) {
     if (!f.value.is_object()) f.Fail("expected an object");
     ScoreImage image;
     image.id = f.At("id").Integer();
-    image.width = static_cast<int>(f.At("width").Integer());
-    image.height = static_cast<int>(f.At("height").Integer());
+    for (const char* key : {"width", "height"}) {
+      const std::int64_t side = f.At(key).Integer();
+      if (side < 1 || side > kMaxScoreImageSide) {
+        f.At(key).Fail("outside [1, " + std::to_string(kMaxScoreImageSide) + "] px");
+      }
+      (std::string(key) == "width" ? image.width : image.height) = static_cast<int>(side);
+    }
     if (f.Has("appearance")) {
       const Field a = f.At("appearance");
       if (!a.value.is_object()) a.Fail("expected an object");
       for (const auto& [key, value] : a.value.items()) {
         if (value.is_number() && std::isfinite(value.get<double>())) {
           image.appearance[key] = value.get<double>();
+          appearance_keys.insert(key);
+          if (appearance_keys.size() > kMaxAppearanceKeys) {
+            a.Fail("more than " + std::to_string(kMaxAppearanceKeys) +
+                   " distinct appearance keys in the file");
+          }
         }
       }
     }
@@ -511,10 +534,16 @@ ScoreDataset ParseScoreDataset(std::string_view text, const std::string& file) {
       f.At("category_id").Fail("unknown category");
     }
     label.category_id = static_cast<int>(category);
-    label.bbox = f.At("bbox").Numbers<4>();
-    if (f.Has("circle")) label.circle = f.At("circle").Numbers<3>();
+    label.bbox = Pixels<4>(f.At("bbox"));
+    if (label.bbox[2] < 0.0 || label.bbox[3] < 0.0) {
+      f.At("bbox").Fail("a box with negative width or height");
+    }
+    if (f.Has("circle")) {
+      label.circle = Pixels<3>(f.At("circle"));
+      if ((*label.circle)[2] < 0.0) f.At("circle").Fail("a negative radius");
+    }
     if (f.Has("keypoints")) {
-      const auto k = f.At("keypoints").Numbers<3>();
+      const auto k = Pixels<3>(f.At("keypoints"));
       label.point = std::array<double, 2>{k[0], k[1]};
     }
     if (label.category_id == kCategoryCeilingCorner && !label.point) {
@@ -554,17 +583,13 @@ ScoreDataset ReadScoreDataset(const fs::path& dir, const std::optional<std::stri
 
 std::vector<ScoreDetection> ParseDetections(std::string_view text, const std::string& file,
                                             const ScoreDataset& dataset) {
-  const Json root = ParseJsonInput(text, file);
-  if (!root.is_array()) {
-    FailInFile(file, "", "expected a JSON array of detections (COCO results format)");
-  }
-  if (root.size() > kMaxDetections) {
-    FailInFile(file, "", "more than " + std::to_string(kMaxDetections) + " detections");
-  }
   std::vector<ScoreDetection> detections;
-  detections.reserve(root.size());
-  for (std::size_t i = 0; i < root.size(); ++i) {
-    const Field f{file, "[" + std::to_string(i) + "]", root[i]};
+  // Entry by entry: memory holds the detections, not the whole document.
+  const auto each = [&](std::size_t i, const Json& entry) {
+    if (i >= kMaxDetections) {
+      FailInFile(file, "", "more than " + std::to_string(kMaxDetections) + " detections");
+    }
+    const Field f{file, "[" + std::to_string(i) + "]", entry};
     if (!f.value.is_object()) f.Fail("expected an object");
     ScoreDetection d;
     d.image_id = f.At("image_id").Integer();
@@ -584,14 +609,14 @@ std::vector<ScoreDetection> ParseDetections(std::string_view text, const std::st
     d.score = f.At("score").Number();
     if (f.Has("bbox")) {
       const Field b = f.At("bbox");
-      d.bbox = b.Numbers<4>();
+      d.bbox = Pixels<4>(b);
       if ((*d.bbox)[2] < 0.0 || (*d.bbox)[3] < 0.0) b.Fail("a box with negative width or height");
       if (!Intersects(*d.bbox, image->second)) b.Fail("the box lies outside the image");
     }
     if (f.Has("circle")) {
       const Field c = f.At("circle");
       if (d.category_id != kCategoryLamp) c.Fail("only lamps (category 3) may give a circle");
-      d.circle = c.Numbers<3>();
+      d.circle = Pixels<3>(c);
       if ((*d.circle)[2] < 0.0) c.Fail("a negative radius");
       if (!Intersects(CircleBox(*d.circle), image->second)) {
         c.Fail("the circle lies outside the image");
@@ -605,9 +630,9 @@ std::vector<ScoreDetection> ParseDetections(std::string_view text, const std::st
       }
       if (d.point) p.Fail("a second point (give `point` or `keypoints`, not both)");
       if (std::string(key) == "point") {
-        d.point = p.Numbers<2>();
+        d.point = Pixels<2>(p);
       } else {
-        const auto k = p.Numbers<3>();
+        const auto k = Pixels<3>(p);
         d.point = std::array<double, 2>{k[0], k[1]};
       }
       if (!Intersects({(*d.point)[0], (*d.point)[1], 0.0, 0.0}, image->second)) {
@@ -623,7 +648,9 @@ std::vector<ScoreDetection> ParseDetections(std::string_view text, const std::st
     }
     if (f.Has("room_number")) d.room_number = f.At("room_number").String();
     detections.push_back(std::move(d));
-  }
+  };
+  ParseJsonArrayInput(text, file, "expected a JSON array of detections (COCO results format)",
+                      each);
   return detections;
 }
 
@@ -723,7 +750,8 @@ int RunScore(const ScoreRequest& request) {
   report["expectations"] = std::move(checks);
 
   if (folder) {
-    WriteFileAtomic(folder->path() / "score.json", report.dump(2) + "\n");
+    WriteFileAtomic(folder->path() / "score.json",
+                    report.dump(2, ' ', false, Json::error_handler_t::replace) + "\n");
     WriteFileAtomic(folder->path() / "score.png", ScorePng(classes));
     folder->Commit();
     std::printf("wrote %s/{score.json, score.png}\n", folder->path().string().c_str());

@@ -21,9 +21,17 @@
 
 namespace corridorsim {
 
-/// Bounds of a detections file.
-inline constexpr std::size_t kMaxDetections = 10'000'000;
-inline constexpr std::uint64_t kMaxDetectionsFileBytes = std::uint64_t{1} << 30;  // 1 GiB
+/// Bounds of a detections file (read entry by entry: memory holds the text and the entries).
+inline constexpr std::size_t kMaxDetections = 2'000'000;
+inline constexpr std::uint64_t kMaxDetectionsFileBytes = std::uint64_t{256} << 20;  // 256 MiB
+/// Bounds of a camera's annotations.json (parsed whole, at most kMaxJsonValues values).
+inline constexpr std::uint64_t kMaxAnnotationsFileBytes = std::uint64_t{256} << 20;  // 256 MiB
+/// Every coordinate, size and radius of a detection or label (pixels) lies in [-1e6, 1e6], and an
+/// image's width and height in [1, kMaxScoreImageSide]: areas and distances stay finite.
+inline constexpr double kMaxScoreCoordinatePx = 1e6;
+inline constexpr int kMaxScoreImageSide = 65536;
+/// Distinct keys of the images' `appearance` objects (score.png draws a panel per key).
+inline constexpr std::size_t kMaxAppearanceKeys = 32;
 /// pycocotools' maxDets: the best-scored detections kept per image and class.
 inline constexpr int kMaxDetectionsPerImage = 100;
 /// Matching thresholds, loosest first: IoU for boxes and circles, pixel distance for corners

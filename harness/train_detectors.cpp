@@ -787,6 +787,13 @@ int RunTrainDetectors(const TrainDetectorsRequest& request) {
   std::unique_ptr<StagedDirectory> report;
   if (request.report_dir)
     report = StageOutputFolder(*request.report_dir, "--report", request.force);
+  // The models' folder is checked before minutes of training: one that cannot be made or written
+  // (a file of that name, no permission) is bad input.
+  try {
+    EnsureWritableDirectory(request.out_dir);
+  } catch (const std::exception& e) {
+    throw InputError(SourceLocation{"command line", 0, 0}, "--out", e.what());
+  }
   TrainDetectorsOptions options;
   options.seed = request.seed;
   options.train_worlds = request.train_worlds;
@@ -795,17 +802,13 @@ int RunTrainDetectors(const TrainDetectorsRequest& request) {
   options.train_dataset = request.train_dataset;
   options.eval_dataset = request.eval_dataset;
   const TrainingResult result = TrainDetectors(options);
-  std::error_code error;
-  std::filesystem::create_directories(request.out_dir, error);
-  if (error) {
-    throw std::runtime_error("cannot create " + request.out_dir.string() + ": " + error.message());
-  }
   WriteFileAtomic(request.out_dir / slam::kDoorPlateSvmFile, result.svm_bytes);
   WriteFileAtomic(request.out_dir / slam::kRoomNumberMlpFile, result.mlp_bytes);
   std::printf("wrote %s/{%s, %s}\n", request.out_dir.string().c_str(), slam::kDoorPlateSvmFile,
               slam::kRoomNumberMlpFile);
   if (report) {
-    WriteFileAtomic(report->path() / "training_report.json", result.report.dump(2) + "\n");
+    WriteFileAtomic(report->path() / "training_report.json",
+                    result.report.dump(2, ' ', false, Json::error_handler_t::replace) + "\n");
     WriteFileAtomic(report->path() / "training_report.png",
                     EncodePng(result.report_image, "training_report.png"));
     report->Commit();

@@ -15,6 +15,7 @@
 
 #include "common/error.h"
 #include "common/io/atomic_file.h"
+#include "common/io/json_input.h"
 #include "slam/mapping/semantic_map.h"
 
 namespace corridorsim {
@@ -30,6 +31,8 @@ constexpr std::size_t kMaxListedRooms = 40;  // rooms named in the "unknown room
 
 std::vector<slam::SemanticMapEntry> ReadMap(const std::filesystem::path& path) {
   const std::string text = ReadRegularFile(path, slam::kSemanticMapMaxBytes);
+  // Nesting and values bounded before the map's parser builds the document.
+  CheckJsonInputBounds(text, path.string(), kMaxJsonValues);
   try {
     return slam::ParseSemanticMap(text);
   } catch (const slam::SemanticMapError& e) {

@@ -13,9 +13,13 @@ void FailInFile(const std::string& file, const std::string& field, const std::st
   throw InputError(SourceLocation{file, 0, 0}, field, message);
 }
 
-Json ParseJsonInput(std::string_view text, const std::string& file) {
+namespace {
+
+// Json::parse with `callback` (may be empty); nlohmann's errors become InputError at `file`.
+Json ParseWith(std::string_view text, const std::string& file,
+               const Json::parser_callback_t& callback) {
   try {
-    return Json::parse(text);
+    return Json::parse(text, callback);
   } catch (const nlohmann::json::parse_error& e) {
     // nlohmann's message repeats the byte; ours names it once.
     std::string what = e.what();
@@ -29,6 +33,103 @@ Json ParseJsonInput(std::string_view text, const std::string& file) {
     if (bracket != std::string::npos) what = what.substr(bracket + 2);
     FailInFile(file, "", "malformed JSON: " + what);
   }
+}
+
+}  // namespace
+
+void CheckJsonInputBounds(std::string_view text, const std::string& file, std::size_t max_values,
+                          bool per_element) {
+  int depth = 0, line = 1;
+  std::size_t line_start = 0, values = 0;
+  bool in_string = false, escaped = false, in_scalar = false;
+  const auto fail = [&](std::size_t at, const std::string& message) {
+    throw InputError(SourceLocation{file, line, static_cast<int>(at - line_start + 1)}, "",
+                     message);
+  };
+  // A value starts at byte `at`: an element of the top-level array starts a new count.
+  const auto count = [&](std::size_t at) {
+    if (per_element && depth == 1) values = 0;
+    if (++values > max_values) {
+      fail(at, "more than " + std::to_string(max_values) + " values" +
+                   (per_element ? " in one element of the top-level array" : "") +
+                   " (numbers, strings, arrays and objects)");
+    }
+  };
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (c == '\n') {
+      ++line;
+      line_start = i + 1;
+    }
+    if (in_string) {
+      if (escaped) {
+        escaped = false;
+      } else if (c == '\\') {
+        escaped = true;
+      } else if (c == '"') {
+        in_string = false;
+      }
+      continue;
+    }
+    switch (c) {
+      case '"':
+        in_scalar = false;
+        in_string = true;
+        count(i);
+        break;
+      case '[':
+      case '{':
+        in_scalar = false;
+        count(i);
+        if (++depth > kMaxJsonDepth) {
+          fail(i, "more than " + std::to_string(kMaxJsonDepth) + " nested arrays and objects");
+        }
+        break;
+      case ']':
+      case '}':
+        in_scalar = false;
+        if (depth > 0) --depth;
+        break;
+      case ',':
+      case ':':
+      case ' ':
+      case '\t':
+      case '\r':
+      case '\n':
+        in_scalar = false;
+        break;
+      default:  // a number or literal (or text the parser refuses)
+        if (!in_scalar) count(i);
+        in_scalar = true;
+    }
+  }
+}
+
+Json ParseJsonInput(std::string_view text, const std::string& file, std::size_t max_values) {
+  CheckJsonInputBounds(text, file, max_values);
+  return ParseWith(text, file, nullptr);
+}
+
+void ParseJsonArrayInput(
+    std::string_view text, const std::string& file, const std::string& not_array,
+    const std::function<void(std::size_t, const nlohmann::ordered_json&)>& each) {
+  CheckJsonInputBounds(text, file, kMaxJsonValues, /*per_element=*/true);
+  std::size_t index = 0;
+  // Depth 0 is the top level, 1 its elements: each element is handed over when it ends and
+  // dropped (returning false discards it, and nlohmann removes it from the array).
+  const Json::parser_callback_t callback = [&](int depth, Json::parse_event_t event, Json& parsed) {
+    using Event = Json::parse_event_t;
+    if (depth == 0 && (event == Event::object_start || event == Event::value)) {
+      FailInFile(file, "", not_array);
+    }
+    if (depth == 1 &&
+        (event == Event::value || event == Event::object_end || event == Event::array_end)) {
+      each(index++, parsed);
+      return false;
+    }
+    return true;
+  };
+  ParseWith(text, file, callback);
 }
 
 void JsonField::Fail(const std::string& message) const { FailInFile(file, path, message); }

@@ -121,8 +121,46 @@ endif()
 # A folder with files but no dataset.json is never touched, even with --force.
 file(WRITE "${WORK_DIR}/mine/notes.txt" "mine\n")
 cli_run(EXIT 2 WHAT "a user's folder" ARGS ${args} --out "${WORK_DIR}/mine" --force
-        STDERR "command line: --out: .*holds files but no dataset.json")
+        STDERR "command line: --out: .*mine holds files that corridorsim did not write \\(it has no \\.corridorsim-output\\)")
 cli_expect_files("${WORK_DIR}/mine" notes.txt)
+# Nor is a user's folder that happens to hold a dataset.json: dataset resumes or replaces only a
+# folder it proves it wrote (the marker .corridorsim-output), not one with a manifest of its shape,
+# nor one holding a copy of this very dataset's manifest.
+set(theirs "${WORK_DIR}/theirs")
+file(WRITE "${theirs}/dataset.json" "{\"format\": \"corridorsim dataset\", \"cameras\": []}\n")
+file(WRITE "${theirs}/notes.txt" "mine\n")
+foreach(force "" --force)
+  cli_run(EXIT 2 WHAT "a user's folder with a dataset.json ${force}" ARGS ${args} --out "${theirs}"
+          ${force} STDERR "command line: --out: .*theirs holds files that corridorsim did not write")
+  cli_expect_files("${theirs}" dataset.json notes.txt)
+endforeach()
+file(COPY_FILE "${a}/dataset.json" "${theirs}/dataset.json")
+cli_run(EXIT 2 WHAT "a user's folder with this dataset's manifest" ARGS ${args} --out "${theirs}"
+        STDERR "command line: --out: .*theirs holds files that corridorsim did not write")
+cli_expect_files("${theirs}" dataset.json notes.txt)
+if(EXISTS "${theirs}/front" OR EXISTS "${theirs}/.corridorsim-output")
+  message(FATAL_ERROR "dataset wrote into a folder it did not write")
+endif()
+# The marker must be a file of its own, not a link to one.
+file(CREATE_LINK "${a}/.corridorsim-output" "${theirs}/.corridorsim-output" SYMBOLIC)
+cli_run(EXIT 2 WHAT "a linked marker" ARGS ${args} --out "${theirs}" --force
+        STDERR "command line: --out: .*theirs holds files that corridorsim did not write")
+cli_expect_files("${theirs}" dataset.json notes.txt)
+# Another corridorsim job's folder (the marker, no dataset.json) is replaced only with --force.
+file(WRITE "${WORK_DIR}/none.json" "[]\n")
+cli_run(EXIT 0 WHAT "a score report" ARGS score "${WORK_DIR}/none.json" --dataset "${a}"
+        --camera upward --out "${WORK_DIR}/report")
+cli_run(EXIT 2 WHAT "another job's folder" ARGS ${args} --cameras upward --out "${WORK_DIR}/report"
+        STDERR "command line: --out: .*report holds another corridorsim job's output \\(no dataset.json\\); use --force")
+cli_expect_files("${WORK_DIR}/report" score.json)
+# A dataset.json that is not a regular file (a FIFO would block a plain read) is refused.
+file(REMOVE "${WORK_DIR}/report/score.json" "${WORK_DIR}/report/score.png")
+execute_process(COMMAND mkfifo "${WORK_DIR}/report/dataset.json" RESULT_VARIABLE fifo_rc)
+if(NOT fifo_rc EQUAL 0)
+  message(FATAL_ERROR "mkfifo failed")
+endif()
+cli_run(EXIT 2 WHAT "a FIFO manifest" ARGS ${args} --cameras upward --out "${WORK_DIR}/report"
+        STDERR "report/dataset.json: not a regular file")
 
 # Path poses: evenly spaced along the scenario's round trip, heading along each leg.
 cli_run(EXIT 0 WHAT "path poses" ARGS dataset "${scenario}" --poses path --frames-per-world 2
@@ -164,6 +202,13 @@ endforeach()
 if(with_plate LESS 6)
   message(FATAL_ERROR "plate poses: ${with_plate} of 12 frames show a plate within 3.6 m")
 endif()
+# train-detectors checks its models' folder before it reads or trains anything (a file in its
+# place failed with exit 1 after the training).
+file(WRITE "${WORK_DIR}/models_file" "")
+cli_run(EXIT 2 WHAT "train-detectors --out a file"
+        STDERR "command line: --out: .*models_file"
+        ARGS train-detectors --dataset "${WORK_DIR}/plates" --eval-dataset "${WORK_DIR}/plates"
+        --out "${WORK_DIR}/models_file")
 cli_run(EXIT 2 WHAT "plate poses without the lateral camera"
         STDERR "command line: --poses: plates: aims the lateral camera"
         NOT_EXISTS "${WORK_DIR}/bad" ARGS dataset "${scenario}" --cameras upward --poses plates

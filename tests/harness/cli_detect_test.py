@@ -181,7 +181,12 @@ def main():
     not_png = os.path.join(work, "not_a.png")
     open(not_png, "w").write("hello\n")
     missing = os.path.join(work, "missing.png")
+    deep = os.path.join(work, "deep.json")
+    open(deep, "w").write("[" * 100000)
     for args, pattern in (
+            ([image, "--camera", "upward", "--intrinsics", deep],
+             deep + ":1:65: more than 64 nested arrays and objects"),
+            ([image, "--out", work], "command line: --out: '" + work + "' is a folder"),
             ([missing], missing + ": cannot be opened"),
             ([not_png], not_png + ": is not a PNG image"),
             ([work], work + ": is not a regular file"),
@@ -198,6 +203,17 @@ def main():
         if len(lines) != 1 or pattern not in lines[0] or result.stdout:
             fail("detect %s: expected one message containing '%s', got:\n%s%s" %
                  (" ".join(args), pattern, result.stderr, result.stdout))
+
+    # A file name that is not UTF-8 is written with U+FFFD in its place (it stopped the JSON
+    # document with exit 1).
+    odd = os.path.join(os.fsencode(work), b"\xff.png")
+    shutil.copyfile(image, odd)
+    result = subprocess.run([os.fsencode(binary), b"detect", odd], cwd=source, capture_output=True)
+    if result.returncode != 0:
+        fail("detect on a non-UTF-8 file name: exit %d\n%s" % (result.returncode, result.stderr))
+    doc = json.loads(result.stdout.decode("utf-8"))
+    if not doc["image"].endswith("\ufffd.png"):
+        fail("detect on a non-UTF-8 file name: image " + repr(doc["image"]))
     print("ok")
 
 

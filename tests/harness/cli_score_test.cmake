@@ -74,3 +74,39 @@ cli_run(EXIT 2 WHAT "unknown camera" STDERR "command line: --camera: 'front' is 
         ARGS score "${WORK_DIR}/d.json" --dataset "${ds}" --camera front)
 cli_run(EXIT 2 WHAT "bad expectation" STDERR "command line: --expect: unknown class 'lamps'"
         ARGS score "${WORK_DIR}/d.json" --dataset "${ds}" --expect lamps.ap50>=1)
+
+# Hostile sizes are bounded before parsing (50 MB of `[` needed more than 3.5 GB and died of
+# std::bad_alloc, exit 1): nesting at its line and column, in every JSON file score reads.
+string(REPEAT "[" 1000000 deep)
+file(WRITE "${WORK_DIR}/deep.json" "${deep}")
+cli_run(EXIT 2 WHAT "deep detections" NOT_EXISTS "${WORK_DIR}/bad"
+        STDERR "deep.json:1:65: more than 64 nested arrays and objects\n$"
+        ARGS score "${WORK_DIR}/deep.json" --dataset "${ds}" --out "${WORK_DIR}/bad")
+# expect_bad_dataset_file(<what> <file of the dataset> <text> <stderr regex>): with <text> in the
+# file, score exits 2 with the message; the file is restored after.
+function(expect_bad_dataset_file what file text pattern)
+  file(COPY_FILE "${ds}/${file}" "${WORK_DIR}/saved")
+  file(WRITE "${ds}/${file}" "${text}")
+  cli_run(EXIT 2 WHAT "${what}" STDERR "${pattern}"
+          ARGS score "${WORK_DIR}/d.json" --dataset "${ds}")
+  file(COPY_FILE "${WORK_DIR}/saved" "${ds}/${file}")
+endfunction()
+expect_bad_dataset_file("deep annotations" upward/annotations.json "{\"images\": ${deep}"
+                        "upward/annotations.json:1:75: more than 64 nested")
+expect_bad_dataset_file("deep manifest" dataset.json "${deep}"
+                        "ds/dataset.json:1:65: more than 64 nested")
+# An image's width must fit: an int64 was cut to an int before.
+expect_bad_dataset_file("huge width" upward/annotations.json
+  "{\"images\": [{\"id\": 1, \"width\": 4294967360, \"height\": 48}], \"annotations\": []}"
+  "annotations.json: images\\[0\\]\\.width: outside \\[1, 65536\\] px")
+# A camera of dataset.json names a folder of the dataset, never a path out of it.
+expect_bad_dataset_file("camera path" dataset.json
+  "{\"format\": \"corridorsim dataset\", \"cameras\": [\"../ds/upward\"]}\n"
+  "ds/dataset.json: \\.?cameras\\[0\\]: expected a camera name")
+# A detections FIFO is refused without blocking.
+execute_process(COMMAND mkfifo "${WORK_DIR}/fifo.json" RESULT_VARIABLE fifo_rc)
+if(NOT fifo_rc EQUAL 0)
+  message(FATAL_ERROR "mkfifo failed")
+endif()
+cli_run(EXIT 2 WHAT "FIFO detections" STDERR "fifo.json: not a regular file"
+        ARGS score "${WORK_DIR}/fifo.json" --dataset "${ds}")

@@ -43,3 +43,9 @@ cli_run(EXIT 2 WHAT "bad pipeline" ARGS where 101 --run "${run}" --pipeline "../
         STDERR "command line: --pipeline: expected a pipeline name")
 cli_run(EXIT 2 WHAT "no --run" ARGS where 101 STDERR "command line: .*--run")
 cli_run(EXIT 0 WHAT "help" ARGS where --help STDOUT "Exit codes: 0 success, 2 bad input")
+# Nesting is bounded before the map is parsed (16 MiB of `[` took gigabytes), at its line.
+file(REMOVE_RECURSE "${WORK_DIR}/bad/maps/a_semantic.json")
+string(REPEAT "[" 100000 deep)
+file(WRITE "${WORK_DIR}/bad/maps/a_semantic.json" "{\"rooms\":\n${deep}")
+cli_run(EXIT 2 WHAT "deep nesting" ARGS where 101 --run "${WORK_DIR}/bad"
+        STDERR "bad/maps/a_semantic\\.json:2:64: more than 64 nested arrays and objects\n$")

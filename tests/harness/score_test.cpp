@@ -4,12 +4,15 @@
 #include "harness/score.h"
 
 #include <cmath>
+#include <fstream>
 #include <numbers>
 #include <string>
 
 #include <catch2/catch.hpp>
 
 #include "common/error.h"
+#include "common/io/json_input.h"
+#include "tests/support/scratch_dir.h"
 
 namespace corridorsim {
 namespace {
@@ -313,11 +316,111 @@ TEST_CASE("bad detections files name the file, the entry and the field", "[harne
       {"\"image_id\": 1, \"category_id\": 1, \"score\": 1, \"bbox\": [0,0,1,1], \"room_number\": "
        "101",
        "d.json: [1].room_number: expected a string"},
+      // Huge geometry that still overlaps the image: its area would overflow to inf.
+      {"\"image_id\": 1, \"category_id\": 1, \"score\": 1, \"bbox\": [-1e300,0,2e300,1]",
+       "d.json: [1].bbox: a coordinate beyond +-1e+06 px"},
+      {"\"image_id\": 1, \"category_id\": 3, \"score\": 1, \"circle\": [5,5,1e200]",
+       "d.json: [1].circle: a coordinate beyond +-1e+06 px"},
   };
   for (const auto& [fields, message] : cases) {
     INFO(fields);
     CHECK_THAT(ErrorOf(entry(fields), dataset), Catch::StartsWith(message));
   }
+}
+
+TEST_CASE("a detections file's nesting and size are bounded before it is parsed",
+          "[harness][score]") {
+  const ScoreDataset dataset = Dataset(1, {});
+  // 50 MB of `[` needed gigabytes: the nesting is refused at the 65th bracket, with its line.
+  CHECK(ErrorOf("\n" + std::string(1000000, '['), dataset) ==
+        "d.json:2:65: more than 64 nested arrays and objects");
+  CHECK(ErrorOf("[{\"a\": " + std::string(70, '{'), dataset) ==
+        "d.json:1:70: more than 64 nested arrays and objects");
+  // Brackets inside strings are text.
+  CHECK(ErrorOf("[{\"image_id\": 1, \"category_id\": 1, \"score\": 1, \"bbox\": [0,0,1,1], "
+                "\"room_number\": \"" +
+                    std::string(100, '[') + "\\\"\"}]",
+                dataset) == "");
+  // One entry holds at most kMaxJsonValues values.
+  std::string big = "[[0";
+  for (std::size_t i = 0; i < kMaxJsonValues; ++i) big += ",0";
+  big += "]]";
+  CHECK_THAT(ErrorOf(big, dataset),
+             Catch::Contains("more than 10000000 values in one element of the top-level array"));
+}
+
+TEST_CASE("detections are read entry by entry, in order", "[harness][score]") {
+  const ScoreDataset dataset = Dataset(2, {});
+  std::vector<Json> entries;
+  for (int i = 0; i < 3000; ++i) entries.push_back(Scored(Box(1 + i % 2, 1, i % 50, 1, 2, 2), i));
+  const std::vector<ScoreDetection> d = Detections(entries, dataset);
+  REQUIRE(d.size() == entries.size());
+  for (std::size_t i = 0; i < d.size(); ++i) {
+    CHECK(d[i].image_id == int(1 + i % 2));
+    CHECK(d[i].score == double(i));
+    CHECK((*d[i].bbox)[0] == double(i % 50));
+  }
+  // A bad entry after good ones is still named by its index.
+  entries.push_back(Json::array());
+  CHECK_THAT(ErrorOf(Json(entries).dump(), dataset),
+             Catch::StartsWith("d.json: [3000]: expected an object"));
+  CHECK_THAT(ErrorOf("7", dataset), Catch::StartsWith("d.json: expected a JSON array"));
+}
+
+TEST_CASE("bad annotations files name the file and the field", "[harness][score]") {
+  const auto error = [](const std::string& images, const std::string& annotations) {
+    try {
+      ParseScoreDataset("{\"images\": [" + images + "], \"annotations\": [" + annotations + "]}",
+                        "a.json");
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  const std::string image = "{\"id\": 1, \"width\": 64, \"height\": 48}";
+  CHECK(error(image, "") == "");
+  // An int64 width wrapped to a small or negative int before.
+  CHECK(error("{\"id\": 1, \"width\": 4294967360, \"height\": 48}", "") ==
+        "a.json: images[0].width: outside [1, 65536] px");
+  CHECK(error("{\"id\": 1, \"width\": 64, \"height\": 0}", "") ==
+        "a.json: images[0].height: outside [1, 65536] px");
+  CHECK(error(image, "{\"image_id\": 1, \"category_id\": 1, \"bbox\": [0, 0, 1e300, 1e300]}") ==
+        "a.json: annotations[0].bbox: a coordinate beyond +-1e+06 px");
+  CHECK(error(image, "{\"image_id\": 1, \"category_id\": 1, \"bbox\": [0, 0, -1, 1]}") ==
+        "a.json: annotations[0].bbox: a box with negative width or height");
+  CHECK(error(image,
+              "{\"image_id\": 1, \"category_id\": 3, \"bbox\": [0, 0, 1, 1], "
+              "\"circle\": [1, 1, -2]}") == "a.json: annotations[0].circle: a negative radius");
+  // score.png draws a panel per appearance key: their number is bounded.
+  std::string keys;
+  for (int k = 0; k <= int(kMaxAppearanceKeys); ++k) {
+    keys += (k ? ", \"k" : "\"k") + std::to_string(k) + "\": 1";
+  }
+  CHECK(error("{\"id\": 1, \"width\": 64, \"height\": 48, \"appearance\": {" + keys + "}}", "") ==
+        "a.json: images[0].appearance: more than 32 distinct appearance keys in the "
+        "file");
+  CHECK_THAT(error(std::string(100, '['), ""), Catch::StartsWith("a.json:1:"));
+}
+
+TEST_CASE("score writes its report for a detections file whose name is not UTF-8",
+          "[harness][score]") {
+  const test::ScratchDir dir("score_odd_name");
+  const auto write = [](const std::filesystem::path& path, const std::string& text) {
+    std::filesystem::create_directories(path.parent_path());
+    std::ofstream(path, std::ios::binary) << text;
+  };
+  write(dir.path() / "ds" / "dataset.json",
+        "{\"format\": \"corridorsim dataset\", \"cameras\": [\"upward\"]}");
+  write(dir.path() / "ds" / "upward" / "annotations.json",
+        "{\"images\": [{\"id\": 1, \"width\": 64, \"height\": 48}], \"annotations\": []}");
+  ScoreRequest request;
+  request.detections_file = dir.path() / "d\xff.json";  // score.json's dump threw: exit 1
+  write(request.detections_file, "[]");
+  request.dataset_dir = dir.path() / "ds";
+  request.report_dir = dir.path() / "report";
+  CHECK(RunScore(request) == 0);
+  const Json report = Json::parse(test::FileBytes(dir.path() / "report" / "score.json"));
+  CHECK(report["detections_file"] == "d\xef\xbf\xbd.json");  // U+FFFD in place of the byte
 }
 
 }  // namespace
