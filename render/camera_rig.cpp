@@ -264,7 +264,7 @@ const OptionTable<ExposureOptions>& ExposureOptionsTable() {
 const OptionTable<CameraOptions>& CameraNoiseOptionsTable() {
   return StaticOptionTable<CameraOptions>([](OptionTable<CameraOptions>& t) {
     using C = CameraOptions;
-    t.Add("enabled", &C::noise, "", "false gives exact images");
+    t.Add("enabled", &C::noise, "", "false gives exact images (depth still limited to its range)");
     t.AddSection("depth", &C::depth_noise, DepthNoiseOptionsTable(),
                  "structured-light depth noise (depth cameras)", &DepthNoiseOptions::Check);
     t.AddSection("rgb", &C::rgb_noise, RgbNoiseOptionsTable(), "colour camera noise",
@@ -1022,8 +1022,13 @@ void Rig::FinishCamera(std::size_t index, std::uint64_t seed, std::uint64_t fram
                        CameraFrame* frame) {
   CameraRenderer& camera = cameras_[index];
   camera.Finish(frame);
-  if (camera.options().depth) frame->noisy_depth_m = frame->depth_m;
-  if (camera.options().noise) ApplyNoise(index, seed, frame_index, frame);
+  const CameraOptions& options = camera.options();
+  if (options.depth) {
+    frame->noisy_depth_m = frame->depth_m;
+    // The noise applies the range itself; without it the exact depth still obeys the range.
+    if (!options.noise) ApplyDepthRange(options.depth_noise, &frame->noisy_depth_m);
+  }
+  if (options.noise) ApplyNoise(index, seed, frame_index, frame);
 }
 
 void Rig::ApplyNoise(std::size_t index, std::uint64_t seed, std::uint64_t frame_index,

@@ -305,7 +305,7 @@ void ApplyDepthNoise(const DepthNoiseOptions& options, const PinholeRadTan& intr
     // random dropouts.
     for (int x = 0; x < width; ++x) {
       const double z = z_row[std::size_t(x)];
-      bool drop = !(z >= options.min_m && z <= options.max_m);
+      bool drop = !InDepthRange(options, z);
       if (!drop && options.grazing) {
         const double cos_theta = cos_src[std::size_t(x)];
         if (cos_theta < cos_max) {
@@ -318,6 +318,13 @@ void ApplyDepthNoise(const DepthNoiseOptions& options, const PinholeRadTan& intr
       if (!drop && options.random_dropout > 0) drop = rng.Bernoulli(options.random_dropout);
       out[x] = drop ? 0.0f : static_cast<float>(z);
     }
+  }
+}
+
+void ApplyDepthRange(const DepthNoiseOptions& options, ImageF* depth_m) {
+  assert(depth_m != nullptr);
+  for (float& z : depth_m->data) {
+    if (!InDepthRange(options, z)) z = 0.0f;
   }
 }
 
