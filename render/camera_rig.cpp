@@ -69,6 +69,13 @@ std::optional<std::string> FovProblem(bool pinhole, double fov_deg) {
   return std::nullopt;
 }
 
+// The model's field of view as its `fov_deg` key means it (FromFov's argument): a pinhole's
+// horizontal one, a fisheye's across the smaller image side.
+double FovKeyDegOf(const CameraModel& model) {
+  const double rad = model.pinhole() ? model.HorizontalFovRad() : model.FieldOfViewRad();
+  return rad / kDegToRad;
+}
+
 }  // namespace
 
 SE3 Mount::RobotFromCamera() const {
@@ -153,7 +160,9 @@ void ParseCameraModel(YamlMap& map, CameraOptions& c) {
   KannalaBrandt fisheye_params = was_pinhole ? KannalaBrandt{} : *current.kannala_brandt();
   if (has_fov || resized || model_changed) {
     if (!has_fov) {
-      fov_deg = current.FieldOfViewRad() / kDegToRad;
+      // A resize keeps the field of view that fov_deg means (a portrait pinhole's larger,
+      // vertical one taken as horizontal would widen it).
+      fov_deg = FovKeyDegOf(current);
     }
     // An impossible field of view is reported here, at its key, before it shapes a model.
     if (auto problem = FovProblem(pinhole, fov_deg)) map.Fail("fov_deg", *problem);
@@ -219,7 +228,7 @@ std::vector<OptionDocRow> CameraModelDocRows(const CameraOptions& c) {
       {"width", "px", std::to_string(p.width), "(0, 8192]; the rig's cameras at most 6 GiB",
        "image width"},
       {"height", "px", std::to_string(p.height), "(0, 8192]", "image height"},
-      {"fov_deg", "deg", Num(FovDegOf(c.model)), "pinhole < 150, fisheye < 180",
+      {"fov_deg", "deg", Num(FovKeyDegOf(c.model)), "pinhole < 150, fisheye < 180",
        "pinhole: horizontal field of view; fisheye: across the smaller image dimension. Sets "
        "fx = fy and the principal point at the centre"},
       {"fx", "px", Num(p.fx), "> 0; fisheye <= 2048, pinhole <= 1e5",

@@ -317,6 +317,32 @@ TEST_CASE("changing a camera's model needs its field of view too", "[render][rig
                                     0) == 0);
 }
 
+TEST_CASE("resizing a pinhole without fov_deg keeps its field of view, portrait or landscape",
+          "[render][rig]") {
+  RigOptions rig = RigOptions::Default();
+  rig.cameras[0].model = PinholeRadTan::FromFov(640, 480, 58.0 * kDeg);  // landscape
+  rig.cameras[1].model = PinholeRadTan::FromFov(480, 640, 45.0 * kDeg);  // portrait
+  const RigOptions before = rig;
+  const auto doc = YamlDocument::FromString(
+      "front: {width: 320, height: 240}
+lateral: {
+  width:
+    240, height : 320}
+", "s.yaml");
+  YamlMap map(doc, doc.root, "sensors", nullptr);
+  ParseSensors(map, rig);
+  REQUIRE_FALSE(rig.Check());
+  for (std::size_t k = 0; k < 2; ++k) {
+    const CameraModel& old_model = before.cameras[k].model;
+    const CameraModel& resized = rig.cameras[k].model;
+    INFO(rig.cameras[k].id);
+    CHECK(resized.width() == old_model.width() / 2);
+    CHECK(resized.height() == old_model.height() / 2);
+    CHECK(resized.HorizontalFovRad() == Approx(old_model.HorizontalFovRad()).epsilon(1e-12));
+    CHECK(resized.VerticalFovRad() == Approx(old_model.VerticalFovRad()).epsilon(1e-12));
+  }
+}
+
 TEST_CASE("sensors are parsed from YAML; unknown cameras and keys are errors", "[render][rig]") {
   const auto doc = YamlDocument::FromString(
       "front:\n"
