@@ -301,7 +301,7 @@ const OptionTable<SceneOptions>& SceneRenderOptionsTable() {
         .Range(0, 3, "must lie in [0, 3]");
     t.Add("bounce_range_m", &S::bounce_range_m, "m",
           "surfaces further apart exchange no bounced light")
-        .Range(0.5, 30, "must lie in [0.5, 30] m");
+        .Range(0.5, 30, "must lie in [0.5, 30] m (got {})");
     t.Add("bake_lighting", &S::bake_lighting, "",
           "lamps' light baked per vertex when the scene is built (every lamp within 15 m, no "
           "per-pixel cost); false lights each pixel from the nearest `max_lights` lamps");
@@ -352,7 +352,7 @@ const OptionTable<CameraOptions>& CameraOptionsTable() {
     t.Add("cube_face_px", &C::cube_face_px, "px",
           "fisheye: resolution of the cube faces it is drawn from (0 = matched to the model's "
           "centre)")
-        .Range(0, 4096, "must lie in [0, 4096] (0 = automatic)");
+        .Range(0, 4096, "must lie in [0, 4096] (0 = automatic; got {})");
     t.AddSection("exposure", &C::exposure, ExposureOptionsTable(),
                  "the gain from scene radiance to the sensor's range, before it clips");
     t.AddSection(
@@ -377,7 +377,7 @@ const OptionTable<RigOptions>& RenderOptionsTable() {
     t.Add("samples", &RigOptions::samples, "",
           "supersampling: samples per pixel, 1 (off), 9 (3 x 3) or 25 (5 x 5); colour is their "
           "mean, labels and depth the centre sample's; costs about `samples` times the drawing")
-        .Range(1, 25, "must be 1, 9 or 25");
+        .Range(1, 25, "must be 1, 9 or 25 (got {})");
     t.AddSection("", &RigOptions::scene, SceneRenderOptionsTable(), "lighting and textures");
   });
 }
@@ -415,16 +415,21 @@ std::optional<OptionsProblem> RigOptions::Check() const {
     }
     if (p.width > 8192 || p.height > 8192) {
       return OptionsProblem{k + (p.width > 8192 ? "width" : "height"),
-                            "images larger than 8192 px on a side are not supported"};
-    }
-    if (!(p.fx > 0) || !(p.fy > 0)) {
-      return OptionsProblem{k + "fov_deg", "the field of view must be positive"};
+                            "images larger than 8192 px on a side are not supported (got " +
+                                std::to_string(p.width) + "x" + std::to_string(p.height) + ")"};
     }
     // Fisheyes are drawn from cube faces of 2 fx pixels (up to 4096), pinholes in one pass.
     const double max_focal = pinhole ? 1e5 : 2048.0;
-    if (p.fx > max_focal || p.fy > max_focal) {
-      return OptionsProblem{k + "fx", "focal lengths above " + Num(max_focal) +
-                                          " px are not supported for this model"};
+    for (const auto& [key, focal] : {std::pair{"fx", p.fx}, std::pair{"fy", p.fy}}) {
+      if (!(focal > 0) || !std::isfinite(focal)) {
+        return OptionsProblem{k + key, "the focal length must be positive (got " + Num(focal) +
+                                           " px; fov_deg sets it from the field of view)"};
+      }
+      if (focal > max_focal) {
+        return OptionsProblem{k + key, "focal lengths above " + Num(max_focal) +
+                                           " px are not supported for this model (got " +
+                                           Num(focal) + ")"};
+      }
     }
     if (auto problem = FovProblem(pinhole, FovDegOf(c.model))) {
       return OptionsProblem{k + "fov_deg", *problem};

@@ -16,6 +16,7 @@
 #include "common/random.h"
 #include "render/remap_kernel.h"
 #include "tests/support/expect_input_error.h"
+#include "tests/support/option_bounds.h"
 
 namespace corridorsim::render {
 namespace {
@@ -183,6 +184,56 @@ TEST_CASE("the rig rejects impossible cameras naming the key", "[render][rig]") 
     impossible.change(rig);
     REQUIRE(rig.Check());
     CHECK(rig.Check()->key == impossible.key);
+  }
+}
+
+TEST_CASE("every bound of the sensors and render options names its key and the value",
+          "[render][rig]") {
+  RigOptions rig = RigOptions::Default();
+  test::CheckEveryBoundNamesKeyAndValue(SensorsOptionsTable(), &rig, "",
+                                        [&] { return rig.Check(); });
+  test::CheckEveryBoundNamesKeyAndValue(RenderOptionsTable(), &rig, "",
+                                        [&] { return rig.CheckRender(); });
+}
+
+TEST_CASE("the rig's own checks name the focal length that is wrong and give its value",
+          "[render][rig]") {
+  struct Case {
+    std::function<void(RigOptions&)> change;
+    std::string key, got;
+  };
+  const std::vector<Case> cases = {
+      {[](RigOptions& rig) {
+         ChangeFisheye(rig.cameras[2], [](KannalaBrandt& k) { k.fy = 1e10; });
+       },
+       "upward.fy", "got 1e+10"},
+      {[](RigOptions& rig) {
+         ChangeFisheye(rig.cameras[2], [](KannalaBrandt& k) { k.fx = 1e10; });
+       },
+       "upward.fx", "got 1e+10"},
+      {[](RigOptions& rig) { ChangePinhole(rig.cameras[0], [](PinholeRadTan& p) { p.fy = 2e5; }); },
+       "front.fy", "got 200000"},
+      {[](RigOptions& rig) { ChangePinhole(rig.cameras[1], [](PinholeRadTan& p) { p.fy = 0; }); },
+       "lateral.fy", "got 0"},
+      {[](RigOptions& rig) { ChangePinhole(rig.cameras[1], [](PinholeRadTan& p) { p.fx = -3; }); },
+       "lateral.fx", "got -3"},
+      {[](RigOptions& rig) {
+         ChangePinhole(rig.cameras[0], [](PinholeRadTan& p) { p.height = 9000; });
+       },
+       "front.height", "got 640x9000"},
+      {[](RigOptions& rig) { rig.cameras[0].depth_noise.max_m = 0.5; }, "front.noise.depth.max_m",
+       "got 0.5"},
+      {[](RigOptions& rig) { rig.cameras[0].rgb_noise.read_noise_electrons = 6; },
+       "front.noise.rgb.read_noise_electrons", "got 6"},
+  };
+  for (const Case& c : cases) {
+    INFO("expected key " << c.key);
+    RigOptions rig = RigOptions::Default();
+    c.change(rig);
+    const std::optional<OptionsProblem> problem = rig.Check();
+    REQUIRE(problem);
+    CHECK(problem->key == c.key);
+    CHECK_THAT(problem->message, Catch::Contains(c.got));
   }
 }
 
