@@ -375,11 +375,7 @@ TEST_CASE("resizing a pinhole without fov_deg keeps its field of view, portrait 
   rig.cameras[1].model = PinholeRadTan::FromFov(480, 640, 45.0 * kDeg);  // portrait
   const RigOptions before = rig;
   const auto doc = YamlDocument::FromString(
-      "front: {width: 320, height: 240}
-lateral: {
-  width:
-    240, height : 320}
-", "s.yaml");
+      "front: {width: 320, height: 240}\nlateral: {width: 240, height: 320}\n", "s.yaml");
   YamlMap map(doc, doc.root, "sensors", nullptr);
   ParseSensors(map, rig);
   REQUIRE_FALSE(rig.Check());
