@@ -57,11 +57,11 @@ TEST_CASE("the encoder resolution has one upper bound in the scenario and the ca
   const std::optional<OptionsProblem> options = scenario.robot.odometry.Check();
   REQUIRE(options);
   CHECK(options->key == "ticks_per_revolution");
-  CHECK_THAT(options->message, Catch::Contains("(got 1000001)"));
+  CHECK_THAT(options->message, Catch::Contains("got 1000001)"));
   const std::optional<OptionsProblem> calibration = CalibrationOf(scenario).Check();
   REQUIRE(calibration);
   CHECK(calibration->key == "ticks_per_revolution");
-  CHECK_THAT(calibration->message, Catch::Contains("(got 1000001)"));
+  CHECK_THAT(calibration->message, Catch::Contains("got 1000001)"));
 }
 
 }  // namespace
