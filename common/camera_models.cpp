@@ -19,6 +19,9 @@ constexpr double kInfinity = std::numeric_limits<double>::infinity();
 constexpr double kPinholeMaxFovRad = 150.0 / kDegPerRad;
 constexpr double kFisheyeMaxFovRad = 180.0 / kDegPerRad;
 constexpr int kMaxSolverIterations = 50;
+// The fisheye's safeguarded Newton: room for bisection steps over [0, pi] down to adjacent
+// doubles (about 55) where Newton steps leave the bracket.
+constexpr int kMaxFisheyeSolverIterations = 100;
 // A model whose corner pixel does not survive Unproject -> Project within this (px) is rejected.
 constexpr double kCornerRoundTripPx = 1e-6;
 // Search bound for a turning point of the pinhole's distortion (squared normalised radius): far
@@ -303,7 +306,8 @@ std::optional<Eigen::Vector2d> ProjectFisheye(const KannalaBrandt& c, double max
   return Eigen::Vector2d(c.fx * scale * x + c.cx, c.fy * scale * y + c.cy);
 }
 
-Eigen::Vector3d UnprojectFisheye(const KannalaBrandt& c, const Eigen::Vector2d& pixel,
+Eigen::Vector3d UnprojectFisheye(const KannalaBrandt& c, double max_theta,
+                                 const Eigen::Vector2d& pixel,
                                  Eigen::Matrix<double, 3, 2>* d_bearing_d_pixel) {
   const Eigen::Vector2d normalised((pixel.x() - c.cx) / c.fx, (pixel.y() - c.cy) / c.fy);
   const Eigen::Matrix2d d_normalised_d_pixel = Eigen::Vector2d(1.0 / c.fx, 1.0 / c.fy).asDiagonal();
@@ -317,17 +321,24 @@ Eigen::Vector3d UnprojectFisheye(const KannalaBrandt& c, const Eigen::Vector2d& 
     return Eigen::Vector3d::UnitZ();
   }
 
-  // Newton on theta (1 + k1 theta^2 + ...) = theta_d, started at the equidistant solution.
-  double theta = std::min(theta_d, kPi);
-  for (int i = 0; i < kMaxSolverIterations; ++i) {
+  // Newton on theta (1 + k1 theta^2 + ...) = theta_d, started at the equidistant solution and
+  // kept inside the valid range [0, max_theta], where theta_d(theta) increases: the bracket
+  // [lo, hi] holds the root, and a step that leaves it (or a slope that is not positive) bisects
+  // instead. Beyond the valid range theta tends to max_theta.
+  double lo = 0.0, hi = max_theta;
+  double theta = std::min(theta_d, max_theta);
+  for (int i = 0; i < kMaxFisheyeSolverIterations; ++i) {
     const double theta2 = theta * theta;
     const double residual =
         theta * (1.0 + theta2 * (c.k1 + theta2 * (c.k2 + theta2 * (c.k3 + theta2 * c.k4)))) -
         theta_d;
+    if (residual == 0.0) break;
+    (residual > 0.0 ? hi : lo) = theta;
     const double slope = FisheyeSlope(c, theta2);
-    if (!(slope > 0.0)) break;
-    const double step = residual / slope;
-    theta = std::clamp(theta - step, 0.0, kPi);
+    double next = theta - residual / slope;
+    if (!(slope > 0.0) || !(next >= lo && next <= hi)) next = lo + 0.5 * (hi - lo);
+    const double step = theta - next;
+    theta = next;
     if (std::abs(step) <= 1e-15 * std::max(1.0, theta)) break;
   }
   const Eigen::Vector2d direction = normalised / theta_d;
@@ -467,7 +478,7 @@ std::optional<Eigen::Vector2d> CameraModel::Project(
 Eigen::Vector3d CameraModel::Unproject(const Eigen::Vector2d& pixel,
                                        Eigen::Matrix<double, 3, 2>* d_bearing_d_pixel) const {
   if (const PinholeRadTan* p = pinhole()) return UnprojectPinhole(*p, pixel, d_bearing_d_pixel);
-  return UnprojectFisheye(*kannala_brandt(), pixel, d_bearing_d_pixel);
+  return UnprojectFisheye(*kannala_brandt(), max_incidence_rad_, pixel, d_bearing_d_pixel);
 }
 
 bool CameraModel::IsInImage(const Eigen::Vector2d& pixel) const {

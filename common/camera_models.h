@@ -122,7 +122,9 @@ class CameraModel {
       Eigen::Matrix<double, 2, 3>* d_pixel_d_point = nullptr) const;
   /// Unit bearing in the camera frame of `pixel` and, if asked for, its Jacobian (1/px), for
   /// pixels inside the valid range. Pinhole: Newton on the distortion, converged to ~1e-15 in
-  /// normalised coordinates; fisheye: Newton on theta_d(theta), theta clamped to [0, pi].
+  /// normalised coordinates; fisheye: Newton on theta_d(theta) kept inside the valid range
+  /// [0, max_incidence_rad()] (bisecting where a step leaves it), so a pixel just inside the
+  /// range's edge maps back to it; beyond the edge the bearing is the edge's.
   Eigen::Vector3d Unproject(const Eigen::Vector2d& pixel,
                             Eigen::Matrix<double, 3, 2>* d_bearing_d_pixel = nullptr) const;
   bool IsInImage(const Eigen::Vector2d& pixel) const;

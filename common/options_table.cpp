@@ -58,9 +58,10 @@ bool OptionBound::Holds(double v) const {
 
 std::string OptionBound::Message(const std::string& value) const {
   if (!message.empty()) {
+    // Every bound message gives the value: where the text has no place for it, it follows.
     std::string m = message;
-    if (const auto at = m.find("{}"); at != std::string::npos) m.replace(at, 2, value);
-    return m;
+    if (const auto at = m.find("{}"); at != std::string::npos) return m.replace(at, 2, value);
+    return m + " (got " + value + ")";
   }
   const bool has_lo = std::isfinite(lo), has_hi = std::isfinite(hi);
   std::string what;

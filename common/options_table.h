@@ -54,8 +54,9 @@ struct OptionBound {
   double hi = std::numeric_limits<double>::infinity();
   bool lo_strict = false;  // v > lo rather than v >= lo
   bool hi_strict = false;  // v < hi rather than v <= hi
-  // The problem's message; "{}" stands for the value. Empty: the standard message ("must be
-  // greater than 0 (got -1)", "must lie in [0, 5] (got 7)", ...).
+  // The problem's message; "{}" stands for the value, and without one " (got <value>)" follows
+  // it. Empty: the standard message ("must be greater than 0 (got -1)", "must lie in [0, 5]
+  // (got 7)", ...).
   std::string message;
   bool or_zero = false;  // 0 passes too (0 = off or automatic; the interval bounds the rest)
 

@@ -34,4 +34,11 @@ Eigen::Matrix2d WheelOdometryNoise(double left_m, double right_m, double k);
 /// robot (`robot.odometry.random_k_m`) and a filter (`pipelines.odometry.k_m`) that agree.
 inline constexpr double kDefaultWheelNoiseK_m = 1e-4;
 
+/// The most encoder counts per wheel revolution a robot may have (`robot.odometry.
+/// ticks_per_revolution` and slam::Calibration check it): 1,000,000, a tick of 0.6 um of travel
+/// on the Pioneer 3-DX's 195 mm wheel, 25 times the Pioneer's 39,400 counts. A finer tick measures
+/// nothing a wheel does (its tyre deforms by more, and a real encoder's line count behind a
+/// gearhead stays far below), and it keeps tick counts of any run far inside int64.
+inline constexpr int kMaxTicksPerRevolution = 1'000'000;
+
 }  // namespace corridorsim

@@ -193,22 +193,14 @@ DetectInput LoadDetectInput(const DetectRequest& request) {
     if (request.intrinsics_file) {
       const std::filesystem::path& path = *request.intrinsics_file;
       const std::string file = path.string();
-      nlohmann::ordered_json json = ParseJsonInput(ReadRegularFile(path, 1 << 20), file);
+      const nlohmann::ordered_json json = ParseJsonInput(ReadRegularFile(path, 1 << 20), file);
       if (!json.is_object()) {
         throw InputError(SourceLocation{file, 0, 0}, "", "expected a JSON object (a camera model)");
       }
-      // snapshot's and run's intrinsics.json hold every camera by name: take the upward one.
-      if (!json.contains("model") && json.contains("upward")) {
-        nlohmann::ordered_json upward = json["upward"];
-        if (!upward.is_object()) {
-          throw InputError(SourceLocation{file, 0, 0}, "upward",
-                           "expected a JSON object (a camera model)");
-        }
-        json = std::move(upward);
-      }
-      json.erase("robot_from_camera");  // dataset's intrinsics.json also holds the mount
+      // dataset's intrinsics.json holds the upward camera's entry, snapshot's and drive's every
+      // camera's by name.
       try {
-        input.model = CameraModelFromJson(json);
+        input.model = CameraModelFromIntrinsicsJson(json, "upward");
       } catch (const OptionsError& e) {
         throw InputError(SourceLocation{file, 0, 0}, e.problem().key, e.problem().message);
       }

@@ -69,6 +69,13 @@ std::optional<std::string> FovProblem(bool pinhole, double fov_deg) {
   return std::nullopt;
 }
 
+// The model's field of view as its `fov_deg` key means it (FromFov's argument): a pinhole's
+// horizontal one, a fisheye's across the smaller image side.
+double FovKeyDegOf(const CameraModel& model) {
+  const double rad = model.pinhole() ? model.HorizontalFovRad() : model.FieldOfViewRad();
+  return rad / kDegToRad;
+}
+
 }  // namespace
 
 SE3 Mount::RobotFromCamera() const {
@@ -153,7 +160,9 @@ void ParseCameraModel(YamlMap& map, CameraOptions& c) {
   KannalaBrandt fisheye_params = was_pinhole ? KannalaBrandt{} : *current.kannala_brandt();
   if (has_fov || resized || model_changed) {
     if (!has_fov) {
-      fov_deg = current.FieldOfViewRad() / kDegToRad;
+      // A resize keeps the field of view that fov_deg means (a portrait pinhole's larger,
+      // vertical one taken as horizontal would widen it).
+      fov_deg = FovKeyDegOf(current);
     }
     // An impossible field of view is reported here, at its key, before it shapes a model.
     if (auto problem = FovProblem(pinhole, fov_deg)) map.Fail("fov_deg", *problem);
@@ -219,7 +228,7 @@ std::vector<OptionDocRow> CameraModelDocRows(const CameraOptions& c) {
       {"width", "px", std::to_string(p.width), "(0, 8192]; the rig's cameras at most 6 GiB",
        "image width"},
       {"height", "px", std::to_string(p.height), "(0, 8192]", "image height"},
-      {"fov_deg", "deg", Num(FovDegOf(c.model)), "pinhole < 150, fisheye < 180",
+      {"fov_deg", "deg", Num(FovKeyDegOf(c.model)), "pinhole < 150, fisheye < 180",
        "pinhole: horizontal field of view; fisheye: across the smaller image dimension. Sets "
        "fx = fy and the principal point at the centre"},
       {"fx", "px", Num(p.fx), "> 0; fisheye <= 2048, pinhole <= 1e5",
@@ -264,7 +273,7 @@ const OptionTable<ExposureOptions>& ExposureOptionsTable() {
 const OptionTable<CameraOptions>& CameraNoiseOptionsTable() {
   return StaticOptionTable<CameraOptions>([](OptionTable<CameraOptions>& t) {
     using C = CameraOptions;
-    t.Add("enabled", &C::noise, "", "false gives exact images");
+    t.Add("enabled", &C::noise, "", "false gives exact images (depth still limited to its range)");
     t.AddSection("depth", &C::depth_noise, DepthNoiseOptionsTable(),
                  "structured-light depth noise (depth cameras)", &DepthNoiseOptions::Check);
     t.AddSection("rgb", &C::rgb_noise, RgbNoiseOptionsTable(), "colour camera noise",
@@ -292,7 +301,7 @@ const OptionTable<SceneOptions>& SceneRenderOptionsTable() {
         .Range(0, 3, "must lie in [0, 3]");
     t.Add("bounce_range_m", &S::bounce_range_m, "m",
           "surfaces further apart exchange no bounced light")
-        .Range(0.5, 30, "must lie in [0.5, 30] m");
+        .Range(0.5, 30, "must lie in [0.5, 30] m (got {})");
     t.Add("bake_lighting", &S::bake_lighting, "",
           "lamps' light baked per vertex when the scene is built (every lamp within 15 m, no "
           "per-pixel cost); false lights each pixel from the nearest `max_lights` lamps");
@@ -343,7 +352,7 @@ const OptionTable<CameraOptions>& CameraOptionsTable() {
     t.Add("cube_face_px", &C::cube_face_px, "px",
           "fisheye: resolution of the cube faces it is drawn from (0 = matched to the model's "
           "centre)")
-        .Range(0, 4096, "must lie in [0, 4096] (0 = automatic)");
+        .Range(0, 4096, "must lie in [0, 4096] (0 = automatic; got {})");
     t.AddSection("exposure", &C::exposure, ExposureOptionsTable(),
                  "the gain from scene radiance to the sensor's range, before it clips");
     t.AddSection(
@@ -368,7 +377,7 @@ const OptionTable<RigOptions>& RenderOptionsTable() {
     t.Add("samples", &RigOptions::samples, "",
           "supersampling: samples per pixel, 1 (off), 9 (3 x 3) or 25 (5 x 5); colour is their "
           "mean, labels and depth the centre sample's; costs about `samples` times the drawing")
-        .Range(1, 25, "must be 1, 9 or 25");
+        .Range(1, 25, "must be 1, 9 or 25 (got {})");
     t.AddSection("", &RigOptions::scene, SceneRenderOptionsTable(), "lighting and textures");
   });
 }
@@ -406,16 +415,21 @@ std::optional<OptionsProblem> RigOptions::Check() const {
     }
     if (p.width > 8192 || p.height > 8192) {
       return OptionsProblem{k + (p.width > 8192 ? "width" : "height"),
-                            "images larger than 8192 px on a side are not supported"};
-    }
-    if (!(p.fx > 0) || !(p.fy > 0)) {
-      return OptionsProblem{k + "fov_deg", "the field of view must be positive"};
+                            "images larger than 8192 px on a side are not supported (got " +
+                                std::to_string(p.width) + "x" + std::to_string(p.height) + ")"};
     }
     // Fisheyes are drawn from cube faces of 2 fx pixels (up to 4096), pinholes in one pass.
     const double max_focal = pinhole ? 1e5 : 2048.0;
-    if (p.fx > max_focal || p.fy > max_focal) {
-      return OptionsProblem{k + "fx", "focal lengths above " + Num(max_focal) +
-                                          " px are not supported for this model"};
+    for (const auto& [key, focal] : {std::pair{"fx", p.fx}, std::pair{"fy", p.fy}}) {
+      if (!(focal > 0) || !std::isfinite(focal)) {
+        return OptionsProblem{k + key, "the focal length must be positive (got " + Num(focal) +
+                                           " px; fov_deg sets it from the field of view)"};
+      }
+      if (focal > max_focal) {
+        return OptionsProblem{k + key, "focal lengths above " + Num(max_focal) +
+                                           " px are not supported for this model (got " +
+                                           Num(focal) + ")"};
+      }
     }
     if (auto problem = FovProblem(pinhole, FovDegOf(c.model))) {
       return OptionsProblem{k + "fov_deg", *problem};
@@ -1100,8 +1114,13 @@ void Rig::FinishCamera(std::size_t index, std::uint64_t seed, std::uint64_t fram
                        CameraFrame* frame) {
   CameraRenderer& camera = cameras_[index];
   camera.Finish(frame);
-  if (camera.options().depth) frame->noisy_depth_m = frame->depth_m;
-  if (camera.options().noise) ApplyNoise(index, seed, frame_index, frame);
+  const CameraOptions& options = camera.options();
+  if (options.depth) {
+    frame->noisy_depth_m = frame->depth_m;
+    // The noise applies the range itself; without it the exact depth still obeys the range.
+    if (!options.noise) ApplyDepthRange(options.depth_noise, &frame->noisy_depth_m);
+  }
+  if (options.noise) ApplyNoise(index, seed, frame_index, frame);
 }
 
 void Rig::ApplyNoise(std::size_t index, std::uint64_t seed, std::uint64_t frame_index,

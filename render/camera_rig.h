@@ -157,9 +157,9 @@ std::optional<OptionsProblem> CheckCameraPlacement(const worlds::World& world,
 struct CameraFrame {
   std::string camera_id;
   SE3 world_from_camera;
-  Image8 rgb;                           // with noise when the camera's noise is on
-  ImageF depth_m;                       // exact z along the optical axis (ReadsDepth() only)
-  ImageF noisy_depth_m;                 // after the depth noise model (depth cameras only)
+  Image8 rgb;            // with noise when the camera's noise is on
+  ImageF depth_m;        // exact z along the optical axis (ReadsDepth() only)
+  ImageF noisy_depth_m;  // depth cameras: after the noise model, or (noise off) its range alone
   std::vector<std::uint32_t> instance;  // per pixel instance id (World ids), 0 = nothing
   std::vector<std::uint8_t> semantic;   // per pixel worlds::SemanticClass
 };

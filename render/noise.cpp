@@ -206,7 +206,8 @@ const OptionTable<DepthNoiseOptions>& DepthNoiseOptionsTable() {
 std::optional<OptionsProblem> DepthNoiseOptions::Check() const {
   if (auto problem = CheckOptionBounds(DepthNoiseOptionsTable(), *this)) return problem;
   Checker c;
-  c.Require(max_m > min_m, "max_m", "must be greater than min_m (" + Num(min_m) + " m)");
+  c.Require(max_m > min_m, "max_m",
+            "must be greater than min_m (" + Num(min_m) + " m; got " + Num(max_m) + ")");
   c.Require(grazing_max_deg >= grazing_start_deg && grazing_max_deg <= 90, "grazing_max_deg",
             "must lie in [grazing_start_deg, 90] deg (got " + Num(grazing_max_deg) + ")");
   return c.problem();
@@ -305,7 +306,7 @@ void ApplyDepthNoise(const DepthNoiseOptions& options, const PinholeRadTan& intr
     // random dropouts.
     for (int x = 0; x < width; ++x) {
       const double z = z_row[std::size_t(x)];
-      bool drop = !(z >= options.min_m && z <= options.max_m);
+      bool drop = !InDepthRange(options, z);
       if (!drop && options.grazing) {
         const double cos_theta = cos_src[std::size_t(x)];
         if (cos_theta < cos_max) {
@@ -318,6 +319,13 @@ void ApplyDepthNoise(const DepthNoiseOptions& options, const PinholeRadTan& intr
       if (!drop && options.random_dropout > 0) drop = rng.Bernoulli(options.random_dropout);
       out[x] = drop ? 0.0f : static_cast<float>(z);
     }
+  }
+}
+
+void ApplyDepthRange(const DepthNoiseOptions& options, ImageF* depth_m) {
+  assert(depth_m != nullptr);
+  for (float& z : depth_m->data) {
+    if (!InDepthRange(options, z)) z = 0.0f;
   }
 }
 
@@ -349,7 +357,9 @@ std::optional<OptionsProblem> RgbNoiseOptions::Check() const {
   if (auto problem = CheckOptionBounds(RgbNoiseOptionsTable(), *this)) return problem;
   Checker c;
   c.Require(read_noise_electrons == 0 || full_well_electrons > 0, "read_noise_electrons",
-            "needs full_well_electrons > 0 to convert electrons to DN");
+            "needs full_well_electrons > 0 to convert electrons to DN (got " +
+                Num(read_noise_electrons) + " with full_well_electrons " +
+                Num(full_well_electrons) + ")");
   return c.problem();
 }
 

@@ -21,7 +21,8 @@ namespace corridorsim::render {
 
 /// Structured-light depth sensor noise. The defaults are an ASUS Xtion Pro Live / Kinect v1.
 struct DepthNoiseOptions {
-  // Valid range (always applied: depths outside [min_m, max_m] become 0 = invalid).
+  // Valid range: depths outside [min_m, max_m] become 0 = invalid. Always applied, with the
+  // camera's noise off too (ApplyDepthRange), so the depth matches what the Calibration says.
   double min_m = 0.5;  // m, nearest valid depth
   double max_m = 8.0;  // m, farthest valid depth
 
@@ -83,6 +84,17 @@ void ParseDepthNoiseOptions(YamlMap& map, DepthNoiseOptions& options);
 /// apart would make every surface look grazing.
 void ApplyDepthNoise(const DepthNoiseOptions& options, const PinholeRadTan& intrinsics,
                      RandomStream& rng, ImageF* depth_m);
+
+/// Whether the sensor reports depth `z_m` (m): inside [min_m, max_m] (false for NaN). The range
+/// test of ApplyDepthNoise (step 4) and of ApplyDepthRange.
+inline bool InDepthRange(const DepthNoiseOptions& options, double z_m) {
+  return z_m >= options.min_m && z_m <= options.max_m;
+}
+
+/// The valid range alone, in place: depths outside [min_m, max_m] become 0 (invalid), the others
+/// stay bit for bit; draws nothing. What a depth camera with its noise off reports, so that its
+/// depth holds what the calibration's range (harness/calibration.h) promises, as with noise on.
+void ApplyDepthRange(const DepthNoiseOptions& options, ImageF* depth_m);
 
 /// Colour camera noise on an 8-bit image whose values are taken as linear in irradiance. The
 /// defaults change nothing; typical webcam values are full_well_electrons 6000 and

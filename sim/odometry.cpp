@@ -19,9 +19,11 @@ const OptionTable<OdometryOptions>& OdometryOptionsTable() {
           "odometry messages per second; stamps at n periods, the period being 1 / rate_hz "
           "rounded to the nanosecond")
         .Range(1, 1000, "must lie in [1, 1000] Hz (got {})");
+    // At most kMaxTicksPerRevolution: a 0.6 um tick on a 195 mm wheel, finer than any wheel.
     t.Add("ticks_per_revolution", &O::ticks_per_revolution, "",
-          "encoder counts per wheel turn (0 = no quantisation)")
-        .Range(0, 1'000'000, "must lie in [0, 1000000] (0 = no quantisation; got {})");
+          "encoder counts per wheel turn (0 = no quantisation); at most 1e6, a 0.6 um tick on "
+          "the Pioneer's 195 mm wheel, finer than anything a wheel measures")
+        .Range(0, kMaxTicksPerRevolution, "must lie in [0, 1000000] (0 = no quantisation; got {})");
     // Real robots stay within a few per cent of 1; beyond a factor 2 the wheels are not one model.
     t.Add("diameter_ratio", &O::diameter_ratio, "",
           "Borenstein's E_d = D_R / D_L of the real wheels (their mean stays nominal)")

@@ -5,6 +5,7 @@
 
 #include "common/enum_names.h"
 #include "common/options_checker.h"
+#include "common/wheel_odometry_model.h"
 
 namespace corridorsim::slam {
 
@@ -12,7 +13,10 @@ std::optional<OptionsProblem> Calibration::Check() const {
   OptionsChecker c;
   c.Positive(wheelbase_m, "wheelbase_m");
   c.Positive(wheel_diameter_m, "wheel_diameter_m");
-  c.Require(ticks_per_revolution >= 0, "ticks_per_revolution", "must not be negative");
+  c.Require(ticks_per_revolution >= 0 && ticks_per_revolution <= kMaxTicksPerRevolution,
+            "ticks_per_revolution",
+            "must lie in [0, " + std::to_string(kMaxTicksPerRevolution) + "] (got " +
+                std::to_string(ticks_per_revolution) + ")");
   for (const CameraCalibration& camera : cameras) {
     const std::string key = "cameras." + camera.id + ".";
     if (const std::optional<std::string> problem = camera.model.Check()) {

@@ -13,6 +13,9 @@ namespace {
 
 constexpr std::array<const char*, 8> kKeys = {"model", "width", "height", "fx",
                                               "fy",    "cx",    "cy",     "distortion"};
+// Keys of an intrinsics.json entry beside the model's (harness/frame_io.h): not the model's.
+constexpr const char* kMountKey = "robot_from_camera";
+constexpr const char* kDepthScaleKey = "depth_scale";
 
 [[noreturn]] void Fail(const std::string& key, const std::string& message) {
   throw OptionsError(OptionsProblem{key, message});
@@ -62,10 +65,21 @@ template <class Json>
 CameraModel FromJson(const Json& json) {
   if (!json.is_object()) Fail("camera", "a camera model must be a JSON object");
   for (auto it = json.begin(); it != json.end(); ++it) {
-    bool known = false;
+    bool known = it.key() == kMountKey || it.key() == kDepthScaleKey;
     for (const char* key : kKeys) known = known || it.key() == key;
-    if (!known)
-      Fail(it.key(), "unknown key (expected model, width, height, fx, fy, cx, cy, distortion)");
+    if (!known) {
+      Fail(it.key(),
+           "unknown key (expected model, width, height, fx, fy, cx, cy, distortion, and in an "
+           "intrinsics.json entry robot_from_camera, depth_scale)");
+    }
+  }
+  if (const auto mount = json.find(kMountKey); mount != json.end() && !mount->is_object()) {
+    Fail(kMountKey, "must be a pose object {t, q}");
+  }
+  if (const auto scale = json.find(kDepthScaleKey); scale != json.end()) {
+    if (!scale->is_number() || !(scale->template get<double>() > 0.0)) {
+      Fail(kDepthScaleKey, "must be a positive number (depth image values per metre)");
+    }
   }
   const Json& name = Member(json, "model");
   const std::string pinhole_name(CameraModelKindName(CameraModelKind::kPinholeRadTan));
@@ -118,5 +132,21 @@ nlohmann::ordered_json CameraModelToJson(const CameraModel& model) {
 CameraModel CameraModelFromJson(const nlohmann::ordered_json& json) { return FromJson(json); }
 
 CameraModel CameraModelFromJson(const nlohmann::json& json) { return FromJson(json); }
+
+CameraModel CameraModelFromIntrinsicsJson(const nlohmann::ordered_json& json,
+                                          const std::string& camera) {
+  if (!json.is_object()) Fail("camera", "a camera model must be a JSON object");
+  if (json.contains("model")) return FromJson(json);  // one camera's entry
+  const auto entry = json.find(camera);
+  if (entry == json.end()) {
+    Fail(camera, "missing: the file holds neither a camera model (`model`) nor this camera's");
+  }
+  if (!entry->is_object()) Fail(camera, "expected a JSON object (a camera model)");
+  try {
+    return FromJson(*entry);
+  } catch (const OptionsError& e) {
+    Fail(camera + "." + e.problem().key, e.problem().message);
+  }
+}
 
 }  // namespace corridorsim

@@ -1,7 +1,9 @@
 #include "harness/metrics/consistency.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 #include <Eigen/Cholesky>
 
@@ -128,20 +130,36 @@ std::size_t AddNisMetrics(const std::vector<slam::Innovation>& innovations,
 std::string ErrorSeriesCsv(const std::vector<TruthPose>& truth, const PipelineRecord& pipeline) {
   using metrics::MatchedSample;
   std::string csv = "t,ex_m,ey_m,eyaw_rad,sigma_x_m,sigma_y_m,sigma_yaw_rad,nees\n";
-  char line[256];
+  // One field and its comma (or the line's end): the value with `decimals` decimals, or nothing
+  // where it is not finite (a NaN or infinite variance): the readers take an empty field as
+  // missing (harness/study_summary.cpp, scripts/plot_run.py, scripts/p1_study.py, p3_study.py).
+  const auto field = [&csv](double value, int decimals, char end) {
+    if (std::isfinite(value)) {
+      char text[64];
+      std::snprintf(text, sizeof(text), "%.*f", decimals, value);
+      csv += text;
+    }
+    csv += end;
+  };
   const auto m = [](double v) { return RoundToStep(v, json_steps::kMetres); };
   const auto rad = [](double v) { return RoundToStep(v, json_steps::kRad); };
+  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   for (const MatchedSample& s : metrics::MatchToTruth(truth, pipeline.estimates).samples) {
     const Eigen::Vector3d e = metrics::PoseError(s.estimate, s.truth);
-    const Eigen::Vector3d sigma = s.covariance.diagonal().cwiseMax(0.0).cwiseSqrt();
-    std::snprintf(line, sizeof(line), "%.9f,%.6f,%.6f,%.8f,%.6f,%.6f,%.8f,", ToSeconds(s.stamp_ns),
-                  m(e.x()), m(e.y()), rad(e.z()), m(sigma.x()), m(sigma.y()), rad(sigma.z()));
-    csv += line;
-    if (const std::optional<double> nees = metrics::Nees(e, s.covariance)) {
-      std::snprintf(line, sizeof(line), "%.6f", RoundToStep(*nees, json_steps::kRatio));
-      csv += line;
+    Eigen::Vector3d sigma;
+    for (int i = 0; i < 3; ++i) {
+      const double variance = s.covariance(i, i);
+      sigma[i] = std::isfinite(variance) ? std::sqrt(std::max(variance, 0.0)) : kNaN;
     }
-    csv += '\n';
+    field(ToSeconds(s.stamp_ns), 9, ',');
+    field(m(e.x()), 6, ',');
+    field(m(e.y()), 6, ',');
+    field(rad(e.z()), 8, ',');
+    field(m(sigma.x()), 6, ',');
+    field(m(sigma.y()), 6, ',');
+    field(rad(sigma.z()), 8, ',');
+    const std::optional<double> nees = metrics::Nees(e, s.covariance);
+    field(nees ? RoundToStep(*nees, json_steps::kRatio) : kNaN, 6, '\n');
   }
   return csv;
 }

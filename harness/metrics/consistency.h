@@ -18,8 +18,10 @@ namespace corridorsim {
 
 /// Per-time errors for plots: CSV "t,ex_m,ey_m,eyaw_rad,sigma_x_m,sigma_y_m,sigma_yaw_rad,nees",
 /// one row per estimate with truth at its stamp; t in s; errors estimate minus truth (world frame,
-/// yaw wrapped); sigmas from the covariance diagonal; NEES over 3 dof, empty where the covariance
-/// is not positive definite.
+/// yaw wrapped); sigmas from the covariance diagonal (a negative variance gives 0); NEES over 3
+/// dof, empty where the covariance is not positive definite. A variance that is not finite gives
+/// an empty sigma field, never `nan`: the readers take empty as missing. (MatchToTruth leaves
+/// estimates that are not finite out.)
 std::string ErrorSeriesCsv(const std::vector<TruthPose>& truth, const PipelineRecord& pipeline);
 
 /// <pipeline>_nis.csv: one line per landmark update, in the pipeline's order: t (s), the landmark

@@ -225,6 +225,41 @@ TEST_CASE("fisheye does not project points beyond the turning point of theta_d o
   CHECK_FALSE(equidistant.Project(Eigen::Vector3d::Zero()).has_value());
 }
 
+TEST_CASE("fisheye Unproject inverts Project up to the edge of the valid range", "[camera]") {
+  // theta_d = theta + 0.3 theta^3 - 0.1 theta^5 turns at theta = 1.605 rad, where theta_d = 1.78:
+  // pixels near the edge have theta_d beyond theta_max, so Newton started at the equidistant
+  // solution theta = theta_d starts outside the valid range (and on the falling side of theta_d).
+  KannalaBrandt params = KannalaBrandt::FromFov(640, 480, 90.0 * kRadPerDeg);
+  params.k1 = 0.3;
+  params.k2 = -0.1;
+  const CameraModel camera = params;
+  const double max_theta = camera.max_incidence_rad();
+  REQUIRE(max_theta == Approx(std::sqrt(0.9 + std::sqrt(0.81 + 2.0))).epsilon(1e-12));
+  for (const double fraction : {0.5, 0.9, 0.99, 0.999, 0.9999}) {
+    for (const double azimuth : {0.0, 0.7, 2.0, 3.5, 5.1}) {
+      const double theta = fraction * max_theta;
+      const Eigen::Vector3d ray(std::sin(theta) * std::cos(azimuth),
+                                std::sin(theta) * std::sin(azimuth), std::cos(theta));
+      INFO("theta " << theta << " rad, azimuth " << azimuth);
+      const std::optional<Eigen::Vector2d> pixel = camera.Project(ray);
+      REQUIRE(pixel.has_value());
+      const Eigen::Vector3d bearing = camera.Unproject(*pixel);
+      CHECK(AngleFromAxis(bearing) < max_theta);
+      const std::optional<Eigen::Vector2d> again = camera.Project(bearing);
+      REQUIRE(again.has_value());
+      CHECK((*again - *pixel).norm() < kRoundTripPx);
+      // Near the turning point theta_d is flat: the angle is only as good as the pixel allows.
+      CHECK(std::acos(std::clamp(bearing.dot(ray), -1.0, 1.0)) < 1e-5);
+    }
+  }
+  // Beyond the valid range the bearing stays at its edge, never beyond (the caller's Project
+  // then says the pixel shows nothing).
+  const Eigen::Vector3d beyond = camera.Unproject(params.fx * 1.9 * Eigen::Vector2d(1.0, 0.0) +
+                                                  Eigen::Vector2d(params.cx, params.cy));
+  CHECK(AngleFromAxis(beyond) <= max_theta);
+  CHECK(AngleFromAxis(beyond) == Approx(max_theta).epsilon(1e-6));
+}
+
 TEST_CASE("pinhole FromFov spans the horizontal field of view edge to edge", "[camera]") {
   for (const double fov_deg : {40.0, 90.0, 120.0, 149.0}) {
     for (const auto& [width, height] : {std::pair{640, 480}, std::pair{480, 640}}) {

@@ -47,5 +47,22 @@ TEST_CASE("the default scenario's calibration is the Pioneer 3-DX's", "[harness]
   CHECK(calibration.cameras.size() == scenario.rig.cameras.size());
 }
 
+TEST_CASE("the encoder resolution has one upper bound in the scenario and the calibration",
+          "[harness]") {
+  Scenario scenario;
+  scenario.robot.odometry.ticks_per_revolution = kMaxTicksPerRevolution;
+  CHECK_FALSE(scenario.robot.odometry.Check());
+  CHECK_FALSE(CalibrationOf(scenario).Check());
+  scenario.robot.odometry.ticks_per_revolution = kMaxTicksPerRevolution + 1;
+  const std::optional<OptionsProblem> options = scenario.robot.odometry.Check();
+  REQUIRE(options);
+  CHECK(options->key == "ticks_per_revolution");
+  CHECK_THAT(options->message, Catch::Contains("got 1000001)"));
+  const std::optional<OptionsProblem> calibration = CalibrationOf(scenario).Check();
+  REQUIRE(calibration);
+  CHECK(calibration->key == "ticks_per_revolution");
+  CHECK_THAT(calibration->message, Catch::Contains("got 1000001)"));
+}
+
 }  // namespace
 }  // namespace corridorsim

@@ -350,6 +350,49 @@ TEST_CASE("the ORB-SLAM settings file reads back with cv::FileStorage", "[export
   CHECK(settings["ThDepth"].real() == 40.0);
 }
 
+TEST_CASE("a fisheye front camera's ORB-SLAM settings read back with cv::FileStorage as its model",
+          "[export]") {
+  // docs/export.md: "KannalaBrandt8" with k1..k4 for a fisheye front camera, every value the
+  // model's (coefficients that need every digit of a double).
+  render::RigOptions rig = render::RigOptions::Default();
+  KannalaBrandt fisheye = KannalaBrandt::FromFov(64, 48, 110.0 * kDeg);
+  fisheye.fy *= 1.0 + 1e-7;
+  fisheye.k1 = 0.01 / 3;
+  fisheye.k2 = -1e-3 / 7;
+  fisheye.k3 = 1e-4 / 3;
+  fisheye.k4 = -1e-5 / 3;
+  for (render::CameraOptions& camera : rig.cameras) camera.enabled = camera.id == "front";
+  render::CameraOptions& front = rig.cameras[0];
+  front.model = fisheye;
+  front.depth = false;
+  REQUIRE_FALSE(rig.Check());
+  const TempDir dir;
+  DatasetExporter exporter(dir.path(), rig, kWheelbaseM);
+  sim::CameraMessage message;
+  message.frame.camera_id = "front";
+  message.frame.rgb = Image8(64, 48, 3);
+  message.frame.instance.assign(64 * 48, 0);
+  message.frame.semantic.assign(64 * 48, 0);
+  exporter.AddFrame(message, "front");
+  exporter.Finish();
+  cv::FileStorage settings((dir.path() / "tum_rgbd" / "orb_slam.yaml").string(),
+                           cv::FileStorage::READ);
+  REQUIRE(settings.isOpened());
+  CHECK(settings["Camera.type"].string() == "KannalaBrandt8");
+  CHECK(settings["Camera.fx"].real() == fisheye.fx);
+  CHECK(settings["Camera.fy"].real() == fisheye.fy);
+  CHECK(settings["Camera.cx"].real() == fisheye.cx);
+  CHECK(settings["Camera.cy"].real() == fisheye.cy);
+  CHECK(settings["Camera.k1"].real() == fisheye.k1);
+  CHECK(settings["Camera.k2"].real() == fisheye.k2);
+  CHECK(settings["Camera.k3"].real() == fisheye.k3);
+  CHECK(settings["Camera.k4"].real() == fisheye.k4);
+  CHECK(settings["Camera.p1"].empty());
+  CHECK(static_cast<int>(settings["Camera.width"]) == 64);
+  CHECK(static_cast<int>(settings["Camera.height"]) == 48);
+  CHECK(settings["Camera.bf"].empty());  // no depth
+}
+
 TEST_CASE("the upward and lateral cameras are exported in EuRoC layout", "[export][gl]") {
   const TempDir dir;
   ExportAll(dir.path(), Frames().rig);

@@ -16,6 +16,7 @@
 #include "common/random.h"
 #include "render/remap_kernel.h"
 #include "tests/support/expect_input_error.h"
+#include "tests/support/option_bounds.h"
 
 namespace corridorsim::render {
 namespace {
@@ -186,6 +187,56 @@ TEST_CASE("the rig rejects impossible cameras naming the key", "[render][rig]") 
   }
 }
 
+TEST_CASE("every bound of the sensors and render options names its key and the value",
+          "[render][rig]") {
+  RigOptions rig = RigOptions::Default();
+  test::CheckEveryBoundNamesKeyAndValue(SensorsOptionsTable(), &rig, "",
+                                        [&] { return rig.Check(); });
+  test::CheckEveryBoundNamesKeyAndValue(RenderOptionsTable(), &rig, "",
+                                        [&] { return rig.CheckRender(); });
+}
+
+TEST_CASE("the rig's own checks name the focal length that is wrong and give its value",
+          "[render][rig]") {
+  struct Case {
+    std::function<void(RigOptions&)> change;
+    std::string key, got;
+  };
+  const std::vector<Case> cases = {
+      {[](RigOptions& rig) {
+         ChangeFisheye(rig.cameras[2], [](KannalaBrandt& k) { k.fy = 1e10; });
+       },
+       "upward.fy", "got 1e+10"},
+      {[](RigOptions& rig) {
+         ChangeFisheye(rig.cameras[2], [](KannalaBrandt& k) { k.fx = 1e10; });
+       },
+       "upward.fx", "got 1e+10"},
+      {[](RigOptions& rig) { ChangePinhole(rig.cameras[0], [](PinholeRadTan& p) { p.fy = 2e5; }); },
+       "front.fy", "got 200000"},
+      {[](RigOptions& rig) { ChangePinhole(rig.cameras[1], [](PinholeRadTan& p) { p.fy = 0; }); },
+       "lateral.fy", "got 0"},
+      {[](RigOptions& rig) { ChangePinhole(rig.cameras[1], [](PinholeRadTan& p) { p.fx = -3; }); },
+       "lateral.fx", "got -3"},
+      {[](RigOptions& rig) {
+         ChangePinhole(rig.cameras[0], [](PinholeRadTan& p) { p.height = 9000; });
+       },
+       "front.height", "got 640x9000"},
+      {[](RigOptions& rig) { rig.cameras[0].depth_noise.max_m = 0.5; }, "front.noise.depth.max_m",
+       "got 0.5"},
+      {[](RigOptions& rig) { rig.cameras[0].rgb_noise.read_noise_electrons = 6; },
+       "front.noise.rgb.read_noise_electrons", "got 6"},
+  };
+  for (const Case& c : cases) {
+    INFO("expected key " << c.key);
+    RigOptions rig = RigOptions::Default();
+    c.change(rig);
+    const std::optional<OptionsProblem> problem = rig.Check();
+    REQUIRE(problem);
+    CHECK(problem->key == c.key);
+    CHECK_THAT(problem->message, Catch::Contains(c.got));
+  }
+}
+
 TEST_CASE("camera rates give periods that fit int64 ns and at most one frame per physics step",
           "[render][rig]") {
   for (const double bad : {1e-10, 0.0, -1.0, 101.0, 1000.0, std::nan("")}) {
@@ -315,6 +366,28 @@ TEST_CASE("changing a camera's model needs its field of view too", "[render][rig
   const InputError e = test::InputErrorOf([&] { ParseSensors(map, rig); });
   CHECK(std::string(e.what()).rfind("m.yaml:2:3: sensors.lateral.model: changing the camera model",
                                     0) == 0);
+}
+
+TEST_CASE("resizing a pinhole without fov_deg keeps its field of view, portrait or landscape",
+          "[render][rig]") {
+  RigOptions rig = RigOptions::Default();
+  rig.cameras[0].model = PinholeRadTan::FromFov(640, 480, 58.0 * kDeg);  // landscape
+  rig.cameras[1].model = PinholeRadTan::FromFov(480, 640, 45.0 * kDeg);  // portrait
+  const RigOptions before = rig;
+  const auto doc = YamlDocument::FromString(
+      "front: {width: 320, height: 240}\nlateral: {width: 240, height: 320}\n", "s.yaml");
+  YamlMap map(doc, doc.root, "sensors", nullptr);
+  ParseSensors(map, rig);
+  REQUIRE_FALSE(rig.Check());
+  for (std::size_t k = 0; k < 2; ++k) {
+    const CameraModel& old_model = before.cameras[k].model;
+    const CameraModel& resized = rig.cameras[k].model;
+    INFO(rig.cameras[k].id);
+    CHECK(resized.width() == old_model.width() / 2);
+    CHECK(resized.height() == old_model.height() / 2);
+    CHECK(resized.HorizontalFovRad() == Approx(old_model.HorizontalFovRad()).epsilon(1e-12));
+    CHECK(resized.VerticalFovRad() == Approx(old_model.VerticalFovRad()).epsilon(1e-12));
+  }
 }
 
 TEST_CASE("sensors are parsed from YAML; unknown cameras and keys are errors", "[render][rig]") {

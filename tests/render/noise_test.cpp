@@ -229,6 +229,9 @@ TEST_CASE("depths outside the valid range become invalid, the others stay", "[re
   ImageF depth(k.width, k.height);
   RandomStream fill(6, 0, "test.range_fill");
   for (float& z : depth.data) z = static_cast<float>(fill.Uniform(0.0, 10.0));
+  depth.data[0] = 0.5f;  // both ends are valid
+  depth.data[1] = 8.0f;
+  depth.data[2] = std::nanf("");
   const ImageF input = depth;
   RandomStream rng(6, 0, "test.range");
   ApplyDepthNoise(o, k, rng, &depth);
@@ -240,6 +243,10 @@ TEST_CASE("depths outside the valid range become invalid, the others stay", "[re
     REQUIRE(depth.data[i] == (valid ? z : 0.0f));
   }
   CHECK(beyond > 1000);
+  // The range alone (a camera with its noise off) invalidates exactly the same pixels.
+  ImageF range_only = input;
+  ApplyDepthRange(o, &range_only);
+  CHECK(range_only.data == depth.data);
 }
 
 TEST_CASE("random dropouts remove the stated fraction of pixels", "[render][noise]") {

@@ -495,6 +495,35 @@ TEST_CASE("rendering the same frame twice gives identical bytes", "[render][gl][
   CHECK(c[0].depth_m.data == a[0].depth_m.data);
 }
 
+TEST_CASE("a depth camera without noise reports only depths inside its valid range",
+          "[render][gl]") {
+  // The calibration tells a pipeline [min_m, max_m] (harness/calibration.h): with the noise off
+  // the depth must keep to it as the noise model does.
+  RigOptions rig_options = RigOptions::Default();
+  CameraOptions& front = rig_options.cameras[0];
+  front.noise = false;
+  front.depth_noise.min_m = 1.5;
+  front.depth_noise.max_m = 4.0;
+  Rig rig(rig_options, Shared().scene, *Shared().backend);
+  CameraFrame frame;
+  rig.RenderCamera(0, SE3::FromSE2(SE2(12.0, 0.3, 0.2)), 5, 3, &frame);
+  REQUIRE(frame.noisy_depth_m.data.size() == frame.depth_m.data.size());
+  int near = 0, inside = 0, beyond = 0;
+  for (std::size_t i = 0; i < frame.depth_m.data.size(); ++i) {
+    const float z = frame.depth_m.data[i];
+    const bool valid = z >= 1.5f && z <= 4.0f;
+    near += z > 0.0f && z < 1.5f;
+    inside += valid;
+    beyond += z > 4.0f;
+    REQUIRE(frame.noisy_depth_m.data[i] == (valid ? z : 0.0f));
+  }
+  // The view down the corridor holds all three (the floor at the bottom rows lies nearer than 1.5
+  // m).
+  CHECK(near > 100);
+  CHECK(inside > 1000);
+  CHECK(beyond > 1000);
+}
+
 TEST_CASE("the whole rig, its noise overlapped with rendering, equals each camera rendered alone",
           "[render][gl][determinism]") {
   RigOptions rig_options = RigOptions::Default();

@@ -22,6 +22,7 @@
 
 #include "common/wheel_odometry_model.h"
 #include "tests/support/expect_input_error.h"
+#include "tests/support/option_bounds.h"
 #include "tests/support/tolerances.h"
 
 namespace corridorsim::sim {
@@ -495,6 +496,11 @@ TEST_CASE("Check accepts the defaults and names the first bad odometry value", "
     CHECK(problem->key == c.key);
     CHECK_FALSE(problem->message.empty());
   }
+}
+
+TEST_CASE("every bound of the odometry options names its key and the value", "[sim][odometry]") {
+  OdometryOptions o;
+  test::CheckEveryBoundNamesKeyAndValue(OdometryOptionsTable(), &o, "", [&] { return o.Check(); });
 }
 
 TEST_CASE("odometry options parse their keys over the defaults", "[sim][odometry]") {

@@ -91,5 +91,53 @@ TEST_CASE("CameraModelFromJson rejects malformed models naming the key", "[camer
   CHECK_THAT(check.message, Catch::Contains("image size must be positive"));
 }
 
+TEST_CASE("an intrinsics.json entry reads as it is, mount and depth scale passed over",
+          "[camera][json]") {
+  nlohmann::ordered_json entry = CameraModelToJson(DistortedPinhole());
+  entry["robot_from_camera"] =
+      nlohmann::json::parse(R"({"t": [0.18, 0, 0.45], "q": [0, 0, 0, 1]})");
+  entry["depth_scale"] = 5000.0;
+  CHECK(CameraModelFromJson(entry) == CameraModel(DistortedPinhole()));
+  CHECK(CameraModelFromJson(nlohmann::json::parse(entry.dump())) ==
+        CameraModel(DistortedPinhole()));
+  // They are checked for what they are.
+  nlohmann::ordered_json bad_mount = entry;
+  bad_mount["robot_from_camera"] = 3;
+  CHECK(ProblemOf(bad_mount.dump()).key == "robot_from_camera");
+  nlohmann::ordered_json bad_scale = entry;
+  bad_scale["depth_scale"] = -1;
+  CHECK(ProblemOf(bad_scale.dump()).key == "depth_scale");
+  bad_scale["depth_scale"] = "5000";
+  CHECK(ProblemOf(bad_scale.dump()).key == "depth_scale");
+}
+
+TEST_CASE("CameraModelFromIntrinsicsJson reads one camera's entry or picks it by id",
+          "[camera][json]") {
+  nlohmann::ordered_json one = CameraModelToJson(Fisheye());
+  one["robot_from_camera"] = nlohmann::json::parse(R"({"t": [0, 0, 0.4], "q": [0, 0, 0, 1]})");
+  CHECK(CameraModelFromIntrinsicsJson(one, "upward") == CameraModel(Fisheye()));
+  nlohmann::ordered_json rig;
+  rig["front"] = CameraModelToJson(DistortedPinhole());
+  rig["front"]["depth_scale"] = 5000.0;
+  rig["upward"] = one;
+  CHECK(CameraModelFromIntrinsicsJson(rig, "upward") == CameraModel(Fisheye()));
+  CHECK(CameraModelFromIntrinsicsJson(rig, "front") == CameraModel(DistortedPinhole()));
+  const auto problem = [&](const nlohmann::ordered_json& json, const std::string& camera) {
+    try {
+      CameraModelFromIntrinsicsJson(json, camera);
+    } catch (const OptionsError& e) {
+      return e.problem();
+    }
+    FAIL("no OptionsError for " << camera << " in " << json.dump());
+    return OptionsProblem{};
+  };
+  CHECK(problem(rig, "lateral").key == "lateral");
+  rig["front"]["fx"] = "x";
+  CHECK(problem(rig, "front").key == "front.fx");
+  rig["front"] = 3;
+  CHECK(problem(rig, "front").key == "front");
+  CHECK(problem(nlohmann::ordered_json::array(), "front").key == "camera");
+}
+
 }  // namespace
 }  // namespace corridorsim

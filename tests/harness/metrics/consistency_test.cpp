@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -129,6 +130,26 @@ TEST_CASE("the error series CSV has one row per estimate with errors, sigmas and
         "0.000000000,0.000000,0.000000,0.00000000,0.000000,0.000000,0.00000000,\n"
         // NEES = 0.1^2/0.04 + 0.2^2/0.09 + 0.05^2/0.01
         "0.015000000,0.100000,-0.200000,0.05000000,0.200000,0.300000,0.10000000,0.944444\n");
+}
+
+TEST_CASE("the error series CSV leaves a value that is not finite empty, never nan", "[metrics]") {
+  const std::vector<TruthPose> truth = {
+      {0, SE2(0.0, 0.0, 0.0)}, {kGridNs, SE2(1.0, 0.0, 0.2)}, {2 * kGridNs, SE2(2.0, 0.0, 0.4)}};
+  PipelineRecord record;
+  record.name = "csv";
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  // Covariances with NaN and infinite variances: no sigma there, no NEES. (Estimates that are
+  // not finite have no row: MatchToTruth counts and skips them.)
+  record.estimates.push_back({0, SE2(0.1, 0.0, 0.0), Vector3d(0.04, nan, inf).asDiagonal()});
+  record.estimates.push_back({kGridNs, SE2(1.0, 0.1, 0.2), Vector3d(0.04, 0.09, nan).asDiagonal()});
+  const std::string csv = ErrorSeriesCsv(truth, record);
+  CHECK(csv ==
+        "t,ex_m,ey_m,eyaw_rad,sigma_x_m,sigma_y_m,sigma_yaw_rad,nees\n"
+        "0.000000000,0.100000,0.000000,0.00000000,0.200000,,,\n"
+        "0.010000000,0.000000,0.100000,0.00000000,0.200000,0.300000,,\n");
+  CHECK(csv.find("nan") == std::string::npos);
+  CHECK(csv.find("inf") == std::string::npos);
 }
 
 }  // namespace
