@@ -4,8 +4,9 @@
 #   test      runs the whole test suite (Release build)
 #   sanitize  runs the unit tests under AddressSanitizer + UndefinedBehaviorSanitizer
 #   fuzz [SECONDS]  builds the libFuzzer targets with clang (build-fuzz/) and runs each for
-#             SECONDS (default 60 per target) on a copy of its seed corpus (docs/fuzzing.md);
-#             fails on a crash, a leak, an input slower than 1 s or over 2 GiB
+#             SECONDS (default 60 per target), as many at a time as build jobs, on a copy of its seed corpus
+#             (docs/fuzzing.md); fails on a crash, a leak, an input slower than its timeout (1 s
+#             unless fuzz/CMakeLists.txt says otherwise) or over 2 GiB
 #   build     only builds
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -37,13 +38,13 @@ timed() {
 # Runs every fuzz target of build-fuzz/fuzz/fuzzers.tsv for $1 seconds each, $jobs at a time
 # (each is one process); the corpus each run grows and any crash input stay under
 # build-fuzz/fuzz-runs/<target>/.
-run_one_fuzzer() {  # seconds name binary corpus dict
-  local seconds="$1" name="$2" binary="$3" corpus="$4" dict="$5"
+run_one_fuzzer() {  # seconds name binary corpus dict timeout
+  local seconds="$1" name="$2" binary="$3" corpus="$4" dict="$5" timeout="$6"
   local work="build-fuzz/fuzz-runs/$name"
   rm -rf "$work"
   mkdir -p "$work/corpus" "$work/artifacts"
   cp -R "$corpus/." "$work/corpus/"
-  local args=(-max_total_time="$seconds" -timeout=1 -rss_limit_mb=2048 -detect_leaks=1
+  local args=(-max_total_time="$seconds" -timeout="$timeout" -rss_limit_mb=2048 -detect_leaks=1
               -print_final_stats=1 -artifact_prefix="$work/artifacts/")
   if [ "$dict" != "-" ]; then args+=(-dict="$dict"); fi
   ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
@@ -52,12 +53,12 @@ run_one_fuzzer() {  # seconds name binary corpus dict
 }
 
 run_fuzzers() {
-  local seconds="$1" failed=0 name binary corpus dict
+  local seconds="$1" failed=0 name binary corpus dict timeout
   local names=() pids=()
-  while IFS=$'\t' read -r name binary corpus dict; do
+  while IFS=$'\t' read -r name binary corpus dict timeout; do
     while [ "$(jobs -rp | wc -l)" -ge "$jobs" ]; do wait -n || true; done
     echo "fuzz: $name for ${seconds} s (corpus build-fuzz/fuzz-runs/$name/corpus, crashes build-fuzz/fuzz-runs/$name/artifacts)"
-    run_one_fuzzer "$seconds" "$name" "$binary" "$corpus" "$dict" &
+    run_one_fuzzer "$seconds" "$name" "$binary" "$corpus" "$dict" "$timeout" &
     names+=("$name")
     pids+=("$!")
   done < build-fuzz/fuzz/fuzzers.tsv
