@@ -8,7 +8,7 @@ function(corridorsim_target_flags target)
     target_compile_options(${target} PRIVATE -Wno-restrict)
   endif()
   if(CORRIDORSIM_SANITIZE)
-    # After the build type's flags, so these win: -Og -g1 by default (docs/ci.md).
+    # After the build type's flags, so these win: -O1 -g1 by default (docs/ci.md).
     target_compile_options(${target} PRIVATE -fsanitize=address,undefined -fno-omit-frame-pointer
                                              -fno-sanitize-recover=undefined
                                              ${CORRIDORSIM_SANITIZE_COMPILE_FLAGS})
