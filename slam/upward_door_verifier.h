@@ -96,11 +96,12 @@ struct DoorVerifierOptions {
   double converged_sigma_m = 0.05;  // column positions known to this: verify
   double verify_baseline_m = 0.3;   // camera travel between the plane's points and the test
   double mhd_threshold_px = 5.0;    // H(A, B) above it: open (P3 eq. 9's threshold)
-  // Depths behind the columns' plane at which a closed door's leaf may stand (ours): from the
-  // frame's face to the wall's thickness behind it (docs/p3.md). Deeper depths cost recall: the
-  // deeper the plane, the less of it two oblique views share.
+  // Depths behind the columns' plane at which a closed door's leaf may stand (ours): the shipped
+  // worlds' leaves are 0.085 m behind the frame's face, the filter's columns 0.04-0.09 m behind
+  // it (docs/p3.md). Deeper depths cost recall: the deeper the plane, the less of it two oblique
+  // views share.
   double min_leaf_depth_m = 0.0;
-  double max_leaf_depth_m = 0.15;
+  double max_leaf_depth_m = 0.1;
   double leaf_depth_step_m = 0.025;
   double opening_margin = 0.15;  // of the opening left out at each side (the frame's edges)
   int min_edge_points = 80;      // fewer in A or B: no decision in this frame
