@@ -215,7 +215,9 @@ std::optional<OptionsProblem> DoorVerifierOptions::Check() const {
     return OptionsProblem{"max_door_width_m", "must be at least min_door_width_m"};
   }
   if (max_leaf_depth_m < min_leaf_depth_m) {
-    return OptionsProblem{"max_leaf_depth_m", "must be at least min_leaf_depth_m"};
+    return OptionsProblem{"max_leaf_depth_m", "must be at least min_leaf_depth_m (got " +
+                                                  FormatNumber(max_leaf_depth_m) + " < " +
+                                                  FormatNumber(min_leaf_depth_m) + ")"};
   }
   if ((max_leaf_depth_m - min_leaf_depth_m) / leaf_depth_step_m > kMaxLeafDepths - 1) {
     return OptionsProblem{"leaf_depth_step_m",

@@ -419,6 +419,24 @@ TEST_CASE("door verifier: a leaf in the wall's thickness is closed from either s
   CHECK(o->state == slam::DoorTrackState::kOpen);
 }
 
+TEST_CASE("door verifier: the leaf depths are checked and bounded", "[doors][verifier]") {
+  slam::DoorVerifierOptions o;
+  CHECK_FALSE(o.Check());
+  o.max_leaf_depth_m = -0.1;
+  REQUIRE(o.Check());
+  CHECK(o.Check()->key == "max_leaf_depth_m");
+  CHECK(o.Check()->message.find("(got -0.1 < 0)") != std::string::npos);
+  o = {};
+  o.leaf_depth_step_m = 0.0001;  // 1001 depths between 0 and 0.1 m
+  REQUIRE(o.Check());
+  CHECK(o.Check()->key == "leaf_depth_step_m");
+  CHECK(o.Check()->message.find("(got 0.0001)") != std::string::npos);
+  o.leaf_depth_step_m = 0.001;  // 101 depths
+  REQUIRE(o.Check());
+  o.leaf_depth_step_m = 0.1 / 99;  // 100 depths: the most
+  CHECK_FALSE(o.Check());
+}
+
 TEST_CASE("door verifier: the same frames give the same result", "[doors][verifier]") {
   const std::optional<slam::DoorTrackReport> a = DrivePast(Door{}, 2.0, {});
   const std::optional<slam::DoorTrackReport> b = DrivePast(Door{}, 2.0, {});
