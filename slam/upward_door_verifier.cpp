@@ -14,6 +14,8 @@ namespace corridorsim::slam {
 namespace {
 
 constexpr int kMaxLeafDepths = 100;  // leaf depths tried at most (DoorVerifierOptions::Check)
+// A verifying track's columns may move this many converged_sigma_m off the plane's.
+constexpr double kMaxColumnShift = 4.0;
 
 // The leaf depths tried: min_leaf_depth_m, then every leaf_depth_step_m up to max_leaf_depth_m.
 std::size_t LeafDepths(const DoorVerifierOptions& o) {
@@ -280,6 +282,7 @@ void UpwardDoorVerifier::Weigh(Track* track, const Sighting& s, const SE3& world
   const Eigen::Vector3d c = world_from_camera.translation();
   const std::size_t n = track->particles.size();
   double total = 0.0;
+  std::vector<double> weights(n);
   for (std::size_t k = 0; k < n; ++k) {
     const DoorParticle& p = track->particles[k];
     double w = track->weights[k];
@@ -294,17 +297,19 @@ void UpwardDoorVerifier::Weigh(Track* track, const Sighting& s, const SE3& world
       w *= Likelihood(options_.sensor_model, elevation - elevations[i],
                       options_.elevation_error_rad);
     }
-    track->weights[k] = w;
+    weights[k] = w;
     total += w;
   }
   if (!(total > 1e-300)) {
-    // No sample explains the sighting (a triangular model's zero, or a jump): start again from
-    // it, and from estimating (a plane taken for the old columns tests nothing of the new).
+    // No sample explains the sighting (a triangular model's zero, or a jump). Columns already
+    // known (kVerifying) keep their samples: the sighting is an outlier (P2's triangular model
+    // gives several per door). Otherwise start again from it.
+    if (track->state == DoorTrackState::kVerifying) return;
     track->bar_coverages.clear();
-    Restart(track);
     Initialise(track, s, world_from_camera);
     return;
   }
+  track->weights = std::move(weights);
   double sum_sq = 0.0;
   for (double& w : track->weights) {
     w /= total;
@@ -462,11 +467,11 @@ bool UpwardDoorVerifier::Test(Track* track, const cv::Mat& edges,
     }
   }
   // The columns tested are the ones the plane was taken for: a track whose samples have moved
-  // off them (later sightings, a wrong pairing continuing it) or spread again is estimated
-  // again; one no longer of a door's size is not a door.
+  // off them (a wrong pairing continuing it; later sightings refine them by a few centimetres)
+  // or spread again is estimated again; one no longer of a door's size is not a door.
   const DoorTrackReport now = Report(*track);
   if ((now.columns - track->plane_columns).cwiseAbs().maxCoeff() >
-          2.0 * options_.converged_sigma_m ||
+          kMaxColumnShift * options_.converged_sigma_m ||
       std::sqrt(now.covariance.diagonal().maxCoeff()) > 2.0 * options_.converged_sigma_m) {
     Restart(track);
     return false;
@@ -529,12 +534,18 @@ bool UpwardDoorVerifier::Test(Track* track, const cv::Mat& edges,
         seen.push_back(observed[i]);
       }
     }
-    // Too little seen by both views: this depth is neither confirmed nor ruled out now.
-    if (int(predicted.size()) < options_.min_edge_points ||
-        int(seen.size()) < options_.min_edge_points) {
+    // Too little seen by both views: this depth is neither confirmed nor ruled out now. H of
+    // fewer points is noisier (closed doors seen with 37-54 points gave 5-7 px): with half
+    // min_edge_points a depth can only be ruled out, at twice the threshold.
+    const int shared = int(std::min(predicted.size(), seen.size()));
+    if (2 * shared < options_.min_edge_points) continue;
+    const double h = Hausdorff(predicted, seen, size);
+    if (shared < options_.min_edge_points) {
+      if (h > 2.0 * options_.mhd_threshold_px && !(h >= track->ruled_out_px[k])) {
+        track->ruled_out_px[k] = h;
+      }
       continue;
     }
-    const double h = Hausdorff(predicted, seen, size);
     if (h < best) {
       best = h;
       best_k = k;

@@ -35,9 +35,11 @@
 // out by a frame in which both sets have min_edge_points and H is above the threshold; the door
 // is open once every depth is ruled out (over one or more frames), closed as soon as one depth
 // explains both views, undecided while a depth has not been seen well enough by both.
-// At each test the samples must still put the columns where they were when the plane was taken
-// (within 2 converged_sigma_m, spread below it), or the track is estimated again; and the door's
-// size and bar coverage are checked again (a wrong pairing continuing a track moves it).
+// Ruling a depth out takes min_edge_points in both sets, or half of them at twice the threshold
+// (H of fewer points is noisier). Once the columns are known, a sighting no sample explains is
+// an outlier (ignored); at each test the samples must still put the columns within
+// 4 converged_sigma_m of where they were when the plane was taken, spread below 2, or the track
+// is estimated again; and the door's size and bar coverage are checked again.
 //
 // Deterministic: the samples come from a RandomStream seeded by `seed`.
 
