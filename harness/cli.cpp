@@ -731,8 +731,9 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
     r.force = train_force;
     if (train_seed_option->count() > 0) r.seed = ParseSeedArgument(train_seed, "--seed");
     const auto count = [](const std::string& text, int max, const std::string& flag) {
-      const double v = ParseNumberArgument(text, max, flag);
-      if (v != std::floor(v) || v < 1)
+      // Parsed up to any int, so that the bound named is the count's, not the parser's.
+      const double v = ParseNumberArgument(text, std::numeric_limits<int>::max(), flag);
+      if (v != std::floor(v) || v < 1 || v > max)
         Fail(flag, "must be a whole number in [1, " + std::to_string(max) + "] " + Got(text));
       return static_cast<int>(v);
     };
@@ -762,8 +763,9 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
     DatasetRequest& r = parsed.dataset;
     dataset_options.Resolve(&r);
     const auto count = [](const std::string& text, int max, const std::string& flag) {
-      const double v = ParseNumberArgument(text, max, flag);
-      if (v != std::floor(v) || v < 1)
+      // Parsed up to any int, so that the bound named is the count's, not the parser's.
+      const double v = ParseNumberArgument(text, std::numeric_limits<int>::max(), flag);
+      if (v != std::floor(v) || v < 1 || v > max)
         Fail(flag, "must be a whole number in [1, " + std::to_string(max) + "] " + Got(text));
       return static_cast<int>(v);
     };
@@ -844,8 +846,9 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
     StudyRequest& r = parsed.study;
     study_options.Resolve(&r);
     const auto whole = [](const std::string& text, int max, const std::string& flag) {
-      const double v = ParseNumberArgument(text, max, flag);
-      if (v != std::floor(v) || v < 1)
+      // Parsed up to any int, so that the bound named is the count's, not the parser's.
+      const double v = ParseNumberArgument(text, std::numeric_limits<int>::max(), flag);
+      if (v != std::floor(v) || v < 1 || v > max)
         Fail(flag, "must be a whole number in [1, " + std::to_string(max) + "] " + Got(text));
       return static_cast<int>(v);
     };

@@ -8,8 +8,20 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "common/options_checker.h"
+
 namespace corridorsim::slam {
 namespace {
+
+constexpr int kMaxLeafDepths = 100;  // leaf depths tried at most (DoorVerifierOptions::Check)
+// A verifying track's columns may move this many converged_sigma_m off the plane's.
+constexpr double kMaxColumnShift = 4.0;
+
+// The leaf depths tried: min_leaf_depth_m, then every leaf_depth_step_m up to max_leaf_depth_m.
+std::size_t LeafDepths(const DoorVerifierOptions& o) {
+  const double steps = (o.max_leaf_depth_m - o.min_leaf_depth_m) / o.leaf_depth_step_m;
+  return std::size_t(std::clamp(int(std::floor(steps + 1e-9)) + 1, 1, kMaxLeafDepths));
+}
 
 // The sensor model's factor for an error (P3 Fig. 8d: Gaussian; P2: triangular).
 double Likelihood(DoorSensorModel model, double error, double scale) {
@@ -19,25 +31,73 @@ double Likelihood(DoorSensorModel model, double error, double scale) {
 }
 
 // Mean over `from` of the distance to the nearest point of `to` (P3 eq. 9's h_mod), by the
-// distance transform of `to` drawn in an image of `size`.
+// distance transform of `to` drawn in the box `roi` of the image that holds both sets (the
+// nearest point of `to` lies in it, so the distances are those of the whole image).
 double ModifiedHausdorff(const std::vector<Eigen::Vector2d>& from,
-                         const std::vector<Eigen::Vector2d>& to, const cv::Size& size) {
-  cv::Mat image(size, CV_8UC1, cv::Scalar(255));
-  for (const Eigen::Vector2d& p : to) {
-    const int u = int(std::lround(p.x())), v = int(std::lround(p.y()));
-    if (u >= 0 && v >= 0 && u < size.width && v < size.height) image.at<std::uint8_t>(v, u) = 0;
-  }
+                         const std::vector<Eigen::Vector2d>& to, const cv::Rect& roi) {
+  if (from.empty()) return 0.0;
+  cv::Mat image(roi.size(), CV_8UC1, cv::Scalar(255));
+  const auto cell = [&](const Eigen::Vector2d& p) {
+    return cv::Point(std::clamp(int(std::lround(p.x())) - roi.x, 0, roi.width - 1),
+                     std::clamp(int(std::lround(p.y())) - roi.y, 0, roi.height - 1));
+  };
+  for (const Eigen::Vector2d& p : to) image.at<std::uint8_t>(cell(p)) = 0;
   cv::Mat distance;
   cv::distanceTransform(image, distance, cv::DIST_L2, cv::DIST_MASK_PRECISE);
   double sum = 0.0;
-  for (const Eigen::Vector2d& p : from) {
-    const int u = std::clamp(int(std::lround(p.x())), 0, size.width - 1);
-    const int v = std::clamp(int(std::lround(p.y())), 0, size.height - 1);
-    sum += distance.at<float>(v, u);
-  }
-  return from.empty() ? 0.0 : sum / double(from.size());
+  for (const Eigen::Vector2d& p : from) sum += distance.at<float>(cell(p));
+  return sum / double(from.size());
 }
 
+// H(A, B) = max(h_mod(A, B), h_mod(B, A)) (P3 eq. 9) of two sets of pixels of an image of `size`.
+double Hausdorff(const std::vector<Eigen::Vector2d>& a, const std::vector<Eigen::Vector2d>& b,
+                 const cv::Size& size) {
+  double min_u = size.width, min_v = size.height, max_u = 0.0, max_v = 0.0;
+  for (const auto* set : {&a, &b}) {
+    for (const Eigen::Vector2d& p : *set) {
+      min_u = std::min(min_u, p.x());
+      min_v = std::min(min_v, p.y());
+      max_u = std::max(max_u, p.x());
+      max_v = std::max(max_v, p.y());
+    }
+  }
+  const int u0 = std::clamp(int(std::floor(min_u)) - 1, 0, size.width - 1);
+  const int v0 = std::clamp(int(std::floor(min_v)) - 1, 0, size.height - 1);
+  const int u1 = std::clamp(int(std::ceil(max_u)) + 1, u0, size.width - 1);
+  const int v1 = std::clamp(int(std::ceil(max_v)) + 1, v0, size.height - 1);
+  const cv::Rect roi(u0, v0, u1 - u0 + 1, v1 - v0 + 1);
+  return std::max(ModifiedHausdorff(a, b, roi), ModifiedHausdorff(b, a, roi));
+}
+
+// The opening of a door hypothesis on the floor plan: column a at d1, column b at d1 + along,
+// the tops at `height`; `normal` (unit) points from the columns' plane to the side the first
+// view saw it from (the corridor). The plane `depth` behind it: normal . (x - d1) = -depth.
+struct Opening {
+  Eigen::Vector2d d1 = Eigen::Vector2d::Zero();
+  Eigen::Vector2d along = Eigen::Vector2d::Zero();
+  Eigen::Vector2d normal = Eigen::Vector2d::Zero();
+  double height = 0.0;
+  double margin = 0.0;  // of the opening left out at each side and at the top
+
+  // The ray c + t r meets the plane `depth` behind the columns at t (P3 eq. 8); NaN when
+  // parallel to it.
+  double Meet(const Eigen::Vector3d& c, const Eigen::Vector3d& r, double depth) const {
+    const double denominator = normal.dot(r.head<2>());
+    if (std::abs(denominator) < 1e-9) return std::numeric_limits<double>::quiet_NaN();
+    return -(normal.dot(c.head<2>() - d1) + depth) / denominator;
+  }
+  // Whether a point lies inside the opening (less the margins) seen along the plane's normal.
+  bool Inside(const Eigen::Vector3d& p) const {
+    const double s = (p.head<2>() - d1).dot(along) / along.squaredNorm();
+    return s >= margin && s <= 1.0 - margin && p.z() >= 0.0 && p.z() <= height * (1.0 - margin);
+  }
+  // Whether a camera at c sees the point p (behind the columns, or a little in front of them)
+  // through the opening: the line from c to p crosses the columns' plane inside it.
+  bool SeenThrough(const Eigen::Vector3d& c, const Eigen::Vector3d& p) const {
+    const double t = Meet(c, p - c, 0.0);
+    return t > 0.0 && Inside(c + t * (p - c));
+  }
+};
 }  // namespace
 
 struct UpwardDoorVerifier::Sighting {
@@ -110,6 +170,18 @@ const OptionTable<DoorVerifierOptions>& DoorVerifierOptionsTable() {
           "Hausdorff distance of the prediction above which a candidate is open (P3 eq. 9)")
         .Greater(0)
         .Range(0, 10000);
+    t.Add("min_leaf_depth_m", &O::min_leaf_depth_m, "m",
+          "shallowest depth behind the columns' plane at which a closed door's leaf is tried "
+          "(negative: in front of it)")
+        .Range(-1, 1);
+    t.Add("max_leaf_depth_m", &O::max_leaf_depth_m, "m",
+          "deepest depth behind the columns' plane at which a closed door's leaf is tried")
+        .Range(-1, 1)
+        .Note(">= min_leaf_depth_m");
+    t.Add("leaf_depth_step_m", &O::leaf_depth_step_m, "m", "step between the leaf depths tried")
+        .Greater(0)
+        .Range(0, 1)
+        .Note("at most 100 depths");
     t.Add("opening_margin", &O::opening_margin, "",
           "fraction of the opening left out at each side (the frame's own edges)")
         .Range(0, 0.45);
@@ -143,6 +215,17 @@ std::optional<OptionsProblem> DoorVerifierOptions::Check() const {
   }
   if (max_door_width_m < min_door_width_m) {
     return OptionsProblem{"max_door_width_m", "must be at least min_door_width_m"};
+  }
+  if (max_leaf_depth_m < min_leaf_depth_m) {
+    return OptionsProblem{"max_leaf_depth_m", "must be at least min_leaf_depth_m (got " +
+                                                  FormatNumber(max_leaf_depth_m) + " < " +
+                                                  FormatNumber(min_leaf_depth_m) + ")"};
+  }
+  if ((max_leaf_depth_m - min_leaf_depth_m) / leaf_depth_step_m > kMaxLeafDepths - 1) {
+    return OptionsProblem{"leaf_depth_step_m",
+                          "gives more than 100 leaf depths between min_leaf_depth_m and "
+                          "max_leaf_depth_m (got " +
+                              FormatNumber(leaf_depth_step_m) + ")"};
   }
   return std::nullopt;
 }
@@ -199,6 +282,7 @@ void UpwardDoorVerifier::Weigh(Track* track, const Sighting& s, const SE3& world
   const Eigen::Vector3d c = world_from_camera.translation();
   const std::size_t n = track->particles.size();
   double total = 0.0;
+  std::vector<double> weights(n);
   for (std::size_t k = 0; k < n; ++k) {
     const DoorParticle& p = track->particles[k];
     double w = track->weights[k];
@@ -213,15 +297,19 @@ void UpwardDoorVerifier::Weigh(Track* track, const Sighting& s, const SE3& world
       w *= Likelihood(options_.sensor_model, elevation - elevations[i],
                       options_.elevation_error_rad);
     }
-    track->weights[k] = w;
+    weights[k] = w;
     total += w;
   }
   if (!(total > 1e-300)) {
-    // No sample explains the sighting (a triangular model's zero, or a jump): start again from it.
+    // No sample explains the sighting (a triangular model's zero, or a jump). Columns already
+    // known (kVerifying) keep their samples: the sighting is an outlier (P2's triangular model
+    // gives several per door). Otherwise start again from it.
+    if (track->state == DoorTrackState::kVerifying) return;
     track->bar_coverages.clear();
     Initialise(track, s, world_from_camera);
     return;
   }
+  track->weights = std::move(weights);
   double sum_sq = 0.0;
   for (double& w : track->weights) {
     w /= total;
@@ -243,11 +331,37 @@ void UpwardDoorVerifier::Weigh(Track* track, const Sighting& s, const SE3& world
   track->weights.assign(n, step);
 }
 
+double UpwardDoorVerifier::TopHeight(const Track& track) {
+  double height = 0.0;
+  for (std::size_t k = 0; k < track.particles.size(); ++k) {
+    height += track.weights[k] * track.particles[k](4);
+  }
+  return height;
+}
+
+bool UpwardDoorVerifier::DoorSized(const Track& track, const Eigen::Vector4d& columns,
+                                   double height) const {
+  const double width = (columns.head<2>() - columns.tail<2>()).norm();
+  std::vector<double> coverage = track.bar_coverages;
+  const auto middle = coverage.begin() + std::ptrdiff_t(coverage.size() / 2);
+  if (!coverage.empty()) std::nth_element(coverage.begin(), middle, coverage.end());
+  return height >= options_.min_door_top_m && height <= options_.max_door_top_m &&
+         width >= options_.min_door_width_m && width <= options_.max_door_width_m &&
+         (coverage.empty() || *middle >= options_.min_median_bar_coverage);
+}
+
+void UpwardDoorVerifier::Restart(Track* track) {
+  track->state = DoorTrackState::kEstimating;
+  track->plane_rays.clear();
+  track->ruled_out_px.clear();
+}
+
 DoorTrackReport UpwardDoorVerifier::Report(const Track& track) const {
   DoorTrackReport r;
   r.track_id = track.id;
   r.state = track.state;
   r.hausdorff_px = track.hausdorff_px;
+  r.leaf_depth_m = track.leaf_depth_m;
   Eigen::Vector4d mean = Eigen::Vector4d::Zero();
   for (std::size_t k = 0; k < track.particles.size(); ++k) {
     mean += track.weights[k] * track.particles[k].head<4>();
@@ -341,7 +455,8 @@ void UpwardDoorVerifier::Spread(const Track& track, const Eigen::Vector3d& c,
 bool UpwardDoorVerifier::Test(Track* track, const cv::Mat& edges,
                               const SE3& world_from_camera) const {
   const Eigen::Vector3d c = world_from_camera.translation();
-  if ((c.head<2>() - track->plane_camera_xy).norm() < options_.verify_baseline_m) return false;
+  const Eigen::Vector3d c0 = track->plane_view.translation();
+  if ((c.head<2>() - c0.head<2>()).norm() < options_.verify_baseline_m) return false;
   // Free space: a column where the robot has been is no door's.
   const Eigen::Vector4d columns = Report(*track).columns;
   for (const Eigen::Vector2d& xy : path_) {
@@ -351,26 +466,115 @@ bool UpwardDoorVerifier::Test(Track* track, const cv::Mat& edges,
       return true;
     }
   }
-  // P3 eq. 9 between the prediction A and the new observation B.
-  const Eigen::Matrix3d camera_from_world = world_from_camera.rotation().transpose();
-  std::vector<Eigen::Vector2d> predicted;
-  for (const Eigen::Vector3d& p : track->plane_points) {
-    const std::optional<Eigen::Vector2d> px = model_.Project(camera_from_world * (p - c));
-    if (px && model_.IsInImage(*px)) predicted.push_back(*px);
-  }
-  std::vector<Eigen::Vector2d> observed;
-  std::vector<Eigen::Vector3d> unused;
-  EdgesInOpening(edges, world_from_camera, track->plane_columns, track->plane_height, &observed,
-                 &unused);
-  if (int(predicted.size()) < options_.min_edge_points ||
-      int(observed.size()) < options_.min_edge_points) {
+  // The columns tested are the ones the plane was taken for: a track whose samples have moved
+  // off them (a wrong pairing continuing it; later sightings refine them by a few centimetres)
+  // or spread again is estimated again; one no longer of a door's size is not a door.
+  const DoorTrackReport now = Report(*track);
+  if ((now.columns - track->plane_columns).cwiseAbs().maxCoeff() >
+          kMaxColumnShift * options_.converged_sigma_m ||
+      std::sqrt(now.covariance.diagonal().maxCoeff()) > 2.0 * options_.converged_sigma_m) {
+    Restart(track);
     return false;
   }
+  if (!DoorSized(*track, now.columns, TopHeight(*track))) {
+    track->state = DoorTrackState::kClosed;
+    return true;
+  }
+  // The opening the plane's rays were taken through, its normal toward the first view.
+  Opening opening;
+  opening.d1 = track->plane_columns.head<2>();
+  opening.along = track->plane_columns.tail<2>() - opening.d1;
+  if (!(opening.along.norm() > 1e-3)) return false;
+  opening.normal = Eigen::Vector2d(-opening.along.y(), opening.along.x()).normalized();
+  if (opening.normal.dot(c0.head<2>() - opening.d1) < 0.0) opening.normal = -opening.normal;
+  opening.height = track->plane_height;
+  opening.margin = options_.opening_margin;
+
+  // The edge pixels now inside the opening, and their rays.
+  std::vector<Eigen::Vector2d> observed;
+  std::vector<Eigen::Vector3d> on_plane;
+  EdgesInOpening(edges, world_from_camera, track->plane_columns, track->plane_height, &observed,
+                 &on_plane);
+  const Eigen::Matrix3d camera_from_world = world_from_camera.rotation().transpose();
+  const Eigen::Matrix3d first_from_world = track->plane_view.rotation().transpose();
   const cv::Size size(edges.cols, edges.rows);
-  track->hausdorff_px = std::max(ModifiedHausdorff(predicted, observed, size),
-                                 ModifiedHausdorff(observed, predicted, size));
-  track->state = track->hausdorff_px > options_.mhd_threshold_px ? DoorTrackState::kOpen
-                                                                 : DoorTrackState::kClosed;
+  const auto in_first_image = [&](const Eigen::Vector3d& p) {
+    const std::optional<Eigen::Vector2d> px = model_.Project(first_from_world * (p - c0));
+    return px && model_.IsInImage(*px);
+  };
+
+  // P3 eq. 9 between the prediction A and the observation B, at each leaf depth, over what both
+  // views saw through the opening. A depth at which A and B agree makes the door closed; one
+  // at which they do not is ruled out for the rest of the test.
+  const std::size_t depths = LeafDepths(options_);
+  if (track->ruled_out_px.size() != depths) {
+    track->ruled_out_px.assign(depths, std::numeric_limits<double>::quiet_NaN());
+  }
+  std::vector<Eigen::Vector2d> predicted, seen;
+  double best = std::numeric_limits<double>::infinity();
+  std::size_t best_k = 0;
+  for (std::size_t k = 0; k < depths; ++k) {
+    const double depth = options_.min_leaf_depth_m + double(k) * options_.leaf_depth_step_m;
+    predicted.clear();
+    seen.clear();
+    for (const Eigen::Vector3d& ray : track->plane_rays) {
+      const double t = opening.Meet(c0, ray, depth);
+      if (!(t > 0.0)) continue;
+      const Eigen::Vector3d p = c0 + t * ray;
+      if (!opening.Inside(p) || !opening.SeenThrough(c, p)) continue;
+      const std::optional<Eigen::Vector2d> px = model_.Project(camera_from_world * (p - c));
+      if (px && model_.IsInImage(*px)) predicted.push_back(*px);
+    }
+    for (std::size_t i = 0; i < observed.size(); ++i) {
+      const Eigen::Vector3d ray = on_plane[i] - c;
+      const double t = opening.Meet(c, ray, depth);
+      if (!(t > 0.0)) continue;
+      const Eigen::Vector3d p = c + t * ray;
+      if (opening.Inside(p) && opening.SeenThrough(c0, p) && in_first_image(p)) {
+        seen.push_back(observed[i]);
+      }
+    }
+    // Too little seen by both views: this depth is neither confirmed nor ruled out now. H of
+    // fewer points is noisier (closed doors seen with 37-54 points gave 5-7 px): with half
+    // min_edge_points a depth can only be ruled out, at twice the threshold.
+    const int shared = int(std::min(predicted.size(), seen.size()));
+    if (2 * shared < options_.min_edge_points) continue;
+    const double h = Hausdorff(predicted, seen, size);
+    if (shared < options_.min_edge_points) {
+      if (h > 2.0 * options_.mhd_threshold_px && !(h >= track->ruled_out_px[k])) {
+        track->ruled_out_px[k] = h;
+      }
+      continue;
+    }
+    if (h < best) {
+      best = h;
+      best_k = k;
+    }
+    if (h > options_.mhd_threshold_px && !(h >= track->ruled_out_px[k])) {
+      track->ruled_out_px[k] = h;
+    }
+  }
+  if (best <= options_.mhd_threshold_px) {
+    // A leaf at this depth explains what both views saw: closed.
+    track->hausdorff_px = best;
+    track->leaf_depth_m = options_.min_leaf_depth_m + double(best_k) * options_.leaf_depth_step_m;
+    track->state = DoorTrackState::kClosed;
+    return true;
+  }
+  // Open once every depth has been ruled out (in this frame or an earlier one of the test): H
+  // is then the least of the distances that ruled them out.
+  double least = std::numeric_limits<double>::infinity();
+  std::size_t least_k = 0;
+  for (std::size_t k = 0; k < depths; ++k) {
+    if (std::isnan(track->ruled_out_px[k])) return false;
+    if (track->ruled_out_px[k] < least) {
+      least = track->ruled_out_px[k];
+      least_k = k;
+    }
+  }
+  track->hausdorff_px = least;
+  track->leaf_depth_m = options_.min_leaf_depth_m + double(least_k) * options_.leaf_depth_step_m;
+  track->state = DoorTrackState::kOpen;
   return true;
 }
 
@@ -518,6 +722,7 @@ std::vector<std::optional<DoorTrackReport>> UpwardDoorVerifier::Process(
       ++next_id_;
       track.last_frame = frame_;
       track.hausdorff_px = std::numeric_limits<double>::quiet_NaN();
+      track.leaf_depth_m = std::numeric_limits<double>::quiet_NaN();
       remember(&track, s);
       tracks_.push_back(std::move(track));
       track_taken.push_back(true);
@@ -538,17 +743,8 @@ std::vector<std::optional<DoorTrackReport>> UpwardDoorVerifier::Process(
       const double spread = std::sqrt(report.covariance.diagonal().maxCoeff());
       if (spread < options_.converged_sigma_m) {
         // The closed-door assumption (P3 Fig. 7): the opening's edge points on the plane.
-        double height = 0.0;
-        for (std::size_t k = 0; k < track.particles.size(); ++k) {
-          height += track.weights[k] * track.particles[k](4);
-        }
-        const double width = (report.columns.head<2>() - report.columns.tail<2>()).norm();
-        std::vector<double> coverage = track.bar_coverages;
-        const auto middle = coverage.begin() + std::ptrdiff_t(coverage.size() / 2);
-        if (!coverage.empty()) std::nth_element(coverage.begin(), middle, coverage.end());
-        if (height < options_.min_door_top_m || height > options_.max_door_top_m ||
-            width < options_.min_door_width_m || width > options_.max_door_width_m ||
-            (!coverage.empty() && *middle < options_.min_median_bar_coverage)) {
+        const double height = TopHeight(track);
+        if (!DoorSized(track, report.columns, height)) {
           // Not a door's size (a cabinet, a poster, columns of two different things).
           track.state = DoorTrackState::kClosed;
           report.state = track.state;
@@ -563,9 +759,9 @@ std::vector<std::optional<DoorTrackReport>> UpwardDoorVerifier::Process(
           const std::size_t stride = (points.size() + std::size_t(options_.max_edge_points) - 1) /
                                      std::size_t(options_.max_edge_points);
           for (std::size_t k = 0; k < points.size(); k += stride) {
-            track.plane_points.push_back(points[k]);
+            track.plane_rays.push_back((points[k] - c).normalized());
           }
-          track.plane_camera_xy = c.head<2>();
+          track.plane_view = world_from_camera;
           track.plane_columns = report.columns;
           track.plane_height = height;
           track.state = DoorTrackState::kVerifying;

@@ -22,6 +22,24 @@
 //   H(A, B) = max(h_mod(A, B), h_mod(B, A)),  h_mod(A, B) = mean over a of min over b |a - b|.
 // A closed door (a leaf, a cabinet, a bookshelf, a wall) matches its prediction; through an open
 // door the room beyond moves with parallax: H above mhd_threshold_px is an open door.
+// Beyond P3, a closed door's leaf stands in the wall's thickness, behind the columns' faces that
+// the filter finds (in the shipped worlds 0.085 m behind), and the wall's jambs hide a strip of
+// it at one side or the other as the camera passes: seen from either side of the door the leaf
+// moves against the plane through the columns as the room behind an open door does (tens of
+// pixels), and the jamb seen from one side is not there from the other. So the plane is tried
+// at the depths from min_leaf_depth_m to max_leaf_depth_m behind the columns (every
+// leaf_depth_step_m), and at each only what both views saw of it through the opening is
+// compared: a point of A or B counts when the line from each camera to it crosses the columns'
+// plane inside the opening. H is the least over the depths; the room behind an open door is
+// metres behind its columns, and no depth of the wall's thickness explains it. A depth is ruled
+// out by a frame in which both sets have min_edge_points and H is above the threshold; the door
+// is open once every depth is ruled out (over one or more frames), closed as soon as one depth
+// explains both views, undecided while a depth has not been seen well enough by both.
+// Ruling a depth out takes min_edge_points in both sets, or half of them at twice the threshold
+// (H of fewer points is noisier). Once the columns are known, a sighting no sample explains is
+// an outlier (ignored); at each test the samples must still put the columns within
+// 4 converged_sigma_m of where they were when the plane was taken, spread below 2, or the track
+// is estimated again; and the door's size and bar coverage are checked again.
 //
 // Deterministic: the samples come from a RandomStream seeded by `seed`.
 
@@ -80,9 +98,16 @@ struct DoorVerifierOptions {
   double converged_sigma_m = 0.05;  // column positions known to this: verify
   double verify_baseline_m = 0.3;   // camera travel between the plane's points and the test
   double mhd_threshold_px = 5.0;    // H(A, B) above it: open (P3 eq. 9's threshold)
-  double opening_margin = 0.15;     // of the opening left out at each side (the frame's edges)
-  int min_edge_points = 80;         // fewer in A or B: no decision in this frame
-  int max_edge_points = 3000;       // points kept on the plane at most
+  // Depths behind the columns' plane at which a closed door's leaf may stand (ours): the shipped
+  // worlds' leaves are 0.085 m behind the frame's face, the filter's columns 0.04-0.09 m behind
+  // it (docs/p3.md). Deeper depths cost recall: the deeper the plane, the less of it two oblique
+  // views share.
+  double min_leaf_depth_m = 0.0;
+  double max_leaf_depth_m = 0.1;
+  double leaf_depth_step_m = 0.025;
+  double opening_margin = 0.15;  // of the opening left out at each side (the frame's edges)
+  int min_edge_points = 80;      // fewer in A or B: no decision in this frame
+  int max_edge_points = 3000;    // points kept on the plane at most
   double canny_low = 50.0;
   double canny_high = 150.0;
   int forget_after_frames = 15;  // a track not seen for this many frames is dropped
@@ -107,6 +132,7 @@ struct DoorTrackReport {
   Eigen::Vector2d range_sigma_m = Eigen::Vector2d::Zero();      // of each column from the camera
   Eigen::Vector2d bearing_sigma_rad = Eigen::Vector2d::Zero();  // of each column's bearing
   double hausdorff_px = 0.0;            // H(A, B) of the decision (NaN before)
+  double leaf_depth_m = 0.0;            // the depth behind the columns of that least H (NaN before)
   std::vector<DoorParticle> particles;  // the cloud at the decision (decided_now only)
 };
 
@@ -149,12 +175,15 @@ class UpwardDoorVerifier {
     std::vector<DoorParticle> particles;
     std::vector<double> weights;
     int last_frame = 0;
-    // The plane's edge points (world) and the camera position they were seen from.
-    std::vector<Eigen::Vector3d> plane_points;
-    Eigen::Vector2d plane_camera_xy = Eigen::Vector2d::Zero();
+    // The rays (world) of the edge pixels in the opening and the view they were seen from.
+    std::vector<Eigen::Vector3d> plane_rays;
+    SE3 plane_view;
     Eigen::Vector4d plane_columns = Eigen::Vector4d::Zero();
     double plane_height = 0.0;
     double hausdorff_px = 0.0;
+    double leaf_depth_m = 0.0;
+    // Per leaf depth: the least H that ruled it out so far in the test (NaN: not yet).
+    std::vector<double> ruled_out_px;
     // The bar coverage of the track's candidates, the last kMaxSightings of them.
     std::vector<double> bar_coverages;
   };
@@ -164,11 +193,19 @@ class UpwardDoorVerifier {
   bool Initialise(Track* track, const Sighting& s, const SE3& world_from_camera);
   void Weigh(Track* track, const Sighting& s, const SE3& world_from_camera);
   DoorTrackReport Report(const Track& track) const;
+  // The weighted mean height of the samples' tops.
+  static double TopHeight(const Track& track);
+  // Whether converged columns and tops are a door's (the size bounds, the bar's median
+  // coverage).
+  bool DoorSized(const Track& track, const Eigen::Vector4d& columns, double height) const;
+  // Back to kEstimating, the plane and the test's results dropped.
+  static void Restart(Track* track);
   // Each column's range and bearing from the camera centre c: their spread over the samples,
   // about report->columns (Report's mean, set before).
   void Spread(const Track& track, const Eigen::Vector3d& c, DoorTrackReport* report) const;
   // P3 eq. 9 on a kVerifying track once the camera has moved verify_baseline_m from where the
-  // plane's points were seen: the track becomes kOpen or kClosed; false while undecided.
+  // plane's points were seen, at each leaf depth: the track becomes kOpen or kClosed; false
+  // while undecided.
   bool Test(Track* track, const cv::Mat& edges, const SE3& world_from_camera) const;
   // Edge pixels whose rays meet the plane of (columns, height) inside the opening; with their
   // points on the plane.

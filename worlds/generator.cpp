@@ -126,7 +126,9 @@ class Builder {
       return 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
     };
     const auto draw = [&] {
-      return Vector3d(rng.Uniform(0, 255), rng.Uniform(0, 255), rng.Uniform(0, 255));
+      // One draw per statement: the order of a call's arguments is the compiler's (docs/worlds.md).
+      const double b = rng.Uniform(0, 255), g = rng.Uniform(0, 255), r = rng.Uniform(0, 255);
+      return Vector3d(r, g, b);
     };
     const Vector3d plate = draw();
     for (int k = 0; k < 64; ++k) {
@@ -696,7 +698,8 @@ class Builder {
   // ---- floor and ceiling -------------------------------------------------------------------
   void BuildFloorAndCeiling() {
     const double tile = s_.ceiling.tile_size_m;
-    tile_offset_ = Vector2d(ceiling_rng_.Uniform(0, tile), ceiling_rng_.Uniform(0, tile));
+    const double offset_y = ceiling_rng_.Uniform(0, tile), offset_x = ceiling_rng_.Uniform(0, tile);
+    tile_offset_ = Vector2d(offset_x, offset_y);
     for (std::size_t i = 0; i < plan_.floor_cells.size(); ++i) {
       const AlignedBox2d& cell = plan_.floor_cells[i];
       const int floor_id = next_id_++;

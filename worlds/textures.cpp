@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <utility>
 
 #include <opencv2/imgproc.hpp>
 
@@ -73,11 +74,23 @@ void Wrapped(const cv::Mat& img, const cv::Point& c, int r, Draw&& draw) {
   }
 }
 
+// A colour of three channels drawn from [lo, hi] each, one draw per statement and the last
+// channel first: the order GCC gave the former `cv::Vec3d(rng.Uniform(..), ..)`, whose argument
+// order was the compiler's, so that clang and GCC builds draw the same textures.
+cv::Vec3d Colour(RandomStream& rng, std::pair<double, double> c0, std::pair<double, double> c1,
+                 std::pair<double, double> c2) {
+  const double v2 = rng.Uniform(c2.first, c2.second);
+  const double v1 = rng.Uniform(c1.first, c1.second);
+  const double v0 = rng.Uniform(c0.first, c0.second);
+  return {v0, v1, v2};
+}
+
 // Adds `count` dots of random size and darkness (speckles give corner detectors something);
 // dots across an edge continue on the other side (the texture wraps).
 void Speckle(RandomStream& rng, cv::Mat& img, int count, int max_radius, double max_darkening) {
   for (int k = 0; k < count; ++k) {
-    const cv::Point c(I(rng.Uniform(0, img.cols)), I(rng.Uniform(0, img.rows)));
+    const int cy = I(rng.Uniform(0, img.rows)), cx = I(rng.Uniform(0, img.cols));
+    const cv::Point c(cx, cy);
     const int r = static_cast<int>(rng.UniformInt(1, max_radius));
     const double f = 1.0 - rng.Uniform(0.3, 1.0) * max_darkening;
     const cv::Vec3b base =
@@ -123,13 +136,16 @@ void CentredText(cv::Mat& img, const std::string& text, const cv::Rect& box, int
 }  // namespace
 
 Image8 MakeWallTexture(RandomStream& rng, int size_px) {
-  const cv::Vec3d paint(rng.Uniform(200, 235), rng.Uniform(195, 230), rng.Uniform(180, 220));
-  cv::Mat noise = SmoothNoise(rng, size_px, 6) * 0.6 + SmoothNoise(rng, size_px, 24) * 0.4;
+  const cv::Vec3d paint = Colour(rng, {200, 235}, {195, 230}, {180, 220});
+  const cv::Mat coarse = SmoothNoise(rng, size_px, 24), fine = SmoothNoise(rng, size_px, 6);
+  cv::Mat noise = fine * 0.6 + coarse * 0.4;
   cv::Mat img = Tinted(noise, paint, 0.06);
   Speckle(rng, img, size_px * 3, 2, 0.25);
   for (int k = 0; k < 6; ++k) {  // scuffs
-    const cv::Point a(I(rng.Uniform(0, size_px)), I(rng.Uniform(0, size_px)));
-    const cv::Point b = a + cv::Point(I(rng.Uniform(-40, 40)), I(rng.Uniform(-8, 8)));
+    const int ay = I(rng.Uniform(0, size_px)), ax = I(rng.Uniform(0, size_px));
+    const cv::Point a(ax, ay);
+    const int dy = I(rng.Uniform(-8, 8)), dx = I(rng.Uniform(-40, 40));
+    const cv::Point b = a + cv::Point(dx, dy);
     Wrapped(img, a, 42, [&](const cv::Point& offset) {
       cv::line(img, a + offset, b + offset, Rgb(paint[0] * 0.7, paint[1] * 0.7, paint[2] * 0.7), 1,
                cv::LINE_AA);
@@ -139,12 +155,12 @@ Image8 MakeWallTexture(RandomStream& rng, int size_px) {
 }
 
 Image8 MakePlainWallTexture(RandomStream& rng, int size_px) {
-  const cv::Vec3d paint(rng.Uniform(200, 235), rng.Uniform(195, 230), rng.Uniform(180, 220));
+  const cv::Vec3d paint = Colour(rng, {200, 235}, {195, 230}, {180, 220});
   return ToImage(Tinted(SmoothNoise(rng, size_px, 4), paint, 0.03));
 }
 
 Image8 MakeFloorTexture(RandomStream& rng, int size_px, int tiles) {
-  const cv::Vec3d base(rng.Uniform(120, 170), rng.Uniform(115, 160), rng.Uniform(100, 150));
+  const cv::Vec3d base = Colour(rng, {120, 170}, {115, 160}, {100, 150});
   cv::Mat img = Tinted(SmoothNoise(rng, size_px, 16), base, 0.08);
   Speckle(rng, img, size_px * 6, 2, 0.4);
   const int step = size_px / tiles;
@@ -158,14 +174,14 @@ Image8 MakeFloorTexture(RandomStream& rng, int size_px, int tiles) {
 }
 
 Image8 MakeCeilingTexture(RandomStream& rng, int size_px, int tiles) {
-  const cv::Vec3d base(rng.Uniform(225, 240), rng.Uniform(225, 240), rng.Uniform(220, 235));
+  const cv::Vec3d base = Colour(rng, {225, 240}, {225, 240}, {220, 235});
   cv::Mat img = Tinted(SmoothNoise(rng, size_px, 8), base, 0.03);
   const int step = size_px / tiles;
   for (int ty = 0; ty < tiles; ++ty) {  // perforation dots per tile
     for (int tx = 0; tx < tiles; ++tx) {
       for (int k = 0; k < 40; ++k) {
-        const cv::Point c(tx * step + I(rng.Uniform(4, step - 4)),
-                          ty * step + I(rng.Uniform(4, step - 4)));
+        const int dy = I(rng.Uniform(4, step - 4)), dx = I(rng.Uniform(4, step - 4));
+        const cv::Point c(tx * step + dx, ty * step + dy);
         cv::circle(img, c, 1, Rgb(base[0] * 0.75, base[1] * 0.75, base[2] * 0.75), cv::FILLED);
       }
     }
@@ -181,18 +197,18 @@ Image8 MakeCeilingTexture(RandomStream& rng, int size_px, int tiles) {
 }
 
 Image8 MakeRoomCeilingTexture(RandomStream& rng, int size_px) {
-  const cv::Vec3d base(rng.Uniform(215, 235), rng.Uniform(210, 230), rng.Uniform(200, 225));
+  const cv::Vec3d base = Colour(rng, {215, 235}, {210, 230}, {200, 225});
   cv::Mat img = Tinted(SmoothNoise(rng, size_px, 10), base, 0.05);
   Speckle(rng, img, size_px * 2, 2, 0.3);
   return ToImage(img);
 }
 
 Image8 MakeDoorTexture(RandomStream& rng, int width_px, int height_px) {
-  const cv::Vec3d wood(rng.Uniform(120, 170), rng.Uniform(80, 110), rng.Uniform(40, 70));
+  const cv::Vec3d wood = Colour(rng, {120, 170}, {80, 110}, {40, 70});
   cv::Mat img(height_px, width_px, CV_8UC3, cv::Scalar(wood[0], wood[1], wood[2]));
   for (int x = 0; x < width_px; ++x) {  // grain: vertical streaks of varying darkness
-    const double f =
-        0.85 + 0.15 * std::sin(x * 0.35 + rng.Uniform(0, 0.8)) + rng.Uniform(-0.04, 0.04);
+    const double phase = rng.Uniform(0, 0.8), jitter = rng.Uniform(-0.04, 0.04);
+    const double f = 0.85 + 0.15 * std::sin(x * 0.35 + phase) + jitter;
     cv::line(img, {x, 0}, {x, height_px - 1}, Rgb(wood[0] * f, wood[1] * f, wood[2] * f));
   }
   Speckle(rng, img, width_px, 2, 0.3);
@@ -262,15 +278,17 @@ Image8 MakePlateTexture(RandomStream& rng, const std::string& room_number, doubl
 }
 
 Image8 MakePosterTexture(RandomStream& rng, const std::string& text, int width_px, int height_px) {
-  const cv::Vec3d bg(rng.Uniform(150, 255), rng.Uniform(150, 255), rng.Uniform(150, 255));
+  const cv::Vec3d bg = Colour(rng, {150, 255}, {150, 255}, {150, 255});
   cv::Mat img(height_px, width_px, CV_8UC3, cv::Scalar(bg[0], bg[1], bg[2]));
   for (int k = 0; k < 5; ++k) {  // blocks of colour
-    const cv::Rect r(I(rng.Uniform(0, width_px * 0.7)),
-                     I(rng.Uniform(height_px * 0.35, height_px * 0.85)),
-                     I(rng.Uniform(width_px * 0.1, width_px * 0.4)),
-                     I(rng.Uniform(height_px * 0.05, height_px * 0.2)));
-    cv::rectangle(img, r, Rgb(rng.Uniform(0, 255), rng.Uniform(0, 255), rng.Uniform(0, 255)),
-                  cv::FILLED);
+    // The last first (see Colour).
+    const int h = I(rng.Uniform(height_px * 0.05, height_px * 0.2));
+    const int w = I(rng.Uniform(width_px * 0.1, width_px * 0.4));
+    const int y = I(rng.Uniform(height_px * 0.35, height_px * 0.85));
+    const int x = I(rng.Uniform(0, width_px * 0.7));
+    const cv::Rect r(x, y, w, h);
+    const cv::Vec3d colour = Colour(rng, {0, 255}, {0, 255}, {0, 255});
+    cv::rectangle(img, r, Rgb(colour[0], colour[1], colour[2]), cv::FILLED);
   }
   const int font = kHersheyFonts[rng.UniformInt(0, 3)];
   CentredText(img, text, cv::Rect(0, 0, width_px, height_px / 3), font, Rgb(20, 20, 20), 0.8);
@@ -290,10 +308,11 @@ Image8 MakeNoticeBoardTexture(RandomStream& rng, const std::string& text, int wi
   for (int k = 0; k < 5; ++k) {  // pinned notes; the first carries the number
     const int w = I(rng.Uniform(width_px * 0.18, width_px * 0.3));
     const int h = I(w * rng.Uniform(1.0, 1.4));
-    const cv::Rect r(I(rng.Uniform(12, width_px - w - 12)), I(rng.Uniform(12, height_px - h - 12)),
-                     w, h);
-    cv::rectangle(cork, r, Rgb(rng.Uniform(230, 255), rng.Uniform(230, 255), rng.Uniform(180, 255)),
-                  cv::FILLED);
+    const int top = I(rng.Uniform(12, height_px - h - 12));
+    const int left = I(rng.Uniform(12, width_px - w - 12));
+    const cv::Rect r(left, top, w, h);
+    const cv::Vec3d note = Colour(rng, {230, 255}, {230, 255}, {180, 255});
+    cv::rectangle(cork, r, Rgb(note[0], note[1], note[2]), cv::FILLED);
     if (k == 0) {
       CentredText(cork, text, r, cv::FONT_HERSHEY_SIMPLEX, Rgb(10, 10, 10), 0.7);
     } else {
@@ -317,9 +336,9 @@ Image8 MakeBookshelfTexture(RandomStream& rng, int width_px, int height_px) {
     while (x < width_px - 10) {
       const int w = static_cast<int>(rng.UniformInt(6, 16));
       const int h = I(rng.Uniform(0.6, 1.0) * (bottom - top));
+      const cv::Vec3d spine = Colour(rng, {20, 230}, {20, 230}, {20, 230});
       cv::rectangle(img, cv::Rect(x, bottom - h, std::min(w, width_px - 6 - x), h),
-                    Rgb(rng.Uniform(20, 230), rng.Uniform(20, 230), rng.Uniform(20, 230)),
-                    cv::FILLED);
+                    Rgb(spine[0], spine[1], spine[2]), cv::FILLED);
       x += w + 1;
     }
     cv::rectangle(img, cv::Rect(0, (s + 1) * shelf_h - 4, width_px, 4), Rgb(80, 55, 30),

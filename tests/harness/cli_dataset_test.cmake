@@ -226,7 +226,9 @@ cli_run(EXIT 2 WHAT "missing scenario" STDERR "missing.yaml"
         NOT_EXISTS "${WORK_DIR}/bad" ARGS dataset "${WORK_DIR}/missing.yaml" --out "${WORK_DIR}/bad")
 cli_run(EXIT 2 WHAT "worlds 0" STDERR "command line: --worlds: must be a whole number in \\[1, 100000\\]"
         NOT_EXISTS "${WORK_DIR}/bad" ARGS dataset "${scenario}" --worlds 0 --out "${WORK_DIR}/bad")
-cli_run(EXIT 2 WHAT "frames 1e9" STDERR "command line: --frames-per-world: "
+cli_run(EXIT 2 WHAT "worlds one past the most" STDERR "command line: --worlds: must be a whole number in \\[1, 100000\\] \\(got '100001'\\)"
+        NOT_EXISTS "${WORK_DIR}/bad" ARGS dataset "${scenario}" --worlds 100001 --out "${WORK_DIR}/bad")
+cli_run(EXIT 2 WHAT "frames 1e9" STDERR "command line: --frames-per-world: must be a whole number in \\[1, 100000\\] \\(got .1e9.\\)"
         NOT_EXISTS "${WORK_DIR}/bad" ARGS dataset "${scenario}" --frames-per-world 1e9 --out "${WORK_DIR}/bad")
 cli_run(EXIT 2 WHAT "bad poses" STDERR "command line: --poses: expected path, random or plates"
         NOT_EXISTS "${WORK_DIR}/bad" ARGS dataset "${scenario}" --poses grid --out "${WORK_DIR}/bad")

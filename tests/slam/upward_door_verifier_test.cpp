@@ -4,10 +4,12 @@
 // through which a wall 2 m behind is seen open; a candidate of the wrong size, with a bar over
 // part of its span is no door; a wrong pairing of a door's
 // column does not keep the door's own pair from being followed; a door whose columns are known
-// is tested in the frames the detector no longer pairs it in.
+// is tested in the frames the detector no longer pairs it in, its size checked again then; a leaf
+// in the wall's thickness, seen from either side of the door between its jambs, is closed.
 #include "slam/upward_door_verifier.h"
 
 #include <cmath>
+#include <functional>
 #include <numbers>
 
 #include <catch2/catch.hpp>
@@ -75,12 +77,17 @@ std::optional<slam::UpwardDoorCandidate> CandidateOf(const Door& door, const SE3
   return candidate;
 }
 
+// Whether a texture point is seen from a camera centre (nothing hides anything when empty).
+using Visible = std::function<bool(const Eigen::Vector3d& point, const Eigen::Vector3d& camera)>;
+
 Frame Render(const Door& door, const std::vector<Eigen::Vector3d>& texture, const SE2& pose,
-             const CameraModel& model, const SE3& mount) {
+             const CameraModel& model, const SE3& mount, const Visible& visible = {}) {
   Frame f;
   f.grey = cv::Mat(480, 640, CV_8UC1, cv::Scalar(200));
-  const SE3 camera_from_world = (SE3::FromSE2(pose) * mount).Inverse();
+  const SE3 world_from_camera = SE3::FromSE2(pose) * mount;
+  const SE3 camera_from_world = world_from_camera.Inverse();
   for (const Eigen::Vector3d& p : texture) {
+    if (visible && !visible(p, world_from_camera.translation())) continue;
     if (const auto px = model.Project(camera_from_world * p); px && model.IsInImage(*px)) {
       cv::rectangle(f.grey, cv::Point(int(px->x()) - 1, int(px->y()) - 1),
                     cv::Point(int(px->x()) + 1, int(px->y()) + 1), cv::Scalar(40), cv::FILLED);
@@ -171,6 +178,39 @@ TEST_CASE("door verifier: a pair whose bar covers part of its span is not a door
   const std::optional<slam::DoorTrackReport> open = DrivePast(whole, 2.0, {});
   REQUIRE(open);
   CHECK(open->state == slam::DoorTrackState::kOpen);
+}
+
+TEST_CASE("door verifier: a door's size is checked again when it is tested", "[doors][verifier]") {
+  // A pair that looks like a door until its columns converge, whose bar then covers a third of
+  // its span in every sighting (the detector pairing a door's column with a poster's side
+  // behind the same bearings): by the test, the median coverage is no door's. Open behind.
+  const Door door;
+  const CameraModel model = Fisheye();
+  const SE3 mount = UpwardMount();
+  const std::vector<Eigen::Vector3d> texture = Texture(door, 2.0);
+  slam::DoorVerifierOptions options;
+  options.verify_baseline_m = 1.5;  // more sightings after the columns are known than before
+  for (const double later_coverage : {1.0, 0.3}) {
+    slam::UpwardDoorVerifier verifier(options, model, mount);
+    bool known = false;
+    std::optional<slam::DoorTrackReport> decided;
+    for (int k = 0; k <= 60 && !decided; ++k) {
+      const SE2 pose(0.5 + 0.06 * k, 0.0, 0.0);
+      Frame f = Render(door, texture, pose, model, mount);
+      if (!f.door_in_view) continue;
+      if (known) f.candidate.bar_coverage = later_coverage;
+      const auto reports = verifier.Process({f.candidate}, f.grey, pose);
+      REQUIRE(reports.size() == 1);
+      if (!reports[0]) continue;
+      known |= reports[0]->state == slam::DoorTrackState::kVerifying;
+      if (reports[0]->decided_now) decided = reports[0];
+    }
+    INFO("bar coverage " << later_coverage << " once the columns are known");
+    REQUIRE(known);
+    REQUIRE(decided);
+    CHECK(decided->state ==
+          (later_coverage == 1.0 ? slam::DoorTrackState::kOpen : slam::DoorTrackState::kClosed));
+  }
 }
 
 TEST_CASE("door verifier: a wrong pairing of a door's column does not hold the door's own pair",
@@ -272,6 +312,129 @@ TEST_CASE("door verifier: a pair with a column where the robot has been is not a
   const std::optional<slam::DoorTrackReport> open = DrivePast(across, 2.0, no_free_space);
   REQUIRE(open);
   CHECK(open->state == slam::DoorTrackState::kOpen);
+}
+
+// A doorway in a wall `jamb_m` thick (the door's plane, through its columns, is the wall's
+// face): its jambs, and behind them either a closed leaf `leaf_m` behind the face or, for an
+// open door, a wall 2 m behind. What lies behind the face is seen only through the opening.
+struct Doorway {
+  Door door;
+  double jamb_m = 0.2;
+  double leaf_m = 0.1;
+  bool open = false;
+
+  std::vector<Eigen::Vector3d> Texture() const {
+    std::vector<Eigen::Vector3d> points;
+    RandomStream random(12, 0, "test.doorway_texture");
+    const Eigen::Vector2d back(0.0, 1.0);  // from the corridor (y = 0) through the wall
+    for (int i = 0; i < 600; ++i) {
+      const double z = random.Uniform(0.2, door.top);
+      if (open) {
+        const double s = random.Uniform(-0.5, 1.5);
+        const Eigen::Vector2d xy = door.a + s * (door.b - door.a) + 2.0 * back;
+        points.emplace_back(xy.x(), xy.y(), random.Uniform(0.2, 2.6));
+      } else {
+        // A plain leaf: its only edges two lines along its height, near the jambs (as a wood
+        // grain or a panel's edge gives).
+        const double s = i % 4 < 2 ? 0.2 : 0.8;
+        const Eigen::Vector2d xy = door.a + s * (door.b - door.a) + leaf_m * back;
+        points.emplace_back(xy.x(), xy.y(), z);
+      }
+      // The jambs: the wall's faces at each side of the opening, up to the leaf or through.
+      const double depth = random.Uniform(0.0, open ? jamb_m : std::min(jamb_m, leaf_m));
+      const Eigen::Vector2d side = (i % 2 == 0 ? door.a : door.b) + depth * back;
+      points.emplace_back(side.x(), side.y(), z);
+    }
+    return points;
+  }
+
+  // A point behind the wall's face is seen when the line to it crosses the face inside the
+  // opening.
+  bool Seen(const Eigen::Vector3d& p, const Eigen::Vector3d& c) const {
+    const double face = door.a.y();
+    if (p.y() <= face + 1e-9) return true;
+    const double t = (face - c.y()) / (p.y() - c.y());
+    const Eigen::Vector3d x = c + t * (p - c);
+    return x.x() >= door.a.x() - 1e-9 && x.x() <= door.b.x() + 1e-9 && x.z() <= door.top;
+  }
+};
+
+// Drives past the doorway from x = 0.5 m to 4.1 m; the last report of its track.
+std::optional<slam::DoorTrackReport> DrivePastDoorway(const Doorway& doorway,
+                                                      const slam::DoorVerifierOptions& options) {
+  const CameraModel model = Fisheye();
+  const SE3 mount = UpwardMount();
+  const std::vector<Eigen::Vector3d> texture = doorway.Texture();
+  const Visible visible = [&](const Eigen::Vector3d& p, const Eigen::Vector3d& c) {
+    return doorway.Seen(p, c);
+  };
+  slam::UpwardDoorVerifier verifier(options, model, mount);
+  std::optional<slam::DoorTrackReport> last;
+  for (int k = 0; k <= 60; ++k) {
+    const SE2 pose(0.5 + 0.06 * k, 0.0, 0.0);
+    const Frame f = Render(doorway.door, texture, pose, model, mount, visible);
+    const auto reports =
+        verifier.Process(f.door_in_view ? std::vector<slam::UpwardDoorCandidate>{f.candidate}
+                                        : std::vector<slam::UpwardDoorCandidate>{},
+                         f.grey, pose);
+    if (!reports.empty() && reports[0]) last = reports[0];
+    for (const slam::DoorTrackReport& r : verifier.opened_without_candidate()) last = r;
+    if (last && last->decided_now) break;
+  }
+  return last;
+}
+
+TEST_CASE("door verifier: a leaf in the wall's thickness is closed from either side of the door",
+          "[doors][verifier]") {
+  // The test's two views 1.2 m apart, on either side of the door's normal: the leaf 0.1 m
+  // behind the columns moves against their plane as much as a room would, and each view sees
+  // a jamb the other does not. Through the plane alone, P3's test reads it open.
+  slam::DoorVerifierOptions options;
+  options.verify_baseline_m = 1.2;
+  const Doorway closed;
+  const std::optional<slam::DoorTrackReport> r = DrivePastDoorway(closed, options);
+  REQUIRE(r);
+  INFO("columns " << r->columns.transpose() << ", H " << r->hausdorff_px << " px at "
+                  << r->leaf_depth_m << " m");
+  CHECK(r->decided_now);
+  CHECK(r->state == slam::DoorTrackState::kClosed);
+  CHECK(r->hausdorff_px < options.mhd_threshold_px);
+  // The leaf's depth behind the columns the filter found (a few centimetres behind the face).
+  const double columns_behind = (r->columns(1) + r->columns(3)) / 2.0 - closed.door.a.y();
+  CHECK(std::abs(r->leaf_depth_m - (closed.leaf_m - columns_behind)) <= 0.03);
+  // P3's plane alone (the leaf at the columns) reads it open.
+  slam::DoorVerifierOptions plane_only = options;
+  plane_only.min_leaf_depth_m = plane_only.max_leaf_depth_m = 0.0;
+  const std::optional<slam::DoorTrackReport> p3 = DrivePastDoorway(closed, plane_only);
+  REQUIRE(p3);
+  INFO("P3's plane alone: H " << p3->hausdorff_px << " px");
+  CHECK(p3->state == slam::DoorTrackState::kOpen);
+  // The same doorway open, the room's wall 2 m behind: open at every depth tried.
+  Doorway open = closed;
+  open.open = true;
+  const std::optional<slam::DoorTrackReport> o = DrivePastDoorway(open, options);
+  REQUIRE(o);
+  INFO("open: H " << o->hausdorff_px << " px at " << o->leaf_depth_m << " m");
+  CHECK(o->decided_now);
+  CHECK(o->state == slam::DoorTrackState::kOpen);
+}
+
+TEST_CASE("door verifier: the leaf depths are checked and bounded", "[doors][verifier]") {
+  slam::DoorVerifierOptions o;
+  CHECK_FALSE(o.Check());
+  o.max_leaf_depth_m = -0.1;
+  REQUIRE(o.Check());
+  CHECK(o.Check()->key == "max_leaf_depth_m");
+  CHECK(o.Check()->message.find("(got -0.1 < 0)") != std::string::npos);
+  o = {};
+  o.leaf_depth_step_m = 0.0001;  // 1001 depths between 0 and 0.1 m
+  REQUIRE(o.Check());
+  CHECK(o.Check()->key == "leaf_depth_step_m");
+  CHECK(o.Check()->message.find("(got 0.0001)") != std::string::npos);
+  o.leaf_depth_step_m = 0.001;  // 101 depths
+  REQUIRE(o.Check());
+  o.leaf_depth_step_m = 0.1 / 99;  // 100 depths: the most
+  CHECK_FALSE(o.Check());
 }
 
 TEST_CASE("door verifier: the same frames give the same result", "[doors][verifier]") {
