@@ -117,8 +117,11 @@ std::vector<SE2> RandomPoses(const Scenario& scenario, const worlds::World& worl
       const worlds::CorridorSegment& s = world.segments[k];
       const Vector2d along = s.direction();
       const Vector2d left(-along.y(), along.x());
-      const Vector2d p = s.start + along * rng.Uniform(0.0, (s.end - s.start).norm()) +
-                         left * rng.Uniform(-0.5 * s.width_m, 0.5 * s.width_m);
+      // One draw per statement (a call's arguments are evaluated in the compiler's order), in
+      // the order GCC took them: across, then along.
+      const double across = rng.Uniform(-0.5 * s.width_m, 0.5 * s.width_m);
+      const double distance = rng.Uniform(0.0, (s.end - s.start).norm());
+      const Vector2d p = s.start + along * distance + left * across;
       const SE2 pose(p.x(), p.y(), rng.Uniform(-std::numbers::pi, std::numbers::pi));
       if (!CheckPosePlacement(world, scenario, rig, pose)) {
         poses.push_back(pose);
