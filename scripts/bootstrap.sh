@@ -2,12 +2,14 @@
 # One entry point for a fresh Debian 12 machine: installs what is missing, builds, then
 #   run       runs the main job on the default scenario
 #   test      runs the whole test suite (Release build)
-#   sanitize  runs the unit tests under AddressSanitizer + UndefinedBehaviorSanitizer
-#   fuzz [SECONDS]  builds the libFuzzer targets with clang (build-fuzz/) and runs each for
-#             SECONDS (default 60 per target), as many at a time as build jobs, on a copy of its seed corpus
+#   sanitize  builds the tree with clang, AddressSanitizer + UndefinedBehaviorSanitizer (build-fuzz/)
+#             and runs the unit tests in it
+#   fuzz [SECONDS]  builds the libFuzzer targets in that same tree and runs each for SECONDS
+#             (default 60 per target), as many at a time as build jobs, on a copy of its seed corpus
 #             (docs/fuzzing.md); fails on a crash, a leak, an input slower than its timeout (1 s
 #             unless fuzz/CMakeLists.txt says otherwise) or over 2 GiB
 #   build     only builds
+# sanitize and fuzz share build-fuzz/ (one compile of the libraries serves both; docs/ci.md).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -19,9 +21,9 @@ scripts/setup.sh
 configure_and_build() {  # build_dir, extra cmake args...
   local dir="$1"; shift
   local start=$SECONDS
-  if [ ! -f "$dir/build.ninja" ]; then
-    cmake -S . -B "$dir" -G Ninja "$@" > /dev/null
-  fi
+  # Configured every time (a no-op when nothing changed): a tree configured before with other
+  # options (a fuzz tree without tests) gets this mode's.
+  cmake -S . -B "$dir" -G Ninja "$@" > /dev/null
   cmake --build "$dir" --parallel "$jobs" ${CORRIDORSIM_BUILD_TARGET:+--target "$CORRIDORSIM_BUILD_TARGET"}
   echo "bootstrap: $dir built in $((SECONDS - start)) s"
 }
@@ -77,6 +79,26 @@ run_fuzzers() {
   return "$failed"
 }
 
+# The sanitized tree: clang, every library, program and test compiled with ASan + UBSan (and
+# libFuzzer's coverage, fuzz/CMakeLists.txt), the fuzz targets beside them; no benchmarks.
+install_clang() {  # clang and its libFuzzer runtime (Debian 12: clang-14), as scripts/setup.sh does
+  local p
+  for p in clang libclang-rt-14-dev; do
+    if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+      echo "bootstrap: installing $p"
+      SUDO=""; if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+      $SUDO apt-get update -qq
+      DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "$p"
+    fi
+  done
+}
+build_sanitized() {  # [target]: builds it (default: everything) in build-fuzz/
+  install_clang
+  CORRIDORSIM_BUILD_TARGET="${1:-}" configure_and_build build-fuzz \
+    -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_C_COMPILER=clang \
+    -DCORRIDORSIM_FUZZ=ON -DCORRIDORSIM_BUILD_BENCHMARKS=OFF
+}
+
 case "$mode" in
   build)
     configure_and_build build -DCMAKE_BUILD_TYPE=Release
@@ -90,10 +112,9 @@ case "$mode" in
     timed "the Release suite (ctest)" ctest --test-dir build --output-on-failure --parallel "$jobs"
     ;;
   sanitize)
-    configure_and_build build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCORRIDORSIM_SANITIZE=ON \
-      -DCORRIDORSIM_BUILD_BENCHMARKS=OFF
+    build_sanitized
     ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-      timed "the sanitized unit tests (ctest -L unit)" ctest --test-dir build-asan --output-on-failure --parallel "$jobs" -L unit \
+      timed "the sanitized unit tests (ctest -L unit)" ctest --test-dir build-fuzz --output-on-failure --parallel "$jobs" -L unit \
         -E "ten thousand frames|scripts.plot_run"
     # Both run in the Release suite: 10,000 frames under ASan take minutes, and the plot script's
     # test is Python only (no instrumented code, 4 minutes).
@@ -104,19 +125,8 @@ case "$mode" in
       echo "usage: scripts/bootstrap.sh fuzz [SECONDS per target, 1..604800]" >&2
       exit 2
     fi
-    # clang and its libFuzzer runtime (Debian 12: clang-14), installed like scripts/setup.sh does.
-    for p in clang libclang-rt-14-dev; do
-      if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
-        echo "bootstrap: installing $p"
-        SUDO=""; if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
-        $SUDO apt-get update -qq
-        DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "$p"
-      fi
-    done
-    # Only the fuzz targets and what they link: no tests, no benchmarks, no programs.
-    CORRIDORSIM_BUILD_TARGET=corridorsim_fuzzers configure_and_build build-fuzz \
-      -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_C_COMPILER=clang \
-      -DCORRIDORSIM_FUZZ=ON -DCORRIDORSIM_BUILD_TESTS=OFF -DCORRIDORSIM_BUILD_BENCHMARKS=OFF
+    # Only the fuzz targets and what they link (after `sanitize`, only the targets' own files).
+    build_sanitized corridorsim_fuzzers
     timed "the fuzz runs" run_fuzzers "$seconds"
     ;;
   *)

@@ -179,7 +179,7 @@ TEST_CASE("analytic projection Jacobians match central differences at random poi
       // The Jacobian output must not change the pixel.
       REQUIRE((*pixel - camera.Project(p_in_camera).value()).norm() == 0.0);
       const Eigen::Matrix<double, 2, 3> numerical = NumericalJacobian<2, 3>(
-          [&](const Eigen::Vector3d& p) { return camera.Project(p).value(); }, p_in_camera);
+          [&c = camera](const Eigen::Vector3d& p) { return c.Project(p).value(); }, p_in_camera);
       CheckJacobian(d_pixel_d_point, numerical);
     }
   }
@@ -436,7 +436,7 @@ TEST_CASE("analytic unprojection Jacobians match central differences at random p
       // The Jacobian output must not change the bearing.
       REQUIRE((bearing - camera.Unproject(pixel)).norm() == 0.0);
       const Eigen::Matrix<double, 3, 2> numerical = NumericalJacobian<3, 2>(
-          [&](const Eigen::Vector2d& q) { return camera.Unproject(q); }, pixel);
+          [&c = camera](const Eigen::Vector2d& q) { return c.Unproject(q); }, pixel);
       // Compared per focal length (d bearing / d (pixel / fx), entries of order 1): per pixel the
       // entries are ~1/fx, below the helper's absolute floor.
       CheckJacobian(focal * d_bearing_d_pixel, focal * numerical);

@@ -280,7 +280,9 @@ TEST_CASE("a camera's budget bounds the passes its renderer plans, before planni
   CHECK(front.pass_height_px == 480);
   for (const auto& [k1, k2, p1] : {std::tuple{-0.28, 0.07, 1e-4}, {0.1, 0.0, -2e-3}}) {
     CameraOptions camera = rig.cameras[1];
-    ChangePinhole(camera, [&](PinholeRadTan& p) { p.k1 = k1, p.k2 = k2, p.p1 = p1; });
+    // The bindings captured by copy under names of their own (clang 14 captures no binding).
+    ChangePinhole(camera,
+                  [a = k1, b = k2, c = p1](PinholeRadTan& p) { p.k1 = a, p.k2 = b, p.p1 = c; });
     INFO("k1 " << k1);
     REQUIRE_FALSE(camera.model.Check());
     const CameraBudget planned = PlannedPasses(camera), budget = CameraBudgetOf(camera);
