@@ -211,7 +211,7 @@ class P3(unittest.TestCase):
 
     def test_full_scenarios_seed_1(self):
         """P3 Fig. 18 on the shipped 40 m scenarios, seed 1, from their metric references
-        (tests/data/metrics/), which scenario.metrics_unchanged holds this build to byte for
+        (tests/data/metrics/), which scenario.metrics_unchanged.<name> holds this build to byte for
         byte: p3_upward within 0.1 m, half the ATE of corners alone in environment A, lamp and
         door association at the issue's 0.99."""
         for name in ("p3_lamps", "p3_doors"):

@@ -26,7 +26,7 @@ TrainDetectorsOptions Small(std::uint64_t seed) {
 }
 
 TEST_CASE("train-detectors: the same seed writes byte-identical models, another seed others",
-          "[plates][render][slow]") {
+          "[plates][render][slow][heavy]") {
   const TrainingResult a = TrainDetectors(Small(5));
   const TrainingResult b = TrainDetectors(Small(5));
   REQUIRE(a.svm_bytes.size() > 1000);
@@ -128,7 +128,7 @@ TEST_CASE(
 }
 
 TEST_CASE("train-detectors: dataset folders train the models the built-in views train",
-          "[plates][render][slow]") {
+          "[plates][render][slow][heavy]") {
   TrainDetectorsOptions o = Small(5);
   o.views_per_world = 6;
   const TrainingResult in_memory = TrainDetectors(o);

@@ -57,7 +57,7 @@ Eigen::Vector2d Chroma(double r, double g, double b) {
 }
 
 TEST_CASE("a pixel labelled wall shows the wall's colour, with and without reflectors",
-          "[render][gl][image]") {
+          "[render][gl][image][heavy]") {
   const std::unique_ptr<Backend> backend = CreateBackend(BackendKind::kOsMesa);
   for (const double fraction : {0.0, 1.0}) {
     const worlds::World world = worlds::Generate(WithReflectors(fraction), 11);
@@ -283,7 +283,7 @@ TEST_CASE("auto exposure brightens a darker corridor, within its bounds, from th
 }
 
 TEST_CASE("supersampling averages the samples and takes labels from the centre sample",
-          "[render][gl][image]") {
+          "[render][gl][image][heavy]") {
   const Scene& scene = []() -> const Scene& {
     static const worlds::World world = worlds::Generate(WithReflectors(0.2), 7);
     static const Scene s = BuildScene(world);
@@ -350,7 +350,7 @@ int SpuriousBorderCorners(const CameraFrame& frame, const CameraFrame& reference
   return spurious;
 }
 
-TEST_CASE("reflector borders no longer produce moiré corners", "[render][gl][image]") {
+TEST_CASE("reflector borders no longer produce moiré corners", "[render][gl][image][heavy]") {
   // The reflectors as they were: their end boxes' faces on the wall plane, where they z-fought
   // the wall band beside the panel (re-created here as quads on the plane).
   worlds::WorldOptions options = WithReflectors(1.0);

@@ -416,7 +416,8 @@ TEST_CASE("unused rectangles outside the view are rejected before drawing", "[re
   CHECK(out.rgb.data.empty());
 }
 
-TEST_CASE("with back faces culled no pixel looks through a seam into the void", "[render][gl]") {
+TEST_CASE("with back faces culled no pixel looks through a seam into the void",
+          "[render][gl][heavy]") {
   // Every pinhole pixel inside a closed corridor hits a surface: a pixel with no instance would
   // be a face culled from where it can be seen, or a seam that touches instead of crossing.
   RigOptions rig = RigOptions::Default();
@@ -555,7 +556,7 @@ long ResidentKiB() {
   return -1;
 }
 
-TEST_CASE("memory does not grow over ten thousand frames", "[render][gl][slow]") {
+TEST_CASE("memory does not grow over ten thousand frames", "[render][gl][slow][heavy]") {
   RigOptions rig_options = RigOptions::Default();
   // Small images keep the test short; the per-frame code paths are the same.
   rig_options.cameras[0].model = PinholeRadTan::FromFov(64, 48, 58 * kDeg);

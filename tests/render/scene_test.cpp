@@ -178,7 +178,7 @@ TEST_CASE("culling drops what is behind the camera", "[render][scene]") {
   CHECK(kept.size() < scene.drawables.size());
 }
 
-TEST_CASE("a 1 km corridor costs no more per view than the 55 m one", "[render][scene]") {
+TEST_CASE("a 1 km corridor costs no more per view than the 55 m one", "[render][scene][heavy]") {
   worlds::WorldOptions km;
   km.length_m = 1000;
   km.doors.count = 290;
