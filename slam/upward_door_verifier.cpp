@@ -23,6 +23,9 @@ std::size_t LeafDepths(const DoorVerifierOptions& o) {
   return std::size_t(std::clamp(int(std::floor(steps + 1e-9)) + 1, 1, kMaxLeafDepths));
 }
 
+// Whether a leaf depth lies in front of the columns' plane (min + k step: rounding aside).
+bool InFront(double depth) { return depth < -1e-9; }
+
 // The sensor model's factor for an error (P3 Fig. 8d: Gaussian; P2: triangular).
 double Likelihood(DoorSensorModel model, double error, double scale) {
   const double e = error / scale;
@@ -171,17 +174,19 @@ const OptionTable<DoorVerifierOptions>& DoorVerifierOptionsTable() {
         .Greater(0)
         .Range(0, 10000);
     t.Add("min_leaf_depth_m", &O::min_leaf_depth_m, "m",
-          "shallowest depth behind the columns' plane at which a closed door's leaf is tried "
-          "(negative: in front of it)")
+          "shallowest depth behind the columns' plane at which a closed surface is tried "
+          "(negative: in front of it, a face flush with the edges paired; those depths can only "
+          "close a candidate)")
         .Range(-1, 1);
     t.Add("max_leaf_depth_m", &O::max_leaf_depth_m, "m",
-          "deepest depth behind the columns' plane at which a closed door's leaf is tried")
-        .Range(-1, 1)
+          "deepest depth behind the columns' plane at which a closed surface is tried (a leaf in "
+          "the wall's thickness)")
+        .Range(0, 1)
         .Note(">= min_leaf_depth_m");
     t.Add("leaf_depth_step_m", &O::leaf_depth_step_m, "m", "step between the leaf depths tried")
         .Greater(0)
         .Range(0, 1)
-        .Note("at most 100 depths");
+        .Note("at most 100 depths, one at or behind the columns");
     t.Add("opening_margin", &O::opening_margin, "",
           "fraction of the opening left out at each side (the frame's own edges)")
         .Range(0, 0.45);
@@ -225,6 +230,12 @@ std::optional<OptionsProblem> DoorVerifierOptions::Check() const {
     return OptionsProblem{"leaf_depth_step_m",
                           "gives more than 100 leaf depths between min_leaf_depth_m and "
                           "max_leaf_depth_m (got " +
+                              FormatNumber(leaf_depth_step_m) + ")"};
+  }
+  if (InFront(min_leaf_depth_m + double(LeafDepths(*this) - 1) * leaf_depth_step_m)) {
+    return OptionsProblem{"leaf_depth_step_m",
+                          "leaves no depth at or behind the columns' plane between "
+                          "min_leaf_depth_m and max_leaf_depth_m (got " +
                               FormatNumber(leaf_depth_step_m) + ")"};
   }
   return std::nullopt;
@@ -536,9 +547,13 @@ bool UpwardDoorVerifier::Test(Track* track, const cv::Mat& edges,
     }
     // Too little seen by both views: this depth is neither confirmed nor ruled out now. H of
     // fewer points is noisier (closed doors seen with 37-54 points gave 5-7 px): with half
-    // min_edge_points a depth can only be ruled out, at twice the threshold.
+    // min_edge_points a depth can only be ruled out, at twice the threshold. A depth in front of
+    // the columns (a face flush with the edges paired) can close a candidate, never hold one
+    // undecided: from the oblique view the plane was taken in, little of a plane in front falls
+    // inside the opening, and the door would wait on it until it is out of view.
     const int shared = int(std::min(predicted.size(), seen.size()));
     if (2 * shared < options_.min_edge_points) continue;
+    if (InFront(depth) && shared < options_.min_edge_points) continue;
     const double h = Hausdorff(predicted, seen, size);
     if (shared < options_.min_edge_points) {
       if (h > 2.0 * options_.mhd_threshold_px && !(h >= track->ruled_out_px[k])) {
@@ -561,11 +576,12 @@ bool UpwardDoorVerifier::Test(Track* track, const cv::Mat& edges,
     track->state = DoorTrackState::kClosed;
     return true;
   }
-  // Open once every depth has been ruled out (in this frame or an earlier one of the test): H
-  // is then the least of the distances that ruled them out.
+  // Open once every depth from the columns' plane back has been ruled out (in this frame or an
+  // earlier one of the test): H is then the least of the distances that ruled them out.
   double least = std::numeric_limits<double>::infinity();
   std::size_t least_k = 0;
   for (std::size_t k = 0; k < depths; ++k) {
+    if (InFront(options_.min_leaf_depth_m + double(k) * options_.leaf_depth_step_m)) continue;
     if (std::isnan(track->ruled_out_px[k])) return false;
     if (track->ruled_out_px[k] < least) {
       least = track->ruled_out_px[k];

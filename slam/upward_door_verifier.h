@@ -26,15 +26,19 @@
 // the filter finds (in the shipped worlds 0.085 m behind), and the wall's jambs hide a strip of
 // it at one side or the other as the camera passes: seen from either side of the door the leaf
 // moves against the plane through the columns as the room behind an open door does (tens of
-// pixels), and the jamb seen from one side is not there from the other. So the plane is tried
-// at the depths from min_leaf_depth_m to max_leaf_depth_m behind the columns (every
-// leaf_depth_step_m), and at each only what both views saw of it through the opening is
+// pixels), and the jamb seen from one side is not there from the other. A face flush with the
+// edges the detector pairs (a bookshelf's or a cabinet's front) stands in front of the columns
+// the filter finds, by as much. So the plane is tried at the depths from min_leaf_depth_m (in
+// front of the columns) to max_leaf_depth_m behind them (every leaf_depth_step_m), and at each
+// only what both views saw of it through the opening is
 // compared: a point of A or B counts when the line from each camera to it crosses the columns'
 // plane inside the opening. H is the least over the depths; the room behind an open door is
 // metres behind its columns, and no depth of the wall's thickness explains it. A depth is ruled
 // out by a frame in which both sets have min_edge_points and H is above the threshold; the door
-// is open once every depth is ruled out (over one or more frames), closed as soon as one depth
-// explains both views, undecided while a depth has not been seen well enough by both.
+// is open once every depth from the columns' plane back is ruled out (over one or more frames),
+// closed as soon as one depth explains both views, undecided while a depth behind the plane has
+// not been seen well enough by both (a depth in front can close a door, never hold it: seen from
+// the oblique view the plane was taken in, little of it falls inside the opening).
 // Ruling a depth out takes min_edge_points in both sets, or half of them at twice the threshold
 // (H of fewer points is noisier). Once the columns are known, a sighting no sample explains is
 // an outlier (ignored); at each test the samples must still put the columns within
@@ -98,11 +102,13 @@ struct DoorVerifierOptions {
   double converged_sigma_m = 0.05;  // column positions known to this: verify
   double verify_baseline_m = 0.3;   // camera travel between the plane's points and the test
   double mhd_threshold_px = 5.0;    // H(A, B) above it: open (P3 eq. 9's threshold)
-  // Depths behind the columns' plane at which a closed door's leaf may stand (ours): the shipped
-  // worlds' leaves are 0.085 m behind the frame's face, the filter's columns 0.04-0.09 m behind
-  // it (docs/p3.md). Deeper depths cost recall: the deeper the plane, the less of it two oblique
-  // views share.
-  double min_leaf_depth_m = 0.0;
+  // Depths behind the columns' plane at which a closed surface may stand (ours; negative: in
+  // front): the filter's columns are 0.04-0.09 m behind the face whose edges the detector pairs
+  // (docs/p3.md), so a face flush with those edges (furniture's front) stands up to 0.1 m in
+  // front of them, and the shipped worlds' leaves, 0.085 m behind the frame's face, up to
+  // 0.05 m behind. Every depth costs recall: each is a chance for an open door's frame and jambs
+  // to explain both views; and the deeper the plane, the less of it two oblique views share.
+  double min_leaf_depth_m = -0.1;
   double max_leaf_depth_m = 0.1;
   double leaf_depth_step_m = 0.025;
   double opening_margin = 0.15;  // of the opening left out at each side (the frame's edges)
