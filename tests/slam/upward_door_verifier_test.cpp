@@ -454,8 +454,8 @@ TEST_CASE("door verifier: a closed face in front of the columns the filter found
   for (const double in_front : {0.04, 0.06}) {
     const std::optional<slam::DoorTrackReport> r = drive(in_front, options);
     REQUIRE(r);
-    INFO(in_front << " m in front: columns " << r->columns.transpose() << ", H "
-                  << r->hausdorff_px << " px at " << r->leaf_depth_m << " m");
+    INFO(in_front << " m in front: columns " << r->columns.transpose() << ", H " << r->hausdorff_px
+                  << " px at " << r->leaf_depth_m << " m");
     CHECK(r->decided_now);
     CHECK(r->state == slam::DoorTrackState::kClosed);
     const std::optional<slam::DoorTrackReport> b = drive(in_front, behind_only);
