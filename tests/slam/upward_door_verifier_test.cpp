@@ -101,12 +101,13 @@ Frame Render(const Door& door, const std::vector<Eigen::Vector3d>& texture, cons
   return f;
 }
 
-// Drives along the corridor's centre line past the door; returns the final report of its track.
-std::optional<slam::DoorTrackReport> DrivePast(const Door& door, double behind_m,
+// Drives along the corridor's centre line past the door whose opening shows `texture`; returns
+// the final report of its track.
+std::optional<slam::DoorTrackReport> DrivePast(const Door& door,
+                                               const std::vector<Eigen::Vector3d>& texture,
                                                const slam::DoorVerifierOptions& options) {
   const CameraModel model = Fisheye();
   const SE3 mount = UpwardMount();
-  const std::vector<Eigen::Vector3d> texture = Texture(door, behind_m);
   slam::UpwardDoorVerifier verifier(options, model, mount);
   std::optional<slam::DoorTrackReport> last;
   for (int k = 0; k <= 40; ++k) {
@@ -119,6 +120,10 @@ std::optional<slam::DoorTrackReport> DrivePast(const Door& door, double behind_m
     if (last && last->decided_now) break;
   }
   return last;
+}
+std::optional<slam::DoorTrackReport> DrivePast(const Door& door, double behind_m,
+                                               const slam::DoorVerifierOptions& options) {
+  return DrivePast(door, Texture(door, behind_m), options);
 }
 
 TEST_CASE("door verifier: the particle filter finds the columns; a leaf in the plane is closed",
@@ -428,24 +433,12 @@ TEST_CASE("door verifier: a closed face in front of the columns the filter found
   // views 0.8 m apart, a plane only at or behind the columns reads it open (H 6.2-6.4 px; p2
   // seed 24's bookshelf, 4.5 cm in front of its columns, gave 7.3 px).
   const Door door;
-  const CameraModel model = Fisheye();
-  const SE3 mount = UpwardMount();
   const auto drive = [&](double in_front_m, const slam::DoorVerifierOptions& options) {
     std::vector<Eigen::Vector3d> face;
     for (const Eigen::Vector3d& p : Texture(door, 0.0)) {
       face.emplace_back(p.x(), p.y() - in_front_m, p.z());  // toward the corridor (y = 0)
     }
-    slam::UpwardDoorVerifier verifier(options, model, mount);
-    std::optional<slam::DoorTrackReport> last;
-    for (int k = 0; k <= 40; ++k) {
-      const SE2 pose(0.5 + 0.06 * k, 0.0, 0.0);
-      const Frame f = Render(door, face, pose, model, mount);
-      if (!f.door_in_view) continue;
-      const auto reports = verifier.Process({f.candidate}, f.grey, pose);
-      if (reports[0]) last = reports[0];
-      if (last && last->decided_now) break;
-    }
-    return last;
+    return DrivePast(door, face, options);
   };
   slam::DoorVerifierOptions options;
   options.verify_baseline_m = 0.8;
