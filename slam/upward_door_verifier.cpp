@@ -100,6 +100,13 @@ struct Opening {
     const double t = Meet(c, p - c, 0.0);
     return t > 0.0 && Inside(c + t * (p - c));
   }
+  // The angle between the normal and the line from the opening's middle to a camera at c, on
+  // the floor plan (0: straight in front of the door, pi/2: along its wall).
+  double ViewAngle(const Eigen::Vector3d& c) const {
+    const Eigen::Vector2d to_camera = c.head<2>() - (d1 + 0.5 * along);
+    const double side = std::abs(to_camera.dot(along)) / along.norm();
+    return std::atan2(side, std::abs(normal.dot(to_camera)));
+  }
 };
 }  // namespace
 
@@ -192,6 +199,10 @@ const OptionTable<DoorVerifierOptions>& DoorVerifierOptionsTable() {
         .Range(0, 0.45);
     t.Add("min_edge_points", &O::min_edge_points, "", "fewer edge points: no decision yet")
         .Range(1, 100000);
+    t.Add("sparse_max_view_angle_rad", &O::sparse_max_view_angle_rad, "rad",
+          "a depth shared by fewer than min_edge_points (at least half) is ruled out, at twice "
+          "the threshold, only when both views lie within this angle of the door's normal")
+        .Range(0, 1.5708);
     t.Add("max_edge_points", &O::max_edge_points, "", "edge points kept on the plane at most")
         .Range(1, 1000000);
     t.Add("canny_low", &O::canny_low, "grey levels/px", "Canny's lower threshold").Range(0, 5000);
@@ -521,6 +532,8 @@ bool UpwardDoorVerifier::Test(Track* track, const cv::Mat& edges,
   if (track->ruled_out_px.size() != depths) {
     track->ruled_out_px.assign(depths, std::numeric_limits<double>::quiet_NaN());
   }
+  const bool sparse_may_rule_out = opening.ViewAngle(c0) <= options_.sparse_max_view_angle_rad &&
+                                   opening.ViewAngle(c) <= options_.sparse_max_view_angle_rad;
   std::vector<Eigen::Vector2d> predicted, seen;
   double best = std::numeric_limits<double>::infinity();
   std::size_t best_k = 0;
@@ -547,13 +560,15 @@ bool UpwardDoorVerifier::Test(Track* track, const cv::Mat& edges,
     }
     // Too little seen by both views: this depth is neither confirmed nor ruled out now. H of
     // fewer points is noisier (closed doors seen with 37-54 points gave 5-7 px): with half
-    // min_edge_points a depth can only be ruled out, at twice the threshold. A depth in front of
+    // min_edge_points a depth can only be ruled out, at twice the threshold, and only from views
+    // near the door's normal (from far off the jambs fill the opening). A depth in front of
     // the columns (a face flush with the edges paired) can close a candidate, never hold one
     // undecided: from the oblique view the plane was taken in, little of a plane in front falls
     // inside the opening, and the door would wait on it until it is out of view.
     const int shared = int(std::min(predicted.size(), seen.size()));
     if (2 * shared < options_.min_edge_points) continue;
     if (InFront(depth) && shared < options_.min_edge_points) continue;
+    if (!sparse_may_rule_out && shared < options_.min_edge_points) continue;
     const double h = Hausdorff(predicted, seen, size);
     if (shared < options_.min_edge_points) {
       if (h > 2.0 * options_.mhd_threshold_px && !(h >= track->ruled_out_px[k])) {

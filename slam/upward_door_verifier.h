@@ -40,7 +40,8 @@
 // not been seen well enough by both (a depth in front can close a door, never hold it: seen from
 // the oblique view the plane was taken in, little of it falls inside the opening).
 // Ruling a depth out takes min_edge_points in both sets, or half of them at twice the threshold
-// (H of fewer points is noisier). Once the columns are known, a sighting no sample explains is
+// (H of fewer points is noisier) from views both within sparse_max_view_angle_rad of the door's
+// normal. Once the columns are known, a sighting no sample explains is
 // an outlier (ignored); at each test the samples must still put the columns within
 // 4 converged_sigma_m of where they were when the plane was taken, spread below 2, or the track
 // is estimated again; and the door's size and bar coverage are checked again.
@@ -113,7 +114,12 @@ struct DoorVerifierOptions {
   double leaf_depth_step_m = 0.025;
   double opening_margin = 0.15;  // of the opening left out at each side (the frame's edges)
   int min_edge_points = 80;      // fewer in A or B: no decision in this frame
-  int max_edge_points = 3000;    // points kept on the plane at most
+  // A depth seen by fewer than min_edge_points (at least half) is ruled out at twice the
+  // threshold only when both views lie within this angle of the door's normal (ours): from
+  // farther off, the jambs fill the opening, and a closed door's few points disagree at every
+  // depth (p3_lamps.yaml seed 11: 57-71 points from views 53-57 deg off, H 16-20 px).
+  double sparse_max_view_angle_rad = 0.785;
+  int max_edge_points = 3000;  // points kept on the plane at most
   double canny_low = 50.0;
   double canny_high = 150.0;
   int forget_after_frames = 15;  // a track not seen for this many frames is dropped

@@ -5,7 +5,8 @@
 // part of its span is no door; a wrong pairing of a door's
 // column does not keep the door's own pair from being followed; a door whose columns are known
 // is tested in the frames the detector no longer pairs it in, its size checked again then; a leaf
-// in the wall's thickness, seen from either side of the door between its jambs, is closed.
+// in the wall's thickness, seen from either side of the door between its jambs, is closed; few
+// shared edge points rule a depth out only from views near the door's normal.
 #include "slam/upward_door_verifier.h"
 
 #include <cmath>
@@ -364,9 +365,11 @@ struct Doorway {
   }
 };
 
-// Drives past the doorway from x = 0.5 m to 4.1 m; the last report of its track.
+// Drives past the doorway from x = start_m (0.5 m: from 2 m before the door to 1.2 m past it),
+// 0.06 m a frame for 60 frames; the last report of its track.
 std::optional<slam::DoorTrackReport> DrivePastDoorway(const Doorway& doorway,
-                                                      const slam::DoorVerifierOptions& options) {
+                                                      const slam::DoorVerifierOptions& options,
+                                                      double start_m = 0.5) {
   const CameraModel model = Fisheye();
   const SE3 mount = UpwardMount();
   const std::vector<Eigen::Vector3d> texture = doorway.Texture();
@@ -376,7 +379,7 @@ std::optional<slam::DoorTrackReport> DrivePastDoorway(const Doorway& doorway,
   slam::UpwardDoorVerifier verifier(options, model, mount);
   std::optional<slam::DoorTrackReport> last;
   for (int k = 0; k <= 60; ++k) {
-    const SE2 pose(0.5 + 0.06 * k, 0.0, 0.0);
+    const SE2 pose(start_m + 0.06 * k, 0.0, 0.0);
     const Frame f = Render(doorway.door, texture, pose, model, mount, visible);
     const auto reports =
         verifier.Process(f.door_in_view ? std::vector<slam::UpwardDoorCandidate>{f.candidate}
@@ -498,4 +501,27 @@ TEST_CASE("door verifier: the same frames give the same result", "[doors][verifi
 }
 
 }  // namespace
+TEST_CASE("door verifier: few shared points rule a depth out only from views near the normal",
+          "[doors][verifier]") {
+  // With min_edge_points above what the doorway shows, every depth is seen by "half of them"
+  // only: the open doorway (a wall 2 m behind) is then ruled open at twice the threshold by the
+  // views of the drive, which lie 17-45 deg off the door's normal. Allowed only within 0.3 rad
+  // (17 deg), the same views rule nothing out and the door stays undecided: from far off the
+  // normal a closed door's few points disagree at every depth (p3_lamps.yaml seed 11, 53-57 deg).
+  Doorway open;
+  open.open = true;
+  slam::DoorVerifierOptions options;
+  options.min_edge_points = 1600;
+  const std::optional<slam::DoorTrackReport> near = DrivePastDoorway(open, options);
+  REQUIRE(near);
+  INFO("within 45 deg: state " << int(near->state) << ", H " << near->hausdorff_px << " px");
+  CHECK(near->state == slam::DoorTrackState::kOpen);
+  CHECK(near->hausdorff_px > 2.0 * options.mhd_threshold_px);
+  options.sparse_max_view_angle_rad = 0.3;
+  const std::optional<slam::DoorTrackReport> far = DrivePastDoorway(open, options);
+  REQUIRE(far);
+  INFO("within 17 deg: state " << int(far->state));
+  CHECK(far->state == slam::DoorTrackState::kVerifying);
+}
+
 }  // namespace corridorsim
