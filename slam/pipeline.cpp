@@ -25,7 +25,8 @@ std::optional<OptionsProblem> Calibration::Check() const {
     if (camera.depth) {
       c.NonNegative(camera.depth->min_m, key + "depth.min_m");
       c.Require(camera.depth->max_m > camera.depth->min_m, key + "depth.max_m",
-                "must be greater than depth.min_m");
+                "must be greater than depth.min_m (got " + FormatNumber(camera.depth->max_m) +
+                    " <= " + FormatNumber(camera.depth->min_m) + ")");
     }
   }
   return c.problem();

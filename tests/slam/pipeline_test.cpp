@@ -33,6 +33,7 @@ TEST_CASE("a calibration names its first missing or impossible value", "[slam]")
   calibration.cameras[0].depth = DepthRange{0.5, 0.4};
   REQUIRE(calibration.Check());
   CHECK(calibration.Check()->key == "cameras.front.depth.max_m");
+  CHECK(calibration.Check()->message == "must be greater than depth.min_m (got 0.4 <= 0.5)");
   calibration.cameras[0].model = CameraModel();
   REQUIRE(calibration.Check());
   CHECK(calibration.Check()->key == "cameras.front.model");
