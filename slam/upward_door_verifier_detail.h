@@ -10,8 +10,8 @@
 
 namespace corridorsim::slam::door_detail {
 
-inline constexpr int kMaxLeafDepths =
-    100;  // leaf depths tried at most (DoorVerifierOptions::Check)
+// Leaf depths tried at most (DoorVerifierOptions::Check).
+inline constexpr int kMaxLeafDepths = 100;
 // A verifying track's columns may move this many converged_sigma_m off the plane's.
 inline constexpr double kMaxColumnShift = 4.0;
 

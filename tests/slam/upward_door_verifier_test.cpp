@@ -505,9 +505,10 @@ TEST_CASE("door verifier: few shared points rule a depth out only from views nea
           "[doors][verifier]") {
   // With min_edge_points above what the doorway shows, every depth is seen by "half of them"
   // only: the open doorway (a wall 2 m behind) is then ruled open at twice the threshold by the
-  // views of the drive, which lie 17-45 deg off the door's normal. Allowed only within 0.3 rad
-  // (17 deg), the same views rule nothing out and the door stays undecided: from far off the
-  // normal a closed door's few points disagree at every depth (p3_lamps.yaml seed 11, 53-57 deg).
+  // views of the drive (the default allows 45 deg). Allowed only within 0.3 rad (17 deg), which
+  // some of those views are not, they rule nothing out and the door stays undecided: from far
+  // off the normal a closed door's few points disagree at every depth (p3_lamps.yaml seed 11,
+  // 53-57 deg).
   Doorway open;
   open.open = true;
   slam::DoorVerifierOptions options;
