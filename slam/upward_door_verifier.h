@@ -105,11 +105,15 @@ struct DoorVerifierOptions {
   double mhd_threshold_px = 5.0;    // H(A, B) above it: open (P3 eq. 9's threshold)
   // Depths behind the columns' plane at which a closed surface may stand (ours; negative: in
   // front): the filter's columns are 0.04-0.09 m behind the face whose edges the detector pairs
-  // (docs/p3.md), so a face flush with those edges (furniture's front) stands up to 0.1 m in
-  // front of them, and the shipped worlds' leaves, 0.085 m behind the frame's face, up to
-  // 0.05 m behind. Every depth costs recall: each is a chance for an open door's frame and jambs
-  // to explain both views; and the deeper the plane, the less of it two oblique views share.
-  double min_leaf_depth_m = -0.1;
+  // (docs/p3.md), and the shipped worlds' leaves, 0.085 m behind the frame's face, up to 0.05 m
+  // behind. In front, a piece of furniture against the wall: the edges paired may be its back
+  // ones, at the wall, with its front a furniture's depth in front of them (the shipped
+  // cabinets are 0.45 m deep, bookshelves 0.35 m; p3_doors seed 9's cabinet was paired 0.12 and
+  // 0.32 m behind its front), so the depths in front reach 0.5 m. Every depth behind costs
+  // recall: each is a chance for an open door's frame and jambs to explain both views, and the
+  // deeper the plane, the less of it two oblique views share. A depth in front can only close a
+  // candidate (an open door has nothing in front of its columns for both views to agree on).
+  double min_leaf_depth_m = -0.5;
   double max_leaf_depth_m = 0.1;
   double leaf_depth_step_m = 0.025;
   double opening_margin = 0.15;  // of the opening left out at each side (the frame's edges)

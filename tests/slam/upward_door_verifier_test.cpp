@@ -461,6 +461,31 @@ TEST_CASE("door verifier: a closed face in front of the columns the filter found
   }
 }
 
+TEST_CASE("door verifier: furniture paired by its back edges, its front far in front, is closed",
+          "[doors][verifier]") {
+  // A cabinet against the wall paired by its back edges: its front stands a furniture's depth in
+  // front of the columns (p3_doors seed 9: 0.12-0.32 m). The depths in front reach 0.5 m by
+  // default; with the old -0.1 m no depth explains the face and the pair reads open.
+  const Door door;
+  std::vector<Eigen::Vector3d> face;
+  for (const Eigen::Vector3d& p : Texture(door, 0.0)) face.emplace_back(p.x(), p.y() - 0.3, p.z());
+  slam::DoorVerifierOptions options;
+  options.verify_baseline_m = 0.8;
+  const std::optional<slam::DoorTrackReport> r = DrivePast(door, face, options);
+  REQUIRE(r);
+  INFO("columns " << r->columns.transpose() << ", H " << r->hausdorff_px << " px at "
+                  << r->leaf_depth_m << " m");
+  CHECK(r->decided_now);
+  CHECK(r->state == slam::DoorTrackState::kClosed);
+  CHECK(r->leaf_depth_m < -0.2);
+  slam::DoorVerifierOptions shallow = options;
+  shallow.min_leaf_depth_m = -0.1;
+  const std::optional<slam::DoorTrackReport> b = DrivePast(door, face, shallow);
+  REQUIRE(b);
+  INFO("depths to -0.1 m only: " << int(b->state) << ", H " << b->hausdorff_px);
+  CHECK(b->state == slam::DoorTrackState::kOpen);
+}
+
 TEST_CASE("door verifier: the leaf depths are checked and bounded", "[doors][verifier]") {
   slam::DoorVerifierOptions o;
   CHECK_FALSE(o.Check());
@@ -475,6 +500,8 @@ TEST_CASE("door verifier: the leaf depths are checked and bounded", "[doors][ver
   CHECK(o.Check()->key == "max_leaf_depth_m");
   CHECK(o.Check()->message.find("(got 0.05 < 0.08)") != std::string::npos);
   o = {};
+  o.min_leaf_depth_m = -0.1;
+  o.max_leaf_depth_m = 0.1;
   o.leaf_depth_step_m = 0.0001;  // 2001 depths between -0.1 and 0.1 m
   REQUIRE(o.Check());
   CHECK(o.Check()->key == "leaf_depth_step_m");
