@@ -237,6 +237,8 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
   CLI::App app{"corridorsim: a simulation harness for corridor SLAM", "corridorsim"};
   app.require_subcommand(1);
   app.set_help_all_flag("--help-all", "Show the help of every subcommand");
+  app.set_version_flag("--version", std::string("corridorsim"),
+                       "Print the version, the git describe of the build and the SDK ABI version");
   app.footer(
       "Exit codes: 0 success, 2 bad input, 1 other failures; `run` also 3 (an expectation "
       "failed) and 4 (results written, an extra failed); `score` also 3 (an --expect failed). Run "
@@ -631,14 +633,27 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
       "Exit codes: 0 every case passed; 3 an expectation failed; 1 a run or study could not "
       "finish; 2 bad input (nothing runs).");
 
+  CLI::App* plugin = app.add_subcommand(
+      "plugin", "Load a pipeline plugin library and print what it registers (docs/plugins.md)");
+  std::string plugin_file;
+  plugin->add_option("library", plugin_file, "The plugin library (a .so file)")
+      ->required()
+      ->type_name("LIB");
+  plugin->footer(
+      "Prints the plugin's name, version, the corridorsim version it was built against, its file "
+      "and SHA-256, then each pipeline type it registers with its options (key, unit, default, "
+      "bounds, meaning) as docs/scenarios.md shows the shipped ones.\n"
+      "Exit codes: 0 success; 2 the library cannot be loaded as a plugin (missing, not a regular "
+      "file, dlopen's error, no entry point, another SDK ABI, a taken type name).");
+
   static const char* const kJobs[] = {"world",  "snapshot",        "run",     "drive", "where",
                                       "detect", "train-detectors", "dataset", "score", "study",
-                                      "test"};
+                                      "test",   "plugin"};
   if (!args.empty() && !args[0].empty() && args[0][0] != '-' &&
       std::find(std::begin(kJobs), std::end(kJobs), args[0]) == std::end(kJobs)) {
     Fail("", "unknown subcommand " + Quoted(args[0]) +
                  ": expected world, snapshot, run, drive, where, detect, train-detectors, "
-                 "dataset, score, study or test (see corridorsim --help)");
+                 "dataset, score, study, test or plugin (see corridorsim --help)");
   }
   // CLI11 takes the arguments last first.
   std::vector<std::string> reversed(args.rbegin(), args.rend());
@@ -647,6 +662,9 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
   } catch (const CLI::CallForHelp&) {
     parsed.job = CommandLine::Job::kHelp;
     parsed.help_text = app.help();
+    return parsed;
+  } catch (const CLI::CallForVersion&) {
+    parsed.job = CommandLine::Job::kVersion;
     return parsed;
   } catch (const CLI::CallForAllHelp&) {
     parsed.job = CommandLine::Job::kHelp;
@@ -880,10 +898,14 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
     if (study_slurm && study_shard_option->count() > 0) {
       Fail("--shard", "--slurm writes the shards itself");
     }
+  } else if (plugin->parsed()) {
+    parsed.job = CommandLine::Job::kPlugin;
+    if (plugin_file.empty()) Fail("library", "an empty file name");
+    parsed.plugin_file = plugin_file;
   } else {
     Fail("",
          "a subcommand is required: world, snapshot, run, drive, where, detect, train-detectors, "
-         "dataset, score, study or test (see corridorsim --help)");
+         "dataset, score, study, test or plugin (see corridorsim --help)");
   }
   return parsed;
 }

@@ -53,6 +53,8 @@ struct CommandLine {
     kStudy,
     kStudyMerge,
     kTest,
+    kVersion,  // --version
+    kPlugin,   // plugin LIB
   };
   Job job = Job::kHelp;
   std::string help_text;  // kHelp: printed on stdout, exit 0
@@ -69,6 +71,7 @@ struct CommandLine {
   ScoreRequest score;
   StudyRequest study;  // kStudy and kStudyMerge
   TestRequest test;
+  std::string plugin_file;  // kPlugin
 };
 
 /// Parses the arguments (without the program name). Throws InputError at

@@ -118,7 +118,7 @@ void RunDrive(const DriveRequest& request) {
   WriteFileAtomic(out / "events.json", events.Json(setup.seed(), simulation.now_ns()));
   WriteFileAtomic(out / "provenance.json",
                   ProvenanceJson(scenario.file, ResolvedScenarioYaml(scenario, setup.seed()),
-                                 setup.seed(), setup.backend())
+                                 setup.seed(), setup.backend(), scenario.plugins)
                           .dump(2) +
                       "\n");
   if (frames) frames->Finish();

@@ -1,5 +1,5 @@
 // The corridorsim command. Subcommands: run (the main job), world, snapshot, drive, where, detect,
-// train-detectors, dataset, score, study (and study merge), test. The command line is parsed by
+// train-detectors, dataset, score, study (and study merge), test, plugin; --version. The command line is parsed by
 // ParseCommandLine (harness/cli.h); this file only dispatches. Exit codes: 0 success, 2 bad input
 // (one message naming file, line and key, or the command-line flag), 3 an expectation failed (run,
 // score), 4 a run's results are written but an extra failed, 1 any other failure.
@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "common/installation.h"
 #include "common/error.h"
 #include "common/io/atomic_file.h"
 #include "harness/cli.h"
@@ -19,6 +20,8 @@
 #include "harness/detect.h"
 #include "harness/drive.h"
 #include "harness/job.h"
+#include "harness/plugins.h"
+#include "harness/provenance.h"
 #include "harness/run.h"
 #include "harness/run_folder.h"
 #include "harness/scenario.h"
@@ -29,6 +32,7 @@
 #include "harness/train_detectors.h"
 #include "harness/where.h"
 #include "slam/features/door_plates.h"
+#include "slam/sdk_version.h"
 #include "worlds/world_io.h"
 
 namespace corridorsim {
@@ -41,7 +45,7 @@ void ResolveDefaultScenario(JobRequest* request) {
   std::error_code error;
   std::filesystem::path path = "scenarios/default.yaml";
   if (!std::filesystem::is_regular_file(path, error)) {
-    path = std::filesystem::path(CORRIDORSIM_SCENARIO_DIR) / "default.yaml";
+    path = DataDir() / "scenarios" / "default.yaml";
   }
   std::filesystem::path shown = std::filesystem::weakly_canonical(path, error);
   if (error) shown = std::filesystem::absolute(path, error);
@@ -99,6 +103,15 @@ int Dispatch(CommandLine& command) {
     case CommandLine::Job::kHelp:
       std::fputs(command.help_text.c_str(), stdout);
       return kExitSuccess;
+    case CommandLine::Job::kVersion:
+      std::printf("corridorsim %s (%s)\nSDK ABI version %d\ndata %s\n", CORRIDORSIM_VERSION,
+                  ProjectVersion().c_str(), CORRIDORSIM_SDK_ABI_VERSION, DataDir().c_str());
+      return kExitSuccess;
+    case CommandLine::Job::kPlugin: {
+      const LoadedPlugin plugin = LoadPlugin(command.plugin_file, {"command line", 0, 0}, "library");
+      std::fputs(DescribePlugin(plugin).c_str(), stdout);
+      return kExitSuccess;
+    }
     case CommandLine::Job::kWorld:
       ResolveDefaultScenario(&command.world);
       return RunWorld(command.world);

@@ -3,6 +3,8 @@
 #include <cstdlib>
 
 #include "common/io/sha256.h"
+#include "harness/plugins.h"
+#include "slam/sdk_version.h"
 #include "corridorsim_version.h"  // generated at build time (cmake/version.cmake)
 
 namespace corridorsim {
@@ -22,18 +24,33 @@ std::optional<std::string> ReleaseAfter(const std::string& gl_string, const std:
 }
 
 Json ProvenanceJson(const std::string& scenario_file, const std::string& scenario_yaml,
-                    std::uint64_t seed, const render::Backend* backend) {
+                    std::uint64_t seed, const render::Backend* backend,
+                    const std::vector<std::filesystem::path>& plugins) {
   const auto or_null = [](const std::optional<std::string>& s) {
     return s ? Json(*s) : Json(nullptr);
   };
   Json j;
   j["project_version"] = ProjectVersion();
+  j["version"] = CORRIDORSIM_VERSION;
+  j["sdk_abi_version"] = CORRIDORSIM_SDK_ABI_VERSION;
   j["compiler"] = {{"id", CORRIDORSIM_CXX_COMPILER_ID},
                    {"version", CORRIDORSIM_CXX_COMPILER_VERSION}};
   j["scenario"] = {{"file", scenario_file},
                    {"seed", seed},
                    {"sha256", Sha256Hex(scenario_yaml)},
                    {"sha256_of", "the resolved scenario (a run's scenario.yaml)"}};
+  Json plugin_list = Json::array();
+  for (const std::filesystem::path& path : plugins) {
+    const LoadedPlugin* plugin = FindLoadedPlugin(path);
+    if (!plugin) continue;  // cannot happen: a scenario's plugins are loaded with it
+    plugin_list.push_back({{"path", plugin->path.string()},
+                           {"sha256", plugin->sha256},
+                           {"name", plugin->name},
+                           {"version", plugin->version},
+                           {"sdk_version", plugin->sdk_version},
+                           {"types", plugin->types}});
+  }
+  j["plugins"] = std::move(plugin_list);
   Json render;
   if (backend == nullptr) {
     render["rendered"] = false;

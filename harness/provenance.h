@@ -3,11 +3,14 @@
 // (docs/architecture.md, "Provenance"): the project's version (git describe at build time), the
 // compiler, the GL renderer and its Mesa and LLVM releases and the device the backend chose
 // (hardware or software, and why), or that nothing was rendered; the GALLIVM_PERF environment
-// variable, and the SHA-256 of the resolved scenario.yaml bytes.
+// variable, the SHA-256 of the resolved scenario.yaml bytes, and each pipeline plugin's library
+// (path, SHA-256, the version it reports).
 
 #include <cstdint>
+#include <filesystem>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -26,9 +29,12 @@ std::optional<std::string> ReleaseAfter(const std::string& gl_string, const std:
 
 /// The provenance of a run folder or drive folder. `scenario_yaml` is the resolved scenario.yaml
 /// exactly as written (its SHA-256 is recorded), `scenario_file` the path given on the command
-/// line; `backend` is the GL backend the job rendered with, or null when it rendered nothing.
+/// line; `backend` is the GL backend the job rendered with, or null when it rendered nothing;
+/// `plugins` the canonical paths of the plugin libraries the scenario loaded (each recorded with
+/// its SHA-256, name, version and types, harness/plugins.h).
 nlohmann::ordered_json ProvenanceJson(const std::string& scenario_file,
                                       const std::string& scenario_yaml, std::uint64_t seed,
-                                      const render::Backend* backend);
+                                      const render::Backend* backend,
+                                      const std::vector<std::filesystem::path>& plugins = {});
 
 }  // namespace corridorsim

@@ -1,3 +1,4 @@
+#include "common/installation.h"
 #include "harness/run_folder.h"
 
 #include <cstdio>
@@ -62,7 +63,7 @@ void WriteRunFolder(const std::filesystem::path& out, const Scenario& scenario, 
   const std::string scenario_yaml = ResolvedScenarioYaml(scenario, seed);
   WriteFileAtomic(out / "scenario.yaml", scenario_yaml);
   WriteFileAtomic(out / "provenance.json",
-                  ProvenanceJson(scenario.file, scenario_yaml, seed, backend).dump(2) + "\n");
+                  ProvenanceJson(scenario.file, scenario_yaml, seed, backend, scenario.plugins).dump(2) + "\n");
   WriteFileAtomic(out / "world.json", worlds::GroundTruthJson(world).dump(2) + "\n");
   WriteFileAtomic(out / "ground_truth.tum", truth.PlanarTum());
   for (const PipelineRecord& record : pipelines.records()) {
@@ -116,7 +117,7 @@ void PrintClosingTable(const nlohmann::ordered_json& metrics,
 
 std::optional<std::string> MakePlots(const std::filesystem::path& out) {
   const std::filesystem::path script =
-      std::filesystem::path(CORRIDORSIM_SCRIPTS_DIR) / "plot_run.py";
+      DataDir() / "scripts" / "plot_run.py";
   const ChildStatus status = RunChildProcess({"python3", script.string(), out.string()});
   if (status.succeeded()) return std::nullopt;
   return "python3 '" + script.string() + "' '" + out.string() + "' " + DescribeChildStatus(status);

@@ -5,21 +5,11 @@
 
 #include "common/io/atomic_file.h"
 #include "common/io/options_yaml.h"
+#include "harness/plugins.h"
 
 namespace corridorsim {
 
 namespace {
-
-// A pipeline's name names its files in the run folder (`<name>.tum`, `maps/<name>.bt`) and its
-// object in metrics.json: lower-case letters, digits and '_', starting with a letter.
-constexpr std::size_t kMaxPipelineNameLength = 64;
-bool IsPipelineName(const std::string& name) {
-  if (name.empty() || name.size() > kMaxPipelineNameLength) return false;
-  if (name[0] < 'a' || name[0] > 'z') return false;
-  return std::all_of(name.begin(), name.end(), [](char c) {
-    return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_';
-  });
-}
 
 // A YAML map none of whose keys a scenario has is some other file (`include: /etc/shadow`, a
 // config of another program): reported by its position and kind only, never by its content,
@@ -44,9 +34,9 @@ void RequireScenarioKey(const YamlDocument& doc) {
 void ParsePipelines(YamlMap& pipelines, Scenario& scenario) {
   for (const std::string& name : pipelines.Keys()) {
     YamlMap map = pipelines.Map(name);
-    if (!IsPipelineName(name)) {
+    if (!slam::IsPipelineName(name)) {
       pipelines.Fail(name,
-                     "a pipeline name is 1 to " + std::to_string(kMaxPipelineNameLength) +
+                     "a pipeline name is 1 to " + std::to_string(slam::kMaxPipelineNameLength) +
                          " lower-case letters, digits and '_', starting with a letter (got '" +
                          InputExcerpt(name) + "')");
     }
@@ -76,6 +66,50 @@ void ParsePipelines(YamlMap& pipelines, Scenario& scenario) {
     ReadOptionFields(map, entry->options->table(), entry->options->options());
     map.RejectUnknownKeys();
   }
+}
+
+// `plugins:` lists libraries, relative to the file that names them (like `include:`); they load
+// now, so that `pipelines:` below (read after this key) can name their types. The lists of an
+// include chain add up, base first; a library named twice loads once.
+void ParsePlugins(YamlMap& root, Scenario& scenario) {
+  std::vector<std::string> paths;
+  std::vector<SourceLocation> locations;
+  if (!root.Read("plugins", paths, &locations)) return;
+  constexpr std::size_t kMaxPlugins = 64;
+  if (paths.size() + scenario.plugins.size() > kMaxPlugins) {
+    root.Fail("plugins", "at most " + std::to_string(kMaxPlugins) + " plugin libraries");
+  }
+  for (std::size_t i = 0; i < paths.size(); ++i) {
+    const std::string& name = paths[i];
+    const bool control = std::any_of(name.begin(), name.end(), [](char c) {
+      return static_cast<unsigned char>(c) < 0x20 || c == 0x7f;
+    });
+    if (name.empty() || control) {
+      throw InputError(locations[i], "plugins",
+                       name.empty() ? "expected the path of a plugin library"
+                                    : "the path '" + InputExcerpt(name) +
+                                          "' contains a control character");
+    }
+    std::filesystem::path path(name);
+    if (path.is_relative()) {
+      path = std::filesystem::path(locations[i].file).parent_path() / path;
+    }
+    const LoadedPlugin plugin = LoadPlugin(path, locations[i]);
+    if (std::find(scenario.plugins.begin(), scenario.plugins.end(), plugin.path) ==
+        scenario.plugins.end()) {
+      scenario.plugins.push_back(plugin.path);
+    }
+  }
+}
+
+// Absolute paths: the echo is read from the run folder, not from where the scenario was.
+void EchoPlugins(const Scenario& scenario, OptionsYamlWriter& out) {
+  if (scenario.plugins.empty()) return;  // the echo of a scenario without plugins stays as it was
+  std::string list;
+  for (const std::filesystem::path& p : scenario.plugins) {
+    list += (list.empty() ? "" : ", ") + YamlString(p.string());
+  }
+  out.Scalar("plugins", "[" + list + "]");
 }
 
 void EchoPipelines(const Scenario& scenario, OptionsYamlWriter& out) {
@@ -144,6 +178,14 @@ const OptionTable<Scenario>& ScenarioOptionsTable() {
                  &sim::RobotPathOptions::Check);
     t.Add("duration_s", &S::duration_s, "s", "simulated time of a run; 0 = until the path is done")
         .ZeroOr(1e-3, kMaxRunSeconds, "must lie in [0.001, 1e+06] s or be 0 (got {})");
+    t.AddCustom(
+        "plugins", "", [](YamlMap& root, S& s) { ParsePlugins(root, s); }, &EchoPlugins,
+        [](const S&) {
+          return std::vector<OptionDocRow>{
+              {"plugins", "", "`[]`", "",
+               "pipeline plugin libraries (paths relative to this file) whose pipeline types "
+               "`pipelines:` may name (docs/plugins.md)"}};
+        });
     t.AddCustom(
         "pipelines", "",
         [](YamlMap& root, S& s) {
@@ -292,7 +334,7 @@ std::vector<OptionsDocBlock> ScenarioDocBlocks() {
   const Scenario defaults;
   std::vector<OptionsDocBlock> blocks =
       OptionsDocBlocks(ScenarioOptionsTable(), &defaults, "scenario");
-  for (const slam::PipelineType& type : slam::PipelineTypes()) {
+  for (const slam::PipelineType& type : slam::ShippedPipelineTypes()) {
     const std::unique_ptr<slam::PipelineOptions> options = type.new_options();
     const std::vector<OptionsDocBlock> more = OptionsDocBlocks(
         options->table(), options->options(), "pipelines." + type.name, "pipelines." + type.name);

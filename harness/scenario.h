@@ -32,6 +32,9 @@ struct Scenario {
   sim::RobotOptions robot;           // `robot:` (odometry errors under `robot.odometry`)
   sim::RobotPathOptions robot_path;  // `path:`
   double duration_s = 0;  // `duration_s`: simulated time of a run; 0 = until the path is done
+  // `plugins:`: the pipeline plugin libraries the scenario loads (harness/plugins.h), canonical
+  // paths, base files' first; each is loaded when the scenario is (its types are then known).
+  std::vector<std::filesystem::path> plugins;
   // `pipelines:` in order of first appearance (base files first); `enabled: false` drops one.
   struct PipelineEntry {
     std::string name;  // unique in the scenario: names its files and its metrics

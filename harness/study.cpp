@@ -1,3 +1,4 @@
+#include "common/installation.h"
 #include "harness/study.h"
 
 #include <unistd.h>
@@ -374,7 +375,7 @@ std::string CommandText(const StudyRequest& request) {
 }
 
 std::optional<std::string> MakeStudyPlots(const fs::path& dir) {
-  const fs::path script = fs::path(CORRIDORSIM_SCRIPTS_DIR) / "plot_study.py";
+  const fs::path script = DataDir() / "scripts" / "plot_study.py";
   const ChildStatus status = RunChildProcess({"python3", script.string(), dir.string()});
   if (const int signal = StopSignal()) DieOfSignal(signal);  // forwarded to python3, which ended
   if (status.succeeded()) return std::nullopt;

@@ -1,5 +1,7 @@
 #include "slam/registry.h"
 
+#include <algorithm>
+#include <mutex>
 #include <utility>
 
 #include "slam/odometry_pipeline.h"
@@ -10,54 +12,70 @@
 namespace corridorsim::slam {
 namespace {
 
-// The options of a pipeline type `P` whose options struct `Options` has a table and a
-// Check(), and which is constructed from (options, calibration, seed).
-template <class Options, class P>
-class TypedOptions : public PipelineOptions {
- public:
-  TypedOptions(const OptionTable<Options>& table, Options defaults)
-      : table_(table), options_(std::move(defaults)) {}
-  const OptionTableBase& table() const override { return table_; }
-  void* options() override { return &options_; }
-  const void* options() const override { return &options_; }
-  std::optional<OptionsProblem> Check() const override { return options_.Check(); }
-  std::unique_ptr<Pipeline> Create(const Calibration& calibration,
-                                   std::uint64_t seed) const override {
-    return std::make_unique<P>(options_, calibration, seed);
-  }
+std::mutex& PluginTypesMutex() {
+  static std::mutex mutex;
+  return mutex;
+}
 
- private:
-  const OptionTable<Options>& table_;
-  Options options_;
-};
-
-// `defaults` gives the type's defaults when several types share one options struct (p3_upward,
-// p3_corners, p2_upward); else the struct's own.
-template <class Options, class P>
-PipelineType Type(std::string name, const OptionTable<Options>& (*table)(),
-                  Options (*defaults)() = nullptr) {
-  return {std::move(name), [table, defaults]() -> std::unique_ptr<PipelineOptions> {
-            return std::make_unique<TypedOptions<Options, P>>(table(),
-                                                              defaults ? defaults() : Options{});
-          }};
+std::vector<PipelineType>& PluginTypes() {
+  static std::vector<PipelineType> types;
+  return types;
 }
 
 }  // namespace
 
-const std::vector<PipelineType>& PipelineTypes() {
+bool IsPipelineName(const std::string& name) {
+  if (name.empty() || name.size() > kMaxPipelineNameLength) return false;
+  if (name[0] < 'a' || name[0] > 'z') return false;
+  return std::all_of(name.begin(), name.end(), [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_';
+  });
+}
+
+const std::vector<PipelineType>& ShippedPipelineTypes() {
   static const std::vector<PipelineType> types = {
-      Type<OdometryPipelineOptions, OdometryPipeline>("odometry", &OdometryPipelineOptionsTable),
-      Type<P1HarrisOptions, P1HarrisPipeline>("p1_harris", &P1HarrisOptionsTable),
-      Type<P1VpDoorplateOptions, P1VpDoorplatePipeline>("p1_vp_doorplate",
+      MakePipelineType<OdometryPipelineOptions, OdometryPipeline>("odometry", &OdometryPipelineOptionsTable),
+      MakePipelineType<P1HarrisOptions, P1HarrisPipeline>("p1_harris", &P1HarrisOptionsTable),
+      MakePipelineType<P1VpDoorplateOptions, P1VpDoorplatePipeline>("p1_vp_doorplate",
                                                         &P1VpDoorplateOptionsTable),
-      Type<P3UpwardOptions, P3UpwardPipeline>("p3_upward", &P3UpwardOptionsTable,
+      MakePipelineType<P3UpwardOptions, P3UpwardPipeline>("p3_upward", &P3UpwardOptionsTable,
                                               &P3UpwardDefaults),
-      Type<P3UpwardOptions, P3UpwardPipeline>("p3_corners", &P3UpwardOptionsTable,
+      MakePipelineType<P3UpwardOptions, P3UpwardPipeline>("p3_corners", &P3UpwardOptionsTable,
                                               &P3CornersDefaults),
-      Type<P3UpwardOptions, P3UpwardPipeline>("p2_upward", &P3UpwardOptionsTable,
+      MakePipelineType<P3UpwardOptions, P3UpwardPipeline>("p2_upward", &P3UpwardOptionsTable,
                                               &P2UpwardDefaults),
   };
   return types;
+}
+
+std::vector<PipelineType> PipelineTypes() {
+  std::vector<PipelineType> types = ShippedPipelineTypes();
+  const std::lock_guard<std::mutex> lock(PluginTypesMutex());
+  types.insert(types.end(), PluginTypes().begin(), PluginTypes().end());
+  return types;
+}
+
+std::optional<PipelineType> FindPipelineType(const std::string& name) {
+  for (const PipelineType& type : ShippedPipelineTypes()) {
+    if (type.name == name) return type;
+  }
+  const std::lock_guard<std::mutex> lock(PluginTypesMutex());
+  for (const PipelineType& type : PluginTypes()) {
+    if (type.name == name) return type;
+  }
+  return std::nullopt;
+}
+
+void AddPipelineType(PipelineType type) {
+  const auto taken = [&](const std::vector<PipelineType>& types) {
+    return std::any_of(types.begin(), types.end(),
+                       [&](const PipelineType& t) { return t.name == type.name; });
+  };
+  const std::lock_guard<std::mutex> lock(PluginTypesMutex());
+  if (taken(ShippedPipelineTypes()) || taken(PluginTypes())) {
+    throw std::logic_error("the pipeline type '" + type.name + "' is already registered");
+  }
+  PluginTypes().push_back(std::move(type));
 }
 
 std::vector<std::string> PipelineNames() {
@@ -67,10 +85,8 @@ std::vector<std::string> PipelineNames() {
 }
 
 std::unique_ptr<PipelineOptions> NewPipelineOptions(const std::string& name) {
-  for (const PipelineType& type : PipelineTypes()) {
-    if (type.name == name) return type.new_options();
-  }
-  return nullptr;
+  const std::optional<PipelineType> type = FindPipelineType(name);
+  return type ? type->new_options() : nullptr;
 }
 
 }  // namespace corridorsim::slam

@@ -6,12 +6,14 @@
 
 #include <opencv2/core/persistence.hpp>
 
+#include "common/installation.h"
+
 namespace corridorsim::slam {
 
 ModelFileError::ModelFileError(std::filesystem::path path, const std::string& problem)
     : std::runtime_error("model file " + path.string() + ": " + problem), path_(std::move(path)) {}
 
-std::filesystem::path DefaultModelsDir() { return std::filesystem::path(CORRIDORSIM_MODELS_DIR); }
+std::filesystem::path DefaultModelsDir() { return DataDir() / "models"; }
 
 namespace {
 

@@ -1,0 +1,101 @@
+// A test plugin: the pipeline type `test_echo` (dead reckoning through the SDK's odometry model,
+// scaled by an option), and with `-DTEST_PLUGIN_VARIANT=...` the broken variants that the loader
+// must refuse (tests/harness/plugins_test.cpp, tests/CMakeLists.txt).
+
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <optional>
+#include <stdexcept>
+
+#include <Eigen/Core>
+
+#include "common/options_table.h"
+#include "common/wheel_odometry_model.h"
+#include "slam/pipeline.h"
+#include "slam/plugin.h"
+
+namespace test_echo {
+
+struct EchoOptions {
+  double scale = 1.0;  // multiplies the wheel distances
+  std::optional<corridorsim::OptionsProblem> Check() const;
+};
+
+const corridorsim::OptionTable<EchoOptions>& EchoOptionsTable() {
+  return corridorsim::StaticOptionTable<EchoOptions>([](corridorsim::OptionTable<EchoOptions>& t) {
+    t.Add("scale", &EchoOptions::scale, "", "multiplies the wheel distances").Range(0.5, 2.0);
+  });
+}
+
+std::optional<corridorsim::OptionsProblem> EchoOptions::Check() const {
+  return corridorsim::CheckOptionBounds(EchoOptionsTable(), *this);
+}
+
+class EchoPipeline : public corridorsim::slam::Pipeline {
+ public:
+  EchoPipeline(const EchoOptions& options, const corridorsim::slam::Calibration& calibration,
+               std::uint64_t /*seed*/)
+      : options_(options), wheelbase_m_(calibration.wheelbase_m) {}
+  void Initialize(corridorsim::TimeNs stamp_ns, const corridorsim::SE2& pose) override {
+    estimate_.stamp_ns = stamp_ns;
+    estimate_.world_from_robot = pose;
+  }
+  void OnOdometry(const corridorsim::WheelOdometry& odometry) override {
+    estimate_.world_from_robot = corridorsim::ApplyWheelOdometry(
+        estimate_.world_from_robot, options_.scale * odometry.left_distance_m,
+        options_.scale * odometry.right_distance_m, wheelbase_m_);
+    estimate_.stamp_ns = odometry.stamp_ns;
+    estimate_.covariance = 1e-4 * Eigen::Matrix3d::Identity();
+  }
+  corridorsim::slam::PoseEstimate Estimate() const override { return estimate_; }
+
+ private:
+  EchoOptions options_;
+  double wheelbase_m_;
+  corridorsim::slam::PoseEstimate estimate_;
+};
+
+}  // namespace test_echo
+
+#if !defined(TEST_PLUGIN_VARIANT)
+CORRIDORSIM_PLUGIN("test_echo_plugin", "2.5.0", registrar) {
+  registrar.Add<test_echo::EchoOptions, test_echo::EchoPipeline>("test_echo",
+                                                                  &test_echo::EchoOptionsTable);
+}
+#elif TEST_PLUGIN_VARIANT == 1  // no entry point at all
+CORRIDORSIM_PLUGIN_EXPORT int not_a_corridorsim_plugin() { return 1; }
+#elif TEST_PLUGIN_VARIANT == 2  // built against another SDK ABI version
+CORRIDORSIM_PLUGIN_EXPORT const CorridorsimPluginInfo* corridorsim_plugin_info() {
+  static CorridorsimPluginInfo info = corridorsim::slam::ThisBuildPluginInfo("old", "0.0.1");
+  info.sdk_abi_version = CORRIDORSIM_SDK_ABI_VERSION + 98;
+  return &info;
+}
+CORRIDORSIM_PLUGIN_EXPORT void corridorsim_plugin_register(corridorsim::slam::PluginRegistrar*) {
+  std::abort();  // never called: the ABI check comes first
+}
+#elif TEST_PLUGIN_VARIANT == 3  // a type name corridorsim ships
+CORRIDORSIM_PLUGIN("taken", "1", registrar) {
+  registrar.Add<test_echo::EchoOptions, test_echo::EchoPipeline>("odometry",
+                                                                  &test_echo::EchoOptionsTable);
+}
+#elif TEST_PLUGIN_VARIANT == 4  // not a pipeline name
+CORRIDORSIM_PLUGIN("bad_name", "1", registrar) {
+  registrar.Add<test_echo::EchoOptions, test_echo::EchoPipeline>("Echo-Pipeline",
+                                                                  &test_echo::EchoOptionsTable);
+}
+#elif TEST_PLUGIN_VARIANT == 5  // throws while registering
+CORRIDORSIM_PLUGIN("throws", "1", registrar) {
+  (void)registrar;
+  throw std::runtime_error("cannot find my configuration");
+}
+#elif TEST_PLUGIN_VARIANT == 6  // another std::string ABI
+CORRIDORSIM_PLUGIN_EXPORT const CorridorsimPluginInfo* corridorsim_plugin_info() {
+  static CorridorsimPluginInfo info = corridorsim::slam::ThisBuildPluginInfo("abi", "1");
+  info.cxx11_string_abi = 1 - info.cxx11_string_abi;
+  return &info;
+}
+CORRIDORSIM_PLUGIN_EXPORT void corridorsim_plugin_register(corridorsim::slam::PluginRegistrar*) {
+  std::abort();
+}
+#endif
