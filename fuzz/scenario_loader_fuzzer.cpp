@@ -28,6 +28,7 @@
 #include "fuzz/fuzz_support.h"
 #include "harness/calibration.h"
 #include "harness/pipeline_runner.h"
+#include "harness/plugins.h"
 #include "harness/scenario.h"
 
 namespace {
@@ -44,6 +45,9 @@ std::string Echo(const corridorsim::Scenario& scenario) {
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  // A scenario's `plugins:` would dlopen() whatever library an input names: never here.
+  static const bool no_plugins = (corridorsim::DisablePluginLoading(), true);
+  (void)no_plugins;
   const std::string text(reinterpret_cast<const char*>(data), size);
   const std::optional<fs::path> written = corridorsim::fuzz::WriteInput(text);
   if (!written) return -1;

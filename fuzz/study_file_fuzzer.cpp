@@ -26,6 +26,7 @@
 
 #include "common/error.h"
 #include "fuzz/fuzz_support.h"
+#include "harness/plugins.h"
 #include "harness/scenario.h"
 #include "harness/study_file.h"
 
@@ -86,6 +87,9 @@ void CheckSpec(const StudySpec& spec) {
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  // A scenario's `plugins:` would dlopen() whatever library an input names: never here.
+  static const bool no_plugins = (corridorsim::DisablePluginLoading(), true);
+  (void)no_plugins;
   const std::string text(reinterpret_cast<const char*>(data), size);
   const std::optional<fs::path> written = corridorsim::fuzz::WriteInput(text);
   if (!written) return -1;

@@ -1,8 +1,9 @@
 // The corridorsim command. Subcommands: run (the main job), world, snapshot, drive, where, detect,
-// train-detectors, dataset, score, study (and study merge), test, plugin; --version. The command line is parsed by
-// ParseCommandLine (harness/cli.h); this file only dispatches. Exit codes: 0 success, 2 bad input
-// (one message naming file, line and key, or the command-line flag), 3 an expectation failed (run,
-// score), 4 a run's results are written but an extra failed, 1 any other failure.
+// train-detectors, dataset, score, study (and study merge), test, plugin; --version. The command
+// line is parsed by ParseCommandLine (harness/cli.h); this file only dispatches. Exit codes: 0
+// success, 2 bad input (one message naming file, line and key, or the command-line flag), 3 an
+// expectation failed (run, score), 4 a run's results are written but an extra failed, 1 any other
+// failure.
 
 #include <chrono>
 #include <cstdio>
@@ -12,8 +13,8 @@
 #include <string>
 #include <vector>
 
-#include "common/installation.h"
 #include "common/error.h"
+#include "common/installation.h"
 #include "common/io/atomic_file.h"
 #include "harness/cli.h"
 #include "harness/dataset.h"
@@ -108,7 +109,8 @@ int Dispatch(CommandLine& command) {
                   ProjectVersion().c_str(), CORRIDORSIM_SDK_ABI_VERSION, DataDir().c_str());
       return kExitSuccess;
     case CommandLine::Job::kPlugin: {
-      const LoadedPlugin plugin = LoadPlugin(command.plugin_file, {"command line", 0, 0}, "library");
+      const LoadedPlugin plugin =
+          LoadPlugin(command.plugin_file, {"command line", 0, 0}, "library");
       std::fputs(DescribePlugin(plugin).c_str(), stdout);
       return kExitSuccess;
     }

@@ -4,10 +4,12 @@
 #include <cstdio>
 #include <future>
 #include <optional>
+#include <stdexcept>
 #include <utility>
 
 #include "common/error.h"
 #include "common/io/atomic_file.h"
+#include "common/io/yaml_reader.h"
 #include "common/random.h"
 #include "harness/run_folder.h"
 #include "harness/stopwatch.h"
@@ -38,10 +40,22 @@ std::optional<SeenPoint> SeenAt(const render::CameraFrame& frame, const CameraMo
   return seen;
 }
 
+// An exception's text as a record keeps it: printable, at most 2000 bytes.
+std::string ExceptionText(std::exception_ptr error) {
+  try {
+    std::rethrow_exception(error);
+  } catch (const std::exception& e) {
+    return InputExcerpt(e.what(), 2000);
+  } catch (...) {
+    return "an exception that is not a std::exception";
+  }
+}
+
 }  // namespace
 
 struct PipelineRunner::Run {
-  std::unique_ptr<slam::Pipeline> pipeline;
+  std::unique_ptr<slam::Pipeline> pipeline;  // null when its construction threw
+  bool failed = false;
   std::set<std::string> cameras;
   double seconds = 0.0;      // wall time inside the pipeline
   double cpu_seconds = 0.0;  // CPU time of the threads that ran its calls, during them
@@ -58,16 +72,23 @@ PipelineRunner::PipelineRunner(const Scenario& scenario, const slam::Calibration
     // Each pipeline's random choices draw from a stream of its own (docs/architecture.md), of
     // the run's seed: `run --seed N` reseeds the pipelines with everything else.
     const std::uint64_t seed = RandomStream(run_seed, 0, "slam." + entry.name).NextU64();
+    PipelineRecord record;
+    record.name = entry.name;
     try {
       run.pipeline = entry.options->Create(calibration, seed);
+      if (!run.pipeline) throw std::runtime_error("its factory returned no pipeline");
+      record.cameras_used = run.pipeline->cameras_used();
     } catch (const slam::ModelFileError& e) {
       // A pipeline's trained models are input too: named at its models_dir (or its section).
       throw LocateProblem(scenario, "pipelines",
                           OptionsProblem{entry.name + ".models_dir", e.what()});
+    } catch (...) {
+      // Its constructor (or cameras_used) threw: it fails alone, before the run starts.
+      run.failed = true;
+      run.pipeline.reset();
+      record.cameras_used.clear();
+      record.failure = PipelineFailure{0, "create", ExceptionText(std::current_exception())};
     }
-    PipelineRecord record;
-    record.name = entry.name;
-    record.cameras_used = run.pipeline->cameras_used();
     for (const std::string& id : record.cameras_used) {
       if (!calibration.Find(id)) {
         throw LocateProblem(scenario, "pipelines",
@@ -90,21 +111,51 @@ std::string PipelineRunner::Names() const {
   return names;
 }
 
+template <class F>
+bool PipelineRunner::Guard(std::size_t i, const char* what, TimeNs stamp_ns, F&& call) {
+  Run& run = runs_[i];
+  if (run.failed) return false;
+  try {
+    call(*run.pipeline);
+    return true;
+  } catch (...) {
+    run.failed = true;
+    records_[i].failure = PipelineFailure{stamp_ns, what, ExceptionText(std::current_exception())};
+    return false;
+  }
+}
+
+std::vector<const PipelineRecord*> PipelineRunner::Failed() const {
+  std::vector<const PipelineRecord*> failed;
+  for (const PipelineRecord& r : records_) {
+    if (r.failure) failed.push_back(&r);
+  }
+  return failed;
+}
+
 void PipelineRunner::Initialize(TimeNs stamp_ns, const SE2& world_from_robot) {
-  for (Run& run : runs_) run.pipeline->Initialize(stamp_ns, world_from_robot);
+  last_stamp_ns_ = stamp_ns;
+  for (std::size_t i = 0; i < runs_.size(); ++i) {
+    Guard(i, "Initialize", stamp_ns,
+          [&](slam::Pipeline& p) { p.Initialize(stamp_ns, world_from_robot); });
+  }
 }
 
 void PipelineRunner::OnOdometry(const WheelOdometry& odometry) {
+  last_stamp_ns_ = odometry.stamp_ns;
   for (std::size_t i = 0; i < runs_.size(); ++i) {
     Run& run = runs_[i];
     const WallClock::time_point t0 = WallClock::now();
     const double cpu0 = ThreadCpuSeconds();
-    run.pipeline->OnOdometry(odometry);
-    const slam::PoseEstimate e = run.pipeline->Estimate();
+    slam::PoseEstimate e;
+    const bool ok = Guard(i, "OnOdometry", odometry.stamp_ns, [&](slam::Pipeline& p) {
+      p.OnOdometry(odometry);
+      e = p.Estimate();
+    });
     run.cpu_seconds += ThreadCpuSeconds() - cpu0;
     run.seconds += SecondsSince(t0);
     wall_seconds_ += SecondsSince(t0);
-    records_[i].estimates.push_back({odometry.stamp_ns, e.world_from_robot, e.covariance});
+    if (ok) records_[i].estimates.push_back({odometry.stamp_ns, e.world_from_robot, e.covariance});
   }
 }
 
@@ -121,15 +172,17 @@ void PipelineRunner::OnCameraSet(const CameraSet& set) {
     // The pipelines that read this camera process the frame concurrently (they share nothing;
     // each one's own state decides its output, so the outputs do not depend on the schedule),
     // then their detections are collected in scenario order.
+    last_stamp_ns_ = message.stamp_ns;
     std::vector<std::size_t> readers;
     for (std::size_t i = 0; i < runs_.size(); ++i) {
-      if (runs_[i].cameras.count(slot.camera_id)) readers.push_back(i);
+      if (!runs_[i].failed && runs_[i].cameras.count(slot.camera_id)) readers.push_back(i);
     }
     const WallClock::time_point t_frame = WallClock::now();
     const auto process = [this, &input](std::size_t i) {
       const WallClock::time_point t0 = WallClock::now();
       const double cpu0 = ThreadCpuSeconds();
-      runs_[i].pipeline->OnCamera(input);
+      // Each reader's own fields only: the concurrent calls share nothing.
+      Guard(i, "OnCamera", input.image.stamp_ns, [&](slam::Pipeline& p) { p.OnCamera(input); });
       runs_[i].cpu_seconds += ThreadCpuSeconds() - cpu0;
       runs_[i].seconds += SecondsSince(t0);
     };
@@ -138,10 +191,13 @@ void PipelineRunner::OnCameraSet(const CameraSet& set) {
       others.push_back(std::async(std::launch::async, process, readers[k]));
     }
     if (!readers.empty()) process(readers[0]);
-    for (std::future<void>& f : others) f.get();  // rethrows a pipeline's exception here
+    for (std::future<void>& f : others) f.get();  // Guard caught the pipelines' exceptions
     wall_seconds_ += SecondsSince(t_frame);
     for (const std::size_t i : readers) {
-      for (slam::Detection& d : runs_[i].pipeline->TakeDetections()) {
+      std::vector<slam::Detection> detections;
+      Guard(i, "TakeDetections", message.stamp_ns,
+            [&](slam::Pipeline& p) { detections = p.TakeDetections(); });
+      for (slam::Detection& d : detections) {
         // The boundary of slam/: a detection without the fields its type needs is a bug.
         if (const std::optional<std::string> problem = slam::DetectionProblem(d)) {
           const std::string what = "pipeline '" + records_[i].name + "' reported a " +
@@ -162,24 +218,29 @@ void PipelineRunner::OnCameraSet(const CameraSet& set) {
 
 void PipelineRunner::Finish() {
   for (std::size_t i = 0; i < runs_.size(); ++i) {
-    slam::Pipeline& pipeline = *runs_[i].pipeline;
     PipelineRecord& record = records_[i];
     const WallClock::time_point t0 = WallClock::now();
     const double cpu0 = ThreadCpuSeconds();
-    pipeline.Finish();
+    // One guarded call for the whole end of the run: a pipeline whose Finish() or any getter
+    // throws is failed, and what it gave before stays in its record.
+    Guard(i, "Finish", last_stamp_ns_, [&](slam::Pipeline& pipeline) {
+      pipeline.Finish();
+      for (slam::Detection& d : pipeline.TakeDetections())
+        record.detections.push_back(std::move(d));
+      record.landmarks = pipeline.Landmarks();
+      record.areas = pipeline.Areas();
+      record.occupancy_map = pipeline.occupancy_map();
+      for (slam::Innovation& innovation : pipeline.TakeInnovations()) {
+        record.innovations.push_back(innovation);
+      }
+      record.stage_seconds = pipeline.stage_seconds();
+      record.health = pipeline.health();
+    });
     runs_[i].cpu_seconds += ThreadCpuSeconds() - cpu0;
     runs_[i].seconds += SecondsSince(t0);
     wall_seconds_ += SecondsSince(t0);
-    for (slam::Detection& d : pipeline.TakeDetections()) record.detections.push_back(std::move(d));
-    record.landmarks = pipeline.Landmarks();
-    record.areas = pipeline.Areas();
-    record.occupancy_map = pipeline.occupancy_map();
-    for (slam::Innovation& innovation : pipeline.TakeInnovations()) {
-      record.innovations.push_back(innovation);
-    }
-    record.stage_seconds = pipeline.stage_seconds();
     record.cpu_seconds = runs_[i].cpu_seconds;
-    record.health = pipeline.health();
+    if (record.failure) record.occupancy_map = nullptr;
   }
 }
 
@@ -206,9 +267,17 @@ std::string PipelineRunner::ErrorsLine(const std::vector<Latest>& latest,
 }
 
 void PipelineRunner::WriteMaps(const std::filesystem::path& dir) {
+  std::string errors;
   for (std::size_t i = 0; i < runs_.size(); ++i) {
     records_[i].occupancy_map = nullptr;  // TakeMaps() may release it
-    const std::vector<slam::MapFile> maps = runs_[i].pipeline->TakeMaps();
+    if (records_[i].failure) continue;    // a failed pipeline's maps are not written
+    std::vector<slam::MapFile> maps;
+    if (!Guard(i, "TakeMaps", last_stamp_ns_, [&](slam::Pipeline& p) { maps = p.TakeMaps(); })) {
+      // After the results: the maps are an extra, and this costs only them (exit 4).
+      errors += (errors.empty() ? "" : "; ") + std::string("pipeline '") + records_[i].name +
+                "' threw from TakeMaps: " + records_[i].failure->what;
+      continue;
+    }
     if (maps.empty()) continue;
     std::filesystem::create_directories(dir);
     for (const slam::MapFile& map : maps) {
@@ -217,6 +286,7 @@ void PipelineRunner::WriteMaps(const std::filesystem::path& dir) {
     std::printf("  %s wrote %zu map file%s to %s\n", records_[i].name.c_str(), maps.size(),
                 maps.size() == 1 ? "" : "s", dir.string().c_str());
   }
+  if (!errors.empty()) throw std::runtime_error(errors);
 }
 
 double PipelineRunner::seconds() const { return wall_seconds_; }

@@ -2,7 +2,9 @@
 // The pipelines of a run as one bus consumer: every enabled pipeline of the scenario, created
 // with the robot's nominal calibration, receives the same sensor stream (so their comparison is
 // paired); its estimate is recorded at every odometry message, its detections at every frame,
-// and Finish() collects its map, innovations and health for the metrics.
+// and Finish() collects its map, innovations and health for the metrics. A pipeline that throws
+// from any call (a plugin's bug, docs/plugins.md) fails alone: its record keeps the reason, it is
+// called no more, and the others go on.
 
 #include <cstdint>
 #include <filesystem>
@@ -44,6 +46,8 @@ class PipelineRunner : public BusConsumer {
   /// Ends the run: every pipeline's Finish(), then final landmarks, late detections, innovations,
   /// stage times and health go into the records.
   void Finish();
+  /// The pipelines that failed (a call threw), scenario order.
+  std::vector<const PipelineRecord*> Failed() const;
   /// One record per pipeline, scenario order.
   const std::vector<PipelineRecord>& records() const { return records_; }
   /// Each pipeline's latest estimate (for a progress line read on another thread).
@@ -65,11 +69,16 @@ class PipelineRunner : public BusConsumer {
 
  private:
   struct Run;
+  // Calls `call` on run i unless it failed before; an exception makes it fail (named `what` at
+  // `stamp_ns`). Returns whether the call returned normally.
+  template <class F>
+  bool Guard(std::size_t i, const char* what, TimeNs stamp_ns, F&& call);
   std::vector<Run> runs_;
   std::vector<PipelineRecord> records_;
   std::set<std::string> cameras_used_;
   std::map<std::string, CameraModel> true_models_;
   double wall_seconds_ = 0.0;  // the rig's cameras (truth, not calibration)
+  TimeNs last_stamp_ns_ = 0;   // of the last message handed to the pipelines
 };
 
 }  // namespace corridorsim

@@ -112,8 +112,9 @@ LoadedPlugin LoadPlugin(const std::filesystem::path& path, const SourceLocation&
   dlerror();
   auto info_function = reinterpret_cast<InfoFunction>(dlsym(handle, "corridorsim_plugin_info"));
   if (!info_function) {
-    fail("has no entry point corridorsim_plugin_info (is it a corridorsim plugin? it defines "
-         "one with CORRIDORSIM_PLUGIN, slam/plugin.h)");
+    fail(
+        "has no entry point corridorsim_plugin_info (is it a corridorsim plugin? it defines "
+        "one with CORRIDORSIM_PLUGIN, slam/plugin.h)");
   }
   const CorridorsimPluginInfo* info = info_function();
   if (!info) fail("returned no plugin information (corridorsim_plugin_info)");
@@ -124,11 +125,11 @@ LoadedPlugin LoadPlugin(const std::filesystem::path& path, const SourceLocation&
          " has SDK ABI version " + std::to_string(ours.sdk_abi_version) +
          ": rebuild the plugin against this corridorsim's SDK");
   }
+  // The compiler's own ABI version (__GXX_ABI_VERSION) is not compared: GCC and clang report
+  // different numbers for the same Itanium C++ ABI and libstdc++, and either may build a plugin.
   for (const auto& [what, theirs, mine] :
-       {std::tuple<const char*, int, int>{"the C++ ABI (__GXX_ABI_VERSION)", info->cxx_abi_version,
-                                          ours.cxx_abi_version},
-        {"std::string's ABI (_GLIBCXX_USE_CXX11_ABI)", info->cxx11_string_abi,
-         ours.cxx11_string_abi},
+       {std::tuple<const char*, int, int>{"std::string's ABI (_GLIBCXX_USE_CXX11_ABI)",
+                                          info->cxx11_string_abi, ours.cxx11_string_abi},
         {"Eigen's version", info->eigen_version, ours.eigen_version}}) {
     if (theirs != mine) {
       fail(std::string("was built with ") + what + " " + VersionText(theirs) +
@@ -162,7 +163,8 @@ LoadedPlugin LoadPlugin(const std::filesystem::path& path, const SourceLocation&
     // Its default options are made once here, so that a broken factory is an input error at
     // the `plugins:` line, not a crash at the first scenario that names the type.
     try {
-      if (!type.new_options()) fail("registers the type '" + type.name + "' whose factory returns none");
+      if (!type.new_options())
+        fail("registers the type '" + type.name + "' whose factory returns none");
     } catch (const InputError&) {
       throw;
     } catch (const std::exception& e) {
@@ -171,10 +173,10 @@ LoadedPlugin LoadPlugin(const std::filesystem::path& path, const SourceLocation&
     if (!names.insert(type.name).second) fail("registers the type '" + type.name + "' twice");
     if (const std::optional<slam::PipelineType> taken = slam::FindPipelineType(type.name)) {
       fail("registers the type '" + type.name + "', which " +
-           (taken->library.empty() ? std::string("corridorsim ships")
-                                   : "the plugin '" +
-                                         InputExcerpt(taken->library, kMaxPathInMessage) +
-                                         "' registered"));
+           (taken->library.empty()
+                ? std::string("corridorsim ships")
+                : "the plugin '" + InputExcerpt(taken->library, kMaxPathInMessage) +
+                      "' registered"));
     }
   }
   for (slam::PipelineType& type : registrar.types) {
@@ -191,17 +193,16 @@ LoadedPlugin LoadPlugin(const std::filesystem::path& path, const SourceLocation&
 namespace corridorsim {
 
 std::string DescribePlugin(const LoadedPlugin& plugin) {
-  std::string text = "plugin " + plugin.name + " " + plugin.version + " (built against corridorsim " +
-                     plugin.sdk_version + ", SDK ABI " +
+  std::string text = "plugin " + plugin.name + " " + plugin.version +
+                     " (built against corridorsim " + plugin.sdk_version + ", SDK ABI " +
                      std::to_string(CORRIDORSIM_SDK_ABI_VERSION) + ")\n";
   text += "file " + plugin.path.string() + "\nsha256 " + plugin.sha256 + "\n";
   for (const std::string& name : plugin.types) {
     const std::unique_ptr<slam::PipelineOptions> options = slam::NewPipelineOptions(name);
     text += "\n## pipeline type `" + name + "`\n";
     if (!options) continue;
-    for (const OptionsDocBlock& block :
-         OptionsDocBlocks(options->table(), options->options(), "pipelines." + name,
-                          "pipelines." + name)) {
+    for (const OptionsDocBlock& block : OptionsDocBlocks(
+             options->table(), options->options(), "pipelines." + name, "pipelines." + name)) {
       text += "\n### `" + block.name + "`\n\n" + block.text;
     }
   }

@@ -3,8 +3,8 @@
 // scenario file, like `include:`), each of which registers pipeline types through the entry
 // points of slam/plugin.h. Loading checks, in order: the path is a regular file (followed through
 // links) of at most kMaxPluginBytes; dlopen() succeeds (else its dlerror() text); the library has
-// corridorsim_plugin_info; the SDK ABI version, the C++ ABI, std::string's ABI and Eigen's
-// version it was built with are this program's; it has corridorsim_plugin_register, which
+// corridorsim_plugin_info; the SDK ABI version, std::string's ABI and Eigen's version it was
+// built with are this program's; it has corridorsim_plugin_register, which
 // returns normally; every type name it adds is a valid pipeline name, taken neither by a shipped
 // type, another plugin nor itself. Any failure is an InputError (exit 2) at the scenario line
 // that names the library. A library is loaded once per process (by its canonical path) and
@@ -24,11 +24,11 @@ inline constexpr std::uintmax_t kMaxPluginBytes = std::uintmax_t{512} << 20;
 
 /// A loaded plugin, as provenance.json records it.
 struct LoadedPlugin {
-  std::filesystem::path path;  // canonical
-  std::string sha256;          // of the file's bytes when it was loaded (what sha256sum prints)
-  std::string name;            // the plugin's name, as it reports it
-  std::string version;         // the plugin's version, as it reports it
-  std::string sdk_version;     // the corridorsim version of the SDK it was built against
+  std::filesystem::path path;      // canonical
+  std::string sha256;              // of the file's bytes when it was loaded (what sha256sum prints)
+  std::string name;                // the plugin's name, as it reports it
+  std::string version;             // the plugin's version, as it reports it
+  std::string sdk_version;         // the corridorsim version of the SDK it was built against
   std::vector<std::string> types;  // the pipeline types it registered, in order
 };
 

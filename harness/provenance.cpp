@@ -3,9 +3,9 @@
 #include <cstdlib>
 
 #include "common/io/sha256.h"
+#include "corridorsim_version.h"  // generated at build time (cmake/version.cmake)
 #include "harness/plugins.h"
 #include "slam/sdk_version.h"
-#include "corridorsim_version.h"  // generated at build time (cmake/version.cmake)
 
 namespace corridorsim {
 

@@ -145,6 +145,11 @@ int RunScenario(const RunRequest& request) {
 
   // Finish: pipelines, then metrics (deterministic) and timing (wall clock) in separate files.
   pipelines.Finish();
+  const std::vector<const PipelineRecord*> failed = pipelines.Failed();
+  for (const PipelineRecord* record : failed) {
+    events.AddPipelineFailure(record->failure->stamp_ns, record->name, record->failure->call,
+                              record->failure->what);
+  }
   const WallClock::time_point t_metrics = WallClock::now();
   MetricsInput input;
   input.world = &setup.world();
@@ -236,7 +241,14 @@ int RunScenario(const RunRequest& request) {
     std::printf("warning: %d extra(s) failed (see the messages above); the results are written\n",
                 extras_failed);
   }
-  return RunExitCode(scored.all_passed, extras_failed);
+  for (const PipelineRecord* record : failed) {
+    std::fprintf(stderr,
+                 "corridorsim: pipeline '%s' failed at t = %.3f s: %s threw: %s (the other "
+                 "pipelines' results are written; events.json)\n",
+                 record->name.c_str(), ToSeconds(record->failure->stamp_ns),
+                 record->failure->call.c_str(), record->failure->what.c_str());
+  }
+  return RunExitCode(scored.all_passed, extras_failed, !failed.empty());
 }
 
 }  // namespace corridorsim

@@ -23,10 +23,15 @@ inline constexpr int kExitExpectationsFailed = 3;
 /// Exit code of a run whose results are written and committed but an extra (maps/, plots/, the
 /// --export dataset) failed. kExitExpectationsFailed takes precedence.
 inline constexpr int kExitExtraFailed = 4;
+/// Exit code of a run in which a pipeline failed (a call into it threw: a plugin's bug, docs/
+/// plugins.md): the other pipelines' results are written and committed, the failed one's metrics
+/// are `health.failed` and events.json says why. Takes precedence over 3 and 4.
+inline constexpr int kExitPipelineFailed = 5;
 
-/// Runs the scenario; prints progress and a closing table. Returns 0, kExitExpectationsFailed
-/// when an expectation failed, or kExitExtraFailed when an extra failed (and every expectation
-/// passed). Throws InputError for bad input (before anything runs).
+/// Runs the scenario; prints progress and a closing table. Returns 0, kExitPipelineFailed when a
+/// pipeline failed, else kExitExpectationsFailed when an expectation failed, or kExitExtraFailed
+/// when an extra failed (and every expectation passed). Throws InputError for bad input (before
+/// anything runs).
 int RunScenario(const RunRequest& request);
 
 }  // namespace corridorsim

@@ -1,10 +1,10 @@
-#include "common/installation.h"
 #include "harness/run_folder.h"
 
 #include <cstdio>
 #include <sstream>
 
 #include "common/error.h"
+#include "common/installation.h"
 #include "common/io/atomic_file.h"
 #include "common/io/child_process.h"
 #include "harness/provenance.h"
@@ -62,8 +62,9 @@ void WriteRunFolder(const std::filesystem::path& out, const Scenario& scenario, 
                     const std::string& events_json, const render::Backend* backend) {
   const std::string scenario_yaml = ResolvedScenarioYaml(scenario, seed);
   WriteFileAtomic(out / "scenario.yaml", scenario_yaml);
-  WriteFileAtomic(out / "provenance.json",
-                  ProvenanceJson(scenario.file, scenario_yaml, seed, backend, scenario.plugins).dump(2) + "\n");
+  WriteFileAtomic(
+      out / "provenance.json",
+      ProvenanceJson(scenario.file, scenario_yaml, seed, backend, scenario.plugins).dump(2) + "\n");
   WriteFileAtomic(out / "world.json", worlds::GroundTruthJson(world).dump(2) + "\n");
   WriteFileAtomic(out / "ground_truth.tum", truth.PlanarTum());
   for (const PipelineRecord& record : pipelines.records()) {
@@ -116,8 +117,7 @@ void PrintClosingTable(const nlohmann::ordered_json& metrics,
 }
 
 std::optional<std::string> MakePlots(const std::filesystem::path& out) {
-  const std::filesystem::path script =
-      DataDir() / "scripts" / "plot_run.py";
+  const std::filesystem::path script = DataDir() / "scripts" / "plot_run.py";
   const ChildStatus status = RunChildProcess({"python3", script.string(), out.string()});
   if (status.succeeded()) return std::nullopt;
   return "python3 '" + script.string() + "' '" + out.string() + "' " + DescribeChildStatus(status);
@@ -157,7 +157,8 @@ int CommitResultsThenExtras(StagedDirectory& folder,
   return failed;
 }
 
-int RunExitCode(bool all_expectations_passed, int extras_failed) {
+int RunExitCode(bool all_expectations_passed, int extras_failed, bool pipeline_failed) {
+  if (pipeline_failed) return kExitPipelineFailed;
   if (!all_expectations_passed) return kExitExpectationsFailed;
   return extras_failed > 0 ? kExitExtraFailed : 0;
 }

@@ -73,8 +73,9 @@ int CommitResultsThenExtras(StagedDirectory& folder,
                             const std::function<void(const std::filesystem::path&)>& write_results,
                             const std::vector<RunExtra>& extras);
 
-/// A finished run's exit code: kExitExpectationsFailed (3) when an expectation failed, else
-/// kExitExtraFailed (4) when an extra failed, else 0.
-int RunExitCode(bool all_expectations_passed, int extras_failed);
+/// A finished run's exit code: kExitPipelineFailed (5) when a pipeline failed, else
+/// kExitExpectationsFailed (3) when an expectation failed, else kExitExtraFailed (4) when an extra
+/// failed, else 0.
+int RunExitCode(bool all_expectations_passed, int extras_failed, bool pipeline_failed = false);
 
 }  // namespace corridorsim

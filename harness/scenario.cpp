@@ -86,9 +86,9 @@ void ParsePlugins(YamlMap& root, Scenario& scenario) {
     });
     if (name.empty() || control) {
       throw InputError(locations[i], "plugins",
-                       name.empty() ? "expected the path of a plugin library"
-                                    : "the path '" + InputExcerpt(name) +
-                                          "' contains a control character");
+                       name.empty()
+                           ? "expected the path of a plugin library"
+                           : "the path '" + InputExcerpt(name) + "' contains a control character");
     }
     std::filesystem::path path(name);
     if (path.is_relative()) {

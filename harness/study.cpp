@@ -1,4 +1,3 @@
-#include "common/installation.h"
 #include "harness/study.h"
 
 #include <unistd.h>
@@ -18,9 +17,11 @@
 #include <nlohmann/json.hpp>
 
 #include "common/error.h"
+#include "common/installation.h"
 #include "common/io/atomic_file.h"
 #include "common/io/child_process.h"
 #include "common/io/sha256.h"
+#include "harness/plugins.h"
 #include "harness/provenance.h"
 #include "harness/run_folder.h"
 #include "harness/study_file.h"
@@ -82,7 +83,37 @@ json PlanJson(const StudySpec& spec, const std::vector<std::string>& point_yaml)
   json expectations = json::array();
   for (const StudyExpectation& e : spec.expectations) expectations.push_back(e.text);
   plan["expectations"] = std::move(expectations);
+  // The plugin libraries the points load, with the SHA-256 of each when the study was planned:
+  // a resumed study, a shard or a merge with a rebuilt plugin is another study.
+  json plugins = json::array();
+  std::set<fs::path> seen;
+  for (const StudyPoint& point : spec.points) {
+    for (const fs::path& path : point.scenario.plugins) {
+      if (!seen.insert(path).second) continue;
+      const LoadedPlugin* plugin = FindLoadedPlugin(path);
+      plugins.push_back({{"path", path.string()}, {"sha256", plugin ? plugin->sha256 : ""}});
+    }
+  }
+  plan["plugins"] = std::move(plugins);
   return plan;
+}
+
+// What differs between two plans' plugin libraries ("" when nothing): the merge names it.
+std::string PluginDifference(const json& a, const json& b) {
+  const json none = json::array();
+  const json& pa = a.contains("plugins") ? a["plugins"] : none;
+  const json& pb = b.contains("plugins") ? b["plugins"] : none;
+  if (pa == pb) return "";
+  for (const json& x : pa) {
+    for (const json& y : pb) {
+      if (x.value("path", "") == y.value("path", "") &&
+          x.value("sha256", "") != y.value("sha256", "")) {
+        return "the plugin library " + x.value("path", "") + " differs (SHA-256 " +
+               x.value("sha256", "") + " against " + y.value("sha256", "") + ")";
+      }
+    }
+  }
+  return "their plugin libraries differ";
 }
 
 // The summary's view of a plan (for `merge`, which has the folders, not the study file).
@@ -153,7 +184,8 @@ void PrepareFolder(const fs::path& dir, const std::string& plan_text, bool force
                        "'" + dir.string() +
                            (fs::exists(plan_file, error)
                                 ? "' holds another study (its study.json differs: another "
-                                  "scenario, sweep, seeds, expectations, may_diverge or build)"
+                                  "scenario, sweep, seeds, expectations, may_diverge, build or "
+                                  "plugin library)"
                                 : "' is not empty and holds no study") +
                            ": pass --force to start it over, or choose another folder");
     }
@@ -638,9 +670,11 @@ json RecordRun(const StudySpec& spec, const fs::path& dir, const PlannedRun& run
   const fs::path folder = RunFolder(dir, id, run.seed);
   std::error_code error;
   const bool results = fs::is_regular_file(folder / "metrics.json", error);
-  // 0, 3 (a scenario expectation failed) and 4 (an extra failed) leave the results written.
+  // 0, 3 (a scenario expectation failed), 4 (an extra failed) and 5 (a pipeline failed: the
+  // summary counts it among its pipeline's diverged runs) leave the results written.
   const bool finished = !timed_out && status.started && status.signal == 0 &&
-                        (status.exit_code == 0 || status.exit_code == 3 || status.exit_code == 4) &&
+                        (status.exit_code == 0 || status.exit_code == 3 || status.exit_code == 4 ||
+                         status.exit_code == 5) &&
                         results;
   const std::string outcome = finished ? "finished" : timed_out ? "timed_out" : "failed";
   const std::string detail =
@@ -1164,9 +1198,16 @@ int MergeStudies(const StudyRequest& request) {
     if (plan_text.empty()) {
       plan_text = text;
     } else if (text != plan_text) {
+      std::string why = "the plans differ";
+      try {
+        const std::string plugins = PluginDifference(json::parse(plan_text), json::parse(text));
+        if (!plugins.empty()) why = plugins;
+      } catch (const json::exception&) {
+        // not JSON: "the plans differ" says enough
+      }
       throw InputError(SourceLocation{plan_file.string(), 0, 0}, "",
                        "another study than " + (request.merge_dirs[0] / "study.json").string() +
-                           " (the plans differ)");
+                           " (" + why + ")");
     }
     if (fs::weakly_canonical(d, error) == fs::weakly_canonical(request.out_dir, error)) {
       throw InputError(command_line, "--out", "must not be one of the folders merged");

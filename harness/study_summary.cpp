@@ -224,6 +224,7 @@ std::optional<std::string> DivergedWhy(const json& m, double divergence_nees) {
     return NumberAt(m, std::string("health.") + key).value_or(0.0);
   };
   char text[160];
+  if (count("failed") > 0) return std::string("failed (a call into it threw; events.json)");
   if (const double n = count("non_finite_estimates"); n > 0) {
     std::snprintf(text, sizeof text, "non-finite estimates (%.0f)", n);
     return std::string(text);

@@ -258,11 +258,12 @@ int RunTestSuite(const TestRequest& request) {
     };
     const std::string results_file = f.study ? "summary.json" : "metrics.json";
     const bool written = fs::is_regular_file(folder / results_file, error);
-    // `run`: 0, 3 (an expectation failed) and 4 (an extra failed) leave the results written;
-    // `study`: 1 too (a run failed; the others are summarised).
+    // `run`: 0, 3 (an expectation failed), 4 (an extra failed) and 5 (a pipeline failed: its
+    // expectations fail on its missing metrics) leave the results written; `study`: 1 too (a
+    // run failed; the others are summarised).
     const bool usable = status.started && status.signal == 0 && written &&
                         (status.exit_code == 0 || status.exit_code == 3 || status.exit_code == 4 ||
-                         (f.study && status.exit_code == 1));
+                         (!f.study && status.exit_code == 5) || (f.study && status.exit_code == 1));
     if (!usable) {
       error_case(f.study ? "study" : "run",
                  std::string(f.study ? "corridorsim study " : "corridorsim run ") +
@@ -278,6 +279,14 @@ int RunTestSuite(const TestRequest& request) {
       error_case("results", std::string("unreadable ") + results_file + ": " + e.what());
       code = code == 0 || code == 3 ? 1 : code;
       continue;
+    }
+    if (!f.study && status.exit_code == 5) {
+      // A pipeline failed (its reasons are in the log's tail): an error case of its own, beside
+      // its expectations, which fail on its missing metrics.
+      error_case("pipeline failed", "corridorsim run " + DescribeChildStatus(status) +
+                                        ": a pipeline failed (events.json, log: " + log.string() +
+                                        ")");
+      code = code == 0 || code == 3 ? 1 : code;
     }
     const std::string attachment = fs::absolute(folder).string();
     const auto add = [&](const std::string& name, bool passed, const std::string& measured) {

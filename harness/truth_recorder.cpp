@@ -62,6 +62,18 @@ void EventLog::OnEvent(const sim::Event& event) {
   kinds_.push_back(event.kind);
 }
 
+void EventLog::AddPipelineFailure(TimeNs stamp_ns, const std::string& pipeline,
+                                  const std::string& call, const std::string& what) {
+  nlohmann::ordered_json j;
+  j["t"] = ToSeconds(stamp_ns);
+  j["t_ns"] = stamp_ns;
+  j["type"] = "pipeline_failed";
+  j["pipeline"] = pipeline;
+  j["call"] = call;
+  j["reason"] = what;
+  failures_.emplace_back(stamp_ns, std::move(j));
+}
+
 int EventLog::count(sim::EventKind kind) const {
   return static_cast<int>(std::count(kinds_.begin(), kinds_.end(), kind));
 }
@@ -70,7 +82,24 @@ std::string EventLog::Json(std::uint64_t seed, TimeNs duration_ns) const {
   nlohmann::ordered_json j;
   j["seed"] = seed;
   j["duration_s"] = ToSeconds(duration_ns);
-  j["events"] = events_;
+  if (failures_.empty()) {
+    j["events"] = events_;
+    return j.dump(2) + "\n";
+  }
+  // The failures among the simulation's events by stamp: stable, so equal stamps keep the
+  // simulation's events first and the failures in the order they were added (scenario order).
+  std::vector<std::pair<TimeNs, nlohmann::ordered_json>> failures = failures_;
+  std::stable_sort(failures.begin(), failures.end(),
+                   [](const auto& a, const auto& b) { return a.first < b.first; });
+  nlohmann::ordered_json merged = nlohmann::ordered_json::array();
+  std::size_t f = 0;
+  for (const nlohmann::ordered_json& e : events_) {
+    const TimeNs t = e.value("t_ns", TimeNs{0});
+    while (f < failures.size() && failures[f].first < t) merged.push_back(failures[f++].second);
+    merged.push_back(e);
+  }
+  while (f < failures.size()) merged.push_back(failures[f++].second);
+  j["events"] = std::move(merged);
   return j.dump(2) + "\n";
 }
 

@@ -55,6 +55,11 @@ class TruthRecorder : public BusConsumer {
 class EventLog : public BusConsumer {
  public:
   void OnEvent(const sim::Event& event) override;
+  /// A pipeline that failed (harness/pipeline_runner.h): an event `pipeline_failed` with the
+  /// pipeline, the call that threw and its text, placed among the simulation's events by its
+  /// stamp (after those of the same stamp), whenever it is added.
+  void AddPipelineFailure(TimeNs stamp_ns, const std::string& pipeline, const std::string& call,
+                          const std::string& what);
   int count(sim::EventKind kind) const;
   /// events.json: {seed, duration_s, events: [...]} (docs/metrics.md).
   std::string Json(std::uint64_t seed, TimeNs duration_ns) const;
@@ -62,6 +67,7 @@ class EventLog : public BusConsumer {
  private:
   nlohmann::ordered_json events_ = nlohmann::ordered_json::array();
   std::vector<sim::EventKind> kinds_;
+  std::vector<std::pair<TimeNs, nlohmann::ordered_json>> failures_;  // in the order added
 };
 
 }  // namespace corridorsim

@@ -15,8 +15,9 @@
 //   void corridorsim_plugin_register(corridorsim::slam::PluginRegistrar*);
 //       called once, after the ABI check, to add the plugin's types.
 // The ABI is C++ (std::string, Eigen, virtual calls): a plugin must be built against the same
-// SDK ABI version, with the same C++ library ABI and Eigen version, as the corridorsim that
-// loads it; the loader checks all four.
+// SDK ABI version, with the same std::string ABI and Eigen version, as the corridorsim that
+// loads it, by a compiler of the Itanium C++ ABI and libstdc++ (GCC or clang); the loader checks
+// the three (the compiler's own ABI number is recorded, not compared: GCC and clang differ).
 
 #include <string>
 #include <utility>
@@ -40,7 +41,7 @@ extern "C" {
 /// corridorsim can read it; the rest is read only when it matches.
 struct CorridorsimPluginInfo {
   int sdk_abi_version;         // CORRIDORSIM_SDK_ABI_VERSION of the SDK the plugin was built with
-  int cxx_abi_version;         // __GXX_ABI_VERSION (the compiler's C++ ABI)
+  int cxx_abi_version;         // __GXX_ABI_VERSION (recorded; GCC and clang report different ones)
   int cxx11_string_abi;        // _GLIBCXX_USE_CXX11_ABI (std::string's layout); -1: not libstdc++
   int eigen_version;           // CORRIDORSIM_EIGEN_VERSION, e.g. 30407
   const char* sdk_version;     // CORRIDORSIM_VERSION, e.g. "0.1.0"
@@ -85,15 +86,15 @@ inline CorridorsimPluginInfo ThisBuildPluginInfo(const char* name, const char* v
 
 /// Defines the plugin's entry points; the block that follows is the registration function's body
 /// with `REGISTRAR` (a corridorsim::slam::PluginRegistrar&) in scope.
-#define CORRIDORSIM_PLUGIN(NAME, VERSION, REGISTRAR)                                       \
-  CORRIDORSIM_PLUGIN_EXPORT const CorridorsimPluginInfo* corridorsim_plugin_info() {       \
-    static const CorridorsimPluginInfo info =                                              \
-        ::corridorsim::slam::ThisBuildPluginInfo(NAME, VERSION);                           \
-    return &info;                                                                          \
-  }                                                                                        \
+#define CORRIDORSIM_PLUGIN(NAME, VERSION, REGISTRAR)                                      \
+  CORRIDORSIM_PLUGIN_EXPORT const CorridorsimPluginInfo* corridorsim_plugin_info() {      \
+    static const CorridorsimPluginInfo info =                                             \
+        ::corridorsim::slam::ThisBuildPluginInfo(NAME, VERSION);                          \
+    return &info;                                                                         \
+  }                                                                                       \
   static void CorridorsimPluginRegister(::corridorsim::slam::PluginRegistrar& REGISTRAR); \
   CORRIDORSIM_PLUGIN_EXPORT void corridorsim_plugin_register(                             \
-      ::corridorsim::slam::PluginRegistrar* registrar) {                                   \
-    CorridorsimPluginRegister(*registrar);                                                 \
-  }                                                                                        \
+      ::corridorsim::slam::PluginRegistrar* registrar) {                                  \
+    CorridorsimPluginRegister(*registrar);                                                \
+  }                                                                                       \
   static void CorridorsimPluginRegister(::corridorsim::slam::PluginRegistrar& REGISTRAR)

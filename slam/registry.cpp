@@ -34,16 +34,17 @@ bool IsPipelineName(const std::string& name) {
 
 const std::vector<PipelineType>& ShippedPipelineTypes() {
   static const std::vector<PipelineType> types = {
-      MakePipelineType<OdometryPipelineOptions, OdometryPipeline>("odometry", &OdometryPipelineOptionsTable),
+      MakePipelineType<OdometryPipelineOptions, OdometryPipeline>("odometry",
+                                                                  &OdometryPipelineOptionsTable),
       MakePipelineType<P1HarrisOptions, P1HarrisPipeline>("p1_harris", &P1HarrisOptionsTable),
       MakePipelineType<P1VpDoorplateOptions, P1VpDoorplatePipeline>("p1_vp_doorplate",
-                                                        &P1VpDoorplateOptionsTable),
+                                                                    &P1VpDoorplateOptionsTable),
       MakePipelineType<P3UpwardOptions, P3UpwardPipeline>("p3_upward", &P3UpwardOptionsTable,
-                                              &P3UpwardDefaults),
+                                                          &P3UpwardDefaults),
       MakePipelineType<P3UpwardOptions, P3UpwardPipeline>("p3_corners", &P3UpwardOptionsTable,
-                                              &P3CornersDefaults),
+                                                          &P3CornersDefaults),
       MakePipelineType<P3UpwardOptions, P3UpwardPipeline>("p2_upward", &P3UpwardOptionsTable,
-                                              &P2UpwardDefaults),
+                                                          &P2UpwardDefaults),
   };
   return types;
 }

@@ -7,7 +7,8 @@ file(GLOB_RECURSE files
   "${SOURCE_DIR}/slam/*.h" "${SOURCE_DIR}/slam/*.cpp"
   "${SOURCE_DIR}/harness/*.h" "${SOURCE_DIR}/harness/*.cpp"
   "${SOURCE_DIR}/tests/*.h" "${SOURCE_DIR}/tests/*.cpp"
-  "${SOURCE_DIR}/bench/*.h" "${SOURCE_DIR}/bench/*.cpp")
+  "${SOURCE_DIR}/bench/*.h" "${SOURCE_DIR}/bench/*.cpp"
+  "${SOURCE_DIR}/examples/*.h" "${SOURCE_DIR}/examples/*.cpp")
 execute_process(COMMAND "${CLANG_FORMAT}" --dry-run --Werror ${files}
                 RESULT_VARIABLE rc ERROR_VARIABLE err)
 if(NOT rc EQUAL 0)

@@ -45,9 +45,10 @@ struct LampEkfOptions {
   double k_m = corridorsim::kDefaultWheelNoiseK_m;  // k of P1 eq. 17 (m^2 per m of travel)
   double ceiling_height_m = 2.7;                    // the lamps' height above the floor
   double pixel_sigma_px = 2.0;                      // a lamp centre's standard deviation (px)
-  double gate_chi2 = 9.21;       // a detection updates the nearest lamp under this NIS (chi2 2 dof, 99 %)
-  double new_lamp_chi2 = 40.0;   // farther than this from every lamp: a new lamp
-  int max_lamps = 500;           // lamps in the state at most (bounds its size)
+  double gate_chi2 =
+      9.21;  // a detection updates the nearest lamp under this NIS (chi2 2 dof, 99 %)
+  double new_lamp_chi2 = 40.0;    // farther than this from every lamp: a new lamp
+  int max_lamps = 500;            // lamps in the state at most (bounds its size)
   double min_elevation_deg = 20;  // detections lower than this above the horizon are left out
   slam::CeilingLampOptions detector;
   std::optional<OptionsProblem> Check() const;
@@ -101,9 +102,9 @@ class LampEkfPipeline : public slam::Pipeline {
 
   void Initialize(TimeNs stamp_ns, const SE2& world_from_robot) override {
     // The start pose is known exactly (the runner gives every pipeline the true one).
-    state_.emplace(Eigen::Vector3d(world_from_robot.x(), world_from_robot.y(),
-                                   world_from_robot.yaw()),
-                   Eigen::Matrix3d::Zero());
+    state_.emplace(
+        Eigen::Vector3d(world_from_robot.x(), world_from_robot.y(), world_from_robot.yaw()),
+        Eigen::Matrix3d::Zero());
     stamp_ns_ = stamp_ns;
   }
 
@@ -245,8 +246,8 @@ class LampEkfPipeline : public slam::Pipeline {
     }
     if (best < lamps_.size() && best_nis < options_.gate_chi2) {
       const ekf::UpdateResult result = state_->Update(Model(lamps_[best], obs), options_.gate_chi2);
-      innovations_.push_back({stamp_ns, slam::LandmarkType::kLamp, result.nis, result.dof,
-                              result.accepted});
+      innovations_.push_back(
+          {stamp_ns, slam::LandmarkType::kLamp, result.nis, result.dof, result.accepted});
       if (!result.accepted) {
         ++health_.rejected_updates;
         if (result.reason == ekf::UpdateReason::kNotPositiveDefinite) {
@@ -270,8 +271,8 @@ class LampEkfPipeline : public slam::Pipeline {
     a.blocks = {ekf::EkfState::robot()};
     a.d_value_d_blocks.resize(2, 3);
     a.d_value_d_blocks.leftCols<2>().setIdentity();
-    a.d_value_d_blocks.col(2) = Eigen::Vector2d(-s * obs.z.x() - c * obs.z.y(),
-                                                c * obs.z.x() - s * obs.z.y());
+    a.d_value_d_blocks.col(2) =
+        Eigen::Vector2d(-s * obs.z.x() - c * obs.z.y(), c * obs.z.x() - s * obs.z.y());
     a.d_value_d_measurement = R;
     a.measurement_noise = obs.R;
     lamps_.push_back(state_->Augment(a));

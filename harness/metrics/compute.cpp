@@ -54,9 +54,14 @@ void AddTimingMetrics(const PipelineRecord& pipeline, const metrics::PipelineCon
 }
 
 Json PipelineMetrics(const MetricsInput& input, const PipelineRecord& pipeline) {
-  const metrics::PipelineContext context = metrics::MakeContext(input, pipeline);
   Json object;
   const MetricWriter out(object, MetricScope::kPipeline);
+  if (pipeline.failure) {
+    // What it gave before it failed is no result: none of its metrics could be compared.
+    out.Sub("health").Count("failed", 1);
+    return object;
+  }
+  const metrics::PipelineContext context = metrics::MakeContext(input, pipeline);
 
   const metrics::MatchedTrajectory matched = metrics::MatchToTruth(input.truth, pipeline.estimates);
   metrics::AddTrajectoryMetrics(matched, out);

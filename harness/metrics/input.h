@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -41,8 +42,17 @@ struct SeenPoint {
   std::uint32_t instance_id = 0;                         // worlds id of the surface, 0 = none
 };
 
+/// A pipeline that failed: a call into it threw. It is called no more; what it gave before stays
+/// in its record (estimates, detections), and its metrics are `health.failed` only.
+struct PipelineFailure {
+  TimeNs stamp_ns = 0;  // the stamp of the message it failed on (the last one seen for Finish)
+  std::string call;     // "OnOdometry", "OnCamera", "Finish", ...
+  std::string what;     // the exception's text, made printable and bounded
+};
+
 struct PipelineRecord {
   std::string name;  // unique in the run; the key of its object in metrics.json
+  std::optional<PipelineFailure> failure;         // set when a call into the pipeline threw
   std::vector<std::string> cameras_used;          // Pipeline::cameras_used(): frames it processed
   std::vector<EstimateSample> estimates;          // at every odometry message, stamp order
   std::vector<slam::LandmarkEstimate> landmarks;  // the final map

@@ -6,7 +6,8 @@
 // Models: `door_plate_svm.yml` (cv::ml::SVM, LINEAR, two classes -1 / +1) and
 // `room_number_mlp.yml` (cv::ml::ANN_MLP, outputs 0-9) as cv::ml writes them (cv::FileStorage
 // YAML), in the folder `models/` of the data folder (common/installation.h: the checkout's models/
-// from a build tree, <prefix>/share/corridorsim/models installed) or one given by the caller; `corridorsim train-detectors` makes them (docs/detectors.md).
+// from a build tree, <prefix>/share/corridorsim/models installed) or one given by the caller;
+// `corridorsim train-detectors` makes them (docs/detectors.md).
 
 #include <filesystem>
 #include <stdexcept>

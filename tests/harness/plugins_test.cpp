@@ -69,11 +69,11 @@ TEST_CASE("plugins: a library that cannot be a plugin is an input error naming w
       {dir.path(), "is not a regular file"},
       {dir.path() / "text.so", "does not load: "},
       {Plugin("test_broken_plugin_1"), "has no entry point corridorsim_plugin_info"},
-      {Plugin("test_broken_plugin_2"),
-       "was built against the corridorsim SDK ABI version " +
-           std::to_string(CORRIDORSIM_SDK_ABI_VERSION + 98) + "; this corridorsim " +
-           CORRIDORSIM_VERSION + " has SDK ABI version " +
-           std::to_string(CORRIDORSIM_SDK_ABI_VERSION)},
+      {Plugin("test_broken_plugin_2"), "was built against the corridorsim SDK ABI version " +
+                                           std::to_string(CORRIDORSIM_SDK_ABI_VERSION + 98) +
+                                           "; this corridorsim " + CORRIDORSIM_VERSION +
+                                           " has SDK ABI version " +
+                                           std::to_string(CORRIDORSIM_SDK_ABI_VERSION)},
       {Plugin("test_broken_plugin_3"), "registers the type 'odometry', which corridorsim ships"},
       {Plugin("test_broken_plugin_4"), "'Echo-Pipeline', which is not a pipeline name"},
       {Plugin("test_broken_plugin_5"),

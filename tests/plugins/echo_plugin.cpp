@@ -19,12 +19,18 @@ namespace test_echo {
 
 struct EchoOptions {
   double scale = 1.0;  // multiplies the wheel distances
+  // > 0: OnOdometry throws at the first message after this time (a plugin's bug, for the
+  // runner's failure semantics: tests/harness/cli_plugin_test.py).
+  double throw_after_s = 0.0;
   std::optional<corridorsim::OptionsProblem> Check() const;
 };
 
 const corridorsim::OptionTable<EchoOptions>& EchoOptionsTable() {
   return corridorsim::StaticOptionTable<EchoOptions>([](corridorsim::OptionTable<EchoOptions>& t) {
     t.Add("scale", &EchoOptions::scale, "", "multiplies the wheel distances").Range(0.5, 2.0);
+    t.Add("throw_after_s", &EchoOptions::throw_after_s, "s",
+          "> 0: OnOdometry throws at the first message after this time")
+        .Range(0, 1e6);
   });
 }
 
@@ -42,6 +48,10 @@ class EchoPipeline : public corridorsim::slam::Pipeline {
     estimate_.world_from_robot = pose;
   }
   void OnOdometry(const corridorsim::WheelOdometry& odometry) override {
+    if (options_.throw_after_s > 0 &&
+        static_cast<double>(odometry.stamp_ns) * 1e-9 > options_.throw_after_s) {
+      throw std::runtime_error("test_echo: the wheels went out of sync");
+    }
     estimate_.world_from_robot = corridorsim::ApplyWheelOdometry(
         estimate_.world_from_robot, options_.scale * odometry.left_distance_m,
         options_.scale * odometry.right_distance_m, wheelbase_m_);
@@ -61,7 +71,7 @@ class EchoPipeline : public corridorsim::slam::Pipeline {
 #if !defined(TEST_PLUGIN_VARIANT)
 CORRIDORSIM_PLUGIN("test_echo_plugin", "2.5.0", registrar) {
   registrar.Add<test_echo::EchoOptions, test_echo::EchoPipeline>("test_echo",
-                                                                  &test_echo::EchoOptionsTable);
+                                                                 &test_echo::EchoOptionsTable);
 }
 #elif TEST_PLUGIN_VARIANT == 1  // no entry point at all
 CORRIDORSIM_PLUGIN_EXPORT int not_a_corridorsim_plugin() { return 1; }
@@ -77,12 +87,12 @@ CORRIDORSIM_PLUGIN_EXPORT void corridorsim_plugin_register(corridorsim::slam::Pl
 #elif TEST_PLUGIN_VARIANT == 3  // a type name corridorsim ships
 CORRIDORSIM_PLUGIN("taken", "1", registrar) {
   registrar.Add<test_echo::EchoOptions, test_echo::EchoPipeline>("odometry",
-                                                                  &test_echo::EchoOptionsTable);
+                                                                 &test_echo::EchoOptionsTable);
 }
 #elif TEST_PLUGIN_VARIANT == 4  // not a pipeline name
 CORRIDORSIM_PLUGIN("bad_name", "1", registrar) {
   registrar.Add<test_echo::EchoOptions, test_echo::EchoPipeline>("Echo-Pipeline",
-                                                                  &test_echo::EchoOptionsTable);
+                                                                 &test_echo::EchoOptionsTable);
 }
 #elif TEST_PLUGIN_VARIANT == 5  // throws while registering
 CORRIDORSIM_PLUGIN("throws", "1", registrar) {

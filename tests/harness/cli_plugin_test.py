@@ -1,0 +1,116 @@
+#!/usr/bin/python3
+"""`corridorsim plugin` and plugins in runs, as a user meets them (docs/plugins.md): a library
+that cannot be a plugin is exit 2 with one message at the scenario line (nothing written); a
+plugin that throws during a run fails alone: exit 5, the other pipelines' results written, its
+metrics `health.failed`, events.json saying why, byte-identical on a second run; `corridorsim
+test` reports it as an error case.
+
+usage: cli_plugin_test.py CORRIDORSIM PLUGIN_DIR SOURCE_DIR WORK_DIR
+"""
+import json
+import os
+import shutil
+import subprocess
+import sys
+import xml.etree.ElementTree as ET
+
+
+def fail(message):
+    print("FAIL: " + message, file=sys.stderr)
+    sys.exit(1)
+
+
+def run(args, expect):
+    p = subprocess.run(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    if p.returncode != expect:
+        fail("%s exited %d (expected %d)\nstdout:\n%s\nstderr:\n%s" %
+             (" ".join(args), p.returncode, expect, p.stdout[-2000:], p.stderr[-2000:]))
+    return p
+
+
+def read(path):
+    with open(path, "rb") as f:
+        return f.read()
+
+
+def main():
+    corridorsim, plugins, source, work = (os.path.abspath(a) for a in sys.argv[1:5])
+    shutil.rmtree(work, ignore_errors=True)
+    os.makedirs(work)
+    echo = os.path.join(plugins, "test_echo_plugin.so")
+
+    # corridorsim plugin: what a library registers, or why it is refused.
+    out = run([corridorsim, "plugin", echo], 0).stdout
+    for part in ["plugin test_echo_plugin 2.5.0", "## pipeline type `test_echo`",
+                 "| `scale` |  | 1 | [0.5, 2] |", "sha256 "]:
+        if part not in out:
+            fail("`corridorsim plugin` printed no %r:\n%s" % (part, out))
+    err = run([corridorsim, "plugin", os.path.join(plugins, "test_broken_plugin_2.so")], 2).stderr
+    if err.count("\n") != 1 or "command line: library: the plugin library" not in err or \
+            "SDK ABI version" not in err:
+        fail("a plugin of another ABI: expected one message naming both versions, got:\n" + err)
+
+    # A scenario naming a library that cannot load: exit 2 at its line, nothing written.
+    base = "include: %s/scenarios/default.yaml\n" % source
+    bad = os.path.join(work, "bad.yaml")
+    with open(bad, "w") as f:
+        f.write(base + "plugins:\n  - %s\n  - no_such_plugin.so\n" % echo)
+    err = run([corridorsim, "run", bad, "--out", os.path.join(work, "bad_out")], 2).stderr
+    if "bad.yaml:4:5: plugins: the plugin library" not in err or "does not exist" not in err:
+        fail("a missing plugin library: " + err)
+    if os.path.exists(os.path.join(work, "bad_out")):
+        fail("a bad plugin still created the run folder")
+
+    # A plugin that throws mid-run fails alone.
+    scenario = os.path.join(work, "throws.yaml")
+    with open(scenario, "w") as f:
+        f.write(base + "duration_s: 8\n"
+                "plugins: [%s]\n"
+                "pipelines:\n"
+                "  p1_harris: {enabled: false}\n"
+                "  p1_vp_doorplate: {enabled: false}\n"
+                "  echo: {type: test_echo, throw_after_s: 3}\n"
+                "expectations: [odometry.ate_rmse_m < 10, echo.ate_rmse_m < 10]\n" % echo)
+    folders = []
+    for k in (1, 2):
+        folder = os.path.join(work, "run%d" % k)
+        p = run([corridorsim, "run", scenario, "--out", folder, "--no-plots"], 5)
+        if "pipeline 'echo' failed at t = 3.0" not in p.stderr or \
+                "the wheels went out of sync" not in p.stderr:
+            fail("the failure is not on stderr:\n" + p.stderr)
+        folders.append(folder)
+    metrics = json.loads(read(os.path.join(folders[0], "metrics.json")))
+    if metrics["pipelines"]["echo"] != {"health": {"failed": 1}}:
+        fail("the failed pipeline's metrics: %s" % metrics["pipelines"]["echo"])
+    if "ate_rmse_m" not in metrics["pipelines"]["odometry"]:
+        fail("the other pipeline has no results: %s" % metrics["pipelines"]["odometry"])
+    passed = {e["text"]: e["passed"] for e in metrics["expectations"]}
+    if passed != {"odometry.ate_rmse_m < 10": True, "echo.ate_rmse_m < 10": False}:
+        fail("expectations: %s" % passed)
+    events = json.loads(read(os.path.join(folders[0], "events.json")))["events"]
+    failures = [e for e in events if e["type"] == "pipeline_failed"]
+    if len(failures) != 1 or failures[0]["pipeline"] != "echo" or \
+            failures[0]["call"] != "OnOdometry" or \
+            failures[0]["reason"] != "test_echo: the wheels went out of sync" or \
+            not 3.0 < failures[0]["t"] < 3.1:
+        fail("events.json failures: %s" % failures)
+    times = [e["t_ns"] for e in events]
+    if times != sorted(times):
+        fail("events.json is not in time order")
+    for name in ["metrics.json", "events.json", "odometry.tum", "echo.tum", "scenario.yaml"]:
+        if read(os.path.join(folders[0], name)) != read(os.path.join(folders[1], name)):
+            fail("%s differs between two runs of the same seed" % name)
+
+    # corridorsim test: the failure is an error case; the run's exit 1.
+    junit = os.path.join(work, "junit.xml")
+    run([corridorsim, "test", scenario, "--junit", junit, "--out", os.path.join(work, "test")], 1)
+    cases = ET.parse(junit).getroot().findall(".//testcase")
+    errors = [c.get("name") for c in cases if c.find("error") is not None]
+    failures = [c.get("name") for c in cases if c.find("failure") is not None]
+    if errors != ["pipeline failed"] or failures != ["echo.ate_rmse_m < 10"]:
+        fail("junit.xml: errors %s, failures %s" % (errors, failures))
+
+
+if __name__ == "__main__":
+    main()
+    print("cli_plugin_test: ok")

@@ -1,0 +1,190 @@
+#!/usr/bin/python3
+"""corridorsim as a team installs it (docs/install.md, docs/plugins.md): `cmake --install` into a
+temporary prefix, the example plugin copied from the installed docs and built out of tree against
+that prefix with find_package, then run, study (2 workers; 2 shards merged byte-identical to the
+whole), test --junit and `corridorsim plugin`, each checked from outside; and the Debian packages
+`cpack` makes from the build tree: file lists, Depends, and the program run from a root they are
+unpacked into.
+
+usage: install_and_plugin_test.py BUILD_DIR WORK_DIR [--no-deb]
+"""
+import hashlib
+import json
+import os
+import shutil
+import subprocess
+import sys
+import xml.etree.ElementTree as ET
+
+
+def fail(message):
+    print("FAIL: " + message, file=sys.stderr)
+    sys.exit(1)
+
+
+def run(args, expect=0, cwd=None, env=None):
+    print("+ " + " ".join(args), flush=True)
+    p = subprocess.run(args, cwd=cwd, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                       text=True)
+    if p.returncode != expect:
+        fail("%s exited %d (expected %d)\nstdout:\n%s\nstderr:\n%s" %
+             (" ".join(args), p.returncode, expect, p.stdout[-3000:], p.stderr[-3000:]))
+    return p
+
+
+def read(path, mode="r"):
+    with open(path, mode) as f:
+        return f.read()
+
+
+def main():
+    if len(sys.argv) < 3:
+        fail(__doc__)
+    build = os.path.abspath(sys.argv[1])
+    work = os.path.abspath(sys.argv[2])
+    with_deb = "--no-deb" not in sys.argv[3:]
+    shutil.rmtree(work, ignore_errors=True)
+    os.makedirs(work)
+    # The installed program must not need the build tree's environment.
+    env = {k: v for k, v in os.environ.items() if k != "CORRIDORSIM_DATA_DIR"}
+
+    # 1. cmake --install into a prefix: what is there, and what is not.
+    prefix = os.path.join(work, "prefix")
+    run(["cmake", "--install", build, "--prefix", prefix])
+    for rel in ["bin/corridorsim", "lib/libcorridorsim_common.so.1", "lib/libcorridorsim_slam.so.1",
+                "include/corridorsim/slam/pipeline.h", "include/corridorsim/slam/plugin.h",
+                "include/corridorsim/slam/sdk_version.h", "include/corridorsim/common/pose.h",
+                "include/corridorsim/slam/ekf/ekf_state.h",
+                "lib/cmake/corridorsim/corridorsimConfig.cmake",
+                "lib/cmake/corridorsim/corridorsimConfigVersion.cmake",
+                "share/corridorsim/scenarios/default.yaml",
+                "share/corridorsim/scenarios/studies/p1_fig15.yaml",
+                "share/corridorsim/models/door_plate_svm.yml",
+                "share/corridorsim/scripts/plot_run.py", "share/doc/corridorsim/plugins.md",
+                "share/doc/corridorsim/examples/cpp_plugin/lamp_ekf.cpp"]:
+        if not os.path.exists(os.path.join(prefix, rel)):
+            fail("cmake --install did not install " + rel)
+    for rel in ["include/corridorsim/harness", "include/corridorsim/sim",
+                "include/corridorsim/render", "include/corridorsim/worlds",
+                "include/corridorsim/common/io"]:
+        if os.path.exists(os.path.join(prefix, rel)):
+            fail("an internal folder is installed: " + rel)
+    corridorsim = os.path.join(prefix, "bin", "corridorsim")
+
+    # 2. The installed program finds its data beside itself, from an empty folder.
+    empty = os.path.join(work, "empty")
+    os.makedirs(empty)
+    version = run([corridorsim, "--version"], cwd=empty, env=env).stdout
+    if not version.startswith("corridorsim ") or "SDK ABI version" not in version:
+        fail("--version printed: " + version)
+    data = os.path.join(prefix, "share", "corridorsim")
+    if ("data " + os.path.realpath(data)) not in version:
+        fail("the installed program's data folder is not %s: %s" % (data, version))
+    p = run([corridorsim, "world", "--out", "w"], cwd=empty, env=env)
+    if os.path.join(os.path.realpath(data), "scenarios", "default.yaml") not in p.stderr:
+        fail("`corridorsim world` from an empty folder did not use the installed default.yaml: " +
+             p.stderr)
+
+    # 3. The example, copied from the installed docs, built against the prefix alone.
+    example = os.path.join(work, "example")
+    shutil.copytree(os.path.join(prefix, "share/doc/corridorsim/examples/cpp_plugin"), example)
+    run(["cmake", "-S", example, "-B", os.path.join(example, "build"),
+         "-DCMAKE_PREFIX_PATH=" + prefix, "-DCMAKE_BUILD_TYPE=Release"])
+    run(["cmake", "--build", os.path.join(example, "build")])
+    library = os.path.join(example, "build", "lamp_ekf.so")
+    described = run([corridorsim, "plugin", library], env=env).stdout
+    for part in ["plugin lamp_ekf_example 1.0.0", "## pipeline type `lamp_ekf`",
+                 "| `ceiling_height_m` | m | 2.7 | [0.5, 20] |"]:
+        if part not in described:
+            fail("`corridorsim plugin` does not print %r:\n%s" % (part, described))
+    scenario = os.path.join(example, "lamp_ekf.yaml")
+
+    # 4. run: the plugin beats dead reckoning; provenance records the library.
+    run_dir = os.path.join(work, "run")
+    run([corridorsim, "run", scenario, "--out", run_dir], env=env)
+    metrics = json.loads(read(os.path.join(run_dir, "metrics.json")))["pipelines"]
+    mine, odometry = metrics["lamp_ekf"]["ate_rmse_m"], metrics["odometry"]["ate_rmse_m"]
+    print("run: lamp_ekf ATE %.4f m, odometry %.4f m" % (mine, odometry))
+    if not mine < 0.5 * odometry:
+        fail("lamp_ekf's ATE %.4f is not below half of odometry's %.4f" % (mine, odometry))
+    if not os.path.exists(os.path.join(run_dir, "plots", "summary.png")):
+        fail("the installed program wrote no plots")
+    plugins = json.loads(read(os.path.join(run_dir, "provenance.json")))["plugins"]
+    digest = hashlib.sha256(read(library, "rb")).hexdigest()
+    if len(plugins) != 1 or plugins[0]["sha256"] != digest or plugins[0]["version"] != "1.0.0" \
+            or plugins[0]["path"] != os.path.realpath(library):
+        fail("provenance.json plugins: %s (the library's sha256 is %s)" % (plugins, digest))
+
+    # 5. study with 2 workers, and the same study in 2 shards merged: byte-identical summaries.
+    whole = os.path.join(work, "study")
+    run([corridorsim, "study", scenario, "--jobs", "2", "--no-plots", "--out", whole], env=env)
+    for k in (1, 2):
+        run([corridorsim, "study", scenario, "--shard", "%d/2" % k, "--jobs", "1", "--no-plots",
+             "--out", os.path.join(work, "part%d" % k)], env=env)
+    merged = os.path.join(work, "merged")
+    run([corridorsim, "study", "merge", os.path.join(work, "part1"), os.path.join(work, "part2"),
+         "--no-plots", "--out", merged], env=env)
+    for name in ["summary.json", "summary.csv", "paired.csv"]:
+        if read(os.path.join(whole, name), "rb") != read(os.path.join(merged, name), "rb"):
+            fail("%s of the merged shards differs from the whole study's" % name)
+    summary = json.loads(read(os.path.join(whole, "summary.json")))
+    print("study: %s" % json.dumps(summary.get("expectations", ""))[:400])
+
+    # 6. test --junit: a JUnit reader parses it, nothing failed.
+    junit = os.path.join(work, "junit.xml")
+    run([corridorsim, "test", scenario, "--junit", junit, "--out", os.path.join(work, "test")],
+        env=env)
+    suites = ET.parse(junit).getroot()
+    cases = suites.findall(".//testcase")
+    failed = [c.get("name") for c in cases if c.find("failure") is not None or
+              c.find("error") is not None]
+    if not cases or failed:
+        fail("junit.xml: %d cases, failed: %s" % (len(cases), failed))
+
+    if not with_deb:
+        return
+    # 7. The Debian packages, from the build tree.
+    debs = os.path.join(work, "deb")
+    run(["cpack", "--config", os.path.join(build, "CPackConfig.cmake"), "-B", debs])
+    from_cmake = read(os.path.join(build, "CMakeCache.txt"))
+    version = [l.split("=", 1)[1] for l in from_cmake.splitlines()
+               if l.startswith("CMAKE_PROJECT_VERSION:")][0]
+    runtime = os.path.join(debs, "corridorsim_%s_amd64.deb" % version)
+    dev = os.path.join(debs, "corridorsim-dev_%s_amd64.deb" % version)
+    for deb in (runtime, dev):
+        if not os.path.exists(deb):
+            fail("cpack made no %s (made: %s)" % (deb, os.listdir(debs)))
+    depends = run(["dpkg-deb", "-f", runtime, "Depends"]).stdout
+    for package in ["libopencv-core4", "libc6", "libstdc++6", "python3-matplotlib",
+                    "liboctomap1.9"]:
+        if package not in depends:
+            fail("the runtime package's Depends lacks %s: %s" % (package, depends))
+    dev_depends = run(["dpkg-deb", "-f", dev, "Depends"]).stdout
+    for package in ["corridorsim (= %s)" % version, "libeigen3-dev", "libopencv-dev"]:
+        if package not in dev_depends:
+            fail("the dev package's Depends lacks %s: %s" % (package, dev_depends))
+    files = run(["dpkg-deb", "-c", runtime]).stdout
+    for rel in ["./usr/bin/corridorsim", "./usr/share/corridorsim/scenarios/default.yaml",
+                "./usr/share/corridorsim/models/room_number_mlp.yml",
+                "./usr/share/corridorsim/scripts/plot_study.py"]:
+        if rel not in files:
+            fail("the runtime package lacks " + rel)
+    if "./usr/include/" in files:
+        fail("the runtime package holds headers (they belong in corridorsim-dev)")
+    dev_files = run(["dpkg-deb", "-c", dev]).stdout
+    for rel in ["./usr/include/corridorsim/slam/plugin.h",
+                "./usr/lib/cmake/corridorsim/corridorsimConfig.cmake"]:
+        if rel not in dev_files:
+            fail("the dev package lacks " + rel)
+    # Unpacked into a root of its own (CI cannot install system-wide), it runs and finds its data.
+    root = os.path.join(work, "root")
+    run(["dpkg-deb", "-x", runtime, root])
+    version_text = run([os.path.join(root, "usr/bin/corridorsim"), "--version"], cwd=empty,
+                       env=env).stdout
+    if "data " + os.path.realpath(os.path.join(root, "usr/share/corridorsim")) not in version_text:
+        fail("the unpacked package's program does not find its data: " + version_text)
+
+
+if __name__ == "__main__":
+    main()
+    print("install_and_plugin_test: ok")
