@@ -1,4 +1,4 @@
-# Writes OUT, the header harness/provenance.cpp includes: `git describe --always --dirty` of
+# Writes OUT, the header harness/run/provenance.cpp includes: `git describe --always --dirty` of
 # SOURCE_DIR ("unknown" outside git or without git) and the compiler. Run at every build
 # (harness/CMakeLists.txt: target corridorsim_version); the file is rewritten only when its text
 # changes, so an unchanged tree rebuilds nothing.

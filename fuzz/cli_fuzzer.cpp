@@ -1,6 +1,6 @@
-// Fuzzes ParseCommandLine (harness/cli.h): the input's bytes split at NUL bytes are the arguments
-// after the program name. InputError (bad input, exit 2) is the parser's one documented error;
-// any other exception, a crash or a sanitizer report is a bug.
+// Fuzzes ParseCommandLine (harness/cli/cli.h): the input's bytes split at NUL bytes are the
+// arguments after the program name. InputError (bad input, exit 2) is the parser's one documented
+// error; any other exception, a crash or a sanitizer report is a bug.
 //
 //   scripts/bootstrap.sh fuzz 60   (docs/fuzzing.md; builds build-fuzz/bin/cli_fuzzer)
 
@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "common/error.h"
-#include "harness/cli.h"
+#include "harness/cli/cli.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   std::vector<std::string> args(1);

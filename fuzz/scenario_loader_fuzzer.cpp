@@ -26,10 +26,10 @@
 #include "common/error.h"
 #include "common/io/options_yaml.h"
 #include "fuzz/fuzz_support.h"
-#include "harness/calibration.h"
-#include "harness/pipeline_runner.h"
-#include "harness/plugins.h"
-#include "harness/scenario.h"
+#include "harness/run/pipeline_runner.h"
+#include "harness/scenario/calibration.h"
+#include "harness/scenario/plugins.h"
+#include "harness/scenario/scenario.h"
 
 namespace {
 

@@ -19,7 +19,7 @@
 #include <nlohmann/json.hpp>
 
 #include "common/error.h"
-#include "harness/score.h"
+#include "harness/workbench/score.h"
 
 namespace {
 

@@ -1,7 +1,8 @@
-// libFuzzer target: a study file through LoadStudy (harness/study_file.h), all that `corridorsim
-// study` and `corridorsim test` check before anything runs (docs/fuzzing.md, docs/studies.md):
-// the scenario and its include chain, the `study:` section (runs, seeds, bounds, metrics,
-// may_diverge, expectations) and every point of a `vary:` sweep, each a scenario of its own.
+// libFuzzer target: a study file through LoadStudy (harness/study/study_file.h), all that
+// `corridorsim study` and `corridorsim test` check before anything runs (docs/fuzzing.md,
+// docs/studies.md): the scenario and its include chain, the `study:` section (runs, seeds, bounds,
+// metrics, may_diverge, expectations) and every point of a `vary:` sweep, each a scenario of its
+// own.
 //
 // Bad input must end in an InputError that quotes the input only briefly. Anything else escaping
 // is a bug, and so is a loaded study outside the bounds docs/studies.md states (runs, points,
@@ -26,9 +27,9 @@
 
 #include "common/error.h"
 #include "fuzz/fuzz_support.h"
-#include "harness/plugins.h"
-#include "harness/scenario.h"
-#include "harness/study_file.h"
+#include "harness/scenario/plugins.h"
+#include "harness/scenario/scenario.h"
+#include "harness/study/study_file.h"
 
 namespace {
 

@@ -5,10 +5,11 @@
 // `seed`, as in a scenario file (other inputs are skipped: the scenario loader has its own
 // target). They are read with the tables the scenario's table holds for them
 // (worlds::WorldOptionsTable, worlds::AppearanceOptionsTable, as sections with their Check()s, as
-// harness/scenario.cpp declares them) and checked as LoadScenario checks them (CheckOptionBounds:
-// every bound, then WorldOptions::Check and AppearanceOptions::Check); a world that passes is
-// generated from the seed (an impossible layout is an OptionsError, which GenerateWorld reports
-// as an InputError). Only the worlds library is linked, so the target builds in minutes.
+// harness/scenario/scenario.cpp declares them) and checked as LoadScenario checks them
+// (CheckOptionBounds: every bound, then WorldOptions::Check and AppearanceOptions::Check); a world
+// that passes is generated from the seed (an impossible layout is an OptionsError, which
+// GenerateWorld reports as an InputError). Only the worlds library is linked, so the target builds
+// in minutes.
 //
 // Bad input must end in an InputError or, for options that pass Check(), an OptionsError.
 // Anything else escaping (another exception type) is a bug: the target aborts and libFuzzer
@@ -45,13 +46,14 @@ constexpr double kFuzzTextureBytes = 1 << 20;
 constexpr int kFuzzDoors = 12;
 constexpr int kFuzzPlates = 8;
 
-// What an input sets: the scenario's `seed`, `world` and `appearance` (harness/scenario.h).
+// What an input sets: the scenario's `seed`, `world` and `appearance`
+// (harness/scenario/scenario.h).
 struct WorldSpec {
   std::uint64_t seed = 1;
   WorldOptions world;
 };
 
-// The scenario table's rows for them (harness/scenario.cpp, ScenarioOptionsTable).
+// The scenario table's rows for them (harness/scenario/scenario.cpp, ScenarioOptionsTable).
 const corridorsim::OptionTable<WorldSpec>& WorldSpecTable() {
   return corridorsim::StaticOptionTable<WorldSpec>([](corridorsim::OptionTable<WorldSpec>& t) {
     t.Add("seed", &WorldSpec::seed, "", "seed of the world's random streams");

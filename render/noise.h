@@ -93,7 +93,8 @@ inline bool InDepthRange(const DepthNoiseOptions& options, double z_m) {
 
 /// The valid range alone, in place: depths outside [min_m, max_m] become 0 (invalid), the others
 /// stay bit for bit; draws nothing. What a depth camera with its noise off reports, so that its
-/// depth holds what the calibration's range (harness/calibration.h) promises, as with noise on.
+/// depth holds what the calibration's range (harness/scenario/calibration.h) promises, as with
+/// noise on.
 void ApplyDepthRange(const DepthNoiseOptions& options, ImageF* depth_m);
 
 /// Colour camera noise on an 8-bit image whose values are taken as linear in irradiance. The

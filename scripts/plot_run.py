@@ -461,7 +461,7 @@ def read_short_text(r, obj, key, where, required):
 
 
 def read_landmarks(path):
-    """<pipeline>_landmarks.json (harness/run_io.cpp LandmarksJson) as a list of
+    """<pipeline>_landmarks.json (harness/run/run_io.cpp LandmarksJson) as a list of
     {id, type, status, label, position, covariance, points: [{role, position, covariance}]}."""
     root = load_json(path, top="array")
     r = JsonReader(path)
@@ -666,7 +666,7 @@ BOX_COLUMNS = DETECTION_COLUMNS[5:9]
 
 
 def read_detections(path):
-    """<pipeline>_detections.csv (harness/run_io.cpp DetectionsCsv) as {column: list}: stamp_s,
+    """<pipeline>_detections.csv (harness/run/run_io.cpp DetectionsCsv) as {column: list}: stamp_s,
     u_px, v_px, score, recognition_score (floats, NaN = no value), camera, type, label (text),
     landmark_id (int, -1 = not associated), new_landmark (bool)."""
     out = {c: [] for c in ["stamp_s", "camera", "type", "u_px", "v_px", "label", "score",

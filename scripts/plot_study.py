@@ -3,7 +3,7 @@
 
     scripts/plot_study.py STUDY_DIR
 
-Reads STUDY_DIR/summary.json (harness/study_summary.cpp, schema_version 1): `vary` (the swept
+Reads STUDY_DIR/summary.json (harness/study/study_summary.cpp, schema_version 1): `vary` (the swept
 keys), `pipelines`, and `points`, each with its `id`, its `vary` values (YAML text) and per
 pipeline the `values` per seed (`seed`, `ate_rmse_m`, ...; null where a run has none),
 `metrics.ate_rmse_m` (mean and 95 % bootstrap CI over the seeds), `runs.diverged_seeds`, `nees`
@@ -90,7 +90,7 @@ SERIES_KEYS = ["t", "runs_with_nees", "anees", "band_low", "band_high", "positio
                "position_sigma_rms_m", "error_x_mean_m", "error_y_mean_m", "runs_with_error"] + \
     [f"{kind}_rms_{axis}" for axis, _ in AXES for kind in ("error", "sigma")]
 
-# Bounds on what summary.json may hold (the producer's are far below: harness/study_file.h).
+# Bounds on what summary.json may hold (the producer's are far below: harness/study/study_file.h).
 MAX_SUMMARY_BYTES = 1 << 30
 MAX_POINTS = 10_000
 MAX_PIPELINES = 64
@@ -863,7 +863,7 @@ def plot_sweep(study, plots_dir, written):
 
 
 def read_frame_times(study_dir):
-    """STUDY_DIR/frame_times.csv (harness/study.cpp, WriteFrameTimes: point, pipeline,
+    """STUDY_DIR/frame_times.csv (harness/study/study.cpp, WriteFrameTimes: point, pipeline,
     landmarks_low, landmarks_high, frames, mean_ms, median_ms, p95_ms), or None when the study
     has none (no pipeline of its runs records frame costs). Raises InputError when malformed."""
     path = os.path.join(study_dir, "frame_times.csv")

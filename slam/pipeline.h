@@ -46,7 +46,7 @@ struct CameraCalibration {
 
 /// What a robot knows about itself, as its calibration file holds it: nominal values, never the
 /// simulator's real ones. The fields have no defaults: whoever builds a Calibration fills every
-/// one (the harness from the scenario's options, harness/calibration.h).
+/// one (the harness from the scenario's options, harness/scenario/calibration.h).
 struct Calibration {
   double wheelbase_m;        // nominal distance between the wheels' contact points (B, P1 eq. 13)
   double wheel_diameter_m;   // nominal wheel diameter

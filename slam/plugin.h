@@ -8,7 +8,7 @@
 //     registrar.Add<MyOptions, MyPipeline>("my_ekf", &MyOptionsTable);
 //   }
 //
-// The macro defines two C functions the loader finds by name (harness/plugins.cpp):
+// The macro defines two C functions the loader finds by name (harness/scenario/plugins.cpp):
 //   const CorridorsimPluginInfo* corridorsim_plugin_info(void);
 //       what the plugin was built with; read before anything else, so that a plugin of another
 //       ABI is refused with both versions named instead of crashing in a C++ call

@@ -39,7 +39,7 @@ class PipelineOptions {
 
 /// A pipeline type: its name and a factory of its default options. `library` is empty for the
 /// types this build ships; a plugin's types carry the path of the library that registered them
-/// (harness/plugins.h).
+/// (harness/scenario/plugins.h).
 struct PipelineType {
   std::string name;
   std::function<std::unique_ptr<PipelineOptions>()> new_options;
@@ -105,8 +105,8 @@ std::unique_ptr<PipelineOptions> NewPipelineOptions(const std::string& name);
 /// The type named `name`, or nothing.
 std::optional<PipelineType> FindPipelineType(const std::string& name);
 
-/// Adds a plugin's type (its `library` set). The caller (harness/plugins.cpp) has checked that
-/// the name is a valid pipeline name and not taken; a taken name throws std::logic_error.
+/// Adds a plugin's type (its `library` set). The caller (harness/scenario/plugins.cpp) has checked
+/// that the name is a valid pipeline name and not taken; a taken name throws std::logic_error.
 /// Thread-safe; types are never removed (a plugin's code stays loaded).
 void AddPipelineType(PipelineType type);
 

@@ -13,7 +13,7 @@ namespace {
 
 constexpr std::array<const char*, 8> kKeys = {"model", "width", "height", "fx",
                                               "fy",    "cx",    "cy",     "distortion"};
-// Keys of an intrinsics.json entry beside the model's (harness/frame_io.h): not the model's.
+// Keys of an intrinsics.json entry beside the model's (harness/run/frame_io.h): not the model's.
 constexpr const char* kMountKey = "robot_from_camera";
 constexpr const char* kDepthScaleKey = "depth_scale";
 

@@ -16,7 +16,7 @@ namespace corridorsim {
 nlohmann::ordered_json CameraModelToJson(const CameraModel& model);
 
 /// The model an object of the form above describes. An intrinsics.json entry as corridorsim
-/// writes it (harness/frame_io.h's IntrinsicsJson) reads as it is: its `robot_from_camera` (an
+/// writes it (harness/run/frame_io.h's IntrinsicsJson) reads as it is: its `robot_from_camera` (an
 /// object) and `depth_scale` (a positive number) describe the mount and the depth images, not the
 /// model, and are passed over. Throws OptionsError naming the key (a missing, unknown or
 /// mistyped key, a distortion of the wrong length, an unknown model name) or, with the key

@@ -132,7 +132,8 @@ std::string ErrorSeriesCsv(const std::vector<TruthPose>& truth, const PipelineRe
   std::string csv = "t,ex_m,ey_m,eyaw_rad,sigma_x_m,sigma_y_m,sigma_yaw_rad,nees\n";
   // One field and its comma (or the line's end): the value with `decimals` decimals, or nothing
   // where it is not finite (a NaN or infinite variance): the readers take an empty field as
-  // missing (harness/study_summary.cpp, scripts/plot_run.py, scripts/p1_study.py, p3_study.py).
+  // missing (harness/study/study_summary.cpp, scripts/plot_run.py, scripts/p1_study.py,
+  // p3_study.py).
   const auto field = [&csv](double value, int decimals, char end) {
     if (std::isfinite(value)) {
       char text[64];

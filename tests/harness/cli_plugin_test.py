@@ -2,8 +2,9 @@
 """`corridorsim plugin` and plugins in runs, as a user meets them (docs/plugins.md): a library
 that cannot be a plugin is exit 2 with one message at the scenario line (nothing written); a
 plugin that throws during a run fails alone: exit 5, the other pipelines' results written, its
-metrics `health.failed`, events.json saying why, byte-identical on a second run; `corridorsim
-test` reports it as an error case.
+metrics `health.failed`, events.json saying why, byte-identical on a second run; shards whose
+plugin libraries differ are not merged; `corridorsim test` reports a failed pipeline as an error
+case.
 
 usage: cli_plugin_test.py CORRIDORSIM PLUGIN_DIR SOURCE_DIR WORK_DIR
 """
@@ -100,6 +101,34 @@ def main():
     for name in ["metrics.json", "events.json", "odometry.tum", "echo.tum", "scenario.yaml"]:
         if read(os.path.join(folders[0], name)) != read(os.path.join(folders[1], name)):
             fail("%s differs between two runs of the same seed" % name)
+
+    # Shards whose plugin libraries differ are not merged: the plan records each one's SHA-256.
+    lib = os.path.join(work, "lib")
+    os.makedirs(lib)
+    shutil.copy(echo, os.path.join(lib, "echo.so"))
+    study = os.path.join(work, "study.yaml")
+    with open(study, "w") as f:
+        f.write(base + "duration_s: 4\n"
+                "plugins: [lib/echo.so]\n"
+                "pipelines:\n"
+                "  p1_harris: {enabled: false}\n"
+                "  p1_vp_doorplate: {enabled: false}\n"
+                "  echo: {type: test_echo}\n"
+                "expectations: []\n"
+                "study: {runs: 2}\n")
+    run([corridorsim, "study", study, "--shard", "1/2", "--no-plots", "--out",
+         os.path.join(work, "shard1")], 0)
+    with open(os.path.join(lib, "echo.so"), "ab") as f:
+        f.write(b"rebuilt")  # still a loadable library, with other bytes
+    run([corridorsim, "study", study, "--shard", "2/2", "--no-plots", "--out",
+         os.path.join(work, "shard2")], 0)
+    err = run([corridorsim, "study", "merge", os.path.join(work, "shard1"),
+               os.path.join(work, "shard2"), "--out", os.path.join(work, "merged")], 2).stderr
+    if "the plugin library %s differs (SHA-256 " % os.path.realpath(os.path.join(lib, "echo.so")) \
+            not in err:
+        fail("a merge of shards with different plugin libraries: " + err)
+    if os.path.exists(os.path.join(work, "merged")):
+        fail("a refused merge wrote its folder")
 
     # corridorsim test: the failure is an error case; the run's exit 1.
     junit = os.path.join(work, "junit.xml")

@@ -128,7 +128,10 @@ def main():
         if read(os.path.join(whole, name), "rb") != read(os.path.join(merged, name), "rb"):
             fail("%s of the merged shards differs from the whole study's" % name)
     summary = json.loads(read(os.path.join(whole, "summary.json")))
-    print("study: %s" % json.dumps(summary.get("expectations", ""))[:400])
+    expectations = summary["points"][0]["expectations"]
+    print("study: %s" % json.dumps(expectations))
+    if not summary["all_expectations_passed"] or len(expectations) != 2:
+        fail("the study's expectations (lamp_ekf beats odometry): %s" % expectations)
 
     # 6. test --junit: a JUnit reader parses it, nothing failed.
     junit = os.path.join(work, "junit.xml")

@@ -1,6 +1,6 @@
 // A test plugin: the pipeline type `test_echo` (dead reckoning through the SDK's odometry model,
 // scaled by an option), and with `-DTEST_PLUGIN_VARIANT=...` the broken variants that the loader
-// must refuse (tests/harness/plugins_test.cpp, tests/CMakeLists.txt).
+// must refuse (tests/harness/scenario/plugins_test.cpp, tests/CMakeLists.txt).
 
 #include <cmath>
 #include <cstdint>

@@ -498,8 +498,8 @@ TEST_CASE("rendering the same frame twice gives identical bytes", "[render][gl][
 
 TEST_CASE("a depth camera without noise reports only depths inside its valid range",
           "[render][gl]") {
-  // The calibration tells a pipeline [min_m, max_m] (harness/calibration.h): with the noise off
-  // the depth must keep to it as the noise model does.
+  // The calibration tells a pipeline [min_m, max_m] (harness/scenario/calibration.h): with the
+  // noise off the depth must keep to it as the noise model does.
   RigOptions rig_options = RigOptions::Default();
   CameraOptions& front = rig_options.cameras[0];
   front.noise = false;

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "harness/metrics.h"
+#include "harness/metrics/metrics.h"
 
 namespace corridorsim::test {
 

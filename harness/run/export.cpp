@@ -1,0 +1,505 @@
+#include "harness/run/export.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+#include <stdexcept>
+#include <system_error>
+#include <variant>
+
+#include <nlohmann/json.hpp>
+
+#include "common/io/atomic_file.h"
+#include "common/io/stable_json.h"
+#include "harness/run/frame_io.h"
+#include "render/frame_truth.h"
+#include "worlds/image_io.h"
+
+namespace corridorsim {
+namespace {
+
+namespace fs = std::filesystem;
+
+// What the export writes at its root; an existing one means an earlier export is there.
+constexpr const char* kRootEntries[] = {"tum_rgbd", "euroc", "labels", "coco", "odometry.csv"};
+
+// ORB-SLAM's RGB-D close/far threshold in baselines (TUM1.yaml's 40: 3 m with the default
+// 7.5 cm projector-camera baseline of the depth noise model).
+constexpr double kOrbSlamThDepth = 40.0;
+
+std::string Quoted(const fs::path& path) { return "'" + path.string() + "'"; }
+
+std::string StampName(TimeNs stamp_ns) { return std::to_string(stamp_ns); }
+
+// Seconds with nine decimals from the integer nanoseconds (TUM files).
+std::string TumSeconds(TimeNs stamp_ns) {
+  char buf[40];
+  std::snprintf(buf, sizeof(buf), "%lld.%09lld",
+                static_cast<long long>(stamp_ns / kNanosecondsPerSecond),
+                static_cast<long long>(stamp_ns % kNanosecondsPerSecond));
+  return buf;
+}
+
+// The shortest text that reads back as the same double, always with a decimal point (ORB-SLAM3
+// insists on reals where it reads reals; YAML readers take it as a float).
+std::string Real(double value) {
+  char buf[64];
+  const auto result = std::to_chars(buf, buf + sizeof(buf), value);
+  std::string text(buf, result.ptr);
+  if (text.find_first_of(".ni") != std::string::npos) return text;  // has a point, nan, inf
+  const std::size_t e = text.find('e');
+  if (e == std::string::npos) return text + ".0";
+  return text.insert(e, ".0");
+}
+
+// Nine decimals; a value that rounds to zero is written without a sign.
+std::string Fixed9(double value) {
+  char buf[48];
+  std::snprintf(buf, sizeof(buf), "%.9f", value);
+  const std::string text = buf;
+  return text == "-0.000000000" ? text.substr(1) : text;
+}
+
+std::string RealList(const std::vector<double>& values) {
+  std::string text = "[";
+  for (std::size_t i = 0; i < values.size(); ++i) text += (i ? ", " : "") + Real(values[i]);
+  return text + "]";
+}
+
+// COCO boxes and areas in pixels (common/io/stable_json.h).
+double Round4(double v) { return RoundToStep(v, json_steps::kPx); }
+
+// The model's intrinsics (CameraModel::intrinsics()) and whether it is the fisheye.
+struct Intrinsics : CameraIntrinsics {
+  bool fisheye = false;
+};
+
+Intrinsics IntrinsicsOf(const CameraModel& model) {
+  return Intrinsics{{model.intrinsics()}, model.kannala_brandt() != nullptr};
+}
+
+// ORB-SLAM2's Examples/RGB-D/TUM1.yaml keys with ORB-SLAM3's (pre-1.0 settings) Camera.type,
+// Camera.width and Camera.height; the ORB and viewer parameters are TUM1.yaml's.
+std::string OrbSlamYaml(const render::CameraOptions& options) {
+  const Intrinsics in = IntrinsicsOf(options.model);
+  std::ostringstream y;
+  y << "%YAML:1.0\n"
+    << "# ORB-SLAM2 / ORB-SLAM3 settings for the corridorsim front camera (tum_rgbd/), in the\n"
+    << "# form of ORB-SLAM2's Examples/RGB-D/TUM1.yaml; Camera.type, Camera.width and\n"
+    << "# Camera.height are ORB-SLAM3's additions. No File.version: ORB-SLAM3 1.0 reads this\n"
+    << "# as its old settings form. Pixel (0, 0) is the centre of the top-left pixel.\n\n";
+  y << "# Camera calibration and distortion parameters (OpenCV)\n";
+  if (in.fisheye) {
+    y << "Camera.type: \"KannalaBrandt8\"\n";
+  } else {
+    y << "Camera.type: \"PinHole\"\n";
+  }
+  y << "Camera.fx: " << Real(in.fx) << "\n"
+    << "Camera.fy: " << Real(in.fy) << "\n"
+    << "Camera.cx: " << Real(in.cx) << "\n"
+    << "Camera.cy: " << Real(in.cy) << "\n\n";
+  const char* const names[] = {"k1", "k2", "p1", "p2", "k3"};
+  const char* const fisheye_names[] = {"k1", "k2", "k3", "k4"};
+  for (std::size_t i = 0; i < in.distortion.size(); ++i) {
+    y << "Camera." << (in.fisheye ? fisheye_names[i] : names[i]) << ": " << Real(in.distortion[i])
+      << "\n";
+  }
+  y << "\nCamera.width: " << in.width << "\n"
+    << "Camera.height: " << in.height << "\n\n"
+    << "# Camera frames per second\n"
+    << "Camera.fps: " << Real(options.rate_hz) << "\n\n"
+    << "# Color order of the images (0: BGR, 1: RGB. It is ignored if images are grayscale)\n"
+    << "Camera.RGB: 1\n\n";
+  if (options.depth) {
+    const double baseline_m = options.depth_noise.baseline_m;
+    y << "# IR projector baseline (" << Real(baseline_m)
+      << " m, the depth noise model's) times fx\n"
+      << "Camera.bf: " << Real(baseline_m * in.fx) << "\n\n"
+      << "# Close/Far threshold. Baseline times.\n"
+      << "ThDepth: " << Real(kOrbSlamThDepth) << "\n\n"
+      << "# Depth map values per metre (16-bit PNG)\n"
+      << "DepthMapFactor: " << Real(kDepthScale) << "\n\n";
+  }
+  y << "# ORB extractor (TUM1.yaml's values)\n"
+    << "ORBextractor.nFeatures: 1000\n"
+    << "ORBextractor.scaleFactor: 1.2\n"
+    << "ORBextractor.nLevels: 8\n"
+    << "ORBextractor.iniThFAST: 20\n"
+    << "ORBextractor.minThFAST: 7\n\n"
+    << "# Viewer (TUM1.yaml's values)\n"
+    << "Viewer.KeyFrameSize: 0.05\n"
+    << "Viewer.KeyFrameLineWidth: 1.0\n"
+    << "Viewer.GraphLineWidth: 0.9\n"
+    << "Viewer.PointSize: 2.0\n"
+    << "Viewer.CameraSize: 0.08\n"
+    << "Viewer.CameraLineWidth: 3.0\n"
+    << "Viewer.ViewpointX: 0.0\n"
+    << "Viewer.ViewpointY: -0.7\n"
+    << "Viewer.ViewpointZ: -1.8\n"
+    << "Viewer.ViewpointF: 500.0\n";
+  return y.str();
+}
+
+// EuRoC / TUM-VI camera sensor.yaml: T_BS = robot_from_camera (body = robot frame R).
+std::string EurocSensorYaml(const render::CameraOptions& options, const std::string& cam) {
+  const Intrinsics in = IntrinsicsOf(options.model);
+  const Eigen::Matrix4d t_bs = [&] {
+    const SE3 robot_from_camera = options.mount.RobotFromCamera();
+    Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
+    m.topLeftCorner<3, 3>() = robot_from_camera.rotation();
+    m.topRightCorner<3, 1>() = robot_from_camera.translation();
+    return m;
+  }();
+  std::ostringstream y;
+  y << "# General sensor definitions.\n"
+    << "sensor_type: camera\n"
+    << "comment: corridorsim " << options.id << " camera as " << cam << "\n\n"
+    << "# Sensor extrinsics wrt. the body-frame (the robot frame R: x forward, z up).\n"
+    << "T_BS:\n"
+    << "  cols: 4\n"
+    << "  rows: 4\n"
+    << "  data: [";
+  for (int r = 0; r < 4; ++r) {
+    for (int c = 0; c < 4; ++c) {
+      y << (r == 0 && c == 0 ? "" : c == 0 ? ",\n         " : ", ") << Real(t_bs(r, c));
+    }
+  }
+  y << "]\n\n"
+    << "# Camera specific definitions.\n"
+    << "rate_hz: " << Real(options.rate_hz) << "\n"
+    << "resolution: [" << in.width << ", " << in.height << "]\n"
+    << "camera_model: pinhole\n"
+    << "intrinsics: " << RealList({in.fx, in.fy, in.cx, in.cy}) << " #fu, fv, cu, cv\n";
+  if (in.fisheye) {
+    y << "distortion_model: equidistant\n"
+      << "distortion_coefficients: " << RealList(in.distortion) << " #k1, k2, k3, k4\n";
+  } else {
+    // Kalibr's radial-tangential has four coefficients; k3 follows only when it is used.
+    std::vector<double> d(in.distortion.begin(), in.distortion.begin() + 4);
+    if (in.distortion[4] != 0.0) d.push_back(in.distortion[4]);
+    y << "distortion_model: radial-tangential\n"
+      << "distortion_coefficients: " << RealList(d)
+      << (d.size() == 4 ? " #k1, k2, p1, p2\n" : " #k1, k2, p1, p2, k3\n");
+  }
+  return y.str();
+}
+
+void CheckFrame(const render::CameraOptions& options, const render::CameraFrame& f) {
+  const Intrinsics in = IntrinsicsOf(options.model);
+  const std::size_t n = static_cast<std::size_t>(in.width) * in.height;
+  const auto fail = [&](const std::string& what) {
+    throw std::invalid_argument("DatasetExporter: " + options.id + " frame: " + what);
+  };
+  if (f.rgb.width != in.width || f.rgb.height != in.height || f.rgb.channels != 3 ||
+      f.rgb.data.size() != 3 * n) {
+    fail("the RGB image is not " + std::to_string(in.width) + "x" + std::to_string(in.height) +
+         " RGB");
+  }
+  if (f.instance.size() != n || f.semantic.size() != n)
+    fail("the label images have the wrong size");
+  if (options.depth && (f.noisy_depth_m.width != in.width || f.noisy_depth_m.height != in.height ||
+                        f.noisy_depth_m.data.size() != n)) {
+    fail("the noisy depth image has the wrong size");
+  }
+}
+
+}  // namespace
+
+DatasetExporter::DatasetExporter(const fs::path& dir, const render::RigOptions& rig,
+                                 double wheelbase_m)
+    : dir_(dir), wheelbase_m_(wheelbase_m) {
+  EnsureWritableDirectory(dir_);
+  for (const char* entry : kRootEntries) {
+    std::error_code ec;
+    if (fs::exists(dir_ / entry, ec) || ec) {
+      throw std::runtime_error("cannot export into " + Quoted(dir_) + ": it already holds " +
+                               entry + " (export into a new or empty folder)");
+    }
+  }
+  for (std::size_t k = 0; k < rig.cameras.size(); ++k) {
+    const render::CameraOptions& options = rig.cameras[k];
+    if (!options.enabled) continue;
+    CameraOutput camera;
+    camera.options = options;
+    camera.order = k;
+    if (options.id == "front") {
+      camera.layout = Layout::kTumRgbd;
+      camera.image_dir = fs::path("tum_rgbd") / "rgb";
+    } else if (options.id == "upward") {
+      camera.layout = Layout::kEurocCam0;
+      camera.image_dir = fs::path("euroc") / "mav0" / "cam0" / "data";
+    } else if (options.id == "lateral") {
+      camera.layout = Layout::kEurocCam1;
+      camera.image_dir = fs::path("euroc") / "mav0" / "cam1" / "data";
+    }
+    cameras_.push_back(std::move(camera));
+  }
+}
+
+void DatasetExporter::CheckOpen(const char* what) const {
+  if (finished_) throw std::logic_error(std::string("DatasetExporter::") + what + " after Finish");
+}
+
+DatasetExporter::CameraOutput& DatasetExporter::Camera(const std::string& camera_id) {
+  for (CameraOutput& camera : cameras_) {
+    if (camera.options.id == camera_id) return camera;
+  }
+  throw std::invalid_argument("DatasetExporter: the rig has no enabled camera '" + camera_id + "'");
+}
+
+// Creates a folder under the export root, naming it when that fails.
+void DatasetExporter::MakeDir(const fs::path& relative) const {
+  const fs::path path = dir_ / relative;
+  std::error_code ec;
+  fs::create_directories(path, ec);
+  if (ec) throw std::runtime_error("cannot create folder " + Quoted(path) + ": " + ec.message());
+}
+
+void DatasetExporter::AddFrame(const sim::CameraMessage& message, const std::string& camera_id) {
+  CheckOpen("AddFrame");
+  CameraOutput& camera = Camera(camera_id);
+  const render::CameraFrame& f = message.frame;
+  if (f.rgb.empty()) return;  // not rendered: nothing to export
+  if (!f.camera_id.empty() && f.camera_id != camera_id) {
+    throw std::invalid_argument("DatasetExporter: a frame of camera '" + f.camera_id +
+                                "' given as '" + camera_id + "'");
+  }
+  const TimeNs t = message.stamp_ns;
+  if (t < 0 || (!camera.stamps.empty() && t <= camera.stamps.back())) {
+    throw std::invalid_argument("DatasetExporter: " + camera_id + " frame at " + std::to_string(t) +
+                                " ns: stamps must be non-negative and increase per camera");
+  }
+  CheckFrame(camera.options, f);
+  const int width = f.rgb.width, height = f.rgb.height;
+  const fs::path labels_dir = fs::path("labels") / camera_id;
+  if (camera.stamps.empty()) {
+    if (camera.layout != Layout::kLabelsOnly) MakeDir(camera.image_dir);
+    if (camera.layout == Layout::kTumRgbd && camera.options.depth) MakeDir("tum_rgbd/depth");
+    MakeDir(labels_dir);
+  }
+
+  const std::string name = StampName(t) + ".png";
+  if (camera.layout != Layout::kLabelsOnly) {
+    WriteFileAtomic(dir_ / camera.image_dir / name, EncodePng(f.rgb, camera_id + " " + name));
+  }
+  if (camera.layout == Layout::kTumRgbd) {
+    if (camera.options.depth) {
+      WriteFileAtomic(dir_ / "tum_rgbd" / "depth" / name,
+                      EncodeDepth(f.noisy_depth_m, camera_id + " depth " + name));
+    }
+    camera.world_from_camera.emplace_back(t, f.world_from_camera);
+  }
+  WriteFileAtomic(dir_ / labels_dir / name, EncodeLabels(f, width, height));
+  nlohmann::ordered_json truth;
+  truth["stamp_ns"] = t;
+  truth["frame_index"] = message.frame_index;
+  const nlohmann::ordered_json frame_truth = render::FrameTruthJson(message.truth);
+  for (const auto& [key, value] : frame_truth.items()) truth[key] = value;
+  WriteFileAtomic(dir_ / labels_dir / (StampName(t) + ".json"), truth.dump(1) + "\n");
+
+  // Door plates: the cameras that read them (front, lateral).
+  if (camera.layout == Layout::kTumRgbd || camera.layout == Layout::kEurocCam1) {
+    CocoImage image;
+    image.stamp_ns = t;
+    image.camera_order = camera.order;
+    image.file_name = (camera.image_dir / name).generic_string();
+    image.width = width;
+    image.height = height;
+    for (const render::PlateTruth& p : message.truth.plates) {
+      // Pixel centres to pixel edges (+0.5), clipped to the image; the corners are rounded
+      // before the size so that the box stays inside the image.
+      const double x0 = Round4(std::clamp(p.bbox_min_px.x() + 0.5, 0.0, double(width)));
+      const double y0 = Round4(std::clamp(p.bbox_min_px.y() + 0.5, 0.0, double(height)));
+      const double x1 = Round4(std::clamp(p.bbox_max_px.x() + 0.5, 0.0, double(width)));
+      const double y1 = Round4(std::clamp(p.bbox_max_px.y() + 0.5, 0.0, double(height)));
+      PlateBox box;
+      box.plate_id = p.id;
+      box.room_number = p.room_number;
+      box.x = x0;
+      box.y = y0;
+      box.w = Round4(x1 - x0);
+      box.h = Round4(y1 - y0);
+      box.visible_fraction = RoundToStep(p.visible_fraction, json_steps::kRatio);
+      box.fully_in_image = p.fully_in_image;
+      image.plates.push_back(std::move(box));
+    }
+    coco_images_.push_back(std::move(image));
+  }
+  camera.stamps.push_back(t);
+}
+
+void DatasetExporter::AddOdometry(const WheelOdometry& odometry) {
+  CheckOpen("AddOdometry");
+  if (!odometry_.empty() && odometry.stamp_ns <= odometry_.back().stamp_ns) {
+    throw std::invalid_argument("DatasetExporter: odometry at " +
+                                std::to_string(odometry.stamp_ns) + " ns: stamps must increase");
+  }
+  odometry_.push_back(odometry);
+}
+
+void DatasetExporter::AddTruth(TimeNs stamp_ns, const SE3& world_from_robot) {
+  CheckOpen("AddTruth");
+  if (stamp_ns < 0 || (!truth_.empty() && stamp_ns <= truth_.back().first)) {
+    throw std::invalid_argument("DatasetExporter: truth at " + std::to_string(stamp_ns) +
+                                " ns: stamps must be non-negative and increase");
+  }
+  truth_.emplace_back(stamp_ns, world_from_robot);
+}
+
+void DatasetExporter::Finish() {
+  CheckOpen("Finish");
+  finished_ = true;
+  for (const CameraOutput& camera : cameras_) {
+    if (camera.stamps.empty()) continue;
+    if (camera.layout == Layout::kTumRgbd) FinishTum(camera);
+    if (camera.layout == Layout::kEurocCam0 || camera.layout == Layout::kEurocCam1) {
+      FinishEuroc(camera);
+    }
+  }
+  FinishGroundTruth();
+  FinishOdometry();
+  FinishCoco();
+}
+
+void DatasetExporter::FinishTum(const CameraOutput& camera) const {
+  const fs::path tum = dir_ / "tum_rgbd";
+  std::ostringstream rgb, depth, associations, groundtruth;
+  rgb << "# color images\n# corridorsim " << camera.options.id
+      << " camera, seconds from the start of the run\n# timestamp filename\n";
+  depth << "# depth maps\n# corridorsim " << camera.options.id
+        << " camera, 16-bit, 5000 per metre, 0 = invalid\n# timestamp filename\n";
+  for (const TimeNs t : camera.stamps) {
+    const std::string s = TumSeconds(t), name = StampName(t) + ".png";
+    rgb << s << " rgb/" << name << "\n";
+    if (camera.options.depth) {
+      depth << s << " depth/" << name << "\n";
+      associations << s << " rgb/" << name << " " << s << " depth/" << name << "\n";
+    }
+  }
+  WriteFileAtomic(tum / "rgb.txt", rgb.str());
+  if (camera.options.depth) {
+    WriteFileAtomic(tum / "depth.txt", depth.str());
+    WriteFileAtomic(tum / "associations.txt", associations.str());
+  }
+
+  // The optical centre: every truth sample through the mount, and each frame's own pose (the
+  // frame's wins where both exist, so every image has its exact pose).
+  std::vector<std::pair<TimeNs, SE3>> poses;
+  const SE3 robot_from_camera = camera.options.mount.RobotFromCamera();
+  std::size_t i = 0, j = 0;
+  const auto& frames = camera.world_from_camera;
+  while (i < truth_.size() || j < frames.size()) {
+    if (j < frames.size() && (i == truth_.size() || frames[j].first <= truth_[i].first)) {
+      if (i < truth_.size() && truth_[i].first == frames[j].first) ++i;
+      poses.push_back(frames[j++]);
+    } else {
+      poses.emplace_back(truth_[i].first, truth_[i].second * robot_from_camera);
+      ++i;
+    }
+  }
+  groundtruth << "# ground truth trajectory\n# corridorsim " << camera.options.id
+              << " camera: world_from_camera (optical centre, OpenCV optical axes) in frame W\n"
+              << "# timestamp tx ty tz qx qy qz qw\n";
+  for (const auto& [t, pose] : poses) groundtruth << sim::TumLine(t, pose) << "\n";
+  WriteFileAtomic(tum / "groundtruth.txt", groundtruth.str());
+  WriteFileAtomic(tum / "orb_slam.yaml", OrbSlamYaml(camera.options));
+}
+
+void DatasetExporter::FinishEuroc(const CameraOutput& camera) const {
+  const std::string cam = camera.layout == Layout::kEurocCam0 ? "cam0" : "cam1";
+  const fs::path folder = dir_ / "euroc" / "mav0" / cam;
+  std::ostringstream csv;
+  csv << "#timestamp [ns],filename\n";
+  for (const TimeNs t : camera.stamps) csv << t << "," << t << ".png\n";
+  WriteFileAtomic(folder / "data.csv", csv.str());
+  WriteFileAtomic(folder / "sensor.yaml", EurocSensorYaml(camera.options, cam));
+}
+
+// EuRoC's state_groundtruth_estimate0: the robot's pose, its velocity in W by central
+// differences of the poses (one-sided at the ends), and zero biases (there is no IMU).
+void DatasetExporter::FinishGroundTruth() const {
+  if (truth_.empty()) return;
+  const fs::path folder = fs::path("euroc") / "mav0" / "state_groundtruth_estimate0";
+  MakeDir(folder);
+  std::ostringstream csv;
+  csv << "#timestamp, p_RS_R_x [m], p_RS_R_y [m], p_RS_R_z [m], q_RS_w [], q_RS_x [], q_RS_y [], "
+         "q_RS_z [], v_RS_R_x [m s^-1], v_RS_R_y [m s^-1], v_RS_R_z [m s^-1], b_w_RS_S_x [rad "
+         "s^-1], b_w_RS_S_y [rad s^-1], b_w_RS_S_z [rad s^-1], b_a_RS_S_x [m s^-2], b_a_RS_S_y [m "
+         "s^-2], b_a_RS_S_z [m s^-2]\n";
+  const std::size_t n = truth_.size();
+  for (std::size_t k = 0; k < n; ++k) {
+    const auto& [t, pose] = truth_[k];
+    Eigen::Vector3d v = Eigen::Vector3d::Zero();
+    if (n > 1) {
+      const std::size_t a = k == 0 ? 0 : k - 1, b = k + 1 == n ? k : k + 1;
+      v = (truth_[b].second.translation() - truth_[a].second.translation()) /
+          ToSeconds(truth_[b].first - truth_[a].first);
+    }
+    const Eigen::Vector3d& p = pose.translation();
+    const Eigen::Quaterniond& q = pose.quaternion();
+    csv << t;
+    for (const double value :
+         {p.x(), p.y(), p.z(), q.w(), q.x(), q.y(), q.z(), v.x(), v.y(), v.z()})
+      csv << "," << Fixed9(value);
+    csv << ",0,0,0,0,0,0\n";
+  }
+  WriteFileAtomic(dir_ / folder / "data.csv", csv.str());
+}
+
+void DatasetExporter::FinishOdometry() const {
+  std::ostringstream csv;
+  csv << "# corridorsim wheel odometry: signed distance each wheel travelled since the previous "
+         "message; wheelbase_m: "
+      << Real(wheelbase_m_) << "\n"
+      << "timestamp_ns,left_distance_m,right_distance_m,left_ticks,right_ticks\n";
+  for (const WheelOdometry& o : odometry_) {
+    csv << o.stamp_ns << "," << Fixed9(o.left_distance_m) << "," << Fixed9(o.right_distance_m)
+        << "," << o.left_ticks << "," << o.right_ticks << "\n";
+  }
+  WriteFileAtomic(dir_ / "odometry.csv", csv.str());
+}
+
+void DatasetExporter::FinishCoco() const {
+  if (coco_images_.empty()) return;
+  std::vector<const CocoImage*> images;
+  for (const CocoImage& image : coco_images_) images.push_back(&image);
+  std::stable_sort(images.begin(), images.end(), [](const CocoImage* a, const CocoImage* b) {
+    return std::pair(a->stamp_ns, a->camera_order) < std::pair(b->stamp_ns, b->camera_order);
+  });
+  nlohmann::ordered_json coco;
+  coco["info"] = {{"description", "corridorsim door plates"},
+                  {"file_names", "relative to the export root"}};
+  coco["images"] = nlohmann::ordered_json::array();
+  coco["annotations"] = nlohmann::ordered_json::array();
+  constexpr int kDoorPlateCategory = 1;
+  int image_id = 0, annotation_id = 0;
+  for (const CocoImage* image : images) {
+    ++image_id;
+    coco["images"].push_back({{"id", image_id},
+                              {"file_name", image->file_name},
+                              {"width", image->width},
+                              {"height", image->height},
+                              {"stamp_ns", image->stamp_ns}});
+    for (const PlateBox& box : image->plates) {
+      coco["annotations"].push_back({{"id", ++annotation_id},
+                                     {"image_id", image_id},
+                                     {"category_id", kDoorPlateCategory},
+                                     {"bbox", {box.x, box.y, box.w, box.h}},
+                                     {"area", Round4(box.w * box.h)},
+                                     {"iscrowd", 0},
+                                     {"attributes",
+                                      {{"room_number", box.room_number},
+                                       {"plate_id", box.plate_id},
+                                       {"visible_fraction", box.visible_fraction},
+                                       {"fully_in_image", box.fully_in_image}}}});
+    }
+  }
+  coco["categories"] = nlohmann::ordered_json::array(
+      {{{"id", kDoorPlateCategory}, {"name", "door_plate"}, {"supercategory", "sign"}}});
+  MakeDir("coco");
+  WriteFileAtomic(dir_ / "coco" / "plates.json", coco.dump(1) + "\n");
+}
+
+}  // namespace corridorsim

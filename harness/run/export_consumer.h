@@ -1,0 +1,42 @@
+#pragma once
+// `--export` as a bus consumer: the DatasetExporter's calls go to one worker thread in
+// submission order (common/io/serial_worker.h), so PNG encoding of exported frames overlaps the
+// rendering of the next ones; the files are the bytes inline calls would write. Frame jobs bound
+// the queue (four frames), small ones do not.
+
+#include <filesystem>
+#include <optional>
+
+#include "common/io/serial_worker.h"
+#include "harness/run/export.h"
+#include "harness/run/sensor_bus.h"
+
+namespace corridorsim {
+
+class ExportConsumer : public BusConsumer {
+ public:
+  /// Opens the export in `dir` for the rendered cameras of `rig` (InputError at `--export` when
+  /// the folder cannot take it).
+  ExportConsumer(const std::filesystem::path& dir, const render::RigOptions& rig,
+                 double wheelbase_m);
+
+  void OnStart(const sim::TruthSample& truth) override;
+  void OnOdometry(const WheelOdometry& odometry) override;
+  void OnCameraSet(const CameraSet& set) override;
+  void OnTruth(const sim::TruthSample& truth) override;
+
+  /// Writes the index files and waits for the worker to finish everything.
+  void Finish();
+  /// The worker's busy time (overlaps the loop) and the loop's waits on it (a full queue, the
+  /// final drain), in wall seconds.
+  double busy_seconds() const { return worker_.busy_seconds(); }
+  double wait_seconds() const { return wait_seconds_; }
+
+ private:
+  std::optional<DatasetExporter> exporter_;
+  SerialWorker worker_{4};
+  TimeNs truth_period_ns_;
+  double wait_seconds_ = 0.0;
+};
+
+}  // namespace corridorsim

@@ -1,0 +1,294 @@
+#include "harness/run/pipeline_runner.h"
+
+#include <cmath>
+#include <cstdio>
+#include <future>
+#include <optional>
+#include <stdexcept>
+#include <utility>
+
+#include "common/error.h"
+#include "common/io/atomic_file.h"
+#include "common/io/yaml_reader.h"
+#include "common/random.h"
+#include "harness/run/run_folder.h"
+#include "harness/run/stopwatch.h"
+#include "slam/features/door_plates.h"
+
+namespace corridorsim {
+namespace {
+
+// The world point a rendered depth frame shows at `pixel` (nearest pixel centre), or nothing
+// where the depth is invalid: exact truth for a corner detection (metrics/map.cpp).
+std::optional<SeenPoint> SeenAt(const render::CameraFrame& frame, const CameraModel& model,
+                                const Eigen::Vector2d& pixel) {
+  const ImageF& depth = frame.depth_m;
+  const long x = std::lround(pixel.x());
+  const long y = std::lround(pixel.y());
+  if (depth.data.empty() || x < 0 || y < 0 || x >= depth.width || y >= depth.height) {
+    return std::nullopt;
+  }
+  const float z = depth.at(static_cast<int>(x), static_cast<int>(y));
+  if (!(z > 0.0f)) return std::nullopt;
+  const Eigen::Vector3d bearing =
+      model.Unproject(Eigen::Vector2d(static_cast<double>(x), static_cast<double>(y)));
+  if (!(bearing.z() > 0.0)) return std::nullopt;
+  SeenPoint seen;
+  seen.p_in_world = frame.world_from_camera * (bearing * (static_cast<double>(z) / bearing.z()));
+  const std::size_t index = static_cast<std::size_t>(y) * depth.width + static_cast<std::size_t>(x);
+  if (index < frame.instance.size()) seen.instance_id = frame.instance[index];
+  return seen;
+}
+
+// An exception's text as a record keeps it: printable, at most 2000 bytes.
+std::string ExceptionText(std::exception_ptr error) {
+  try {
+    std::rethrow_exception(error);
+  } catch (const std::exception& e) {
+    return InputExcerpt(e.what(), 2000);
+  } catch (...) {
+    return "an exception that is not a std::exception";
+  }
+}
+
+}  // namespace
+
+struct PipelineRunner::Run {
+  std::unique_ptr<slam::Pipeline> pipeline;  // null when its construction threw
+  bool failed = false;
+  std::set<std::string> cameras;
+  double seconds = 0.0;      // wall time inside the pipeline
+  double cpu_seconds = 0.0;  // CPU time of the threads that ran its calls, during them
+};
+
+PipelineRunner::PipelineRunner(const Scenario& scenario, const slam::Calibration& calibration,
+                               std::uint64_t run_seed) {
+  for (const render::CameraOptions& camera : scenario.rig.cameras) {
+    true_models_.emplace(camera.id, camera.model);
+  }
+  for (const Scenario::PipelineEntry& entry : scenario.pipelines) {
+    if (!entry.enabled) continue;
+    Run run;
+    // Each pipeline's random choices draw from a stream of its own (docs/architecture.md), of
+    // the run's seed: `run --seed N` reseeds the pipelines with everything else.
+    const std::uint64_t seed = RandomStream(run_seed, 0, "slam." + entry.name).NextU64();
+    PipelineRecord record;
+    record.name = entry.name;
+    try {
+      run.pipeline = entry.options->Create(calibration, seed);
+      if (!run.pipeline) throw std::runtime_error("its factory returned no pipeline");
+      record.cameras_used = run.pipeline->cameras_used();
+    } catch (const slam::ModelFileError& e) {
+      // A pipeline's trained models are input too: named at its models_dir (or its section).
+      throw LocateProblem(scenario, "pipelines",
+                          OptionsProblem{entry.name + ".models_dir", e.what()});
+    } catch (...) {
+      // Its constructor (or cameras_used) threw: it fails alone, before the run starts.
+      run.failed = true;
+      run.pipeline.reset();
+      record.cameras_used.clear();
+      record.failure = PipelineFailure{0, "create", ExceptionText(std::current_exception())};
+    }
+    for (const std::string& id : record.cameras_used) {
+      if (!calibration.Find(id)) {
+        throw LocateProblem(scenario, "pipelines",
+                            OptionsProblem{entry.name, "reads the camera '" + id +
+                                                           "', which is not enabled in sensors:"});
+      }
+      run.cameras.insert(id);
+      cameras_used_.insert(id);
+    }
+    runs_.push_back(std::move(run));
+    records_.push_back(std::move(record));
+  }
+}
+
+PipelineRunner::~PipelineRunner() = default;
+
+std::string PipelineRunner::Names() const {
+  std::string names;
+  for (const PipelineRecord& r : records_) names += (names.empty() ? "" : ", ") + r.name;
+  return names;
+}
+
+template <class F>
+bool PipelineRunner::Guard(std::size_t i, const char* what, TimeNs stamp_ns, F&& call) {
+  Run& run = runs_[i];
+  if (run.failed) return false;
+  try {
+    call(*run.pipeline);
+    return true;
+  } catch (...) {
+    run.failed = true;
+    records_[i].failure = PipelineFailure{stamp_ns, what, ExceptionText(std::current_exception())};
+    return false;
+  }
+}
+
+std::vector<const PipelineRecord*> PipelineRunner::Failed() const {
+  std::vector<const PipelineRecord*> failed;
+  for (const PipelineRecord& r : records_) {
+    if (r.failure) failed.push_back(&r);
+  }
+  return failed;
+}
+
+void PipelineRunner::Initialize(TimeNs stamp_ns, const SE2& world_from_robot) {
+  last_stamp_ns_ = stamp_ns;
+  for (std::size_t i = 0; i < runs_.size(); ++i) {
+    Guard(i, "Initialize", stamp_ns,
+          [&](slam::Pipeline& p) { p.Initialize(stamp_ns, world_from_robot); });
+  }
+}
+
+void PipelineRunner::OnOdometry(const WheelOdometry& odometry) {
+  last_stamp_ns_ = odometry.stamp_ns;
+  for (std::size_t i = 0; i < runs_.size(); ++i) {
+    Run& run = runs_[i];
+    const WallClock::time_point t0 = WallClock::now();
+    const double cpu0 = ThreadCpuSeconds();
+    slam::PoseEstimate e;
+    const bool ok = Guard(i, "OnOdometry", odometry.stamp_ns, [&](slam::Pipeline& p) {
+      p.OnOdometry(odometry);
+      e = p.Estimate();
+    });
+    run.cpu_seconds += ThreadCpuSeconds() - cpu0;
+    run.seconds += SecondsSince(t0);
+    wall_seconds_ += SecondsSince(t0);
+    if (ok) records_[i].estimates.push_back({odometry.stamp_ns, e.world_from_robot, e.covariance});
+  }
+}
+
+void PipelineRunner::OnCameraSet(const CameraSet& set) {
+  for (const CameraSlot& slot : set.cameras) {
+    if (!slot.message || !cameras_used_.count(slot.camera_id)) continue;
+    const sim::CameraMessage& message = *slot.message;
+    // What a robot's camera driver delivers: the image and, for a depth camera, the depth.
+    slam::CameraInput input;
+    input.image = StampedImage{message.stamp_ns, slot.camera_id, message.frame.rgb};
+    if (!message.frame.noisy_depth_m.data.empty()) {
+      input.depth = StampedDepth{message.stamp_ns, slot.camera_id, message.frame.noisy_depth_m};
+    }
+    // The pipelines that read this camera process the frame concurrently (they share nothing;
+    // each one's own state decides its output, so the outputs do not depend on the schedule),
+    // then their detections are collected in scenario order.
+    last_stamp_ns_ = message.stamp_ns;
+    std::vector<std::size_t> readers;
+    for (std::size_t i = 0; i < runs_.size(); ++i) {
+      if (!runs_[i].failed && runs_[i].cameras.count(slot.camera_id)) readers.push_back(i);
+    }
+    const WallClock::time_point t_frame = WallClock::now();
+    const auto process = [this, &input](std::size_t i) {
+      const WallClock::time_point t0 = WallClock::now();
+      const double cpu0 = ThreadCpuSeconds();
+      // Each reader's own fields only: the concurrent calls share nothing.
+      Guard(i, "OnCamera", input.image.stamp_ns, [&](slam::Pipeline& p) { p.OnCamera(input); });
+      runs_[i].cpu_seconds += ThreadCpuSeconds() - cpu0;
+      runs_[i].seconds += SecondsSince(t0);
+    };
+    std::vector<std::future<void>> others;
+    for (std::size_t k = 1; k < readers.size(); ++k) {
+      others.push_back(std::async(std::launch::async, process, readers[k]));
+    }
+    if (!readers.empty()) process(readers[0]);
+    for (std::future<void>& f : others) f.get();  // Guard caught the pipelines' exceptions
+    wall_seconds_ += SecondsSince(t_frame);
+    for (const std::size_t i : readers) {
+      std::vector<slam::Detection> detections;
+      Guard(i, "TakeDetections", message.stamp_ns,
+            [&](slam::Pipeline& p) { detections = p.TakeDetections(); });
+      for (slam::Detection& d : detections) {
+        // The boundary of slam/: a detection without the fields its type needs is a bug.
+        if (const std::optional<std::string> problem = slam::DetectionProblem(d)) {
+          const std::string what = "pipeline '" + records_[i].name + "' reported a " +
+                                   slam::LandmarkTypeName(d.type) + " detection that " + *problem;
+          CheckOrDie(false, "PipelineRunner", what.c_str());
+        }
+        if (d.type == slam::LandmarkType::kCorner) {
+          if (const std::optional<SeenPoint> seen =
+                  SeenAt(message.frame, true_models_.at(slot.camera_id), d.pixel)) {
+            records_[i].seen_points[records_[i].detections.size()] = *seen;
+          }
+        }
+        records_[i].detections.push_back(std::move(d));
+      }
+    }
+  }
+}
+
+void PipelineRunner::Finish() {
+  for (std::size_t i = 0; i < runs_.size(); ++i) {
+    PipelineRecord& record = records_[i];
+    const WallClock::time_point t0 = WallClock::now();
+    const double cpu0 = ThreadCpuSeconds();
+    // One guarded call for the whole end of the run: a pipeline whose Finish() or any getter
+    // throws is failed, and what it gave before stays in its record.
+    Guard(i, "Finish", last_stamp_ns_, [&](slam::Pipeline& pipeline) {
+      pipeline.Finish();
+      for (slam::Detection& d : pipeline.TakeDetections())
+        record.detections.push_back(std::move(d));
+      record.landmarks = pipeline.Landmarks();
+      record.areas = pipeline.Areas();
+      record.occupancy_map = pipeline.occupancy_map();
+      for (slam::Innovation& innovation : pipeline.TakeInnovations()) {
+        record.innovations.push_back(innovation);
+      }
+      record.stage_seconds = pipeline.stage_seconds();
+      record.health = pipeline.health();
+    });
+    runs_[i].cpu_seconds += ThreadCpuSeconds() - cpu0;
+    runs_[i].seconds += SecondsSince(t0);
+    wall_seconds_ += SecondsSince(t0);
+    record.cpu_seconds = runs_[i].cpu_seconds;
+    if (record.failure) record.occupancy_map = nullptr;
+  }
+}
+
+std::vector<PipelineRunner::Latest> PipelineRunner::LatestEstimates() const {
+  std::vector<Latest> latest;
+  for (const PipelineRecord& record : records_) {
+    if (record.estimates.empty()) continue;
+    const EstimateSample& e = record.estimates.back();
+    latest.push_back({record.name, e.stamp_ns, e.world_from_robot.translation()});
+  }
+  return latest;
+}
+
+std::string PipelineRunner::ErrorsLine(const std::vector<Latest>& latest,
+                                       const TruthRecorder& truth) {
+  std::string errors;
+  for (const Latest& e : latest) {
+    if (const TruthPose* t = truth.At(e.stamp_ns)) {
+      const double error_m = (e.position - t->world_from_robot.translation()).norm();
+      errors += e.name + " " + FormatFixed(error_m, 3) + " m  ";
+    }
+  }
+  return errors;
+}
+
+void PipelineRunner::WriteMaps(const std::filesystem::path& dir) {
+  std::string errors;
+  for (std::size_t i = 0; i < runs_.size(); ++i) {
+    records_[i].occupancy_map = nullptr;  // TakeMaps() may release it
+    if (records_[i].failure) continue;    // a failed pipeline's maps are not written
+    std::vector<slam::MapFile> maps;
+    if (!Guard(i, "TakeMaps", last_stamp_ns_, [&](slam::Pipeline& p) { maps = p.TakeMaps(); })) {
+      // After the results: the maps are an extra, and this costs only them (exit 4).
+      errors += (errors.empty() ? "" : "; ") + std::string("pipeline '") + records_[i].name +
+                "' threw from TakeMaps: " + records_[i].failure->what;
+      continue;
+    }
+    if (maps.empty()) continue;
+    std::filesystem::create_directories(dir);
+    for (const slam::MapFile& map : maps) {
+      WriteFileAtomic(dir / (records_[i].name + map.suffix), map.bytes);
+    }
+    std::printf("  %s wrote %zu map file%s to %s\n", records_[i].name.c_str(), maps.size(),
+                maps.size() == 1 ? "" : "s", dir.string().c_str());
+  }
+  if (!errors.empty()) throw std::runtime_error(errors);
+}
+
+double PipelineRunner::seconds() const { return wall_seconds_; }
+
+}  // namespace corridorsim

@@ -1,0 +1,77 @@
+#include "harness/run/provenance.h"
+
+#include <cstdlib>
+
+#include "common/io/sha256.h"
+#include "corridorsim_version.h"  // generated at build time (cmake/version.cmake)
+#include "harness/scenario/plugins.h"
+#include "slam/sdk_version.h"
+
+namespace corridorsim {
+
+using Json = nlohmann::ordered_json;
+
+std::string ProjectVersion() { return CORRIDORSIM_GIT_DESCRIBE; }
+
+std::optional<std::string> ReleaseAfter(const std::string& gl_string, const std::string& marker) {
+  const auto at = gl_string.find(marker);
+  if (at == std::string::npos) return std::nullopt;
+  const auto begin = at + marker.size();
+  const auto end = gl_string.find_first_of(" ,()", begin);
+  std::string release = gl_string.substr(begin, end == std::string::npos ? end : end - begin);
+  if (release.empty()) return std::nullopt;
+  return release;
+}
+
+Json ProvenanceJson(const std::string& scenario_file, const std::string& scenario_yaml,
+                    std::uint64_t seed, const render::Backend* backend,
+                    const std::vector<std::filesystem::path>& plugins) {
+  const auto or_null = [](const std::optional<std::string>& s) {
+    return s ? Json(*s) : Json(nullptr);
+  };
+  Json j;
+  j["project_version"] = ProjectVersion();
+  j["version"] = CORRIDORSIM_VERSION;
+  j["sdk_abi_version"] = CORRIDORSIM_SDK_ABI_VERSION;
+  j["compiler"] = {{"id", CORRIDORSIM_CXX_COMPILER_ID},
+                   {"version", CORRIDORSIM_CXX_COMPILER_VERSION}};
+  j["scenario"] = {{"file", scenario_file},
+                   {"seed", seed},
+                   {"sha256", Sha256Hex(scenario_yaml)},
+                   {"sha256_of", "the resolved scenario (a run's scenario.yaml)"}};
+  Json plugin_list = Json::array();
+  for (const std::filesystem::path& path : plugins) {
+    const LoadedPlugin* plugin = FindLoadedPlugin(path);
+    if (!plugin) continue;  // cannot happen: a scenario's plugins are loaded with it
+    plugin_list.push_back({{"path", plugin->path.string()},
+                           {"sha256", plugin->sha256},
+                           {"name", plugin->name},
+                           {"version", plugin->version},
+                           {"sdk_version", plugin->sdk_version},
+                           {"types", plugin->types}});
+  }
+  j["plugins"] = std::move(plugin_list);
+  Json render;
+  if (backend == nullptr) {
+    render["rendered"] = false;
+    render["note"] = "nothing was rendered: no GL context, so no renderer, Mesa or LLVM";
+  } else {
+    const render::BackendInfo info = backend->info();
+    render["rendered"] = true;
+    render["backend"] = render::BackendName(backend->kind());
+    render["gl_vendor"] = info.vendor;
+    render["gl_renderer"] = info.renderer;
+    // Which device rendered and why (a GPU's images differ from llvmpipe's within a tolerance).
+    render["device"] = info.device;
+    render["gl_version"] = info.version;
+    render["mesa_version"] = or_null(ReleaseAfter(info.version, "Mesa "));
+    render["llvm_version"] = or_null(ReleaseAfter(info.renderer, "LLVM "));
+  }
+  j["render"] = std::move(render);
+  // As in effect now: the backends set it before their first context unless the user did.
+  const char* gallivm_perf = std::getenv("GALLIVM_PERF");
+  j["environment"] = {{"GALLIVM_PERF", gallivm_perf ? Json(gallivm_perf) : Json(nullptr)}};
+  return j;
+}
+
+}  // namespace corridorsim

@@ -1,0 +1,254 @@
+#include "harness/run/run.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "common/error.h"
+#include "common/io/atomic_file.h"
+#include "harness/run/async_consumer.h"
+#include "harness/run/export_consumer.h"
+#include "harness/run/pipeline_runner.h"
+#include "harness/run/progress.h"
+#include "harness/run/run_folder.h"
+#include "harness/run/sensor_bus.h"
+#include "harness/run/simulation_setup.h"
+#include "harness/run/stopwatch.h"
+#include "harness/run/truth_recorder.h"
+#include "harness/scenario/calibration.h"
+#include "harness/scenario/scenario.h"
+
+namespace corridorsim {
+namespace {
+
+// Camera sets queued for the pipelines' thread at most (a frame being rendered waits for room):
+// two let the next frame render while the pipelines work on this one, and bound the memory of
+// copied frames.
+constexpr std::size_t kPipelineQueueFrames = 2;
+
+// --export and --out are separate folders: neither may hold the other (each replaces its folder
+// whole when committed).
+void CheckSeparateFolders(const std::filesystem::path& out, const std::filesystem::path& dataset) {
+  std::filesystem::path a, b;
+  try {
+    a = NormalOutputFolder(out);
+    b = NormalOutputFolder(dataset);
+  } catch (const std::runtime_error&) {
+    return;  // StageOutputFolder reports the unusable one
+  }
+  std::error_code error;
+  a = std::filesystem::weakly_canonical(a, error);
+  b = std::filesystem::weakly_canonical(b, error);
+  const auto within = [](const std::filesystem::path& outer, const std::filesystem::path& inner) {
+    const auto [o, i] = std::mismatch(outer.begin(), outer.end(), inner.begin(), inner.end());
+    return o == outer.end();
+  };
+  if (within(a, b) || within(b, a)) {
+    throw InputError(SourceLocation{"command line", 0, 0}, "--export",
+                     "'" + dataset.string() + "' and the run folder --out '" + out.string() +
+                         "' must be separate folders (neither inside the other)");
+  }
+}
+
+}  // namespace
+
+// Build, loop, finish (docs/architecture.md, "How a run is made").
+int RunScenario(const RunRequest& request) {
+  const WallClock::time_point run_start = WallClock::now();
+  const Scenario scenario = LoadScenario(request.scenario_file);
+  const std::vector<Expectation> expectations = ScenarioExpectations(scenario);
+  if (!request.export_dir) RequireScoredPipeline(scenario);  // else a run would score nothing
+  // Output folders are checked and staged before anything runs: a run never ends unable to
+  // write, and never leaves a folder with files of two runs.
+  std::unique_ptr<StagedDirectory> out, dataset;
+  if (!request.check_only) {
+    if (request.export_dir) CheckSeparateFolders(request.out_dir, *request.export_dir);
+    out = StageOutputFolder(request.out_dir, "--out", request.force);
+    if (request.export_dir)
+      dataset = StageOutputFolder(*request.export_dir, "--export", request.force);
+  }
+
+  // Build: the pipelines (all on the same stream), then the world, path and cameras they need.
+  SimulationSetup setup(scenario, request.seed.value_or(scenario.seed),
+                        /*check_camera_placement=*/true);
+  PipelineRunner pipelines(scenario, CalibrationOf(scenario), setup.seed());
+  pipelines.Initialize(0, setup.robot_path().world_from_start);
+  if (request.check_only) {
+    std::printf("ok: %s (world %zu meshes, path %s %.1f m, %zu pipeline(s), %zu expectation(s))\n",
+                request.scenario_file.c_str(), setup.world().meshes.size(),
+                sim::PathKindName(scenario.robot_path.kind).c_str(), setup.robot_path().length_m(),
+                pipelines.size(), expectations.size());
+    return 0;
+  }
+  // Render only what somebody reads: the pipelines' cameras, or every enabled one for --export.
+  std::set<std::string> render_cameras = pipelines.cameras_used();
+  if (request.export_dir) {
+    for (const render::CameraOptions& c : scenario.rig.cameras) render_cameras.insert(c.id);
+  }
+  setup.Start(render_cameras);
+  sim::Simulation& simulation = setup.simulation();
+  std::optional<ExportConsumer> exporter;
+  if (dataset) exporter.emplace(dataset->path(), setup.rig_options(), scenario.robot.wheelbase_m);
+  std::printf("run: %s, seed %llu, %zu pipeline(s)%s, path %s (%.1f m)%s\n",
+              scenario.name.empty() ? request.scenario_file.c_str() : scenario.name.c_str(),
+              static_cast<unsigned long long>(setup.seed()), pipelines.size(),
+              pipelines.size() ? (": " + pipelines.Names()).c_str() : "",
+              sim::PathKindName(scenario.robot_path.kind).c_str(), simulation.path().length_m(),
+              setup.camera_ids().empty() ? "" : ", rendering cameras");
+
+  // Loop: the simulation publishes, the consumers listen.
+  TruthRecorder truth(pipelines.cameras_used());
+  EventLog events;
+  // Pipelines that read cameras run on a thread of their own, a frame or two behind the loop, so
+  // that the next frames render while they work (harness/run/async_consumer.h: the same calls in
+  // the same order, the same bytes); the progress line then reads a snapshot of their latest
+  // estimates. Without cameras they run inline: handing every odometry message and physics step
+  // to a thread would cost more than the pipelines do.
+  std::mutex latest_mutex;
+  std::vector<PipelineRunner::Latest> latest;
+  std::optional<AsyncConsumer> async_pipelines;
+  if (!pipelines.cameras_used().empty()) {
+    async_pipelines.emplace(pipelines, kPipelineQueueFrames, [&] {
+      std::vector<PipelineRunner::Latest> now = pipelines.LatestEstimates();
+      const std::lock_guard<std::mutex> lock(latest_mutex);
+      latest = std::move(now);
+    });
+  }
+  ProgressLine progress("run", simulation, [&] {
+    if (!async_pipelines) return PipelineRunner::ErrorsLine(pipelines.LatestEstimates(), truth);
+    std::vector<PipelineRunner::Latest> copy;
+    {
+      const std::lock_guard<std::mutex> lock(latest_mutex);
+      copy = latest;
+    }
+    return PipelineRunner::ErrorsLine(copy, truth);
+  });
+  SensorBus bus(setup.camera_ids());
+  bus.Subscribe(&truth);
+  if (exporter) bus.Subscribe(&*exporter);
+  bus.Subscribe(async_pipelines ? static_cast<BusConsumer*>(&*async_pipelines) : &pipelines);
+  bus.Subscribe(&events);
+  bus.Subscribe(&progress);
+  const WallClock::time_point loop_start = WallClock::now();
+  bus.Run(simulation);
+  if (async_pipelines) async_pipelines->Drain();
+
+  // Finish: pipelines, then metrics (deterministic) and timing (wall clock) in separate files.
+  pipelines.Finish();
+  const std::vector<const PipelineRecord*> failed = pipelines.Failed();
+  for (const PipelineRecord* record : failed) {
+    events.AddPipelineFailure(record->failure->stamp_ns, record->name, record->failure->call,
+                              record->failure->what);
+  }
+  const WallClock::time_point t_metrics = WallClock::now();
+  MetricsInput input;
+  input.world = &setup.world();
+  input.truth = truth.poses();
+  input.frames = truth.frames();
+  input.pipelines = pipelines.records();
+  input.timing.sim_seconds = ToSeconds(simulation.now_ns());
+  ScoredRun scored = ScoreRun(input, expectations);
+  const double metrics_seconds = SecondsSince(t_metrics);
+
+  // Wall-clock cost by stage (physics = the simulation step minus its rendering), the whole run;
+  // written with the results, and again with the extras' seconds once they ran.
+  const double sim_s = ToSeconds(simulation.now_ns());
+  const double render_seconds = simulation.render_seconds();
+  const double physics_seconds = bus.step_seconds() - render_seconds;
+  double write_seconds = 0.0, export_seconds = 0.0, export_wait_seconds = 0.0, plot_seconds = 0.0;
+  double total = 0.0;
+  nlohmann::ordered_json& timing = scored.timing;
+  const auto timing_json = [&] {
+    total = SecondsSince(run_start);
+    timing["sim_seconds"] = sim_s;
+    timing["wall_seconds"] = total;
+    timing["real_time_factor"] = total > 0 ? sim_s / total : 0.0;
+    timing["stages_seconds"] = {
+        {"setup", std::chrono::duration<double>(loop_start - run_start).count()},
+        {"physics", physics_seconds},
+        {"rendering", render_seconds},
+        {"pipelines", pipelines.seconds()},
+        {"pipelines_wait", async_pipelines ? async_pipelines->wait_seconds() : 0.0},
+        {"metrics", metrics_seconds},
+        {"writing", write_seconds},
+        {"export", export_seconds},
+        {"export_wait", export_wait_seconds},
+        {"plots", plot_seconds}};
+    return timing.dump(2) + "\n";
+  };
+
+  // Results first (committed as one folder), then the extras: a failing extra costs only itself.
+  const auto write_results = [&](const std::filesystem::path& folder) {
+    const WallClock::time_point t_write = WallClock::now();
+    WriteRunFolder(folder, scenario, setup.seed(), setup.world(), truth, pipelines, scored.metrics,
+                   events.Json(setup.seed(), simulation.now_ns()), setup.backend());
+    write_seconds = SecondsSince(t_write);
+    WriteFileAtomic(folder / "timing.json", timing_json());
+  };
+  bool plots_written = false;
+  std::vector<RunExtra> extras;
+  extras.push_back({"maps/", [&] { pipelines.WriteMaps(out->path() / "maps"); }});
+  if (exporter) {
+    extras.push_back({"--export dataset", [&] {
+                        exporter->Finish();
+                        export_seconds = exporter->busy_seconds();
+                        export_wait_seconds = exporter->wait_seconds();
+                        dataset->Commit();
+                      }});
+  }
+  if (request.plots) {
+    extras.push_back({"plots/", [&] {
+                        const WallClock::time_point t_plots = WallClock::now();
+                        const std::optional<std::string> error = MakePlots(out->path());
+                        plot_seconds = SecondsSince(t_plots);
+                        if (error) throw std::runtime_error(*error);
+                        plots_written = true;
+                      }});
+  }
+  extras.push_back(
+      {"timing.json", [&] { WriteFileAtomic(out->path() / "timing.json", timing_json()); }});
+  const int extras_failed = CommitResultsThenExtras(*out, write_results, extras);
+
+  PrintClosingTable(scored.metrics, scored.results);
+  std::printf(
+      "\nrun: %.1f s simulated in %.1f s (real-time factor %.1fx): physics %.1f s, "
+      "rendering %.1f s, pipelines %.2f s, metrics %.2f s, writing %.2f s, export %.1f s, plots "
+      "%.1f s\n",
+      sim_s, total, timing["real_time_factor"].get<double>(), physics_seconds, render_seconds,
+      pipelines.seconds(), metrics_seconds, write_seconds, export_seconds, plot_seconds);
+  std::printf(
+      "wrote %s/{scenario.yaml, world.json, ground_truth.tum, <pipeline>.tum, "
+      "<pipeline>_cov.txt, <pipeline>_errors.csv, <pipeline>_nis.csv, <pipeline>_landmarks.json, "
+      "<pipeline>_detections.csv, metrics.json, timing.json, events.json, "
+      "provenance.json%s}%s\n",
+      out->path().string().c_str(), plots_written ? ", plots/" : "",
+      dataset && dataset->committed() ? (" and the dataset in " + dataset->path().string()).c_str()
+                                      : "");
+  if (!simulation.path_done()) {
+    std::printf("warning: the path was not finished (see events.json)\n");
+  }
+  if (extras_failed > 0) {
+    std::printf("warning: %d extra(s) failed (see the messages above); the results are written\n",
+                extras_failed);
+  }
+  for (const PipelineRecord* record : failed) {
+    std::fprintf(stderr,
+                 "corridorsim: pipeline '%s' failed at t = %.3f s: %s threw: %s (the other "
+                 "pipelines' results are written; events.json)\n",
+                 record->name.c_str(), ToSeconds(record->failure->stamp_ns),
+                 record->failure->call.c_str(), record->failure->what.c_str());
+  }
+  return RunExitCode(scored.all_passed, extras_failed, !failed.empty());
+}
+
+}  // namespace corridorsim

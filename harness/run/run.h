@@ -1,0 +1,37 @@
+#pragma once
+// `corridorsim run`: one scenario closed loop. Every pipeline of the scenario runs on the same
+// sensor stream (so their comparison is paired), is scored against the ground truth, and the
+// run folder gets trajectories, metrics, events, maps, plots and optionally a dataset export.
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+
+#include "harness/scenario/job.h"
+
+namespace corridorsim {
+
+struct RunRequest : JobRequest {
+  std::optional<std::filesystem::path> export_dir;  // --export: a dataset for other systems
+  bool plots = true;                                // --no-plots skips plots/
+  bool check_only = false;  // --check: load, build the world, path, pipelines and rig; run nothing
+};
+
+/// Exit code of a run whose expectations did not all pass (0 success, 1 failure, 2 bad input).
+inline constexpr int kExitExpectationsFailed = 3;
+/// Exit code of a run whose results are written and committed but an extra (maps/, plots/, the
+/// --export dataset) failed. kExitExpectationsFailed takes precedence.
+inline constexpr int kExitExtraFailed = 4;
+/// Exit code of a run in which a pipeline failed (a call into it threw: a plugin's bug, docs/
+/// plugins.md): the other pipelines' results are written and committed, the failed one's metrics
+/// are `health.failed` and events.json says why. Takes precedence over 3 and 4.
+inline constexpr int kExitPipelineFailed = 5;
+
+/// Runs the scenario; prints progress and a closing table. Returns 0, kExitPipelineFailed when a
+/// pipeline failed, else kExitExpectationsFailed when an expectation failed, or kExitExtraFailed
+/// when an extra failed (and every expectation passed). Throws InputError for bad input (before
+/// anything runs).
+int RunScenario(const RunRequest& request);
+
+}  // namespace corridorsim

@@ -1,0 +1,166 @@
+#include "harness/run/run_folder.h"
+
+#include <cstdio>
+#include <sstream>
+
+#include "common/error.h"
+#include "common/installation.h"
+#include "common/io/atomic_file.h"
+#include "common/io/child_process.h"
+#include "harness/run/provenance.h"
+#include "harness/run/run.h"
+#include "harness/run/run_io.h"
+#include "harness/scenario/scenario.h"
+#include "worlds/world_io.h"
+
+namespace corridorsim {
+std::string FormatFixed(double v, int decimals) {
+  char buf[64];
+  std::snprintf(buf, sizeof(buf), "%.*f", decimals, v);
+  return buf;
+}
+
+namespace {
+
+// A number from metrics.json for the closing table ("-" when absent).
+std::string Cell(const nlohmann::ordered_json& m, const char* key, int decimals) {
+  if (!m.contains(key) || !m[key].is_number()) return "-";
+  return FormatFixed(m[key].get<double>(), decimals);
+}
+
+}  // namespace
+
+ScoredRun ScoreRun(const MetricsInput& input, const std::vector<Expectation>& expectations) {
+  ScoredRun scored;
+  scored.metrics = ComputeMetrics(input);
+  scored.results = CheckExpectations(scored.metrics, expectations);
+  nlohmann::ordered_json& metrics = scored.metrics;
+  metrics["run"] = {{"sim_seconds", metrics["run"]["sim_seconds"]}};
+  scored.timing["pipelines"] = nlohmann::ordered_json::object();
+  for (auto& [name, m] : metrics["pipelines"].items()) {
+    if (m.contains("timing")) {
+      scored.timing["pipelines"][name] = m["timing"];
+      m.erase("timing");
+    }
+  }
+  nlohmann::ordered_json expectation_json = nlohmann::ordered_json::array();
+  for (const ExpectationResult& r : scored.results) {
+    scored.all_passed = scored.all_passed && r.passed;
+    nlohmann::ordered_json j;
+    j["text"] = r.expectation.text;
+    j["measured"] = r.measured ? nlohmann::ordered_json(*r.measured) : nlohmann::ordered_json();
+    j["passed"] = r.passed;
+    expectation_json.push_back(std::move(j));
+  }
+  metrics["expectations"] = std::move(expectation_json);
+  return scored;
+}
+
+void WriteRunFolder(const std::filesystem::path& out, const Scenario& scenario, std::uint64_t seed,
+                    const worlds::World& world, const TruthRecorder& truth,
+                    const PipelineRunner& pipelines, const nlohmann::ordered_json& metrics,
+                    const std::string& events_json, const render::Backend* backend) {
+  const std::string scenario_yaml = ResolvedScenarioYaml(scenario, seed);
+  WriteFileAtomic(out / "scenario.yaml", scenario_yaml);
+  WriteFileAtomic(
+      out / "provenance.json",
+      ProvenanceJson(scenario.file, scenario_yaml, seed, backend, scenario.plugins).dump(2) + "\n");
+  WriteFileAtomic(out / "world.json", worlds::GroundTruthJson(world).dump(2) + "\n");
+  WriteFileAtomic(out / "ground_truth.tum", truth.PlanarTum());
+  for (const PipelineRecord& record : pipelines.records()) {
+    std::ostringstream tum, cov;
+    tum << "# " << record.name << ": estimated world_from_robot\n"
+        << "# timestamp tx ty tz qx qy qz qw\n";
+    cov << "# " << record.name << ": estimate with covariance (OpenVINS ov_eval)\n"
+        << OvEvalHeader();
+    for (const EstimateSample& e : record.estimates) {
+      tum << sim::TumLine(e.stamp_ns, SE3::FromSE2(e.world_from_robot)) << "\n";
+      cov << OvEvalLine(e.stamp_ns, e.world_from_robot, e.covariance) << "\n";
+    }
+    WriteFileAtomic(out / (record.name + ".tum"), tum.str());
+    WriteFileAtomic(out / (record.name + "_cov.txt"), cov.str());
+    WriteFileAtomic(out / (record.name + "_errors.csv"), ErrorSeriesCsv(truth.poses(), record));
+    if (const std::string nis = NisSeriesCsv(record); !nis.empty()) {
+      WriteFileAtomic(out / (record.name + "_nis.csv"), nis);
+    }
+    if (!record.landmarks.empty()) {
+      WriteFileAtomic(out / (record.name + "_landmarks.json"),
+                      LandmarksJson(record.landmarks).dump(2) + "\n");
+    }
+    if (!record.detections.empty()) {
+      WriteFileAtomic(out / (record.name + "_detections.csv"), DetectionsCsv(record.detections));
+    }
+  }
+  WriteFileAtomic(out / "metrics.json", metrics.dump(2) + "\n");
+  WriteFileAtomic(out / "events.json", events_json);
+}
+
+void PrintClosingTable(const nlohmann::ordered_json& metrics,
+                       const std::vector<ExpectationResult>& results) {
+  std::printf("\n%-22s %10s %12s %12s %10s %12s\n", "pipeline", "ATE rmse m", "ATE aligned",
+              "final err m", "NEES mean", "NEES in band");
+  if (metrics.contains("pipelines")) {
+    for (const auto& [name, m] : metrics["pipelines"].items()) {
+      std::printf("%-22s %10s %12s %12s %10s %12s\n", name.c_str(),
+                  Cell(m, "ate_rmse_m", 3).c_str(), Cell(m, "ate_aligned_rmse_m", 3).c_str(),
+                  Cell(m, "final_position_error_m", 3).c_str(), Cell(m, "nees_mean", 2).c_str(),
+                  Cell(m, "nees_in_band_fraction", 3).c_str());
+    }
+  }
+  if (results.empty()) return;
+  std::printf("\nexpectations:\n");
+  for (const ExpectationResult& r : results) {
+    const std::string measured = r.measured ? FormatFixed(*r.measured, 4) : "missing";
+    std::printf("  %s  %-45s measured %s\n", r.passed ? "PASS" : "FAIL", r.expectation.text.c_str(),
+                measured.c_str());
+  }
+}
+
+std::optional<std::string> MakePlots(const std::filesystem::path& out) {
+  const std::filesystem::path script = DataDir() / "scripts" / "plot_run.py";
+  const ChildStatus status = RunChildProcess({"python3", script.string(), out.string()});
+  if (status.succeeded()) return std::nullopt;
+  return "python3 '" + script.string() + "' '" + out.string() + "' " + DescribeChildStatus(status);
+}
+
+std::unique_ptr<StagedDirectory> StageOutputFolder(const std::filesystem::path& dir,
+                                                   const std::string& option, bool force) {
+  const SourceLocation command_line{"command line", 0, 0};
+  try {
+    return std::make_unique<StagedDirectory>(dir, force);
+  } catch (const FolderNotEmptyError&) {
+    throw InputError(command_line, option,
+                     "'" + dir.string() +
+                         "' is not empty (a previous run?): pass --force to replace it whole, "
+                         "or choose another folder");
+  } catch (const std::exception& e) {
+    throw InputError(command_line, option, e.what());
+  }
+}
+
+int CommitResultsThenExtras(StagedDirectory& folder,
+                            const std::function<void(const std::filesystem::path&)>& write_results,
+                            const std::vector<RunExtra>& extras) {
+  write_results(folder.path());
+  folder.Commit();
+  int failed = 0;
+  for (const RunExtra& extra : extras) {
+    try {
+      extra.write();
+    } catch (const std::exception& e) {
+      ++failed;
+      std::fflush(stdout);
+      std::fprintf(stderr, "corridorsim: error: %s: %s; the results are written in %s\n",
+                   extra.name.c_str(), e.what(), folder.path().string().c_str());
+    }
+  }
+  return failed;
+}
+
+int RunExitCode(bool all_expectations_passed, int extras_failed, bool pipeline_failed) {
+  if (pipeline_failed) return kExitPipelineFailed;
+  if (!all_expectations_passed) return kExitExpectationsFailed;
+  return extras_failed > 0 ? kExitExtraFailed : 0;
+}
+
+}  // namespace corridorsim

@@ -1,0 +1,392 @@
+#include "harness/study/suite.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <memory>
+
+#include <nlohmann/json.hpp>
+
+#include "common/error.h"
+#include "common/io/atomic_file.h"
+#include "common/io/child_process.h"
+#include "common/io/yaml_reader.h"
+#include "harness/run/run_folder.h"
+#include "harness/study/study_file.h"
+
+namespace corridorsim {
+namespace {
+
+namespace fs = std::filesystem;
+using json = nlohmann::ordered_json;
+using Clock = std::chrono::steady_clock;
+constexpr std::uint64_t kMaxResultBytes = std::uint64_t{256} << 20;
+constexpr std::size_t kMaxListedSeeds = 10;  // diverged seeds named in one failure message
+constexpr std::uint64_t kLogTailBytes = 4000;
+
+// `text` as XML 1.0 character data (or, with `attribute`, an attribute value in double quotes):
+// markup characters escaped; every byte that is not part of a well-formed UTF-8 character, and
+// every character XML 1.0 forbids (the control characters other than tab, newline and carriage
+// return; U+FFFE, U+FFFF), replaced by U+FFFD. Tab, newline and carriage return are written as
+// character references where a reader would otherwise normalise them (in attributes; CR in text).
+std::string Xml(const std::string& text, bool attribute = false) {
+  static const char* const kReplacement = "\xEF\xBF\xBD";  // U+FFFD
+  std::string out;
+  out.reserve(text.size());
+  for (std::size_t i = 0; i < text.size();) {
+    const auto u = static_cast<unsigned char>(text[i]);
+    if (u < 0x80) {
+      ++i;
+      switch (u) {
+        case '&':
+          out += "&amp;";
+          break;
+        case '<':
+          out += "&lt;";
+          break;
+        case '>':
+          out += "&gt;";
+          break;
+        case '"':
+          out += "&quot;";
+          break;
+        case '\'':
+          out += "&apos;";
+          break;
+        case '\t':
+          out += attribute ? "&#9;" : "\t";
+          break;
+        case '\n':
+          out += attribute ? "&#10;" : "\n";
+          break;
+        case '\r':
+          out += "&#13;";
+          break;
+        default:
+          if (u < 0x20) {
+            out += kReplacement;
+          } else {
+            out += static_cast<char>(u);
+          }
+      }
+      continue;
+    }
+    const std::size_t n = Utf8Length(text, i);
+    // U+FFFE and U+FFFF (EF BF BE, EF BF BF) are well-formed UTF-8 but not XML characters.
+    const bool non_character = n == 3 && u == 0xEF &&
+                               static_cast<unsigned char>(text[i + 1]) == 0xBF &&
+                               static_cast<unsigned char>(text[i + 2]) >= 0xBE;
+    if (n == 0 || non_character) {
+      out += kReplacement;
+      i += n == 0 ? 1 : n;
+    } else {
+      out.append(text, i, n);
+      i += n;
+    }
+  }
+  return out;
+}
+
+std::string Seconds3(double s) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3f", s);
+  return text;
+}
+
+// The last kLogTailBytes of a log (only they are read), cut at a UTF-8 character boundary.
+std::string LogTail(const fs::path& log) {
+  std::ifstream in(log, std::ios::binary);
+  if (!in) return "";
+  in.seekg(0, std::ios::end);
+  const std::streamoff size = in.tellg();
+  if (size <= 0) return "";
+  const auto tail = static_cast<std::streamoff>(kLogTailBytes);
+  const std::streamoff start = size > tail ? size - tail : 0;
+  in.seekg(start);
+  std::string text(static_cast<std::size_t>(size - start), '\0');
+  in.read(text.data(), static_cast<std::streamsize>(text.size()));
+  text.resize(static_cast<std::size_t>(std::max<std::streamsize>(in.gcount(), 0)));
+  if (start == 0) return text;
+  // A cut inside a character drops its continuation bytes (at most 3: a longer run is not UTF-8,
+  // and Xml() replaces it).
+  std::size_t skip = 0;
+  while (skip < 3 && skip < text.size() &&
+         (static_cast<unsigned char>(text[skip]) & 0xC0) == 0x80) {
+    ++skip;
+  }
+  return "..." + text.substr(skip);
+}
+
+std::string Measured(const json& value) {
+  return value.is_number() ? FormatFixed(value.get<double>(), 6) : std::string("nothing");
+}
+
+// Runs one file's job; a stop signal (CatchStopSignals) is forwarded to it, and once it has
+// ended the suite ends as the signal ends a process: the job's children end with it.
+ChildStatus RunLogged(const std::vector<std::string>& argv, const fs::path& log) {
+  ChildProcess child(argv, log.string());
+  const ChildStatus status = child.Wait();
+  if (const int signal = StopSignal()) {
+    std::fprintf(stderr, "corridorsim: test stopped by signal %d (%s); no report written\n", signal,
+                 ::strsignal(signal));
+    DieOfSignal(signal);
+  }
+  return status;
+}
+
+}  // namespace
+
+std::string JunitXml(const std::vector<SuiteFile>& files) {
+  int tests = 0, failures = 0, errors = 0;
+  double seconds = 0.0;
+  for (const SuiteFile& f : files) {
+    seconds += f.seconds;
+    for (const SuiteCase& c : f.cases) {
+      ++tests;
+      failures += c.result == SuiteCase::Result::kFailed;
+      errors += c.result == SuiteCase::Result::kError;
+    }
+  }
+  std::string xml = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
+  xml += "<testsuites name=\"corridorsim\" tests=\"" + std::to_string(tests) + "\" failures=\"" +
+         std::to_string(failures) + "\" errors=\"" + std::to_string(errors) + "\" time=\"" +
+         Seconds3(seconds) + "\">\n";
+  for (const SuiteFile& f : files) {
+    int f_failures = 0, f_errors = 0;
+    for (const SuiteCase& c : f.cases) {
+      f_failures += c.result == SuiteCase::Result::kFailed;
+      f_errors += c.result == SuiteCase::Result::kError;
+    }
+    xml += "  <testsuite name=\"" + Xml(f.name, true) + "\" tests=\"" +
+           std::to_string(f.cases.size()) + "\" failures=\"" + std::to_string(f_failures) +
+           "\" errors=\"" + std::to_string(f_errors) + "\" skipped=\"0\" time=\"" +
+           Seconds3(f.seconds) + "\">\n";
+    xml += "    <properties>\n      <property name=\"file\" value=\"" + Xml(f.file, true) +
+           "\"/>\n" + "      <property name=\"kind\" value=\"" + (f.study ? "study" : "scenario") +
+           "\"/>\n    </properties>\n";
+    for (const SuiteCase& c : f.cases) {
+      xml += "    <testcase classname=\"" + Xml(c.classname, true) + "\" name=\"" +
+             Xml(c.name, true) + "\" time=\"" + Seconds3(c.seconds) + "\">\n";
+      if (c.result == SuiteCase::Result::kFailed) {
+        xml += "      <failure message=\"" + Xml(c.message, true) + "\" type=\"expectation\">" +
+               Xml(c.details) + "</failure>\n";
+      } else if (c.result == SuiteCase::Result::kError) {
+        xml += "      <error message=\"" + Xml(c.message, true) + "\" type=\"run\">" +
+               Xml(c.details) + "</error>\n";
+      }
+      if (!c.attachment.empty()) {
+        xml += "      <system-out>[[ATTACHMENT|" + Xml(c.attachment) + "]]</system-out>\n";
+      }
+      xml += "    </testcase>\n";
+    }
+    xml += "  </testsuite>\n";
+  }
+  xml += "</testsuites>\n";
+  return xml;
+}
+
+int RunTestSuite(const TestRequest& request) {
+  // Every file is checked before anything runs: a bad one is exit 2 with nothing run.
+  std::vector<SuiteFile> files;
+  for (const std::string& file : request.files) {
+    const StudySpec spec = LoadStudy(file, std::nullopt, std::nullopt);
+    SuiteFile f;
+    f.file = file;
+    f.name = fs::path(file).stem().string();
+    f.study = spec.has_section;
+    files.push_back(std::move(f));
+  }
+  if (request.junit_file) {
+    // Checked now, so that a suite never runs for an hour and then cannot write its report.
+    const fs::path parent = fs::absolute(*request.junit_file).parent_path();
+    std::error_code error;
+    if (!fs::is_directory(parent, error) || ::access(parent.c_str(), W_OK) != 0) {
+      throw InputError(SourceLocation{"command line", 0, 0}, "--junit",
+                       "'" + InputExcerpt(parent.string()) + "' is not a writable folder");
+    }
+    if (fs::exists(fs::symlink_status(*request.junit_file, error)) &&
+        !fs::is_regular_file(fs::symlink_status(*request.junit_file, error))) {
+      throw InputError(SourceLocation{"command line", 0, 0}, "--junit",
+                       "'" + InputExcerpt(request.junit_file->string()) +
+                           "' exists and is not a regular file (the report replaces a file)");
+    }
+    for (const SuiteFile& f : files) {
+      if (fs::equivalent(f.file, *request.junit_file, error)) {
+        throw InputError(SourceLocation{"command line", 0, 0}, "--junit",
+                         "'" + InputExcerpt(request.junit_file->string()) +
+                             "' is one of the files to test: the report would replace it");
+      }
+    }
+  }
+  std::error_code error;
+  fs::create_directories(request.out_dir, error);
+  EnsureWritableDirectory(request.out_dir);
+  const std::string program = request.program.empty() ? ThisProgram() : request.program;
+  CatchStopSignals();
+
+  int code = 0;
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    SuiteFile& f = files[i];
+    char prefix[32];
+    std::snprintf(prefix, sizeof prefix, "%03zu_", i);
+    const fs::path folder = request.out_dir / (prefix + f.name);
+    const fs::path log = request.out_dir / (prefix + f.name + ".log");
+    std::vector<std::string> argv = {program,     f.study ? "study" : "run", f.file,
+                                     "--out",     folder.string(),           "--force",
+                                     "--no-plots"};
+    std::printf("test: [%zu/%zu] %s %s\n", i + 1, files.size(), f.study ? "study" : "run",
+                f.file.c_str());
+    std::fflush(stdout);
+    const Clock::time_point start = Clock::now();
+    const ChildStatus status = RunLogged(argv, log);
+    f.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    const std::string classname = "corridorsim." + f.name;
+    const auto error_case = [&](const std::string& name, const std::string& message) {
+      SuiteCase c;
+      c.classname = classname;
+      c.name = name;
+      c.seconds = f.seconds;  // shared with the file's other cases below, if it has any
+      c.result = SuiteCase::Result::kError;
+      c.message = message;
+      c.details = LogTail(log);
+      c.attachment = fs::absolute(log).string();
+      f.cases.push_back(std::move(c));
+    };
+    const std::string results_file = f.study ? "summary.json" : "metrics.json";
+    const bool written = fs::is_regular_file(folder / results_file, error);
+    // `run`: 0, 3 (an expectation failed), 4 (an extra failed) and 5 (a pipeline failed: its
+    // expectations fail on its missing metrics) leave the results written; `study`: 1 too (a
+    // run failed; the others are summarised).
+    const bool usable = status.started && status.signal == 0 && written &&
+                        (status.exit_code == 0 || status.exit_code == 3 || status.exit_code == 4 ||
+                         (!f.study && status.exit_code == 5) || (f.study && status.exit_code == 1));
+    if (!usable) {
+      error_case(f.study ? "study" : "run",
+                 std::string(f.study ? "corridorsim study " : "corridorsim run ") +
+                     DescribeChildStatus(status) + " (log: " + log.string() + ")");
+      code = code == 0 || code == 3 ? 1 : code;
+      std::printf("test: %s: ERROR, %s\n", f.file.c_str(), DescribeChildStatus(status).c_str());
+      continue;
+    }
+    json results;
+    try {
+      results = json::parse(ReadRegularFile(folder / results_file, kMaxResultBytes));
+    } catch (const std::exception& e) {
+      error_case("results", std::string("unreadable ") + results_file + ": " + e.what());
+      code = code == 0 || code == 3 ? 1 : code;
+      continue;
+    }
+    if (!f.study && status.exit_code == 5) {
+      // A pipeline failed (its reasons are in the log's tail): an error case of its own, beside
+      // its expectations, which fail on its missing metrics.
+      error_case("pipeline failed", "corridorsim run " + DescribeChildStatus(status) +
+                                        ": a pipeline failed (events.json, log: " + log.string() +
+                                        ")");
+      code = code == 0 || code == 3 ? 1 : code;
+    }
+    const std::string attachment = fs::absolute(folder).string();
+    const auto add = [&](const std::string& name, bool passed, const std::string& measured) {
+      SuiteCase c;
+      c.classname = classname;
+      c.name = name;
+      c.result = passed ? SuiteCase::Result::kPassed : SuiteCase::Result::kFailed;
+      if (!passed) {
+        c.message = "measured " + measured + ", expected " + name;
+        c.details = c.message + " (" + attachment + ")";
+      }
+      c.attachment = attachment;
+      f.cases.push_back(std::move(c));
+    };
+    if (!f.study) {
+      const json& expectations = results["expectations"];
+      if (!expectations.is_array() || expectations.empty()) {
+        add("run finishes", true, "");
+      }
+      for (const json& e : expectations) {
+        add(e.value("text", ""), e.value("passed", false), Measured(e["measured"]));
+      }
+    } else {
+      std::size_t count = 0;
+      for (const json& p : results["points"]) count += p["expectations"].size();
+      for (const json& p : results["points"]) {
+        const std::string point = p.value("id", "");
+        std::string values;
+        for (const auto& [key, value] : p["vary"].items()) {
+          values += (values.empty() ? "" : ", ") + key + "=" + value.get<std::string>();
+        }
+        const std::string label = values.empty() ? "" : point + " (" + values + "): ";
+        for (const json& e : p["expectations"]) {
+          add(label + e.value("expectation", ""), e.value("passed", false),
+              Measured(e["measured"]));
+        }
+        // A pipeline not allowed to diverge (study.may_diverge): one case, failed with the
+        // seeds and reasons of its diverged runs.
+        for (const auto& [name, pipeline] : p["pipelines"].items()) {
+          const json r = pipeline.value("runs", json::object());
+          if (r.value("may_diverge", false)) continue;
+          const json diverged = r.value("diverged_seeds", json::array());
+          const json why = r.value("diverged_why", json::array());
+          std::string seeds;
+          for (std::size_t k = 0; k < diverged.size() && k < kMaxListedSeeds; ++k) {
+            seeds += (seeds.empty() ? "" : "; ") + std::string("seed ") + diverged[k].dump() +
+                     (k < why.size() && why[k].is_string() ? ": " + why[k].get<std::string>()
+                                                           : std::string());
+          }
+          if (diverged.size() > kMaxListedSeeds) seeds += "; ...";
+          add(label + name + " does not diverge", diverged.empty(),
+              std::to_string(diverged.size()) + " diverged run(s) (" + seeds + ")");
+        }
+        for (const char* outcome : {"failed_seeds", "timed_out_seeds"}) {
+          for (const json& seed : p["runs"][outcome]) {
+            error_case(point + " seed " + std::to_string(seed.get<std::uint64_t>()),
+                       std::string("a run of the study ") +
+                           (outcome[0] == 'f' ? "failed" : "timed out") + " (" +
+                           (folder / "logs" / point /
+                            ("seed_" + std::to_string(seed.get<std::uint64_t>()) + ".log"))
+                               .string() +
+                           ")");
+          }
+        }
+      }
+      if (count == 0 && f.cases.empty()) add("study finishes", true, "");
+    }
+    // The file's time shared by its cases, so that the suite's total is the files' total (the
+    // cases of one file ran in one process and cannot be timed apart).
+    for (SuiteCase& c : f.cases) {
+      c.seconds = f.seconds / static_cast<double>(std::max<std::size_t>(f.cases.size(), 1));
+    }
+    int failed = 0, errors = 0;
+    for (const SuiteCase& c : f.cases) {
+      failed += c.result == SuiteCase::Result::kFailed;
+      errors += c.result == SuiteCase::Result::kError;
+    }
+    if (errors > 0) {
+      code = code == 0 || code == 3 ? 1 : code;
+    } else if (failed > 0 && code == 0) {
+      code = 3;
+    }
+    std::printf("test: %s: %zu case(s), %d failed, %d error(s) in %.1f s\n", f.file.c_str(),
+                f.cases.size(), failed, errors, f.seconds);
+  }
+  const std::string xml = JunitXml(files);
+  if (request.junit_file) {
+    WriteFileAtomic(*request.junit_file, xml);
+    std::printf("test: wrote %s\n", request.junit_file->string().c_str());
+  }
+  int tests = 0, failures = 0, errors = 0;
+  for (const SuiteFile& f : files) {
+    for (const SuiteCase& c : f.cases) {
+      ++tests;
+      failures += c.result == SuiteCase::Result::kFailed;
+      errors += c.result == SuiteCase::Result::kError;
+    }
+  }
+  std::printf("test: %d case(s), %d failed, %d error(s)\n", tests, failures, errors);
+  return code;
+}
+
+}  // namespace corridorsim
