@@ -198,11 +198,15 @@ void PipelineRunner::OnCameraSet(const CameraSet& set) {
       Guard(i, "TakeDetections", message.stamp_ns,
             [&](slam::Pipeline& p) { detections = p.TakeDetections(); });
       for (slam::Detection& d : detections) {
-        // The boundary of slam/: a detection without the fields its type needs is a bug.
+        // The boundary of slam/: a detection without the fields its type needs is a bug of the
+        // pipeline, which fails it like an exception would (a plugin's bug costs only itself).
         if (const std::optional<std::string> problem = slam::DetectionProblem(d)) {
-          const std::string what = "pipeline '" + records_[i].name + "' reported a " +
-                                   slam::LandmarkTypeName(d.type) + " detection that " + *problem;
-          CheckOrDie(false, "PipelineRunner", what.c_str());
+          runs_[i].failed = true;
+          records_[i].failure =
+              PipelineFailure{message.stamp_ns, "TakeDetections",
+                              "reported a " + slam::LandmarkTypeName(d.type) + " detection that " +
+                                  InputExcerpt(*problem, 2000)};
+          break;
         }
         if (d.type == slam::LandmarkType::kCorner) {
           if (const std::optional<SeenPoint> seen =

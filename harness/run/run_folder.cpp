@@ -1,6 +1,7 @@
 #include "harness/run/run_folder.h"
 
 #include <cstdio>
+#include <cstdlib>
 #include <sstream>
 
 #include "common/error.h"
@@ -116,11 +117,20 @@ void PrintClosingTable(const nlohmann::ordered_json& metrics,
   }
 }
 
+std::string PlotPython() {
+  if (const char* python = std::getenv("CORRIDORSIM_PYTHON"); python && *python) return python;
+  std::error_code error;
+  if (std::filesystem::is_regular_file("/usr/bin/python3", error)) return "/usr/bin/python3";
+  return "python3";
+}
+
 std::optional<std::string> MakePlots(const std::filesystem::path& out) {
   const std::filesystem::path script = DataDir() / "scripts" / "plot_run.py";
-  const ChildStatus status = RunChildProcess({"python3", script.string(), out.string()});
+  const std::string python = PlotPython();
+  const ChildStatus status = RunChildProcess({python, script.string(), out.string()});
   if (status.succeeded()) return std::nullopt;
-  return "python3 '" + script.string() + "' '" + out.string() + "' " + DescribeChildStatus(status);
+  return python + " '" + script.string() + "' '" + out.string() + "' " +
+         DescribeChildStatus(status);
 }
 
 std::unique_ptr<StagedDirectory> StageOutputFolder(const std::filesystem::path& dir,

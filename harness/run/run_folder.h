@@ -48,8 +48,13 @@ std::string FormatFixed(double v, int decimals);
 void PrintClosingTable(const nlohmann::ordered_json& metrics,
                        const std::vector<ExpectationResult>& results);
 
-/// Runs `python3 scripts/plot_run.py <out>` (python3 found on PATH; no shell: the folder's name
-/// is one argument whatever it holds). Returns an error message, or nothing.
+/// The Python that runs the plot scripts: $CORRIDORSIM_PYTHON when set, else Debian's
+/// /usr/bin/python3 when it exists (the one python3-matplotlib serves, whatever python3 comes
+/// first on PATH), else `python3` from PATH.
+std::string PlotPython();
+
+/// Runs `PlotPython() <data>/scripts/plot_run.py <out>` (no shell: the folder's name is one
+/// argument whatever it holds). Returns an error message, or nothing.
 std::optional<std::string> MakePlots(const std::filesystem::path& out);
 
 /// A job's output folder (`option`: "--out", "--export"), staged (StagedDirectory): a path that

@@ -96,17 +96,17 @@ if(staging)
   message(FATAL_ERROR "a killed run's staging folder was not removed: ${staging}")
 endif()
 
-# 5. Results first: plots that cannot run (no python3 on PATH) exit 4 with the results written;
-#    a failed expectation (3) takes precedence.
+# 5. Results first: plots that cannot run (CORRIDORSIM_PYTHON names no program) exit 4 with the
+#    results written; a failed expectation (3) takes precedence.
 set(no_python "${WORK_DIR}/no_python")
-cli_run(EXIT 4 WHAT "plots without python3" ENV PATH=/nonexistent
-        STDERR "corridorsim: error: plots/: python3 .*could not be started"
+cli_run(EXIT 4 WHAT "plots without python3" ENV CORRIDORSIM_PYTHON=/nonexistent/python3
+        STDERR "corridorsim: error: plots/: /nonexistent/python3 .*could not be started"
         ARGS run "${WORK_DIR}/short.yaml" --out "${no_python}")
 cli_expect_files("${no_python}" metrics.json timing.json events.json scenario.yaml
                  ground_truth.tum odometry.tum)
 file(WRITE "${WORK_DIR}/failing.yaml"
      "include: ${WORK_DIR}/short.yaml\nexpectations:\n  - odometry.ate_rmse_m < 0.000000001\n")
-cli_run(EXIT 3 WHAT "failed expectation and failed plots" ENV PATH=/nonexistent
+cli_run(EXIT 3 WHAT "failed expectation and failed plots" ENV CORRIDORSIM_PYTHON=/nonexistent/python3
         ARGS run "${WORK_DIR}/failing.yaml" --out "${WORK_DIR}/failing")
 cli_expect_files("${WORK_DIR}/failing" metrics.json)
 

@@ -88,7 +88,8 @@ def main():
     # 3. The example, copied from the installed docs, built against the prefix alone.
     example = os.path.join(work, "example")
     shutil.copytree(os.path.join(prefix, "share/doc/corridorsim/examples/cpp_plugin"), example)
-    run(["cmake", "-S", example, "-B", os.path.join(example, "build"),
+    # Ninja: what scripts/setup.sh installs (a fresh machine may lack make).
+    run(["cmake", "-S", example, "-B", os.path.join(example, "build"), "-G", "Ninja",
          "-DCMAKE_PREFIX_PATH=" + prefix, "-DCMAKE_BUILD_TYPE=Release"])
     run(["cmake", "--build", os.path.join(example, "build")])
     library = os.path.join(example, "build", "lamp_ekf.so")

@@ -149,9 +149,9 @@ TEST_CASE("where takes a room number, a run folder and optionally one pipeline",
   }
   CHECK_THAT(ParseCommandLine({"where", "--help"}).help_text,
              Catch::Contains("Exit codes: 0 success, 2 bad input"));
-  CHECK_THAT(
-      ErrorOf({"wher"}),
-      Catch::Contains("drive, where, detect, train-detectors, dataset, score, study or test"));
+  CHECK_THAT(ErrorOf({"wher"}),
+             Catch::Contains(
+                 "drive, where, detect, train-detectors, dataset, score, study, test or plugin"));
 }
 
 TEST_CASE("ParseCommandLine fills the detect request", "[harness]") {
@@ -205,7 +205,7 @@ TEST_CASE("the detect command line is strict", "[harness]") {
   CHECK_THAT(ErrorOf({"detect", "a.png", "--force"}), Catch::Contains("--force"));
   CHECK_THAT(ErrorOf({"detekt", "a.png"}),
              Catch::Contains("expected world, snapshot, run, drive, where, detect, "
-                             "train-detectors, dataset, score, study or test"));
+                             "train-detectors, dataset, score, study, test or plugin"));
 }
 
 TEST_CASE("ParseCommandLine fills the study, study merge and test requests", "[harness]") {

@@ -222,7 +222,7 @@ TEST_CASE("MetricNames lists the pipeline scalars in the schema order expectatio
       "health.rejected_updates",
   };
   const std::vector<std::string> names = MetricNames();
-  REQUIRE(names.size() == v1.size() + 7);
+  REQUIRE(names.size() == v1.size() + 8);
   CHECK(std::vector<std::string>(names.begin(), names.begin() + static_cast<long>(v1.size())) ==
         v1);
   CHECK(names[v1.size()] == "health.rejected_odometry");
@@ -232,6 +232,7 @@ TEST_CASE("MetricNames lists the pipeline scalars in the schema order expectatio
   CHECK(names[v1.size() + 4] == "health.non_finite_estimates");
   CHECK(names[v1.size() + 5] == "timing.cpu_ms_per_frame");
   CHECK(names[v1.size() + 6] == "timing.cpu_seconds");
+  CHECK(names[v1.size() + 7] == "health.failed");
 }
 
 TEST_CASE("every metric is declared once with a unit, a step and a meaning",

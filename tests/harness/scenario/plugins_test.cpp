@@ -93,6 +93,16 @@ TEST_CASE("plugins: a library that cannot be a plugin is an input error naming w
   CHECK_FALSE(slam::FindPipelineType("Echo-Pipeline"));
 }
 
+TEST_CASE("plugins: a type another plugin registered is taken") {
+  const LoadedPlugin first = LoadPlugin(Plugin("test_echo_plugin"), kWhere);
+  test::ScratchDir dir("plugins_taken_test");
+  // The same code in another file: another library, whose type name is taken.
+  fs::copy_file(Plugin("test_echo_plugin"), dir.path() / "other.so");
+  const InputError e = InputErrorOf([&] { LoadPlugin(dir.path() / "other.so", kWhere); });
+  CHECK(Contains(e.message(), "registers the type 'test_echo', which the plugin '" +
+                                  first.path.string() + "' registered"));
+}
+
 TEST_CASE("plugins: a scenario names a library relative to itself and uses its types") {
   test::ScratchDir dir("plugins_scenario_test");
   fs::create_directories(dir.path() / "lib");

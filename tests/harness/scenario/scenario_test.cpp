@@ -176,8 +176,8 @@ TEST_CASE("an unknown top-level key is an error at that key", "[scenarios]") {
       "  length_m: 30\n");
   CHECK(msg ==
         ":2:1: wrld: unknown key (known keys here: appearance, description, duration_s, "
-        "expectations, include, name, path, pipelines, render, robot, seed, sensors, study, "
-        "world)");
+        "expectations, include, name, path, pipelines, plugins, render, robot, seed, sensors, "
+        "study, world)");
 }
 
 TEST_CASE("an unknown nested key is an error naming its full key", "[scenarios]") {
