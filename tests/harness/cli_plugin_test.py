@@ -102,6 +102,35 @@ def main():
         if read(os.path.join(folders[0], name)) != read(os.path.join(folders[1], name)):
             fail("%s differs between two runs of the same seed" % name)
 
+    # The same from a camera frame, while another pipeline processes the same frame concurrently.
+    camera = os.path.join(work, "camera.yaml")
+    with open(camera, "w") as f:
+        f.write(base + "duration_s: 4\n"
+                "plugins: [%s]\n"
+                "sensors:\n"
+                "  front: {enabled: false}\n"
+                "  lateral: {enabled: false}\n"
+                "  upward: {enabled: true, rate_hz: 5}\n"
+                "pipelines:\n"
+                "  p1_harris: {enabled: false}\n"
+                "  p1_vp_doorplate: {enabled: false}\n"
+                "  sees: {type: test_echo, read_upward: true, throw_after_s: 2}\n"
+                "  also: {type: test_echo, read_upward: true}\n"
+                "expectations: []\n" % echo)
+    folder = os.path.join(work, "camera")
+    run([corridorsim, "run", camera, "--out", folder, "--no-plots"], 5)
+    metrics = json.loads(read(os.path.join(folder, "metrics.json")))["pipelines"]
+    frames = json.loads(read(os.path.join(folder, "timing.json")))["pipelines"]["also"]["frames"]
+    if metrics["sees"] != {"health": {"failed": 1}} or "ate_rmse_m" not in metrics["also"] or \
+            frames < 15:
+        fail("a camera-reading pipeline that throws: %s (the other saw %s frames)" %
+             (metrics, frames))
+    events = json.loads(read(os.path.join(folder, "events.json")))["events"]
+    failures = [e for e in events if e["type"] == "pipeline_failed"]
+    if [(e["pipeline"], e["call"], e["reason"]) for e in failures] != \
+            [("sees", "OnCamera", "test_echo: the camera went dark")]:
+        fail("events.json failures: %s" % failures)
+
     # Shards whose plugin libraries differ are not merged: the plan records each one's SHA-256.
     lib = os.path.join(work, "lib")
     os.makedirs(lib)

@@ -7,6 +7,8 @@
 #include <cstdlib>
 #include <optional>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -22,6 +24,8 @@ struct EchoOptions {
   // > 0: OnOdometry throws at the first message after this time (a plugin's bug, for the
   // runner's failure semantics: tests/harness/cli_plugin_test.py).
   double throw_after_s = 0.0;
+  // Reads the upward camera; then OnCamera (not OnOdometry) is the call that throws.
+  bool read_upward = false;
   std::optional<corridorsim::OptionsProblem> Check() const;
 };
 
@@ -31,6 +35,8 @@ const corridorsim::OptionTable<EchoOptions>& EchoOptionsTable() {
     t.Add("throw_after_s", &EchoOptions::throw_after_s, "s",
           "> 0: OnOdometry throws at the first message after this time")
         .Range(0, 1e6);
+    t.Add("read_upward", &EchoOptions::read_upward, "",
+          "read the upward camera; throw_after_s then applies to OnCamera");
   });
 }
 
@@ -47,8 +53,17 @@ class EchoPipeline : public corridorsim::slam::Pipeline {
     estimate_.stamp_ns = stamp_ns;
     estimate_.world_from_robot = pose;
   }
-  void OnOdometry(const corridorsim::WheelOdometry& odometry) override {
+  std::vector<std::string> cameras_used() const override {
+    return options_.read_upward ? std::vector<std::string>{"upward"} : std::vector<std::string>{};
+  }
+  void OnCamera(const corridorsim::slam::CameraInput& input) override {
     if (options_.throw_after_s > 0 &&
+        static_cast<double>(input.image.stamp_ns) * 1e-9 > options_.throw_after_s) {
+      throw std::runtime_error("test_echo: the camera went dark");
+    }
+  }
+  void OnOdometry(const corridorsim::WheelOdometry& odometry) override {
+    if (!options_.read_upward && options_.throw_after_s > 0 &&
         static_cast<double>(odometry.stamp_ns) * 1e-9 > options_.throw_after_s) {
       throw std::runtime_error("test_echo: the wheels went out of sync");
     }
