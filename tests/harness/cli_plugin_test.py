@@ -116,19 +116,23 @@ def main():
                 "  p1_vp_doorplate: {enabled: false}\n"
                 "  sees: {type: test_echo, read_upward: true, throw_after_s: 2}\n"
                 "  also: {type: test_echo, read_upward: true}\n"
+                "  bad: {type: test_echo, read_upward: true, bad_detection: true}\n"
                 "expectations: []\n" % echo)
     folder = os.path.join(work, "camera")
     run([corridorsim, "run", camera, "--out", folder, "--no-plots"], 5)
     metrics = json.loads(read(os.path.join(folder, "metrics.json")))["pipelines"]
     frames = json.loads(read(os.path.join(folder, "timing.json")))["pipelines"]["also"]["frames"]
     if metrics["sees"] != {"health": {"failed": 1}} or "ate_rmse_m" not in metrics["also"] or \
-            frames < 15:
+            metrics["bad"] != {"health": {"failed": 1}} or frames < 15:
         fail("a camera-reading pipeline that throws: %s (the other saw %s frames)" %
              (metrics, frames))
     events = json.loads(read(os.path.join(folder, "events.json")))["events"]
     failures = [e for e in events if e["type"] == "pipeline_failed"]
+    # A malformed detection fails its pipeline at the first frame, as a throw would.
     if [(e["pipeline"], e["call"], e["reason"]) for e in failures] != \
-            [("sees", "OnCamera", "test_echo: the camera went dark")]:
+            [("bad", "TakeDetections",
+              "reported a lamp detection that is a lamp without a positive radius"),
+             ("sees", "OnCamera", "test_echo: the camera went dark")]:
         fail("events.json failures: %s" % failures)
 
     # Shards whose plugin libraries differ are not merged: the plan records each one's SHA-256.

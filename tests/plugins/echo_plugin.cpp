@@ -26,6 +26,8 @@ struct EchoOptions {
   double throw_after_s = 0.0;
   // Reads the upward camera; then OnCamera (not OnOdometry) is the call that throws.
   bool read_upward = false;
+  // With read_upward: every frame's detections hold a lamp without a radius (malformed).
+  bool bad_detection = false;
   std::optional<corridorsim::OptionsProblem> Check() const;
 };
 
@@ -37,6 +39,8 @@ const corridorsim::OptionTable<EchoOptions>& EchoOptionsTable() {
         .Range(0, 1e6);
     t.Add("read_upward", &EchoOptions::read_upward, "",
           "read the upward camera; throw_after_s then applies to OnCamera");
+    t.Add("bad_detection", &EchoOptions::bad_detection, "",
+          "report a malformed lamp detection (no radius) in every frame");
   });
 }
 
@@ -61,6 +65,18 @@ class EchoPipeline : public corridorsim::slam::Pipeline {
         static_cast<double>(input.image.stamp_ns) * 1e-9 > options_.throw_after_s) {
       throw std::runtime_error("test_echo: the camera went dark");
     }
+    if (options_.bad_detection) {
+      corridorsim::slam::Detection d;
+      d.stamp_ns = input.image.stamp_ns;
+      d.camera_id = input.image.camera_id;
+      d.type = corridorsim::slam::LandmarkType::kLamp;
+      d.pixel = Eigen::Vector2d(10, 10);
+      d.radius_px = 0.0;  // a lamp needs a positive radius
+      detections_.push_back(d);
+    }
+  }
+  std::vector<corridorsim::slam::Detection> TakeDetections() override {
+    return std::move(detections_);
   }
   void OnOdometry(const corridorsim::WheelOdometry& odometry) override {
     if (!options_.read_upward && options_.throw_after_s > 0 &&
@@ -77,6 +93,7 @@ class EchoPipeline : public corridorsim::slam::Pipeline {
 
  private:
   EchoOptions options_;
+  std::vector<corridorsim::slam::Detection> detections_;
   double wheelbase_m_;
   corridorsim::slam::PoseEstimate estimate_;
 };
