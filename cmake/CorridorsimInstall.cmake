@@ -33,7 +33,7 @@ install(FILES ${PROJECT_SOURCE_DIR}/README.md DESTINATION ${CMAKE_INSTALL_DOCDIR
         COMPONENT runtime)
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/examples/cpp_plugin
         DESTINATION ${CMAKE_INSTALL_DOCDIR}/examples COMPONENT dev
-        PATTERN "build" EXCLUDE)
+        PATTERN "build" EXCLUDE PATTERN "out" EXCLUDE)
 
 # The CMake package: corridorsim::sdk, corridorsim::slam and corridorsim_add_pipeline_plugin.
 install(EXPORT corridorsimTargets NAMESPACE corridorsim:: DESTINATION ${CORRIDORSIM_INSTALL_CMAKEDIR}
