@@ -28,6 +28,13 @@ inline constexpr int kExitExtraFailed = 4;
 /// are `health.failed` and events.json says why. Takes precedence over 3 and 4.
 inline constexpr int kExitPipelineFailed = 5;
 
+/// Whether a run that exited with `exit_code` left its results written and committed: 0, 3, 4 and
+/// 5 do (studies and suites read them), anything else does not.
+inline bool RunWroteResults(int exit_code) {
+  return exit_code == 0 || exit_code == kExitExpectationsFailed || exit_code == kExitExtraFailed ||
+         exit_code == kExitPipelineFailed;
+}
+
 /// Runs the scenario; prints progress and a closing table. Returns 0, kExitPipelineFailed when a
 /// pipeline failed, else kExitExpectationsFailed when an expectation failed, or kExitExtraFailed
 /// when an extra failed (and every expectation passed). Throws InputError for bad input (before

@@ -15,6 +15,7 @@
 #include "common/io/atomic_file.h"
 #include "common/io/child_process.h"
 #include "common/io/yaml_reader.h"
+#include "harness/run/run.h"
 #include "harness/run/run_folder.h"
 #include "harness/study/study_file.h"
 
@@ -261,9 +262,11 @@ int RunTestSuite(const TestRequest& request) {
     // `run`: 0, 3 (an expectation failed), 4 (an extra failed) and 5 (a pipeline failed: its
     // expectations fail on its missing metrics) leave the results written; `study`: 1 too (a
     // run failed; the others are summarised).
-    const bool usable = status.started && status.signal == 0 && written &&
-                        (status.exit_code == 0 || status.exit_code == 3 || status.exit_code == 4 ||
-                         (!f.study && status.exit_code == 5) || (f.study && status.exit_code == 1));
+    const int code_of_job = status.exit_code;
+    const bool usable =
+        status.started && status.signal == 0 && written &&
+        (f.study ? code_of_job == 0 || code_of_job == 1 || code_of_job == 3 || code_of_job == 4
+                 : RunWroteResults(code_of_job));
     if (!usable) {
       error_case(f.study ? "study" : "run",
                  std::string(f.study ? "corridorsim study " : "corridorsim run ") +
@@ -280,7 +283,7 @@ int RunTestSuite(const TestRequest& request) {
       code = code == 0 || code == 3 ? 1 : code;
       continue;
     }
-    if (!f.study && status.exit_code == 5) {
+    if (!f.study && status.exit_code == kExitPipelineFailed) {
       // A pipeline failed (its reasons are in the log's tail): an error case of its own, beside
       // its expectations, which fail on its missing metrics.
       error_case("pipeline failed", "corridorsim run " + DescribeChildStatus(status) +
