@@ -3,8 +3,6 @@
 #include <dlfcn.h>
 
 #include <algorithm>
-#include <fstream>
-#include <iterator>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -13,6 +11,7 @@
 #include <tuple>
 #include <utility>
 
+#include "common/io/atomic_file.h"
 #include "common/io/options_yaml.h"
 #include "common/io/sha256.h"
 #include "common/io/yaml_reader.h"
@@ -82,18 +81,11 @@ LoadedPlugin LoadPlugin(const std::filesystem::path& path, const SourceLocation&
   if (const auto it = registry.loaded.find(canonical); it != registry.loaded.end()) {
     return it->second;  // loaded before (an include chain, a second scenario of one process)
   }
-  const std::uintmax_t bytes = std::filesystem::file_size(canonical, error);
-  if (error) fail("cannot be read: " + error.message());
-  if (bytes > kMaxPluginBytes) {
-    fail("is larger than " + std::to_string(kMaxPluginBytes >> 20) + " MiB (" +
-         std::to_string(bytes) + " bytes)");
-  }
   std::string content;
-  {
-    std::ifstream in(canonical, std::ios::binary);
-    if (!in) fail("cannot be opened for reading");
-    content.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-    if (in.bad()) fail("cannot be read");
+  try {
+    content = ReadRegularFile(canonical, kMaxPluginBytes);  // bounded, never blocks
+  } catch (const InputError& e) {
+    fail("cannot be read: " + e.message());
   }
   LoadedPlugin plugin;
   plugin.path = canonical;
