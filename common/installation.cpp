@@ -31,4 +31,10 @@ std::filesystem::path DataDir() {
   return (library.parent_path() / relative).lexically_normal();
 }
 
+std::filesystem::path PythonPackageDir() {
+  const std::filesystem::path library = SdkLibraryFile();
+  if (library.empty()) return {};
+  return (library.parent_path() / CORRIDORSIM_LIB_TO_PYTHON).lexically_normal();
+}
+
 }  // namespace corridorsim

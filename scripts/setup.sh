@@ -14,6 +14,8 @@ PACKAGES=(
   catch2
   # plots; the example detector of the README (examples/)
   python3-matplotlib python3-opencv
+  # the Python package's tests (python/tests, docs/protocol.md)
+  python3-pytest python3-numpy
   # the Debian packages `cpack` makes (docs/install.md): dpkg-shlibdeps computes their Depends
   dpkg-dev file
   # `corridorsim study --slurm`'s test: a single-node Slurm on this machine

@@ -8,15 +8,16 @@ set(forbidden_worlds "render|sim|slam|harness|scenarios")
 set(forbidden_render "sim|slam|harness|scenarios")
 set(forbidden_sim "slam|harness|scenarios")
 set(forbidden_slam "common/io|worlds|render|sim|harness|scenarios")
-# The harness's rooms (docs/architecture.md): metrics <- scenario <- run <- study, workbench;
-# the command line (cli/) on top of them all.
+# The harness's rooms (docs/architecture.md): external <- scenario, metrics <- scenario <- run <-
+# study, workbench; the command line (cli/) on top of them all.
+set(forbidden_harness/external "harness/metrics|harness/scenario|harness/run|harness/study|harness/workbench|harness/cli")
 set(forbidden_harness/metrics "harness/scenario|harness/run|harness/study|harness/workbench|harness/cli")
 set(forbidden_harness/scenario "harness/run|harness/study|harness/workbench|harness/cli")
 set(forbidden_harness/run "harness/study|harness/workbench|harness/cli")
 set(forbidden_harness/study "harness/workbench|harness/cli")
 set(forbidden_harness/workbench "harness/study|harness/cli")
 set(failures "")
-foreach(layer common common/io worlds render sim slam harness/metrics harness/scenario harness/run
+foreach(layer common common/io worlds render sim slam harness/external harness/metrics harness/scenario harness/run
               harness/study harness/workbench)
   if(NOT IS_DIRECTORY "${SOURCE_DIR}/${layer}")
     continue()

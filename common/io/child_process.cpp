@@ -8,6 +8,9 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <linux/close_range.h>
+
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <csignal>
@@ -53,17 +56,44 @@ std::string ResolveProgram(const std::string& name, std::string* error) {
   return "";
 }
 
-// Starts `argv` with stdin from /dev/null and stdout and stderr to `out_fd` (-1: this
-// process's); returns its pid, or -1 with *error. The child is killed when the calling thread
-// ends (PR_SET_PDEATHSIG), gets the default action of the stop signals this process catches, and
-// reports a failed exec through a close-on-exec pipe.
-pid_t Spawn(const std::vector<std::string>& argv, int out_fd, std::string* error) {
+// The environment of a child: this process's, with `overrides` set (replacing a variable of
+// the same name).
+std::vector<std::string> ChildEnvironment(
+    const std::vector<std::pair<std::string, std::string>>& overrides) {
+  std::vector<std::string> env;
+  for (char** e = environ; e && *e; ++e) {
+    const std::string entry = *e;
+    const std::string name = entry.substr(0, entry.find('='));
+    bool replaced = false;
+    for (const auto& [key, value] : overrides) replaced = replaced || key == name;
+    if (!replaced) env.push_back(entry);
+  }
+  for (const auto& [key, value] : overrides) env.push_back(key + "=" + value);
+  return env;
+}
+
+// Starts `argv` with stdin from /dev/null and stdout and stderr to `options.output_fd` (-1: this
+// process's), the descriptors of `options.pass_fds` at 3, 4, ...; returns its pid, or -1 with
+// *error. The child is killed when the calling thread ends (PR_SET_PDEATHSIG), gets the default
+// action of the stop signals this process catches, and reports a failed exec through a
+// close-on-exec pipe.
+pid_t Spawn(const std::vector<std::string>& argv, const ChildOptions& options,
+            std::string* error) {
   const std::string program = ResolveProgram(argv[0], error);
   if (program.empty()) return -1;
+  const int out_fd = options.output_fd;
   std::vector<char*> args;
   args.reserve(argv.size() + 1);
   for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
   args.push_back(nullptr);
+  // Built before fork(): the child may only make async-signal-safe calls.
+  const bool set_env = !options.environment.empty();
+  const std::vector<std::string> env_strings =
+      set_env ? ChildEnvironment(options.environment) : std::vector<std::string>{};
+  std::vector<char*> envp;
+  for (const std::string& e : env_strings) envp.push_back(const_cast<char*>(e.c_str()));
+  envp.push_back(nullptr);
+  const int first_free_fd = 3 + static_cast<int>(options.pass_fds.size());
   const int in_fd = ::open("/dev/null", O_RDONLY | O_CLOEXEC);
   if (in_fd < 0) {
     *error = std::string("/dev/null: ") + std::strerror(errno);
@@ -75,6 +105,11 @@ pid_t Spawn(const std::vector<std::string>& argv, int out_fd, std::string* error
     ::close(in_fd);
     return -1;
   }
+  // A passed descriptor is first moved above every descriptor in play, so that placing one
+  // never overwrites another not yet placed.
+  int high_fd_base = std::max({first_free_fd, in_fd, out_fd, report[0], report[1]});
+  for (const int fd : options.pass_fds) high_fd_base = std::max(high_fd_base, fd);
+  ++high_fd_base;
   std::fflush(nullptr);  // what this process printed comes before the child's output
   // Every signal blocked across fork(): none reaches the child before it has reset the
   // handlers it inherits (a forwarded SIGINT would otherwise only set this process's flag in it).
@@ -104,14 +139,34 @@ pid_t Spawn(const std::vector<std::string>& argv, int out_fd, std::string* error
         e = errno;
       }
     };
+    if (options.own_process_group && e == 0 && ::setpgid(0, 0) != 0) e = errno;
+    std::vector<int>::size_type n = options.pass_fds.size();
+    for (std::vector<int>::size_type i = 0; i < n && e == 0; ++i) {
+      if (::dup3(options.pass_fds[i], high_fd_base + static_cast<int>(i), O_CLOEXEC) < 0) e = errno;
+    }
     place(in_fd, STDIN_FILENO);
     if (out_fd >= 0) {
       place(out_fd, STDOUT_FILENO);
       place(out_fd, STDERR_FILENO);
     }
+    for (std::vector<int>::size_type i = 0; i < n; ++i) {
+      place(high_fd_base + static_cast<int>(i), 3 + static_cast<int>(i));
+    }
+    // Nothing else is inherited: every other descriptor closes at exec.
+    if (options.close_other_fds && e == 0 &&
+        ::close_range(static_cast<unsigned>(first_free_fd), ~0U, CLOSE_RANGE_CLOEXEC) != 0) {
+      e = errno;
+    }
+    if (e == 0 && !options.working_dir.empty() && ::chdir(options.working_dir.c_str()) != 0) {
+      e = errno;
+    }
     if (e == 0) {
       ::sigprocmask(SIG_SETMASK, &old, nullptr);
-      ::execv(program.c_str(), args.data());
+      if (set_env) {
+        ::execve(program.c_str(), args.data(), envp.data());
+      } else {
+        ::execv(program.c_str(), args.data());
+      }
       e = errno;
     }
     ssize_t ignored = ::write(report[1], &e, sizeof e);
@@ -150,6 +205,22 @@ ChildStatus RunChildProcess(const std::vector<std::string>& argv) {
   return child.Wait();
 }
 
+ChildProcess::ChildProcess(const std::vector<std::string>& argv, const ChildOptions& options) {
+  ChildStatus failed;
+  if (argv.empty()) {
+    failed.error = "no program";
+    done_ = failed;
+    return;
+  }
+  own_group_ = options.own_process_group;
+  const pid_t pid = Spawn(argv, options, &failed.error);
+  if (pid < 0) {
+    done_ = failed;
+    return;
+  }
+  pid_ = pid;
+}
+
 ChildProcess::ChildProcess(const std::vector<std::string>& argv, const std::string& log_file) {
   ChildStatus failed;
   if (argv.empty()) {
@@ -166,7 +237,9 @@ ChildProcess::ChildProcess(const std::vector<std::string>& argv, const std::stri
       return;
     }
   }
-  const pid_t pid = Spawn(argv, out_fd, &failed.error);
+  ChildOptions options;
+  options.output_fd = out_fd;
+  const pid_t pid = Spawn(argv, options, &failed.error);
   if (out_fd >= 0) ::close(out_fd);
   if (pid < 0) {
     done_ = failed;
@@ -176,6 +249,7 @@ ChildProcess::ChildProcess(const std::vector<std::string>& argv, const std::stri
 }
 
 ChildProcess::~ChildProcess() {
+  if (own_group_ && pid_ >= 0) ::kill(-pid_, SIGKILL);  // what it started too
   if (done_ || pid_ < 0) return;
   ::kill(pid_, SIGKILL);
   int wstatus = 0;
@@ -213,6 +287,13 @@ ChildStatus ChildProcess::Wait() {
 
 void ChildProcess::Kill() {
   if (!done_ && pid_ >= 0) ::kill(pid_, SIGKILL);
+}
+
+void ChildProcess::KillGroup() {
+  // The group outlives its leader while a member lives: its id stays reserved until then, so
+  // this never reaches an unrelated group.
+  if (own_group_ && pid_ >= 0) ::kill(-pid_, SIGKILL);
+  Kill();
 }
 
 void ChildProcess::Signal(int signal) {

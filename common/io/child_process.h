@@ -9,6 +9,7 @@
 
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace corridorsim {
@@ -28,6 +29,17 @@ struct ChildStatus {
 /// first). Never uses a shell. `argv` must not be empty.
 ChildStatus RunChildProcess(const std::vector<std::string>& argv);
 
+/// How a ChildProcess starts, beyond its arguments.
+struct ChildOptions {
+  int output_fd = -1;         // its stdout and stderr; -1: this process's
+  std::vector<int> pass_fds;  // placed at descriptors 3, 4, ... in the child
+  bool close_other_fds = true;  // every descriptor above those closes at exec, close-on-exec or not
+  std::string working_dir;    // "" : this process's
+  std::vector<std::pair<std::string, std::string>> environment;  // set over this process's
+  // A process group of its own (its pid): KillGroup() and the destructor end what it started too.
+  bool own_process_group = false;
+};
+
 /// A child started without waiting for it (a study's worker runs). Its stdout and stderr go to
 /// one log file (created or truncated; empty: this process's), stdin reads /dev/null; never a
 /// shell. It is killed when the thread that started it ends (see above): start children from a
@@ -37,6 +49,8 @@ class ChildProcess {
   /// Starts `argv` (argv[0] searched on PATH when it has no '/'). On failure the object is not
   /// running and Poll() returns a status whose `error` says why.
   ChildProcess(const std::vector<std::string>& argv, const std::string& log_file);
+  /// Starts `argv` as `options` say (an external pipeline's program).
+  ChildProcess(const std::vector<std::string>& argv, const ChildOptions& options);
   ~ChildProcess();  // kills and reaps a child still running (SIGKILL)
   ChildProcess(const ChildProcess&) = delete;
   ChildProcess& operator=(const ChildProcess&) = delete;
@@ -48,6 +62,8 @@ class ChildProcess {
   ChildStatus Wait();
   /// SIGKILL (it is reaped by the next Poll()).
   void Kill();
+  /// SIGKILL to its process group (own_process_group), else as Kill().
+  void KillGroup();
   /// Sends `signal` to a child still running (a stop signal forwarded).
   void Signal(int signal);
   /// Its process id while it runs or before it is reaped, else -1.
@@ -58,6 +74,7 @@ class ChildProcess {
  private:
   int pid_ = -1;
   bool forwarded_ = false;
+  bool own_group_ = false;
   std::optional<ChildStatus> done_;
   double peak_rss_mib_ = 0.0;
 };

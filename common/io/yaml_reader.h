@@ -15,6 +15,7 @@
 #include <utility>
 #include <vector>
 
+#include <nlohmann/json.hpp>
 #include <yaml-cpp/yaml.h>
 
 #include "common/error.h"
@@ -100,6 +101,12 @@ class YamlMap {
   /// each item (for errors found when the items are interpreted).
   bool Read(const std::string& key, std::vector<std::string>& values,
             std::vector<SourceLocation>* locations = nullptr);
+
+  /// Any value (a map, a list, a scalar; nested) as typed JSON, for options passed on as given
+  /// (an external pipeline's `options:`): a quoted scalar is a string; a plain one is null (`~`,
+  /// `null`), a boolean (`true`, `false`), an integer (fits int64), a finite number, else a
+  /// string. A non-finite number (`.inf`, `.nan`) is an error: JSON has none.
+  bool ReadJson(const std::string& key, nlohmann::json& value);
 
   /// The keys of this map in document order (for maps keyed by name, e.g. `pipelines:`).
   std::vector<std::string> Keys() const;

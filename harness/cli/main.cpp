@@ -16,6 +16,7 @@
 #include "common/error.h"
 #include "common/installation.h"
 #include "common/io/atomic_file.h"
+#include "harness/external/external_pipeline.h"
 #include "harness/cli/cli.h"
 #include "harness/run/drive.h"
 #include "harness/run/provenance.h"
@@ -163,6 +164,7 @@ int Dispatch(CommandLine& command) {
 int main(int argc, char** argv) {
   using namespace corridorsim;
   try {
+    external::RegisterExternalPipelineType();  // `type: external` (docs/protocol.md)
     const std::vector<std::string> args =
         argc > 1 ? std::vector<std::string>(argv + 1, argv + argc) : std::vector<std::string>();
     CommandLine command = ParseCommandLine(args);

@@ -70,6 +70,9 @@ struct PipelineRecord {
   // The pipeline's dense map (Pipeline::occupancy_map) for the map-quality metrics, or nullptr;
   // owned by the pipeline, valid until its maps are written.
   const octomap::OcTree* occupancy_map = nullptr;
+  // An external pipeline's program's output (stdout and stderr, its last MiB): the run folder's
+  // <name>.log; empty for the others.
+  std::string log;
 };
 
 struct RunTiming {

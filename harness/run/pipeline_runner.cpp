@@ -11,6 +11,7 @@
 #include "common/io/atomic_file.h"
 #include "common/io/yaml_reader.h"
 #include "common/random.h"
+#include "harness/external/external_pipeline.h"
 #include "harness/run/run_folder.h"
 #include "harness/run/stopwatch.h"
 #include "slam/features/door_plates.h"
@@ -55,6 +56,8 @@ std::string ExceptionText(std::exception_ptr error) {
 
 struct PipelineRunner::Run {
   std::unique_ptr<slam::Pipeline> pipeline;  // null when its construction threw
+  // The pipeline as a program's (harness/external): it takes camera sets whole.
+  external::ExternalPipeline* external = nullptr;
   bool failed = false;
   std::set<std::string> cameras;
   double seconds = 0.0;      // wall time inside the pipeline
@@ -77,7 +80,12 @@ PipelineRunner::PipelineRunner(const Scenario& scenario, const slam::Calibration
     try {
       run.pipeline = entry.options->Create(calibration, seed);
       if (!run.pipeline) throw std::runtime_error("its factory returned no pipeline");
+      run.external = dynamic_cast<external::ExternalPipeline*>(run.pipeline.get());
+      if (run.external) run.external->set_name(entry.name);
       record.cameras_used = run.pipeline->cameras_used();
+    } catch (const external::StartError& e) {
+      // A program that cannot be started is the scenario's fault, like a missing file.
+      throw LocateProblem(scenario, "pipelines", OptionsProblem{entry.name + ".command", e.what()});
     } catch (const slam::ModelFileError& e) {
       // A pipeline's trained models are input too: named at its models_dir (or its section).
       throw LocateProblem(scenario, "pipelines",
@@ -160,6 +168,7 @@ void PipelineRunner::OnOdometry(const WheelOdometry& odometry) {
 }
 
 void PipelineRunner::OnCameraSet(const CameraSet& set) {
+  OnCameraSetWhole(set);
   for (const CameraSlot& slot : set.cameras) {
     if (!slot.message || !cameras_used_.count(slot.camera_id)) continue;
     const sim::CameraMessage& message = *slot.message;
@@ -175,7 +184,9 @@ void PipelineRunner::OnCameraSet(const CameraSet& set) {
     last_stamp_ns_ = message.stamp_ns;
     std::vector<std::size_t> readers;
     for (std::size_t i = 0; i < runs_.size(); ++i) {
-      if (!runs_[i].failed && runs_[i].cameras.count(slot.camera_id)) readers.push_back(i);
+      if (!runs_[i].failed && !runs_[i].external && runs_[i].cameras.count(slot.camera_id)) {
+        readers.push_back(i);
+      }
     }
     const WallClock::time_point t_frame = WallClock::now();
     const auto process = [this, &input](std::size_t i) {
@@ -193,30 +204,76 @@ void PipelineRunner::OnCameraSet(const CameraSet& set) {
     if (!readers.empty()) process(readers[0]);
     for (std::future<void>& f : others) f.get();  // Guard caught the pipelines' exceptions
     wall_seconds_ += SecondsSince(t_frame);
-    for (const std::size_t i : readers) {
-      std::vector<slam::Detection> detections;
-      Guard(i, "TakeDetections", message.stamp_ns,
-            [&](slam::Pipeline& p) { detections = p.TakeDetections(); });
-      for (slam::Detection& d : detections) {
-        // The boundary of slam/: a detection without the fields its type needs is a bug of the
-        // pipeline, which fails it like an exception would (a plugin's bug costs only itself).
-        if (const std::optional<std::string> problem = slam::DetectionProblem(d)) {
-          runs_[i].failed = true;
-          records_[i].failure =
-              PipelineFailure{message.stamp_ns, "TakeDetections",
-                              "reported a " + slam::LandmarkTypeName(d.type) + " detection that " +
-                                  InputExcerpt(*problem, 2000)};
-          break;
-        }
-        if (d.type == slam::LandmarkType::kCorner) {
-          if (const std::optional<SeenPoint> seen =
-                  SeenAt(message.frame, true_models_.at(slot.camera_id), d.pixel)) {
-            records_[i].seen_points[records_[i].detections.size()] = *seen;
-          }
-        }
-        records_[i].detections.push_back(std::move(d));
+    for (const std::size_t i : readers) TakeDetections(i, set, message.stamp_ns);
+  }
+}
+
+void PipelineRunner::TakeDetections(std::size_t i, const CameraSet& set, TimeNs stamp_ns) {
+  std::vector<slam::Detection> detections;
+  Guard(i, "TakeDetections", stamp_ns,
+        [&](slam::Pipeline& p) { detections = p.TakeDetections(); });
+  for (slam::Detection& d : detections) {
+    // The boundary of slam/: a detection without the fields its type needs, or of a camera
+    // whose frame it was not given, is a bug of the pipeline, which fails it like an exception
+    // would (a plugin's bug costs only itself).
+    std::optional<std::string> problem = slam::DetectionProblem(d);
+    const CameraSlot* slot = set.Find(d.camera_id);
+    if (!problem && (!slot || !slot->message || !runs_[i].cameras.count(d.camera_id))) {
+      problem = "is of the camera '" + d.camera_id + "', which gave it no frame at this stamp";
+    }
+    if (problem) {
+      runs_[i].failed = true;
+      records_[i].failure = PipelineFailure{
+          stamp_ns, "TakeDetections",
+          "reported a " + slam::LandmarkTypeName(d.type) + " detection that " +
+              InputExcerpt(*problem, 2000)};
+      return;
+    }
+    if (d.type == slam::LandmarkType::kCorner) {
+      if (const std::optional<SeenPoint> seen =
+              SeenAt(slot->message->frame, true_models_.at(d.camera_id), d.pixel)) {
+        records_[i].seen_points[records_[i].detections.size()] = *seen;
       }
     }
+    records_[i].detections.push_back(std::move(d));
+  }
+}
+
+void PipelineRunner::OnCameraSetWhole(const CameraSet& set) {
+  // Pipelines that are programs take the cameras they read of a set in one message, dropped
+  // frames included (docs/protocol.md); they run one after the other (each waits on its own
+  // program, which runs in parallel with nothing else of this run).
+  for (std::size_t i = 0; i < runs_.size(); ++i) {
+    Run& run = runs_[i];
+    if (!run.external || run.failed) continue;
+    std::vector<slam::CameraInput> inputs;
+    std::vector<external::SetFrame> frames;
+    inputs.reserve(set.cameras.size());
+    for (const CameraSlot& slot : set.cameras) {
+      if (!run.cameras.count(slot.camera_id)) continue;
+      external::SetFrame frame{slot.camera_id, nullptr};
+      if (slot.message) {
+        const sim::CameraMessage& message = *slot.message;
+        slam::CameraInput& input = inputs.emplace_back();
+        input.image = StampedImage{message.stamp_ns, slot.camera_id, message.frame.rgb};
+        if (!message.frame.noisy_depth_m.data.empty()) {
+          input.depth = StampedDepth{message.stamp_ns, slot.camera_id, message.frame.noisy_depth_m};
+        }
+        frame.input = &input;
+      }
+      frames.push_back(frame);
+    }
+    if (frames.empty()) continue;
+    last_stamp_ns_ = set.stamp_ns;
+    const WallClock::time_point t0 = WallClock::now();
+    const double cpu0 = ThreadCpuSeconds();
+    Guard(i, "OnCameraSet", set.stamp_ns, [&](slam::Pipeline&) {
+      run.external->OnCameraSet(set.stamp_ns, frames);
+    });
+    run.cpu_seconds += ThreadCpuSeconds() - cpu0;
+    run.seconds += SecondsSince(t0);
+    wall_seconds_ += SecondsSince(t0);
+    TakeDetections(i, set, set.stamp_ns);
   }
 }
 
@@ -245,6 +302,8 @@ void PipelineRunner::Finish() {
     wall_seconds_ += SecondsSince(t0);
     record.cpu_seconds = runs_[i].cpu_seconds;
     if (record.failure) record.occupancy_map = nullptr;
+    // A program's output, whether it finished or failed (it is ended now if it still runs).
+    if (runs_[i].external) record.log = runs_[i].external->TakeLog();
   }
 }
 

@@ -73,6 +73,11 @@ class PipelineRunner : public BusConsumer {
   // `stamp_ns`). Returns whether the call returned normally.
   template <class F>
   bool Guard(std::size_t i, const char* what, TimeNs stamp_ns, F&& call);
+  // The camera set to the pipelines that take sets whole (programs, harness/external).
+  void OnCameraSetWhole(const CameraSet& set);
+  // Run i's detections of the frames of `set`, checked (a bad one fails the pipeline), into its
+  // record.
+  void TakeDetections(std::size_t i, const CameraSet& set, TimeNs stamp_ns);
   std::vector<Run> runs_;
   std::vector<PipelineRecord> records_;
   std::set<std::string> cameras_used_;

@@ -91,6 +91,7 @@ void WriteRunFolder(const std::filesystem::path& out, const Scenario& scenario, 
     if (!record.detections.empty()) {
       WriteFileAtomic(out / (record.name + "_detections.csv"), DetectionsCsv(record.detections));
     }
+    if (!record.log.empty()) WriteFileAtomic(out / (record.name + ".log"), record.log);
   }
   WriteFileAtomic(out / "metrics.json", metrics.dump(2) + "\n");
   WriteFileAtomic(out / "events.json", events_json);

@@ -5,6 +5,7 @@
 
 #include "common/io/atomic_file.h"
 #include "common/io/options_yaml.h"
+#include "harness/external/external_pipeline.h"
 #include "harness/scenario/plugins.h"
 
 namespace corridorsim {
@@ -215,6 +216,7 @@ const OptionTable<Scenario>& ScenarioOptionsTable() {
 Scenario LoadScenario(const std::string& path) { return LoadScenario(path, {}); }
 
 Scenario LoadScenario(const std::string& path, const std::vector<YamlDocument>& overrides) {
+  external::RegisterExternalPipelineType();  // `type: external` (docs/protocol.md)
   Scenario scenario;
   scenario.file = path;
   scenario.world_location = SourceLocation{path, 0, 0};
@@ -334,7 +336,9 @@ std::vector<OptionsDocBlock> ScenarioDocBlocks() {
   const Scenario defaults;
   std::vector<OptionsDocBlock> blocks =
       OptionsDocBlocks(ScenarioOptionsTable(), &defaults, "scenario");
-  for (const slam::PipelineType& type : slam::ShippedPipelineTypes()) {
+  std::vector<slam::PipelineType> types = slam::ShippedPipelineTypes();
+  types.push_back(external::ExternalPipelineType());
+  for (const slam::PipelineType& type : types) {
     const std::unique_ptr<slam::PipelineOptions> options = type.new_options();
     const std::vector<OptionsDocBlock> more = OptionsDocBlocks(
         options->table(), options->options(), "pipelines." + type.name, "pipelines." + type.name);

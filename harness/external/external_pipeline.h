@@ -1,0 +1,120 @@
+#pragma once
+// The `external` pipeline type: any program as a pipeline, in lockstep over the protocol of
+// docs/protocol.md (harness/external/protocol.h). To the runner it is one slam::Pipeline among
+// the others; each call is a message the program answers before the next is sent, so its
+// outputs do not depend on how fast it is. Whatever the program does wrong (exits, crashes,
+// stops answering, breaks the protocol, reports a non-finite estimate) throws from the call, and
+// the runner fails this pipeline alone (harness/run/pipeline_runner.h) with the reason and the
+// last lines the program printed; its output is kept as the run folder's <pipeline>.log.
+
+#include <chrono>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "common/error.h"
+#include "common/options_table.h"
+#include "harness/external/connection.h"
+#include "slam/pipeline.h"
+#include "slam/registry.h"
+
+namespace corridorsim::external {
+
+enum class ImageTransport { kSharedMemory, kInline };
+
+/// `pipelines.<name>` of type `external`.
+struct ExternalPipelineOptions {
+  // The program and its arguments, never through a shell. argv[0] with a '/' is a path relative
+  // to the file that sets it; without one it is searched on PATH (e.g. python3).
+  std::vector<std::string> command;
+  // The folder the program runs in: relative to the file that sets it; by default that file's.
+  std::string working_dir;
+  std::vector<std::string> cameras;  // the cameras it reads (rendered for it)
+  double timeout_s = 60.0;           // longest wait for one reply (or for it to read a message)
+  ImageTransport transport = ImageTransport::kSharedMemory;
+  nlohmann::json options = nlohmann::json::object();  // passed to the program as given, typed
+  std::optional<OptionsProblem> Check() const;
+};
+const OptionTable<ExternalPipelineOptions>& ExternalPipelineOptionsTable();
+
+/// Longest timeout_s (a day): the bound on any wait for a program.
+inline constexpr double kMaxTimeoutSeconds = 86400.0;
+/// Arguments of a command at most, and bytes of one.
+inline constexpr std::size_t kMaxCommandArgs = 256;
+inline constexpr std::size_t kMaxArgumentBytes = 4096;
+
+/// The `external` type, added to the registry by RegisterExternalPipelineType().
+slam::PipelineType ExternalPipelineType();
+/// Adds `external` to the pipeline types (once; later calls do nothing).
+void RegisterExternalPipelineType();
+
+/// One camera of a camera set as the runner hands it over: its input, or null when dropped.
+struct SetFrame {
+  std::string camera_id;
+  const slam::CameraInput* input = nullptr;
+};
+
+class ExternalPipeline : public slam::Pipeline {
+ public:
+  /// Starts the program (throws StartError when it cannot be started: the scenario's fault).
+  ExternalPipeline(const ExternalPipelineOptions& options, const slam::Calibration& calibration,
+                   std::uint64_t seed);
+  ~ExternalPipeline() override;
+
+  /// The pipeline's name in the scenario, for the start message (the runner sets it).
+  void set_name(std::string name) { name_ = std::move(name); }
+  std::vector<std::string> cameras_used() const override { return options_.cameras; }
+  void Initialize(TimeNs stamp_ns, const SE2& world_from_robot) override;
+  void OnOdometry(const WheelOdometry& odometry) override;
+  /// A frame on its own: sent as a set of one.
+  void OnCamera(const slam::CameraInput& input) override;
+  /// The frames of one camera set this pipeline reads (the runner calls this rather than
+  /// OnCamera), dropped ones included.
+  void OnCameraSet(TimeNs stamp_ns, const std::vector<SetFrame>& frames);
+  slam::PoseEstimate Estimate() const override { return estimate_; }
+  std::vector<slam::LandmarkEstimate> Landmarks() const override { return landmarks_; }
+  std::vector<slam::Detection> TakeDetections() override;
+  std::vector<slam::Innovation> TakeInnovations() override;
+  void Finish() override;
+  std::vector<slam::MapFile> TakeMaps() override { return std::move(maps_); }
+  std::map<std::string, double> stage_seconds() const override { return stage_seconds_; }
+  slam::PipelineHealth health() const override { return health_; }
+
+  /// What the program printed (ProgramConnection::Log), moved out; the program is ended first
+  /// if it still runs (a failed pipeline's).
+  std::string TakeLog();
+
+ private:
+  // Sends a message and reads its reply; a failure ends the program and throws, naming the
+  // message and with the program's last lines.
+  Received Exchange(const nlohmann::json& message, std::string_view blob, int fd = -1);
+  [[noreturn]] void FailWith(const std::string& what);
+  std::chrono::duration<double> timeout() const;
+
+  ExternalPipelineOptions options_;
+  std::string name_;
+  slam::Calibration calibration_;
+  std::uint64_t seed_;
+  std::unique_ptr<ProgramConnection> connection_;
+  bool ended_ = false;  // the program was ended (finished or failed)
+  // The shared memory of the images (ImageTransport::kSharedMemory).
+  int memory_fd_ = -1;
+  std::uint8_t* memory_ = nullptr;
+  std::size_t memory_bytes_ = 0;
+
+  slam::PoseEstimate estimate_;
+  std::vector<slam::Detection> detections_;
+  std::vector<slam::Innovation> innovations_;
+  std::vector<slam::LandmarkEstimate> landmarks_;
+  std::vector<slam::MapFile> maps_;
+  std::map<std::string, double> stage_seconds_;
+  slam::PipelineHealth health_;
+  std::string log_;
+};
+
+}  // namespace corridorsim::external

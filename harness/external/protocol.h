@@ -1,0 +1,142 @@
+#pragma once
+// The lockstep protocol between corridorsim and a pipeline that is a program (docs/protocol.md
+// is its specification; python/corridorsim/ is its reference client). This file holds what the
+// protocol says, with no I/O: the framing of a message, the messages corridorsim sends, and the
+// checks of the replies it reads, each of which names what is wrong so that a failed pipeline's
+// record says why.
+//
+// A message is a 12-byte header, "CSIM" then two little-endian uint32 lengths, a UTF-8 JSON
+// object of the first length and binary bytes (a "blob") of the second. Both lengths are checked
+// against their bounds before anything is allocated.
+
+#include <cstddef>
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "common/pose.h"
+#include "common/sensor_messages.h"
+#include "common/time.h"
+#include "slam/pipeline.h"
+
+namespace corridorsim::external {
+
+inline constexpr int kProtocolVersion = 1;
+inline constexpr char kMagic[4] = {'C', 'S', 'I', 'M'};
+inline constexpr std::size_t kHeaderBytes = 12;
+/// A message's JSON at most (a finish reply with many landmarks and their points fits).
+inline constexpr std::uint32_t kMaxJsonBytes = 64u << 20;
+/// A message's blob at most (a reply's map files, a camera set's inline images).
+inline constexpr std::uint32_t kMaxBlobBytes = 512u << 20;
+/// JSON nesting at most (the protocol's deepest is 4; this bounds the parser's recursion).
+inline constexpr int kMaxJsonDepth = 32;
+/// Counts a reply may carry at most: detections or innovations in one reply, landmarks, points of
+/// a landmark, map files, stage names.
+inline constexpr std::size_t kMaxReplyItems = 1'000'000;
+inline constexpr std::size_t kMaxLandmarkPoints = 64;
+inline constexpr std::size_t kMaxMapFiles = 64;
+inline constexpr std::size_t kMaxStages = 64;
+
+/// A reply that breaks the protocol: the program's bug. The text says what and where
+/// ("estimate reply: covariance: expected 9 finite numbers").
+class ProtocolError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct Header {
+  std::uint32_t json_bytes = 0;
+  std::uint32_t blob_bytes = 0;
+};
+/// The 12 header bytes of a message.
+std::string EncodeHeader(std::size_t json_bytes, std::size_t blob_bytes);
+/// Reads a header; throws ProtocolError for a wrong magic or a length over its bound.
+Header DecodeHeader(const char (&bytes)[kHeaderBytes]);
+
+/// Parses a message's JSON: a JSON object (no NaN or Infinity, nesting within kMaxJsonDepth)
+/// whose "type" is a string. Throws ProtocolError.
+nlohmann::json ParseMessage(std::string_view json);
+
+// ---- What corridorsim sends ----------------------------------------------------------------
+
+/// Where one image of a camera set lies: in the shared memory, or in the message's blob.
+struct ImageSlice {
+  std::string encoding;  // "rgb8" (3 bytes per pixel, R G B) or "depth_f32" (float32 metres, 0 =
+                         // invalid), row-major, row 0 on top, no padding
+  int width = 0;
+  int height = 0;
+  std::size_t offset = 0;  // bytes from the start of the shared memory or of the blob
+  std::size_t bytes = 0;
+};
+/// One camera of a camera set as it is sent.
+struct CameraSlice {
+  std::string camera;
+  bool dropped = false;  // the frame due was lost (sensors.<camera>.drop_probability)
+  TimeNs stamp_ns = 0;
+  std::optional<ImageSlice> rgb, depth;
+};
+
+/// The start message: the protocol version, the calibration, the start pose and stamp, the
+/// options from the scenario (as given, typed), the run's seed for this pipeline, the cameras it
+/// reads and the shared memory (bytes; 0: images travel inline).
+nlohmann::json StartMessage(const std::string& pipeline, const slam::Calibration& calibration,
+                            const std::vector<std::string>& cameras, TimeNs stamp_ns,
+                            const SE2& world_from_robot, const nlohmann::json& options,
+                            std::uint64_t seed, std::size_t shared_memory_bytes);
+nlohmann::json OdometryMessage(const WheelOdometry& odometry);
+nlohmann::json CamerasMessage(TimeNs stamp_ns, const std::vector<CameraSlice>& cameras,
+                              const std::string& transport);
+nlohmann::json FinishMessage(TimeNs stamp_ns);
+
+/// The calibration as the start message carries it.
+nlohmann::json CalibrationJson(const slam::Calibration& calibration);
+
+// ---- What corridorsim reads back -----------------------------------------------------------
+
+/// Detections and innovations a reply may carry (every reply may).
+struct ReplyExtras {
+  std::vector<slam::Detection> detections;
+  std::vector<slam::Innovation> innovations;
+};
+
+/// The reply to start: {"type": "ready"} (and, optionally, "name" and "version" of the program,
+/// at most 200 bytes each).
+struct Ready {
+  std::string name, version;
+};
+Ready ParseReady(const nlohmann::json& reply);
+
+/// The reply to odometry: {"type": "estimate", "stamp_ns": the message's, "pose": [x, y, yaw],
+/// "covariance": 9 numbers row-major over (x, y, yaw)}, every number finite. A stamp other than
+/// the message's is out of order.
+slam::PoseEstimate ParseEstimate(const nlohmann::json& reply, TimeNs expected_stamp_ns,
+                                 ReplyExtras* extras);
+
+/// The reply to a camera set: {"type": "processed", "stamp_ns": the set's}, with optional
+/// "detections" (each of one of `cameras`) and "innovations".
+void ParseProcessed(const nlohmann::json& reply, TimeNs expected_stamp_ns,
+                    const std::vector<std::string>& cameras, ReplyExtras* extras);
+
+/// The reply to finish: {"type": "finished"} with optional "landmarks", "detections",
+/// "innovations", "maps" ([{"suffix", "offset", "bytes"}] into the blob), "health" and
+/// "stage_seconds".
+struct Finished {
+  std::vector<slam::LandmarkEstimate> landmarks;
+  ReplyExtras extras;
+  std::vector<slam::MapFile> maps;
+  slam::PipelineHealth health;
+  std::map<std::string, double> stage_seconds;
+};
+Finished ParseFinished(const nlohmann::json& reply, std::string_view blob, TimeNs stamp_ns,
+                       const std::vector<std::string>& cameras);
+
+/// The "type" of a message (ParseMessage checked it is a string).
+std::string MessageType(const nlohmann::json& message);
+
+}  // namespace corridorsim::external
