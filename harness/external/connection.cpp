@@ -269,9 +269,16 @@ void ProgramConnection::Kill() {
 }
 
 std::string ProgramConnection::Log() const {
-  if (log_dropped_ == 0) return log_;
-  return "[corridorsim: the first " + std::to_string(log_dropped_) +
-         " bytes of the program's output are left out]\n" + log_;
+  // The last kLogKeepBytes, from the start of a line where one begins in the first KiB of them.
+  std::size_t cut = log_.size() > kLogKeepBytes ? log_.size() - kLogKeepBytes : 0;
+  if (cut > 0) {
+    const std::size_t newline = log_.find('\n', cut);
+    if (newline != std::string::npos && newline - cut < 1024) cut = newline + 1;
+  }
+  const std::size_t dropped = log_dropped_ + cut;
+  if (dropped == 0) return log_;
+  return "[corridorsim: the first " + std::to_string(dropped) +
+         " bytes of the program's output are left out]\n" + log_.substr(cut);
 }
 
 std::string ProgramConnection::LogTail(std::size_t lines, std::size_t max_bytes) const {
@@ -287,7 +294,10 @@ std::string ProgramConnection::LogTail(std::size_t lines, std::size_t max_bytes)
   if (found == lines) ++start;  // past that newline
   std::string tail = log_.substr(start, end - start);
   if (tail.size() > max_bytes) tail = tail.substr(tail.size() - max_bytes);
-  return InputExcerpt(tail, max_bytes + 16);
+  // One line for a reason: the program's lines joined by " | ".
+  std::string joined;
+  for (const char c : tail) joined += c == '\n' ? std::string(" | ") : std::string(1, c);
+  return InputExcerpt(joined, max_bytes + 256);
 }
 
 }  // namespace corridorsim::external

@@ -297,8 +297,10 @@ nlohmann::json ParseMessage(std::string_view json) {
     message = nlohmann::json::parse(json.begin(), json.end());
   } catch (const nlohmann::json::exception& e) {
     std::string why = e.what();
-    if (json.find("NaN") != std::string_view::npos ||
-        json.find("Infinity") != std::string_view::npos) {
+    if (why.find("number overflow") != std::string::npos) {
+      why += " (a non-finite number)";
+    } else if (json.find("NaN") != std::string_view::npos ||
+               json.find("Infinity") != std::string_view::npos) {
       why += " (NaN and Infinity are not JSON: a non-finite number?)";
     }
     throw ProtocolError("malformed message: " + InputExcerpt(why, 300));
