@@ -27,6 +27,12 @@ install(DIRECTORY ${PROJECT_SOURCE_DIR}/scenarios ${PROJECT_SOURCE_DIR}/models
 install(PROGRAMS ${PROJECT_SOURCE_DIR}/scripts/plot_run.py ${PROJECT_SOURCE_DIR}/scripts/plot_study.py
         DESTINATION ${CORRIDORSIM_INSTALL_DATADIR}/scripts COMPONENT runtime)
 
+# The Python package (the protocol's reference client, docs/protocol.md) where Debian's python3
+# finds it: <prefix>/lib/python3/dist-packages (corridorsim puts that folder on the PYTHONPATH of
+# the programs it starts, whatever the prefix).
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/python/corridorsim DESTINATION ${CORRIDORSIM_INSTALL_PYTHONDIR}
+        COMPONENT runtime PATTERN "__pycache__" EXCLUDE PATTERN "*.pyc" EXCLUDE)
+
 # The documentation and the plugin example (its README is the tutorial).
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/docs/ DESTINATION ${CMAKE_INSTALL_DOCDIR} COMPONENT runtime)
 install(FILES ${PROJECT_SOURCE_DIR}/README.md DESTINATION ${CMAKE_INSTALL_DOCDIR}
@@ -34,6 +40,9 @@ install(FILES ${PROJECT_SOURCE_DIR}/README.md DESTINATION ${CMAKE_INSTALL_DOCDIR
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/examples/cpp_plugin
         DESTINATION ${CMAKE_INSTALL_DOCDIR}/examples COMPONENT dev
         PATTERN "build" EXCLUDE PATTERN "out" EXCLUDE)
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/examples/python_pipeline
+        DESTINATION ${CMAKE_INSTALL_DOCDIR}/examples COMPONENT runtime
+        PATTERN "out" EXCLUDE PATTERN "__pycache__" EXCLUDE)
 
 # The CMake package: corridorsim::sdk, corridorsim::slam and corridorsim_add_pipeline_plugin.
 install(EXPORT corridorsimTargets NAMESPACE corridorsim:: DESTINATION ${CORRIDORSIM_INSTALL_CMAKEDIR}

@@ -743,7 +743,7 @@ namespace {
 
 // A plain YAML scalar as JSON: YAML 1.2's core schema (null, booleans, integers, floats), else
 // the text as a string. Empty with *non_finite when it is .inf or .nan.
-nlohmann::json PlainScalarJson(const std::string& text, bool* non_finite) {
+nlohmann::ordered_json PlainScalarJson(const std::string& text, bool* non_finite) {
   if (text.empty() || text == "~" || text == "null" || text == "Null" || text == "NULL") {
     return nullptr;
   }
@@ -776,14 +776,14 @@ nlohmann::json PlainScalarJson(const std::string& text, bool* non_finite) {
 
 }  // namespace
 
-bool YamlMap::ReadJson(const std::string& key, nlohmann::json& value) {
+bool YamlMap::ReadJson(const std::string& key, nlohmann::ordered_json& value) {
   const YAML::Node node = Get(key);
   if (!node) return false;
   // The document's own bounds (kMaxYamlNodes, kMaxYamlDepth) bound this recursion.
-  const std::function<nlohmann::json(const YAML::Node&)> convert =
-      [&](const YAML::Node& n) -> nlohmann::json {
+  const std::function<nlohmann::ordered_json(const YAML::Node&)> convert =
+      [&](const YAML::Node& n) -> nlohmann::ordered_json {
     if (n.IsMap()) {
-      nlohmann::json object = nlohmann::json::object();
+      nlohmann::ordered_json object = nlohmann::ordered_json::object();
       for (const auto& kv : n) {
         if (!kv.first.IsScalar()) {
           throw InputError(doc_->LocationOf(kv.first), MessageKey(FullKey(key)),
@@ -794,14 +794,14 @@ bool YamlMap::ReadJson(const std::string& key, nlohmann::json& value) {
       return object;
     }
     if (n.IsSequence()) {
-      nlohmann::json array = nlohmann::json::array();
+      nlohmann::ordered_json array = nlohmann::ordered_json::array();
       for (const auto& item : n) array.push_back(convert(item));
       return array;
     }
     if (n.IsNull()) return nullptr;
     if (n.Tag() == "!") return n.Scalar();  // quoted: a string, whatever it reads like
     bool non_finite = false;
-    nlohmann::json scalar = PlainScalarJson(n.Scalar(), &non_finite);
+    nlohmann::ordered_json scalar = PlainScalarJson(n.Scalar(), &non_finite);
     if (non_finite) {
       throw InputError(doc_->LocationOf(n), MessageKey(FullKey(key)),
                        "'" + InputExcerpt(n.Scalar()) + "' is not a finite number (JSON has none)");

@@ -106,7 +106,7 @@ class YamlMap {
   /// (an external pipeline's `options:`): a quoted scalar is a string; a plain one is null (`~`,
   /// `null`), a boolean (`true`, `false`), an integer (fits int64), a finite number, else a
   /// string. A non-finite number (`.inf`, `.nan`) is an error: JSON has none.
-  bool ReadJson(const std::string& key, nlohmann::json& value);
+  bool ReadJson(const std::string& key, nlohmann::ordered_json& value);
 
   /// The keys of this map in document order (for maps keyed by name, e.g. `pipelines:`).
   std::vector<std::string> Keys() const;

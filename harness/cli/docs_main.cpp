@@ -45,6 +45,14 @@ int main(int argc, char** argv) {
          return corridorsim::ReplaceOptionsDocBlocks(text, corridorsim::ScenarioDocBlocks(),
                                                      problems);
        }},
+      {"protocol.md",
+       [](const std::string& text, std::vector<std::string>* problems) {
+         std::vector<corridorsim::OptionsDocBlock> external;
+         for (const corridorsim::OptionsDocBlock& b : corridorsim::ScenarioDocBlocks()) {
+           if (b.name == "pipelines.external") external.push_back(b);
+         }
+         return corridorsim::ReplaceOptionsDocBlocks(text, external, problems);
+       }},
       {"metrics.md", [](const std::string& text, std::vector<std::string>*) {
          return corridorsim::metrics::UpdateMetricsDocs(text);
        }}};

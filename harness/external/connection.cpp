@@ -137,7 +137,7 @@ std::string ProgramConnection::WhyGone(const std::string& what) {
   return what + ": the program " + DescribeChildStatus(*status);
 }
 
-void ProgramConnection::Send(const nlohmann::json& json, std::string_view blob, int fd,
+void ProgramConnection::Send(const nlohmann::ordered_json& json, std::string_view blob, int fd,
                              std::chrono::duration<double> timeout) {
   const std::string text = json.dump();
   const std::string header = EncodeHeader(text.size(), blob.size());

@@ -55,7 +55,7 @@ class ProgramConnection {
 
   /// Sends one message (header, JSON, blob), `fd` (>= 0) attached to its first byte. Throws
   /// ConnectionError when the program is gone or does not read it within `timeout`.
-  void Send(const nlohmann::json& json, std::string_view blob, int fd,
+  void Send(const nlohmann::ordered_json& json, std::string_view blob, int fd,
             std::chrono::duration<double> timeout);
   /// Reads one message within `timeout`. Throws ConnectionError (with ProtocolError's text for a
   /// malformed one) when it does not come.

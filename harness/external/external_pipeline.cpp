@@ -94,7 +94,7 @@ std::vector<OptionDocRow> CommandDocRows(const ExternalPipelineOptions&) {
 }
 
 void ParsePassThrough(YamlMap& map, ExternalPipelineOptions& o) {
-  nlohmann::json options;
+  nlohmann::ordered_json options;
   if (!map.ReadJson("options", options)) return;
   if (!options.is_object()) map.Fail("options", "expected a map of the program's options");
   o.options = std::move(options);
@@ -208,7 +208,7 @@ void ExternalPipeline::FailWith(const std::string& what) {
   throw std::runtime_error(reason);
 }
 
-Received ExternalPipeline::Exchange(const nlohmann::json& message, std::string_view blob,
+Received ExternalPipeline::Exchange(const nlohmann::ordered_json& message, std::string_view blob,
                                     int fd) {
   if (ended_) throw std::logic_error("the program has ended");
   try {
@@ -254,7 +254,7 @@ void ExternalPipeline::Initialize(TimeNs stamp_ns, const SE2& world_from_robot) 
                                std::strerror(errno));
     }
   }
-  const nlohmann::json start =
+  const nlohmann::ordered_json start =
       StartMessage(name_, calibration_, options_.cameras, stamp_ns, world_from_robot,
                    options_.options, seed_, memory_bytes_);
   Received reply;
@@ -347,7 +347,7 @@ void ExternalPipeline::OnCameraSet(TimeNs stamp_ns, const std::vector<SetFrame>&
     }
     slices.push_back(std::move(slice));
   }
-  const nlohmann::json message = CamerasMessage(
+  const nlohmann::ordered_json message = CamerasMessage(
       stamp_ns, slices, memory_ ? "shared_memory" : "inline");
   const Received reply = Exchange(message, blob);
   try {

@@ -37,7 +37,8 @@ struct ExternalPipelineOptions {
   std::vector<std::string> cameras;  // the cameras it reads (rendered for it)
   double timeout_s = 60.0;           // longest wait for one reply (or for it to read a message)
   ImageTransport transport = ImageTransport::kSharedMemory;
-  nlohmann::json options = nlohmann::json::object();  // passed to the program as given, typed
+  // The program's own options, passed to it as given, typed, in their order.
+  nlohmann::ordered_json options = nlohmann::ordered_json::object();
   std::optional<OptionsProblem> Check() const;
 };
 const OptionTable<ExternalPipelineOptions>& ExternalPipelineOptionsTable();
@@ -92,7 +93,7 @@ class ExternalPipeline : public slam::Pipeline {
  private:
   // Sends a message and reads its reply; a failure ends the program and throws, naming the
   // message and with the program's last lines.
-  Received Exchange(const nlohmann::json& message, std::string_view blob, int fd = -1);
+  Received Exchange(const nlohmann::ordered_json& message, std::string_view blob, int fd = -1);
   [[noreturn]] void FailWith(const std::string& what);
   std::chrono::duration<double> timeout() const;
 

@@ -86,8 +86,8 @@ Eigen::Matrix3d Matrix3(const nlohmann::json& value, const std::string& where) {
   return m;
 }
 
-nlohmann::json MatrixJson(const Eigen::Matrix3d& m) {
-  nlohmann::json out = nlohmann::json::array();
+nlohmann::ordered_json MatrixJson(const Eigen::Matrix3d& m) {
+  nlohmann::ordered_json out = nlohmann::ordered_json::array();
   for (int r = 0; r < 3; ++r) {
     for (int c = 0; c < 3; ++c) out.push_back(m(r, c));
   }
@@ -317,12 +317,16 @@ std::string MessageType(const nlohmann::json& message) {
   return message.at("type").get<std::string>();
 }
 
-nlohmann::json CalibrationJson(const slam::Calibration& calibration) {
-  nlohmann::json cameras = nlohmann::json::array();
+std::string MessageType(const nlohmann::ordered_json& message) {
+  return message.at("type").get<std::string>();
+}
+
+nlohmann::ordered_json CalibrationJson(const slam::Calibration& calibration) {
+  nlohmann::ordered_json cameras = nlohmann::ordered_json::array();
   for (const slam::CameraCalibration& c : calibration.cameras) {
-    nlohmann::json camera;
+    nlohmann::ordered_json camera;
     camera["id"] = c.id;
-    camera["model"] = nlohmann::json::parse(CameraModelToJson(c.model).dump());
+    camera["model"] = CameraModelToJson(c.model);
     const Eigen::Vector3d t = c.robot_from_camera.translation();
     camera["robot_from_camera"] = {{"translation", {t.x(), t.y(), t.z()}},
                                    {"rotation", MatrixJson(c.robot_from_camera.rotation())}};
@@ -340,10 +344,12 @@ nlohmann::json CalibrationJson(const slam::Calibration& calibration) {
           {"cameras", std::move(cameras)}};
 }
 
-nlohmann::json StartMessage(const std::string& pipeline, const slam::Calibration& calibration,
-                            const std::vector<std::string>& cameras, TimeNs stamp_ns,
-                            const SE2& world_from_robot, const nlohmann::json& options,
-                            std::uint64_t seed, std::size_t shared_memory_bytes) {
+nlohmann::ordered_json StartMessage(const std::string& pipeline,
+                                    const slam::Calibration& calibration,
+                                    const std::vector<std::string>& cameras, TimeNs stamp_ns,
+                                    const SE2& world_from_robot,
+                                    const nlohmann::ordered_json& options, std::uint64_t seed,
+                                    std::size_t shared_memory_bytes) {
   return {{"type", "start"},
           {"protocol", kProtocolVersion},
           {"pipeline", pipeline},
@@ -356,26 +362,26 @@ nlohmann::json StartMessage(const std::string& pipeline, const slam::Calibration
           {"shared_memory_bytes", shared_memory_bytes}};
 }
 
-nlohmann::json OdometryMessage(const WheelOdometry& o) {
+nlohmann::ordered_json OdometryMessage(const WheelOdometry& o) {
   return {{"type", "odometry"},         {"stamp_ns", o.stamp_ns},
           {"interval_ns", o.interval_ns}, {"left_m", o.left_distance_m},
           {"right_m", o.right_distance_m}, {"left_ticks", o.left_ticks},
           {"right_ticks", o.right_ticks}};
 }
 
-nlohmann::json CamerasMessage(TimeNs stamp_ns, const std::vector<CameraSlice>& cameras,
-                              const std::string& transport) {
-  nlohmann::json frames = nlohmann::json::array();
+nlohmann::ordered_json CamerasMessage(TimeNs stamp_ns, const std::vector<CameraSlice>& cameras,
+                                      const std::string& transport) {
+  nlohmann::ordered_json frames = nlohmann::ordered_json::array();
   const auto image = [](const ImageSlice& s) {
-    return nlohmann::json{{"encoding", s.encoding}, {"width", s.width}, {"height", s.height},
+    return nlohmann::ordered_json{{"encoding", s.encoding}, {"width", s.width}, {"height", s.height},
                           {"offset", s.offset},     {"bytes", s.bytes}};
   };
   for (const CameraSlice& c : cameras) {
-    nlohmann::json f = {{"camera", c.camera}, {"dropped", c.dropped}};
+    nlohmann::ordered_json f = {{"camera", c.camera}, {"dropped", c.dropped}};
     if (!c.dropped) {
       f["stamp_ns"] = c.stamp_ns;
-      f["rgb"] = c.rgb ? image(*c.rgb) : nlohmann::json(nullptr);
-      f["depth"] = c.depth ? image(*c.depth) : nlohmann::json(nullptr);
+      f["rgb"] = c.rgb ? image(*c.rgb) : nlohmann::ordered_json(nullptr);
+      f["depth"] = c.depth ? image(*c.depth) : nlohmann::ordered_json(nullptr);
     }
     frames.push_back(std::move(f));
   }
@@ -385,7 +391,7 @@ nlohmann::json CamerasMessage(TimeNs stamp_ns, const std::vector<CameraSlice>& c
           {"frames", std::move(frames)}};
 }
 
-nlohmann::json FinishMessage(TimeNs stamp_ns) {
+nlohmann::ordered_json FinishMessage(TimeNs stamp_ns) {
   return {{"type", "finish"}, {"stamp_ns", stamp_ns}};
 }
 

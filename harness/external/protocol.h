@@ -85,17 +85,20 @@ struct CameraSlice {
 /// The start message: the protocol version, the calibration, the start pose and stamp, the
 /// options from the scenario (as given, typed), the run's seed for this pipeline, the cameras it
 /// reads and the shared memory (bytes; 0: images travel inline).
-nlohmann::json StartMessage(const std::string& pipeline, const slam::Calibration& calibration,
-                            const std::vector<std::string>& cameras, TimeNs stamp_ns,
-                            const SE2& world_from_robot, const nlohmann::json& options,
-                            std::uint64_t seed, std::size_t shared_memory_bytes);
-nlohmann::json OdometryMessage(const WheelOdometry& odometry);
-nlohmann::json CamerasMessage(TimeNs stamp_ns, const std::vector<CameraSlice>& cameras,
-                              const std::string& transport);
-nlohmann::json FinishMessage(TimeNs stamp_ns);
+/// (Messages keep their keys in the order docs/protocol.md lists them.)
+nlohmann::ordered_json StartMessage(const std::string& pipeline,
+                                    const slam::Calibration& calibration,
+                                    const std::vector<std::string>& cameras, TimeNs stamp_ns,
+                                    const SE2& world_from_robot,
+                                    const nlohmann::ordered_json& options, std::uint64_t seed,
+                                    std::size_t shared_memory_bytes);
+nlohmann::ordered_json OdometryMessage(const WheelOdometry& odometry);
+nlohmann::ordered_json CamerasMessage(TimeNs stamp_ns, const std::vector<CameraSlice>& cameras,
+                                      const std::string& transport);
+nlohmann::ordered_json FinishMessage(TimeNs stamp_ns);
 
 /// The calibration as the start message carries it.
-nlohmann::json CalibrationJson(const slam::Calibration& calibration);
+nlohmann::ordered_json CalibrationJson(const slam::Calibration& calibration);
 
 // ---- What corridorsim reads back -----------------------------------------------------------
 
@@ -138,5 +141,6 @@ Finished ParseFinished(const nlohmann::json& reply, std::string_view blob, TimeN
 
 /// The "type" of a message (ParseMessage checked it is a string).
 std::string MessageType(const nlohmann::json& message);
+std::string MessageType(const nlohmann::ordered_json& message);
 
 }  // namespace corridorsim::external
