@@ -58,7 +58,8 @@ int Client() {
     const ext::Header h = ext::DecodeHeader(header);
     json.resize(h.json_bytes);
     blob.resize(h.blob_bytes);
-    if (!read_exactly(json.data(), json.size()) || !read_exactly(blob.data(), blob.size())) return 1;
+    if (!read_exactly(json.data(), json.size()) || !read_exactly(blob.data(), blob.size()))
+      return 1;
     const nlohmann::json message = nlohmann::json::parse(json);
     const std::string type = message.at("type");
     if (type == "start") {

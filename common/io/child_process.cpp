@@ -77,8 +77,7 @@ std::vector<std::string> ChildEnvironment(
 // *error. The child is killed when the calling thread ends (PR_SET_PDEATHSIG), gets the default
 // action of the stop signals this process catches, and reports a failed exec through a
 // close-on-exec pipe.
-pid_t Spawn(const std::vector<std::string>& argv, const ChildOptions& options,
-            std::string* error) {
+pid_t Spawn(const std::vector<std::string>& argv, const ChildOptions& options, std::string* error) {
   const std::string program = ResolveProgram(argv[0], error);
   if (program.empty()) return -1;
   const int out_fd = options.output_fd;

@@ -31,10 +31,10 @@ ChildStatus RunChildProcess(const std::vector<std::string>& argv);
 
 /// How a ChildProcess starts, beyond its arguments.
 struct ChildOptions {
-  int output_fd = -1;         // its stdout and stderr; -1: this process's
-  std::vector<int> pass_fds;  // placed at descriptors 3, 4, ... in the child
+  int output_fd = -1;           // its stdout and stderr; -1: this process's
+  std::vector<int> pass_fds;    // placed at descriptors 3, 4, ... in the child
   bool close_other_fds = true;  // every descriptor above those closes at exec, close-on-exec or not
-  std::string working_dir;    // "" : this process's
+  std::string working_dir;      // "" : this process's
   std::vector<std::pair<std::string, std::string>> environment;  // set over this process's
   // A process group of its own (its pid): KillGroup() and the destructor end what it started too.
   bool own_process_group = false;

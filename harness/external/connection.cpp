@@ -179,8 +179,8 @@ void ProgramConnection::Send(const nlohmann::ordered_json& json, std::string_vie
         }
         continue;
       }
-      throw ConnectionError(WhyGone("the connection closed while sending '" + MessageType(json) +
-                                    "'"));
+      throw ConnectionError(
+          WhyGone("the connection closed while sending '" + MessageType(json) + "'"));
     }
   }
 }

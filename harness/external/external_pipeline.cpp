@@ -58,9 +58,9 @@ void ParseCommand(YamlMap& map, ExternalPipelineOptions& o) {
     }
     for (std::size_t i = 0; i < command.size(); ++i) {
       if (command[i].size() > kMaxArgumentBytes || command[i].find('\0') != std::string::npos) {
-        throw InputError(locations[i], map.FullKey("command"),
-                         "an argument is at most " + std::to_string(kMaxArgumentBytes) +
-                             " bytes, without NUL");
+        throw InputError(
+            locations[i], map.FullKey("command"),
+            "an argument is at most " + std::to_string(kMaxArgumentBytes) + " bytes, without NUL");
       }
     }
     if (command[0].empty()) map.Fail("command", "the program's name is empty");
@@ -140,9 +140,10 @@ const OptionTable<ExternalPipelineOptions>& ExternalPipelineOptionsTable() {
           "the longest wait for one reply (or for the program to read a message); past it the "
           "pipeline fails")
         .RangeOpenLow(0, kMaxTimeoutSeconds);
-    t.AddEnum("transport", &O::transport,
-              {{"shared_memory", ImageTransport::kSharedMemory}, {"inline", ImageTransport::kInline}},
-              "how images travel: a shared memory passed once at start, or in each message");
+    t.AddEnum(
+        "transport", &O::transport,
+        {{"shared_memory", ImageTransport::kSharedMemory}, {"inline", ImageTransport::kInline}},
+        "how images travel: a shared memory passed once at start, or in each message");
     t.AddCustom("options", "the program's options", &ParsePassThrough, &EchoPassThrough,
                 &PassThroughDocRows);
   });
@@ -151,8 +152,9 @@ const OptionTable<ExternalPipelineOptions>& ExternalPipelineOptionsTable() {
 std::optional<OptionsProblem> ExternalPipelineOptions::Check() const {
   if (auto problem = CheckOptionBounds(ExternalPipelineOptionsTable(), *this)) return problem;
   if (command.empty()) {
-    return OptionsProblem{"command", "an external pipeline needs its program, e.g. command: "
-                                     "[python3, my_slam.py]"};
+    return OptionsProblem{"command",
+                          "an external pipeline needs its program, e.g. command: "
+                          "[python3, my_slam.py]"};
   }
   return std::nullopt;
 }
@@ -184,7 +186,8 @@ ExternalPipeline::ExternalPipeline(const ExternalPipelineOptions& options,
   const fs::path python_dir = PythonPackageDir();
   if (!python_dir.empty()) {
     const char* old = std::getenv("PYTHONPATH");
-    env.emplace_back("PYTHONPATH", python_dir.string() + (old && *old ? ":" + std::string(old) : ""));
+    env.emplace_back("PYTHONPATH",
+                     python_dir.string() + (old && *old ? ":" + std::string(old) : ""));
   }
   connection_ = std::make_unique<ProgramConnection>(options_.command, options_.working_dir, env);
 }
@@ -228,8 +231,8 @@ void ExternalPipeline::Initialize(TimeNs stamp_ns, const SE2& world_from_robot) 
   for (const std::string& id : options_.cameras) {
     const slam::CameraCalibration* camera = calibration_.Find(id);
     if (!camera) continue;  // the runner refuses this before the run
-    const std::size_t pixels =
-        static_cast<std::size_t>(camera->model.width()) * static_cast<std::size_t>(camera->model.height());
+    const std::size_t pixels = static_cast<std::size_t>(camera->model.width()) *
+                               static_cast<std::size_t>(camera->model.height());
     bytes += pixels * 3 + (camera->depth ? pixels * sizeof(float) : 0);
   }
   int pass_fd = -1;
@@ -247,8 +250,7 @@ void ExternalPipeline::Initialize(TimeNs stamp_ns, const SE2& world_from_robot) 
     memory_ = static_cast<std::uint8_t*>(mapped);
     memory_bytes_ = bytes;
     // The program gets a read-only descriptor of it: it reads the frames, never writes them.
-    pass_fd = ::open(("/proc/self/fd/" + std::to_string(memory_fd_)).c_str(),
-                     O_RDONLY | O_CLOEXEC);
+    pass_fd = ::open(("/proc/self/fd/" + std::to_string(memory_fd_)).c_str(), O_RDONLY | O_CLOEXEC);
     if (pass_fd < 0) {
       throw std::runtime_error(std::string("shared memory: a read-only descriptor: ") +
                                std::strerror(errno));
@@ -347,8 +349,8 @@ void ExternalPipeline::OnCameraSet(TimeNs stamp_ns, const std::vector<SetFrame>&
     }
     slices.push_back(std::move(slice));
   }
-  const nlohmann::ordered_json message = CamerasMessage(
-      stamp_ns, slices, memory_ ? "shared_memory" : "inline");
+  const nlohmann::ordered_json message =
+      CamerasMessage(stamp_ns, slices, memory_ ? "shared_memory" : "inline");
   const Received reply = Exchange(message, blob);
   try {
     ReplyExtras extras;
@@ -375,8 +377,7 @@ std::vector<slam::Innovation> ExternalPipeline::TakeInnovations() {
 void ExternalPipeline::Finish() {
   const Received reply = Exchange(FinishMessage(estimate_.stamp_ns), {});
   try {
-    Finished finished =
-        ParseFinished(reply.json, reply.blob, estimate_.stamp_ns, options_.cameras);
+    Finished finished = ParseFinished(reply.json, reply.blob, estimate_.stamp_ns, options_.cameras);
     landmarks_ = std::move(finished.landmarks);
     for (slam::Detection& d : finished.extras.detections) detections_.push_back(std::move(d));
     for (slam::Innovation& n : finished.extras.innovations) innovations_.push_back(n);

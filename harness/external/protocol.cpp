@@ -34,7 +34,8 @@ std::int64_t Integer(const nlohmann::json& value, const std::string& where, std:
                      std::int64_t hi) {
   if (!value.is_number_integer()) Fail(where, "expected an integer, got " + Excerpt(value));
   if (value.is_number_unsigned() &&
-      value.get<std::uint64_t>() > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())) {
+      value.get<std::uint64_t>() >
+          static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())) {
     Fail(where, "out of range (" + Excerpt(value) + ")");
   }
   const std::int64_t v = value.get<std::int64_t>();
@@ -117,8 +118,8 @@ slam::LandmarkType LandmarkTypeFrom(const nlohmann::json& value, const std::stri
                   "' (door_plate, corner, lamp, door, vanishing_point)");
 }
 
-slam::Detection ParseDetection(const nlohmann::json& d, const std::string& where,
-                               TimeNs stamp_ns, const std::vector<std::string>& cameras) {
+slam::Detection ParseDetection(const nlohmann::json& d, const std::string& where, TimeNs stamp_ns,
+                               const std::vector<std::string>& cameras) {
   OnlyKeys(d, where,
            {"camera", "type", "pixel", "radius_px", "box_px", "plate_box", "label", "open",
             "column_bearings_rad", "score", "recognition_score", "landmark_id", "new_landmark"});
@@ -130,14 +131,15 @@ slam::Detection ParseDetection(const nlohmann::json& d, const std::string& where
   bool known = false;
   for (const std::string& c : cameras) known = known || c == out.camera_id;
   if (!known) {
-    Fail(where + ".camera", "'" + InputExcerpt(out.camera_id, 64) +
-                                "' is not a camera of this message");
+    Fail(where + ".camera",
+         "'" + InputExcerpt(out.camera_id, 64) + "' is not a camera of this message");
   }
   const nlohmann::json* type = Find(d, "type");
   if (!type) Fail(where, "has no type");
   out.type = LandmarkTypeFrom(*type, where + ".type");
   if (const nlohmann::json* v = Find(d, "pixel")) out.pixel = Vector<2>(*v, where + ".pixel");
-  if (const nlohmann::json* v = Find(d, "radius_px")) out.radius_px = Number(*v, where + ".radius_px");
+  if (const nlohmann::json* v = Find(d, "radius_px"))
+    out.radius_px = Number(*v, where + ".radius_px");
   if (const nlohmann::json* v = Find(d, "box_px")) out.box_px = Vector<4>(*v, where + ".box_px");
   if (const nlohmann::json* v = Find(d, "plate_box")) {
     const std::string box = String(*v, where + ".plate_box", 32);
@@ -159,8 +161,8 @@ slam::Detection ParseDetection(const nlohmann::json& d, const std::string& where
     out.recognition_score = Number(*v, where + ".recognition_score");
   }
   if (const nlohmann::json* v = Find(d, "landmark_id")) {
-    out.landmark_id = static_cast<int>(
-        Integer(*v, where + ".landmark_id", -1, std::numeric_limits<int>::max()));
+    out.landmark_id =
+        static_cast<int>(Integer(*v, where + ".landmark_id", -1, std::numeric_limits<int>::max()));
   }
   if (const nlohmann::json* v = Find(d, "new_landmark")) {
     out.new_landmark = Boolean(*v, where + ".new_landmark");
@@ -220,9 +222,9 @@ void CheckReply(const nlohmann::json& reply, const std::string& type) {
 void CheckStamp(const nlohmann::json& reply, const std::string& what, TimeNs expected) {
   const nlohmann::json* stamp = Find(reply, "stamp_ns");
   if (!stamp) Fail(what, "has no stamp_ns");
-  const std::int64_t got = Integer(*stamp, what + ".stamp_ns",
-                                   std::numeric_limits<std::int64_t>::min(),
-                                   std::numeric_limits<std::int64_t>::max());
+  const std::int64_t got =
+      Integer(*stamp, what + ".stamp_ns", std::numeric_limits<std::int64_t>::min(),
+              std::numeric_limits<std::int64_t>::max());
   if (got != expected) {
     throw ProtocolError("out of order: the " + what + " is for stamp_ns " + std::to_string(got) +
                         ", the message answered had " + std::to_string(expected));
@@ -331,8 +333,8 @@ nlohmann::ordered_json CalibrationJson(const slam::Calibration& calibration) {
     camera["robot_from_camera"] = {{"translation", {t.x(), t.y(), t.z()}},
                                    {"rotation", MatrixJson(c.robot_from_camera.rotation())}};
     if (c.depth) {
-      camera["depth"] = {{"min_m", c.depth->min_m}, {"max_m", c.depth->max_m},
-                         {"encoding", "depth_f32"}};
+      camera["depth"] = {
+          {"min_m", c.depth->min_m}, {"max_m", c.depth->max_m}, {"encoding", "depth_f32"}};
     } else {
       camera["depth"] = nullptr;
     }
@@ -363,9 +365,12 @@ nlohmann::ordered_json StartMessage(const std::string& pipeline,
 }
 
 nlohmann::ordered_json OdometryMessage(const WheelOdometry& o) {
-  return {{"type", "odometry"},         {"stamp_ns", o.stamp_ns},
-          {"interval_ns", o.interval_ns}, {"left_m", o.left_distance_m},
-          {"right_m", o.right_distance_m}, {"left_ticks", o.left_ticks},
+  return {{"type", "odometry"},
+          {"stamp_ns", o.stamp_ns},
+          {"interval_ns", o.interval_ns},
+          {"left_m", o.left_distance_m},
+          {"right_m", o.right_distance_m},
+          {"left_ticks", o.left_ticks},
           {"right_ticks", o.right_ticks}};
 }
 
@@ -373,8 +378,11 @@ nlohmann::ordered_json CamerasMessage(TimeNs stamp_ns, const std::vector<CameraS
                                       const std::string& transport) {
   nlohmann::ordered_json frames = nlohmann::ordered_json::array();
   const auto image = [](const ImageSlice& s) {
-    return nlohmann::ordered_json{{"encoding", s.encoding}, {"width", s.width}, {"height", s.height},
-                          {"offset", s.offset},     {"bytes", s.bytes}};
+    return nlohmann::ordered_json{{"encoding", s.encoding},
+                                  {"width", s.width},
+                                  {"height", s.height},
+                                  {"offset", s.offset},
+                                  {"bytes", s.bytes}};
   };
   for (const CameraSlice& c : cameras) {
     nlohmann::ordered_json f = {{"camera", c.camera}, {"dropped", c.dropped}};
@@ -449,7 +457,8 @@ Finished ParseFinished(const nlohmann::json& reply, std::string_view blob, TimeN
         Fail(w, "needs id, type and position");
       }
       slam::LandmarkEstimate landmark;
-      landmark.id = static_cast<int>(Integer(l["id"], w + ".id", 0, std::numeric_limits<int>::max()));
+      landmark.id =
+          static_cast<int>(Integer(l["id"], w + ".id", 0, std::numeric_limits<int>::max()));
       landmark.type = LandmarkTypeFrom(l["type"], w + ".type");
       if (const nlohmann::json* v = Find(l, "status")) {
         const std::string status = String(*v, w + ".status", 32);
@@ -465,7 +474,8 @@ Finished ParseFinished(const nlohmann::json& reply, std::string_view blob, TimeN
       if (const nlohmann::json* v = Find(l, "covariance")) {
         landmark.covariance = Matrix3(*v, w + ".covariance");
       }
-      if (const nlohmann::json* v = Find(l, "label")) landmark.label = String(*v, w + ".label", 256);
+      if (const nlohmann::json* v = Find(l, "label"))
+        landmark.label = String(*v, w + ".label", 256);
       if (const nlohmann::json* points = Find(l, "points")) {
         Array(*points, w + ".points", kMaxLandmarkPoints);
         for (std::size_t k = 0; k < points->size(); ++k) {
@@ -498,8 +508,8 @@ Finished ParseFinished(const nlohmann::json& reply, std::string_view blob, TimeN
       map.suffix = String(m["suffix"], w + ".suffix", 64);
       // A suffix names a file beside the pipeline's own: no folder, nothing hidden.
       if (map.suffix.empty() || map.suffix.find('/') != std::string::npos ||
-          map.suffix.find('\0') != std::string::npos || map.suffix == "." ||
-          map.suffix == ".." || map.suffix.find("..") != std::string::npos) {
+          map.suffix.find('\0') != std::string::npos || map.suffix == "." || map.suffix == ".." ||
+          map.suffix.find("..") != std::string::npos) {
         Fail(w + ".suffix", "must be a file name suffix without '/' or '..' (got '" +
                                 InputExcerpt(map.suffix, 64) + "')");
       }
@@ -518,13 +528,13 @@ Finished ParseFinished(const nlohmann::json& reply, std::string_view blob, TimeN
     }
   }
   if (const nlohmann::json* h = Find(reply, "health")) {
-    OnlyKeys(*h, "finished.health",
-             {"non_positive_covariance", "rejected_updates", "rejected_odometry",
-              "rejected_frames"});
+    OnlyKeys(
+        *h, "finished.health",
+        {"non_positive_covariance", "rejected_updates", "rejected_odometry", "rejected_frames"});
     const auto count = [&](const char* key, int* field) {
       if (const nlohmann::json* v = Find(*h, key)) {
-        *field = static_cast<int>(Integer(*v, std::string("finished.health.") + key, 0,
-                                          std::numeric_limits<int>::max()));
+        *field = static_cast<int>(
+            Integer(*v, std::string("finished.health.") + key, 0, std::numeric_limits<int>::max()));
       }
     };
     count("non_positive_covariance", &out.health.non_positive_covariance);

@@ -210,8 +210,7 @@ void PipelineRunner::OnCameraSet(const CameraSet& set) {
 
 void PipelineRunner::TakeDetections(std::size_t i, const CameraSet& set, TimeNs stamp_ns) {
   std::vector<slam::Detection> detections;
-  Guard(i, "TakeDetections", stamp_ns,
-        [&](slam::Pipeline& p) { detections = p.TakeDetections(); });
+  Guard(i, "TakeDetections", stamp_ns, [&](slam::Pipeline& p) { detections = p.TakeDetections(); });
   for (slam::Detection& d : detections) {
     // The boundary of slam/: a detection without the fields its type needs, or of a camera
     // whose frame it was not given, is a bug of the pipeline, which fails it like an exception
@@ -223,10 +222,9 @@ void PipelineRunner::TakeDetections(std::size_t i, const CameraSet& set, TimeNs 
     }
     if (problem) {
       runs_[i].failed = true;
-      records_[i].failure = PipelineFailure{
-          stamp_ns, "TakeDetections",
-          "reported a " + slam::LandmarkTypeName(d.type) + " detection that " +
-              InputExcerpt(*problem, 2000)};
+      records_[i].failure = PipelineFailure{stamp_ns, "TakeDetections",
+                                            "reported a " + slam::LandmarkTypeName(d.type) +
+                                                " detection that " + InputExcerpt(*problem, 2000)};
       return;
     }
     if (d.type == slam::LandmarkType::kCorner) {
@@ -267,9 +265,8 @@ void PipelineRunner::OnCameraSetWhole(const CameraSet& set) {
     last_stamp_ns_ = set.stamp_ns;
     const WallClock::time_point t0 = WallClock::now();
     const double cpu0 = ThreadCpuSeconds();
-    Guard(i, "OnCameraSet", set.stamp_ns, [&](slam::Pipeline&) {
-      run.external->OnCameraSet(set.stamp_ns, frames);
-    });
+    Guard(i, "OnCameraSet", set.stamp_ns,
+          [&](slam::Pipeline&) { run.external->OnCameraSet(set.stamp_ns, frames); });
     run.cpu_seconds += ThreadCpuSeconds() - cpu0;
     run.seconds += SecondsSince(t0);
     wall_seconds_ += SecondsSince(t0);
