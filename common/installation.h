@@ -18,9 +18,10 @@ inline constexpr const char* kDataDirVariable = "CORRIDORSIM_DATA_DIR";
 /// folder in their message.
 std::filesystem::path DataDir();
 
-/// The folder that holds the Python package `corridorsim` (docs/protocol.md): `<the library
-/// folder>/../lib/python3/dist-packages` of the same prefix (a link to python/ in a build tree);
-/// empty if the loader cannot say where the library is.
+/// The folder that holds the Python package `corridorsim` (docs/protocol.md):
+/// `<prefix>/lib/python3/dist-packages` of the prefix the library is installed in (in a build
+/// tree, build/lib/python3/dist-packages, a link to python/); empty if the loader cannot say where
+/// the library is.
 std::filesystem::path PythonPackageDir();
 
 /// The file of the shared library this function lives in (the SDK's libcorridorsim_common),

@@ -227,14 +227,15 @@ void ExternalPipeline::Initialize(TimeNs stamp_ns, const SE2& world_from_robot) 
   estimate_.world_from_robot = world_from_robot;
   estimate_.covariance.setZero();
   // The images of one camera set: each camera's colour, then its depth, in `cameras` order.
-  std::size_t bytes = 0;
   for (const std::string& id : options_.cameras) {
     const slam::CameraCalibration* camera = calibration_.Find(id);
     if (!camera) continue;  // the runner refuses this before the run
+    image_offsets_[id] = set_bytes_;
     const std::size_t pixels = static_cast<std::size_t>(camera->model.width()) *
                                static_cast<std::size_t>(camera->model.height());
-    bytes += pixels * 3 + (camera->depth ? pixels * sizeof(float) : 0);
+    set_bytes_ += pixels * 3 + (camera->depth ? pixels * sizeof(float) : 0);
   }
+  const std::size_t bytes = set_bytes_;
   int pass_fd = -1;
   if (options_.transport == ImageTransport::kSharedMemory && bytes > 0) {
     memory_fd_ = ::memfd_create("corridorsim-frames", MFD_CLOEXEC | MFD_ALLOW_SEALING);
@@ -292,18 +293,8 @@ void ExternalPipeline::OnCamera(const slam::CameraInput& input) {
 void ExternalPipeline::OnCameraSet(TimeNs stamp_ns, const std::vector<SetFrame>& frames) {
   std::vector<CameraSlice> slices;
   std::string blob;
+  if (!memory_) blob.reserve(set_bytes_);
   std::vector<std::string> delivered;
-  std::size_t offset = 0;
-  // Each camera's place in the shared memory is fixed: its offset in `cameras` order.
-  std::map<std::string, std::size_t> base;
-  for (const std::string& id : options_.cameras) {
-    base[id] = offset;
-    if (const slam::CameraCalibration* c = calibration_.Find(id)) {
-      const std::size_t pixels =
-          static_cast<std::size_t>(c->model.width()) * static_cast<std::size_t>(c->model.height());
-      offset += pixels * 3 + (c->depth ? pixels * sizeof(float) : 0);
-    }
-  }
   for (const SetFrame& frame : frames) {
     CameraSlice slice;
     slice.camera = frame.camera_id;
@@ -315,10 +306,10 @@ void ExternalPipeline::OnCameraSet(TimeNs stamp_ns, const std::vector<SetFrame>&
     const slam::CameraInput& input = *frame.input;
     slice.stamp_ns = input.image.stamp_ns;
     delivered.push_back(frame.camera_id);
-    const auto it = base.find(frame.camera_id);
+    const auto it = image_offsets_.find(frame.camera_id);
     const slam::CameraCalibration* c = calibration_.Find(frame.camera_id);
     const Image8& rgb = input.image.image;
-    if (it == base.end() || !c || rgb.channels != 3 || rgb.width != c->model.width() ||
+    if (it == image_offsets_.end() || !c || rgb.channels != 3 || rgb.width != c->model.width() ||
         rgb.height != c->model.height()) {
       throw std::logic_error("camera set: a frame of '" + frame.camera_id +
                              "' that its calibration does not describe");

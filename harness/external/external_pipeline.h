@@ -107,6 +107,10 @@ class ExternalPipeline : public slam::Pipeline {
   int memory_fd_ = -1;
   std::uint8_t* memory_ = nullptr;
   std::size_t memory_bytes_ = 0;
+  // Each camera's fixed place in a camera set's images (its colour, then its depth, cameras in
+  // `cameras` order): in the shared memory, and the bytes of all of them.
+  std::map<std::string, std::size_t> image_offsets_;
+  std::size_t set_bytes_ = 0;
 
   slam::PoseEstimate estimate_;
   std::vector<slam::Detection> detections_;

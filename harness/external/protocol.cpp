@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "common/io/camera_json.h"
+#include "common/io/json_input.h"
 #include "common/io/yaml_reader.h"
 
 namespace corridorsim::external {
@@ -269,30 +270,12 @@ Header DecodeHeader(const char (&bytes)[kHeaderBytes]) {
 }
 
 nlohmann::json ParseMessage(std::string_view json) {
-  // The nesting is bounded before the (recursive) parser sees the text.
-  int depth = 0;
-  bool in_string = false, escaped = false;
-  for (const char c : json) {
-    if (in_string) {
-      if (escaped) {
-        escaped = false;
-      } else if (c == '\\') {
-        escaped = true;
-      } else if (c == '"') {
-        in_string = false;
-      }
-      continue;
-    }
-    if (c == '"') {
-      in_string = true;
-    } else if (c == '[' || c == '{') {
-      if (++depth > kMaxJsonDepth) {
-        throw ProtocolError("malformed message: JSON nested deeper than " +
-                            std::to_string(kMaxJsonDepth));
-      }
-    } else if (c == ']' || c == '}') {
-      --depth;
-    }
+  // Nesting and the count of values are bounded before the (recursive) parser sees the text,
+  // as for every JSON a user hands in (common/io/json_input.h).
+  try {
+    CheckJsonInputBounds(json, "message", kMaxJsonValues);
+  } catch (const InputError& e) {
+    throw ProtocolError(std::string("malformed message: ") + e.what());
   }
   nlohmann::json message;
   try {

@@ -34,8 +34,6 @@ inline constexpr std::size_t kHeaderBytes = 12;
 inline constexpr std::uint32_t kMaxJsonBytes = 64u << 20;
 /// A message's blob at most (a reply's map files, a camera set's inline images).
 inline constexpr std::uint32_t kMaxBlobBytes = 512u << 20;
-/// JSON nesting at most (the protocol's deepest is 4; this bounds the parser's recursion).
-inline constexpr int kMaxJsonDepth = 32;
 /// Counts a reply may carry at most: detections or innovations in one reply, landmarks, points of
 /// a landmark, map files, stage names.
 inline constexpr std::size_t kMaxReplyItems = 1'000'000;
@@ -59,8 +57,9 @@ std::string EncodeHeader(std::size_t json_bytes, std::size_t blob_bytes);
 /// Reads a header; throws ProtocolError for a wrong magic or a length over its bound.
 Header DecodeHeader(const char (&bytes)[kHeaderBytes]);
 
-/// Parses a message's JSON: a JSON object (no NaN or Infinity, nesting within kMaxJsonDepth)
-/// whose "type" is a string. Throws ProtocolError.
+/// Parses a message's JSON: a JSON object (no NaN or Infinity; nesting and values within
+/// common/io/json_input.h's kMaxJsonDepth and kMaxJsonValues) whose "type" is a string. Throws
+/// ProtocolError.
 nlohmann::json ParseMessage(std::string_view json);
 
 // ---- What corridorsim sends ----------------------------------------------------------------
