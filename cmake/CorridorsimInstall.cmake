@@ -25,6 +25,7 @@ install(FILES ${PROJECT_BINARY_DIR}/generated/sdk/slam/sdk_version.h
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/scenarios ${PROJECT_SOURCE_DIR}/models
         DESTINATION ${CORRIDORSIM_INSTALL_DATADIR} COMPONENT runtime)
 install(PROGRAMS ${PROJECT_SOURCE_DIR}/scripts/plot_run.py ${PROJECT_SOURCE_DIR}/scripts/plot_study.py
+                 ${PROJECT_SOURCE_DIR}/scripts/plot_evaluation.py
         DESTINATION ${CORRIDORSIM_INSTALL_DATADIR}/scripts COMPONENT runtime)
 
 # The Python package (the protocol's reference client, docs/protocol.md) where Debian's python3

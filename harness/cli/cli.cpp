@@ -633,6 +633,57 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
       "Exit codes: 0 every case passed; 3 an expectation failed; 1 a run or study could not "
       "finish; 2 bad input (nothing runs).");
 
+  CLI::App* evaluate = app.add_subcommand(
+      "evaluate", "Score trajectories and landmark maps of any system against a run's truth");
+  std::string evaluate_run, evaluate_align = "none", evaluate_max_dt, evaluate_out;
+  std::vector<std::string> evaluate_estimates, evaluate_landmarks, evaluate_expect;
+  bool evaluate_force = false, evaluate_no_plots = false;
+  evaluate
+      ->add_option("run", evaluate_run,
+                   "The run folder (corridorsim run --out): its ground_truth.tum and world.json")
+      ->required()
+      ->type_name("RUN_DIR");
+  evaluate
+      ->add_option("--estimate", evaluate_estimates,
+                   "A trajectory: TUM (t tx ty tz qx qy qz qw) or OpenVINS ov_eval with "
+                   "covariances (20 columns) of world_from_robot (repeatable)")
+      ->type_name("NAME=FILE");
+  evaluate
+      ->add_option("--landmarks", evaluate_landmarks,
+                   "A landmark map in <pipeline>_landmarks.json's format, in the frame of the "
+                   "estimate of the same NAME (aligned with it) (repeatable)")
+      ->type_name("NAME=FILE");
+  evaluate
+      ->add_option("--align", evaluate_align,
+                   "Fit before scoring: none, se2 (yaw + x-y), se3, sim3 (with scale: monocular)")
+      ->capture_default_str()
+      ->type_name("none|se2|se3|sim3");
+  CLI::Option* evaluate_max_dt_option =
+      evaluate
+          ->add_option("--max-dt", evaluate_max_dt,
+                       "Largest stamp difference to a truth pose for a pose to be scored, s "
+                       "(default 0.01, as evo's; at most 1)")
+          ->type_name("S");
+  CLI::Option* evaluate_out_option =
+      evaluate->add_option("--out", evaluate_out, "Output folder (default: RUN_DIR/evaluation)")
+          ->type_name("DIR");
+  evaluate->add_flag("--force", evaluate_force, "Replace a non-empty output folder")
+      ->disable_flag_override();
+  evaluate
+      ->add_option("--expect", evaluate_expect,
+                   "A check such as mine.ate_rmse_m<0.2 or mine.map.lamp.rmse_m<=0.1 (repeatable)")
+      ->type_name("NAME.METRIC<VALUE");
+  evaluate->add_flag("--no-plots", evaluate_no_plots, "Skip plots/ (matplotlib)")
+      ->disable_flag_override();
+  evaluate->footer(
+      "Writes evaluation.json (per NAME: the trajectory metrics of metrics.json after the "
+      "alignment, NEES where the file has covariances, map.<type> for --landmarks, align.* and "
+      "the evaluation's own metrics), <NAME>_aligned.tum, <NAME>_errors.csv and plots/ "
+      "(docs/evaluation.md).\n"
+      "Exit codes: 0 success, 3 an --expect check failed, 4 the results are written but plots/ "
+      "failed, 2 bad input (the file, line and column, or the flag, are named), 1 other "
+      "failures.");
+
   CLI::App* plugin = app.add_subcommand(
       "plugin", "Load a pipeline plugin library and print what it registers (docs/plugins.md)");
   std::string plugin_file;
@@ -648,12 +699,12 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
 
   static const char* const kJobs[] = {"world",  "snapshot",        "run",     "drive", "where",
                                       "detect", "train-detectors", "dataset", "score", "study",
-                                      "test",   "plugin"};
+                                      "test",   "plugin",          "evaluate"};
   if (!args.empty() && !args[0].empty() && args[0][0] != '-' &&
       std::find(std::begin(kJobs), std::end(kJobs), args[0]) == std::end(kJobs)) {
     Fail("", "unknown subcommand " + Quoted(args[0]) +
                  ": expected world, snapshot, run, drive, where, detect, train-detectors, "
-                 "dataset, score, study, test or plugin (see corridorsim --help)");
+                 "dataset, score, study, test, plugin or evaluate (see corridorsim --help)");
   }
   // CLI11 takes the arguments last first.
   std::vector<std::string> reversed(args.rbegin(), args.rend());
@@ -898,6 +949,50 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
     if (study_slurm && study_shard_option->count() > 0) {
       Fail("--shard", "--slurm writes the shards itself");
     }
+  } else if (evaluate->parsed()) {
+    parsed.job = CommandLine::Job::kEvaluate;
+    EvaluateRequest& r = parsed.evaluate;
+    if (evaluate_run.empty()) Fail("RUN_DIR", "an empty folder name");
+    r.run_dir = evaluate_run;
+    if (evaluate_estimates.empty() && evaluate_landmarks.empty()) {
+      Fail("--estimate", "nothing to evaluate: give --estimate NAME=FILE or --landmarks NAME=FILE");
+    }
+    const auto named = [](const std::vector<std::string>& texts, const std::string& flag) {
+      if (texts.size() > kMaxEvaluatedFiles) {
+        Fail(flag, "at most " + std::to_string(kMaxEvaluatedFiles) + " files");
+      }
+      std::vector<EvaluateRequest::NamedFile> files;
+      for (const std::string& text : texts) {
+        const std::size_t eq = text.find('=');
+        if (eq == std::string::npos) Fail(flag, "expected NAME=FILE " + Got(text));
+        EvaluateRequest::NamedFile f{ParsePipelineArgument(text.substr(0, eq), flag),
+                                     text.substr(eq + 1)};
+        if (f.file.empty()) Fail(flag, "an empty file name " + Got(text));
+        for (const auto& other : files) {
+          if (other.name == f.name) Fail(flag, "the name '" + f.name + "' is given twice");
+        }
+        files.push_back(std::move(f));
+      }
+      return files;
+    };
+    r.estimates = named(evaluate_estimates, "--estimate");
+    r.landmarks = named(evaluate_landmarks, "--landmarks");
+    const std::optional<evaluate::Alignment> alignment =
+        evaluate::AlignmentFromName(evaluate_align);
+    if (!alignment) Fail("--align", "expected none, se2, se3 or sim3 " + Got(evaluate_align));
+    r.alignment = *alignment;
+    if (evaluate_max_dt_option->count() > 0) {
+      r.max_dt_s = ParseNumberArgument(evaluate_max_dt, kMaxAssociationSeconds, "--max-dt");
+      if (r.max_dt_s < 0.0) Fail("--max-dt", "must not be negative " + Got(evaluate_max_dt));
+    }
+    if (evaluate_out_option->count() > 0) {
+      if (evaluate_out.empty()) Fail("--out", "an empty folder name");
+      r.out_dir = evaluate_out;
+    }
+    r.force = evaluate_force;
+    r.plots = !evaluate_no_plots;
+    if (evaluate_expect.size() > 256) Fail("--expect", "at most 256 checks");
+    r.expectations = evaluate_expect;
   } else if (plugin->parsed()) {
     parsed.job = CommandLine::Job::kPlugin;
     if (plugin_file.empty()) Fail("library", "an empty file name");
@@ -905,7 +1000,7 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
   } else {
     Fail("",
          "a subcommand is required: world, snapshot, run, drive, where, detect, train-detectors, "
-         "dataset, score, study, test or plugin (see corridorsim --help)");
+         "dataset, score, study, test, plugin or evaluate (see corridorsim --help)");
   }
   return parsed;
 }

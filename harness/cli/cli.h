@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "harness/evaluate/evaluate_request.h"
 #include "harness/run/drive.h"
 #include "harness/run/run.h"
 #include "harness/run/snapshot.h"
@@ -55,6 +56,7 @@ struct CommandLine {
     kTest,
     kVersion,  // --version
     kPlugin,   // plugin LIB
+    kEvaluate,
   };
   Job job = Job::kHelp;
   std::string help_text;  // kHelp: printed on stdout, exit 0
@@ -72,6 +74,7 @@ struct CommandLine {
   StudyRequest study;  // kStudy and kStudyMerge
   TestRequest test;
   std::string plugin_file;  // kPlugin
+  EvaluateRequest evaluate;
 };
 
 /// Parses the arguments (without the program name). Throws InputError at

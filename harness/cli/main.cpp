@@ -1,9 +1,9 @@
 // The corridorsim command. Subcommands: run (the main job), world, snapshot, drive, where, detect,
-// train-detectors, dataset, score, study (and study merge), test, plugin; --version. The command
-// line is parsed by ParseCommandLine (harness/cli/cli.h); this file only dispatches. Exit codes: 0
-// success, 2 bad input (one message naming file, line and key, or the command-line flag), 3 an
-// expectation failed (run, score), 4 a run's results are written but an extra failed, 1 any other
-// failure.
+// train-detectors, dataset, score, study (and study merge), test, plugin, evaluate; --version.
+// The command line is parsed by ParseCommandLine (harness/cli/cli.h); this file only dispatches.
+// Exit codes: 0 success, 2 bad input (one message naming file, line and key, or the command-line
+// flag), 3 an expectation failed (run, score, evaluate), 4 results are written but an extra
+// failed, 1 any other failure.
 
 #include <chrono>
 #include <cstdio>
@@ -17,6 +17,7 @@
 #include "common/installation.h"
 #include "common/io/atomic_file.h"
 #include "harness/cli/cli.h"
+#include "harness/evaluate/evaluate.h"
 #include "harness/external/external_pipeline.h"
 #include "harness/run/drive.h"
 #include "harness/run/provenance.h"
@@ -142,6 +143,8 @@ int Dispatch(CommandLine& command) {
       return RunDataset(command.dataset);
     case CommandLine::Job::kScore:
       return RunScore(command.score);
+    case CommandLine::Job::kEvaluate:
+      return evaluate::RunEvaluate(command.evaluate);
     case CommandLine::Job::kStudy:
       ResolveDefaultScenario(&command.study);
       return RunStudy(command.study);

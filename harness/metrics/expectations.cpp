@@ -23,6 +23,11 @@ std::string Trim(const std::string& s) {
 }  // namespace
 
 std::optional<std::string> ParseExpectation(const std::string& text, Expectation* out) {
+  return ParseExpectation(text, out, MetricNames());
+}
+
+std::optional<std::string> ParseExpectation(const std::string& text, Expectation* out,
+                                            const std::vector<std::string>& names) {
   const std::string where = " in expectation '" + InputExcerpt(text) + "'";
   const auto op_begin = text.find_first_of("<>=!");
   if (op_begin == std::string::npos) {
@@ -49,7 +54,6 @@ std::optional<std::string> ParseExpectation(const std::string& text, Expectation
   }
   e.pipeline = left.substr(0, dot);
   e.metric = left.substr(dot + 1);
-  const std::vector<std::string> names = MetricNames();
   if (std::find(names.begin(), names.end(), e.metric) == names.end()) {
     std::string known;
     for (const std::string& n : names) {
@@ -72,15 +76,17 @@ std::optional<std::string> ParseExpectation(const std::string& text, Expectation
 }
 
 std::vector<ExpectationResult> CheckExpectations(const nlohmann::ordered_json& metrics,
-                                                 const std::vector<Expectation>& expectations) {
+                                                 const std::vector<Expectation>& expectations,
+                                                 const std::string& group) {
   static const Json kZero = 0;
   std::vector<ExpectationResult> results;
   for (const Expectation& e : expectations) {
     ExpectationResult r;
     r.expectation = e;
     const Json* node = nullptr;
-    if (metrics.contains("pipelines") && metrics["pipelines"].contains(e.pipeline)) {
-      node = &metrics["pipelines"][e.pipeline];
+    const bool known = metrics.contains(group) && metrics[group].contains(e.pipeline);
+    if (known) {
+      node = &metrics[group][e.pipeline];
       std::size_t begin = 0;
       while (node != nullptr) {
         const auto dot = e.metric.find('.', begin);
@@ -90,8 +96,7 @@ std::vector<ExpectationResult> CheckExpectations(const nlohmann::ordered_json& m
         begin = dot + 1;
       }
     }
-    if (node == nullptr && metrics.contains("pipelines") &&
-        metrics["pipelines"].contains(e.pipeline)) {
+    if (node == nullptr && known) {
       // A counter written only when non-zero reads as 0 where it is absent.
       const metrics::MetricSpec* spec =
           metrics::FindMetric(metrics::MetricScope::kPipeline, e.metric);

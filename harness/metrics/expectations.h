@@ -19,9 +19,12 @@ struct Expectation {
   std::string text;  // as written
 };
 
-/// Parses "<pipeline>.<metric> <op> <number>", op one of < <= > >=. Returns the error message,
-/// or nothing on success (then *out is set).
+/// Parses "<pipeline>.<metric> <op> <number>", op one of < <= > >=, the metric one of `names`
+/// (a scenario's: MetricNames(); `corridorsim evaluate`'s: EvaluationMetricNames()). Returns the
+/// error message, or nothing on success (then *out is set).
 std::optional<std::string> ParseExpectation(const std::string& text, Expectation* out);
+std::optional<std::string> ParseExpectation(const std::string& text, Expectation* out,
+                                            const std::vector<std::string>& names);
 
 struct ExpectationResult {
   Expectation expectation;
@@ -29,10 +32,12 @@ struct ExpectationResult {
   bool passed = false;
 };
 
-/// Each expectation against `metrics` (ComputeMetrics' object). A missing or null metric fails,
+/// Each expectation against `metrics` (ComputeMetrics' object; its pipelines are the objects
+/// under `group`: evaluation.json's are under "estimates"). A missing or null metric fails,
 /// except a counter the registry writes only when non-zero: in an existing pipeline its absence
 /// reads as 0.
 std::vector<ExpectationResult> CheckExpectations(const nlohmann::ordered_json& metrics,
-                                                 const std::vector<Expectation>& expectations);
+                                                 const std::vector<Expectation>& expectations,
+                                                 const std::string& group = "pipelines");
 
 }  // namespace corridorsim

@@ -339,4 +339,18 @@ std::vector<std::string> MetricNames() {
   return names;
 }
 
+std::vector<std::string> EvaluationMetricNames() {
+  std::vector<std::string> names;
+  for (const metrics::MetricSpec& spec : metrics::MetricRegistry()) {
+    const bool shared = spec.scope == metrics::MetricScope::kPipeline &&
+                        (spec.section == "trajectory" || spec.section == "nees" ||
+                         (spec.section == "map" && spec.path.rfind("map.occupancy.", 0) != 0 &&
+                          spec.path.rfind("map.area.", 0) != 0));
+    if ((shared || spec.scope == metrics::MetricScope::kEvaluation) && !spec.map) {
+      names.push_back(spec.path);
+    }
+  }
+  return names;
+}
+
 }  // namespace corridorsim

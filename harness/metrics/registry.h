@@ -20,6 +20,10 @@ namespace corridorsim {
 /// Every scalar metric name a pipeline can have, in schema order (the names expectations accept).
 std::vector<std::string> MetricNames();
 
+/// Every scalar metric name an estimate of `corridorsim evaluate` can have (what its --expect
+/// accepts): the trajectory, nees and map metrics of a pipeline, then the evaluation's own.
+std::vector<std::string> EvaluationMetricNames();
+
 namespace metrics {
 
 // Landmark types in schema order; vanishing points have no position in the world (no map, no
@@ -42,6 +46,9 @@ double StepsPerUnit(MetricUnit unit);              // values are multiples of 1 
 enum class MetricScope {
   kRun,       // under the file's root: run.*, frames.*
   kPipeline,  // under pipelines.<name>; the scalars are what expectations may name
+  // under estimates.<name> of `corridorsim evaluate`'s evaluation.json, beside the trajectory,
+  // nees and map metrics of kPipeline (EvaluationMetricNames)
+  kEvaluation,
 };
 
 struct MetricSpec {

@@ -125,13 +125,21 @@ std::string PlotPython() {
   return "python3";
 }
 
-std::optional<std::string> MakePlots(const std::filesystem::path& out) {
-  const std::filesystem::path script = DataDir() / "scripts" / "plot_run.py";
+std::optional<std::string> RunPlotScript(const std::string& script,
+                                         const std::vector<std::string>& args) {
+  const std::filesystem::path path = DataDir() / "scripts" / script;
   const std::string python = PlotPython();
-  const ChildStatus status = RunChildProcess({python, script.string(), out.string()});
+  std::vector<std::string> argv = {python, path.string()};
+  argv.insert(argv.end(), args.begin(), args.end());
+  const ChildStatus status = RunChildProcess(argv);
   if (status.succeeded()) return std::nullopt;
-  return python + " '" + script.string() + "' '" + out.string() + "' " +
-         DescribeChildStatus(status);
+  std::string command = python + " '" + path.string() + "'";
+  for (const std::string& a : args) command += " '" + a + "'";
+  return command + " " + DescribeChildStatus(status);
+}
+
+std::optional<std::string> MakePlots(const std::filesystem::path& out) {
+  return RunPlotScript("plot_run.py", {out.string()});
 }
 
 std::unique_ptr<StagedDirectory> StageOutputFolder(const std::filesystem::path& dir,

@@ -57,6 +57,11 @@ std::string PlotPython();
 /// argument whatever it holds). Returns an error message, or nothing.
 std::optional<std::string> MakePlots(const std::filesystem::path& out);
 
+/// Runs `PlotPython() <data>/scripts/<script> <args>...` (no shell). Returns an error message, or
+/// nothing.
+std::optional<std::string> RunPlotScript(const std::string& script,
+                                         const std::vector<std::string>& args);
+
 /// A job's output folder (`option`: "--out", "--export"), staged (StagedDirectory): a path that
 /// names no usable folder, and a folder that holds files without `force`, are InputError at
 /// `command line: <option>`, before anything runs.

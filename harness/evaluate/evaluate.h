@@ -1,0 +1,56 @@
+#pragma once
+// `corridorsim evaluate RUN_DIR --estimate NAME=FILE ...`: any system's trajectory (TUM, or
+// ov_eval with covariances) and landmark map scored offline against a run's exact truth, with the
+// metric registry of metrics.json (docs/evaluation.md). Association by stamp within --max-dt, the
+// truth interpolated at the estimate's stamp as the runner's metrics do; alignment none, SE(2),
+// SE(3) or Sim(3); then the trajectory metrics (ATE, RPE, final error), NEES where the file has
+// covariances, and map.<type> where a map is given.
+
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "harness/evaluate/alignment.h"
+#include "harness/evaluate/evaluate_request.h"
+#include "harness/evaluate/trajectory_file.h"
+#include "harness/metrics/input.h"
+
+namespace corridorsim::evaluate {
+
+/// One estimate scored against the truth.
+struct TrajectoryEvaluation {
+  Similarity alignment;                    // applied to every pose of the estimate
+  std::vector<TrajectoryPose> aligned;     // every pose of the file, aligned
+  std::vector<EstimateSample> associated;  // the poses with truth, aligned, planar (x, y, yaw)
+  nlohmann::ordered_json metrics;          // its object of evaluation.json (without file names)
+};
+
+/// Scores `estimate` against `truth` (the run's ground_truth.tum, planar): a pose is associated
+/// when a truth stamp lies within max_dt_s of its own, and is compared with the truth interpolated
+/// at its stamp (metrics::TruthAt); the alignment is fitted on the associated positions. Throws
+/// InputError at `command line: --estimate` (naming `name`) when the alignment cannot be fitted.
+TrajectoryEvaluation EvaluateTrajectory(const std::vector<TruthPose>& truth,
+                                        const Trajectory& estimate, Alignment alignment,
+                                        double max_dt_s, const std::string& name);
+
+/// `landmarks` moved by `alignment` (positions, covariances, points).
+std::vector<slam::LandmarkEstimate> AlignLandmarks(std::vector<slam::LandmarkEstimate> landmarks,
+                                                   const Similarity& alignment);
+
+/// map.<type> of `landmarks` (already in the world frame) against `world`'s exact landmarks,
+/// written into `object` through the registry (no frames: observed and missed are null).
+void AddLandmarkMapMetrics(const worlds::World& world,
+                           const std::vector<slam::LandmarkEstimate>& landmarks,
+                           nlohmann::ordered_json& object);
+
+/// The planar truth of a run's ground_truth.tum (x, y and the heading of its quaternion).
+std::vector<TruthPose> TruthOfTrajectory(const Trajectory& truth);
+
+/// The job: reads RUN_DIR's truth, every file, writes evaluation.json, <name>_aligned.tum and
+/// <name>_errors.csv (and plots/) into the output folder, prints the table and the expectations.
+/// Returns 0, kExitExpectationsFailed (3) or kExitExtraFailed (4: the plots); bad input throws
+/// InputError (exit 2) before anything is written.
+int RunEvaluate(const EvaluateRequest& request);
+
+}  // namespace corridorsim::evaluate
