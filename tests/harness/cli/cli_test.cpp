@@ -149,9 +149,8 @@ TEST_CASE("where takes a room number, a run folder and optionally one pipeline",
   }
   CHECK_THAT(ParseCommandLine({"where", "--help"}).help_text,
              Catch::Contains("Exit codes: 0 success, 2 bad input"));
-  CHECK_THAT(ErrorOf({"wher"}),
-             Catch::Contains(
-                 "drive, where, detect, train-detectors, dataset, score, study, test or plugin"));
+  CHECK_THAT(ErrorOf({"wher"}), Catch::Contains("drive, where, detect, train-detectors, dataset, "
+                                                "score, study, test, plugin or evaluate"));
 }
 
 TEST_CASE("ParseCommandLine fills the detect request", "[harness]") {
@@ -205,7 +204,7 @@ TEST_CASE("the detect command line is strict", "[harness]") {
   CHECK_THAT(ErrorOf({"detect", "a.png", "--force"}), Catch::Contains("--force"));
   CHECK_THAT(ErrorOf({"detekt", "a.png"}),
              Catch::Contains("expected world, snapshot, run, drive, where, detect, "
-                             "train-detectors, dataset, score, study, test or plugin"));
+                             "train-detectors, dataset, score, study, test, plugin or evaluate"));
 }
 
 TEST_CASE("ParseCommandLine fills the study, study merge and test requests", "[harness]") {
@@ -333,6 +332,65 @@ TEST_CASE("the score command line is strict", "[harness]") {
              Catch::StartsWith("command line: --expect: unknown metric 'map'"));
   CHECK_THAT(expect_error("lamp.ap50>=high"), Catch::StartsWith("command line: --expect: "));
   CHECK_THAT(expect_error("lamp.ap50>=nan"), Catch::StartsWith("command line: --expect: "));
+}
+
+TEST_CASE("ParseCommandLine fills the evaluate request", "[harness]") {
+  const CommandLine plain = ParseCommandLine({"evaluate", "run", "--estimate", "mine=est.tum"});
+  CHECK(plain.job == Job::kEvaluate);
+  CHECK(plain.evaluate.run_dir == "run");
+  REQUIRE(plain.evaluate.estimates.size() == 1);
+  CHECK(plain.evaluate.estimates[0].name == "mine");
+  CHECK(plain.evaluate.estimates[0].file == "est.tum");
+  CHECK(plain.evaluate.alignment == evaluate::Alignment::kNone);
+  CHECK(plain.evaluate.max_dt_s == 0.01);
+  CHECK(plain.evaluate.out_dir.empty());
+  CHECK(plain.evaluate.plots);
+
+  const CommandLine full =
+      ParseCommandLine({"evaluate", "run", "--estimate", "a=x=y.txt", "--estimate", "b-2=b.tum",
+                        "--landmarks", "a=map.json", "--align", "sim3", "--max-dt", "0.02", "--out",
+                        "o", "--force", "--no-plots", "--expect", "a.ate_rmse_m<0.2"});
+  REQUIRE(full.evaluate.estimates.size() == 2);
+  CHECK(full.evaluate.estimates[0].file == "x=y.txt");  // the first '=' splits
+  CHECK(full.evaluate.landmarks[0].name == "a");
+  CHECK(full.evaluate.alignment == evaluate::Alignment::kSim3);
+  CHECK(full.evaluate.max_dt_s == 0.02);
+  CHECK(full.evaluate.out_dir == "o");
+  CHECK(full.evaluate.force);
+  CHECK_FALSE(full.evaluate.plots);
+  CHECK(full.evaluate.expectations == std::vector<std::string>{"a.ate_rmse_m<0.2"});
+}
+
+TEST_CASE("the evaluate command line is strict", "[harness]") {
+  const auto error = [](Args extra) {
+    Args args = {"evaluate", "run"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    return ErrorOf(args);
+  };
+  CHECK_THAT(error({}), Catch::StartsWith("command line: --estimate: nothing to evaluate"));
+  CHECK_THAT(ErrorOf({"evaluate", "--estimate", "a=b"}), Catch::Contains("run is required"));
+  CHECK_THAT(error({"--estimate", "ab"}),
+             Catch::StartsWith("command line: --estimate: expected NAME=FILE"));
+  CHECK_THAT(error({"--estimate", "a="}), Catch::Contains("an empty file name"));
+  CHECK_THAT(error({"--estimate", "../a=f"}),
+             Catch::StartsWith("command line: --estimate: expected a pipeline name"));
+  CHECK_THAT(error({"--estimate", "a=f", "--estimate", "a=g"}),
+             Catch::Contains("the name 'a' is given twice"));
+  CHECK_THAT(error({"--estimate", "a=f", "--align", "sim2"}),
+             Catch::StartsWith("command line: --align: expected none, se2, se3 or sim3"));
+  CHECK_THAT(error({"--estimate", "a=f", "--max-dt", "-0.1"}),
+             Catch::StartsWith("command line: --max-dt: must not be negative"));
+  CHECK_THAT(error({"--estimate", "a=f", "--max-dt", "2"}),
+             Catch::StartsWith("command line: --max-dt: "));
+  CHECK_THAT(error({"--estimate", "a=f", "--max-dt", "nan"}),
+             Catch::StartsWith("command line: --max-dt: "));
+  CHECK_THAT(error({"--estimate", "a=f", "--out", ""}), Catch::Contains("an empty folder name"));
+  Args many;
+  for (int i = 0; i <= 64; ++i) {
+    many.push_back("--estimate");
+    many.push_back("e" + std::to_string(i) + "=f");
+  }
+  CHECK_THAT(error(many), Catch::Contains("at most 64 files"));
 }
 
 }  // namespace
