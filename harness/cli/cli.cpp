@@ -636,7 +636,7 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
   CLI::App* evaluate = app.add_subcommand(
       "evaluate", "Score trajectories and landmark maps of any system against a run's truth");
   std::string evaluate_run, evaluate_align = "none", evaluate_max_dt, evaluate_out;
-  std::vector<std::string> evaluate_estimates, evaluate_landmarks, evaluate_expect;
+  std::vector<std::string> evaluate_estimates, evaluate_landmarks, evaluate_expect, evaluate_frames;
   bool evaluate_force = false, evaluate_no_plots = false;
   evaluate
       ->add_option("run", evaluate_run,
@@ -653,6 +653,12 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
                    "A landmark map in <pipeline>_landmarks.json's format, in the frame of the "
                    "estimate of the same NAME (aligned with it) (repeatable)")
       ->type_name("NAME=FILE");
+  evaluate
+      ->add_option("--frame", evaluate_frames,
+                   "The estimate NAME's poses are of this camera's optical frame (world_from_"
+                   "camera, as the TUM RGB-D export's groundtruth.txt): scored as world_from_robot "
+                   "through the run's mount (default: the robot frame)")
+      ->type_name("NAME=CAMERA");
   evaluate
       ->add_option("--align", evaluate_align,
                    "Fit before scoring: none, se2 (yaw + x-y), se3, sim3 (with scale: monocular)")
@@ -977,6 +983,12 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
     };
     r.estimates = named(evaluate_estimates, "--estimate");
     r.landmarks = named(evaluate_landmarks, "--landmarks");
+    for (const EvaluateRequest::NamedFile& f : named(evaluate_frames, "--frame")) {
+      const bool estimated = std::any_of(r.estimates.begin(), r.estimates.end(),
+                                         [&](const auto& e) { return e.name == f.name; });
+      if (!estimated) Fail("--frame", "'" + f.name + "' is no --estimate name");
+      r.frames.push_back({f.name, ParsePipelineArgument(f.file.string(), "--frame")});
+    }
     const std::optional<evaluate::Alignment> alignment =
         evaluate::AlignmentFromName(evaluate_align);
     if (!alignment) Fail("--align", "expected none, se2, se3 or sim3 " + Got(evaluate_align));

@@ -21,6 +21,8 @@
 #include "harness/metrics/trajectory.h"
 #include "harness/run/run.h"
 #include "harness/run/run_folder.h"
+#include "harness/scenario/calibration.h"
+#include "harness/scenario/scenario.h"
 #include "sim/simulation.h"
 #include "worlds/ground_truth_reader.h"
 
@@ -149,6 +151,23 @@ TrajectoryEvaluation EvaluateTrajectory(const std::vector<TruthPose>& truth,
   return out;
 }
 
+Trajectory ToRobotFrame(Trajectory estimate, const SE3& robot_from_camera) {
+  const SE3 camera_from_robot = robot_from_camera.Inverse();
+  for (TrajectoryPose& p : estimate.poses) {
+    const SE3 world_from_robot = SE3(p.orientation, p.position) * camera_from_robot;
+    // p_robot = p_camera + R_camera t: a world-frame rotation error d_theta moves it by
+    // -[R_camera t]x d_theta.
+    const Eigen::Vector3d arm = p.orientation * camera_from_robot.translation();
+    Eigen::Matrix3d skew;
+    skew << 0, -arm.z(), arm.y(), arm.z(), 0, -arm.x(), -arm.y(), arm.x(), 0;
+    p.position_covariance += skew * p.orientation_covariance * skew.transpose();
+    p.position = world_from_robot.translation();
+    p.orientation = world_from_robot.quaternion();
+    if (p.orientation.w() < 0.0) p.orientation.coeffs() = -p.orientation.coeffs();
+  }
+  return estimate;
+}
+
 std::vector<slam::LandmarkEstimate> AlignLandmarks(std::vector<slam::LandmarkEstimate> landmarks,
                                                    const Similarity& alignment) {
   const Eigen::Matrix3d& r = alignment.rotation;
@@ -213,12 +232,36 @@ int RunEvaluate(const EvaluateRequest& request) {
       TruthOfTrajectory(ReadTrajectory((request.run_dir / "ground_truth.tum").string()));
   Json estimates = Json::object();
   std::map<std::string, TrajectoryEvaluation> evaluations;
+  std::map<std::string, SE3> robot_from_camera;  // by estimate name, for --frame
+  if (!request.frames.empty()) {
+    // The mounts are the run's: its resolved scenario.yaml, loaded only when a --frame asks.
+    const std::filesystem::path scenario_file = request.run_dir / "scenario.yaml";
+    const slam::Calibration calibration = CalibrationOf(LoadScenario(scenario_file.string()));
+    for (const EvaluateRequest::Frame& f : request.frames) {
+      std::string known;
+      for (const slam::CameraCalibration& c : calibration.cameras) {
+        if (c.id == f.camera) robot_from_camera[f.name] = c.robot_from_camera;
+        known += (known.empty() ? "" : ", ") + c.id;
+      }
+      if (robot_from_camera.count(f.name) == 0) {
+        throw InputError(kCommandLine, "--frame",
+                         "camera '" + f.camera + "' is not enabled in " + scenario_file.string() +
+                             " (its cameras: " + (known.empty() ? "none" : known) + ")");
+      }
+    }
+  }
   for (const EvaluateRequest::NamedFile& e : request.estimates) {
-    const Trajectory trajectory = ReadTrajectory(e.file.string());
+    Trajectory trajectory = ReadTrajectory(e.file.string());
+    if (const auto it = robot_from_camera.find(e.name); it != robot_from_camera.end()) {
+      trajectory = ToRobotFrame(std::move(trajectory), it->second);
+    }
     TrajectoryEvaluation evaluation =
         EvaluateTrajectory(truth, trajectory, request.alignment, request.max_dt_s, e.name);
     Json object;
     object["file"] = e.file.string();
+    for (const EvaluateRequest::Frame& f : request.frames) {
+      if (f.name == e.name) object["frame"] = f.camera;
+    }
     for (auto& [key, value] : evaluation.metrics.items()) object[key] = value;
     estimates[e.name] = std::move(object);
     evaluations.emplace(e.name, std::move(evaluation));

@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "common/pose.h"
 #include "harness/evaluate/alignment.h"
 #include "harness/evaluate/evaluate_request.h"
 #include "harness/evaluate/trajectory_file.h"
@@ -33,6 +34,12 @@ struct TrajectoryEvaluation {
 TrajectoryEvaluation EvaluateTrajectory(const std::vector<TruthPose>& truth,
                                         const Trajectory& estimate, Alignment alignment,
                                         double max_dt_s, const std::string& name);
+
+/// `estimate` (poses of world_from_camera, the camera's optical frame) as world_from_robot:
+/// each pose times camera_from_robot; an ov_eval file's position covariance gains the lever
+/// arm's share of its orientation covariance (both blocks taken in the world frame,
+/// docs/evaluation.md), the orientation block is unchanged.
+Trajectory ToRobotFrame(Trajectory estimate, const SE3& robot_from_camera);
 
 /// `landmarks` moved by `alignment` (positions, covariances, points).
 std::vector<slam::LandmarkEstimate> AlignLandmarks(std::vector<slam::LandmarkEstimate> landmarks,

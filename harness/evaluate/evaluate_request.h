@@ -22,6 +22,13 @@ struct EvaluateRequest {
   std::filesystem::path run_dir;     // RUN_DIR: ground_truth.tum, world.json
   std::vector<NamedFile> estimates;  // --estimate NAME=FILE (TUM, ov_eval)
   std::vector<NamedFile> landmarks;  // --landmarks NAME=FILE
+  // --frame NAME=CAMERA: the estimate's poses are world_from_<camera> (the optical frame, as the
+  // TUM RGB-D export's groundtruth.txt), brought to world_from_robot with the run's mount.
+  struct Frame {
+    std::string name;
+    std::string camera;
+  };
+  std::vector<Frame> frames;
   evaluate::Alignment alignment = evaluate::Alignment::kNone;  // --align
   double max_dt_s = 0.01;                                      // --max-dt
   std::filesystem::path out_dir;                               // --out; empty: RUN_DIR/evaluation

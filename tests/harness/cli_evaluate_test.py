@@ -97,7 +97,9 @@ def main(corridorsim, source_dir, work):
           "include: %s/scenarios/p3_lamps.yaml\nduration_s: 30\n"
           "pipelines:\n  p3_corners: {enabled: false}\nexpectations: []\n" % source_dir)
     real = os.path.join(work, "run")
-    run(corridorsim, ["run", os.path.join(work, "short.yaml"), "--out", real, "--no-plots"], 0)
+    export = os.path.join(work, "export")
+    run(corridorsim, ["run", os.path.join(work, "short.yaml"), "--out", real, "--no-plots",
+                      "--export", export], 0)
     metrics = json.load(open(os.path.join(real, "metrics.json")))["pipelines"]
     args = ["evaluate", real, "--estimate", "odometry=%s/odometry_cov.txt" % real,
             "--estimate", "p3_upward=%s/p3_upward.tum" % real,
@@ -136,6 +138,39 @@ def main(corridorsim, source_dir, work):
                  "errors_p3_upward.png"):
         if not os.path.isfile(os.path.join(first, "plots", plot)):
             fail("plots/%s missing" % plot)
+
+    # A camera's trajectory (what a visual system run on the export estimates): the truth times
+    # the export's T_BS (body_from_sensor) is world_from_camera; --frame brings it back to the
+    # robot through the run's mount, without it the lever arm is the error.
+    sensor = open(os.path.join(export, "euroc", "mav0", "cam0", "sensor.yaml")).read()
+    data = sensor[sensor.index("data:", sensor.index("T_BS")):]
+    t_bs = [float(v) for v in data[data.index("[") + 1:data.index("]")].split(",")]
+    lines = []
+    for line in open(os.path.join(real, "ground_truth.tum")):
+        if line.startswith("#"):
+            continue
+        t, x, y, _, _, _, qz, qw = line.split()
+        yaw = 2.0 * math.atan2(float(qz), float(qw))
+        r = rot_z(yaw)
+        r_bs = [t_bs[0:3], t_bs[4:7], t_bs[8:11]]
+        p = [sum(r[i][k] * t_bs[4 * k + 3] for k in range(3)) + (float(x), float(y), 0.0)[i]
+             for i in range(3)]
+        q = quaternion_of(matmul(r, r_bs))
+        lines.append("%s %.9f %.9f %.9f %.12f %.12f %.12f %.12f" % (t, *p, *q))
+    write(os.path.join(work, "camera.tum"), "\n".join(lines) + "\n")
+    frame_out = os.path.join(work, "eval_frame")
+    run(corridorsim, ["evaluate", real, "--estimate", "cam=%s/camera.tum" % work, "--frame",
+                      "cam=upward", "--estimate", "raw=%s/camera.tum" % work, "--out", frame_out,
+                      "--no-plots"], 0)
+    est = json.load(open(os.path.join(frame_out, "evaluation.json")))["estimates"]
+    close("--frame ate_3d_rmse_m", est["cam"]["ate_3d_rmse_m"], 0.0, 3e-6)
+    close("--frame rotation_rmse_rad", est["cam"]["rotation_rmse_rad"], 0.0, 1e-6)
+    close("no --frame ate_rmse_m (the mount's lever arm)", est["raw"]["ate_rmse_m"],
+          math.hypot(t_bs[3], t_bs[7]), 1e-5)
+    result = run(corridorsim, ["evaluate", real, "--estimate", "cam=%s/camera.tum" % work,
+                               "--frame", "cam=front", "--out", frame_out + "_bad"], 2)
+    if "--frame: camera 'front' is not enabled" not in result.stderr:
+        fail("--frame of a disabled camera: " + result.stderr)
 
     # --- A hand-made run folder: errors known by hand. -------------------------------------------
     hand = os.path.join(work, "hand")

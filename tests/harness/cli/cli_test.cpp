@@ -385,6 +385,14 @@ TEST_CASE("the evaluate command line is strict", "[harness]") {
   CHECK_THAT(error({"--estimate", "a=f", "--max-dt", "nan"}),
              Catch::StartsWith("command line: --max-dt: "));
   CHECK_THAT(error({"--estimate", "a=f", "--out", ""}), Catch::Contains("an empty folder name"));
+  CHECK_THAT(error({"--estimate", "a=f", "--frame", "b=front"}),
+             Catch::StartsWith("command line: --frame: 'b' is no --estimate name"));
+  CHECK_THAT(error({"--estimate", "a=f", "--frame", "a=../x"}),
+             Catch::StartsWith("command line: --frame: expected a pipeline name"));
+  const CommandLine framed =
+      ParseCommandLine({"evaluate", "run", "--estimate", "a=f", "--frame", "a=front"});
+  REQUIRE(framed.evaluate.frames.size() == 1);
+  CHECK(framed.evaluate.frames[0].camera == "front");
   Args many;
   for (int i = 0; i <= 64; ++i) {
     many.push_back("--estimate");
