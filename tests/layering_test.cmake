@@ -9,16 +9,17 @@ set(forbidden_render "sim|slam|harness|scenarios")
 set(forbidden_sim "slam|harness|scenarios")
 set(forbidden_slam "common/io|worlds|render|sim|harness|scenarios")
 # The harness's rooms (docs/architecture.md): external <- scenario, metrics <- scenario <- run <-
-# study, workbench; the command line (cli/) on top of them all.
+# study, workbench, evaluate; the command line (cli/) on top of them all.
 set(forbidden_harness/external "harness/metrics|harness/scenario|harness/run|harness/study|harness/workbench|harness/cli")
 set(forbidden_harness/metrics "harness/scenario|harness/run|harness/study|harness/workbench|harness/cli")
 set(forbidden_harness/scenario "harness/run|harness/study|harness/workbench|harness/cli")
 set(forbidden_harness/run "harness/study|harness/workbench|harness/cli")
 set(forbidden_harness/study "harness/workbench|harness/cli")
 set(forbidden_harness/workbench "harness/study|harness/cli")
+set(forbidden_harness/evaluate "harness/external|harness/study|harness/workbench|harness/cli")
 set(failures "")
 foreach(layer common common/io worlds render sim slam harness/external harness/metrics harness/scenario harness/run
-              harness/study harness/workbench)
+              harness/study harness/workbench harness/evaluate)
   if(NOT IS_DIRECTORY "${SOURCE_DIR}/${layer}")
     continue()
   endif()
