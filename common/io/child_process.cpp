@@ -32,30 +32,6 @@ extern "C" void OnStopSignal(int signal) {
   if (g_stop_signal == 0) g_stop_signal = signal;
 }
 
-// argv[0] as a path to exec: itself when it holds a '/', else the first executable file of that
-// name on PATH (as posix_spawnp and execvp search it). Empty, with *error, when there is none.
-std::string ResolveProgram(const std::string& name, std::string* error) {
-  if (name.find('/') != std::string::npos) return name;
-  const char* path = std::getenv("PATH");
-  const std::string dirs = path && *path ? path : "/bin:/usr/bin";
-  int why = ENOENT;
-  for (std::size_t start = 0;;) {
-    const std::size_t colon = dirs.find(':', start);
-    std::string dir = dirs.substr(start, colon == std::string::npos ? colon : colon - start);
-    if (dir.empty()) dir = ".";
-    const std::string candidate = dir + "/" + name;
-    struct stat info {};
-    if (::stat(candidate.c_str(), &info) == 0 && S_ISREG(info.st_mode)) {
-      if (::access(candidate.c_str(), X_OK) == 0) return candidate;
-      why = EACCES;
-    }
-    if (colon == std::string::npos) break;
-    start = colon + 1;
-  }
-  *error = std::strerror(why);
-  return "";
-}
-
 // The environment of a child: this process's, with `overrides` set (replacing a variable of
 // the same name).
 std::vector<std::string> ChildEnvironment(
@@ -197,6 +173,30 @@ pid_t Spawn(const std::vector<std::string>& argv, const ChildOptions& options, s
 }
 
 }  // namespace
+
+// argv[0] as a path to exec: itself when it holds a '/', else the first executable file of that
+// name on PATH (as posix_spawnp and execvp search it). Empty, with *error, when there is none.
+std::string ResolveProgram(const std::string& name, std::string* error) {
+  if (name.find('/') != std::string::npos) return name;
+  const char* path = std::getenv("PATH");
+  const std::string dirs = path && *path ? path : "/bin:/usr/bin";
+  int why = ENOENT;
+  for (std::size_t start = 0;;) {
+    const std::size_t colon = dirs.find(':', start);
+    std::string dir = dirs.substr(start, colon == std::string::npos ? colon : colon - start);
+    if (dir.empty()) dir = ".";
+    const std::string candidate = dir + "/" + name;
+    struct stat info {};
+    if (::stat(candidate.c_str(), &info) == 0 && S_ISREG(info.st_mode)) {
+      if (::access(candidate.c_str(), X_OK) == 0) return candidate;
+      why = EACCES;
+    }
+    if (colon == std::string::npos) break;
+    start = colon + 1;
+  }
+  *error = std::strerror(why);
+  return "";
+}
 
 ChildStatus RunChildProcess(const std::vector<std::string>& argv) {
   if (argv.empty()) throw std::invalid_argument("RunChildProcess: no program");

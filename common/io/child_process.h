@@ -29,6 +29,11 @@ struct ChildStatus {
 /// first). Never uses a shell. `argv` must not be empty.
 ChildStatus RunChildProcess(const std::vector<std::string>& argv);
 
+/// argv[0] as a path to exec: itself when it holds a '/', else the first executable regular file
+/// of that name on PATH (as posix_spawnp and execvp search it). Empty, with *error, when there
+/// is none.
+std::string ResolveProgram(const std::string& name, std::string* error);
+
 /// How a ChildProcess starts, beyond its arguments.
 struct ChildOptions {
   int output_fd = -1;           // its stdout and stderr; -1: this process's

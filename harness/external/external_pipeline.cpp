@@ -12,7 +12,10 @@
 #include <utility>
 
 #include "common/installation.h"
+#include "common/io/atomic_file.h"
+#include "common/io/child_process.h"
 #include "common/io/options_yaml.h"
+#include "common/io/sha256.h"
 #include "common/io/yaml_reader.h"
 #include "harness/external/protocol.h"
 
@@ -163,6 +166,35 @@ slam::PipelineType ExternalPipelineType() {
   slam::PipelineType type = slam::MakePipelineType<ExternalPipelineOptions, ExternalPipeline>(
       "external", &ExternalPipelineOptionsTable);
   return type;
+}
+
+nlohmann::ordered_json ProgramFingerprint(const ExternalPipelineOptions& options) {
+  nlohmann::ordered_json files = nlohmann::ordered_json::array();
+  for (std::size_t i = 0; i < options.command.size(); ++i) {
+    const std::string& argument = options.command[i];
+    if (argument.empty()) continue;
+    fs::path path;
+    if (i == 0) {
+      std::string error;
+      path = ResolveProgram(argument, &error);
+      if (path.empty()) continue;
+    } else {
+      path = argument;
+    }
+    if (path.is_relative()) path = fs::path(options.working_dir) / path;
+    std::error_code error;
+    if (!fs::is_regular_file(path, error)) continue;
+    nlohmann::ordered_json file = {{"argument", i}, {"path", Normal(path).string()}};
+    try {
+      file["sha256"] = Sha256Hex(ReadRegularFile(path, kMaxFingerprintBytes));
+    } catch (const std::exception&) {
+      file["sha256"] = nullptr;  // too large, or unreadable
+    }
+    files.push_back(std::move(file));
+  }
+  return {{"command", options.command},
+          {"working_dir", options.working_dir},
+          {"files", std::move(files)}};
 }
 
 void RegisterExternalPipelineType() {

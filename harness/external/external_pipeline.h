@@ -49,6 +49,14 @@ inline constexpr double kMaxTimeoutSeconds = 86400.0;
 inline constexpr std::size_t kMaxCommandArgs = 256;
 inline constexpr std::size_t kMaxArgumentBytes = 4096;
 
+/// What an external pipeline's results depend on besides its options (provenance.json, a study's
+/// plan): {"command": argv, "working_dir", "files": [{"argument", "path", "sha256"}]} with the
+/// SHA-256 of every argument that names a regular file (argv[0] searched on PATH when it has no
+/// '/', the others relative to working_dir): the interpreter and the script of `[python3,
+/// my_slam.py]`. A file larger than kMaxFingerprintBytes has "sha256": null.
+inline constexpr std::uint64_t kMaxFingerprintBytes = 256ull << 20;
+nlohmann::ordered_json ProgramFingerprint(const ExternalPipelineOptions& options);
+
 /// The `external` type, added to the registry by RegisterExternalPipelineType().
 slam::PipelineType ExternalPipelineType();
 /// Adds `external` to the pipeline types (once; later calls do nothing).

@@ -4,6 +4,7 @@
 
 #include "common/io/sha256.h"
 #include "corridorsim_version.h"  // generated at build time (cmake/version.cmake)
+#include "harness/external/external_pipeline.h"
 #include "harness/scenario/plugins.h"
 #include "slam/sdk_version.h"
 
@@ -23,9 +24,24 @@ std::optional<std::string> ReleaseAfter(const std::string& gl_string, const std:
   return release;
 }
 
+Json ExternalProgramsJson(const Scenario& scenario) {
+  Json out;
+  for (const Scenario::PipelineEntry& p : scenario.pipelines) {
+    if (!p.enabled || !p.options ||
+        &p.options->table() != &external::ExternalPipelineOptionsTable()) {
+      continue;
+    }
+    const auto* options =
+        static_cast<const external::ExternalPipelineOptions*>(p.options->options());
+    out[p.name] = external::ProgramFingerprint(*options);
+  }
+  return out;
+}
+
 Json ProvenanceJson(const std::string& scenario_file, const std::string& scenario_yaml,
                     std::uint64_t seed, const render::Backend* backend,
-                    const std::vector<std::filesystem::path>& plugins) {
+                    const std::vector<std::filesystem::path>& plugins,
+                    const nlohmann::ordered_json& external_programs) {
   const auto or_null = [](const std::optional<std::string>& s) {
     return s ? Json(*s) : Json(nullptr);
   };
@@ -51,6 +67,8 @@ Json ProvenanceJson(const std::string& scenario_file, const std::string& scenari
                            {"types", plugin->types}});
   }
   j["plugins"] = std::move(plugin_list);
+  // Only with external pipelines: the provenance of every other run keeps its bytes.
+  if (!external_programs.is_null()) j["external_programs"] = external_programs;
   Json render;
   if (backend == nullptr) {
     render["rendered"] = false;

@@ -14,6 +14,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "harness/scenario/scenario.h"
+
 #include "render/backend.h"
 
 namespace corridorsim {
@@ -35,6 +37,13 @@ std::optional<std::string> ReleaseAfter(const std::string& gl_string, const std:
 nlohmann::ordered_json ProvenanceJson(const std::string& scenario_file,
                                       const std::string& scenario_yaml, std::uint64_t seed,
                                       const render::Backend* backend,
-                                      const std::vector<std::filesystem::path>& plugins = {});
+                                      const std::vector<std::filesystem::path>& plugins = {},
+                                      const nlohmann::ordered_json& external_programs = {});
+
+/// The programs of `scenario`'s enabled external pipelines, by pipeline name, each as
+/// external::ProgramFingerprint (its command and the SHA-256 of the files it names); null when
+/// it has none. provenance.json records it as `external_programs`, a study's plan too (an edited
+/// script makes another study).
+nlohmann::ordered_json ExternalProgramsJson(const Scenario& scenario);
 
 }  // namespace corridorsim

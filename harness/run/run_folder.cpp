@@ -63,9 +63,11 @@ void WriteRunFolder(const std::filesystem::path& out, const Scenario& scenario, 
                     const std::string& events_json, const render::Backend* backend) {
   const std::string scenario_yaml = ResolvedScenarioYaml(scenario, seed);
   WriteFileAtomic(out / "scenario.yaml", scenario_yaml);
-  WriteFileAtomic(
-      out / "provenance.json",
-      ProvenanceJson(scenario.file, scenario_yaml, seed, backend, scenario.plugins).dump(2) + "\n");
+  WriteFileAtomic(out / "provenance.json",
+                  ProvenanceJson(scenario.file, scenario_yaml, seed, backend, scenario.plugins,
+                                 ExternalProgramsJson(scenario))
+                          .dump(2) +
+                      "\n");
   WriteFileAtomic(out / "world.json", worlds::GroundTruthJson(world).dump(2) + "\n");
   WriteFileAtomic(out / "ground_truth.tum", truth.PlanarTum());
   for (const PipelineRecord& record : pipelines.records()) {

@@ -101,6 +101,20 @@ json PlanJson(const StudySpec& spec, const std::vector<std::string>& point_yaml)
     }
   }
   plan["plugins"] = std::move(plugins);
+  // The programs of external pipelines with the SHA-256 of the files their commands name: a
+  // resumed study, a shard or a merge with an edited script is another study. Only when there
+  // are some (the plans of other studies keep their bytes).
+  json programs = json::array();
+  std::set<std::string> seen_programs;
+  for (const StudyPoint& point : spec.points) {
+    const json by_pipeline = ExternalProgramsJson(point.scenario);
+    if (by_pipeline.is_null()) continue;
+    for (const auto& [name, fingerprint] : by_pipeline.items()) {
+      json entry = {{"pipeline", name}, {"program", fingerprint}};
+      if (seen_programs.insert(entry.dump()).second) programs.push_back(std::move(entry));
+    }
+  }
+  if (!programs.empty()) plan["external_programs"] = std::move(programs);
   return plan;
 }
 
@@ -190,8 +204,8 @@ void PrepareFolder(const fs::path& dir, const std::string& plan_text, bool force
                        "'" + dir.string() +
                            (fs::exists(plan_file, error)
                                 ? "' holds another study (its study.json differs: another "
-                                  "scenario, sweep, seeds, expectations, may_diverge, build or "
-                                  "plugin library)"
+                                  "scenario, sweep, seeds, expectations, may_diverge, build, "
+                                  "plugin library or external program)"
                                 : "' is not empty and holds no study") +
                            ": pass --force to start it over, or choose another folder");
     }

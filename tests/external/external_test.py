@@ -16,6 +16,8 @@ the run's exit code, messages, metrics.json, events.json, <pipeline>.log and /pr
 
 usage: external_test.py CORRIDORSIM SOURCE_DIR WORK_DIR
 """
+import glob
+import hashlib
 import json
 import os
 import shutil
@@ -242,6 +244,32 @@ def main():
         fail("study: exit %d, summary %s" % (rc, text[:500]))
     else:
         print("ok: the study counts the failed runs (exit %d)" % rc)
+    # The program is part of what a study's runs depend on: the same study resumes, an edited
+    # script makes another one; provenance.json records the script's SHA-256.
+    here = os.path.dirname(os.path.abspath(__file__))
+    script = os.path.join(work, "copy_of_misbehave.py")
+    shutil.copy(os.path.join(here, "misbehave.py"), script)
+    path = scenario(os.path.join(work, "edited.yaml"), "exit",
+                    command=["/usr/bin/python3", script, "exit", "50"],
+                    extra="study:\n  runs: 1\n")
+    study_dir = os.path.join(work, "edited_study")
+    args = ["study", path, "--jobs", "1", "--no-plots", "--out", study_dir]
+    first = run(binary, args + ["--force"], timeout=300)[0]
+    again = run(binary, args, timeout=300)[0]
+    provenance = glob.glob(os.path.join(study_dir, "runs", "*", "*", "provenance.json"))
+    recorded = json.load(open(provenance[0])).get("external_programs", {}) if provenance else {}
+    files = recorded.get("mine", {}).get("files", [])
+    digest = hashlib.sha256(open(script, "rb").read()).hexdigest()
+    with open(script, "a") as f:
+        f.write("# edited\n")
+    rc, out, err = run(binary, args, timeout=300)
+    if (first != 1 or again != 1 or rc != 2 or "external program" not in err or
+            not any(f.get("sha256") == digest and f.get("path") == script for f in files)):
+        fail("an edited program: exits %d, %d, %d (expected 1, 1, 2), %s; recorded %s" %
+             (first, again, rc, err.strip()[-300:], files))
+    else:
+        print("ok: provenance.json records the program's SHA-256; an edited script is another "
+              "study")
     junit = os.path.join(work, "junit.xml")
     shutil.rmtree(os.path.join(work, "test"), ignore_errors=True)
     rc, out, err = run(binary, ["test", os.path.join(work, "exit", "s.yaml"), "--junit", junit,
