@@ -60,7 +60,8 @@ def main():
                 "share/corridorsim/scenarios/default.yaml",
                 "share/corridorsim/scenarios/studies/p1_fig15.yaml",
                 "share/corridorsim/models/door_plate_svm.yml",
-                "share/corridorsim/scripts/plot_run.py", "share/doc/corridorsim/plugins.md",
+                "share/corridorsim/scripts/plot_run.py",
+                "share/corridorsim/scripts/plot_evaluation.py", "share/doc/corridorsim/plugins.md",
                 "share/doc/corridorsim/examples/cpp_plugin/lamp_ekf.cpp"]:
         if not os.path.exists(os.path.join(prefix, rel)):
             fail("cmake --install did not install " + rel)
@@ -115,6 +116,19 @@ def main():
     if len(plugins) != 1 or plugins[0]["sha256"] != digest or plugins[0]["version"] != "1.0.0" \
             or plugins[0]["path"] != os.path.realpath(library):
         fail("provenance.json plugins: %s (the library's sha256 is %s)" % (plugins, digest))
+
+    # The installed `evaluate` (and its plot script, which imports plot_run.py beside it) on the
+    # plugin's own trajectory: metrics.json's ATE.
+    evaluation_dir = os.path.join(work, "evaluation")
+    run([corridorsim, "evaluate", run_dir, "--estimate",
+         "lamp_ekf=%s" % os.path.join(run_dir, "lamp_ekf.tum"), "--out", evaluation_dir],
+        cwd=empty, env=env)
+    evaluated = json.loads(read(os.path.join(evaluation_dir, "evaluation.json")))
+    if abs(evaluated["estimates"]["lamp_ekf"]["ate_rmse_m"] - mine) > 3e-6 or \
+            not os.path.exists(os.path.join(evaluation_dir, "plots", "trajectories.png")):
+        fail("installed evaluate: ATE %s against metrics.json's %s, plots %s" % (
+            evaluated["estimates"]["lamp_ekf"]["ate_rmse_m"], mine,
+            os.listdir(evaluation_dir)))
 
     # 5. study with 2 workers, and the same study in 2 shards merged: byte-identical summaries.
     whole = os.path.join(work, "study")
