@@ -241,7 +241,8 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
                        "Print the version, the git describe of the build and the SDK ABI version");
   app.footer(
       "Exit codes: 0 success, 2 bad input, 1 other failures; `run` also 3 (an expectation "
-      "failed) and 4 (results written, an extra failed); `score` also 3 (an --expect failed). Run "
+      "failed) and 4 (results written, an extra failed); `score` also 3 (an --expect failed); "
+      "`evaluate` also 3 (an --expect failed) and 4 (results written, plots/ failed). Run "
       "`corridorsim <subcommand> --help`.");
 
   CommandLine parsed;
