@@ -26,7 +26,18 @@ install(DIRECTORY ${PROJECT_SOURCE_DIR}/scenarios ${PROJECT_SOURCE_DIR}/models
         DESTINATION ${CORRIDORSIM_INSTALL_DATADIR} COMPONENT runtime)
 install(PROGRAMS ${PROJECT_SOURCE_DIR}/scripts/plot_run.py ${PROJECT_SOURCE_DIR}/scripts/plot_study.py
                  ${PROJECT_SOURCE_DIR}/scripts/plot_evaluation.py
+                 ${PROJECT_SOURCE_DIR}/scripts/make_viewer.py
+                 ${PROJECT_SOURCE_DIR}/scripts/make_report.py
         DESTINATION ${CORRIDORSIM_INSTALL_DATADIR}/scripts COMPONENT runtime)
+# The pages' sources (docs/viewer.md) and uPlot, which every viewer.html and report.html inlines
+# (npm, pinned by viewer/package-lock.json; scripts/setup.sh installs it into viewer/node_modules).
+install(FILES ${PROJECT_SOURCE_DIR}/viewer/viewer.html ${PROJECT_SOURCE_DIR}/viewer/viewer.js
+              ${PROJECT_SOURCE_DIR}/viewer/viewer.css ${PROJECT_SOURCE_DIR}/viewer/report.html
+              ${PROJECT_SOURCE_DIR}/viewer/report.js
+        DESTINATION ${CORRIDORSIM_INSTALL_DATADIR}/viewer COMPONENT runtime)
+install(FILES ${CORRIDORSIM_UPLOT_DIR}/uPlot.iife.min.js ${CORRIDORSIM_UPLOT_DIR}/uPlot.min.css
+              ${CORRIDORSIM_UPLOT_DIR}/../LICENSE
+        DESTINATION ${CORRIDORSIM_INSTALL_DATADIR}/viewer/vendor/uplot COMPONENT runtime)
 
 # The Python package (the protocol's reference client, docs/protocol.md) where Debian's python3
 # finds it: <prefix>/lib/python3/dist-packages (corridorsim puts that folder on the PYTHONPATH of

@@ -37,4 +37,12 @@ std::filesystem::path PythonPackageDir() {
   return (library.parent_path() / CORRIDORSIM_LIB_TO_PYTHON).lexically_normal();
 }
 
+std::string PythonPathWithPackage() {
+  const std::filesystem::path package = PythonPackageDir();
+  const char* old = std::getenv("PYTHONPATH");
+  const std::string inherited = old != nullptr ? old : "";
+  if (package.empty()) return inherited;
+  return package.string() + (inherited.empty() ? "" : ":" + inherited);
+}
+
 }  // namespace corridorsim

@@ -8,6 +8,7 @@
 // source or build tree is compiled in (docs/install.md).
 
 #include <filesystem>
+#include <string>
 
 namespace corridorsim {
 
@@ -23,6 +24,11 @@ std::filesystem::path DataDir();
 /// tree, build/lib/python3/dist-packages, a link to python/); empty if the loader cannot say where
 /// the library is.
 std::filesystem::path PythonPackageDir();
+
+/// PYTHONPATH for the Python programs corridorsim starts (plot scripts, the viewer, external
+/// pipelines): PythonPackageDir() first, then this process's PYTHONPATH; this process's
+/// PYTHONPATH alone when the package's folder is unknown (empty when neither is set).
+std::string PythonPathWithPackage();
 
 /// The file of the shared library this function lives in (the SDK's libcorridorsim_common),
 /// absolute; empty if the loader cannot say.

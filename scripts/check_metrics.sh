@@ -2,11 +2,14 @@
 # Runs every shipped scenario (scenarios/*.yaml, at its own seed) and compares the bytes of each
 # run's metrics.json with the reference copy in tests/data/metrics/<scenario>.json. A refactoring
 # must leave them all identical; a change that is meant to move a metric updates the references
-# with --update in the same commit and says why.
+# with --update in the same commit and says why. Each run folder is also given to
+# scripts/check_analysis.py: corridorsim.Run must recompute every pipeline's trajectory metrics
+# from the TUM files to the last digit (docs/analysis.md).
 #
 #   scripts/check_metrics.sh [--update] [--bin build/bin/corridorsim] [SCENARIO.yaml ...]
 #
-# Exit 0: all identical (or updated); 1: a difference (the diff is printed) or a run failed.
+# Exit 0: all identical (or updated) and recomputed exactly; 1: a difference (the diff is
+# printed), a mismatch of the Python recomputation (each is printed) or a run failed.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -26,6 +29,11 @@ done
 [ -x "$bin" ] || { echo "check_metrics: $bin not found (build first)" >&2; exit 1; }
 
 reference_dir=tests/data/metrics
+# Debian's python3 (numpy, pandas) as the plots use it, with the checkout's corridorsim package
+# first on its path.
+python=/usr/bin/python3
+[ -x "$python" ] || python=python3
+python_path="$PWD/python${PYTHONPATH:+:$PYTHONPATH}"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 failed=0
@@ -47,6 +55,15 @@ for scenario in "${scenarios[@]}"; do
     echo "same $name"
   else
     echo "DIFF $name"; diff "$reference_dir/$name.json" "$out/metrics.json" | head -20 || true
+    failed=1
+  fi
+  # corridorsim.Run's ATE, RPE and final error equal metrics.json's, float for float.
+  if PYTHONPATH="$python_path" "$python" scripts/check_analysis.py "$out" \
+      > "$work/$name.analysis" 2>&1; then
+    echo "exact $(cat "$work/$name.analysis")"
+  else
+    echo "FAIL $name: corridorsim.Run does not recompute metrics.json exactly"
+    head -20 "$work/$name.analysis"
     failed=1
   fi
 done

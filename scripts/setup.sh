@@ -16,8 +16,13 @@ PACKAGES=(
   python3-matplotlib python3-opencv
   # the Python package's tests (python/tests, docs/protocol.md)
   python3-pytest python3-numpy
+  # the Python package's analysis side (corridorsim.Run, Study, Dataset: docs/analysis.md)
+  python3-pandas
   # the Debian packages `cpack` makes (docs/install.md): dpkg-shlibdeps computes their Depends
   dpkg-dev file
+  # the viewer's browser tests (docs/viewer.md): Debian's Chromium, driven headless by
+  # playwright-core from npm (viewer/package-lock.json, installed below)
+  chromium
   # `corridorsim study --slurm`'s test: a single-node Slurm on this machine
   # (scripts/slurm_local.sh, tests/slurm/)
   munge slurm-client slurmctld slurmd
@@ -30,13 +35,25 @@ for p in "${PACKAGES[@]}"; do
   fi
 done
 
-if [ ${#missing[@]} -eq 0 ]; then
-  exit 0
+# npm (for viewer/): the machine's Node.js when it has one (it may come from elsewhere than Debian,
+# with its own npm), else Debian's nodejs and npm.
+if ! command -v npm > /dev/null 2>&1; then missing+=(nodejs npm); fi
+
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "setup: installing ${missing[*]}"
+  SUDO=""
+  if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+  export DEBIAN_FRONTEND=noninteractive
+  $SUDO apt-get update -qq
+  $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
 
-echo "setup: installing ${missing[*]}"
-SUDO=""
-if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
-export DEBIAN_FRONTEND=noninteractive
-$SUDO apt-get update -qq
-$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+# The viewer's npm packages, exactly as viewer/package-lock.json pins them (uPlot, inlined into
+# every viewer.html; playwright-core, which drives Debian's chromium in the browser tests):
+# `npm ci` when viewer/node_modules does not hold that lockfile's packages.
+here="$(cd "$(dirname "$0")/.." && pwd)"
+if ! cmp -s "$here/viewer/package-lock.json" "$here/viewer/node_modules/.corridorsim-lock.json"; then
+  echo "setup: npm ci in viewer/"
+  (cd "$here/viewer" && npm ci --no-audit --no-fund --loglevel=error)
+  cp "$here/viewer/package-lock.json" "$here/viewer/node_modules/.corridorsim-lock.json"
+fi

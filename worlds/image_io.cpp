@@ -1,5 +1,7 @@
 #include "worlds/image_io.h"
 
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 #include <opencv2/core.hpp>
@@ -37,6 +39,35 @@ std::string EncodePng(const Image8& image, const std::string& what) {
     bgr = rgb;
   }
   return Encode(bgr, what);
+}
+
+std::string EncodeJpegShrunk(const Image8& image, int max_width, int quality,
+                             const std::string& what, double* scale) {
+  const bool valid = image.width > 0 && image.height > 0 && image.channels == 3 &&
+                     image.data.size() == std::size_t(image.width) * image.height * 3;
+  if (!valid) throw std::invalid_argument(what + ": not an RGB image of consistent size");
+  if (max_width < 1 || quality < 1 || quality > 100) {
+    throw std::invalid_argument(what + ": JPEG width or quality out of range");
+  }
+  const cv::Mat rgb(image.height, image.width, CV_8UC3,
+                    const_cast<std::uint8_t*>(image.data.data()));
+  cv::Mat bgr;
+  cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
+  double s = 1.0;
+  if (image.width > max_width) {
+    s = static_cast<double>(max_width) / image.width;
+    const int height = std::max(1, static_cast<int>(std::lround(image.height * s)));
+    cv::Mat shrunk;
+    cv::resize(bgr, shrunk, cv::Size(max_width, height), 0, 0, cv::INTER_AREA);
+    bgr = shrunk;
+  }
+  std::vector<std::uint8_t> buffer;
+  if (!cv::imencode(".jpg", bgr, buffer,
+                    {cv::IMWRITE_JPEG_QUALITY, quality, cv::IMWRITE_JPEG_OPTIMIZE, 1})) {
+    throw std::runtime_error(what + ": JPEG encoding failed");
+  }
+  if (scale != nullptr) *scale = s;
+  return std::string(buffer.begin(), buffer.end());
 }
 
 std::string EncodePng16(int width, int height, int channels, const std::vector<std::uint16_t>& data,

@@ -301,8 +301,19 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
                       "Also write a dataset into this folder (outside the run folder): TUM RGB-D "
                       "(front), EuRoC/ASL (upward, lateral), odometry CSV, labels and COCO plate "
                       "boxes (docs/export.md); staged and replaced like --out");
-  bool no_plots = false;
+  bool no_plots = false, no_viewer = false;
   run->add_flag("--no-plots", no_plots, "Skip plots/ (matplotlib)")->disable_flag_override();
+  run->add_flag("--no-viewer", no_viewer, "Skip viewer.html (docs/viewer.md)")
+      ->disable_flag_override();
+  run->add_flag("--keep-frames", parsed.run.keep_frames,
+                "Keep downscaled JPEGs of the rendered frames in frames/ for viewer.html "
+                "(within --keep-frames-mb)")
+      ->disable_flag_override();
+  std::string keep_frames_mb;
+  CLI::Option* keep_frames_mb_option = run->add_option(
+      "--keep-frames-mb", keep_frames_mb,
+      "The most frames/ may hold, MB (1-40, default 20): past it every other kept frame is "
+      "dropped and the stride doubles");
   run->add_flag("--check", parsed.run.check_only,
                 "Only check the scenario: load it, build its world, path and pipelines, and exit")
       ->disable_flag_override();
@@ -315,10 +326,12 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
           "<pipeline>_detections.csv, "
           "metrics.json (docs/metrics.md), timing.json, events.json, "
           "provenance.json (what the bytes depend on: build, compiler, Mesa, backend); then "
-          "the extras: maps/, the --export dataset, plots/ (python3 scripts/plot_run.py).\n") +
+          "the extras: maps/, the --export dataset, plots/ (python3 scripts/plot_run.py), "
+          "viewer.html (scripts/make_viewer.py: one page, offline, docs/viewer.md).\n") +
       PipelineListFooter() + kFolderFooter +
       "Exit codes: 0 success; 3 an expectation failed; 4 the results are written but an extra "
-      "(maps/, plots/, the --export dataset) failed (its message is on stderr); 3 takes "
+      "(maps/, plots/, viewer.html, the --export dataset) failed (its message is on stderr); 3 "
+      "takes "
       "precedence over 4; 2 bad input (nothing is written); 1 other failures (the previous "
       "folder is left as it was).");
 
@@ -568,8 +581,12 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
                    "scenario's baseline: true pipelines and study.may_diverge)")
       ->delimiter(',')
       ->type_name("PIPELINE[,PIPELINE]");
-  bool study_no_plots = false;
+  bool study_no_plots = false, study_no_viewer = false;
   study->add_flag("--no-plots", study_no_plots, "Skip plots/ (matplotlib)")
+      ->disable_flag_override();
+  study
+      ->add_flag("--no-viewer", study_no_viewer,
+                 "Skip report.html and each run's viewer.html (docs/viewer.md)")
       ->disable_flag_override();
   bool study_slurm = false, study_submit = false;
   std::string study_slurm_tasks, study_task_minutes;
@@ -596,21 +613,24 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
   merge->add_option("dirs", merge_dirs, "Study folders to combine")->required();
   std::string merge_out = "out/study_merged";
   merge->add_option("--out", merge_out, "The combined study folder")->capture_default_str();
-  bool merge_force = false, merge_no_plots = false;
+  bool merge_force = false, merge_no_plots = false, merge_no_viewer = false;
   merge->add_flag("--force", merge_force, "Replace a non-empty --out folder written by corridorsim")
       ->disable_flag_override();
   merge->add_flag("--no-plots", merge_no_plots, "Skip plots/ (matplotlib)")
       ->disable_flag_override();
+  merge->add_flag("--no-viewer", merge_no_viewer, "Skip report.html (docs/viewer.md)")
+      ->disable_flag_override();
   study->footer(
       std::string(
           "Each run is `corridorsim run <point scenario> --seed S --no-plots` in a process of its "
-          "own; finished runs are kept (runs/<point>/seed_<S>/) and skipped when the same study "
-          "is run again. Writes study.json (the plan), points/, runs/, status/, logs/, "
-          "summary.json, summary.csv, paired.csv, report.md, timing.json and plots/ "
-          "(docs/studies.md).\n") +
+          "own; finished runs are kept (runs/<point>/seed_<S>/, each with its viewer.html) and "
+          "skipped when the same study is run again. Writes study.json (the plan), points/, "
+          "runs/, status/, logs/, summary.json, summary.csv, paired.csv, report.md, timing.json, "
+          "plots/ (docs/studies.md) and report.html (docs/viewer.md).\n") +
       "Exit codes: 0 success; 1 a run failed or timed out, or a pipeline that is neither a "
       "baseline nor in may_diverge diverged (the others are summarised, each one named); 3 a "
-      "study expectation failed; 4 only plots/ failed; 2 bad input (nothing runs), or `study "
+      "study expectation failed; 4 only plots/ or report.html failed; 2 bad input (nothing runs), "
+      "or `study "
       "merge` folders that lack runs of the plan (nothing is written). Ctrl-C or SIGTERM stops "
       "the runs in flight too; the same command resumes the study.");
 
@@ -628,8 +648,9 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
           ->type_name("FILE");
   test->footer(
       "Each expectation of a scenario (or each study expectation at each sweep point) is one "
-      "test case; a failure gives the measured value and the threshold, system-out the run "
-      "folder as [[ATTACHMENT|path]]; a run that cannot finish is an error case with its log's "
+      "test case; a failure gives the measured value and the threshold, system-out the run's "
+      "viewer.html (a study's report.html; the folder with --no-viewer) as "
+      "[[ATTACHMENT|path]]; a run that cannot finish is an error case with its log's "
       "tail (docs/ci.md).\n"
       "Exit codes: 0 every case passed; 3 an expectation failed; 1 a run or study could not "
       "finish; 2 bad input (nothing runs).");
@@ -750,6 +771,14 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
       parsed.run.export_dir = export_text;
     }
     parsed.run.plots = !no_plots;
+    parsed.run.viewer = !no_viewer;
+    if (keep_frames_mb_option->count() > 0) {
+      const double mb = ParseNumberArgument(keep_frames_mb, 1e6, "--keep-frames-mb");
+      if (!(mb >= 1.0 && mb <= 40.0))
+        Fail("--keep-frames-mb", "must be in [1, 40] " + Got(keep_frames_mb));
+      if (!parsed.run.keep_frames) Fail("--keep-frames-mb", "needs --keep-frames");
+      parsed.run.keep_frames_budget_mb = mb;
+    }
   } else if (drive->parsed()) {
     parsed.job = CommandLine::Job::kDrive;
     drive_options.Resolve(&parsed.drive);
@@ -917,6 +946,7 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
     r.out_dir = merge_out;
     r.force = merge_force;
     r.plots = !merge_no_plots;
+    r.viewer = !merge_no_viewer;
   } else if (study->parsed()) {
     parsed.job = CommandLine::Job::kStudy;
     StudyRequest& r = parsed.study;
@@ -940,6 +970,7 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
       r.shard_count = n;
     }
     r.plots = !study_no_plots;
+    r.viewer = !study_no_viewer;
     if (study_may_diverge.size() > 64) Fail("--may-diverge", "at most 64 pipelines");
     r.may_diverge = study_may_diverge;
     r.slurm = study_slurm;

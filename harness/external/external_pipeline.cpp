@@ -215,11 +215,8 @@ ExternalPipeline::ExternalPipeline(const ExternalPipelineOptions& options,
   std::vector<std::pair<std::string, std::string>> env = {
       {"CORRIDORSIM_PROTOCOL_FD", "3"},
       {"CORRIDORSIM_PROTOCOL_VERSION", std::to_string(kProtocolVersion)}};
-  const fs::path python_dir = PythonPackageDir();
-  if (!python_dir.empty()) {
-    const char* old = std::getenv("PYTHONPATH");
-    env.emplace_back("PYTHONPATH",
-                     python_dir.string() + (old && *old ? ":" + std::string(old) : ""));
+  if (const std::string python_path = PythonPathWithPackage(); !python_path.empty()) {
+    env.emplace_back("PYTHONPATH", python_path);
   }
   connection_ = std::make_unique<ProgramConnection>(options_.command, options_.working_dir, env);
 }

@@ -53,7 +53,9 @@ void AddTimingMetrics(const PipelineRecord& pipeline, const metrics::PipelineCon
   }
 }
 
-Json PipelineMetrics(const MetricsInput& input, const PipelineRecord& pipeline) {
+// `truth_as_written`: input.truth as ground_truth.tum holds it (metrics::PosesAsWritten).
+Json PipelineMetrics(const MetricsInput& input, const std::vector<TruthPose>& truth_as_written,
+                     const PipelineRecord& pipeline) {
   Json object;
   const MetricWriter out(object, MetricScope::kPipeline);
   if (pipeline.failure) {
@@ -63,7 +65,10 @@ Json PipelineMetrics(const MetricsInput& input, const PipelineRecord& pipeline) 
   }
   const metrics::PipelineContext context = metrics::MakeContext(input, pipeline);
 
-  const metrics::MatchedTrajectory matched = metrics::MatchToTruth(input.truth, pipeline.estimates);
+  // The trajectory metrics score the poses as the run's TUM files hold them, so that they can
+  // be recomputed from the files to the last digit (metrics::PoseAsWritten).
+  const metrics::MatchedTrajectory matched =
+      metrics::MatchToTruth(truth_as_written, metrics::PosesAsWritten(pipeline.estimates));
   metrics::AddTrajectoryMetrics(matched, out);
   metrics::AddNeesMetrics(matched, out);
   const std::size_t malformed_innovations = metrics::AddNisMetrics(pipeline.innovations, out);
@@ -145,9 +150,10 @@ nlohmann::ordered_json ComputeMetrics(const MetricsInput& input) {
     root.MapCount("frames.per_camera", camera, count);
   }
   Json pipelines = Json::object();
+  const std::vector<TruthPose> truth_as_written = metrics::PosesAsWritten(input.truth);
   for (const PipelineRecord& pipeline : input.pipelines) {
     CheckOrDie(!pipelines.contains(pipeline.name), "ComputeMetrics", "two pipelines share a name");
-    pipelines[pipeline.name] = PipelineMetrics(input, pipeline);
+    pipelines[pipeline.name] = PipelineMetrics(input, truth_as_written, pipeline);
   }
   out["pipelines"] = std::move(pipelines);
   return out;

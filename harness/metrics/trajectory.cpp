@@ -1,11 +1,14 @@
 #include "harness/metrics/trajectory.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdlib>
 #include <string>
 
 #include "common/error.h"
 #include "harness/metrics/stats.h"
+#include "sim/simulation.h"
 
 namespace corridorsim::metrics {
 
@@ -45,6 +48,33 @@ MatchedTrajectory MatchToTruth(const std::vector<TruthPose>& truth,
     }
     out.samples.push_back({e.stamp_ns, e.world_from_robot, *t, e.covariance});
   }
+  return out;
+}
+
+SE2 PoseAsWritten(const SE2& pose) {
+  // The very line the run folder holds (the stamp does not change the pose's digits).
+  const std::string line = sim::TumLine(0, SE3::FromSE2(pose));
+  std::array<double, 8> fields{};
+  const char* cursor = line.c_str();
+  for (double& field : fields) {
+    char* end = nullptr;
+    field = std::strtod(cursor, &end);
+    CheckOrDie(end != cursor, "metrics::PoseAsWritten", "sim::TumLine wrote fewer than 8 fields");
+    cursor = end;
+  }
+  // t x y z qx qy qz qw: a planar pose's quaternion is (0, 0, sin(yaw/2), cos(yaw/2)).
+  return SE2(fields[1], fields[2], 2.0 * std::atan2(fields[6], fields[7]));
+}
+
+std::vector<TruthPose> PosesAsWritten(const std::vector<TruthPose>& poses) {
+  std::vector<TruthPose> out = poses;
+  for (TruthPose& p : out) p.world_from_robot = PoseAsWritten(p.world_from_robot);
+  return out;
+}
+
+std::vector<EstimateSample> PosesAsWritten(const std::vector<EstimateSample>& estimates) {
+  std::vector<EstimateSample> out = estimates;
+  for (EstimateSample& e : out) e.world_from_robot = PoseAsWritten(e.world_from_robot);
   return out;
 }
 

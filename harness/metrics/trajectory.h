@@ -35,6 +35,16 @@ std::optional<SE2> TruthAt(const std::vector<TruthPose>& truth, TimeNs stamp);
 MatchedTrajectory MatchToTruth(const std::vector<TruthPose>& truth,
                                const std::vector<EstimateSample>& estimates);
 
+/// The planar pose a reader of the run's TUM files gets back from the line sim::TumLine writes
+/// for `pose`: x and y parsed from their six decimals, yaw = 2 atan2(qz, qw) of the printed
+/// quaternion (nine decimals). The runner scores these (PosesAsWritten), so that metrics.json's
+/// trajectory numbers are a function of ground_truth.tum and <pipeline>.tum alone: any reader
+/// that repeats the arithmetic (corridorsim.Run.ate, docs/analysis.md) gets them to the last
+/// digit. A NaN coordinate stays NaN (the line says "nan").
+SE2 PoseAsWritten(const SE2& pose);
+std::vector<TruthPose> PosesAsWritten(const std::vector<TruthPose>& poses);
+std::vector<EstimateSample> PosesAsWritten(const std::vector<EstimateSample>& estimates);
+
 /// Estimate minus truth in the world frame: (x m, y m, yaw rad wrapped to (-pi, pi]).
 Eigen::Vector3d PoseError(const SE2& estimate, const SE2& truth);
 

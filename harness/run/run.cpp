@@ -18,6 +18,7 @@
 #include "common/io/atomic_file.h"
 #include "harness/run/async_consumer.h"
 #include "harness/run/export_consumer.h"
+#include "harness/run/frame_keeper.h"
 #include "harness/run/pipeline_runner.h"
 #include "harness/run/progress.h"
 #include "harness/run/run_folder.h"
@@ -136,6 +137,11 @@ int RunScenario(const RunRequest& request) {
   SensorBus bus(setup.camera_ids());
   bus.Subscribe(&truth);
   if (exporter) bus.Subscribe(&*exporter);
+  std::optional<FrameKeeper> kept_frames;
+  if (request.keep_frames) {
+    kept_frames.emplace(static_cast<std::size_t>(request.keep_frames_budget_mb * 1e6));
+    bus.Subscribe(&*kept_frames);
+  }
   bus.Subscribe(async_pipelines ? static_cast<BusConsumer*>(&*async_pipelines) : &pipelines);
   bus.Subscribe(&events);
   bus.Subscribe(&progress);
@@ -166,6 +172,7 @@ int RunScenario(const RunRequest& request) {
   const double render_seconds = simulation.render_seconds();
   const double physics_seconds = bus.step_seconds() - render_seconds;
   double write_seconds = 0.0, export_seconds = 0.0, export_wait_seconds = 0.0, plot_seconds = 0.0;
+  double viewer_seconds = 0.0;
   double total = 0.0;
   nlohmann::ordered_json& timing = scored.timing;
   const auto timing_json = [&] {
@@ -183,7 +190,8 @@ int RunScenario(const RunRequest& request) {
         {"writing", write_seconds},
         {"export", export_seconds},
         {"export_wait", export_wait_seconds},
-        {"plots", plot_seconds}};
+        {"plots", plot_seconds},
+        {"viewer", viewer_seconds}};
     return timing.dump(2) + "\n";
   };
 
@@ -215,6 +223,20 @@ int RunScenario(const RunRequest& request) {
                         plots_written = true;
                       }});
   }
+  if (kept_frames) {
+    extras.push_back({"frames/", [&] { kept_frames->Write(out->path() / "frames"); }});
+  }
+  bool viewer_written = false;
+  if (request.viewer) {
+    // After plots/ and before timing.json's last write: the page shows the run's timing.
+    extras.push_back({"viewer.html", [&] {
+                        const WallClock::time_point t_viewer = WallClock::now();
+                        const std::optional<std::string> error = MakeViewer(out->path());
+                        viewer_seconds = SecondsSince(t_viewer);
+                        if (error) throw std::runtime_error(*error);
+                        viewer_written = true;
+                      }});
+  }
   extras.push_back(
       {"timing.json", [&] { WriteFileAtomic(out->path() / "timing.json", timing_json()); }});
   const int extras_failed = CommitResultsThenExtras(*out, write_results, extras);
@@ -230,8 +252,9 @@ int RunScenario(const RunRequest& request) {
       "wrote %s/{scenario.yaml, world.json, ground_truth.tum, <pipeline>.tum, "
       "<pipeline>_cov.txt, <pipeline>_errors.csv, <pipeline>_nis.csv, <pipeline>_landmarks.json, "
       "<pipeline>_detections.csv, metrics.json, timing.json, events.json, "
-      "provenance.json%s}%s\n",
+      "provenance.json%s%s}%s\n",
       out->path().string().c_str(), plots_written ? ", plots/" : "",
+      viewer_written ? ", viewer.html" : "",
       dataset && dataset->committed() ? (" and the dataset in " + dataset->path().string()).c_str()
                                       : "");
   if (!simulation.path_done()) {

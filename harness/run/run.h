@@ -15,13 +15,18 @@ namespace corridorsim {
 struct RunRequest : JobRequest {
   std::optional<std::filesystem::path> export_dir;  // --export: a dataset for other systems
   bool plots = true;                                // --no-plots skips plots/
+  bool viewer = true;                               // --no-viewer skips viewer.html
+  // --keep-frames: downscaled JPEGs of the rendered frames in frames/ (within the budget below),
+  // which viewer.html shows with the detections drawn on them (docs/viewer.md).
+  bool keep_frames = false;
+  double keep_frames_budget_mb = 20.0;  // --keep-frames-mb, 1 to 40
   bool check_only = false;  // --check: load, build the world, path, pipelines and rig; run nothing
 };
 
 /// Exit code of a run whose expectations did not all pass (0 success, 1 failure, 2 bad input).
 inline constexpr int kExitExpectationsFailed = 3;
-/// Exit code of a run whose results are written and committed but an extra (maps/, plots/, the
-/// --export dataset) failed. kExitExpectationsFailed takes precedence.
+/// Exit code of a run whose results are written and committed but an extra (maps/, plots/,
+/// viewer.html, the --export dataset) failed. kExitExpectationsFailed takes precedence.
 inline constexpr int kExitExtraFailed = 4;
 /// Exit code of a run in which a pipeline failed (a call into it threw: a plugin's bug, docs/
 /// plugins.md): the other pipelines' results are written and committed, the failed one's metrics

@@ -133,7 +133,13 @@ std::optional<std::string> RunPlotScript(const std::string& script,
   const std::string python = PlotPython();
   std::vector<std::string> argv = {python, path.string()};
   argv.insert(argv.end(), args.begin(), args.end());
-  const ChildStatus status = RunChildProcess(argv);
+  // The installed Python package (corridorsim.files: the run folder's readers) on its path.
+  ChildOptions options;
+  if (const std::string python_path = PythonPathWithPackage(); !python_path.empty()) {
+    options.environment.emplace_back("PYTHONPATH", python_path);
+  }
+  ChildProcess child(argv, options);
+  const ChildStatus status = child.Wait();
   if (status.succeeded()) return std::nullopt;
   std::string command = python + " '" + path.string() + "'";
   for (const std::string& a : args) command += " '" + a + "'";
@@ -142,6 +148,10 @@ std::optional<std::string> RunPlotScript(const std::string& script,
 
 std::optional<std::string> MakePlots(const std::filesystem::path& out) {
   return RunPlotScript("plot_run.py", {out.string()});
+}
+
+std::optional<std::string> MakeViewer(const std::filesystem::path& out) {
+  return RunPlotScript("make_viewer.py", {out.string()});
 }
 
 std::unique_ptr<StagedDirectory> StageOutputFolder(const std::filesystem::path& dir,

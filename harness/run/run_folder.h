@@ -57,7 +57,12 @@ std::string PlotPython();
 /// argument whatever it holds). Returns an error message, or nothing.
 std::optional<std::string> MakePlots(const std::filesystem::path& out);
 
-/// Runs `PlotPython() <data>/scripts/<script> <args>...` (no shell). Returns an error message, or
+/// Runs `PlotPython() <data>/scripts/make_viewer.py <out>`: <out>/viewer.html (docs/viewer.md).
+/// Returns an error message, or nothing.
+std::optional<std::string> MakeViewer(const std::filesystem::path& out);
+
+/// Runs `PlotPython() <data>/scripts/<script> <args>...` (no shell), with the installed Python
+/// package on its PYTHONPATH (PythonPathWithPackage). Returns an error message, or
 /// nothing.
 std::optional<std::string> RunPlotScript(const std::string& script,
                                          const std::vector<std::string>& args);

@@ -132,7 +132,7 @@ int WriteSlurmStudy(const StudyRequest& request) {
     std::fflush(stdout);
     const Clock::time_point start = Clock::now();
     CatchStopSignals();
-    std::unique_ptr<ChildProcess> child = StartRun(ThisProgram(), spec, dir, first);
+    std::unique_ptr<ChildProcess> child = StartRun(ThisProgram(), spec, dir, first, request.viewer);
     std::optional<ChildStatus> status;
     bool timed_out = false;
     while (!(status = child->Poll())) {
@@ -209,8 +209,8 @@ int WriteSlurmStudy(const StudyRequest& request) {
       "set -euo pipefail\n"
       "exec " +
       ShellWord(program) + " study " + ShellWord(study_file) + seed_args +
-      " --shard \"${SLURM_ARRAY_TASK_ID}/" + std::to_string(tasks) +
-      "\" --jobs 1 --no-plots --out " + ShellWord((dir / "shards").string()) +
+      " --shard \"${SLURM_ARRAY_TASK_ID}/" + std::to_string(tasks) + "\" --jobs 1 --no-plots" +
+      (request.viewer ? "" : " --no-viewer") + " --out " + ShellWord((dir / "shards").string()) +
       "/\"${SLURM_ARRAY_TASK_ID}\"\n";
   const std::string merge_script =
       "#!/bin/bash\n"
@@ -228,7 +228,7 @@ int WriteSlurmStudy(const StudyRequest& request) {
       "/\"$k\"); done\n"
       "exec " +
       ShellWord(program) + " study merge \"${shards[@]}\" --out " + ShellWord(dir.string()) +
-      (request.plots ? "" : " --no-plots") + "\n";
+      (request.plots ? "" : " --no-plots") + (request.viewer ? "" : " --no-viewer") + "\n";
   WriteFileAtomic(slurm_dir / "study.sbatch", array_script);
   WriteFileAtomic(slurm_dir / "merge.sbatch", merge_script);
   std::printf(

@@ -507,6 +507,14 @@ int FinishStudy(const StudySpec& spec, const fs::path& dir, const StudyRequest& 
     plot_error = MakeStudyPlots(dir);
     timing["plot_seconds"] = Seconds(t_plots);
   }
+  std::optional<std::string> report_error;
+  if (request.viewer) {
+    // report.html (docs/viewer.md): the study's figures and runs, linking each run's viewer.
+    const Clock::time_point t_report = Clock::now();
+    report_error = RunPlotScript("make_report.py", {dir.string()});
+    if (const int signal = StopSignal()) DieOfSignal(signal);
+    timing["report_seconds"] = Seconds(t_report);
+  }
   WriteFileAtomic(dir / "timing.json", timing.dump(2) + "\n");
 
   std::printf("\nstudy: %zu point(s) x %d seed(s)\n", spec.points.size(), spec.runs);
@@ -531,8 +539,9 @@ int FinishStudy(const StudySpec& spec, const fs::path& dir, const StudyRequest& 
   }
   std::printf(
       "wrote %s/{study.json, summary.json, summary.csv, paired.csv, report.md, "
-      "timing.json%s, runs/, points/}\n",
-      dir.string().c_str(), plot_error || !request.plots ? "" : ", plots/");
+      "timing.json%s%s, runs/, points/}\n",
+      dir.string().c_str(), plot_error || !request.plots ? "" : ", plots/",
+      report_error || !request.viewer ? "" : ", report.html");
   int code = 0;
   if (summary.failed_runs > 0) {
     std::printf("study: %d run(s) failed or timed out:\n", summary.failed_runs);
@@ -572,11 +581,13 @@ int FinishStudy(const StudySpec& spec, const fs::path& dir, const StudyRequest& 
   }
   if (code == 0 && !summary.all_passed()) {
     code = 3;
-  } else if (code == 0 && plot_error) {
+  } else if (code == 0 && (plot_error || report_error)) {
     code = 4;
   }
   if (plot_error)
     std::fprintf(stderr, "corridorsim: warning: plots/ failed: %s\n", plot_error->c_str());
+  if (report_error)
+    std::fprintf(stderr, "corridorsim: warning: report.html failed: %s\n", report_error->c_str());
   if (request.shard_count > 1 && code != 0) {
     // A shard holds part of the runs: its expectations and failures are judged by `study merge`
     // (a Slurm merge job runs only after every task exited 0: --dependency=afterok).
@@ -650,23 +661,25 @@ PreparedStudy PrepareStudy(const StudyRequest& request) {
 }
 
 // Starts one run: `corridorsim run <point scenario> --seed S --out runs/<point>/seed_S`.
+// `viewer`: false adds --no-viewer.
 std::unique_ptr<ChildProcess> StartRun(const std::string& program, const StudySpec& spec,
-                                       const fs::path& dir, const PlannedRun& run) {
+                                       const fs::path& dir, const PlannedRun& run, bool viewer) {
   const std::string& id = spec.points[run.point].id;
   std::error_code error;
   fs::create_directories(RunFolder(dir, id, run.seed).parent_path(), error);
   fs::create_directories(LogFile(dir, id, run.seed).parent_path(), error);
   fs::create_directories(StatusFile(dir, id, run.seed).parent_path(), error);
   fs::remove(StatusFile(dir, id, run.seed), error);
-  const std::vector<std::string> argv = {program,
-                                         "run",
-                                         (dir / "points" / (id + ".yaml")).string(),
-                                         "--seed",
-                                         std::to_string(run.seed),
-                                         "--out",
-                                         RunFolder(dir, id, run.seed).string(),
-                                         "--force",
-                                         "--no-plots"};
+  std::vector<std::string> argv = {program,
+                                   "run",
+                                   (dir / "points" / (id + ".yaml")).string(),
+                                   "--seed",
+                                   std::to_string(run.seed),
+                                   "--out",
+                                   RunFolder(dir, id, run.seed).string(),
+                                   "--force",
+                                   "--no-plots"};
+  if (!viewer) argv.push_back("--no-viewer");
   return std::make_unique<ChildProcess>(argv, LogFile(dir, id, run.seed).string());
 }
 
@@ -775,7 +788,7 @@ int RunStudy(const StudyRequest& request) {
     }
     while (static_cast<int>(active.size()) < jobs && next < todo.size()) {
       const PlannedRun& t = todo[next++];
-      active.push_back({t, StartRun(program, spec, dir, t), Clock::now()});
+      active.push_back({t, StartRun(program, spec, dir, t, request.viewer), Clock::now()});
     }
     bool changed = false;
     for (auto it = active.begin(); it != active.end();) {

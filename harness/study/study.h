@@ -23,7 +23,8 @@ struct StudyRequest : JobRequest {
   int jobs = 0;             // --jobs: worker processes; 0 = the number of cores
   int shard_index = 0;      // --shard K/N: this part is K - 1 of N
   int shard_count = 1;
-  bool plots = true;  // --no-plots skips plots/
+  bool plots = true;   // --no-plots skips plots/
+  bool viewer = true;  // --no-viewer skips report.html and the runs' viewer.html
   // --may-diverge: pipelines whose diverged runs do not fail the study (besides the study
   // file's study.may_diverge).
   std::vector<std::string> may_diverge;
@@ -46,7 +47,7 @@ inline constexpr int kMaxSlurmTasks = 1000;
 /// Runs (or resumes) the study and writes the summary. Returns 0; 1 when a run failed or timed
 /// out, or a pipeline not listed in may_diverge diverged (the study goes on and names them at
 /// the end); 3 when a study expectation failed; 4 when
-/// only plots/ failed. Throws InputError for bad input, before any run starts.
+/// only plots/ or report.html failed. Throws InputError for bad input, before any run starts.
 int RunStudy(const StudyRequest& request);
 
 /// `study --slurm`: prepares the study folder, measures the cost of one run (the plan's first,

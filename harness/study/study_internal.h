@@ -58,7 +58,7 @@ PreparedStudy PrepareStudy(const StudyRequest& request);
 
 /// Starts one run: `<program> run <point scenario> --seed S --out runs/<point>/seed_S`.
 std::unique_ptr<ChildProcess> StartRun(const std::string& program, const StudySpec& spec,
-                                       const fs::path& dir, const PlannedRun& run);
+                                       const fs::path& dir, const PlannedRun& run, bool viewer);
 
 /// How a run ended, recorded in status/<point>/seed_<S>.json (and returned).
 json RecordRun(const StudySpec& spec, const fs::path& dir, const PlannedRun& run,

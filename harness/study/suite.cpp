@@ -291,7 +291,13 @@ int RunTestSuite(const TestRequest& request) {
                                         ")");
       code = code == 0 || code == 3 ? 1 : code;
     }
-    const std::string attachment = fs::absolute(folder).string();
+    // What a CI system shows beside the case ([[ATTACHMENT|...]]): the page that answers "what
+    // happened": the run's viewer.html, the study's report.html (which links every run's
+    // viewer), else the folder (--no-viewer, or the page failed).
+    const fs::path page = folder / (f.study ? "report.html" : "viewer.html");
+    std::error_code page_error;
+    const std::string attachment =
+        fs::absolute(fs::is_regular_file(page, page_error) ? page : folder).string();
     const auto add = [&](const std::string& name, bool passed, const std::string& measured) {
       SuiteCase c;
       c.classname = classname;

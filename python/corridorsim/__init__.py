@@ -11,11 +11,34 @@ A pipeline that is a program::
 
     if __name__ == "__main__":
         corridorsim.serve(DeadReckoning)
+
+The analysis side (docs/analysis.md): `corridorsim.Run(path)`, `corridorsim.Study(path)` and
+`corridorsim.Dataset(path)` read a run folder, a study folder and a dataset into pandas
+DataFrames. They live in corridorsim.analysis, imported on first use, so `import corridorsim`
+stays light (no numpy or pandas) for pipelines that only need the protocol client; the strict
+readers they use are in corridorsim.files.
 """
 
 from .pipeline import (Calibration, CameraCalibration, CameraFrame, Estimate, Odometry, Pipeline,
                        Start, serve)
 from .protocol import PROTOCOL_VERSION, Connection, ProtocolError
 
-__all__ = ["Calibration", "CameraCalibration", "CameraFrame", "Connection", "Estimate",
-           "Odometry", "PROTOCOL_VERSION", "Pipeline", "ProtocolError", "Start", "serve"]
+__all__ = ["Calibration", "CameraCalibration", "CameraFrame", "Connection", "Dataset", "Estimate",
+           "Odometry", "PROTOCOL_VERSION", "Pipeline", "ProtocolError", "Run", "Start", "Study",
+           "serve"]
+
+_ANALYSIS_NAMES = ("Run", "Study", "Dataset")
+
+
+def __getattr__(name):
+    """Run, Study and Dataset: imports corridorsim.analysis (numpy, pandas) on first use."""
+    if name in _ANALYSIS_NAMES:
+        from . import analysis
+        value = getattr(analysis, name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_ANALYSIS_NAMES))

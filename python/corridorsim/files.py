@@ -1,0 +1,1172 @@
+"""Strict readers of corridorsim's output files: a run folder (README.md "Run folder"), a study
+folder (docs/studies.md "Outputs") and a dataset (docs/datasets.md, docs/export.md).
+
+Every reader checks what it reads and raises InputError naming the file and, where it can, the
+line (and the key or column) on the first problem; every size and count is bounded. The readers
+are shared by scripts/plot_run.py (and the scripts that import it), scripts/make_viewer.py and
+corridorsim.analysis (Run, Study, Dataset).
+
+Units: metres, seconds, radians, world frame W (docs/frames.md).
+"""
+
+import bisect
+import csv
+import io
+import json
+import json.decoder
+import json.scanner
+import math
+import os
+import re
+
+import numpy as np
+
+# Bounds on what an input may hold (each becomes a loop count or a figure size).
+MAX_LANDMARKS = 100_000
+MAX_LANDMARK_POINTS = 16
+MAX_PARTICLES = 100_000    # samples of one door in maps/<pipeline>_doors.json
+MAX_CSV_ROWS = 2_000_000
+MAX_TEXT_CHARS = 64        # labels, roles and camera names
+MAX_DISTRACTORS = 100_000
+MAX_FILE_BYTES = 1 << 30   # any text file read whole
+
+# Scalars read_metrics takes from metrics.json's pipelines, with their labels in plot_run's
+# summary.png.
+SUMMARY_METRICS = [
+    ("ate_rmse_m", "ATE RMSE [m]"),
+    ("ate_aligned_rmse_m", "ATE RMSE, aligned [m]"),
+    ("final_position_error_m", "final position error [m]"),
+    ("nees_mean", "mean NEES (3 dof)"),
+    ("nees_in_band_fraction", "NEES in 95 % band"),
+]
+DETECTOR_SCORES = ["precision", "recall", "accuracy"]
+
+# A door's states in ground_truth.json (worlds/world_io.cpp).
+DOOR_STATES = ("closed", "open", "empty")
+
+# Landmark and detection types (slam/pipeline.cpp's names) and landmark statuses.
+LANDMARK_TYPES = ["door_plate", "door", "lamp", "corner", "vanishing_point"]
+LANDMARK_STATUSES = ["initializing", "converged"]
+
+
+class InputError(Exception):
+    """A missing or malformed input: file, line (None when unknown) and what is wrong."""
+
+    def __init__(self, path, line, message):
+        super().__init__(message)
+        self.path, self.line, self.message = path, line, message
+
+    def __str__(self):
+        where = self.path if self.line is None else f"{self.path}:{self.line}"
+        return f"{where}: {self.message}"
+
+
+# ------------------------------------------------------------------------------------------------
+# Common parts
+
+def read_text(path, max_bytes=None):
+    """The text of a regular UTF-8 file of at most `max_bytes` (MAX_FILE_BYTES by default)."""
+    if not os.path.isfile(path):
+        raise InputError(path, None, "missing")
+    limit = MAX_FILE_BYTES if max_bytes is None else max_bytes
+    try:
+        if os.path.getsize(path) > limit:
+            raise InputError(path, None, f"larger than {limit} bytes")
+        with open(path, encoding="utf-8") as f:
+            return f.read()
+    except (OSError, UnicodeDecodeError) as e:
+        raise InputError(path, None, f"cannot be read: {e}") from None
+
+
+class JsonObject(dict):
+    """A JSON object that remembers the line of its opening brace."""
+    line = None
+
+
+class JsonArray(list):
+    """A JSON array that remembers the line of its opening bracket."""
+    line = None
+
+
+def load_json(path, top="object", max_bytes=None):
+    """Parses a JSON file into JsonObject/JsonArray values that know their line numbers; the top
+    level must be a JSON `top` ('object' or 'array')."""
+    text = read_text(path, max_bytes)
+    newlines = [m.start() for m in re.finditer("\n", text)]
+
+    def line_of(pos):
+        return bisect.bisect_left(newlines, pos) + 1
+
+    def parse_object(s_and_end, *args):
+        value, end = json.decoder.JSONObject(s_and_end, *args)
+        out = JsonObject(value)
+        out.line = line_of(s_and_end[1] - 1)
+        return out, end
+
+    def parse_array(s_and_end, scan_once):
+        value, end = json.decoder.JSONArray(s_and_end, scan_once)
+        out = JsonArray(value)
+        out.line = line_of(s_and_end[1] - 1)
+        return out, end
+
+    # The pure-Python scanner lets us hook object and array parsing (the C one does not).
+    decoder = json.JSONDecoder()
+    decoder.parse_object = parse_object
+    decoder.parse_array = parse_array
+    decoder.scan_once = json.scanner.py_make_scanner(decoder)
+    try:
+        root = decoder.decode(text)
+    except json.JSONDecodeError as e:
+        raise InputError(path, e.lineno, f"column {e.colno}: invalid JSON: {e.msg}") from None
+    if not isinstance(root, dict if top == "object" else list):
+        raise InputError(path, 1, f"the top level is not a JSON {top}")
+    return root
+
+
+class JsonReader:
+    """Typed access to optional keys of one JSON file; errors name the file, line and key."""
+
+    def __init__(self, path):
+        self.path = path
+
+    def fail(self, parent, where, message):
+        raise InputError(self.path, getattr(parent, "line", None), f"{where}: {message}")
+
+    def get(self, obj, key, kind, where):
+        """obj[key] if it is of `kind` ('object', 'array', 'number', 'bool', 'text'); None when
+        absent or null."""
+        value = obj.get(key)
+        if value is None:
+            return None
+        name = f"{where}.{key}" if where else key
+        ok = {
+            "object": isinstance(value, dict),
+            "array": isinstance(value, list),
+            "number": isinstance(value, (int, float)) and not isinstance(value, bool),
+            "bool": isinstance(value, bool),
+            "text": isinstance(value, (str, int)) and not isinstance(value, bool),
+        }[kind]
+        if not ok:
+            self.fail(obj, name, f"expected {kind}, got {json.dumps(value)[:40]}")
+        return value
+
+    def vec2(self, obj, key, where):
+        """The x, y of a [x, y] or [x, y, z] array; None when absent."""
+        value = obj.get(key)
+        if value is None:
+            return None
+        ok = (isinstance(value, list) and len(value) in (2, 3) and
+              all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value))
+        if not ok:
+            self.fail(obj, f"{where}.{key}", f"expected [x, y] or [x, y, z] in metres, "
+                      f"got {json.dumps(value)[:40]}")
+        return float(value[0]), float(value[1])
+
+    def items(self, obj, key):
+        """The objects in the array obj[key], each with its name `key[i]`; [] when absent."""
+        array = self.get(obj, key, "array", "")
+        out = []
+        for i, item in enumerate(array or []):
+            if not isinstance(item, dict):
+                self.fail(array, f"{key}[{i}]", "expected an object")
+            out.append((f"{key}[{i}]", item))
+        return out
+
+
+def read_world(path):
+    """The plan-view parts of ground_truth.json (schema: worlds/world_io.cpp) as {walls: [(a, b)],
+    doors: [{a, b, state, room, footprint}], plates: [{center, normal, room}], lamps: [{center,
+    shape, extent, on}], distractors: [{center, class}]}; points are (x, y) in metres."""
+    root = load_json(path)
+    r = JsonReader(path)
+    world = {"walls": [], "doors": [], "plates": [], "lamps": [], "distractors": []}
+    for name, wall in r.items(root, "walls"):
+        a, b = r.vec2(wall, "start", name), r.vec2(wall, "end", name)
+        if a is None or b is None:
+            r.fail(wall, name, "needs start and end")
+        world["walls"].append((a, b))
+    for name, door in r.items(root, "doors"):
+        a, b = r.vec2(door, "column_a", name), r.vec2(door, "column_b", name)
+        if a is None or b is None:
+            r.fail(door, name, "needs column_a and column_b")
+        state = r.get(door, "state", "text", name)
+        if state is not None and state not in DOOR_STATES:
+            r.fail(door, f"{name}.state", f"expected one of {sorted(DOOR_STATES)}, got '{state}'")
+        footprint = None
+        room = r.get(door, "room", "object", name)
+        if room is not None:
+            lo, hi = r.vec2(room, "min", f"{name}.room"), r.vec2(room, "max", f"{name}.room")
+            if lo is None or hi is None:
+                r.fail(room, f"{name}.room", "needs min and max")
+            footprint = (lo, hi)
+        world["doors"].append({"a": a, "b": b, "state": state,
+                               "room": r.get(door, "room_number", "text", name),
+                               "footprint": footprint})
+    for name, plate in r.items(root, "door_plates"):
+        center = r.vec2(plate, "center", name)
+        if center is None:
+            r.fail(plate, name, "needs center")
+        world["plates"].append({"center": center, "normal": r.vec2(plate, "normal", name),
+                                "room": r.get(plate, "room_number", "text", name)})
+    for name, lamp in r.items(root, "lamps"):
+        center = r.vec2(lamp, "center", name)
+        if center is None:
+            r.fail(lamp, name, "needs center")
+        shape = r.get(lamp, "shape", "text", name) or "circular"
+        if shape == "circular":
+            radius = r.get(lamp, "radius", "number", name)
+            if radius is None or radius <= 0:
+                r.fail(lamp, name, "a circular lamp needs a positive radius")
+            extent = float(radius)
+        elif shape == "panel":
+            extent = r.vec2(lamp, "size", name)
+            if extent is None or min(extent) <= 0:
+                r.fail(lamp, name, "a panel lamp needs a positive size [x, y]")
+        else:
+            r.fail(lamp, f"{name}.shape", f"expected circular or panel, got '{shape}'")
+        on = r.get(lamp, "on", "bool", name)
+        world["lamps"].append({"center": center, "shape": shape, "extent": extent,
+                               "on": True if on is None else on})
+    for name, distractor in r.items(root, "distractors"):
+        if len(world["distractors"]) == MAX_DISTRACTORS:
+            r.fail(distractor, name, f"more than {MAX_DISTRACTORS} distractors")
+        center = r.vec2(distractor, "center", name)
+        if center is None:
+            r.fail(distractor, name, "needs center")
+        kind = r.get(distractor, "class", "text", name)
+        if kind is None:
+            r.fail(distractor, f"{name}.class", "missing")
+        kind = str(kind)
+        if len(kind) > MAX_TEXT_CHARS:
+            r.fail(distractor, f"{name}.class", f"longer than {MAX_TEXT_CHARS} characters")
+        world["distractors"].append({"center": center, "class": kind})
+    return world
+
+
+def read_tum(path):
+    """TUM trajectory as an (N, 8) array: t tx ty tz qx qy qz qw (s, m, unit quaternion)."""
+    rows = []
+    for number, line in enumerate(read_text(path).splitlines(), start=1):
+        line = line.strip()
+        if not line or line.startswith("#"):
+            continue
+        fields = line.split()
+        if len(fields) != 8:
+            raise InputError(path, number, f"expected 8 numbers 't tx ty tz qx qy qz qw', "
+                             f"got {len(fields)} fields")
+        try:
+            values = [float(v) for v in fields]
+        except ValueError:
+            raise InputError(path, number, "not a number in the line") from None
+        if not all(math.isfinite(v) for v in values):
+            raise InputError(path, number, "non-finite value")
+        rows.append(values)
+    if not rows:
+        raise InputError(path, None, "has no poses")
+    return np.array(rows)
+
+
+ERROR_COLUMNS_REQUIRED = ["t", "ex_m", "ey_m", "eyaw_rad"]
+ERROR_COLUMNS_OPTIONAL = ["sigma_x_m", "sigma_y_m", "sigma_yaw_rad", "nees"]
+
+
+def read_errors(path):
+    """<pipeline>_errors.csv as {column: array}; optional columns absent from the header are
+    missing from the result, and empty cells (or 'nan') are NaN."""
+    lines = read_text(path).splitlines()
+    if not lines or not lines[0].strip():
+        raise InputError(path, 1, "missing the header line")
+    header = [h.strip() for h in next(csv.reader([lines[0]]))]
+    for column in ERROR_COLUMNS_REQUIRED:
+        if column not in header:
+            raise InputError(path, 1, f"the header has no column '{column}'")
+    wanted = [c for c in ERROR_COLUMNS_REQUIRED + ERROR_COLUMNS_OPTIONAL if c in header]
+    index = {c: header.index(c) for c in wanted}
+    columns = {c: [] for c in wanted}
+    for number, row in enumerate(csv.reader(lines[1:]), start=2):
+        if not row or all(not cell.strip() for cell in row):
+            continue
+        if len(row) != len(header):
+            raise InputError(path, number, f"expected {len(header)} fields, got {len(row)}")
+        for c in wanted:
+            cell = row[index[c]].strip()
+            try:
+                value = float(cell) if cell else math.nan
+            except ValueError:
+                raise InputError(path, number, f"{c}: not a number: '{cell}'") from None
+            if c == "t" and not math.isfinite(value):
+                raise InputError(path, number, "t: must be a finite time in seconds")
+            columns[c].append(value)
+    return {c: np.array(v, dtype=float) for c, v in columns.items()}
+
+
+def read_metrics(path):
+    """The parts of metrics.json the plots use; every key is optional."""
+    root = load_json(path)
+    r = JsonReader(path)
+    metrics = {"pipelines": {}, "expectations": []}
+    pipelines = r.get(root, "pipelines", "object", "") or {}
+    for name, entry in pipelines.items():
+        where = f"pipelines.{name}"
+        if not re.fullmatch(r"[A-Za-z0-9_+-][A-Za-z0-9_.+-]*", name):
+            r.fail(pipelines, where, "a pipeline name must be a plain file stem")
+        if not isinstance(entry, dict):
+            r.fail(pipelines, where, "expected an object")
+        m = {key: r.get(entry, key, "number", where) for key, _ in SUMMARY_METRICS}
+        band = r.get(entry, "nees_band", "array", where)
+        if band is not None:
+            if len(band) != 2 or not all(isinstance(v, (int, float)) and not isinstance(v, bool)
+                                         for v in band) or not 0 <= band[0] < band[1]:
+                r.fail(band, f"{where}.nees_band", "expected [lo, hi] with 0 <= lo < hi")
+            band = (float(band[0]), float(band[1]))
+        m["nees_band"] = band
+        m["detectors"] = read_detectors(r, entry, where)
+        metrics["pipelines"][name] = m
+    for name, item in r.items(root, "expectations"):
+        text = r.get(item, "text", "text", name)
+        measured = item.get("measured")
+        if isinstance(measured, (dict, list)):
+            r.fail(item, f"{name}.measured", "expected a number or text")
+        metrics["expectations"].append({"text": "" if text is None else str(text),
+                                         "measured": measured,
+                                         "passed": r.get(item, "passed", "bool", name)})
+    return metrics
+
+
+def read_detectors(r, entry, where):
+    """[(detector, {score: value})] from `detectors`: an object {name: {precision, recall,
+    accuracy}} or an array of such objects, each with a `name` (or `detector`)."""
+    detectors = entry.get("detectors")
+    if detectors is None:
+        return []
+    if isinstance(detectors, dict):
+        named = list(detectors.items())
+    elif isinstance(detectors, list):
+        named = []
+        for i, d in enumerate(detectors):
+            label = d.get("name", d.get("detector")) if isinstance(d, dict) else None
+            named.append((str(label) if label is not None else f"detector {i + 1}", d))
+    else:
+        r.fail(entry, f"{where}.detectors", "expected an object or an array")
+    out = []
+    for name, d in named:
+        if not isinstance(d, dict):
+            r.fail(detectors, f"{where}.detectors.{name}", "expected an object")
+        scores = {s: r.get(d, s, "number", f"{where}.detectors.{name}") for s in DETECTOR_SCORES}
+        if any(v is not None for v in scores.values()):
+            out.append((name, scores))
+    return out
+
+
+def is_number(value):
+    return isinstance(value, (int, float)) and not isinstance(value, bool)
+
+
+def is_integer(value):
+    return isinstance(value, int) and not isinstance(value, bool)
+
+
+def read_point3(r, obj, where):
+    """position_in_world and covariance of a landmark or one of its points: ((x, y, z) in m,
+    3x3 list in m^2 with None for a null or non-finite entry: the writer emits null for NaN, and
+    such a covariance is drawn without its ellipse and counted in the figure's title)."""
+    position = obj.get("position_in_world")
+    if not (isinstance(position, list) and len(position) == 3 and
+            all(is_number(v) and math.isfinite(v) for v in position)):
+        r.fail(obj, f"{where}.position_in_world",
+               f"expected [x, y, z] in metres, got {json.dumps(position)[:40]}")
+    covariance = obj.get("covariance")
+    if not (isinstance(covariance, list) and len(covariance) == 3 and
+            all(isinstance(row, list) and len(row) == 3 and
+                all(v is None or is_number(v) for v in row) for row in covariance)):
+        r.fail(obj, f"{where}.covariance",
+               f"expected 3 rows of 3 numbers (m^2), got {json.dumps(covariance)[:40]}")
+    return (tuple(float(v) for v in position),
+            [[None if v is None or not math.isfinite(v) else float(v) for v in row]
+             for row in covariance])
+
+
+def read_short_text(r, obj, key, where, required):
+    value = r.get(obj, key, "text", where)
+    if value is None:
+        if required:
+            r.fail(obj, f"{where}.{key}", "missing")
+        return ""
+    value = str(value)
+    if len(value) > MAX_TEXT_CHARS:
+        r.fail(obj, f"{where}.{key}", f"longer than {MAX_TEXT_CHARS} characters")
+    return value
+
+
+def read_landmarks(path):
+    """<pipeline>_landmarks.json (harness/run/run_io.cpp LandmarksJson) as a list of
+    {id, type, status, label, position, covariance, points: [{role, position, covariance}]}."""
+    root = load_json(path, top="array")
+    r = JsonReader(path)
+    if len(root) > MAX_LANDMARKS:
+        r.fail(root, "top level", f"more than {MAX_LANDMARKS} landmarks")
+    landmarks = []
+    for i, item in enumerate(root):
+        where = f"[{i}]"
+        if not isinstance(item, dict):
+            r.fail(root, where, "expected an object")
+        lid = item.get("id")
+        if not (is_integer(lid) and lid >= 0):
+            r.fail(item, f"{where}.id", f"expected a non-negative integer, got "
+                   f"{json.dumps(lid)[:40]}")
+        if landmarks and lid <= landmarks[-1]["id"]:
+            r.fail(item, f"{where}.id", f"{lid} is not above the previous id "
+                   f"{landmarks[-1]['id']} (the file is in id order, each id once)")
+        kind = r.get(item, "type", "text", where)
+        if kind not in LANDMARK_TYPES:
+            r.fail(item, f"{where}.type", f"expected one of {LANDMARK_TYPES}, got "
+                   f"{json.dumps(kind)[:40]}")
+        status = r.get(item, "status", "text", where)
+        if status not in LANDMARK_STATUSES:
+            r.fail(item, f"{where}.status", f"expected one of {LANDMARK_STATUSES}, got "
+                   f"{json.dumps(status)[:40]}")
+        position, covariance = read_point3(r, item, where)
+        points = []
+        for name, point in r.items(item, "points"):
+            pwhere = f"{where}.{name}"
+            if len(points) == MAX_LANDMARK_POINTS:
+                r.fail(item, f"{where}.points", f"more than {MAX_LANDMARK_POINTS} points")
+            ppos, pcov = read_point3(r, point, pwhere)
+            points.append({"role": read_short_text(r, point, "role", pwhere, required=False),
+                           "position": ppos, "covariance": pcov})
+        landmarks.append({"id": lid, "type": kind, "status": status,
+                          "label": read_short_text(r, item, "label", where, required=False),
+                          "position": position, "covariance": covariance, "points": points})
+    return landmarks
+
+
+def read_format(r, root, expected):
+    """Checks a map file's `format` and `version` (1)."""
+    if root.get("format") != expected:
+        r.fail(root, "format", f"expected '{expected}', got {json.dumps(root.get('format'))[:40]}")
+    if root.get("version") != 1:
+        r.fail(root, "version", f"expected 1, got {json.dumps(root.get('version'))[:40]}")
+
+
+def finite_numbers(value, count):
+    return (isinstance(value, list) and len(value) == count and
+            all(is_number(v) and math.isfinite(v) for v in value))
+
+
+def read_upward_doors(path):
+    """maps/<pipeline>_doors.json (slam/p3_upward_pipeline.cpp) as a list of
+    {id, columns: ((xa, ya), (xb, yb)), particles: [(xa, ya, xb, yb, h)]}."""
+    root = load_json(path)
+    r = JsonReader(path)
+    read_format(r, root, "corridorsim.upward_doors")
+    doors = []
+    for name, door in r.items(root, "doors"):
+        if len(doors) == MAX_LANDMARKS:
+            r.fail(door, name, f"more than {MAX_LANDMARKS} doors")
+        lid = door.get("landmark_id")
+        if not is_integer(lid):
+            r.fail(door, f"{name}.landmark_id", "expected an integer")
+        columns = door.get("columns_m")
+        if not (isinstance(columns, list) and len(columns) == 2 and
+                all(finite_numbers(c, 2) for c in columns)):
+            r.fail(door, f"{name}.columns_m", "expected [[x_a, y_a], [x_b, y_b]] in metres")
+        particles = r.get(door, "particles", "array", name) or []
+        if len(particles) > MAX_PARTICLES:
+            r.fail(door, f"{name}.particles", f"more than {MAX_PARTICLES} particles")
+        for i, sample in enumerate(particles):
+            if not finite_numbers(sample, 5):
+                r.fail(door, f"{name}.particles[{i}]",
+                       "expected [x_a, y_a, x_b, y_b, top_height] in metres")
+        doors.append({"id": lid, "columns": (tuple(columns[0]), tuple(columns[1])),
+                      "particles": [tuple(float(v) for v in p) for p in particles]})
+    return doors
+
+
+def read_areas(path):
+    """maps/<pipeline>_areas.json (slam/mapping/door_areas.h) as a list of
+    {id, kind, door, polygon: [(x, y)] or None, landmarks: set of ids}."""
+    root = load_json(path)
+    r = JsonReader(path)
+    read_format(r, root, "corridorsim.upward_areas")
+    areas = []
+    for name, area in r.items(root, "areas"):
+        if len(areas) == MAX_LANDMARKS:
+            r.fail(area, name, f"more than {MAX_LANDMARKS} areas")
+        aid = area.get("id")
+        if not is_integer(aid):
+            r.fail(area, f"{name}.id", "expected an integer")
+        kind = r.get(area, "kind", "text", name)
+        if kind not in ("corridor", "room"):
+            r.fail(area, f"{name}.kind", f"expected corridor or room, got {json.dumps(kind)[:40]}")
+        polygon = r.get(area, "polygon_m", "array", name)
+        if kind == "room" and not (polygon and len(polygon) <= 64 and
+                                   all(finite_numbers(v, 2) for v in polygon)):
+            r.fail(area, f"{name}.polygon_m", "a room needs [[x, y], ...] in metres (at most 64)")
+        ids = r.get(area, "landmark_ids", "array", name) or []
+        if len(ids) > MAX_LANDMARKS or not all(is_integer(i) for i in ids):
+            r.fail(area, f"{name}.landmark_ids", "expected landmark ids (integers)")
+        areas.append({"id": aid, "kind": kind, "door": area.get("door_landmark_id"),
+                      "polygon": [tuple(v) for v in polygon] if kind == "room" else None,
+                      "landmarks": set(ids)})
+    return areas
+
+
+def read_csv_table(path, columns):
+    """The rows of a CSV file whose header holds every name in `columns` (in any order; other
+    columns are ignored) as (line, {column: stripped cell}); quoted cells may hold commas and
+    newlines. Blank rows are skipped; at most MAX_CSV_ROWS rows."""
+    text = read_text(path)
+    reader = csv.reader(io.StringIO(text, newline=""))
+    try:
+        header = [h.strip() for h in next(reader)]
+    except StopIteration:
+        header = []
+    except csv.Error as e:
+        raise InputError(path, 1, f"not CSV: {e}") from None
+    if not any(header):
+        raise InputError(path, 1, "missing the header line")
+    for column in columns:
+        if column not in header:
+            raise InputError(path, 1, f"the header has no column '{column}'")
+    index = {c: header.index(c) for c in columns}
+    rows = []
+    line = reader.line_num + 1  # where the next record starts
+    try:
+        for row in reader:
+            start, line = line, reader.line_num + 1
+            if not row or all(not cell.strip() for cell in row):
+                continue
+            if len(row) != len(header):
+                raise InputError(path, start, f"expected {len(header)} fields, got {len(row)}")
+            if len(rows) == MAX_CSV_ROWS:
+                raise InputError(path, start, f"more than {MAX_CSV_ROWS} rows")
+            rows.append((start, {c: row[index[c]].strip() for c in columns}))
+    except csv.Error as e:
+        raise InputError(path, line, f"not CSV: {e}") from None
+    return rows
+
+
+class CsvCells:
+    """Typed cells of one CSV row; errors name the file, line and column."""
+
+    def __init__(self, path, line, cells):
+        self.path, self.line, self.cells = path, line, cells
+
+    def fail(self, column, message):
+        raise InputError(self.path, self.line, f"{column}: {message}")
+
+    def number(self, column, required=True, lo=-math.inf, hi=math.inf):
+        """A finite number in [lo, hi]; NaN for an empty cell when not required."""
+        cell = self.cells[column]
+        if not cell:
+            if required:
+                self.fail(column, "missing")
+            return math.nan
+        try:
+            value = float(cell)
+        except ValueError:
+            self.fail(column, f"not a number: '{cell[:40]}'")
+        if not math.isfinite(value):
+            self.fail(column, f"not finite: '{cell[:40]}'")
+        if not lo <= value <= hi:
+            self.fail(column, f"{cell[:40]} is outside [{lo:g}, {hi:g}]")
+        return value
+
+    def integer(self, column, lo, hi):
+        cell = self.cells[column]
+        if not re.fullmatch(r"-?[0-9]{1,12}", cell):
+            self.fail(column, f"expected an integer, got '{cell[:40]}'")
+        value = int(cell)
+        if not lo <= value <= hi:
+            self.fail(column, f"{value} is outside [{lo}, {hi}]")
+        return value
+
+    def choice(self, column, allowed):
+        cell = self.cells[column]
+        if cell not in allowed:
+            shown = [a if a else "(empty)" for a in allowed]
+            self.fail(column, f"expected one of {shown}, got '{cell[:40]}'")
+        return cell
+
+    def text(self, column, required):
+        cell = self.cells[column]
+        if required and not cell:
+            self.fail(column, "missing")
+        if len(cell) > MAX_TEXT_CHARS:
+            self.fail(column, f"longer than {MAX_TEXT_CHARS} characters")
+        return cell
+
+
+DETECTION_COLUMNS = ["stamp_s", "camera", "type", "u_px", "v_px", "box_min_x_px", "box_min_y_px",
+                     "box_max_x_px", "box_max_y_px", "plate_box", "radius_px", "label", "open",
+                     "score", "recognition_score", "landmark_id", "new_landmark"]
+BOX_COLUMNS = DETECTION_COLUMNS[5:9]
+
+
+def read_detections(path):
+    """<pipeline>_detections.csv (harness/run/run_io.cpp DetectionsCsv) as {column: list}: stamp_s,
+    u_px, v_px, score, recognition_score (floats, NaN = no value), camera, type, label (text),
+    landmark_id (int, -1 = not associated), new_landmark (bool)."""
+    out = {c: [] for c in ["stamp_s", "camera", "type", "u_px", "v_px", "label", "score",
+                           "recognition_score", "landmark_id", "new_landmark"]}
+    for line, cells in read_csv_table(path, DETECTION_COLUMNS):
+        c = CsvCells(path, line, cells)
+        stamp = c.number("stamp_s", lo=0.0)
+        camera = c.text("camera", required=True)
+        kind = c.choice("type", LANDMARK_TYPES)
+        u, v = c.number("u_px"), c.number("v_px")
+        box = [c.number(b, required=False) for b in BOX_COLUMNS]
+        if any(math.isnan(b) for b in box) and not all(math.isnan(b) for b in box):
+            c.fail("box_min_x_px", "a box needs all four of min x, min y, max x, max y or none")
+        if box[0] > box[2] or box[1] > box[3]:
+            c.fail("box_min_x_px", "the box's min lies beyond its max")
+        c.choice("plate_box", ["", "number_region", "outline"])
+        c.number("radius_px", required=False, lo=0.0)
+        label = c.text("label", required=False)
+        c.choice("open", ["", "0", "1"])
+        score = c.number("score", required=False)
+        recognition = c.number("recognition_score", required=False, lo=0.0, hi=1.0)
+        landmark_id = c.integer("landmark_id", -1, 2**31 - 1)
+        new_landmark = c.choice("new_landmark", ["0", "1"]) == "1"
+        if new_landmark and landmark_id < 0:
+            c.fail("new_landmark", "a new landmark needs a landmark_id")
+        for key, value in [("stamp_s", stamp), ("camera", camera), ("type", kind), ("u_px", u),
+                           ("v_px", v), ("label", label), ("score", score),
+                           ("recognition_score", recognition), ("landmark_id", landmark_id),
+                           ("new_landmark", new_landmark)]:
+            out[key].append(value)
+    return out
+
+
+def read_frame_times(path):
+    """maps/<pipeline>_frame_times.csv (slam/filter_support.h, FrameCostsCsv) as arrays stamp_s (s,
+    non-decreasing: a pipeline that reads two cameras records a frame of each, which may share a
+    stamp), landmarks (count) and frame_ms (ms)."""
+    out = {"stamp_s": [], "landmarks": [], "frame_ms": []}
+    for line, cells in read_csv_table(path, list(out)):
+        c = CsvCells(path, line, cells)
+        stamp = c.number("stamp_s", lo=0.0)
+        if out["stamp_s"] and stamp < out["stamp_s"][-1]:
+            c.fail("stamp_s", f"{stamp:.9g} is before the previous {out['stamp_s'][-1]:.9g}")
+        out["stamp_s"].append(stamp)
+        out["landmarks"].append(c.integer("landmarks", 0, MAX_LANDMARKS))
+        out["frame_ms"].append(c.number("frame_ms", lo=0.0))
+    if not out["stamp_s"]:
+        raise InputError(path, None, "has no frames")
+    return {k: np.array(v, dtype=float) for k, v in out.items()}
+
+
+def read_optional(path, reader):
+    """reader(path) when the file exists, else None."""
+    return reader(path) if os.path.exists(path) else None
+
+
+def read_run(run_dir):
+    """Reads and checks every input; raises InputError on the first problem."""
+    if not os.path.isdir(run_dir):
+        raise InputError(run_dir, None, "is not a directory")
+    run = {
+        "world": read_world(os.path.join(run_dir, "world.json")),
+        "metrics": read_metrics(os.path.join(run_dir, "metrics.json")),
+        "truth": read_tum(os.path.join(run_dir, "ground_truth.tum")),
+        "pipelines": {},
+    }
+    names = list(run["metrics"]["pipelines"])
+    if not names:
+        names = sorted(f[:-len(".tum")] for f in os.listdir(run_dir)
+                       if f.endswith(".tum") and f != "ground_truth.tum")
+    for name in names:
+        run["pipelines"][name] = {
+            "trajectory": read_tum(os.path.join(run_dir, f"{name}.tum")),
+            "errors": read_errors(os.path.join(run_dir, f"{name}_errors.csv")),
+            "landmarks": read_optional(os.path.join(run_dir, f"{name}_landmarks.json"),
+                                       read_landmarks),
+            "detections": read_optional(os.path.join(run_dir, f"{name}_detections.csv"),
+                                        read_detections),
+            "frame_times": read_optional(os.path.join(run_dir, "maps",
+                                                      f"{name}_frame_times.csv"),
+                                         read_frame_times),
+            "doors": read_optional(os.path.join(run_dir, "maps", f"{name}_doors.json"),
+                                   read_upward_doors),
+            "areas": read_optional(os.path.join(run_dir, "maps", f"{name}_areas.json"),
+                                   read_areas),
+        }
+    return run
+
+
+
+
+# ------------------------------------------------------------------------------------------------
+# Poses exactly as written (corridorsim.analysis scores these; harness/metrics/trajectory.h
+# PoseAsWritten)
+
+MAX_POSES = 2_000_000          # lines of one TUM or ov_eval file
+MAX_JSON_BYTES = 64 << 20      # metrics.json, study.json, status files (docs/studies.md "Bounds")
+MAX_EVENTS = 1_000_000
+MAX_POINTS = 1000              # sweep points of a study
+MAX_RUNS_PER_POINT = 10_000
+MAX_COCO_ITEMS = 10_000_000    # images or annotations of one COCO file
+MAX_FILE_NAME_CHARS = 255
+
+TUM_FIELDS = ["x", "y", "z", "qx", "qy", "qz", "qw"]
+# <pipeline>_cov.txt (harness/run/run_io.cpp OvEvalLine): the TUM line, then the upper triangles
+# of the rotation (roll, pitch, yaw) and position covariances as OpenVINS ov_eval reads them;
+# corridorsim fills Pr33 (yaw, rad^2), Pt11, Pt12, Pt22 (x-y block, m^2) and writes 0 elsewhere.
+OV_EVAL_COVARIANCE = ["Pr11", "Pr12", "Pr13", "Pr22", "Pr23", "Pr33",
+                      "Pt11", "Pt12", "Pt13", "Pt22", "Pt23", "Pt33"]
+
+_STAMP = re.compile(r"([0-9]{1,12})(?:\.([0-9]{1,9}))?")
+_NUMBER = re.compile(r"[-+]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][-+]?[0-9]{1,3})?"
+                     r"|[-+]?(?:nan|inf|infinity)", re.IGNORECASE)
+
+
+def parse_stamp_ns(text):
+    """Integer nanoseconds from seconds written with at most nine decimals ('12.300000000'), exact
+    (never through a double); None when the text is not such a stamp."""
+    m = _STAMP.fullmatch(text)
+    if m is None:
+        return None
+    return int(m.group(1)) * 1_000_000_000 + int((m.group(2) or "").ljust(9, "0"))
+
+
+def parse_number(text):
+    """float(text) for a plain decimal number, nan or inf (no underscores, hex or spaces, which
+    Python's float() would take); None otherwise. The value is the one C's strtod gives."""
+    return float(text) if _NUMBER.fullmatch(text) else None
+
+
+def _read_pose_lines(path, extra, what, allow_non_finite, increasing, allow_empty=False):
+    """The lines of a TUM-like file: `t tx ty tz qx qy qz qw` plus the names in `extra`, as
+    {t_ns: [int], t: [float], x, y, z, qx, qy, qz, qw, *extra: [float]}."""
+    names = TUM_FIELDS + extra
+    out = {"t_ns": [], "t": []}
+    out.update({n: [] for n in names})
+    fields_wanted = 1 + len(names)
+    for number, line in enumerate(read_text(path).splitlines(), start=1):
+        line = line.strip()
+        if not line or line.startswith("#"):
+            continue
+        fields = line.split()
+        if len(fields) != fields_wanted:
+            raise InputError(path, number, f"expected {fields_wanted} fields '{what}', "
+                             f"got {len(fields)}")
+        if len(out["t_ns"]) == MAX_POSES:
+            raise InputError(path, number, f"more than {MAX_POSES} poses")
+        stamp = parse_stamp_ns(fields[0])
+        if stamp is None:
+            raise InputError(path, number, "t: expected seconds with at most nine decimals, got "
+                             f"'{fields[0][:40]}'")
+        if increasing and out["t_ns"] and stamp <= out["t_ns"][-1]:
+            raise InputError(path, number, f"t: {fields[0]} is not after the previous stamp")
+        values = []
+        for name, field in zip(names, fields[1:]):
+            value = parse_number(field)
+            if value is None:
+                raise InputError(path, number, f"{name}: not a number: '{field[:40]}'")
+            if not allow_non_finite and not math.isfinite(value):
+                raise InputError(path, number, f"{name}: not finite: '{field[:40]}'")
+            values.append(value)
+        out["t_ns"].append(stamp)
+        out["t"].append(float(fields[0]))
+        for name, value in zip(names, values):
+            out[name].append(value)
+    if not out["t_ns"] and not allow_empty:
+        raise InputError(path, None, "has no poses")
+    return out
+
+
+def read_tum_exact(path, allow_non_finite=False, increasing=False, allow_empty=False):
+    """A TUM trajectory exactly as written: {t_ns: [int] (exact from the text), t: [float] (s),
+    x, y, z, qx, qy, qz, qw: [float]} in file order. `allow_non_finite`: an estimate may be
+    'nan' (the runner writes the pose a pipeline reported); `increasing`: stamps must increase
+    (the truth); `allow_empty`: a pipeline that gave no estimate has a file of comments only."""
+    return _read_pose_lines(path, [], "t tx ty tz qx qy qz qw", allow_non_finite, increasing,
+                            allow_empty)
+
+
+def read_covariance(path):
+    """<pipeline>_cov.txt (OpenVINS ov_eval, 20 columns: harness/run/run_io.cpp OvEvalLine) as
+    read_tum_exact's columns plus OV_EVAL_COVARIANCE's (rad^2, m^2; NaN where the pipeline
+    reported a non-finite covariance)."""
+    return _read_pose_lines(path, OV_EVAL_COVARIANCE, "t tx ty tz qx qy qz qw Pr11 ... Pt33",
+                            allow_non_finite=True, increasing=False, allow_empty=True)
+
+
+NIS_COLUMNS = ["t", "type", "dof", "nis", "accepted"]
+MAX_DOF = 10_000
+
+
+def read_nis(path):
+    """<pipeline>_nis.csv (harness/metrics/consistency.cpp NisSeriesCsv) as {t: [s], type: [text],
+    dof: [int], nis: [float], accepted: [bool]}, one entry per landmark update."""
+    out = {c: [] for c in NIS_COLUMNS}
+    for line, cells in read_csv_table(path, NIS_COLUMNS):
+        c = CsvCells(path, line, cells)
+        out["t"].append(c.number("t", lo=0.0))
+        out["type"].append(c.choice("type", LANDMARK_TYPES))
+        out["dof"].append(c.integer("dof", 1, MAX_DOF))
+        out["nis"].append(c.number("nis", lo=0.0))
+        out["accepted"].append(c.choice("accepted", ["0", "1"]) == "1")
+    return out
+
+
+# ------------------------------------------------------------------------------------------------
+# Whole JSON files
+
+def load_json_fast(path, top="object", max_bytes=MAX_JSON_BYTES):
+    """json.loads of a file of at most `max_bytes` (C parser: for large files; values do not know
+    their lines, a syntax error names its line). NaN and Infinity literals are refused."""
+    text = read_text(path, max_bytes)
+
+    def no_constant(name):
+        raise ValueError(f"{name} is not JSON")
+
+    try:
+        root = json.loads(text, parse_constant=no_constant)
+    except json.JSONDecodeError as e:
+        raise InputError(path, e.lineno, f"column {e.colno}: invalid JSON: {e.msg}") from None
+    except (ValueError, RecursionError) as e:
+        raise InputError(path, None, f"invalid JSON: {e}") from None
+    if not isinstance(root, dict if top == "object" else list):
+        raise InputError(path, 1, f"the top level is not a JSON {top}")
+    return root
+
+
+PIPELINE_NAME = re.compile(r"[A-Za-z0-9_+-][A-Za-z0-9_.+-]{0,127}")
+
+
+def read_metrics_full(path, fast=False):
+    """The whole metrics.json (docs/metrics.md) as parsed, after checking its frame: an object
+    whose `pipelines` (when present) is an object of objects keyed by plain file stems; the key
+    order is the file's (the runner's pipeline order). `fast`: the C parser (errors then name the
+    line of a syntax error only), for the many files of a study."""
+    root = load_json_fast(path) if fast else load_json(path, max_bytes=MAX_JSON_BYTES)
+    r = JsonReader(path)
+    pipelines = r.get(root, "pipelines", "object", "")
+    for name, entry in (pipelines or {}).items():
+        if not PIPELINE_NAME.fullmatch(name):
+            r.fail(pipelines, f"pipelines.{name}", "a pipeline name must be a plain file stem")
+        if not isinstance(entry, dict):
+            r.fail(pipelines, f"pipelines.{name}", "expected an object")
+    for name, item in r.items(root, "expectations"):
+        r.get(item, "text", "text", name)
+        r.get(item, "passed", "bool", name)
+    return root
+
+
+def read_json_object(path, max_bytes=MAX_JSON_BYTES):
+    """A JSON file whose top level is an object (timing.json, provenance.json, summary.json ...),
+    as parsed."""
+    return load_json_fast(path, "object", max_bytes)
+
+
+def read_events(path):
+    """events.json (harness/run/truth_recorder.cpp EventLog::Json) as {seed, duration_s, events:
+    [{t (s), t_ns (int), type, ...the event's own keys}]} in stamp order."""
+    root = load_json(path)
+    r = JsonReader(path)
+    seed = root.get("seed")
+    if not (is_integer(seed) and seed >= 0):
+        r.fail(root, "seed", f"expected a non-negative integer, got {json.dumps(seed)[:40]}")
+    duration = r.get(root, "duration_s", "number", "")
+    events = r.get(root, "events", "array", "")
+    if events is None:
+        r.fail(root, "events", "missing")
+    if len(events) > MAX_EVENTS:
+        r.fail(events, "events", f"more than {MAX_EVENTS} events")
+    out = []
+    for name, event in r.items(root, "events"):
+        t_ns = event.get("t_ns")
+        if not (is_integer(t_ns) and t_ns >= 0):
+            r.fail(event, f"{name}.t_ns", f"expected a non-negative integer, got "
+                   f"{json.dumps(t_ns)[:40]}")
+        if out and t_ns < out[-1]["t_ns"]:
+            r.fail(event, f"{name}.t_ns", f"{t_ns} is before the previous event's")
+        if r.get(event, "t", "number", name) is None:
+            r.fail(event, f"{name}.t", "missing")
+        read_short_text(r, event, "type", name, required=True)
+        out.append(dict(event))
+    return {"seed": seed, "duration_s": None if duration is None else float(duration),
+            "events": out}
+
+
+# ------------------------------------------------------------------------------------------------
+# Studies (docs/studies.md "The study folder")
+
+POINT_ID = re.compile(r"p[0-9]{3,6}")
+STUDY_OUTCOMES = ["finished", "failed", "timed_out"]
+
+
+def _text_list(r, obj, key, where, pattern=None, limit=100_000):
+    value = r.get(obj, key, "array", where)
+    if value is None:
+        r.fail(obj, f"{where}{key}", "missing")
+    if len(value) > limit or not all(isinstance(v, str) and len(v) <= 256 for v in value):
+        r.fail(obj, f"{where}{key}", f"expected at most {limit} names")
+    if pattern is not None:
+        for v in value:
+            if not pattern.fullmatch(v):
+                r.fail(obj, f"{where}{key}", f"'{v[:40]}' is not a plain name")
+    return list(value)
+
+
+def read_study_plan(path):
+    """study.json (harness/study/study.cpp PlanJson) as {runs_per_point, first_seed, pipelines,
+    metrics, vary: [key], points: [{id, vary: {key: value text}}], expectations, may_diverge};
+    the full object under `raw`."""
+    root = load_json(path)
+    r = JsonReader(path)
+    runs = root.get("runs_per_point")
+    if not (is_integer(runs) and 1 <= runs <= MAX_RUNS_PER_POINT):
+        r.fail(root, "runs_per_point", f"expected an integer in [1, {MAX_RUNS_PER_POINT}]")
+    first_seed = root.get("first_seed")
+    if not (is_integer(first_seed) and 0 <= first_seed and first_seed + runs - 1 < 2**64):
+        r.fail(root, "first_seed", "expected a seed in [0, 2^64 - runs_per_point]")
+    pipelines = _text_list(r, root, "pipelines", "", PIPELINE_NAME, 1000)
+    if not pipelines:
+        r.fail(root, "pipelines", "no pipelines")
+    vary = _text_list(r, root, "vary", "")
+    points = []
+    for name, point in r.items(root, "points"):
+        if len(points) == MAX_POINTS:
+            r.fail(point, name, f"more than {MAX_POINTS} points")
+        pid = r.get(point, "id", "text", name)
+        if not (isinstance(pid, str) and POINT_ID.fullmatch(pid)):
+            r.fail(point, f"{name}.id", f"expected p000, p001, ..., got {json.dumps(pid)[:40]}")
+        if any(p["id"] == pid for p in points):
+            r.fail(point, f"{name}.id", f"{pid} twice")
+        values = r.get(point, "vary", "object", name) or {}
+        if list(values) != vary or not all(isinstance(v, str) for v in values.values()):
+            r.fail(point, f"{name}.vary", f"expected a text value for each of {vary}")
+        points.append({"id": pid, "vary": dict(values)})
+    if not points:
+        r.fail(root, "points", "no points")
+    return {"runs_per_point": runs, "first_seed": first_seed, "pipelines": pipelines,
+            "metrics": _text_list(r, root, "metrics", ""), "vary": vary, "points": points,
+            "expectations": _text_list(r, root, "expectations", ""),
+            "may_diverge": _text_list(r, root, "may_diverge", ""), "raw": root}
+
+
+def read_run_status(path):
+    """status/<point>/seed_<S>.json (harness/study/study.cpp RecordRun) as {point, seed, outcome
+    (finished, failed or timed_out), detail, exit_code, signal, wall_seconds, peak_rss_mib}."""
+    root = load_json(path)
+    r = JsonReader(path)
+    outcome = r.get(root, "outcome", "text", "")
+    if outcome not in STUDY_OUTCOMES:
+        r.fail(root, "outcome", f"expected one of {STUDY_OUTCOMES}, got "
+               f"{json.dumps(outcome)[:40]}")
+    seed = root.get("seed")
+    if not (is_integer(seed) and seed >= 0):
+        r.fail(root, "seed", "expected a non-negative integer")
+    out = {"point": r.get(root, "point", "text", ""), "seed": seed, "outcome": outcome,
+           "detail": str(r.get(root, "detail", "text", "") or "")[:4096]}
+    for key in ["exit_code", "signal"]:
+        value = root.get(key)
+        if value is not None and not is_integer(value):
+            r.fail(root, key, "expected an integer")
+        out[key] = value
+    for key in ["wall_seconds", "peak_rss_mib"]:
+        value = r.get(root, key, "number", "")
+        out[key] = None if value is None else float(value)
+    return out
+
+
+def read_csv_rows(path, max_rows=MAX_CSV_ROWS):
+    """(header, [(line, [cell])]) of a CSV file: every row as long as the header, cells stripped;
+    blank rows skipped; quoted cells may hold commas."""
+    text = read_text(path)
+    reader = csv.reader(io.StringIO(text, newline=""))
+    try:
+        header = [h.strip() for h in next(reader)]
+    except StopIteration:
+        header = []
+    except csv.Error as e:
+        raise InputError(path, 1, f"not CSV: {e}") from None
+    if not any(header):
+        raise InputError(path, 1, "missing the header line")
+    if len(set(header)) != len(header):
+        raise InputError(path, 1, "a column name appears twice")
+    rows = []
+    line = reader.line_num + 1
+    try:
+        for row in reader:
+            start, line = line, reader.line_num + 1
+            if not row or all(not cell.strip() for cell in row):
+                continue
+            if len(row) != len(header):
+                raise InputError(path, start, f"expected {len(header)} fields, got {len(row)}")
+            if len(rows) == max_rows:
+                raise InputError(path, start, f"more than {max_rows} rows")
+            rows.append((start, [cell.strip() for cell in row]))
+    except csv.Error as e:
+        raise InputError(path, line, f"not CSV: {e}") from None
+    return header, rows
+
+
+SUMMARY_CSV_COLUMNS = ["pipeline", "metric", "n", "mean", "std", "median", "p95", "min", "max",
+                       "ci_low", "ci_high"]
+PAIRED_CSV_COLUMNS = ["a", "b", "metric", "n", "diff", "diff_ci_low", "diff_ci_high", "ratio",
+                      "ratio_ci_low", "ratio_ci_high", "a_lower", "p_sign", "p_wilcoxon"]
+_STUDY_TEXT_COLUMNS = {"pipeline", "metric", "a", "b"}
+
+
+def read_study_table(path, columns):
+    """summary.csv (columns = SUMMARY_CSV_COLUMNS) or paired.csv (PAIRED_CSV_COLUMNS) of
+    harness/study/study_summary.cpp: `point,<swept keys...>,<columns>`. Returns (keys, {column:
+    list}): point, the keys' values and the names as text, n as int, the statistics as float
+    (NaN for an empty cell: no value)."""
+    header, rows = read_csv_rows(path)
+    if header[0] != "point" or header[len(header) - len(columns):] != columns:
+        raise InputError(path, 1, f"expected the header 'point,<swept keys...>,"
+                         f"{','.join(columns)}'")
+    keys = header[1:len(header) - len(columns)]
+    out = {c: [] for c in header}
+    for line, cells in rows:
+        c = CsvCells(path, line, dict(zip(header, cells)))
+        if not POINT_ID.fullmatch(cells[0]):
+            c.fail("point", f"expected p000, p001, ..., got '{cells[0][:40]}'")
+        for column, cell in zip(header, cells):
+            if column == "point" or column in keys:
+                out[column].append(cell)
+            elif column in _STUDY_TEXT_COLUMNS:
+                if not cell or len(cell) > 256:
+                    c.fail(column, "expected a name of 1 to 256 characters")
+                out[column].append(cell)
+            elif column == "n":
+                out[column].append(c.integer("n", 0, 10**9))
+            else:
+                out[column].append(c.number(column, required=False))
+    return keys, out
+
+
+# ------------------------------------------------------------------------------------------------
+# Datasets (docs/datasets.md, docs/export.md)
+
+def check_relative_file(path, line, name, where):
+    """A file name inside the dataset: relative, no '..', at most MAX_FILE_NAME_CHARS."""
+    if (not isinstance(name, str) or not name or len(name) > MAX_FILE_NAME_CHARS or
+            name.startswith("/") or "\\" in name or ".." in name.split("/")):
+        raise InputError(path, line, f"{where}: expected a relative file name inside the folder, "
+                         f"got {json.dumps(name)[:60]}")
+    return name
+
+
+def read_dataset_manifest(path):
+    """dataset.json of `corridorsim dataset` (docs/datasets.md) as parsed, after checking format,
+    format_version, cameras, worlds and frames_per_world."""
+    root = load_json(path)
+    r = JsonReader(path)
+    if root.get("format") != "corridorsim dataset":
+        r.fail(root, "format", f"expected 'corridorsim dataset', got "
+               f"{json.dumps(root.get('format'))[:40]}")
+    if root.get("format_version") != 1:
+        r.fail(root, "format_version", "expected 1")
+    cameras = _text_list(r, root, "cameras", "", re.compile(r"[a-z_]{1,32}"), 16)
+    if not cameras:
+        r.fail(root, "cameras", "no cameras")
+    for key, hi in [("worlds", 100_000), ("frames_per_world", 100_000)]:
+        value = root.get(key)
+        if not (is_integer(value) and 1 <= value <= hi):
+            r.fail(root, key, f"expected an integer in [1, {hi}]")
+    return root
+
+
+def read_coco(path):
+    """A COCO detection file (a dataset's <camera>/annotations.json, an export's coco/plates.json)
+    as parsed, after checking images [{id, file_name, width, height}], categories [{id, name}] and
+    annotations [{id, image_id, category_id, bbox [x, y, w, h]}] (ids unique, references
+    resolved, boxes finite with w, h >= 0)."""
+    root = load_json_fast(path, "object", MAX_FILE_BYTES)
+
+    def fail(where, message):
+        raise InputError(path, None, f"{where}: {message}")
+
+    lists = {}
+    for key in ["images", "annotations", "categories"]:
+        value = root.get(key)
+        if not isinstance(value, list):
+            fail(key, "expected an array")
+        if len(value) > MAX_COCO_ITEMS:
+            fail(key, f"more than {MAX_COCO_ITEMS} entries")
+        if not all(isinstance(v, dict) for v in value):
+            fail(key, "expected objects")
+        lists[key] = value
+
+    def ids(key):
+        seen = set()
+        for i, item in enumerate(lists[key]):
+            v = item.get("id")
+            if not is_integer(v) or v in seen:
+                fail(f"{key}[{i}].id",
+                     f"expected an integer id used once, got {json.dumps(v)[:40]}")
+            seen.add(v)
+        return seen
+
+    image_ids, category_ids = ids("images"), ids("categories")
+    ids("annotations")
+    for i, image in enumerate(lists["images"]):
+        check_relative_file(path, None, image.get("file_name"), f"images[{i}].file_name")
+        for key in ["width", "height"]:
+            if not (is_integer(image.get(key)) and 0 < image[key] <= 100_000):
+                fail(f"images[{i}].{key}", "expected a positive integer")
+    for i, category in enumerate(lists["categories"]):
+        if not isinstance(category.get("name"), str) or len(category["name"]) > MAX_TEXT_CHARS:
+            fail(f"categories[{i}].name", "expected a name")
+    for i, a in enumerate(lists["annotations"]):
+        if a.get("image_id") not in image_ids:
+            fail(f"annotations[{i}].image_id", f"no image {json.dumps(a.get('image_id'))[:40]}")
+        if a.get("category_id") not in category_ids:
+            fail(f"annotations[{i}].category_id",
+                 f"no category {json.dumps(a.get('category_id'))[:40]}")
+        box = a.get("bbox")
+        if not (finite_numbers(box, 4) and box[2] >= 0 and box[3] >= 0):
+            fail(f"annotations[{i}].bbox", f"expected [x, y, w, h] with w, h >= 0, got "
+                 f"{json.dumps(box)[:60]}")
+    return root
+
+
+def read_tum_file_list(path):
+    """An export's tum_rgbd/rgb.txt or depth.txt: '#' comments, then `t filename` per frame, as
+    [(t_ns, file name)] (t exact from its nine decimals)."""
+    out = []
+    for number, line in enumerate(read_text(path).splitlines(), start=1):
+        line = line.strip()
+        if not line or line.startswith("#"):
+            continue
+        fields = line.split()
+        if len(fields) != 2:
+            raise InputError(path, number, f"expected 't filename', got {len(fields)} fields")
+        stamp = parse_stamp_ns(fields[0])
+        if stamp is None:
+            raise InputError(path, number, f"t: expected seconds with at most nine decimals, got "
+                             f"'{fields[0][:40]}'")
+        if out and stamp <= out[-1][0]:
+            raise InputError(path, number, "t: not after the previous frame's")
+        if len(out) == MAX_POSES:
+            raise InputError(path, number, f"more than {MAX_POSES} frames")
+        out.append((stamp, check_relative_file(path, number, fields[1], "filename")))
+    return out
+
+
+def read_euroc_file_list(path):
+    """An export's euroc/mav0/camN/data.csv: `#timestamp [ns],filename`, then `<t_ns>,<file>` per
+    frame, as [(t_ns, file name)]."""
+    out = []
+    lines = read_text(path).splitlines()
+    if not lines or not lines[0].startswith("#timestamp"):
+        raise InputError(path, 1, "expected the header '#timestamp [ns],filename'")
+    for number, line in enumerate(lines[1:], start=2):
+        line = line.strip()
+        if not line:
+            continue
+        fields = [f.strip() for f in line.split(",")]
+        if len(fields) != 2 or not re.fullmatch(r"[0-9]{1,19}", fields[0]):
+            raise InputError(path, number, "expected '<t_ns>,<file name>'")
+        stamp = int(fields[0])
+        if out and stamp <= out[-1][0]:
+            raise InputError(path, number, "timestamp: not after the previous frame's")
+        if len(out) == MAX_POSES:
+            raise InputError(path, number, f"more than {MAX_POSES} frames")
+        out.append((stamp, check_relative_file(path, number, fields[1], "filename")))
+    return out

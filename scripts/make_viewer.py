@@ -1,0 +1,543 @@
+#!/usr/bin/python3
+"""Writes RUN_DIR/viewer.html: one self-contained page (data, uPlot, our script and styles
+inlined) that shows a run with one time cursor (docs/viewer.md).
+
+    make_viewer.py RUN_DIR [--out FILE] [--budget-mb MB]
+
+Reads the run folder through corridorsim.files (the strict readers of plot_run.py). Exit 0:
+written; 2: a file of the run folder is malformed (path:line: message) or a bad argument; 1: the
+page could not be written. corridorsim run calls it after the results (an extra: exit 4 there).
+"""
+
+import argparse
+import base64
+import html
+import json
+import math
+import os
+import sys
+
+try:
+    from corridorsim import files
+    from corridorsim.stats import chi2_band
+except ImportError:  # the checkout, not installed: the package is beside scripts/
+    sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), "..", "python"))
+    from corridorsim import files
+    from corridorsim.stats import chi2_band
+
+SCHEMA = 1
+# Samples per series before decimation starts (paths, error plots); halved until the page fits.
+START_POINTS = 6000
+MIN_POINTS = 250
+DEFAULT_BUDGET_MB = 10.0   # without frames (docs/viewer.md); frames have their own budget
+FRAMES_BUDGET_MB = 40.0    # the most `run --keep-frames` may keep, and so inline
+NEES_DOF = 3
+MAX_TEXT = 200             # characters of an event's or a failure's text
+M, RAD, S = 4, 5, 4        # decimals of metres, radians, seconds in the page
+
+
+def viewer_dir():
+    """The page's sources: <data>/viewer beside <data>/scripts (the checkout, a build tree's
+    links, or share/corridorsim installed)."""
+    return os.path.join(os.path.dirname(os.path.realpath(__file__)), "..", "viewer")
+
+
+def uplot_file(name):
+    """uPlot's dist file: viewer/vendor/ when installed, viewer/node_modules/ in a checkout
+    (scripts/setup.sh runs npm ci there)."""
+    base = viewer_dir()
+    for candidate in (os.path.join(base, "vendor", "uplot", name),
+                      os.path.join(base, "node_modules", "uplot", "dist", name)):
+        if os.path.isfile(candidate):
+            return candidate
+    raise FileNotFoundError(f"uPlot's {name} is not installed under {base} "
+                            "(scripts/setup.sh runs `npm ci` in viewer/)")
+
+
+def read_asset(path):
+    with open(path, encoding="utf-8") as f:
+        return f.read()
+
+
+def rounded(values, decimals):
+    """A list with each value rounded, NaN and infinities as null."""
+    out = []
+    for v in values:
+        v = float(v)
+        out.append(round(v, decimals) if math.isfinite(v) else None)
+    return out
+
+
+def significant(values, digits=4):
+    out = []
+    for v in values:
+        v = float(v)
+        out.append(float(f"{v:.{digits}g}") if math.isfinite(v) else None)
+    return out
+
+
+def stride_indices(n, limit):
+    """Every k-th index (and the last) so that at most about `limit` remain: what the paths keep,
+    so that every pose the page draws is one of the file's."""
+    if n <= limit:
+        return list(range(n))
+    k = math.ceil(n / limit)
+    keep = list(range(0, n, k))
+    if keep[-1] != n - 1:
+        keep.append(n - 1)
+    return keep
+
+
+def extrema_indices(t, columns, limit):
+    """Indices that keep each time bucket's first sample and the minimum and maximum of every
+    column (NaN ignored): decimation that never hides a peak."""
+    n = len(t)
+    if n <= limit:
+        return list(range(n))
+    buckets = max(1, limit // (1 + 2 * max(1, len(columns))))
+    t0, t1 = float(t[0]), float(t[-1])
+    width = (t1 - t0) / buckets if t1 > t0 else 1.0
+    keep = set()
+    start = 0
+    for b in range(buckets):
+        end = start
+        edge = t0 + (b + 1) * width
+        while end < n and (b == buckets - 1 or float(t[end]) < edge):
+            end += 1
+        if end > start:
+            keep.add(start)
+            for column in columns:
+                best_lo = best_hi = None
+                for i in range(start, end):
+                    v = float(column[i])
+                    if not math.isfinite(v):
+                        continue
+                    if best_lo is None or v < float(column[best_lo]):
+                        best_lo = i
+                    if best_hi is None or v > float(column[best_hi]):
+                        best_hi = i
+                if best_lo is not None:
+                    keep.add(best_lo)
+                    keep.add(best_hi)
+        start = end
+    keep.add(n - 1)
+    return sorted(keep)
+
+
+def pick(values, indices):
+    return [values[i] for i in indices]
+
+
+def yaw_of(qz, qw):
+    return 2.0 * math.atan2(qz, qw)
+
+
+def world_json(world):
+    xs, ys = [], []
+    walls = []
+    for a, b in world["walls"]:
+        walls.append(rounded([a[0], a[1], b[0], b[1]], M))
+        xs += [a[0], b[0]]
+        ys += [a[1], b[1]]
+    doors = [{"a": rounded(d["a"], M), "b": rounded(d["b"], M), "state": d["state"],
+              "room": d["room"]} for d in world["doors"]]
+    plates = [{"center": rounded(p["center"], M),
+               "normal": rounded(p["normal"], M) if p["normal"] is not None else None,
+               "room": p["room"]} for p in world["plates"]]
+    lamps = []
+    for lamp in world["lamps"]:
+        extent = lamp["extent"]
+        lamps.append({"center": rounded(lamp["center"], M), "shape": lamp["shape"],
+                      "extent": (round(extent, M) if lamp["shape"] == "circular"
+                                 else rounded(extent, M)),
+                      "on": bool(lamp["on"])})
+    distractors = [{"center": rounded(d["center"], M), "class": d["class"]}
+                   for d in world.get("distractors", [])]
+    for item in plates + lamps + distractors:
+        xs.append(item["center"][0])
+        ys.append(item["center"][1])
+    bounds = [min(xs), min(ys), max(xs), max(ys)] if xs else [0.0, 0.0, 1.0, 1.0]
+    return {"bounds": rounded(bounds, M), "walls": walls, "doors": doors, "plates": plates,
+            "lamps": lamps, "distractors": distractors}
+
+
+def tum_stamp_keys(path):
+    """The stamps of a TUM file as their exact text (the page matches files by it)."""
+    keys = []
+    with open(path, encoding="utf-8") as f:
+        for line in f:
+            line = line.strip()
+            if line and not line.startswith("#"):
+                keys.append(line.split()[0])
+    return keys
+
+
+def read_covariances(path, count):
+    """_cov.txt's position covariance (Pt11, Pt12, Pt22: columns 14, 15, 17) per line."""
+    cxx, cxy, cyy = [], [], []
+    with open(path, encoding="utf-8") as f:
+        for number, line in enumerate(f, start=1):
+            line = line.strip()
+            if not line or line.startswith("#"):
+                continue
+            fields = line.split()
+            if len(fields) != 20:
+                raise files.InputError(path, number, f"expected 20 fields (ov_eval), got "
+                                       f"{len(fields)}")
+            try:
+                cxx.append(float(fields[14]))
+                cxy.append(float(fields[15]))
+                cyy.append(float(fields[17]))
+            except ValueError:
+                raise files.InputError(path, number, "not a number in the line") from None
+    if len(cxx) != count:
+        raise files.InputError(path, None, f"has {len(cxx)} estimates, the .tum {count}")
+    return cxx, cxy, cyy
+
+
+def read_nis(path, limit):
+    """<pipeline>_nis.csv by landmark type: t, nis, accepted (decimated by extrema)."""
+    by_type = {}
+    for line, cells in files.read_csv_table(path, ["t", "type", "dof", "nis", "accepted"]):
+        c = files.CsvCells(path, line, cells)
+        t = c.number("t", lo=0.0)
+        kind = c.text("type", required=True)
+        dof = c.integer("dof", 1, 64)
+        nis = c.number("nis", required=False)
+        accepted = c.choice("accepted", ["0", "1"]) == "1"
+        entry = by_type.setdefault(kind, {"dof": dof, "t": [], "nis": [], "accepted": []})
+        if entry["dof"] != dof:
+            c.fail("dof", f"type {kind} had {entry['dof']} degrees of freedom before, now {dof}")
+        entry["t"].append(t)
+        entry["nis"].append(nis)
+        entry["accepted"].append(1 if accepted else 0)
+    out = {}
+    for kind, entry in sorted(by_type.items()):
+        keep = extrema_indices(entry["t"], [entry["nis"]], limit)
+        out[kind] = {"dof": entry["dof"], "band": significant(chi2_band(entry["dof"])),
+                     "t": rounded(pick(entry["t"], keep), S),
+                     "nis": significant(pick(entry["nis"], keep)),
+                     "accepted": pick(entry["accepted"], keep)}
+    return out
+
+
+def read_detection_rows(path):
+    """The detections with their boxes (read_detections checks the file; this keeps the box)."""
+    files.read_detections(path)  # every check, every message
+    out = []
+    for _, row in files.read_csv_table(path, files.DETECTION_COLUMNS):
+        box = None
+        if row["box_min_x_px"].strip():
+            box = rounded([row[k] for k in files.BOX_COLUMNS], 1)
+        out.append({"t": round(float(row["stamp_s"]), 6), "camera": row["camera"],
+                    "type": row["type"], "u": round(float(row["u_px"]), 1),
+                    "v": round(float(row["v_px"]), 1), "box": box,
+                    "label": row["label"][:MAX_TEXT], "landmark": int(row["landmark_id"])})
+    return out
+
+
+def truth_landmarks(world):
+    """(type, position, label) of what a map may hold: plates, lamps, door columns."""
+    out = []
+    for plate in world["plates"]:
+        out.append(("door_plate", plate["center"], plate["room"]))
+    for lamp in world["lamps"]:
+        out.append(("lamp", lamp["center"], None))
+    for door in world["doors"]:
+        mid = ((door["a"][0] + door["b"][0]) / 2.0, (door["a"][1] + door["b"][1]) / 2.0)
+        out.append(("door", mid, door["room"]))
+    return out
+
+
+TRUTH_GATE_M = 1.0  # a landmark farther than this from every true one of its type has none
+
+
+def landmark_rows(landmarks, detections, world):
+    """The final map with when each landmark was first seen, its nearest true landmark of its
+    type (within TRUTH_GATE_M) and whether it is wrong: no true landmark near, or a plate whose
+    room number differs from the true plate's."""
+    first_seen = {}
+    for d in detections:
+        if d["landmark"] >= 0:
+            first_seen[d["landmark"]] = min(first_seen.get(d["landmark"], math.inf), d["t"])
+    truths = truth_landmarks(world)
+    rows = []
+    for lm in landmarks:
+        x, y = lm["position"][0], lm["position"][1]
+        cov = lm["covariance"]
+        best, best_d = None, math.inf
+        for kind, pos, label in truths:
+            if kind != lm["type"]:
+                continue
+            dist = math.hypot(pos[0] - x, pos[1] - y)
+            if dist < best_d:
+                best, best_d = (pos, label), dist
+        truth = best if best is not None and best_d <= TRUTH_GATE_M else None
+        comparable = lm["type"] in ("door_plate", "lamp", "door")
+        wrong = comparable and (truth is None or (
+            lm["type"] == "door_plate" and lm["label"] and truth[1] is not None
+            and lm["label"] != truth[1]))
+        seen = first_seen.get(lm["id"])
+        rows.append({"id": lm["id"], "type": lm["type"], "status": lm["status"],
+                     "label": (lm["label"] or "")[:MAX_TEXT],
+                     "x": round(x, M), "y": round(y, M),
+                     "cxx": significant([cov[0][0]])[0], "cxy": significant([cov[0][1]])[0],
+                     "cyy": significant([cov[1][1]])[0],
+                     "first_seen": round(seen, S) if seen is not None else None,
+                     "truth": rounded(truth[0], M) if truth else None, "wrong": bool(wrong)})
+    return rows
+
+
+def event_rows(path):
+    if not os.path.exists(path):
+        return []
+    root = files.load_json(path)
+    items = root.get("events", []) if isinstance(root, dict) else root
+    out = []
+    for item in items if isinstance(items, list) else []:
+        if not isinstance(item, dict) or not isinstance(item.get("t"), (int, float)):
+            continue
+        kind = str(item.get("type", "event"))
+        rest = ", ".join(f"{k} {json.dumps(v)}" for k, v in item.items()
+                         if k not in ("t", "t_ns", "type"))
+        out.append({"t": round(float(item["t"]), S), "type": kind[:MAX_TEXT],
+                    "text": rest[:MAX_TEXT]})
+    return out
+
+
+def failure_texts(events):
+    out = {}
+    for e in events:
+        if e["type"] == "pipeline_failed" or "fail" in e["type"]:
+            out[e["text"]] = e
+    return out
+
+
+def expectation_rows(metrics):
+    out = []
+    for item in metrics.get("expectations", []) if isinstance(metrics, dict) else []:
+        if isinstance(item, dict):
+            out.append({"text": str(item.get("expectation", item.get("text", "")))[:MAX_TEXT],
+                        "measured": item.get("measured"), "passed": bool(item.get("passed"))})
+    return out
+
+
+def read_frames(run_dir):
+    """frames/frames.csv (`corridorsim run --keep-frames`): camera,t_ns,file,scale,width,height
+    per kept JPEG; the images are inlined as base64."""
+    index = os.path.join(run_dir, "frames", "frames.csv")
+    if not os.path.exists(index):
+        return {}, 0
+    out, total = {}, 0
+    columns = ["camera", "t_ns", "file", "scale", "width", "height"]
+    for line, cells in files.read_csv_table(index, columns):
+        c = files.CsvCells(index, line, cells)
+        camera = c.text("camera", required=True)
+        t_ns = c.integer("t_ns", 0, 2**62)
+        name = c.text("file", required=True)
+        if "/" in name or name.startswith("."):
+            c.fail("file", "must name a file in frames/")
+        scale = c.number("scale", lo=1e-3, hi=1.0)
+        width = c.integer("width", 1, 10000)
+        height = c.integer("height", 1, 10000)
+        path = os.path.join(run_dir, "frames", name)
+        size = os.path.getsize(path)
+        total += size
+        if total > FRAMES_BUDGET_MB * 1e6:
+            raise files.InputError(index, line, f"the kept frames pass {FRAMES_BUDGET_MB} MB")
+        with open(path, "rb") as f:
+            data = base64.b64encode(f.read()).decode("ascii")
+        cam = out.setdefault(camera, {"width": width, "height": height, "scale": scale,
+                                      "t": [], "jpeg": []})
+        cam["t"].append(round(t_ns * 1e-9, 6))
+        cam["jpeg"].append(data)
+    return out, total
+
+
+def build_data(run_dir, points, frame_stamps):
+    """The page's data; `frame_stamps`: {camera: set of kept frame stamps (s, 6 decimals)}, the
+    detections the page keeps (it draws them on those frames only)."""
+    metrics_path = os.path.join(run_dir, "metrics.json")
+    files.read_metrics(metrics_path)  # every check
+    metrics = files.load_json(metrics_path)
+    world = files.read_world(os.path.join(run_dir, "world.json"))
+    truth = files.read_tum(os.path.join(run_dir, "ground_truth.tum"))
+    truth_keys = tum_stamp_keys(os.path.join(run_dir, "ground_truth.tum"))
+    truth_index = {k: i for i, k in enumerate(truth_keys)}
+    truth_yaw = [yaw_of(r[6], r[7]) for r in truth]
+    keep = stride_indices(len(truth), points)
+    events = event_rows(os.path.join(run_dir, "events.json"))
+    failures = [e for e in events if "fail" in e["type"]]
+    data = {
+        "schema": SCHEMA,
+        "scenario": "", "seed": None,
+        "duration_s": round(float(truth[-1][0]), S),
+        "world": world_json(world),
+        "truth": {"t": rounded(pick(truth[:, 0], keep), S),
+                  "x": rounded(pick(truth[:, 1], keep), M),
+                  "y": rounded(pick(truth[:, 2], keep), M),
+                  "yaw": rounded(pick(truth_yaw, keep), RAD)},
+        "pipelines": [],
+        "events": events,
+        "expectations": expectation_rows(metrics),
+    }
+    scenario_path = os.path.join(run_dir, "scenario.yaml")
+    if os.path.exists(scenario_path):
+        with open(scenario_path, encoding="utf-8", errors="replace") as f:
+            for line in f:
+                key, _, value = line.partition(":")
+                if key == "name":
+                    data["scenario"] = value.strip().strip("'\"")[:MAX_TEXT]
+                elif key == "seed":
+                    try:
+                        data["seed"] = int(value.strip())
+                    except ValueError:
+                        pass
+    data["title"] = f"{data['scenario'] or os.path.basename(os.path.abspath(run_dir))}" + (
+        f" seed {data['seed']}" if data["seed"] is not None else "")
+
+    for name, section in metrics.get("pipelines", {}).items():
+        failed = None
+        if isinstance(section, dict) and section.get("health", {}).get("failed"):
+            texts = [e["text"] for e in failures if name in e["text"]]
+            failed = texts[0] if texts else "failed"
+        entry = {"name": name, "failed": failed, "metrics": section, "path": None,
+                 "truth_at": None, "errors": None, "nees_band": significant(chi2_band(NEES_DOF)),
+                 "nis": {}, "frame_ms": None, "landmarks": [], "detections": []}
+        data["pipelines"].append(entry)
+        tum_path = os.path.join(run_dir, f"{name}.tum")
+        if failed is not None or not os.path.exists(tum_path):
+            continue
+        path = files.read_tum(tum_path)
+        keys = tum_stamp_keys(tum_path)
+        cxx, cxy, cyy = read_covariances(os.path.join(run_dir, f"{name}_cov.txt"), len(path))
+        keep = stride_indices(len(path), points)
+        yaw = [yaw_of(r[6], r[7]) for r in path]
+        entry["path"] = {"t": rounded(pick(path[:, 0], keep), S),
+                         "x": rounded(pick(path[:, 1], keep), M),
+                         "y": rounded(pick(path[:, 2], keep), M),
+                         "yaw": rounded(pick(yaw, keep), RAD),
+                         "cxx": significant(pick(cxx, keep)), "cxy": significant(pick(cxy, keep)),
+                         "cyy": significant(pick(cyy, keep))}
+        at = [truth_index.get(keys[i]) for i in keep]
+        entry["truth_at"] = {
+            "x": [round(float(truth[i][1]), M) if i is not None else None for i in at],
+            "y": [round(float(truth[i][2]), M) if i is not None else None for i in at],
+            "yaw": [round(truth_yaw[i], RAD) if i is not None else None for i in at]}
+        errors = files.read_errors(os.path.join(run_dir, f"{name}_errors.csv"))
+        columns = [c for c in ("ex_m", "ey_m", "eyaw_rad", "nees") if c in errors]
+        ekeep = extrema_indices(errors["t"], [errors[c] for c in columns], points)
+        names = {"ex_m": "ex", "ey_m": "ey", "eyaw_rad": "eyaw", "sigma_x_m": "sx",
+                 "sigma_y_m": "sy", "sigma_yaw_rad": "syaw", "nees": "nees"}
+        entry["errors"] = {"t": rounded(pick(errors["t"], ekeep), S)}
+        for column, short in names.items():
+            if column in errors:
+                values = pick(errors[column], ekeep)
+                entry["errors"][short] = (significant(values) if short == "nees"
+                                          else rounded(values, RAD if "yaw" in column else M))
+        nis_path = os.path.join(run_dir, f"{name}_nis.csv")
+        if os.path.exists(nis_path):
+            entry["nis"] = read_nis(nis_path, points)
+        times_path = os.path.join(run_dir, "maps", f"{name}_frame_times.csv")
+        if os.path.exists(times_path):
+            times = files.read_frame_times(times_path)
+            tkeep = extrema_indices(times["stamp_s"], [times["frame_ms"]], points)
+            entry["frame_ms"] = {"t": rounded(pick(times["stamp_s"], tkeep), S),
+                                 "ms": significant(pick(times["frame_ms"], tkeep)),
+                                 "landmarks": [int(v) for v in pick(times["landmarks"], tkeep)]}
+        detections_path = os.path.join(run_dir, f"{name}_detections.csv")
+        detections = (read_detection_rows(detections_path)
+                      if os.path.exists(detections_path) else [])
+        entry["detections"] = [d for d in detections
+                               if d["t"] in frame_stamps.get(d["camera"], ())]
+        landmarks_path = os.path.join(run_dir, f"{name}_landmarks.json")
+        if os.path.exists(landmarks_path):
+            entry["landmarks"] = landmark_rows(files.read_landmarks(landmarks_path),
+                                               detections, world)
+    return data
+
+
+def script_safe(text):
+    """JSON inside <script>: no '</' can close the element."""
+    return text.replace("</", "<\\/")
+
+
+def render_page(template_path, parts):
+    """The template with each placeholder of `parts` (each present exactly once) replaced in one
+    pass, so that nothing inserted is searched for placeholders again."""
+    page = read_asset(template_path)
+    for key in parts:
+        if page.count(key) != 1:
+            raise RuntimeError(f"{template_path}: expected one {key}, found {page.count(key)}")
+    out, i = [], 0
+    for position, key in sorted((page.index(k), k) for k in parts):
+        out.append(page[i:position])
+        out.append(parts[key])
+        i = position + len(key)
+    out.append(page[i:])
+    return "".join(out)
+
+
+def render(data_json, title):
+    base = viewer_dir()
+    return render_page(os.path.join(base, "viewer.html"), {
+        "/*CORRIDORSIM_UPLOT_CSS*/": read_asset(uplot_file("uPlot.min.css")),
+        "/*CORRIDORSIM_VIEWER_CSS*/": read_asset(os.path.join(base, "viewer.css")),
+        "/*CORRIDORSIM_UPLOT_JS*/": script_safe(read_asset(uplot_file("uPlot.iife.min.js"))),
+        "/*CORRIDORSIM_VIEWER_JS*/": script_safe(read_asset(os.path.join(base, "viewer.js"))),
+        "CORRIDORSIM_DATA_JSON": script_safe(data_json),
+        "CORRIDORSIM_TITLE": html.escape(title),
+    })
+
+
+def main(argv):
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("run_dir")
+    parser.add_argument("--out", help="the page (default RUN_DIR/viewer.html)")
+    parser.add_argument("--budget-mb", type=float, default=DEFAULT_BUDGET_MB,
+                        help="the page's size without frames, MB (default %(default)s)")
+    args = parser.parse_args(argv)
+    if not (0.1 <= args.budget_mb <= 1000.0):
+        print("make_viewer.py: --budget-mb must be in [0.1, 1000]", file=sys.stderr)
+        return 2
+    out = args.out or os.path.join(args.run_dir, "viewer.html")
+    try:
+        if not os.path.isdir(args.run_dir):
+            raise files.InputError(args.run_dir, None, "is not a directory")
+        frames, frames_bytes = read_frames(args.run_dir)
+        frame_stamps = {camera: set(f["t"]) for camera, f in frames.items()}
+        points = START_POINTS
+        while True:
+            data = build_data(args.run_dir, points, frame_stamps)
+            text = json.dumps(data, separators=(",", ":"), allow_nan=False, ensure_ascii=False)
+            if len(text.encode("utf-8")) <= args.budget_mb * 1e6 or points <= MIN_POINTS:
+                break
+            points //= 2
+        if frames:
+            data["frames"] = frames
+            text = json.dumps(data, separators=(",", ":"), allow_nan=False, ensure_ascii=False)
+        else:
+            data["frames"] = {}
+            text = text[:-1] + ',"frames":{}}'
+        page = render(text, data["title"])
+    except files.InputError as e:
+        print(f"make_viewer.py: {e}", file=sys.stderr)
+        return 2
+    except (OSError, RuntimeError, ValueError, KeyError, IndexError, TypeError) as e:
+        print(f"make_viewer.py: {args.run_dir}: {type(e).__name__}: {e}", file=sys.stderr)
+        return 1
+    tmp = out + ".tmp"
+    try:
+        with open(tmp, "w", encoding="utf-8") as f:
+            f.write(page)
+        os.replace(tmp, out)
+    except OSError as e:
+        print(f"make_viewer.py: cannot write {out}: {e}", file=sys.stderr)
+        return 1
+    print(f"wrote {out} ({len(page.encode('utf-8')) / 1e6:.2f} MB, {points} points per series"
+          + (f", frames {frames_bytes / 1e6:.1f} MB" if frames else "") + ")")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
