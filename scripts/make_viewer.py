@@ -34,6 +34,9 @@ FRAMES_BUDGET_MB = 40.0    # the most `run --keep-frames` may keep, and so inlin
 NEES_DOF = 3
 MAX_TEXT = 200             # characters of an event's or a failure's text
 M, RAD, S = 4, 5, 4        # decimals of metres, radians, seconds in the page
+# Significant digits of covariances: an elongated ellipse (odometry's, eigenvalue ratio ~4000)
+# keeps its minor axis to 1e-5 m with 7; 4 moved it by 1.4 %.
+COV_DIGITS = 7
 
 
 def viewer_dir():
@@ -281,19 +284,21 @@ def landmark_rows(landmarks, detections, world):
         rows.append({"id": lm["id"], "type": lm["type"], "status": lm["status"],
                      "label": (lm["label"] or "")[:MAX_TEXT],
                      "x": round(x, M), "y": round(y, M),
-                     "cxx": significant([cov[0][0]])[0], "cxy": significant([cov[0][1]])[0],
-                     "cyy": significant([cov[1][1]])[0],
+                     "cxx": significant([cov[0][0]], COV_DIGITS)[0],
+                     "cxy": significant([cov[0][1]], COV_DIGITS)[0],
+                     "cyy": significant([cov[1][1]], COV_DIGITS)[0],
                      "first_seen": round(seen, S) if seen is not None else None,
                      "truth": rounded(truth[0], M) if truth else None, "wrong": bool(wrong)})
     return rows
 
 
 def event_rows(path):
+    """events.json as (rows for the page, {pipeline: its failure's text})."""
     if not os.path.exists(path):
-        return []
+        return [], {}
     root = files.load_json(path)
     items = root.get("events", []) if isinstance(root, dict) else root
-    out = []
+    out, failures = [], {}
     for item in items if isinstance(items, list) else []:
         if not isinstance(item, dict) or not isinstance(item.get("t"), (int, float)):
             continue
@@ -302,15 +307,11 @@ def event_rows(path):
                          if k not in ("t", "t_ns", "type"))
         out.append({"t": round(float(item["t"]), S), "type": kind[:MAX_TEXT],
                     "text": rest[:MAX_TEXT]})
-    return out
-
-
-def failure_texts(events):
-    out = {}
-    for e in events:
-        if e["type"] == "pipeline_failed" or "fail" in e["type"]:
-            out[e["text"]] = e
-    return out
+        if kind == "pipeline_failed" and isinstance(item.get("pipeline"), str):
+            failures[item["pipeline"]] = (f"{item.get('call', '')} threw at t = "
+                                          f"{float(item['t']):.3f} s: "
+                                          f"{item.get('reason', '')}")[:MAX_TEXT]
+    return out, failures
 
 
 def expectation_rows(metrics):
@@ -366,8 +367,7 @@ def build_data(run_dir, points, frame_stamps):
     truth_index = {k: i for i, k in enumerate(truth_keys)}
     truth_yaw = [yaw_of(r[6], r[7]) for r in truth]
     keep = stride_indices(len(truth), points)
-    events = event_rows(os.path.join(run_dir, "events.json"))
-    failures = [e for e in events if "fail" in e["type"]]
+    events, failures = event_rows(os.path.join(run_dir, "events.json"))
     data = {
         "schema": SCHEMA,
         "scenario": "", "seed": None,
@@ -399,8 +399,7 @@ def build_data(run_dir, points, frame_stamps):
     for name, section in metrics.get("pipelines", {}).items():
         failed = None
         if isinstance(section, dict) and section.get("health", {}).get("failed"):
-            texts = [e["text"] for e in failures if name in e["text"]]
-            failed = texts[0] if texts else "failed"
+            failed = failures.get(name, "failed (events.json says no more)")
         entry = {"name": name, "failed": failed, "metrics": section, "path": None,
                  "truth_at": None, "errors": None, "nees_band": significant(chi2_band(NEES_DOF)),
                  "nis": {}, "frame_ms": None, "landmarks": [], "detections": []}
@@ -417,8 +416,9 @@ def build_data(run_dir, points, frame_stamps):
                          "x": rounded(pick(path[:, 1], keep), M),
                          "y": rounded(pick(path[:, 2], keep), M),
                          "yaw": rounded(pick(yaw, keep), RAD),
-                         "cxx": significant(pick(cxx, keep)), "cxy": significant(pick(cxy, keep)),
-                         "cyy": significant(pick(cyy, keep))}
+                         "cxx": significant(pick(cxx, keep), COV_DIGITS),
+                         "cxy": significant(pick(cxy, keep), COV_DIGITS),
+                         "cyy": significant(pick(cyy, keep), COV_DIGITS)}
         at = [truth_index.get(keys[i]) for i in keep]
         entry["truth_at"] = {
             "x": [round(float(truth[i][1]), M) if i is not None else None for i in at],

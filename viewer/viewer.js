@@ -16,7 +16,11 @@
     const box = document.getElementById("cs-errors");
     if (box) { box.hidden = false; box.textContent = "The page caught errors:\n" + api.errors.join("\n"); }
   }
-  window.addEventListener("error", (e) => report(e.error || e.message, "window.onerror"));
+  window.addEventListener("error", (e) => {
+    // Chromium's notice that a resize callback changed the layout again: benign, not an error.
+    if (!e.error && /^ResizeObserver loop/.test(String(e.message))) return;
+    report(e.error || e.message, "window.onerror");
+  });
   window.addEventListener("unhandledrejection", (e) => report(e.reason, "unhandled rejection"));
   /** fn wrapped so that an exception is recorded instead of escaping. */
   function guard(fn, where) {
@@ -125,7 +129,7 @@
     let raw = {};
     const node = document.getElementById("corridorsim-data");
     const text = node ? node.textContent.trim() : "";
-    if (text && text !== "CORRIDORSIM_DATA_JSON") {
+    if (text && text !== "CORRIDORSIM_" + "DATA_JSON") {
       try { raw = JSON.parse(text); } catch (e) { report(e, "reading the page's data"); raw = {}; }
     }
     if (!isObj(raw)) raw = {};
@@ -400,7 +404,7 @@
       }
       for (const d of W.doors) {
         const a = arr(d.a).map(num), b = arr(d.b).map(num);
-        if (![a[0], a[1], b[0], b[1]].every(isFinite) || plan.s < 14) continue;
+        if (![a[0], a[1], b[0], b[1]].every(isFinite) || plan.s < 20) continue;
         const [sx, sy] = toScreen((a[0] + b[0]) / 2, (a[1] + b[1]) / 2);
         ctx.fillStyle = DOOR_COLORS[d.state] || "#b48cff";
         ctx.fillText(str(d.state) + (d.room ? " " + d.room : ""), sx, sy - 10);
@@ -452,6 +456,7 @@
 
   /** A path up to sample i: whole cached chunks (Path2D) plus the rest, so long paths stay fast. */
   const CHUNK = 2048;
+  const truthEntry = { get path() { return D.truth; }, chunks: null };   // the truth, cached like a pipeline
   function strokePathUpTo(ctx, p, i) {
     const c = p.path;
     if (!p.chunks) {
@@ -495,35 +500,76 @@
     ctx.setLineDash([]);
   }
 
+  /** A pipeline's landmarks seen by t. Batched: one path per kind of mark, so that thousands of
+   *  landmarks cost a few canvas calls, not thousands (software canvases flush on every stroke). */
   function drawLandmarks(ctx, p, t) {
     const px = 1 / plan.s;
-    const seen = p.landmarks.filter((L) => {
-      const fs = num(L.first_seen);
-      return (L.first_seen === null || L.first_seen === undefined || fs <= t) && isFinite(num(L.x)) && isFinite(num(L.y));
-    });
-    for (const L of seen) {
-      const x = num(L.x), y = num(L.y), tr = arr(L.truth).map(num);
-      if (isFinite(tr[0]) && isFinite(tr[1])) {   // a thin line to the matched truth
-        worldTransform(ctx);
-        ctx.strokeStyle = L.wrong ? "rgba(240, 82, 79, 0.8)" : "rgba(200, 200, 200, 0.45)";
-        ctx.lineWidth = 1 * px; ctx.setLineDash([3 * px, 2 * px]);
-        ctx.beginPath(); ctx.moveTo(x, y); ctx.lineTo(tr[0], tr[1]); ctx.stroke(); ctx.setLineDash([]);
-        ctx.fillStyle = "rgba(220, 220, 220, 0.6)";
-        ctx.fillRect(tr[0] - 1.5 * px, tr[1] - 1.5 * px, 3 * px, 3 * px);
+    const [vx0, vy1] = toWorld(-50, -50), [vx1, vy0] = toWorld(plan.w + 50, plan.h + 50);
+    const seen = [];
+    for (const L of p.landmarks) {
+      const fs = num(L.first_seen), x = num(L.x), y = num(L.y);
+      if (!(L.first_seen === null || L.first_seen === undefined || fs <= t) || !isFinite(x) || !isFinite(y)) continue;
+      const tr = arr(L.truth).map(num);
+      const hasTruth = isFinite(tr[0]) && isFinite(tr[1]);
+      const e = ellipse2(x, y, num(L.cxx), num(L.cxy), num(L.cyy));
+      const r = Math.max(e ? e.a : 0, hasTruth ? Math.hypot(tr[0] - x, tr[1] - y) : 0);
+      if (x + r < vx0 || x - r > vx1 || y + r < vy0 || y - r > vy1) continue;   // off screen
+      seen.push({ L: L, x: x, y: y, tr: hasTruth ? tr : null, e: e });
+    }
+    if (!seen.length) return;
+    const many = seen.length > 150;   // hundreds of corners: lighter marks, no labels
+    worldTransform(ctx);
+    // thin dashed lines to the matched truth (red when the association is wrong) and its spot
+    ctx.lineWidth = 1 * px; ctx.setLineDash([3 * px, 2 * px]);
+    for (const wrong of [false, true]) {
+      ctx.beginPath();
+      for (const q of seen) if (q.tr && !!q.L.wrong === wrong) { ctx.moveTo(q.x, q.y); ctx.lineTo(q.tr[0], q.tr[1]); }
+      ctx.strokeStyle = wrong ? "rgba(240, 82, 79, 0.8)" : "rgba(200, 200, 200, 0.35)";
+      ctx.stroke();
+    }
+    ctx.setLineDash([]);
+    ctx.beginPath();
+    for (const q of seen) if (q.tr) ctx.rect(q.tr[0] - 1.5 * px, q.tr[1] - 1.5 * px, 3 * px, 3 * px);
+    ctx.fillStyle = "rgba(220, 220, 220, 0.6)"; ctx.fill();
+    // 2-sigma ellipses: solid when converged, dashed while initializing
+    ctx.globalAlpha = many ? 0.4 : 0.7; ctx.strokeStyle = p.color; ctx.lineWidth = 1.2 * px;
+    for (const init of [false, true]) {
+      ctx.setLineDash(init ? [4 * px, 3 * px] : []);
+      ctx.beginPath();
+      for (const q of seen) {
+        if (!q.e || (q.L.status === "initializing") !== init) continue;
+        const a = Math.max(q.e.a, 0.5 * px), b = Math.max(q.e.b, 0.5 * px);
+        ctx.moveTo(q.x + a * Math.cos(q.e.angle), q.y + a * Math.sin(q.e.angle));
+        ctx.ellipse(q.x, q.y, a, b, q.e.angle, 0, 2 * Math.PI);
       }
-      drawEllipse(ctx, ellipse2(x, y, num(L.cxx), num(L.cxy), num(L.cyy)), p.color, L.status === "initializing", 0.08);
-      screenTransform(ctx);
-      const [sx, sy] = toScreen(x, y);
-      ctx.fillStyle = typeColor(str(L.type)); ctx.strokeStyle = p.color; ctx.lineWidth = 1.5;
-      ctx.beginPath(); ctx.arc(sx, sy, 3.5, 0, 2 * Math.PI); ctx.fill(); ctx.stroke();
-      if (L.wrong) {       // a wrong association: a red cross and a label
+      ctx.stroke();
+    }
+    ctx.setLineDash([]); ctx.globalAlpha = 1;
+    // the landmarks: a dot per landmark, filled by type, ringed in the pipeline's colour
+    screenTransform(ctx);
+    const rad = many ? 2 : 3.5, byType = new Map();
+    for (const q of seen) {
+      const k = str(q.L.type);
+      if (!byType.has(k)) byType.set(k, []);
+      byType.get(k).push(q);
+    }
+    ctx.strokeStyle = p.color; ctx.lineWidth = many ? 1 : 1.5;
+    for (const [type, list] of byType) {
+      ctx.beginPath();
+      for (const q of list) { const [sx, sy] = toScreen(q.x, q.y); ctx.moveTo(sx + rad, sy); ctx.arc(sx, sy, rad, 0, 2 * Math.PI); }
+      ctx.fillStyle = typeColor(type); ctx.fill(); ctx.stroke();
+    }
+    // wrong associations: a red cross and a label; other labels when zoomed in
+    ctx.textAlign = "left"; ctx.textBaseline = "middle";
+    const labels = showLabels() && plan.s >= (many ? 120 : 30);
+    for (const q of seen) {
+      const [sx, sy] = toScreen(q.x, q.y);
+      if (q.L.wrong) {
         ctx.strokeStyle = "#ff4040"; ctx.lineWidth = 2.5;
         ctx.beginPath(); ctx.moveTo(sx - 7, sy - 7); ctx.lineTo(sx + 7, sy + 7); ctx.moveTo(sx + 7, sy - 7); ctx.lineTo(sx - 7, sy + 7); ctx.stroke();
-        ctx.fillStyle = "#ff6060"; ctx.textAlign = "left"; ctx.textBaseline = "middle";
-        ctx.fillText("wrong " + str(L.label || L.type), sx + 9, sy - 8);
-      } else if (showLabels() && plan.s >= 30 && L.label) {
-        ctx.fillStyle = "#c5cad3"; ctx.textAlign = "left"; ctx.textBaseline = "middle";
-        ctx.fillText(str(L.label), sx + 6, sy - 7);
+        ctx.fillStyle = "#ff6060"; ctx.fillText("wrong " + str(q.L.label || q.L.type), sx + 9, sy - 8);
+      } else if (labels && q.L.label) {
+        ctx.fillStyle = "#c5cad3"; ctx.fillText(str(q.L.label), sx + 6, sy - 7);
       }
     }
   }
@@ -542,7 +588,7 @@
     if (snap.truth) {
       worldTransform(ctx);
       ctx.strokeStyle = "rgba(255, 255, 255, 0.75)"; ctx.lineWidth = 1.6 / plan.s; ctx.lineJoin = "round";
-      strokePath(ctx, D.truth, 0, snap.truth.i);
+      strokePathUpTo(ctx, truthEntry, snap.truth.i);
     }
     const showLm = $("cs-show-landmarks").checked;
     for (const p of D.pipelines) {
@@ -640,6 +686,8 @@
   }
   const hasFinite = (a) => { for (let i = 0; i < a.length; i++) if (isFinite(a[i])) return true; return false; };
 
+  const decades = (u, splits) => splits.map((v) => (Math.abs(Math.log10(v) - Math.round(Math.log10(v))) < 1e-6 ? v : null));
+
   /** One plot: spec = {title, note, unit, t, series:[{label, data, color, width, dash, points}],
    *  bands:[[upper, lower, fill]], hband:[lo, hi], log, y2:{label}}. */
   function addPlot(box, spec) {
@@ -657,8 +705,11 @@
     }
     const hband = spec.hband && spec.hband.length === 2 && spec.hband.every(isFinite) ? spec.hband : null;
     const axes = [Object.assign({ label: "time [s]", labelSize: 16, size: 34 }, AXIS),
-      Object.assign({ label: spec.unit, labelSize: 16, size: 52 }, AXIS)];
+      Object.assign({ label: spec.unit, labelSize: 16, size: 52 }, AXIS,
+        // a log axis: ticks and grid at the decades only, the minor ones only clutter
+        spec.log ? { filter: decades, values: (u, splits) => splits.map((v) => (v === null || v === undefined ? null : v >= 0.01 && v < 1e5 ? fmt(v) : v.toExponential(0))), grid: Object.assign({ filter: decades }, AXIS.grid), ticks: Object.assign({ filter: decades }, AXIS.ticks) } : {})];
     const scales = { x: { time: false }, y: spec.log ? { distr: 3, log: 10 } : {} };
+    if (hband) scales.y.range = (u, lo, hi) => bandRange(lo, hi, hband, spec.log);
     if (spec.y2) { axes.push(Object.assign({ scale: "y2", side: 1, label: spec.y2.label, labelSize: 16, size: 46, grid: { show: false } }, AXIS, { grid: { show: false } })); scales.y2 = {}; }
     const data = [gaps(spec.t)].concat(spec.series.map((s) => s.data));
     const entry = { u: null, line: null, wrap: wrap, t: spec.t };
@@ -679,13 +730,11 @@
           ctx.restore();
         }],
         setScale: [(u, key) => { if (key === "x") onXScale(u); }],
+        setSize: [() => placeLine(entry)],
         // with the mouse away the legend shows the values at the time cursor
         setCursor: [(u) => { if (u.cursor.idx === null || u.cursor.idx === undefined) legendAtCursor(entry); }],
       },
     }, data, wrap);
-    if (hband && !spec.log) {   // keep the band in view
-      u.setScale("y", { min: Math.min(u.scales.y.min, hband[0]), max: Math.max(u.scales.y.max, hband[1]) });
-    }
     const line = el("div", { cls: "cs-cursor-line" });
     u.over.append(line);
     // a click (not a drag) moves the cursor there
@@ -701,6 +750,15 @@
     plots.push(entry);
     u.setScale("x", { min: T0(), max: T1() });
     placeLine(entry);
+  }
+
+  /** A y range that holds the data in view and the band [lo, hi] (a log one: positive values). */
+  function bandRange(dmin, dmax, band, log) {
+    let lo = band[0], hi = band[1];
+    if (dmin !== null && isFinite(dmin)) lo = Math.min(lo, dmin);
+    if (dmax !== null && isFinite(dmax)) hi = Math.max(hi, dmax);
+    if (log) return uPlot.rangeLog(Math.max(lo, 1e-6), Math.max(hi, 1e-5), 10, true);
+    return uPlot.rangeNum(lo, hi, 0.1, true);
   }
 
   function onXScale(u) {
@@ -720,7 +778,7 @@
     if (!snap || !p.u) return;
     if (p.u.cursor.idx === null || p.u.cursor.idx === undefined) legendAtCursor(p);
     const x = p.u.valToPos(snap.t, "x");
-    const inside = isFinite(x) && x >= 0 && x <= p.u.over.clientWidth + 0.5;
+    const inside = isFinite(x) && x >= 0 && x <= p.u.bbox.width / (window.devicePixelRatio || 1) + 0.5;
     p.line.style.display = inside ? "" : "none";
     if (inside) p.line.style.left = x + "px";
   }
@@ -818,16 +876,16 @@
       const data = { t: Float64Array.from(t), jpeg: jpeg, scale: isFinite(num(F.scale)) ? num(F.scale) : 1 };
       const img = el("img", { alt: cam });
       const canvas = el("canvas");
-      const cap = el("figcaption");
-      const fig = el("figure", { cls: "cs-frame" }, [img, canvas, cap]);
+      const cap = el("figcaption"), det = el("figcaption");
+      const fig = el("figure", { cls: "cs-frame" }, [img, canvas, cap, det]);
       fig.style.margin = "0";
       box.append(fig);
-      const v = { cam: cam, data: data, img: img, canvas: canvas, cap: cap, shown: -2 };
+      const v = { cam: cam, data: data, img: img, canvas: canvas, cap: cap, det: det, shown: -2 };
       img.addEventListener("load", guard(() => drawDetections(v), "frame load"));
       frameViews.push(v);
     }
     listeners.push(() => updateFrames(false));
-    new ResizeObserver(guard(() => { for (const v of frameViews) drawDetections(v); }, "frame resize")).observe(box);
+    new ResizeObserver(() => requestAnimationFrame(guard(() => { for (const v of frameViews) drawDetections(v); }, "frame resize"))).observe(box);
   }
 
   function updateFrames(force) {
@@ -836,17 +894,22 @@
       const i = lastAtOrBefore(v.data.t, snap.t);
       if (i === v.shown && !force) continue;
       v.shown = i;
-      if (i < 0 || typeof v.data.jpeg[i] !== "string") {
+      if (i < 0 || !isBase64(v.data.jpeg[i])) {
         v.img.removeAttribute("src");
-        v.cap.textContent = v.cam + " · no frame yet";
+        v.img.hidden = true;
+        v.cap.textContent = v.cam + (i < 0 ? " · no frame yet" : " · frame " + (i + 1) + " is not a JPEG in base64");
         drawDetections(v);
         continue;
       }
       v.cap.textContent = v.cam + " · t = " + v.data.t[i].toFixed(3) + " s · frame " + (i + 1) + "/" + v.data.t.length;
+      v.img.hidden = false;
       const src = "data:image/jpeg;base64," + v.data.jpeg[i];
       if (v.img.getAttribute("src") !== src) v.img.src = src; else drawDetections(v);
     }
   }
+
+  /** A base64 string (a broken one would only give the browser's "invalid URL" error). */
+  const isBase64 = (s) => typeof s === "string" && s.length > 0 && s.length % 4 === 0 && /^[A-Za-z0-9+/]+={0,2}$/.test(s);
 
   /** The focused pipeline's detections at the frame's stamp (within 1e-3 s), scaled to the image. */
   function drawDetections(v) {
@@ -857,15 +920,19 @@
     const ctx = c.getContext("2d");
     ctx.setTransform(dpr, 0, 0, dpr, 0, 0);
     ctx.clearRect(0, 0, w, h);
+    v.det.textContent = "";
     if (v.shown < 0 || !focus || !img.naturalWidth || !img.getAttribute("src")) return;
     const list = focus.detByCam.get(v.cam), times = focus.detTimes.get(v.cam);
-    if (!list) return;
+    if (!list) { v.det.textContent = focus.name + ": no detections from " + v.cam; return; }
     const ft = v.data.t[v.shown];
     const k = (w / img.naturalWidth) * v.data.scale;  // rendered px -> displayed px
     ctx.font = "11px sans-serif"; ctx.textBaseline = "bottom"; ctx.lineWidth = 1.5;
+    const counts = {};
     for (let i = firstAtOrAfter(times, ft - 1e-3); i < list.length && list[i].t <= ft + 1e-3; i++) {
       const q = list[i], col = typeColor(str(q.type));
       const assoc = num(q.landmark) >= 0;
+      const n = counts[str(q.type)] || (counts[str(q.type)] = [0, 0]);
+      n[0]++; if (assoc) n[1]++;
       ctx.strokeStyle = col; ctx.fillStyle = col;
       ctx.setLineDash(assoc ? [] : [4, 3]);
       const b = arr(q.box).map(num);
@@ -877,10 +944,11 @@
         ctx.beginPath(); ctx.arc(num(q.u) * k, num(q.v) * k, 4, 0, 2 * Math.PI); ctx.stroke();
         lx = num(q.u) * k + 5; ly = num(q.v) * k - 4;
       } else continue;
-      const text = str(q.label) || str(q.type);
-      if (text) ctx.fillText(text + (assoc ? " #" + q.landmark : ""), lx, ly);
+      if (q.label) ctx.fillText(str(q.label) + (assoc ? " #" + q.landmark : ""), lx, ly);
     }
     ctx.setLineDash([]);
+    v.det.textContent = Object.keys(counts).length ? focus.name + ": " + Object.keys(counts).map((k) =>
+      counts[k][0] + " " + k + " (" + counts[k][1] + " associated)").join(" · ") + "; dashed: not associated" : focus.name + ": no detections on this frame";
   }
 
   // ---------------------------------------------------------------- events, expectations, metrics

@@ -419,13 +419,9 @@ std::string CommandText(const StudyRequest& request) {
 }
 
 std::optional<std::string> MakeStudyPlots(const fs::path& dir) {
-  const fs::path script = DataDir() / "scripts" / "plot_study.py";
-  const std::string python = PlotPython();
-  const ChildStatus status = RunChildProcess({python, script.string(), dir.string()});
+  std::optional<std::string> error = RunPlotScript("plot_study.py", {dir.string()});
   if (const int signal = StopSignal()) DieOfSignal(signal);  // forwarded to python3, which ended
-  if (status.succeeded()) return std::nullopt;
-  return python + " '" + script.string() + "' '" + dir.string() + "' " +
-         DescribeChildStatus(status);
+  return error;
 }
 
 // P1 Fig. 16 over a study: the frame costs of the runs' maps/<pipeline>_frame_times.csv (the

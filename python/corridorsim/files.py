@@ -936,7 +936,7 @@ def read_study_plan(path):
         if any(p["id"] == pid for p in points):
             r.fail(point, f"{name}.id", f"{pid} twice")
         values = r.get(point, "vary", "object", name) or {}
-        if list(values) != vary or not all(isinstance(v, str) for v in values.values()):
+        if set(values) != set(vary) or not all(isinstance(v, str) for v in values.values()):
             r.fail(point, f"{name}.vary", f"expected a text value for each of {vary}")
         points.append({"id": pid, "vary": dict(values)})
     if not points:

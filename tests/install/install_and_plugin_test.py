@@ -62,6 +62,11 @@ def main():
                 "share/corridorsim/models/door_plate_svm.yml",
                 "share/corridorsim/scripts/plot_run.py",
                 "share/corridorsim/scripts/plot_evaluation.py", "share/doc/corridorsim/plugins.md",
+                "share/corridorsim/scripts/make_viewer.py", "share/corridorsim/scripts/make_report.py",
+                "share/corridorsim/viewer/viewer.js", "share/corridorsim/viewer/report.js",
+                "share/corridorsim/viewer/vendor/uplot/uPlot.iife.min.js",
+                "lib/python3/dist-packages/corridorsim/files.py",
+                "lib/python3/dist-packages/corridorsim/analysis.py",
                 "share/doc/corridorsim/examples/cpp_plugin/lamp_ekf.cpp"]:
         if not os.path.exists(os.path.join(prefix, rel)):
             fail("cmake --install did not install " + rel)
@@ -111,6 +116,10 @@ def main():
         fail("lamp_ekf's ATE %.4f is not below half of odometry's %.4f" % (mine, odometry))
     if not os.path.exists(os.path.join(run_dir, "plots", "summary.png")):
         fail("the installed program wrote no plots")
+    # viewer.html from the installed page sources and uPlot, nothing of the checkout.
+    page = read(os.path.join(run_dir, "viewer.html"))
+    if "corridorsim-data" not in page or "uPlot" not in page:
+        fail("the installed program wrote no viewer.html with its data and uPlot")
     plugins = json.loads(read(os.path.join(run_dir, "provenance.json")))["plugins"]
     digest = hashlib.sha256(read(library, "rb")).hexdigest()
     if len(plugins) != 1 or plugins[0]["sha256"] != digest or plugins[0]["version"] != "1.0.0" \

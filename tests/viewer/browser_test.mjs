@@ -218,6 +218,26 @@ async function testViewer(opts, browser) {
     }
   }
 
+  // every plot's cursor line sits at the cursor's time, also after the window is resized
+  for (const width of [1600, 1150]) {
+    await page.setViewportSize({ width: width, height: 1000 });
+    await page.waitForTimeout(300);
+    const lines = await page.evaluate(() => {
+      const t = window.corridorsimViewer.state().t;
+      return Array.from(document.querySelectorAll(".cs-plot")).filter((w) => w.querySelector(".u-over") && w.dataset.xmin !== undefined).map((w) => {
+        const over = w.querySelector(".u-over"), line = over.querySelector(".cs-cursor-line");
+        const xmin = Number(w.dataset.xmin), xmax = Number(w.dataset.xmax);
+        return { title: w.firstChild.textContent, want: ((t - xmin) / (xmax - xmin)) * over.getBoundingClientRect().width,
+          got: line && line.style.display !== "none" ? line.getBoundingClientRect().left - over.getBoundingClientRect().left : null };
+      });
+    });
+    for (const l of lines) {
+      check(l.got !== null && Math.abs(l.got - l.want) <= 2,
+        `at ${width} px wide the cursor line of plot "${l.title}" is at ${l.got} px, the cursor's time at ${l.want.toFixed(1)} px`);
+    }
+  }
+  await page.setViewportSize({ width: 1600, height: 1000 });
+
   // a close look at the robot (for whoever reads the screenshots): follow it, zoom in with the wheel
   await page.evaluate((t) => window.corridorsimViewer.setTime(t), times[2]);
   await page.locator("#cs-follow").check();
