@@ -4,7 +4,8 @@
 # must leave them all identical; a change that is meant to move a metric updates the references
 # with --update in the same commit and says why. Each run folder is also given to
 # scripts/check_analysis.py: corridorsim.Run must recompute every pipeline's trajectory metrics
-# from the TUM files to the last digit (docs/analysis.md).
+# from the TUM files to the last digit (docs/analysis.md), and its viewer.html must keep within
+# 10 MB (docs/viewer.md).
 #
 #   scripts/check_metrics.sh [--update] [--bin build/bin/corridorsim] [SCENARIO.yaml ...]
 #
@@ -56,6 +57,14 @@ for scenario in "${scenarios[@]}"; do
   else
     echo "DIFF $name"; diff "$reference_dir/$name.json" "$out/metrics.json" | head -20 || true
     failed=1
+  fi
+  # viewer.html (docs/viewer.md) within its budget of 10 MB without frames (exit 4 above when
+  # the page failed).
+  viewer_bytes=$(stat -c %s "$out/viewer.html" 2>/dev/null || echo missing)
+  if [ "$viewer_bytes" = missing ] || [ "$viewer_bytes" -gt 10000000 ]; then
+    echo "FAIL $name: viewer.html is $viewer_bytes bytes (budget 10000000)"; failed=1
+  else
+    echo "viewer $name: $viewer_bytes bytes"
   fi
   # corridorsim.Run's ATE, RPE and final error equal metrics.json's, float for float.
   if PYTHONPATH="$python_path" "$python" scripts/check_analysis.py "$out" \
