@@ -24,7 +24,8 @@ except ImportError:  # the checkout, not installed: the package is beside script
     from corridorsim import files
 
 sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
-from make_viewer import read_asset, render_page, script_safe, uplot_file, viewer_dir  # noqa: E402
+from make_viewer import (read_asset, render_page, script_safe, uplot_file,  # noqa: E402
+                         viewer_dir, write_page)
 
 SCHEMA = 1
 MAX_TEXT = 300
@@ -223,13 +224,7 @@ def main(argv):
     except (OSError, RuntimeError, ValueError, KeyError, TypeError, AttributeError) as e:
         print(f"make_report.py: {args.study_dir}: {type(e).__name__}: {e}", file=sys.stderr)
         return 1
-    tmp = out + ".tmp"
-    try:
-        with open(tmp, "w", encoding="utf-8") as f:
-            f.write(page)
-        os.replace(tmp, out)
-    except OSError as e:
-        print(f"make_report.py: cannot write {out}: {e}", file=sys.stderr)
+    if not write_page(out, page, "make_report.py"):
         return 1
     print(f"wrote {out} ({len(page.encode('utf-8')) / 1e6:.2f} MB, {len(data['runs'])} runs)")
     return 0

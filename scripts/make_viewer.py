@@ -225,17 +225,25 @@ def read_nis(path, limit):
 
 
 def read_detection_rows(path):
-    """The detections with their boxes (read_detections checks the file; this keeps the box)."""
-    files.read_detections(path)  # every check, every message
+    """The detections the page uses (stamp, camera, type, pixel, box, label, landmark), each
+    checked as read_detections checks it (one pass: the file is the page's largest input)."""
+    used = ["stamp_s", "camera", "type", "u_px", "v_px", "label", "landmark_id"]
     out = []
-    for _, row in files.read_csv_table(path, files.DETECTION_COLUMNS):
-        box = None
-        if row["box_min_x_px"].strip():
-            box = rounded([row[k] for k in files.BOX_COLUMNS], 1)
-        out.append({"t": round(float(row["stamp_s"]), 6), "camera": row["camera"],
-                    "type": row["type"], "u": round(float(row["u_px"]), 1),
-                    "v": round(float(row["v_px"]), 1), "box": box,
-                    "label": row["label"][:MAX_TEXT], "landmark": int(row["landmark_id"])})
+    for line, cells in files.read_csv_table(path, used + files.BOX_COLUMNS):
+        c = files.CsvCells(path, line, cells)
+        box = [c.number(b, required=False) for b in files.BOX_COLUMNS]
+        if all(math.isnan(b) for b in box):
+            box = None
+        elif any(math.isnan(b) for b in box) or box[0] > box[2] or box[1] > box[3]:
+            c.fail("box_min_x_px", "a box needs min x <= max x and min y <= max y, all four or "
+                   "none")
+        out.append({"t": round(c.number("stamp_s", lo=0.0), 6),
+                    "camera": c.text("camera", required=True)[:MAX_TEXT],
+                    "type": c.choice("type", files.LANDMARK_TYPES),
+                    "u": round(c.number("u_px"), 1), "v": round(c.number("v_px"), 1),
+                    "box": rounded(box, 1) if box else None,
+                    "label": (c.text("label", required=False) or "")[:MAX_TEXT],
+                    "landmark": c.integer("landmark_id", -1, 2**31 - 1)})
     return out
 
 
@@ -490,6 +498,20 @@ def render(data_json, title):
     })
 
 
+def write_page(out, page, program):
+    """Writes the page atomically (a temporary file beside it, then rename); False, with the
+    reason on stderr, when it cannot."""
+    tmp = out + ".tmp"
+    try:
+        with open(tmp, "w", encoding="utf-8") as f:
+            f.write(page)
+        os.replace(tmp, out)
+    except OSError as e:
+        print(f"{program}: cannot write {out}: {e}", file=sys.stderr)
+        return False
+    return True
+
+
 def main(argv):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("run_dir")
@@ -526,13 +548,7 @@ def main(argv):
     except (OSError, RuntimeError, ValueError, KeyError, IndexError, TypeError) as e:
         print(f"make_viewer.py: {args.run_dir}: {type(e).__name__}: {e}", file=sys.stderr)
         return 1
-    tmp = out + ".tmp"
-    try:
-        with open(tmp, "w", encoding="utf-8") as f:
-            f.write(page)
-        os.replace(tmp, out)
-    except OSError as e:
-        print(f"make_viewer.py: cannot write {out}: {e}", file=sys.stderr)
+    if not write_page(out, page, "make_viewer.py"):
         return 1
     print(f"wrote {out} ({len(page.encode('utf-8')) / 1e6:.2f} MB, {points} points per series"
           + (f", frames {frames_bytes / 1e6:.1f} MB" if frames else "") + ")")
