@@ -2,7 +2,7 @@
 # The saved scenario repeats the run: every shipped scenario (scenarios/*.yaml) and every include
 # chain of tests/data/repeat/*.yaml is run (shortened: a wrapper includes it and sets duration_s),
 # then run again from the scenario.yaml its run folder saved. The two folders must hold the same
-# bytes, every file but timing.json and maps/*_frame_times.csv (wall clock) and provenance.json's
+# bytes, every file but timing.json, maps/*_frame_times.csv and viewer.html (wall clock) and provenance.json's
 # `scenario.file` (the path given); the second scenario.yaml is the first one's bytes (the echo is a fixed point).
 #
 #   scripts/check_repeat.sh [--bin build/bin/corridorsim] [--duration S] [SCENARIO.yaml ...]
@@ -50,7 +50,7 @@ for scenario in "${scenarios[@]}"; do
   while IFS= read -r -d '' file; do
     rel=${file#"$first/"}
     case "$rel" in
-      timing.json | maps/*_frame_times.csv) continue ;;  # wall clock
+      timing.json | maps/*_frame_times.csv | viewer.html) continue ;;  # wall clock (the page shows the frame times)
       provenance.json)
         if ! diff <(grep -v '"file":' "$file") <(grep -v '"file":' "$second/$rel") > /dev/null; then
           echo "DIFF $name: $rel"; diff <(grep -v '"file":' "$file") \

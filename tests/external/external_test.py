@@ -217,7 +217,9 @@ def main():
             break
         outputs.append(d)
     if len(outputs) == 3:
-        files = sorted(f for f in os.listdir(outputs[0]) if f != "timing.json")
+        # Wall clock: timing.json, and viewer.html which plots the frame times.
+        files = sorted(f for f in os.listdir(outputs[0])
+                       if f not in ("timing.json", "viewer.html"))
         events = json.load(open(os.path.join(outputs[0], "events.json")))
         dropped = sum(1 for e in events["events"] if e.get("type") == "frame_dropped")
         differ = [f for f in files if open(os.path.join(outputs[0], f), "rb").read() !=

@@ -110,9 +110,9 @@ class Determinism(unittest.TestCase):
         compared = 0
         for root, _, files in os.walk(a):
             for f in files:
-                # Wall-clock seconds, by design not reproducible: timing.json and the Harris
-                # baseline's frame times (P1 Fig. 16).
-                if f == "timing.json" or f.endswith("_frame_times.csv"):
+                # Wall-clock seconds, by design not reproducible: timing.json, the Harris
+                # baseline's frame times (P1 Fig. 16) and viewer.html, which plots them.
+                if f in ("timing.json", "viewer.html") or f.endswith("_frame_times.csv"):
                     continue
                 path_a = os.path.join(root, f)
                 path_b = os.path.join(b, os.path.relpath(path_a, a))

@@ -3,6 +3,7 @@
 #include "harness/metrics/trajectory.h"
 
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -112,3 +113,25 @@ TEST_CASE("RPE of a heading drift grows with the distance as the drift's arc", "
 
 }  // namespace
 }  // namespace corridorsim::metrics_tests
+
+namespace corridorsim {
+namespace {
+
+TEST_CASE("PoseAsWritten gives back what the run's TUM line says", "[metrics]") {
+  const SE2 pose(1.23456789, -2.0000004, 2.9);
+  const SE2 written = metrics::PoseAsWritten(pose);
+  // x, y: the file's six decimals, parsed; yaw: 2 atan2(qz, qw) of the nine-decimal quaternion.
+  CHECK(written.x() == 1.234568);
+  CHECK(written.y() == -2.0);
+  char text[64];
+  std::snprintf(text, sizeof(text), "%.9f %.9f", std::sin(2.9 / 2), std::cos(2.9 / 2));
+  double z = 0.0, w = 0.0;
+  REQUIRE(std::sscanf(text, "%lf %lf", &z, &w) == 2);
+  CHECK(written.yaw() == NormalizeAngle(2.0 * std::atan2(z, w)));
+  CHECK(std::abs(written.yaw() - 2.9) < 1e-8);
+  // A NaN stays NaN (the line says "nan"; the metrics count it as non-finite).
+  CHECK(std::isnan(metrics::PoseAsWritten(SE2(std::nan(""), 0.0, 0.0)).x()));
+}
+
+}  // namespace
+}  // namespace corridorsim
