@@ -146,7 +146,7 @@ def series_of(summary, pipelines):
             finite_low = [v for v in low if number(v) is not None]
             finite_high = [v for v in high if number(v) is not None]
             per[p] = {"t": [number(v) for v in s["t"]],
-                      "error_mean": [number(v) for v in err],
+                      "error_rms": [number(v) for v in err],
                       "error_2sigma": [2.0 * v if number(v) is not None else None for v in sigma],
                       "nees_mean": [number(v) for v in s.get("anees", [])],
                       "nees_low": [number(v) for v in low],

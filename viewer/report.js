@@ -435,7 +435,7 @@
     const width = Math.max(box.clientWidth - 8, 240);
     const val = (u, v) => (v === null || v === undefined ? "–" : fmt(v));
     // position error: the mean over seeds (solid) and the mean 2-sigma (dashed)
-    const err = joinSeries(sets, "error_mean"), sig = joinSeries(sets, "error_2sigma");
+    const err = joinSeries(sets, "error_rms"), sig = joinSeries(sets, "error_2sigma");
     box.append(el("div", { cls: "cs-plot-title" }, ["position error over seeds", el("small", { text: "solid: the error, dashed: its 2σ bound" })]));
     timePlots.push(new uPlot({
       width: width, height: 180, axes: axes("m"), scales: { x: { time: false } }, cursor: { sync: { key: "rep" } },
