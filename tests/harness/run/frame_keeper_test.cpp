@@ -57,11 +57,11 @@ TEST_CASE("FrameKeeper keeps every frame while they fit the budget", "[run][fram
 
 TEST_CASE("FrameKeeper thins by doubling its stride and stays within the budget", "[run][frames]") {
   // A budget of three and a half frames' JPEGs (noisy frames: all of about one size).
-  double scale = 0.0;
+  double one_scale = 0.0;
   const std::size_t one = EncodeJpegShrunk(NoisyFrame(0, 0).frame.rgb, FrameKeeper::kMaxWidthPx,
-                                           FrameKeeper::kJpegQuality, "test", &scale)
+                                           FrameKeeper::kJpegQuality, "test", &one_scale)
                               .size();
-  CHECK(scale == 0.5);
+  CHECK(one_scale == 0.5);
   const std::size_t budget = one * 7 / 2;
   FrameKeeper keeper(budget);
   Feed(keeper, 40);
