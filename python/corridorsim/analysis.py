@@ -27,7 +27,7 @@ import re
 import numpy as np
 import pandas as pd
 
-from . import files
+from . import dataset_files, files, study_files
 from .files import InputError
 
 __all__ = ["Run", "Study", "Dataset", "InputError", "normalize_angle", "round_to_step",
@@ -584,7 +584,7 @@ class Study:
 
     Attributes:
       path        the folder
-      plan        study.json (files.read_study_plan: runs_per_point, first_seed, pipelines,
+      plan        study.json (study_files.read_study_plan: runs_per_point, first_seed, pipelines,
                   metrics, vary, points, expectations, may_diverge; `raw`: the whole file)
       vary        the swept keys, in the plan's order
       pipelines   the pipelines, in scenario order
@@ -622,7 +622,7 @@ class Study:
 
     @property
     def plan(self):
-        return self._cached("plan", lambda: files.read_study_plan(
+        return self._cached("plan", lambda: study_files.read_study_plan(
             os.path.join(self.path, "study.json")))
 
     @property
@@ -677,7 +677,7 @@ class Study:
                 for seed in self.seeds:
                     path = self._status_file(p["id"], seed)
                     if os.path.exists(path):
-                        rows.append(files.read_run_status(path))
+                        rows.append(study_files.read_run_status(path))
                         rows[-1]["point"] = p["id"]
             return pd.DataFrame(rows, columns=["point", "seed", "outcome", "detail", "exit_code",
                                                "signal", "wall_seconds", "peak_rss_mib"])
@@ -699,7 +699,7 @@ class Study:
                         metrics = files.read_metrics_full(metrics_path, fast=True)
                         per_pipeline = metrics.get("pipelines") or {}
                     elif os.path.exists(self._status_file(p["id"], seed)):
-                        status = files.read_run_status(self._status_file(p["id"], seed))["outcome"]
+                        status = study_files.read_run_status(self._status_file(p["id"], seed))["outcome"]
                     else:
                         status = "not_run"
                     for name in self.pipelines:
@@ -716,7 +716,7 @@ class Study:
         return self._cached("runs", make)
 
     def _table(self, name, columns):
-        keys, table = files.read_study_table(os.path.join(self.path, name), columns)
+        keys, table = study_files.read_study_table(os.path.join(self.path, name), columns)
         frame = pd.DataFrame(table)
         for key in keys:
             frame[key] = _typed(list(frame[key]))
@@ -726,11 +726,11 @@ class Study:
     @property
     def summary(self):
         return self._cached("summary", lambda: self._table("summary.csv",
-                                                           files.SUMMARY_CSV_COLUMNS))
+                                                           study_files.SUMMARY_CSV_COLUMNS))
 
     @property
     def paired(self):
-        return self._cached("paired", lambda: self._table("paired.csv", files.PAIRED_CSV_COLUMNS))
+        return self._cached("paired", lambda: self._table("paired.csv", study_files.PAIRED_CSV_COLUMNS))
 
     @property
     def summary_json(self):
@@ -770,9 +770,9 @@ class Study:
 # An export's cameras (docs/export.md): frame index file, its reader, the image file name prefix
 # relative to the export root (COCO file_name) and the depth index.
 _EXPORT_CAMERAS = {
-    "front": ("tum_rgbd/rgb.txt", files.read_tum_file_list, "tum_rgbd/"),
-    "lateral": ("euroc/mav0/cam1/data.csv", files.read_euroc_file_list, "euroc/mav0/cam1/data/"),
-    "upward": ("euroc/mav0/cam0/data.csv", files.read_euroc_file_list, "euroc/mav0/cam0/data/"),
+    "front": ("tum_rgbd/rgb.txt", dataset_files.read_tum_file_list, "tum_rgbd/"),
+    "lateral": ("euroc/mav0/cam1/data.csv", dataset_files.read_euroc_file_list, "euroc/mav0/cam1/data/"),
+    "upward": ("euroc/mav0/cam0/data.csv", dataset_files.read_euroc_file_list, "euroc/mav0/cam0/data/"),
 }
 _DATASET_NAME = re.compile(r"w([0-9]{3,6})_f([0-9]{4,6})\.json")
 
@@ -812,7 +812,7 @@ class Dataset:
         self._cache = {}
         if os.path.exists(os.path.join(path, "dataset.json")):
             self.layout = "dataset"
-            self.manifest = files.read_dataset_manifest(os.path.join(path, "dataset.json"))
+            self.manifest = dataset_files.read_dataset_manifest(os.path.join(path, "dataset.json"))
             self.cameras = list(self.manifest["cameras"])
         elif any(os.path.exists(os.path.join(path, p)) for p in
                  ["tum_rgbd", "euroc", "labels", "coco", "odometry.csv"]):
@@ -856,8 +856,8 @@ class Dataset:
                 m = _DATASET_NAME.fullmatch(name)
                 if m is None:
                     continue
-                if len(rows) == files.MAX_COCO_ITEMS:
-                    raise InputError(truth_dir, None, f"more than {files.MAX_COCO_ITEMS} frames")
+                if len(rows) == dataset_files.MAX_COCO_ITEMS:
+                    raise InputError(truth_dir, None, f"more than {dataset_files.MAX_COCO_ITEMS} frames")
                 rows.append({"file_name": f"images/{name[:-len('.json')]}.png",
                              "world_index": int(m.group(1)), "frame_index": int(m.group(2))})
         frame = pd.DataFrame(rows, columns=["image_id", "file_name", "world_index", "frame_index",
@@ -880,7 +880,7 @@ class Dataset:
         depth_index = os.path.join(self.path, "tum_rgbd", "depth.txt")
         if camera == "front" and os.path.exists(depth_index):
             depth = {t: os.path.join(self.path, "tum_rgbd", name)
-                     for t, name in files.read_tum_file_list(depth_index)}
+                     for t, name in dataset_files.read_tum_file_list(depth_index)}
         stamps = [t for t, _ in listed]
         labels = os.path.join(self.path, "labels", camera)
         return pd.DataFrame({
@@ -926,7 +926,7 @@ class Dataset:
 
     def _cached_coco(self, path):
         if ("coco", path) not in self._cache:
-            self._cache[("coco", path)] = files.read_coco(path)
+            self._cache[("coco", path)] = dataset_files.read_coco(path)
         return self._cache[("coco", path)]
 
     def annotations(self, camera):

@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 import corridorsim
-from corridorsim import analysis, files
+from corridorsim import analysis, dataset_files, files
 from corridorsim.analysis import Dataset, Run, Study, normalize_angle, round_to_step
 from corridorsim.files import InputError
 
@@ -503,7 +503,7 @@ def test_coco_references_are_checked(tmp_path):
                       "annotations": [{"id": 1, "image_id": 4, "category_id": 1,
                                        "bbox": [0, 0, 1, 1]}]})
     with pytest.raises(InputError, match=r"annotations\[0\].image_id: no image 4"):
-        files.read_coco(path)
+        dataset_files.read_coco(path)
 
 
 # ------------------------------------------------------------------------------------------------
