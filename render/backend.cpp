@@ -23,6 +23,16 @@ void PinSoftwareRasterizer() {
   // changes by 0.3 DN on average, labels and depth not at all. GALLIVM_PERF= (empty) gives
   // llvmpipe's exact trilinear filter. gallivm reads it once, when the first context is made.
   setenv("GALLIVM_PERF", kDefaultGallivmPerf, 0);
+  // llvmpipe rasterises on the calling thread: its rasterizer threads race with the thread that
+  // draws. In Mesa 22.3 (Debian 12) a rasterizer thread signals a scene's fence by count++ under
+  // the fence's mutex, then broadcasts its condition variable and unlocks; the drawing thread
+  // reads the count without the mutex (lp_fence_signalled, in lp_setup_get_empty_scene), recycles
+  // the scene and, once the next scene replaces setup->last_fence, frees the fence while the
+  // rasterizer thread can still be inside the broadcast. Freed memory written to: a rare heap
+  // corruption or a hang (docs/rendering.md, "llvmpipe's rasterizer threads"). The images are the
+  // same byte for byte with any thread count (test render.lp_threads_identical), and the rig's
+  // SerialWorker and the pipelines' threads keep the other cores busy meanwhile.
+  setenv("LP_NUM_THREADS", kDefaultLlvmpipeThreads, 0);
 }
 
 std::unique_ptr<Backend> CreateBackend(BackendKind kind) {
