@@ -534,9 +534,16 @@ TEST_CASE("pipelines are read by name with their options, and an unknown one is 
       "pipelines:\n"
       "  odometry: {k_m: 0.0002}\n"
       "  orb_slam9: {}\n");
+  // The shipped types in their order, with any a plugin test earlier in this process registered
+  // before `external` (ctest runs each case alone; a whole-binary run shares the registry).
+  std::string plugin_types;
+  for (const std::string& name : slam::PipelineNames()) {
+    if (name.rfind("test_", 0) == 0) plugin_types += ", " + name;
+  }
   CHECK(msg ==
         ":3:3: pipelines.orb_slam9: unknown pipeline (known: odometry, p1_harris, p1_vp_doorplate, "
-        "p3_upward, p3_corners, p2_upward, external; another name needs a `type:` key)");
+        "p3_upward, p3_corners, p2_upward" +
+            plugin_types + ", external; another name needs a `type:` key)");
   const std::string bad = LoadError(
       "pipelines:\n"
       "  odometry:\n"
