@@ -32,7 +32,7 @@ failed=0
 # Runs `$1` into folder `$2`; exit 3 (an expectation failed) still leaves a run to compare.
 run_into() {
   local rc=0
-  "$bin" run "$1" --out "$2" --no-plots > "$2.log" 2>&1 || rc=$?
+  "$bin" run "$1" --out "$2" --no-plots --no-viewer > "$2.log" 2>&1 || rc=$?
   if [ "$rc" -ne 0 ] && [ "$rc" -ne 3 ]; then
     echo "FAIL $name: corridorsim run $1 exited $rc"; tail -5 "$2.log"; return 1
   fi

@@ -27,6 +27,10 @@ import sys
 import time
 import xml.etree.ElementTree as ET
 
+# What these runs and studies check is their results: plots/ and the pages are left out
+# (scripts.plot_run, viewer.browser and viewer.odd_data test those).
+NO_EXTRAS = ["--no-plots", "--no-viewer"]
+
 FAILURES = []
 
 
@@ -91,7 +95,7 @@ def check_failed_run(binary, work, mode, expected_reason, timeout_s=10, log_has=
     os.makedirs(case, exist_ok=True)
     path = scenario(os.path.join(case, "s.yaml"), mode, timeout_s=timeout_s)
     start = time.monotonic()
-    rc, out, err = run(binary, ["run", path, "--out", os.path.join(case, "run"), "--no-plots"])
+    rc, out, err = run(binary, ["run", path, "--out", os.path.join(case, "run"), *NO_EXTRAS])
     seconds = time.monotonic() - start
     name = "mode %s" % mode
     if rc != 5:
@@ -124,7 +128,7 @@ def main():
 
     # A well-behaved program.
     path = scenario(os.path.join(work, "ok.yaml"), "ok", cameras=("front",))
-    rc, out, err = run(binary, ["run", path, "--out", os.path.join(work, "ok"), "--no-plots",
+    rc, out, err = run(binary, ["run", path, "--out", os.path.join(work, "ok"), *NO_EXTRAS,
                                 "--force"])
     if rc != 0:
         fail("mode ok: exit %d\n%s\n%s" % (rc, out[-2000:], err[-3000:]))
@@ -148,7 +152,7 @@ def main():
 
     # A program that cannot be started: bad input.
     path = scenario(os.path.join(work, "missing.yaml"), "ok", command=["./no_such_program.py"])
-    rc, out, err = run(binary, ["run", path, "--out", os.path.join(work, "missing"), "--no-plots"])
+    rc, out, err = run(binary, ["run", path, "--out", os.path.join(work, "missing"), *NO_EXTRAS])
     if rc != 2 or "missing.yaml:" not in err or "no_such_program.py" not in err or \
             os.path.exists(os.path.join(work, "missing")):
         fail("a missing program: exit %d (expected 2, naming the file and the command):\n%s" % (rc, err))
@@ -159,7 +163,7 @@ def main():
     child_file = os.path.join(work, "child.pid")
     path = scenario(os.path.join(work, "orphan.yaml"), "orphan",
                     options={"child_pid_file": child_file})
-    rc, out, err = run(binary, ["run", path, "--out", os.path.join(work, "orphan"), "--no-plots",
+    rc, out, err = run(binary, ["run", path, "--out", os.path.join(work, "orphan"), *NO_EXTRAS,
                                 "--force"])
     child = int(open(child_file).read()) if os.path.exists(child_file) else None
     time.sleep(0.2)
@@ -170,7 +174,7 @@ def main():
 
     # 3 MB of output: the log keeps the last MiB.
     path = scenario(os.path.join(work, "spam.yaml"), "spam")
-    rc, out, err = run(binary, ["run", path, "--out", os.path.join(work, "spam"), "--no-plots",
+    rc, out, err = run(binary, ["run", path, "--out", os.path.join(work, "spam"), *NO_EXTRAS,
                                 "--force"])
     log = os.path.join(work, "spam", "mine.log")
     text = open(log).read() if os.path.exists(log) else ""
@@ -184,7 +188,7 @@ def main():
     pid_file = os.path.join(work, "hang.pid")
     path = scenario(os.path.join(work, "kill.yaml"), "hang", timeout_s=600,
                     options={"pid_file": pid_file})
-    proc = subprocess.Popen([binary, "run", path, "--out", os.path.join(work, "kill"), "--no-plots",
+    proc = subprocess.Popen([binary, "run", path, "--out", os.path.join(work, "kill"), *NO_EXTRAS,
                              "--force"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     deadline = time.monotonic() + 60
     while not os.path.exists(pid_file) and time.monotonic() < deadline:
@@ -211,7 +215,7 @@ def main():
         with open(path, "w") as f:
             f.write(text)
         d = os.path.join(work, "slow%d" % k)
-        rc, out, err = run(binary, ["run", path, "--out", d, "--no-plots", "--force"])
+        rc, out, err = run(binary, ["run", path, "--out", d, *NO_EXTRAS, "--force"])
         if rc != 0:
             fail("slow %s: exit %d\n%s" % (transport, rc, err[-2000:]))
             break
@@ -238,7 +242,7 @@ def main():
 
     # A study counts the failed runs; test --junit reports an error case.
     path = scenario(os.path.join(work, "study.yaml"), "exit", extra="study:\n  runs: 2\n")
-    rc, out, err = run(binary, ["study", path, "--jobs", "2", "--no-plots", "--out",
+    rc, out, err = run(binary, ["study", path, "--jobs", "2", *NO_EXTRAS, "--out",
                                 os.path.join(work, "study"), "--force"], timeout=300)
     summary = os.path.join(work, "study", "summary.json")
     text = open(summary).read() if os.path.exists(summary) else ""
@@ -255,7 +259,7 @@ def main():
                     command=["/usr/bin/python3", script, "exit", "50"],
                     extra="study:\n  runs: 1\n")
     study_dir = os.path.join(work, "edited_study")
-    args = ["study", path, "--jobs", "1", "--no-plots", "--out", study_dir]
+    args = ["study", path, "--jobs", "1", *NO_EXTRAS, "--out", study_dir]
     first = run(binary, args + ["--force"], timeout=300)[0]
     again = run(binary, args, timeout=300)[0]
     provenance = glob.glob(os.path.join(study_dir, "runs", "*", "*", "provenance.json"))

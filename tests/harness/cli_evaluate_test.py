@@ -99,7 +99,7 @@ def main(corridorsim, source_dir, work):
     real = os.path.join(work, "run")
     export = os.path.join(work, "export")
     run(corridorsim, ["run", os.path.join(work, "short.yaml"), "--out", real, "--no-plots",
-                      "--export", export], 0)
+                      "--no-viewer", "--export", export], 0)
     metrics = json.load(open(os.path.join(real, "metrics.json")))["pipelines"]
     args = ["evaluate", real, "--estimate", "odometry=%s/odometry_cov.txt" % real,
             "--estimate", "p3_upward=%s/p3_upward.tum" % real,

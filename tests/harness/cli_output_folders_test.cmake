@@ -39,12 +39,13 @@ endif()
 
 # 2. A folder holding a previous run is refused (exit 2, naming --force) and left as it was.
 set(run "${WORK_DIR}/run")
-cli_run(EXIT 0 WHAT "first run" ARGS run "${WORK_DIR}/short.yaml" --out "${run}" --no-plots)
+cli_run(EXIT 0 WHAT "first run" ARGS run "${WORK_DIR}/short.yaml" --out "${run}" --no-plots
+        --no-viewer)
 file(WRITE "${run}/from_an_older_run.txt" "x")
 file(SHA256 "${run}/metrics.json" first_metrics)
 cli_run(EXIT 2 WHAT "rerun without --force" NOT_STDOUT "real-time factor"
         STDERR "command line: --out: '[^']*/run' is not empty .*pass --force"
-        ARGS run "${WORK_DIR}/short.yaml" --out "${run}" --no-plots --seed 5)
+        ARGS run "${WORK_DIR}/short.yaml" --out "${run}" --no-plots --no-viewer --seed 5)
 file(SHA256 "${run}/metrics.json" kept_metrics)
 if(NOT kept_metrics STREQUAL first_metrics OR NOT EXISTS "${run}/from_an_older_run.txt")
   message(FATAL_ERROR "a refused run changed the previous folder")
@@ -52,7 +53,7 @@ endif()
 
 # 3. --force replaces it whole: nothing of the previous folder is left, no staging folder stays.
 cli_run(EXIT 0 WHAT "rerun with --force" ARGS run "${WORK_DIR}/short.yaml" --out "${run}" --no-plots
-        --seed 5 --force)
+        --no-viewer --seed 5 --force)
 if(EXISTS "${run}/from_an_older_run.txt")
   message(FATAL_ERROR "--force mixed the previous folder's files into the new run")
 endif()
@@ -73,7 +74,8 @@ path: {kind: script, commands: [[100000, 0, 0]]}\n")
 # not yet made its staging folder by then, after 60 s: the kill must find it running.
 foreach(timeout 5 60)
   execute_process(COMMAND "${CORRIDORSIM}" run "${WORK_DIR}/long.yaml" --out "${run}" --no-plots
-                  --force TIMEOUT ${timeout} RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE stderr)
+                          --no-viewer --force
+                  TIMEOUT ${timeout} RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE stderr)
   if(rc EQUAL 0 OR rc EQUAL 2)
     message(FATAL_ERROR "the long run was not killed (exit ${rc}):\n${stderr}")
   endif()
@@ -90,7 +92,7 @@ if(NOT staging)
   message(FATAL_ERROR "the killed run left no staging folder (was it killed while running?)")
 endif()
 cli_run(EXIT 0 WHAT "run after a killed one" ARGS run "${WORK_DIR}/short.yaml" --out "${run}"
-        --no-plots --force)
+        --no-plots --no-viewer --force)
 file(GLOB staging LIST_DIRECTORIES true "${WORK_DIR}/.run.partial-*")
 if(staging)
   message(FATAL_ERROR "a killed run's staging folder was not removed: ${staging}")

@@ -41,7 +41,8 @@ foreach(rate ${rates})
   file(WRITE "${WORK_DIR}/rate_${tag}.yaml"
        "include: ${WORK_DIR}/short.yaml\nrobot:\n  physics_rate_hz: ${rate}\n")
   cli_run(EXIT 0 WHAT "run at ${rate} Hz" STDOUT "real-time factor"
-          ARGS run "${WORK_DIR}/rate_${tag}.yaml" --out "${WORK_DIR}/run_${tag}" --no-plots)
+          ARGS run "${WORK_DIR}/rate_${tag}.yaml" --out "${WORK_DIR}/run_${tag}" --no-plots
+               --no-viewer)
   tum_stamps("${WORK_DIR}/run_${tag}/ground_truth.tum" truth_${tag})
   tum_stamps("${WORK_DIR}/run_${tag}/odometry.tum" estimates_${tag})
   ate("${WORK_DIR}/run_${tag}" ate_${tag})
@@ -93,7 +94,7 @@ endforeach()
 cli_run(EXIT 0 WHAT "drive" STDOUT "ground_truth_3d.tum"
         ARGS drive "${WORK_DIR}/short.yaml" --out "${WORK_DIR}/drive")
 cli_run(EXIT 0 WHAT "run" STDOUT "real-time factor"
-        ARGS run "${WORK_DIR}/short.yaml" --out "${WORK_DIR}/run" --no-plots)
+        ARGS run "${WORK_DIR}/short.yaml" --out "${WORK_DIR}/run" --no-plots --no-viewer)
 cli_expect_same_files("${WORK_DIR}/drive" "${WORK_DIR}/run" ground_truth.tum)
 file(STRINGS "${WORK_DIR}/drive/ground_truth.tum" header LIMIT_COUNT 1)
 if(NOT header MATCHES "^# ground truth: planar world_from_robot")

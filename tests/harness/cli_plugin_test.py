@@ -15,6 +15,10 @@ import subprocess
 import sys
 import xml.etree.ElementTree as ET
 
+# What these runs and studies check is their results: plots/ and the pages are left out
+# (scripts.plot_run, viewer.browser and viewer.odd_data test those).
+NO_EXTRAS = ["--no-plots", "--no-viewer"]
+
 
 def fail(message):
     print("FAIL: " + message, file=sys.stderr)
@@ -75,7 +79,7 @@ def main():
     folders = []
     for k in (1, 2):
         folder = os.path.join(work, "run%d" % k)
-        p = run([corridorsim, "run", scenario, "--out", folder, "--no-plots"], 5)
+        p = run([corridorsim, "run", scenario, "--out", folder, *NO_EXTRAS], 5)
         if "pipeline 'echo' failed at t = 3.0" not in p.stderr or \
                 "the wheels went out of sync" not in p.stderr:
             fail("the failure is not on stderr:\n" + p.stderr)
@@ -119,7 +123,7 @@ def main():
                 "  bad: {type: test_echo, read_upward: true, bad_detection: true}\n"
                 "expectations: []\n" % echo)
     folder = os.path.join(work, "camera")
-    run([corridorsim, "run", camera, "--out", folder, "--no-plots"], 5)
+    run([corridorsim, "run", camera, "--out", folder, *NO_EXTRAS], 5)
     metrics = json.loads(read(os.path.join(folder, "metrics.json")))["pipelines"]
     frames = json.loads(read(os.path.join(folder, "timing.json")))["pipelines"]["also"]["frames"]
     if metrics["sees"] != {"health": {"failed": 1}} or "ate_rmse_m" not in metrics["also"] or \
@@ -149,11 +153,11 @@ def main():
                 "  echo: {type: test_echo}\n"
                 "expectations: []\n"
                 "study: {runs: 2}\n")
-    run([corridorsim, "study", study, "--shard", "1/2", "--no-plots", "--out",
+    run([corridorsim, "study", study, "--shard", "1/2", *NO_EXTRAS, "--out",
          os.path.join(work, "shard1")], 0)
     with open(os.path.join(lib, "echo.so"), "ab") as f:
         f.write(b"rebuilt")  # still a loadable library, with other bytes
-    run([corridorsim, "study", study, "--shard", "2/2", "--no-plots", "--out",
+    run([corridorsim, "study", study, "--shard", "2/2", *NO_EXTRAS, "--out",
          os.path.join(work, "shard2")], 0)
     err = run([corridorsim, "study", "merge", os.path.join(work, "shard1"),
                os.path.join(work, "shard2"), "--out", os.path.join(work, "merged")], 2).stderr

@@ -38,7 +38,8 @@ cli_expect_bad(timing "include: ${SOURCE_DIR}/scenarios/default.yaml\nexpectatio
 
 # A run records its provenance; the hash is that of the scenario.yaml it wrote.
 file(WRITE "${WORK_DIR}/short.yaml" "${no_pipeline}pipelines:\n  odometry: {}\n")
-cli_run(EXIT 0 WHAT "short run" ARGS run "${WORK_DIR}/short.yaml" --out "${WORK_DIR}/run" --no-plots)
+cli_run(EXIT 0 WHAT "short run" ARGS run "${WORK_DIR}/short.yaml" --out "${WORK_DIR}/run" --no-plots
+        --no-viewer)
 cli_expect_files("${WORK_DIR}/run" scenario.yaml provenance.json metrics.json)
 file(SHA256 "${WORK_DIR}/run/scenario.yaml" expected)
 file(READ "${WORK_DIR}/run/provenance.json" provenance)

@@ -26,6 +26,10 @@ import sys
 import time
 import xml.etree.ElementTree as ET
 
+# What these runs and studies check is their results: plots/ and the pages are left out
+# (scripts.plot_run, viewer.browser and viewer.odd_data test those).
+NO_EXTRAS = ["--no-plots", "--no-viewer"]
+
 
 def fail(message):
     print("FAIL: " + message)
@@ -96,7 +100,7 @@ def check_slurm(binary, work, short):
     tricky = os.path.join(work, "s'; touch owned; echo '$(touch owned).yaml")
     shutil.copy(short, tricky)
     run(binary, ["study", tricky, "--slurm", "--slurm-tasks", "2", "--out", "slurm_ok",
-                 "--no-plots"], 0, work)
+                 *NO_EXTRAS], 0, work)
     folder = os.path.join(work, "slurm_ok")
     array = open(os.path.join(folder, "slurm", "study.sbatch")).read()
     merge = open(os.path.join(folder, "slurm", "merge.sbatch")).read()
@@ -130,7 +134,7 @@ def check_kill(binary, work, slow):
         for job in ("study", "test"):
             out = "%s_%s" % (job, sig.name)
             if job == "study":
-                args = ["study", slow, "--jobs", "2", "--out", out, "--no-plots"]
+                args = ["study", slow, "--jobs", "2", "--out", out, *NO_EXTRAS]
             else:
                 args = ["test", slow, "--out", out, "--junit", out + ".xml"]
             marker = out + "/"
@@ -164,7 +168,7 @@ def check_kill(binary, work, slow):
     # Ctrl-C in a terminal: SIGINT to the whole process group, the runs with their study. They
     # end at once; none of them is recorded as failed.
     proc = subprocess.Popen([binary, "study", slow, "--jobs", "2", "--out", "group",
-                             "--no-plots"], cwd=work, stdout=subprocess.DEVNULL,
+                             *NO_EXTRAS], cwd=work, stdout=subprocess.DEVNULL,
                             stderr=subprocess.PIPE, start_new_session=True)
     try:
         wait_for(lambda: len(processes_with("group/")) >= 2, 120, "the runs of group to start")
@@ -186,9 +190,9 @@ def check_merge(binary, work, short):
     shards = os.path.join(work, "mm", "shards")
     for k in (1, 2, 3):
         run(binary, ["study", short, "--runs", "3", "--shard", "%d/3" % k, "--out",
-                     os.path.join(shards, str(k)), "--no-plots"], 0, work)
+                     os.path.join(shards, str(k)), *NO_EXTRAS], 0, work)
     parts = [os.path.join(shards, str(k)) for k in (1, 2, 3)]
-    _, err = run(binary, ["study", "merge", parts[0], parts[1], "--out", "merged", "--no-plots"],
+    _, err = run(binary, ["study", "merge", parts[0], parts[1], "--out", "merged", *NO_EXTRAS],
                  2, work)
     if "1 of the plan's 3 run(s)" not in err or "p000 seed 3" not in err or \
             "shard(s) 3/3" not in err or "incomplete" not in err:
@@ -197,12 +201,12 @@ def check_merge(binary, work, short):
         fail("an incomplete merge wrote its folder")
     # A shard that has not ended (a run neither finished nor recorded) is missing too.
     shutil.move(os.path.join(parts[1], "runs", "p000", "seed_2"), os.path.join(work, "held"))
-    _, err = run(binary, ["study", "merge"] + parts + ["--out", "merged", "--no-plots"], 2, work)
+    _, err = run(binary, ["study", "merge"] + parts + ["--out", "merged", *NO_EXTRAS], 2, work)
     if "p000 seed 2" not in err or "shard(s) 2/3" not in err:
         fail("a shard with a run missing: " + err)
     shutil.move(os.path.join(work, "held"), os.path.join(parts[1], "runs", "p000", "seed_2"))
     # --force never removes the folders it merges (Slurm's layout: shards/K inside the study).
-    _, err = run(binary, ["study", "merge"] + parts + ["--out", "mm", "--force", "--no-plots"], 2,
+    _, err = run(binary, ["study", "merge"] + parts + ["--out", "mm", "--force", *NO_EXTRAS], 2,
                  work)
     if "--force" not in err or not all(os.path.isdir(p) for p in parts):
         fail("--force over the folders merged: " + err)
@@ -210,7 +214,7 @@ def check_merge(binary, work, short):
     point = os.path.join(parts[0], "points", "p000.yaml")
     original = open(point).read()
     write(point, original + "# changed\n")
-    _, err = run(binary, ["study", "merge"] + parts + ["--out", "merged", "--no-plots"], 2, work)
+    _, err = run(binary, ["study", "merge"] + parts + ["--out", "merged", *NO_EXTRAS], 2, work)
     if "SHA-256" not in err or os.path.exists(os.path.join(work, "merged")):
         fail("a changed point scenario: " + err)
     write(point, original)
@@ -220,7 +224,7 @@ def check_merge(binary, work, short):
     os.makedirs(outside)
     write(os.path.join(outside, "big"), "x" * 1000)
     os.symlink(outside, os.path.join(parts[0], "runs", "p000", "seed_1", "link"))
-    out, _ = run(binary, ["study", "merge"] + parts + ["--out", "merged", "--no-plots"], 0, work)
+    out, _ = run(binary, ["study", "merge"] + parts + ["--out", "merged", *NO_EXTRAS], 0, work)
     link = os.path.join(work, "merged", "runs", "p000", "seed_1", "link")
     if not os.path.islink(link) or os.readlink(link) != outside:
         fail("a link in a merged run folder was followed")
@@ -276,7 +280,7 @@ def check_baselines(binary, work, source):
     write(base, "include: %s\nduration_s: 10\npipelines:\n  p1_vp_doorplate: {enabled: false}\n"
                 "expectations: []\nstudy:\n  runs: 2\n  divergence_nees: 1.5\n"
           % os.path.join(source, "scenarios", "default.yaml"))
-    out, _ = run(binary, ["study", base, "--out", "baselines", "--no-plots"], 0, work)
+    out, _ = run(binary, ["study", base, "--out", "baselines", *NO_EXTRAS], 0, work)
     if "p000 odometry: seeds 1, 2" not in out or "p000 p1_harris: seeds 1, 2" not in out:
         fail("the baselines' divergences are not reported:\n" + out)
     pipelines = json.load(open(os.path.join(work, "baselines", "summary.json")))["points"][0][
@@ -295,7 +299,7 @@ def check_baselines(binary, work, source):
     write(base.replace(".yaml", "_tested.yaml"),
           open(base).read().replace("pipelines:\n", "pipelines:\n  odometry: {baseline: false}\n"))
     out, _ = run(binary, ["study", base.replace(".yaml", "_tested.yaml"), "--out", "tested",
-                          "--no-plots"], 1, work)
+                          *NO_EXTRAS], 1, work)
     if "p000 seed 1: odometry diverged" not in out or "p1_harris diverged" in out:
         fail("a pipeline that is not a baseline must fail the study:\n" + out)
 

@@ -17,6 +17,10 @@ import subprocess
 import sys
 import xml.etree.ElementTree as ET
 
+# What these runs and studies check is their results: plots/ and the pages are left out
+# (scripts.plot_run, viewer.browser and viewer.odd_data test those).
+NO_EXTRAS = ["--no-plots", "--no-viewer"]
+
 
 def fail(message):
     print("FAIL: " + message)
@@ -134,8 +138,8 @@ study:
     summary_files = ["summary.json", "summary.csv", "paired.csv"]
 
     # One worker and two workers: the same bytes, in the summary and in every run.
-    run(binary, ["study", study, "--jobs", "1", "--out", "j1", "--no-plots"], 0, work)
-    out = run(binary, ["study", study, "--jobs", "2", "--out", "j2", "--no-plots"], 0, work)
+    run(binary, ["study", study, "--jobs", "1", "--out", "j1", *NO_EXTRAS], 0, work)
+    out = run(binary, ["study", study, "--jobs", "2", "--out", "j2", *NO_EXTRAS], 0, work)
     if "ATE RMSE mean" not in out.stdout or "mean ATE (m): odometry" not in out.stdout:
         fail("no closing table or progress line:\n" + out.stdout)
     same_files(os.path.join(work, "j1"), os.path.join(work, "j2"), summary_files)
@@ -166,7 +170,7 @@ study:
                                             "odometry_errors.csv") for seed in (11, 12, 13)])
     # Each run is the run `corridorsim run` gives for that seed.
     run(binary, ["run", os.path.join(work, "j1", "points", "p001.yaml"), "--seed", "12", "--out",
-                 "single", "--no-plots"], 0, work)
+                 "single", *NO_EXTRAS], 0, work)
     same_files(os.path.join(work, "single"), os.path.join(work, "j1", "runs", "p001", "seed_12"),
                ["metrics.json"])
     pairs = points[0]["paired"]
@@ -180,18 +184,18 @@ study:
 
     # Shards merged: the same summary as the whole study.
     for k in (1, 2, 3):
-        run(binary, ["study", study, "--shard", "%d/3" % k, "--out", "shard%d" % k, "--no-plots"],
+        run(binary, ["study", study, "--shard", "%d/3" % k, "--out", "shard%d" % k, *NO_EXTRAS],
             0, work)
     run(binary, ["study", "merge", "shard1", "shard2", "shard3", "--out", "merged",
-                 "--no-plots"], 0, work)
+                 *NO_EXTRAS], 0, work)
     same_files(os.path.join(work, "j1"), os.path.join(work, "merged"), summary_files)
 
     # A rerun skips finished runs; a missing run folder is run again.
-    out = run(binary, ["study", study, "--out", "j1", "--no-plots"], 0, work)
+    out = run(binary, ["study", study, "--out", "j1", *NO_EXTRAS], 0, work)
     if "6 already finished, 0 to run" not in out.stdout:
         fail("rerun did not skip the finished runs:\n" + out.stdout)
     shutil.rmtree(os.path.join(work, "j1", "runs", "p000", "seed_12"))
-    out = run(binary, ["study", study, "--out", "j1", "--no-plots"], 0, work)
+    out = run(binary, ["study", study, "--out", "j1", *NO_EXTRAS], 0, work)
     if "5 already finished, 1 to run" not in out.stdout:
         fail("rerun did not run the missing run:\n" + out.stdout)
     same_files(os.path.join(work, "j1"), os.path.join(work, "j2"), summary_files)
@@ -201,7 +205,7 @@ study:
     shutil.rmtree(blocker)
     with open(blocker, "w") as f:
         f.write("not a folder\n")
-    out = run(binary, ["study", study, "--out", "j1", "--no-plots"], 1, work)
+    out = run(binary, ["study", study, "--out", "j1", *NO_EXTRAS], 1, work)
     if "p001 seed 13: exited 2" not in out.stdout:
         fail("the failed run is not named:\n" + out.stdout)
     summary = json.loads(read(os.path.join(work, "j1", "summary.json")))
@@ -211,14 +215,14 @@ study:
     if status["outcome"] != "failed" or status["seed"] != 13:
         fail("status: %s" % status)
     os.remove(blocker)
-    run(binary, ["study", study, "--out", "j1", "--no-plots"], 0, work)
+    run(binary, ["study", study, "--out", "j1", *NO_EXTRAS], 0, work)
     same_files(os.path.join(work, "j1"), os.path.join(work, "j2"), summary_files)
 
     # A study folder of another plan is not mixed with this one.
     other = os.path.join(work, "other.yaml")
     with open(other, "w") as f:
         f.write(read(study).decode().replace("runs: 3", "runs: 2"))
-    out = run(binary, ["study", other, "--out", "j1", "--no-plots"], 2, work)
+    out = run(binary, ["study", other, "--out", "j1", *NO_EXTRAS], 2, work)
     if "--force" not in out.stderr:
         fail("another plan in the same folder: " + out.stderr)
 
@@ -227,7 +231,7 @@ study:
     with open(landmarks, "w") as f:
         f.write("include: %s\nduration_s: 6\nstudy:\n  runs: 2\n"
                 % os.path.join(source, "scenarios", "p3_lamps.yaml"))
-    run(binary, ["study", landmarks, "--out", "nis", "--no-plots", "--jobs", "2"], 0, work)
+    run(binary, ["study", landmarks, "--out", "nis", *NO_EXTRAS, "--jobs", "2"], 0, work)
     summary = json.loads(read(os.path.join(work, "nis", "summary.json")))
     nis = summary["points"][0]["pipelines"]["p3_upward"]["nis"]
     check_nis_series(nis, [os.path.join(work, "nis", "runs", "p000", "seed_%d" % seed,
@@ -238,7 +242,7 @@ study:
     with open(slow, "w") as f:
         f.write("include: %s\nduration_s: 30\nstudy:\n  runs: 1\n  run_timeout_s: 1\n"
                 % os.path.join(source, "scenarios", "p3_lamps.yaml"))
-    out = run(binary, ["study", slow, "--out", "slow", "--no-plots"], 1, work)
+    out = run(binary, ["study", slow, "--out", "slow", *NO_EXTRAS], 1, work)
     if "timed out after 1 s" not in out.stdout:
         fail("no timeout:\n" + out.stdout)
 
@@ -247,7 +251,7 @@ study:
     with open(strict, "w") as f:
         f.write(read(study).decode().replace("odometry.ate_rmse_m.mean < 5",
                                              "odometry.ate_rmse_m.mean < 0.000001"))
-    out = run(binary, ["study", strict, "--out", "strict", "--no-plots"], 3, work)
+    out = run(binary, ["study", strict, "--out", "strict", *NO_EXTRAS], 3, work)
     if "FAILED p000: odometry.ate_rmse_m.mean < 0.000001" not in out.stdout:
         fail("the failed expectation is not named:\n" + out.stdout)
 
@@ -256,7 +260,7 @@ study:
     diverging = os.path.join(work, "diverging.yaml")
     with open(diverging, "w") as f:
         f.write(read(study).decode().replace("  runs: 3\n", "  runs: 3\n  divergence_nees: 5\n"))
-    out = run(binary, ["study", diverging, "--out", "div", "--no-plots"], 1, work)
+    out = run(binary, ["study", diverging, "--out", "div", *NO_EXTRAS], 1, work)
     if "p001 seed 12: odometry diverged: average NEES" not in out.stdout or \
             "p000 seed" in out.stdout.split("run(s) diverged")[-1]:
         fail("the diverged runs are not named (only p001's diverge):\n" + out.stdout)
@@ -265,21 +269,21 @@ study:
     if runs["diverged_seeds"] != [11, 12, 13] or runs["may_diverge"] or \
             not runs["diverged_why"][0].startswith("average NEES"):
         fail("diverged runs in summary.json: %s" % runs)
-    out = run(binary, ["study", diverging, "--out", "div2", "--no-plots", "--may-diverge",
+    out = run(binary, ["study", diverging, "--out", "div2", *NO_EXTRAS, "--may-diverge",
                        "odometry_tight,odometry"], 0, work)
     if "p001 odometry: seeds 11, 12, 13" not in out.stdout:
         fail("allowed divergences are not reported:\n" + out.stdout)
     # Shards exit 0 (their verdict is the merge's); the merge exits 1 on the divergences.
     for k in (1, 2):
         run(binary, ["study", diverging, "--shard", "%d/2" % k, "--out", "dshard%d" % k,
-                     "--no-plots"], 0, work)
-    out = run(binary, ["study", "merge", "dshard1", "dshard2", "--out", "dmerged", "--no-plots"],
+                     *NO_EXTRAS], 0, work)
+    out = run(binary, ["study", "merge", "dshard1", "dshard2", "--out", "dmerged", *NO_EXTRAS],
               1, work)
     if "p001 seed 13: odometry_tight diverged" not in out.stdout:
         fail("the merge does not name the diverged runs:\n" + out.stdout)
     # --slurm hands --may-diverge to every array task (their plans must be the study's).
     run(binary, ["study", diverging, "--slurm", "--slurm-tasks", "2", "--may-diverge", "odometry",
-                 "--out", "dslurm", "--no-plots"], 0, work)
+                 "--out", "dslurm", *NO_EXTRAS], 0, work)
     if " --may-diverge odometry " not in read(os.path.join(work, "dslurm", "slurm",
                                                            "study.sbatch")).decode():
         fail("the array script does not pass --may-diverge")
@@ -287,7 +291,7 @@ study:
         f.write(read(diverging).decode().replace(
             "  divergence_nees: 5\n", "  divergence_nees: 5\n  may_diverge: [odometry_tight]\n"))
     out = run(binary, ["study", diverging.replace(".yaml", "_allowed.yaml"), "--out", "div3",
-                       "--no-plots"], 1, work)
+                       *NO_EXTRAS], 1, work)
     if "odometry_tight diverged" in out.stdout or "odometry diverged" not in out.stdout:
         fail("study.may_diverge exempts only the pipelines it names:\n" + out.stdout)
 

@@ -21,6 +21,10 @@ import subprocess
 import sys
 import unittest
 
+# What these runs and studies check is their results: plots/ and the pages are left out
+# (scripts.plot_run, viewer.browser and viewer.odd_data test those).
+NO_EXTRAS = ["--no-plots", "--no-viewer"]
+
 CORRIDORSIM, SOURCE_DIR, WORK_DIR = sys.argv[1:4]
 DATA = os.path.join(SOURCE_DIR, "tests", "data", "scenarios")
 
@@ -50,7 +54,7 @@ def run_short(test, scenario, name):
     """`corridorsim run` of tests/data/scenarios/<scenario> into WORK_DIR/<name>, which must pass
     its expectations: the run folder and its metrics.json's pipelines."""
     out = fresh(name)
-    result = run("run", os.path.join(DATA, scenario), "--out", out, "--no-plots", check=False)
+    result = run("run", os.path.join(DATA, scenario), "--out", out, *NO_EXTRAS, check=False)
     test.assertEqual(result.returncode, 0, result.stdout + result.stderr)
     with open(os.path.join(out, "metrics.json")) as f:
         return out, json.load(f)["pipelines"]
@@ -74,7 +78,7 @@ class OdometryConsistency(unittest.TestCase):
         scenario = os.path.join(DATA, "odometry_consistency.yaml")
         for seed in range(1, SEEDS + 1):
             out = fresh(f"consistency/{seed}")
-            run("run", scenario, "--seed", str(seed), "--out", out, "--no-plots")
+            run("run", scenario, "--seed", str(seed), "--out", out, *NO_EXTRAS)
             cls.runs.append(read_errors(os.path.join(out, "odometry_errors.csv")))
 
     def test_final_error_lies_within_what_the_noise_model_predicts(self):
@@ -104,7 +108,7 @@ class Determinism(unittest.TestCase):
         outs = []
         for name in ("a", "b"):
             out, export = fresh(f"determinism/{name}"), fresh(f"determinism/{name}_export")
-            run("run", scenario, "--out", out, "--export", export, "--no-plots")
+            run("run", scenario, "--out", out, "--export", export, *NO_EXTRAS)
             outs.append((out, export))
         (a, a_export), (b, b_export) = outs
         compared = 0
@@ -140,7 +144,7 @@ class Expectations(unittest.TestCase):
                     "expectations:\n"
                     "  - odometry.ate_rmse_m < 0.000000001\n"
                     "  - odometry.ate_rmse_m < 100\n")
-        result = run("run", scenario, "--out", os.path.dirname(scenario) + "/out", "--no-plots",
+        result = run("run", scenario, "--out", os.path.dirname(scenario) + "/out", *NO_EXTRAS,
                      check=False)
         self.assertEqual(result.returncode, 3, result.stdout + result.stderr)
         self.assertRegex(result.stdout, r"FAIL\s+odometry\.ate_rmse_m < 0\.000000001\s+measured \d")

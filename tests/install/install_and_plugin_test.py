@@ -14,7 +14,12 @@ import os
 import shutil
 import subprocess
 import sys
+import time
 import xml.etree.ElementTree as ET
+
+# What these runs and studies check is their results: plots/ and the pages are left out
+# (scripts.plot_run, viewer.browser and viewer.odd_data test those).
+NO_EXTRAS = ["--no-plots", "--no-viewer"]
 
 
 def fail(message):
@@ -24,8 +29,11 @@ def fail(message):
 
 def run(args, expect=0, cwd=None, env=None):
     print("+ " + " ".join(args), flush=True)
+    start = time.monotonic()
     p = subprocess.run(args, cwd=cwd, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                        text=True)
+    # Each step's time, for the CI budget (docs/ci.md).
+    print("  (%.1f s)" % (time.monotonic() - start), flush=True)
     if p.returncode != expect:
         fail("%s exited %d (expected %d)\nstdout:\n%s\nstderr:\n%s" %
              (" ".join(args), p.returncode, expect, p.stdout[-3000:], p.stderr[-3000:]))
@@ -141,13 +149,13 @@ def main():
 
     # 5. study with 2 workers, and the same study in 2 shards merged: byte-identical summaries.
     whole = os.path.join(work, "study")
-    run([corridorsim, "study", scenario, "--jobs", "2", "--no-plots", "--out", whole], env=env)
+    run([corridorsim, "study", scenario, "--jobs", "2", *NO_EXTRAS, "--out", whole], env=env)
     for k in (1, 2):
-        run([corridorsim, "study", scenario, "--shard", "%d/2" % k, "--jobs", "1", "--no-plots",
+        run([corridorsim, "study", scenario, "--shard", "%d/2" % k, "--jobs", "1", *NO_EXTRAS,
              "--out", os.path.join(work, "part%d" % k)], env=env)
     merged = os.path.join(work, "merged")
     run([corridorsim, "study", "merge", os.path.join(work, "part1"), os.path.join(work, "part2"),
-         "--no-plots", "--out", merged], env=env)
+         *NO_EXTRAS, "--out", merged], env=env)
     for name in ["summary.json", "summary.csv", "paired.csv"]:
         if read(os.path.join(whole, name), "rb") != read(os.path.join(merged, name), "rb"):
             fail("%s of the merged shards differs from the whole study's" % name)

@@ -10,6 +10,10 @@ import shutil
 import subprocess
 import sys
 
+# What these runs and studies check is their results: plots/ and the pages are left out
+# (scripts.plot_run, viewer.browser and viewer.odd_data test those).
+NO_EXTRAS = ["--no-plots", "--no-viewer"]
+
 
 def fail(message):
     print("FAIL: " + message)
@@ -26,7 +30,7 @@ def main():
                 "study:\n  runs: 3\n  vary:\n    robot.odometry.random_k_m: [1.0e-5, 1.0e-3]\n"
                 % os.path.join(source, "scenarios", "umbmark_cw.yaml"))
     done = subprocess.run([binary, "study", study, "--out", os.path.join(work, "st"),
-                           "--no-plots"], capture_output=True, text=True)
+                           *NO_EXTRAS], capture_output=True, text=True)
     if done.returncode != 0:
         fail("study exited %d: %s" % (done.returncode, done.stderr))
     script = os.path.join(source, "scripts", "plot_study.py")

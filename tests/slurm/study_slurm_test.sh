@@ -67,7 +67,7 @@ study:
 YAML
 
 cd "$work"
-out="$("$corridorsim" study study.yaml --slurm --submit --slurm-tasks 3 --no-plots \
+out="$("$corridorsim" study study.yaml --slurm --submit --slurm-tasks 3 --no-plots --no-viewer \
   --out slurm_study)" || fail "study --slurm --submit exited $?: $out"
 echo "$out"
 if [ ! -f slurm_study/slurm/study.sbatch ] || [ ! -f slurm_study/slurm/merge.sbatch ]; then
@@ -98,7 +98,8 @@ grep -q "1 already finished, 1 to run" slurm_study/slurm/task_1.log ||
   fail "task 1 ran the measured run again: $(head -n 3 slurm_study/slurm/task_1.log)"
 
 # The same study here, in one process: the same summary, byte for byte.
-"$corridorsim" study study.yaml --no-plots --out local > local.log || fail "local study failed"
+"$corridorsim" study study.yaml --no-plots --no-viewer --out local > local.log ||
+  fail "local study failed"
 for f in summary.json summary.csv paired.csv; do
   cmp "local/$f" "slurm_study/$f" || fail "$f differs between the local and the Slurm study"
 done
