@@ -99,6 +99,16 @@ def read_coco(path):
     return root
 
 
+def _add_frame(out, path, number, stamp_key, stamp, file_name):
+    """Appends (stamp, file name) to a frame list read from `path`, line `number`: stamps strictly
+    increasing, at most MAX_POSES frames, the name a relative file."""
+    if out and stamp <= out[-1][0]:
+        raise InputError(path, number, f"{stamp_key}: not after the previous frame's")
+    if len(out) == MAX_POSES:
+        raise InputError(path, number, f"more than {MAX_POSES} frames")
+    out.append((stamp, check_relative_file(path, number, file_name, "filename")))
+
+
 def read_tum_file_list(path):
     """An export's tum_rgbd/rgb.txt or depth.txt: '#' comments, then `t filename` per frame, as
     [(t_ns, file name)] (t exact from its nine decimals)."""
@@ -114,11 +124,7 @@ def read_tum_file_list(path):
         if stamp is None:
             raise InputError(path, number, f"t: expected seconds with at most nine decimals, got "
                              f"'{fields[0][:40]}'")
-        if out and stamp <= out[-1][0]:
-            raise InputError(path, number, "t: not after the previous frame's")
-        if len(out) == MAX_POSES:
-            raise InputError(path, number, f"more than {MAX_POSES} frames")
-        out.append((stamp, check_relative_file(path, number, fields[1], "filename")))
+        _add_frame(out, path, number, "t", stamp, fields[1])
     return out
 
 
@@ -137,9 +143,5 @@ def read_euroc_file_list(path):
         if len(fields) != 2 or not re.fullmatch(r"[0-9]{1,19}", fields[0]):
             raise InputError(path, number, "expected '<t_ns>,<file name>'")
         stamp = int(fields[0])
-        if out and stamp <= out[-1][0]:
-            raise InputError(path, number, "timestamp: not after the previous frame's")
-        if len(out) == MAX_POSES:
-            raise InputError(path, number, f"more than {MAX_POSES} frames")
-        out.append((stamp, check_relative_file(path, number, fields[1], "filename")))
+        _add_frame(out, path, number, "timestamp", stamp, fields[1])
     return out

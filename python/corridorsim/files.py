@@ -511,10 +511,10 @@ def read_areas(path):
     return areas
 
 
-def read_csv_table(path, columns):
-    """The rows of a CSV file whose header holds every name in `columns` (in any order; other
-    columns are ignored) as (line, {column: stripped cell}); quoted cells may hold commas and
-    newlines. Blank rows are skipped; at most MAX_CSV_ROWS rows."""
+def read_csv_records(path, max_rows=MAX_CSV_ROWS, check_header=None):
+    """(header, [(line, [cell])]) of a CSV file: the header's names stripped, then every record as
+    long as the header, cells as written; blank rows skipped; quoted cells may hold commas and
+    newlines; at most `max_rows` records. `check_header(header)` runs before any record is read."""
     text = read_text(path)
     reader = csv.reader(io.StringIO(text, newline=""))
     try:
@@ -525,10 +525,8 @@ def read_csv_table(path, columns):
         raise InputError(path, 1, f"not CSV: {e}") from None
     if not any(header):
         raise InputError(path, 1, "missing the header line")
-    for column in columns:
-        if column not in header:
-            raise InputError(path, 1, f"the header has no column '{column}'")
-    index = {c: header.index(c) for c in columns}
+    if check_header is not None:
+        check_header(header)
     rows = []
     line = reader.line_num + 1  # where the next record starts
     try:
@@ -538,12 +536,26 @@ def read_csv_table(path, columns):
                 continue
             if len(row) != len(header):
                 raise InputError(path, start, f"expected {len(header)} fields, got {len(row)}")
-            if len(rows) == MAX_CSV_ROWS:
-                raise InputError(path, start, f"more than {MAX_CSV_ROWS} rows")
-            rows.append((start, {c: row[index[c]].strip() for c in columns}))
+            if len(rows) == max_rows:
+                raise InputError(path, start, f"more than {max_rows} rows")
+            rows.append((start, row))
     except csv.Error as e:
         raise InputError(path, line, f"not CSV: {e}") from None
-    return rows
+    return header, rows
+
+
+def read_csv_table(path, columns):
+    """The rows of a CSV file whose header holds every name in `columns` (in any order; other
+    columns are ignored) as (line, {column: stripped cell}); quoted cells may hold commas and
+    newlines. Blank rows are skipped; at most MAX_CSV_ROWS rows."""
+    def check_header(header):
+        for column in columns:
+            if column not in header:
+                raise InputError(path, 1, f"the header has no column '{column}'")
+
+    header, records = read_csv_records(path, check_header=check_header)
+    index = {c: header.index(c) for c in columns}
+    return [(line, {c: row[index[c]].strip() for c in columns}) for line, row in records]
 
 
 class CsvCells:

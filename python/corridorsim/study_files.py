@@ -2,13 +2,11 @@
 status, summary.csv and paired.csv. corridorsim.files has the run folder's; errors are
 files.InputError with the path and line."""
 
-import csv
-import io
 import json
 import re
 
 from .files import (MAX_CSV_ROWS, PIPELINE_NAME, CsvCells, InputError, JsonReader, is_integer,
-                    load_json, read_text, text_list)
+                    load_json, read_csv_records, text_list)
 
 # ------------------------------------------------------------------------------------------------
 # Studies (docs/studies.md "The study folder")
@@ -86,33 +84,12 @@ def read_run_status(path):
 def read_csv_rows(path, max_rows=MAX_CSV_ROWS):
     """(header, [(line, [cell])]) of a CSV file: every row as long as the header, cells stripped;
     blank rows skipped; quoted cells may hold commas."""
-    text = read_text(path)
-    reader = csv.reader(io.StringIO(text, newline=""))
-    try:
-        header = [h.strip() for h in next(reader)]
-    except StopIteration:
-        header = []
-    except csv.Error as e:
-        raise InputError(path, 1, f"not CSV: {e}") from None
-    if not any(header):
-        raise InputError(path, 1, "missing the header line")
-    if len(set(header)) != len(header):
-        raise InputError(path, 1, "a column name appears twice")
-    rows = []
-    line = reader.line_num + 1
-    try:
-        for row in reader:
-            start, line = line, reader.line_num + 1
-            if not row or all(not cell.strip() for cell in row):
-                continue
-            if len(row) != len(header):
-                raise InputError(path, start, f"expected {len(header)} fields, got {len(row)}")
-            if len(rows) == max_rows:
-                raise InputError(path, start, f"more than {max_rows} rows")
-            rows.append((start, [cell.strip() for cell in row]))
-    except csv.Error as e:
-        raise InputError(path, line, f"not CSV: {e}") from None
-    return header, rows
+    def check_header(header):
+        if len(set(header)) != len(header):
+            raise InputError(path, 1, "a column name appears twice")
+
+    header, records = read_csv_records(path, max_rows, check_header)
+    return header, [(line, [cell.strip() for cell in row]) for line, row in records]
 
 
 SUMMARY_CSV_COLUMNS = ["pipeline", "metric", "n", "mean", "std", "median", "p95", "min", "max",
