@@ -1,7 +1,8 @@
 // Tests for render/backend.cpp and the GL renderer behind it (render/gl_renderer.cpp,
 // render/osmesa_context.cpp, render/egl_context.cpp) on a scene built by hand: a tilted textured
 // wall and a small emissive quad, seen by a camera whose pose is not the identity; and the EGL
-// backend's choice of device (ChooseEglDevice, CORRIDORSIM_EGL_DEVICE).
+// backend on the device CORRIDORSIM_EGL_DEVICE names (the choice itself, without EGL:
+// egl_device_choice_test.cpp).
 
 #include <algorithm>
 #include <array>
@@ -22,10 +23,13 @@
 
 #include "render/backend.h"
 #include "render/gl_context.h"
+#include "tests/render/render_error_of.h"
 #include "tests/support/hand_built_scene.h"
 
 namespace corridorsim::render {
 namespace {
+
+using test::RenderErrorOf;
 
 // Tolerances of these tests.
 constexpr double kDepthTolM = 1e-3;             // rendered z against the ray/plane hit
@@ -594,133 +598,6 @@ TEST_CASE("a scene with an index past the vertices is rejected before upload", "
   Scene bad_material = TestScene();
   bad_material.drawables[0].material = 4;
   CHECK_THROWS_AS(backend->Upload(bad_material), std::invalid_argument);
-}
-
-// The message of the RenderError `f` throws ("" when it throws nothing or something else).
-template <typename F>
-std::string RenderErrorOf(F&& f) {
-  try {
-    f();
-  } catch (const RenderError& e) {
-    return e.what();
-  } catch (...) {
-  }
-  return "";
-}
-
-TEST_CASE("CORRIDORSIM_EGL_DEVICE is read as the first hardware device, software or an index",
-          "[render][backend]") {
-  using Kind = EglDeviceRequest::Kind;
-  CHECK(ParseEglDeviceRequest(nullptr, nullptr).kind == Kind::kAuto);
-  CHECK(ParseEglDeviceRequest("", nullptr).kind == Kind::kAuto);  // set but empty: as unset
-  const EglDeviceRequest software = ParseEglDeviceRequest("software", nullptr);
-  CHECK(software.kind == Kind::kSoftware);
-  CHECK(software.reason == "CORRIDORSIM_EGL_DEVICE=software");
-  const EglDeviceRequest three = ParseEglDeviceRequest("3", nullptr);
-  CHECK(three.kind == Kind::kIndex);
-  CHECK(three.index == 3);
-  CHECK(three.reason == "CORRIDORSIM_EGL_DEVICE=3");
-  CHECK(ParseEglDeviceRequest("007", nullptr).index == 7);
-  CHECK(ParseEglDeviceRequest("63", nullptr).index == kMaxEglDevices - 1);
-
-  // LIBGL_ALWAYS_SOFTWARE, true as Mesa reads it, asks for software unless a device is named.
-  for (const char* yes : {"1", "true", "TRUE", "yes", "y"}) {
-    INFO("LIBGL_ALWAYS_SOFTWARE=" << yes);
-    const EglDeviceRequest request = ParseEglDeviceRequest(nullptr, yes);
-    CHECK(request.kind == Kind::kSoftware);
-    CHECK(request.reason == std::string("LIBGL_ALWAYS_SOFTWARE=") + yes);
-  }
-  for (const char* no : {"0", "false", "no", ""}) {
-    INFO("LIBGL_ALWAYS_SOFTWARE=" << no);
-    CHECK(ParseEglDeviceRequest(nullptr, no).kind == Kind::kAuto);
-  }
-  CHECK(ParseEglDeviceRequest("2", "1").kind == Kind::kIndex);
-
-  for (const char* bad :
-       {"Software", "gpu", "-1", "+1", "1.5", " 1", "1 ", "0x1", "64", "99999999999999999999"}) {
-    INFO("CORRIDORSIM_EGL_DEVICE='" << bad << "'");
-    const std::string what = RenderErrorOf([&] { ParseEglDeviceRequest(bad, nullptr); });
-    CHECK(what.find(std::string("CORRIDORSIM_EGL_DEVICE=") + bad) != std::string::npos);
-    CHECK(what.find("'software' or an EGL device index from 0 to 63") != std::string::npos);
-  }
-}
-
-TEST_CASE(
-    "the EGL device choice takes the first hardware device, else software, or the index "
-    "asked for",
-    "[render][backend]") {
-  using Devices = std::vector<std::optional<std::string>>;
-  const std::string software = "EGL_MESA_device_software EGL_EXT_device_drm_render_node";
-  const std::string mesa_gpu = "EGL_EXT_device_drm EGL_EXT_device_drm_render_node";
-  const std::string nvidia = "EGL_NV_device_cuda EGL_EXT_device_drm EGL_EXT_device_query_name";
-  const EglDeviceRequest automatic = ParseEglDeviceRequest(nullptr, nullptr);
-
-  // What Mesa lists on a machine without a GPU: its software device only.
-  const EglDeviceChoice no_gpu = ChooseEglDevice(Devices{software}, automatic);
-  CHECK_FALSE(no_gpu.device);
-  CHECK_FALSE(no_gpu.forced);
-  CHECK(no_gpu.reason == "no hardware EGL device: 1 EGL device, 1 with EGL_MESA_device_software");
-  const EglDeviceChoice none = ChooseEglDevice(Devices{}, automatic);
-  CHECK_FALSE(none.device);
-  CHECK(none.reason == "no hardware EGL device: this libEGL lists none");
-
-  // The first device without the software mark, in enumeration order.
-  const EglDeviceChoice first = ChooseEglDevice(Devices{nvidia, software, mesa_gpu}, automatic);
-  REQUIRE(first.device);
-  CHECK(*first.device == 0);
-  CHECK_FALSE(first.forced);
-  CHECK(first.reason == "the first EGL device without EGL_MESA_device_software, of 3");
-  const EglDeviceChoice after_software =
-      ChooseEglDevice(Devices{software, mesa_gpu, nvidia}, automatic);
-  REQUIRE(after_software.device);
-  CHECK(*after_software.device == 1);
-  // A whole extension name only: a longer name that starts with the mark is not the mark.
-  const EglDeviceChoice longer =
-      ChooseEglDevice(Devices{"EGL_MESA_device_software_x EGL_EXT_device_drm"}, automatic);
-  REQUIRE(longer.device);
-  CHECK(*longer.device == 0);
-
-  // A device whose extensions could not be read is never taken unasked.
-  const EglDeviceChoice unknown_first =
-      ChooseEglDevice(Devices{std::nullopt, software, mesa_gpu}, automatic);
-  REQUIRE(unknown_first.device);
-  CHECK(*unknown_first.device == 2);
-  const EglDeviceChoice only_unknown = ChooseEglDevice(Devices{software, std::nullopt}, automatic);
-  CHECK_FALSE(only_unknown.device);
-  CHECK(only_unknown.reason ==
-        "no hardware EGL device: 2 EGL devices, 1 with "
-        "EGL_MESA_device_software, 1 without an extension string");
-
-  // Software when asked, whatever is there.
-  const EglDeviceChoice asked_software =
-      ChooseEglDevice(Devices{nvidia}, ParseEglDeviceRequest("software", nullptr));
-  CHECK_FALSE(asked_software.device);
-  CHECK(asked_software.reason == "CORRIDORSIM_EGL_DEVICE=software");
-  const EglDeviceChoice mesa_software =
-      ChooseEglDevice(Devices{nvidia}, ParseEglDeviceRequest(nullptr, "1"));
-  CHECK_FALSE(mesa_software.device);
-  CHECK(mesa_software.reason == "LIBGL_ALWAYS_SOFTWARE=1");
-
-  // An index is taken as it is, Mesa's software device included, and forced (no fallback).
-  const EglDeviceChoice second =
-      ChooseEglDevice(Devices{nvidia, mesa_gpu}, ParseEglDeviceRequest("1", nullptr));
-  REQUIRE(second.device);
-  CHECK(*second.device == 1);
-  CHECK(second.forced);
-  CHECK(second.reason == "CORRIDORSIM_EGL_DEVICE=1");
-  const EglDeviceChoice forced_software =
-      ChooseEglDevice(Devices{software, nvidia}, ParseEglDeviceRequest("0", nullptr));
-  REQUIRE(forced_software.device);
-  CHECK(*forced_software.device == 0);
-  const std::string past = RenderErrorOf([&] {
-    ChooseEglDevice(Devices{software, nvidia}, ParseEglDeviceRequest("2", nullptr));
-  });
-  CHECK(past.find("CORRIDORSIM_EGL_DEVICE=2 names no EGL device") != std::string::npos);
-  CHECK(past.find("valid indices are 0 to 1 (2 EGL devices listed)") != std::string::npos);
-  const std::string no_devices =
-      RenderErrorOf([&] { ChooseEglDevice(Devices{}, ParseEglDeviceRequest("0", nullptr)); });
-  CHECK(no_devices.find("CORRIDORSIM_EGL_DEVICE=0 names no EGL device: this libEGL lists none") !=
-        std::string::npos);
 }
 
 // True when GL_RENDERER names one of Mesa's software rasterizers.
