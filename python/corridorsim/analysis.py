@@ -286,7 +286,7 @@ def _pose_frame(columns, extra=()):
 # ------------------------------------------------------------------------------------------------
 # Run
 
-class Run:
+class Run(files.FolderReader):
     """A run folder of `corridorsim run` (README.md's table; docs/metrics.md).
 
     Attributes (read when first used, then kept):
@@ -305,23 +305,11 @@ class Run:
     """
 
     def __init__(self, path):
-        path = os.fspath(path)
-        if not os.path.isdir(path):
-            raise InputError(path, None, "is not a directory")
-        self.path = path
-        self._cache = {}
+        super().__init__(path)
         self.metrics  # noqa: B018 (read now: a folder without metrics.json is no run)
-
-    def __repr__(self):
-        return f"Run({self.path!r})"
 
     def _file(self, name):
         return os.path.join(self.path, name)
-
-    def _cached(self, key, make):
-        if key not in self._cache:
-            self._cache[key] = make()
-        return self._cache[key]
 
     def _pipeline_file(self, name, suffix):
         if name not in self.pipelines:
@@ -553,7 +541,7 @@ def _typed(values):
     return list(values)
 
 
-class Study:
+class Study(files.FolderReader):
     """A study folder of `corridorsim study` (docs/studies.md "The study folder").
 
     Attributes:
@@ -579,20 +567,8 @@ class Study:
     """
 
     def __init__(self, path):
-        path = os.fspath(path)
-        if not os.path.isdir(path):
-            raise InputError(path, None, "is not a directory")
-        self.path = path
-        self._cache = {}
+        super().__init__(path)
         self.plan  # noqa: B018 (read now: a folder without study.json is no study)
-
-    def __repr__(self):
-        return f"Study({self.path!r})"
-
-    def _cached(self, key, make):
-        if key not in self._cache:
-            self._cache[key] = make()
-        return self._cache[key]
 
     @property
     def plan(self):

@@ -50,7 +50,7 @@ _EXPORT_CAMERAS = {
 _DATASET_NAME = re.compile(r"w([0-9]{3,6})_f([0-9]{4,6})\.json")
 
 
-class Dataset:
+class Dataset(files.FolderReader):
     """A detector dataset of `corridorsim dataset` (docs/datasets.md, layout 'dataset') or the
     folder of `corridorsim run --export` (docs/export.md, layout 'export').
 
@@ -78,11 +78,7 @@ class Dataset:
     """
 
     def __init__(self, path):
-        path = os.fspath(path)
-        if not os.path.isdir(path):
-            raise InputError(path, None, "is not a directory")
-        self.path = path
-        self._cache = {}
+        super().__init__(path)
         if os.path.exists(os.path.join(path, "dataset.json")):
             self.layout = "dataset"
             self.manifest = dataset_files.read_dataset_manifest(os.path.join(path, "dataset.json"))

@@ -558,6 +558,26 @@ def read_csv_table(path, columns):
     return [(line, {c: row[index[c]].strip() for c in columns}) for line, row in records]
 
 
+class FolderReader:
+    """Base of corridorsim.Run, Study and Dataset: a folder's path (InputError when it is not a
+    directory) and the files read from it, each read when first asked for and kept."""
+
+    def __init__(self, path):
+        path = os.fspath(path)
+        if not os.path.isdir(path):
+            raise InputError(path, None, "is not a directory")
+        self.path = path
+        self._cache = {}
+
+    def __repr__(self):
+        return f"{type(self).__name__}({self.path!r})"
+
+    def _cached(self, key, make):
+        if key not in self._cache:
+            self._cache[key] = make()
+        return self._cache[key]
+
+
 class CsvCells:
     """Typed cells of one CSV row; errors name the file, line and column."""
 
