@@ -52,6 +52,14 @@ fi
 # every viewer.html; playwright-core, which drives Debian's chromium in the browser tests):
 # `npm ci` when viewer/node_modules does not hold that lockfile's packages.
 here="$(cd "$(dirname "$0")/.." && pwd)"
+# The node on PATH must run what the lockfile pins (each package's `engines.node`): say so here
+# rather than let a browser test fail on it later.
+if ! node "$here/scripts/check_node_engines.js" "$here/viewer/package-lock.json"; then
+  echo "setup: the Node.js on PATH ($(command -v node), $(node --version)) cannot run the packages" \
+       "viewer/package-lock.json pins (above); install a Node.js they accept or pin versions that" \
+       "accept this one (docs/viewer.md)" >&2
+  exit 1
+fi
 if ! cmp -s "$here/viewer/package-lock.json" "$here/viewer/node_modules/.corridorsim-lock.json"; then
   echo "setup: npm ci in viewer/"
   (cd "$here/viewer" && npm ci --no-audit --no-fund --loglevel=error)
