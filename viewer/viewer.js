@@ -311,12 +311,18 @@
     const wrap = $("cs-plan-wrap");
     const r = wrap.getBoundingClientRect();
     const first = plan.w === 0;
-    plan.w = Math.max(Math.round(r.width), 50); plan.h = Math.max(Math.round(r.height), 50);
-    plan.dpr = window.devicePixelRatio || 1;
+    const w = Math.max(Math.round(r.width), 50), h = Math.max(Math.round(r.height), 50), dpr = window.devicePixelRatio || 1;
+    // Setting a canvas' size clears it: only on a real change, and then redrawn at once, not in
+    // the next animation frame. The observer calls this between layout and paint, so the frame
+    // it paints (the first one too: its first call comes when the page's layout settles, after
+    // start() drew) shows the plan; a headless screenshot may take that very frame.
+    if (!first && w === plan.w && h === plan.h && dpr === plan.dpr) return;
+    plan.w = w; plan.h = h; plan.dpr = dpr;
     plan.canvas.width = Math.round(plan.w * plan.dpr); plan.canvas.height = Math.round(plan.h * plan.dpr);
     plan.layer.width = plan.canvas.width; plan.layer.height = plan.canvas.height;
     plan.layerKey = "";
-    if (first) fitPlan(); else requestDraw();
+    if (first) fitPlan();
+    drawPlanNow();
   }
 
   const DOOR_COLORS = { open: "#3fb970", closed: "#f0524f", ajar: "#e8a33d" };

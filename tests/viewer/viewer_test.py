@@ -6,6 +6,8 @@ chromium by tests/viewer/browser_test.mjs (playwright-core):
     another file, no fetch), frames/ within its budget, byte-identical frames/ on a rerun; the
     browser test loads it from file:// with no console error and reads the drawn poses and
     ellipses back against ground_truth.tum, <pipeline>.tum and <pipeline>_cov.txt;
+    first_frame_test.mjs reads the plan's canvas back at the moments before the first paint
+    (no click, no wait after load): it holds the drawn plan;
   - a 2-seed study of the same: report.html links every run's viewer (relative), the browser
     test resolves them;
   - corridorsim test --junit with a failing expectation: the case's attachment is the run's
@@ -109,6 +111,9 @@ def main():
 
     # The page in a real browser.
     run([node, browser_test, "viewer", "--page", page, "--run", first, "--shots", shots],
+        timeout=300)
+    # The plan is drawn in the first frame the page paints (a headless screenshot's frame).
+    run([node, os.path.join(source, "tests", "viewer", "first_frame_test.mjs"), "--page", page],
         timeout=300)
 
     # A study: report.html, links to every run's viewer.
