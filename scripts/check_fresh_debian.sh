@@ -22,7 +22,7 @@
 #
 # The clone is of HEAD: commit what you want checked. The root's build uses CORRIDORSIM_JOBS (as
 # bootstrap.sh does; default: every core) and takes the time of a cold build and the whole suite
-# (about 40 minutes on two cores). The root stays for inspection; remove it with
+# (about 45 minutes on two cores). The root stays for inspection; remove it with
 # `rm -rf --one-file-system DIR` once nothing is mounted under it (this script unmounts on exit).
 # Exit 0: every command passed; 1: one failed (its log's end is printed); 2: bad usage.
 set -euo pipefail
