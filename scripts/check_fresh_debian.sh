@@ -10,8 +10,8 @@
 #
 #   --root DIR      where the Debian 12 root goes (default /var/tmp/corridorsim-fresh-debian);
 #                   it must not exist, unless --reuse
-#   --mirror URL    the Debian mirror (default http://deb.debian.org/debian)
-#   --security URL  the security mirror (default http://deb.debian.org/debian-security)
+#   --mirror URL    the Debian mirror (default: the first one this machine's apt sources name)
+#   --security URL  the security mirror (default: the one this machine's apt sources name)
 #   --reuse         keep an existing root made by this script (skips debootstrap; packages that
 #                   setup.sh installed there stay, so only a root without them is "fresh")
 #   --host-ca       copy this machine's local CA certificates (/usr/local/share/ca-certificates)
@@ -29,8 +29,15 @@ set -euo pipefail
 src="$(cd "$(dirname "$0")/.." && pwd)"
 
 root=/var/tmp/corridorsim-fresh-debian
-mirror=http://deb.debian.org/debian
-security=http://deb.debian.org/debian-security
+# The mirrors default to those of this machine's own apt sources (deb822 .sources files or the
+# one-line sources.list form): the root reaches Debian the way this machine does.
+apt_uris() {  # every URI the machine's apt sources name, one a line
+  cat /etc/apt/sources.list.d/*.sources 2>/dev/null | sed -n 's/^URIs:[[:space:]]*//p' | tr ' ' '\n'
+  cat /etc/apt/sources.list /etc/apt/sources.list.d/*.list 2>/dev/null |
+    sed -n 's/^deb[[:space:]]\+\(\[[^]]*\][[:space:]]\+\)\?\([^[:space:]]\+\).*/\2/p'
+}
+mirror="$(apt_uris | grep -v -- '-security' | head -n 1 || true)"
+security="$(apt_uris | grep -- '-security' | head -n 1 || true)"
 reuse=0
 host_ca=0
 commands=()
@@ -51,6 +58,7 @@ while [ $# -gt 0 ]; do
   esac
 done
 [ ${#commands[@]} -gt 0 ] || commands=(run test)
+[ -n "$mirror" ] || usage "this machine's apt sources name no Debian mirror: pass --mirror URL"
 case "$root" in /*) ;; *) usage "--root must be an absolute path (got '$root')" ;; esac
 [ "$root" != / ] || usage "--root must not be /"
 if [ "$(id -u)" -ne 0 ]; then
@@ -80,7 +88,7 @@ if [ ! -f "$root/etc/corridorsim-fresh-debian" ]; then
   cat > "$root/etc/apt/sources.list" <<EOF
 deb $mirror bookworm main
 deb $mirror bookworm-updates main
-deb $security bookworm-security main
+${security:+deb $security bookworm-security main}
 EOF
   echo "made by corridorsim's scripts/check_fresh_debian.sh" > "$root/etc/corridorsim-fresh-debian"
   echo "check_fresh_debian: root made in $((SECONDS - start)) s"
