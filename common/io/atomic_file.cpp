@@ -16,6 +16,7 @@
 #include <system_error>
 
 #include "common/error.h"
+#include "common/io/supervisor_channel.h"
 
 namespace corridorsim {
 namespace {
@@ -185,8 +186,10 @@ StagedDirectory::StagedDirectory(const std::filesystem::path& target, bool repla
   const std::string name = target_.filename().string();
   RemoveStaleStaging(target_.parent_path(), name);
   staging_ = target_.parent_path() / ("." + name + ".partial-" + std::to_string(::getpid()));
+  ReportStagingFolder(staging_);  // before it exists: removed whatever ends this process
   if (!fs::create_directory(staging_, error) || error) {
     const std::string reason = error ? error.message() : "it exists";
+    ReportStagingFolderGone(staging_);
     staging_.clear();
     throw std::runtime_error("output folder " + Quoted(target) + ": cannot create " +
                              "the staging folder beside it: " + reason);
@@ -198,6 +201,7 @@ StagedDirectory::StagedDirectory(const std::filesystem::path& target, bool repla
                     "it whole.\n");
   } catch (...) {
     fs::remove_all(staging_, error);
+    ReportStagingFolderGone(staging_);
     staging_.clear();
     throw;
   }
@@ -207,6 +211,7 @@ StagedDirectory::~StagedDirectory() {
   if (committed_ || staging_.empty()) return;
   std::error_code ignored;
   std::filesystem::remove_all(staging_, ignored);
+  ReportStagingFolderGone(staging_);
 }
 
 void StagedDirectory::Commit() {
@@ -246,6 +251,7 @@ void StagedDirectory::Commit() {
   committed_ = true;
   // A previous folder left here by a killed process is removed by the next job.
   if (!previous.empty()) fs::remove_all(previous, error);
+  ReportStagingFolderGone(staging_);
 }
 
 std::string ReadRegularFile(const std::filesystem::path& path, std::uint64_t max_bytes) {

@@ -3,7 +3,8 @@
 // The command line is parsed by ParseCommandLine (harness/cli/cli.h); this file only dispatches.
 // Exit codes: 0 success, 2 bad input (one message naming file, line and key, or the command-line
 // flag), 3 an expectation failed (run, score, evaluate), 4 results are written but an extra
-// failed, 1 any other failure.
+// failed, 1 any other failure; a job that ends without reaching the end of main() (a plugin
+// calling exit()) is never 0 (harness/cli/supervisor.h).
 
 #include <chrono>
 #include <cstdio>
@@ -17,6 +18,7 @@
 #include "common/installation.h"
 #include "common/io/atomic_file.h"
 #include "harness/cli/cli.h"
+#include "harness/cli/supervisor.h"
 #include "harness/evaluate/evaluate.h"
 #include "harness/external/external_pipeline.h"
 #include "harness/run/drive.h"
@@ -166,23 +168,24 @@ int Dispatch(CommandLine& command) {
 
 int main(int argc, char** argv) {
   using namespace corridorsim;
+  SuperviseThisJob();  // from here on: the job (harness/cli/supervisor.h)
   try {
     external::RegisterExternalPipelineType();  // `type: external` (docs/protocol.md)
     const std::vector<std::string> args =
         argc > 1 ? std::vector<std::string>(argv + 1, argv + argc) : std::vector<std::string>();
     CommandLine command = ParseCommandLine(args);
-    return Dispatch(command);
+    return FinishJob(Dispatch(command));
   } catch (const InputError& e) {
     std::fflush(stdout);
     std::fprintf(stderr, "corridorsim: error: %s\n", e.what());
-    return kExitBadInput;
+    return FinishJob(kExitBadInput);
   } catch (const slam::ModelFileError& e) {
     std::fflush(stdout);
     std::fprintf(stderr, "corridorsim: error: %s\n", e.what());
-    return kExitBadInput;
+    return FinishJob(kExitBadInput);
   } catch (const std::exception& e) {
     std::fflush(stdout);
     std::fprintf(stderr, "corridorsim: error: %s\n", e.what());
-    return kExitFailure;
+    return FinishJob(kExitFailure);
   }
 }

@@ -488,8 +488,16 @@ void PrintDivergences(const std::vector<StudyDivergence>& list, const fs::path& 
 int FinishStudy(const StudySpec& spec, const fs::path& dir, const StudyRequest& request,
                 json timing) {
   const Clock::time_point start = Clock::now();
+  // Stop signals are caught since the runs started (CatchStopSignals): each stage ends the
+  // study as the signal would, before the next (the runs' results stay; the command resumes).
+  const auto stop_here = [] {
+    if (const int signal = StopSignal()) DieOfSignal(signal);
+  };
+  stop_here();
   const std::vector<StudyRunRecord> records = CollectRecords(spec, dir);
+  stop_here();
   const StudySummary summary = SummarizeStudy(spec, records);
+  stop_here();
   WriteFileAtomic(dir / "summary.json", summary.json.dump(2) + "\n");
   WriteFileAtomic(dir / "summary.csv", summary.csv);
   WriteFileAtomic(dir / "paired.csv", summary.paired_csv);
@@ -508,7 +516,7 @@ int FinishStudy(const StudySpec& spec, const fs::path& dir, const StudyRequest& 
     // report.html (docs/viewer.md): the study's figures and runs, linking each run's viewer.
     const Clock::time_point t_report = Clock::now();
     report_error = RunPlotScript("make_report.py", {dir.string()});
-    if (const int signal = StopSignal()) DieOfSignal(signal);
+    stop_here();  // forwarded to python3, which ended
     timing["report_seconds"] = Seconds(t_report);
   }
   WriteFileAtomic(dir / "timing.json", timing.dump(2) + "\n");

@@ -9,6 +9,7 @@
 #include <numeric>
 #include <stdexcept>
 
+#include "common/error.h"
 #include "common/io/atomic_file.h"
 #include "harness/metrics/stats.h"
 #include "harness/study/study_stats.h"
@@ -21,6 +22,7 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr std::uint64_t kMaxMetricsBytes = std::uint64_t{64} << 20;
 constexpr std::uint64_t kMaxErrorsBytes = std::uint64_t{512} << 20;
 constexpr int kPoseDof = 3;              // NEES of the planar pose (x, y, yaw)
+constexpr double kMaxStampS = 1e9;  // a run's stamps: no run is 30 years long
 constexpr int kMaxSeriesPoints = 20000;  // the series' grid is coarsened beyond this
 
 // Statistics are written with 9 significant digits: the same bytes from the same inputs, and no
@@ -77,7 +79,7 @@ std::vector<ErrorSample> ReadErrors(const std::filesystem::path& file) {
     throw std::runtime_error(file.string() + ": not an errors CSV of this build");
   }
   ++pos;
-  while (pos < text.size()) {
+  for (int line = 2; pos < text.size(); ++line) {
     const std::size_t end = std::min(text.find('\n', pos), text.size());
     const char* p = text.c_str() + pos;
     double v[8];
@@ -94,7 +96,17 @@ std::vector<ErrorSample> ReadErrors(const std::filesystem::path& file) {
         ++p;
       }
     }
-    if (fields < 7) throw std::runtime_error(file.string() + ": a malformed line");
+    if (fields < 7) {
+      throw InputError({file.string(), line, 1}, "", "a malformed line (8 comma-separated fields)");
+    }
+    // The series' grid is laid over the stamps: one that is no time (inf, nan, negative, beyond
+    // the longest run) would make it endless.
+    if (!(v[0] >= 0) || !(v[0] < kMaxStampS)) {
+      char value[32];
+      std::snprintf(value, sizeof value, "%g", v[0]);
+      throw InputError({file.string(), line, 1}, "t",
+                       std::string("the stamp ") + value + " is not a time in [0, 1e9) s");
+    }
     samples.push_back({v[0], v[1], v[2], v[3], v[4], v[5], v[6], fields == 8 ? v[7] : kNaN});
     pos = end + 1;
   }
@@ -133,7 +145,7 @@ void ReadNis(const std::filesystem::path& file, double step_s, NisBins* bins) {
     const double t = std::strtod(p + pos, nullptr);
     const double dof = std::strtod(p + comma[1] + 1, nullptr);
     const double nis = std::strtod(p + comma[2] + 1, nullptr);
-    if (!(t >= 0) || !(t < 1e9) || !(dof >= 1) || !(nis >= 0) || !std::isfinite(nis)) {
+    if (!(t >= 0) || !(t < kMaxStampS) || !(dof >= 1) || !(nis >= 0) || !std::isfinite(nis)) {
       throw std::runtime_error(file.string() + ": a line out of range");
     }
     const bool applied = end - comma[3] == 2 && text[comma[3] + 1] == '1';

@@ -1,6 +1,7 @@
 // A test plugin: the pipeline type `test_echo` (dead reckoning through the SDK's odometry model,
 // scaled by an option), and with `-DTEST_PLUGIN_VARIANT=...` the broken variants that the loader
-// must refuse (tests/harness/scenario/plugins_test.cpp, tests/CMakeLists.txt).
+// must refuse (tests/harness/scenario/plugins_test.cpp, tests/CMakeLists.txt) and the two that end
+// the process with exit code 0 (7, 8: tests/harness/cli_supervision_test.py).
 
 #include <cmath>
 #include <cstdint>
@@ -81,6 +82,9 @@ class EchoPipeline : public corridorsim::slam::Pipeline {
   void OnOdometry(const corridorsim::WheelOdometry& odometry) override {
     if (!options_.read_upward && options_.throw_after_s > 0 &&
         static_cast<double>(odometry.stamp_ns) * 1e-9 > options_.throw_after_s) {
+#if defined(TEST_PLUGIN_VARIANT) && TEST_PLUGIN_VARIANT == 8
+      std::_Exit(0);  // ends the whole process, reporting success (harness/cli/supervisor.h)
+#endif
       throw std::runtime_error("test_echo: the wheels went out of sync");
     }
     estimate_.world_from_robot = corridorsim::ApplyWheelOdometry(
@@ -139,5 +143,18 @@ CORRIDORSIM_PLUGIN_EXPORT const CorridorsimPluginInfo* corridorsim_plugin_info()
 }
 CORRIDORSIM_PLUGIN_EXPORT void corridorsim_plugin_register(corridorsim::slam::PluginRegistrar*) {
   std::abort();
+}
+#elif TEST_PLUGIN_VARIANT == 7  // a static initializer calls exit(0) as the library loads
+namespace {
+[[maybe_unused]] const int kExitsAsItLoads = (std::exit(0), 0);
+}  // namespace
+CORRIDORSIM_PLUGIN("exits_as_it_loads", "1", registrar) {
+  registrar.Add<test_echo::EchoOptions, test_echo::EchoPipeline>("test_echo",
+                                                                 &test_echo::EchoOptionsTable);
+}
+#elif TEST_PLUGIN_VARIANT == 8  // throw_after_s ends the process with _Exit(0) instead
+CORRIDORSIM_PLUGIN("exits_mid_run", "1", registrar) {
+  registrar.Add<test_echo::EchoOptions, test_echo::EchoPipeline>("test_echo",
+                                                                 &test_echo::EchoOptionsTable);
 }
 #endif
