@@ -10,10 +10,10 @@ namespace corridorsim {
 namespace {
 
 int g_channel = -1;
-std::mutex g_channel_mutex;  // one line at a time, whatever thread writes it
+std::mutex g_channel_mutex;  // one record at a time, whatever thread writes it
 
-// Writes "<tag><text>\0" whole (a path holds no NUL; it may hold a newline). A write that fails (the supervisor gone) is dropped: the
-// supervisor's end is then closed and nobody reads.
+// Writes "<tag><text>\0" whole (a path holds no NUL; it may hold a newline). A write that fails
+// (the supervisor gone) is dropped: the supervisor's end is then closed and nobody reads.
 void WriteLine(char tag, const std::string& text) {
   if (g_channel < 0) return;
   std::string line;

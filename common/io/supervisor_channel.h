@@ -1,8 +1,8 @@
 #pragma once
 // The job's side of the channel to the process that supervises it (harness/cli/supervisor.h):
-// one pipe, written record by record (NUL-terminated), that says which staging folders exist (so that they are
-// removed whatever ends the job: a signal, SIGKILL, a plugin's exit()) and that the job finished
-// (its exit code, written after every result). Without a supervisor (unit tests, other
+// one pipe, written record by record (NUL-terminated), that says which staging folders exist (so
+// that they are removed whatever ends the job: a signal, SIGKILL, a plugin's exit()) and that the
+// job finished (its exit code, written after every result). Without a supervisor (unit tests, other
 // programs) every call does nothing.
 
 #include <filesystem>

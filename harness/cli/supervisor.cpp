@@ -55,7 +55,7 @@ extern "C" void ForwardToReaper(int signal) {
 // Ends this process (top or reaper) as `signal` ends a process, without a second core file (the
 // job's is the one that tells).
 [[noreturn]] void DieOf(int signal) {
-  const struct rlimit no_core {0, 0};
+  const struct rlimit no_core { 0, 0 };
   ::setrlimit(RLIMIT_CORE, &no_core);
   DieOfSignal(signal);
 }
@@ -138,7 +138,8 @@ void Reaper::ReadChannel() {
     }
     pending_.append(buffer, static_cast<std::size_t>(n));
     std::size_t start = 0;
-    for (std::size_t nul; (nul = pending_.find('\0', start)) != std::string::npos; start = nul + 1) {
+    for (std::size_t nul; (nul = pending_.find('\0', start)) != std::string::npos;
+         start = nul + 1) {
       const std::string record = pending_.substr(start, nul - start);
       if (record.empty()) continue;
       const std::string text = record.substr(1);
@@ -229,8 +230,8 @@ void Reaper::Run() {
     pollfd fds[3] = {{signals_, POLLIN, 0}, {channel_, POLLIN, 0}, {parent_pipe_, POLLIN, 0}};
     int timeout_ms = -1;
     if (stop_signal_ != 0 && !killed_after_grace_) {
-      const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(stop_deadline_ -
-                                                                              Clock::now());
+      const auto left =
+          std::chrono::duration_cast<std::chrono::milliseconds>(stop_deadline_ - Clock::now());
       timeout_ms = static_cast<int>(std::max<long long>(0, left.count()) + 1);
     }
     if (::poll(fds, 3, timeout_ms) < 0 && errno != EINTR) Fail("poll");

@@ -22,7 +22,7 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr std::uint64_t kMaxMetricsBytes = std::uint64_t{64} << 20;
 constexpr std::uint64_t kMaxErrorsBytes = std::uint64_t{512} << 20;
 constexpr int kPoseDof = 3;              // NEES of the planar pose (x, y, yaw)
-constexpr double kMaxStampS = 1e9;  // a run's stamps: no run is 30 years long
+constexpr double kMaxStampS = 1e9;       // a run's stamps: no run is 30 years long
 constexpr int kMaxSeriesPoints = 20000;  // the series' grid is coarsened beyond this
 
 // Statistics are written with 9 significant digits: the same bytes from the same inputs, and no
