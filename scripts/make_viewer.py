@@ -331,6 +331,33 @@ def expectation_rows(metrics):
     return out
 
 
+def cost_section(value, depth=0):
+    """A pipeline's section of timing.json as the page carries it: objects of numbers (4
+    significant digits), nulls and objects, keys cut to MAX_TEXT characters; anything else, or
+    nesting deeper than 3, is left out."""
+    if isinstance(value, bool):
+        return None
+    if isinstance(value, (int, float)):
+        return significant([value])[0]
+    if isinstance(value, dict) and depth < 3:
+        return {str(k)[:MAX_TEXT]: cost_section(v, depth + 1) for k, v in list(value.items())[:256]
+                if v is None or isinstance(v, (dict, int, float)) and not isinstance(v, bool)}
+    return None
+
+
+def read_costs(run_dir):
+    """{pipeline: its timing.json section (stage_seconds, cpu_*, an external one's `protocol`)}:
+    what the page shows as the pipeline's cost; {} without timing.json (a hand-made folder)."""
+    path = os.path.join(run_dir, "timing.json")
+    if not os.path.exists(path):
+        return {}
+    pipelines = files.read_json_object(path).get("pipelines")
+    if not isinstance(pipelines, dict):
+        return {}
+    return {name: cost_section(section) for name, section in pipelines.items()
+            if isinstance(section, dict)}
+
+
 def read_frames(run_dir):
     """frames/frames.csv (`corridorsim run --keep-frames`): camera,t_ns,file,scale,width,height
     per kept JPEG; the images are inlined as base64."""
@@ -376,6 +403,7 @@ def build_data(run_dir, points, frame_stamps):
     truth_yaw = [yaw_of(r[6], r[7]) for r in truth]
     keep = stride_indices(len(truth), points)
     events, failures = event_rows(os.path.join(run_dir, "events.json"))
+    costs = read_costs(run_dir)
     data = {
         "schema": SCHEMA,
         "scenario": "", "seed": None,
@@ -410,7 +438,8 @@ def build_data(run_dir, points, frame_stamps):
             failed = failures.get(name, "failed (events.json says no more)")
         entry = {"name": name, "failed": failed, "metrics": section, "path": None,
                  "truth_at": None, "errors": None, "nees_band": significant(chi2_band(NEES_DOF)),
-                 "nis": {}, "frame_ms": None, "landmarks": [], "detections": []}
+                 "nis": {}, "frame_ms": None, "cost": costs.get(name), "landmarks": [],
+                 "detections": []}
         data["pipelines"].append(entry)
         tum_path = os.path.join(run_dir, f"{name}.tum")
         if failed is not None or not os.path.exists(tum_path):

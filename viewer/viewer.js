@@ -180,6 +180,7 @@
         neesBand: arr(p.nees_band).map(num),
         nis: nis,
         frameMs: isObj(p.frame_ms) ? columns(p.frame_ms, ["ms", "landmarks"]) : null,
+        cost: isObj(p.cost) ? p.cost : null,
         landmarks: arr(p.landmarks).filter(isObj),
         detByCam: detByCam, detTimes: new Map(Array.from(detByCam, ([k, v]) => [k, Float64Array.from(v, (q) => q.t)])),
         metrics: isObj(p.metrics) ? p.metrics : {},
@@ -835,10 +836,56 @@
         series: [{ label: "frame", data: gaps(F.ms), color: p.color, width: 1 },
           { label: "landmarks", data: gaps(F.landmarks), color: "#8b919c", width: 1, dash: [3, 3], scale: "y2" }],
       });
-    } else {
-      box.append(el("div", { cls: "cs-plot" }, [el("div", { cls: "cs-plot-title", text: "time per frame" }),
+    }
+    // What it cost (timing.json): the pipeline's own stages and CPU time; for a program, the round
+    // trips and both sides of the connection, each named.
+    const lines = costLines(p.cost);
+    if (lines.length) {
+      box.append(el("div", { cls: "cs-plot cs-cost" }, [el("div", { cls: "cs-plot-title" }, ["cost", el("small", { text: "timing.json, wall clock" })])]
+        .concat(lines.map((l) => el("div", { cls: "cs-cost-line", text: l })))));
+    } else if (!(p.frameMs && p.frameMs.n)) {
+      box.append(el("div", { cls: "cs-plot" }, [el("div", { cls: "cs-plot-title", text: "cost" }),
         el("div", { cls: "cs-plot-empty", text: "not recorded for " + p.name })]));
     }
+  }
+
+  /** The lines of a pipeline's cost box from its timing.json section (docs/protocol.md, "Cost"). */
+  function costLines(c) {
+    const out = [];
+    if (!isObj(c)) return out;
+    const has = (v) => isFinite(num(v));
+    const ms = (v) => fmt(num(v)) + " ms";
+    const sec = (v) => fmt(num(v)) + " s";
+    const stages = isObj(c.stage_seconds) ? Object.keys(c.stage_seconds).filter((k) => has(c.stage_seconds[k])) : [];
+    const P = isObj(c.protocol) ? c.protocol : null;
+    if (stages.length) {
+      out.push((P ? "program's own stages (as it reports): " : "own stages: ") +
+        stages.map((k) => k + " " + sec(c.stage_seconds[k])).join(", ") +
+        (has(c.total_ms_per_frame) ? " · " + ms(c.total_ms_per_frame) + " a frame" : ""));
+    }
+    if (has(c.cpu_seconds)) {
+      out.push("CPU time of its calls: " + sec(c.cpu_seconds) + (has(c.cpu_ms_per_frame) ? " · " + ms(c.cpu_ms_per_frame) + " a frame" : ""));
+    }
+    if (!P) return out;
+    const trips = isObj(P.round_trip_ms) ? P.round_trip_ms : {};
+    for (const kind of Object.keys(trips)) {
+      const r = trips[kind];
+      if (!isObj(r) || !has(r.p50)) continue;
+      out.push("round trip, " + kind + " (" + fmt(num(r.messages)) + "): median " + ms(r.p50) +
+        (has(r.p90) ? ", p90 " + ms(r.p90) : "") + (has(r.max) ? ", max " + ms(r.max) : ""));
+    }
+    out.push("program, as it reports (stage_seconds): " + (has(P.program_reported_seconds)
+      ? sec(P.program_reported_seconds) + (has(P.program_reported_ms_per_message) ? " · " + ms(P.program_reported_ms_per_message) + " a message" : "")
+      : "not sent"));
+    out.push("program CPU, measured: " + (has(P.program_cpu_seconds)
+      ? sec(P.program_cpu_seconds) + (has(P.program_cpu_ms_per_message) ? " · " + ms(P.program_cpu_ms_per_message) + " a message" : "") +
+        (has(P.program_peak_rss_mib) ? " · peak " + fmt(num(P.program_peak_rss_mib)) + " MiB" : "")
+      : "not known"));
+    if (has(P.corridorsim_cpu_seconds)) {
+      out.push("corridorsim's side CPU: " + sec(P.corridorsim_cpu_seconds) +
+        (has(P.corridorsim_cpu_ms_per_message) ? " · " + ms(P.corridorsim_cpu_ms_per_message) + " a message" : ""));
+    }
+    return out;
   }
 
   function initPlots() {

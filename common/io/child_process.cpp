@@ -271,6 +271,10 @@ std::optional<ChildStatus> ChildProcess::Poll() {
     if (WIFEXITED(wstatus)) status.exit_code = WEXITSTATUS(wstatus);
     if (WIFSIGNALED(wstatus)) status.signal = WTERMSIG(wstatus);
     peak_rss_mib_ = static_cast<double>(usage.ru_maxrss) / 1024.0;  // Linux: KiB
+    const auto seconds = [](const timeval& t) {
+      return static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_usec);
+    };
+    cpu_seconds_ = seconds(usage.ru_utime) + seconds(usage.ru_stime);
   }
   done_ = status;
   return done_;

@@ -75,6 +75,9 @@ class ChildProcess {
   int pid() const { return done_ ? -1 : pid_; }
   /// Its peak resident memory in MiB once ended (from wait4's rusage), else 0.
   double peak_rss_mib() const { return peak_rss_mib_; }
+  /// Its CPU time (user + system, with the children it waited for) in seconds once ended (from
+  /// wait4's rusage), else -1.
+  double cpu_seconds() const { return cpu_seconds_; }
 
  private:
   int pid_ = -1;
@@ -82,6 +85,7 @@ class ChildProcess {
   bool own_group_ = false;
   std::optional<ChildStatus> done_;
   double peak_rss_mib_ = 0.0;
+  double cpu_seconds_ = -1.0;
 };
 
 /// From now on SIGINT, SIGTERM and SIGHUP, each unless this process was started with it ignored

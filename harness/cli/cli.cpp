@@ -241,7 +241,8 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
                        "Print the version, the git describe of the build and the SDK ABI version");
   app.footer(
       "Exit codes: 0 success, 2 bad input, 1 other failures; `run` also 3 (an expectation "
-      "failed) and 4 (results written, an extra failed); `score` also 3 (an --expect failed); "
+      "failed), 4 (results written, an extra failed) and 5 (a pipeline failed; the others' "
+      "results are written); `score` also 3 (an --expect failed); "
       "`evaluate` also 3 (an --expect failed) and 4 (results written, plots/ failed). Run "
       "`corridorsim <subcommand> --help`.");
 
@@ -329,11 +330,12 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
           "the extras: maps/, the --export dataset, plots/ (python3 scripts/plot_run.py), "
           "viewer.html (scripts/make_viewer.py: one page, offline, docs/viewer.md).\n") +
       PipelineListFooter() + kFolderFooter +
-      "Exit codes: 0 success; 3 an expectation failed; 4 the results are written but an extra "
-      "(maps/, plots/, viewer.html, the --export dataset) failed (its message is on stderr); 3 "
-      "takes "
-      "precedence over 4; 2 bad input (nothing is written); 1 other failures (the previous "
-      "folder is left as it was).");
+      "Exit codes: 0 success; 5 a pipeline failed (it alone: the run went on and the other "
+      "pipelines' results are written; the reason is on stderr and in events.json); 3 an "
+      "expectation failed; 4 the results are written but an extra (maps/, plots/, viewer.html, "
+      "the --export dataset) failed (its message is on stderr); 5 takes precedence over 3, 3 "
+      "over 4; 2 bad input (nothing is written); 1 other failures (the previous folder is left "
+      "as it was).");
 
   CLI::App* drive = app.add_subcommand(
       "drive", "Drive the scenario's path closed loop and write trajectories, odometry and events");

@@ -3,8 +3,9 @@
 // The command line is parsed by ParseCommandLine (harness/cli/cli.h); this file only dispatches.
 // Exit codes: 0 success, 2 bad input (one message naming file, line and key, or the command-line
 // flag), 3 an expectation failed (run, score, evaluate), 4 results are written but an extra
-// failed, 1 any other failure; a job that ends without reaching the end of main() (a plugin
-// calling exit()) is never 0 (harness/cli/supervisor.h).
+// failed, 5 a pipeline failed (run: the others' results are written), 1 any other failure; a job
+// that ends without reaching the end of main() (a plugin calling exit()) is never 0
+// (harness/cli/supervisor.h).
 
 #include <chrono>
 #include <cstdio>

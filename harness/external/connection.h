@@ -67,6 +67,13 @@ class ProgramConnection {
   /// Kills the program's group now (a failed pipeline) and collects what it printed until then.
   void Kill();
 
+  /// The program's CPU seconds (user + system, with the children it waited for) and peak memory
+  /// in MiB once it was reaped (Close, Kill), else -1 each.
+  double program_cpu_seconds() const { return child_->cpu_seconds(); }
+  double program_peak_rss_mib() const {
+    return child_->cpu_seconds() >= 0 ? child_->peak_rss_mib() : -1.0;
+  }
+
   /// What the program printed (stdout and stderr, in order), at most the last kLogKeepBytes,
   /// headed by a line saying how much was left out.
   std::string Log() const;

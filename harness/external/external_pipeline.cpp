@@ -233,6 +233,7 @@ std::chrono::duration<double> ExternalPipeline::timeout() const {
 void ExternalPipeline::FailWith(const std::string& what) {
   ended_ = true;
   connection_->Kill();
+  usage_ = {connection_->program_cpu_seconds(), connection_->program_peak_rss_mib()};
   std::string reason = what;
   const std::string tail = connection_->LogTail(kReasonLogLines, kReasonLogBytes);
   if (!tail.empty()) reason += "; its last output: " + tail;
@@ -244,8 +245,12 @@ Received ExternalPipeline::Exchange(const nlohmann::ordered_json& message, std::
                                     int fd) {
   if (ended_) throw std::logic_error("the program has ended");
   try {
+    const auto t0 = std::chrono::steady_clock::now();
     connection_->Send(message, blob, fd, timeout());
-    return connection_->Receive(timeout());
+    Received reply = connection_->Receive(timeout());
+    times_.Add(MessageType(message),
+               std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    return reply;
   } catch (const ConnectionError& e) {
     FailWith("'" + MessageType(message) + "' message: " + e.what());
   }
@@ -297,22 +302,37 @@ void ExternalPipeline::Initialize(TimeNs stamp_ns, const SE2& world_from_robot) 
     throw;
   }
   if (pass_fd >= 0) ::close(pass_fd);
+  ReplyProblems problems;
   try {
-    ParseReady(reply.json);
+    ParseReady(reply.json, &problems);
   } catch (const ProtocolError& e) {
     FailWith(std::string("'start' message: ") + e.what());
+  }
+  Keep("start", problems);
+}
+
+void ExternalPipeline::Keep(const char* message, const ReplyProblems& problems) {
+  for (const std::string& w : problems.warnings) {
+    warnings_.push_back("'" + std::string(message) + "' message: " + w);
+  }
+  if (!problems.errors.empty()) {
+    FailWith("'" + std::string(message) + "' message: " + JoinProblems(problems.errors));
   }
 }
 
 void ExternalPipeline::OnOdometry(const WheelOdometry& odometry) {
   const Received reply = Exchange(OdometryMessage(odometry), {});
+  ReplyProblems problems;
   try {
     ReplyExtras extras;
-    estimate_ = ParseEstimate(reply.json, odometry.stamp_ns, &extras);
+    // What arrived is kept before an unknown key fails the pipeline (the runner records the
+    // estimate of a failed call when its stamp is the message's).
+    estimate_ = ParseEstimate(reply.json, odometry.stamp_ns, &extras, &problems);
     for (slam::Innovation& n : extras.innovations) innovations_.push_back(n);
   } catch (const ProtocolError& e) {
     FailWith(std::string("'odometry' message: ") + e.what());
   }
+  Keep("odometry", problems);
 }
 
 void ExternalPipeline::OnCamera(const slam::CameraInput& input) {
@@ -372,14 +392,16 @@ void ExternalPipeline::OnCameraSet(TimeNs stamp_ns, const std::vector<SetFrame>&
   const nlohmann::ordered_json message =
       CamerasMessage(stamp_ns, slices, memory_ ? "shared_memory" : "inline");
   const Received reply = Exchange(message, blob);
+  ReplyProblems problems;
   try {
     ReplyExtras extras;
-    ParseProcessed(reply.json, stamp_ns, delivered, &extras);
+    ParseProcessed(reply.json, stamp_ns, delivered, &extras, &problems);
     for (slam::Detection& d : extras.detections) detections_.push_back(std::move(d));
     for (slam::Innovation& n : extras.innovations) innovations_.push_back(n);
   } catch (const ProtocolError& e) {
     FailWith(std::string("'cameras' message: ") + e.what());
   }
+  Keep("cameras", problems);
 }
 
 std::vector<slam::Detection> ExternalPipeline::TakeDetections() {
@@ -396,8 +418,12 @@ std::vector<slam::Innovation> ExternalPipeline::TakeInnovations() {
 
 void ExternalPipeline::Finish() {
   const Received reply = Exchange(FinishMessage(estimate_.stamp_ns), {});
+  ReplyProblems problems;
   try {
-    Finished finished = ParseFinished(reply.json, reply.blob, estimate_.stamp_ns, options_.cameras);
+    // Each part of the reply on its own: a bad or misspelt one costs only itself, and what the
+    // others hold is kept (the runner records it for a failed pipeline too).
+    Finished finished =
+        ParseFinished(reply.json, reply.blob, estimate_.stamp_ns, options_.cameras, &problems);
     landmarks_ = std::move(finished.landmarks);
     for (slam::Detection& d : finished.extras.detections) detections_.push_back(std::move(d));
     for (slam::Innovation& n : finished.extras.innovations) innovations_.push_back(n);
@@ -407,10 +433,12 @@ void ExternalPipeline::Finish() {
   } catch (const ProtocolError& e) {
     FailWith(std::string("'finish' message: ") + e.what());
   }
+  Keep("finish", problems);
   // The connection closes; the program ends on its own, successfully.
   ended_ = true;
   const std::optional<ChildStatus> status =
       connection_->Close(std::chrono::duration<double>(kExitGraceSeconds));
+  usage_ = {connection_->program_cpu_seconds(), connection_->program_peak_rss_mib()};
   log_ = connection_->Log();
   if (!status) {
     throw std::runtime_error("the program did not exit within " +
@@ -429,9 +457,23 @@ std::string ExternalPipeline::TakeLog() {
   if (!ended_) {
     ended_ = true;
     connection_->Kill();
+    usage_ = {connection_->program_cpu_seconds(), connection_->program_peak_rss_mib()};
     log_ = connection_->Log();
   }
   return std::move(log_);
+}
+
+std::vector<std::string> ExternalPipeline::TakeWarnings() {
+  std::vector<std::string> out = std::move(warnings_);
+  warnings_.clear();
+  return out;
+}
+
+nlohmann::ordered_json ExternalPipeline::ProtocolTiming(double corridorsim_cpu_seconds) const {
+  double reported = 0.0;
+  for (const auto& [stage, seconds] : stage_seconds_) reported += seconds;
+  return ProtocolTimingJson(times_, usage_, reported, !stage_seconds_.empty(),
+                            corridorsim_cpu_seconds);
 }
 
 }  // namespace corridorsim::external

@@ -20,6 +20,8 @@
 #include "common/error.h"
 #include "common/options_table.h"
 #include "harness/external/connection.h"
+#include "harness/external/exchange_timing.h"
+#include "harness/external/reply_keys.h"
 #include "slam/pipeline.h"
 #include "slam/registry.h"
 
@@ -97,12 +99,21 @@ class ExternalPipeline : public slam::Pipeline {
   /// What the program printed (ProgramConnection::Log), moved out; the program is ended first
   /// if it still runs (a failed pipeline's).
   std::string TakeLog();
+  /// What was wrong with its replies but cost no result (a misspelt `stage_seconds`,
+  /// reply_keys.h), each naming the message, moved out.
+  std::vector<std::string> TakeWarnings();
+  /// timing.json's `protocol` section (exchange_timing.h): the round trips, the program's reported
+  /// and measured cost and `corridorsim_cpu_seconds`, this side's CPU time during the calls.
+  /// Complete once TakeLog() ended the program.
+  nlohmann::ordered_json ProtocolTiming(double corridorsim_cpu_seconds) const;
 
  private:
   // Sends a message and reads its reply; a failure ends the program and throws, naming the
   // message and with the program's last lines.
   Received Exchange(const nlohmann::ordered_json& message, std::string_view blob, int fd = -1);
   [[noreturn]] void FailWith(const std::string& what);
+  // After a reply's results were kept: its warnings noted, and its errors fail the pipeline.
+  void Keep(const char* message, const ReplyProblems& problems);
   std::chrono::duration<double> timeout() const;
 
   ExternalPipelineOptions options_;
@@ -128,6 +139,9 @@ class ExternalPipeline : public slam::Pipeline {
   std::map<std::string, double> stage_seconds_;
   slam::PipelineHealth health_;
   std::string log_;
+  std::vector<std::string> warnings_;
+  ExchangeTimes times_;
+  ProgramUsage usage_;
 };
 
 }  // namespace corridorsim::external

@@ -1,5 +1,6 @@
 #include "harness/external/protocol.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -8,6 +9,7 @@
 #include "common/io/camera_json.h"
 #include "common/io/json_input.h"
 #include "common/io/yaml_reader.h"
+#include "harness/external/reply_keys.h"
 
 namespace corridorsim::external {
 namespace {
@@ -97,15 +99,41 @@ nlohmann::ordered_json MatrixJson(const Eigen::Matrix3d& m) {
 }
 
 // Checks that `object` has only keys of `known` (a typo in a reply is a bug to report, not a
-// field to drop silently).
+// field to drop silently): the message names the key and every valid key.
 void OnlyKeys(const nlohmann::json& object, const std::string& where,
               std::initializer_list<const char*> known) {
   if (!object.is_object()) Fail(where, "expected an object, got " + Excerpt(object));
+  const std::vector<std::string> keys(known.begin(), known.end());
   for (const auto& [key, value] : object.items()) {
-    bool ok = false;
-    for (const char* k : known) ok = ok || key == k;
-    if (!ok) Fail(where, "unknown key '" + InputExcerpt(key, 60) + "'");
+    if (std::find(keys.begin(), keys.end(), key) == keys.end()) {
+      throw ProtocolError(UnknownKeyText(where, key, keys));
+    }
   }
+}
+
+// Parses a reply with `parse` and checks its top-level keys against `keys`. Without `problems`
+// any unknown key throws. With it, what `parse` read is kept and the unknown keys go into
+// `problems` (reply_keys.h); a ProtocolError of `parse` still throws, naming the unknown keys
+// too (a misspelt required key is then why it is missing).
+template <class F>
+void ParseReplyKeys(const nlohmann::json& reply, const std::string& where, const ReplyKeys& keys,
+                    ReplyProblems* problems, F&& parse) {
+  ReplyProblems unknown = UnknownKeys(reply, where, keys);
+  std::vector<std::string> all = unknown.errors;
+  all.insert(all.end(), unknown.warnings.begin(), unknown.warnings.end());
+  try {
+    parse();
+  } catch (const ProtocolError& e) {
+    if (all.empty()) throw;
+    throw ProtocolError(std::string(e.what()) + "; " + JoinProblems(all));
+  }
+  if (!problems) {
+    if (!all.empty()) throw ProtocolError(JoinProblems(all));
+    return;
+  }
+  problems->errors.insert(problems->errors.end(), unknown.errors.begin(), unknown.errors.end());
+  problems->warnings.insert(problems->warnings.end(), unknown.warnings.begin(),
+                            unknown.warnings.end());
 }
 
 slam::LandmarkType LandmarkTypeFrom(const nlohmann::json& value, const std::string& where) {
@@ -175,8 +203,8 @@ slam::Detection ParseDetection(const nlohmann::json& d, const std::string& where
   return out;
 }
 
-void ParseExtras(const nlohmann::json& reply, const std::string& what, TimeNs stamp_ns,
-                 const std::vector<std::string>& cameras, ReplyExtras* extras) {
+void ParseDetectionList(const nlohmann::json& reply, const std::string& what, TimeNs stamp_ns,
+                        const std::vector<std::string>& cameras, ReplyExtras* extras) {
   if (const nlohmann::json* list = Find(reply, "detections")) {
     const std::string where = what + ".detections";
     Array(*list, where, kMaxReplyItems);
@@ -188,6 +216,10 @@ void ParseExtras(const nlohmann::json& reply, const std::string& what, TimeNs st
           ParseDetection((*list)[i], where + "[" + std::to_string(i) + "]", stamp_ns, cameras));
     }
   }
+}
+
+void ParseInnovationList(const nlohmann::json& reply, const std::string& what, TimeNs stamp_ns,
+                         ReplyExtras* extras) {
   if (const nlohmann::json* list = Find(reply, "innovations")) {
     const std::string where = what + ".innovations";
     Array(*list, where, kMaxReplyItems);
@@ -212,6 +244,12 @@ void ParseExtras(const nlohmann::json& reply, const std::string& what, TimeNs st
   }
 }
 
+void ParseExtras(const nlohmann::json& reply, const std::string& what, TimeNs stamp_ns,
+                 const std::vector<std::string>& cameras, ReplyExtras* extras) {
+  ParseDetectionList(reply, what, stamp_ns, cameras, extras);
+  ParseInnovationList(reply, what, stamp_ns, extras);
+}
+
 void CheckReply(const nlohmann::json& reply, const std::string& type) {
   const std::string got = MessageType(reply);
   if (got != type) {
@@ -229,6 +267,153 @@ void CheckStamp(const nlohmann::json& reply, const std::string& what, TimeNs exp
   if (got != expected) {
     throw ProtocolError("out of order: the " + what + " is for stamp_ns " + std::to_string(got) +
                         ", the message answered had " + std::to_string(expected));
+  }
+}
+
+const ReplyKeys& ReadyKeys() {
+  static const ReplyKeys keys{{"type", "name", "version"}, {"name", "version"}};
+  return keys;
+}
+
+const ReplyKeys& EstimateKeys() {
+  static const ReplyKeys keys{
+      {"type", "stamp_ns", "pose", "covariance", "detections", "innovations"}, {}};
+  return keys;
+}
+
+const ReplyKeys& ProcessedKeys() {
+  static const ReplyKeys keys{{"type", "stamp_ns", "detections", "innovations"}, {}};
+  return keys;
+}
+
+const ReplyKeys& FinishedKeys() {
+  static const ReplyKeys keys{
+      {"type", "landmarks", "detections", "innovations", "maps", "health", "stage_seconds"},
+      {"stage_seconds"}};
+  return keys;
+}
+
+void ParseLandmarks(const nlohmann::json& reply, Finished* finished) {
+  Finished& out = *finished;
+  if (const nlohmann::json* list = Find(reply, "landmarks")) {
+    Array(*list, "finished.landmarks", kMaxReplyItems);
+    for (std::size_t i = 0; i < list->size(); ++i) {
+      const nlohmann::json& l = (*list)[i];
+      const std::string w = "finished.landmarks[" + std::to_string(i) + "]";
+      OnlyKeys(l, w, {"id", "type", "status", "position", "covariance", "points", "label"});
+      if (!Find(l, "id") || !Find(l, "type") || !Find(l, "position")) {
+        Fail(w, "needs id, type and position");
+      }
+      slam::LandmarkEstimate landmark;
+      landmark.id =
+          static_cast<int>(Integer(l["id"], w + ".id", 0, std::numeric_limits<int>::max()));
+      landmark.type = LandmarkTypeFrom(l["type"], w + ".type");
+      if (const nlohmann::json* v = Find(l, "status")) {
+        const std::string status = String(*v, w + ".status", 32);
+        if (status == "converged") {
+          landmark.status = slam::LandmarkStatus::kConverged;
+        } else if (status == "initializing") {
+          landmark.status = slam::LandmarkStatus::kInitializing;
+        } else {
+          Fail(w + ".status", "expected converged or initializing");
+        }
+      }
+      landmark.position_in_world = Vector<3>(l["position"], w + ".position");
+      if (const nlohmann::json* v = Find(l, "covariance")) {
+        landmark.covariance = Matrix3(*v, w + ".covariance");
+      }
+      if (const nlohmann::json* v = Find(l, "label"))
+        landmark.label = String(*v, w + ".label", 256);
+      if (const nlohmann::json* points = Find(l, "points")) {
+        Array(*points, w + ".points", kMaxLandmarkPoints);
+        for (std::size_t k = 0; k < points->size(); ++k) {
+          const nlohmann::json& p = (*points)[k];
+          const std::string pw = w + ".points[" + std::to_string(k) + "]";
+          OnlyKeys(p, pw, {"role", "position", "covariance"});
+          if (!Find(p, "role") || !Find(p, "position")) Fail(pw, "needs role and position");
+          slam::LandmarkPoint point;
+          point.role = String(p["role"], pw + ".role", 64);
+          point.position_in_world = Vector<3>(p["position"], pw + ".position");
+          if (const nlohmann::json* v = Find(p, "covariance")) {
+            point.covariance = Matrix3(*v, pw + ".covariance");
+          }
+          landmark.points.push_back(std::move(point));
+        }
+      }
+      out.landmarks.push_back(std::move(landmark));
+    }
+  }
+}
+
+void ParseMaps(const nlohmann::json& reply, std::string_view blob, Finished* finished) {
+  Finished& out = *finished;
+  if (const nlohmann::json* list = Find(reply, "maps")) {
+    Array(*list, "finished.maps", kMaxMapFiles);
+    for (std::size_t i = 0; i < list->size(); ++i) {
+      const nlohmann::json& m = (*list)[i];
+      const std::string w = "finished.maps[" + std::to_string(i) + "]";
+      OnlyKeys(m, w, {"suffix", "offset", "bytes"});
+      if (!Find(m, "suffix") || !Find(m, "offset") || !Find(m, "bytes")) {
+        Fail(w, "needs suffix, offset and bytes");
+      }
+      slam::MapFile map;
+      map.suffix = String(m["suffix"], w + ".suffix", 64);
+      // A suffix names a file beside the pipeline's own: no folder, nothing hidden.
+      if (map.suffix.empty() || map.suffix.find('/') != std::string::npos ||
+          map.suffix.find('\0') != std::string::npos || map.suffix == "." || map.suffix == ".." ||
+          map.suffix.find("..") != std::string::npos) {
+        Fail(w + ".suffix", "must be a file name suffix without '/' or '..' (got '" +
+                                InputExcerpt(map.suffix, 64) + "')");
+      }
+      for (const char c : map.suffix) {
+        if (static_cast<unsigned char>(c) < 0x20) Fail(w + ".suffix", "has a control character");
+      }
+      const auto offset = static_cast<std::size_t>(
+          Integer(m["offset"], w + ".offset", 0, static_cast<std::int64_t>(blob.size())));
+      const auto bytes = static_cast<std::size_t>(
+          Integer(m["bytes"], w + ".bytes", 0, static_cast<std::int64_t>(blob.size() - offset)));
+      map.bytes.assign(blob.substr(offset, bytes));
+      for (const slam::MapFile& other : out.maps) {
+        if (other.suffix == map.suffix) Fail(w + ".suffix", "'" + map.suffix + "' twice");
+      }
+      out.maps.push_back(std::move(map));
+    }
+  }
+}
+
+void ParseHealth(const nlohmann::json& reply, Finished* finished) {
+  Finished& out = *finished;
+  if (const nlohmann::json* h = Find(reply, "health")) {
+    OnlyKeys(
+        *h, "finished.health",
+        {"non_positive_covariance", "rejected_updates", "rejected_odometry", "rejected_frames"});
+    const auto count = [&](const char* key, int* field) {
+      if (const nlohmann::json* v = Find(*h, key)) {
+        *field = static_cast<int>(
+            Integer(*v, std::string("finished.health.") + key, 0, std::numeric_limits<int>::max()));
+      }
+    };
+    count("non_positive_covariance", &out.health.non_positive_covariance);
+    count("rejected_updates", &out.health.rejected_updates);
+    count("rejected_odometry", &out.health.rejected_odometry);
+    count("rejected_frames", &out.health.rejected_frames);
+  }
+}
+
+void ParseStageSeconds(const nlohmann::json& reply, Finished* finished) {
+  Finished& out = *finished;
+  if (const nlohmann::json* stages = Find(reply, "stage_seconds")) {
+    if (!stages->is_object()) Fail("finished.stage_seconds", "expected an object");
+    if (stages->size() > kMaxStages) {
+      Fail("finished.stage_seconds", "more than " + std::to_string(kMaxStages) + " stages");
+    }
+    for (const auto& [name, seconds] : stages->items()) {
+      const std::string w = "finished.stage_seconds." + InputExcerpt(name, 64);
+      if (name.empty() || name.size() > 64) Fail(w, "a stage name is 1 to 64 bytes");
+      const double s = Number(seconds, w);
+      if (s < 0) Fail(w, "must not be negative");
+      out.stage_seconds[name] = s;
+    }
   }
 }
 
@@ -386,158 +571,67 @@ nlohmann::ordered_json FinishMessage(TimeNs stamp_ns) {
   return {{"type", "finish"}, {"stamp_ns", stamp_ns}};
 }
 
-Ready ParseReady(const nlohmann::json& reply) {
+Ready ParseReady(const nlohmann::json& reply, ReplyProblems* problems) {
   CheckReply(reply, "ready");
-  OnlyKeys(reply, "ready reply", {"type", "name", "version"});
   Ready ready;
-  if (const nlohmann::json* v = Find(reply, "name")) ready.name = String(*v, "ready.name", 200);
-  if (const nlohmann::json* v = Find(reply, "version")) {
-    ready.version = String(*v, "ready.version", 200);
-  }
+  ParseReplyKeys(reply, "ready reply", ReadyKeys(), problems, [&] {
+    if (const nlohmann::json* v = Find(reply, "name")) ready.name = String(*v, "ready.name", 200);
+    if (const nlohmann::json* v = Find(reply, "version")) {
+      ready.version = String(*v, "ready.version", 200);
+    }
+  });
   return ready;
 }
 
 slam::PoseEstimate ParseEstimate(const nlohmann::json& reply, TimeNs expected_stamp_ns,
-                                 ReplyExtras* extras) {
+                                 ReplyExtras* extras, ReplyProblems* problems) {
   CheckReply(reply, "estimate");
-  OnlyKeys(reply, "estimate reply",
-           {"type", "stamp_ns", "pose", "covariance", "detections", "innovations"});
-  CheckStamp(reply, "estimate", expected_stamp_ns);
-  const nlohmann::json* pose = Find(reply, "pose");
-  const nlohmann::json* covariance = Find(reply, "covariance");
-  if (!pose || !covariance) Fail("estimate reply", "needs pose and covariance");
-  const Eigen::Vector3d x = Vector<3>(*pose, "estimate.pose");
   slam::PoseEstimate estimate;
-  estimate.stamp_ns = expected_stamp_ns;
-  estimate.world_from_robot = SE2(x.x(), x.y(), x.z());
-  estimate.covariance = Matrix3(*covariance, "estimate.covariance");
-  ParseExtras(reply, "estimate", expected_stamp_ns, {}, extras);
+  ParseReplyKeys(reply, "estimate reply", EstimateKeys(), problems, [&] {
+    CheckStamp(reply, "estimate", expected_stamp_ns);
+    const nlohmann::json* pose = Find(reply, "pose");
+    const nlohmann::json* covariance = Find(reply, "covariance");
+    if (!pose || !covariance) Fail("estimate reply", "needs pose and covariance");
+    const Eigen::Vector3d x = Vector<3>(*pose, "estimate.pose");
+    estimate.stamp_ns = expected_stamp_ns;
+    estimate.world_from_robot = SE2(x.x(), x.y(), x.z());
+    estimate.covariance = Matrix3(*covariance, "estimate.covariance");
+    ParseExtras(reply, "estimate", expected_stamp_ns, {}, extras);
+  });
   return estimate;
 }
 
 void ParseProcessed(const nlohmann::json& reply, TimeNs expected_stamp_ns,
-                    const std::vector<std::string>& cameras, ReplyExtras* extras) {
+                    const std::vector<std::string>& cameras, ReplyExtras* extras,
+                    ReplyProblems* problems) {
   CheckReply(reply, "processed");
-  OnlyKeys(reply, "processed reply", {"type", "stamp_ns", "detections", "innovations"});
-  CheckStamp(reply, "processed reply", expected_stamp_ns);
-  ParseExtras(reply, "processed", expected_stamp_ns, cameras, extras);
+  ParseReplyKeys(reply, "processed reply", ProcessedKeys(), problems, [&] {
+    CheckStamp(reply, "processed reply", expected_stamp_ns);
+    ParseExtras(reply, "processed", expected_stamp_ns, cameras, extras);
+  });
 }
 
 Finished ParseFinished(const nlohmann::json& reply, std::string_view blob, TimeNs stamp_ns,
-                       const std::vector<std::string>& cameras) {
+                       const std::vector<std::string>& cameras, ReplyProblems* problems) {
   CheckReply(reply, "finished");
-  OnlyKeys(reply, "finished reply",
-           {"type", "landmarks", "detections", "innovations", "maps", "health", "stage_seconds"});
   Finished out;
-  ParseExtras(reply, "finished", stamp_ns, cameras, &out.extras);
-  if (const nlohmann::json* list = Find(reply, "landmarks")) {
-    Array(*list, "finished.landmarks", kMaxReplyItems);
-    for (std::size_t i = 0; i < list->size(); ++i) {
-      const nlohmann::json& l = (*list)[i];
-      const std::string w = "finished.landmarks[" + std::to_string(i) + "]";
-      OnlyKeys(l, w, {"id", "type", "status", "position", "covariance", "points", "label"});
-      if (!Find(l, "id") || !Find(l, "type") || !Find(l, "position")) {
-        Fail(w, "needs id, type and position");
-      }
-      slam::LandmarkEstimate landmark;
-      landmark.id =
-          static_cast<int>(Integer(l["id"], w + ".id", 0, std::numeric_limits<int>::max()));
-      landmark.type = LandmarkTypeFrom(l["type"], w + ".type");
-      if (const nlohmann::json* v = Find(l, "status")) {
-        const std::string status = String(*v, w + ".status", 32);
-        if (status == "converged") {
-          landmark.status = slam::LandmarkStatus::kConverged;
-        } else if (status == "initializing") {
-          landmark.status = slam::LandmarkStatus::kInitializing;
-        } else {
-          Fail(w + ".status", "expected converged or initializing");
-        }
-      }
-      landmark.position_in_world = Vector<3>(l["position"], w + ".position");
-      if (const nlohmann::json* v = Find(l, "covariance")) {
-        landmark.covariance = Matrix3(*v, w + ".covariance");
-      }
-      if (const nlohmann::json* v = Find(l, "label"))
-        landmark.label = String(*v, w + ".label", 256);
-      if (const nlohmann::json* points = Find(l, "points")) {
-        Array(*points, w + ".points", kMaxLandmarkPoints);
-        for (std::size_t k = 0; k < points->size(); ++k) {
-          const nlohmann::json& p = (*points)[k];
-          const std::string pw = w + ".points[" + std::to_string(k) + "]";
-          OnlyKeys(p, pw, {"role", "position", "covariance"});
-          if (!Find(p, "role") || !Find(p, "position")) Fail(pw, "needs role and position");
-          slam::LandmarkPoint point;
-          point.role = String(p["role"], pw + ".role", 64);
-          point.position_in_world = Vector<3>(p["position"], pw + ".position");
-          if (const nlohmann::json* v = Find(p, "covariance")) {
-            point.covariance = Matrix3(*v, pw + ".covariance");
-          }
-          landmark.points.push_back(std::move(point));
-        }
-      }
-      out.landmarks.push_back(std::move(landmark));
+  // Each part on its own: with `problems`, a bad part costs only itself (what the other parts
+  // and the items before the bad one hold is kept) and is reported as an error.
+  const auto part = [&](auto&& parse) {
+    try {
+      parse();
+    } catch (const ProtocolError& e) {
+      if (!problems) throw;
+      problems->errors.push_back(e.what());
     }
-  }
-  if (const nlohmann::json* list = Find(reply, "maps")) {
-    Array(*list, "finished.maps", kMaxMapFiles);
-    for (std::size_t i = 0; i < list->size(); ++i) {
-      const nlohmann::json& m = (*list)[i];
-      const std::string w = "finished.maps[" + std::to_string(i) + "]";
-      OnlyKeys(m, w, {"suffix", "offset", "bytes"});
-      if (!Find(m, "suffix") || !Find(m, "offset") || !Find(m, "bytes")) {
-        Fail(w, "needs suffix, offset and bytes");
-      }
-      slam::MapFile map;
-      map.suffix = String(m["suffix"], w + ".suffix", 64);
-      // A suffix names a file beside the pipeline's own: no folder, nothing hidden.
-      if (map.suffix.empty() || map.suffix.find('/') != std::string::npos ||
-          map.suffix.find('\0') != std::string::npos || map.suffix == "." || map.suffix == ".." ||
-          map.suffix.find("..") != std::string::npos) {
-        Fail(w + ".suffix", "must be a file name suffix without '/' or '..' (got '" +
-                                InputExcerpt(map.suffix, 64) + "')");
-      }
-      for (const char c : map.suffix) {
-        if (static_cast<unsigned char>(c) < 0x20) Fail(w + ".suffix", "has a control character");
-      }
-      const auto offset = static_cast<std::size_t>(
-          Integer(m["offset"], w + ".offset", 0, static_cast<std::int64_t>(blob.size())));
-      const auto bytes = static_cast<std::size_t>(
-          Integer(m["bytes"], w + ".bytes", 0, static_cast<std::int64_t>(blob.size() - offset)));
-      map.bytes.assign(blob.substr(offset, bytes));
-      for (const slam::MapFile& other : out.maps) {
-        if (other.suffix == map.suffix) Fail(w + ".suffix", "'" + map.suffix + "' twice");
-      }
-      out.maps.push_back(std::move(map));
-    }
-  }
-  if (const nlohmann::json* h = Find(reply, "health")) {
-    OnlyKeys(
-        *h, "finished.health",
-        {"non_positive_covariance", "rejected_updates", "rejected_odometry", "rejected_frames"});
-    const auto count = [&](const char* key, int* field) {
-      if (const nlohmann::json* v = Find(*h, key)) {
-        *field = static_cast<int>(
-            Integer(*v, std::string("finished.health.") + key, 0, std::numeric_limits<int>::max()));
-      }
-    };
-    count("non_positive_covariance", &out.health.non_positive_covariance);
-    count("rejected_updates", &out.health.rejected_updates);
-    count("rejected_odometry", &out.health.rejected_odometry);
-    count("rejected_frames", &out.health.rejected_frames);
-  }
-  if (const nlohmann::json* stages = Find(reply, "stage_seconds")) {
-    if (!stages->is_object()) Fail("finished.stage_seconds", "expected an object");
-    if (stages->size() > kMaxStages) {
-      Fail("finished.stage_seconds", "more than " + std::to_string(kMaxStages) + " stages");
-    }
-    for (const auto& [name, seconds] : stages->items()) {
-      const std::string w = "finished.stage_seconds." + InputExcerpt(name, 64);
-      if (name.empty() || name.size() > 64) Fail(w, "a stage name is 1 to 64 bytes");
-      const double s = Number(seconds, w);
-      if (s < 0) Fail(w, "must not be negative");
-      out.stage_seconds[name] = s;
-    }
-  }
+  };
+  ParseReplyKeys(reply, "finished reply", FinishedKeys(), problems, [] {});
+  part([&] { ParseDetectionList(reply, "finished", stamp_ns, cameras, &out.extras); });
+  part([&] { ParseInnovationList(reply, "finished", stamp_ns, &out.extras); });
+  part([&] { ParseLandmarks(reply, &out); });
+  part([&] { ParseMaps(reply, blob, &out); });
+  part([&] { ParseHealth(reply, &out); });
+  part([&] { ParseStageSeconds(reply, &out); });
   return out;
 }
 

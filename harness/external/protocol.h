@@ -23,6 +23,7 @@
 #include "common/pose.h"
 #include "common/sensor_messages.h"
 #include "common/time.h"
+#include "harness/external/reply_keys.h"
 #include "slam/pipeline.h"
 
 namespace corridorsim::external {
@@ -100,6 +101,13 @@ nlohmann::ordered_json FinishMessage(TimeNs stamp_ns);
 nlohmann::ordered_json CalibrationJson(const slam::Calibration& calibration);
 
 // ---- What corridorsim reads back -----------------------------------------------------------
+//
+// Each reader takes an optional `problems`. Without it, anything wrong throws ProtocolError.
+// With it, an unknown top-level key does not throw: what the reply holds under its valid keys is
+// read and returned, and the key goes into `problems` (reply_keys.h: an error when the results
+// may be incomplete, a warning when the key misspells one that carries no result); the caller
+// keeps the results, then fails the pipeline on an error. A missing or malformed required value
+// still throws.
 
 /// Detections and innovations a reply may carry (every reply may).
 struct ReplyExtras {
@@ -112,22 +120,25 @@ struct ReplyExtras {
 struct Ready {
   std::string name, version;
 };
-Ready ParseReady(const nlohmann::json& reply);
+Ready ParseReady(const nlohmann::json& reply, ReplyProblems* problems = nullptr);
 
 /// The reply to odometry: {"type": "estimate", "stamp_ns": the message's, "pose": [x, y, yaw],
 /// "covariance": 9 numbers row-major over (x, y, yaw)}, every number finite. A stamp other than
 /// the message's is out of order.
 slam::PoseEstimate ParseEstimate(const nlohmann::json& reply, TimeNs expected_stamp_ns,
-                                 ReplyExtras* extras);
+                                 ReplyExtras* extras, ReplyProblems* problems = nullptr);
 
 /// The reply to a camera set: {"type": "processed", "stamp_ns": the set's}, with optional
 /// "detections" (each of one of `cameras`) and "innovations".
 void ParseProcessed(const nlohmann::json& reply, TimeNs expected_stamp_ns,
-                    const std::vector<std::string>& cameras, ReplyExtras* extras);
+                    const std::vector<std::string>& cameras, ReplyExtras* extras,
+                    ReplyProblems* problems = nullptr);
 
 /// The reply to finish: {"type": "finished"} with optional "landmarks", "detections",
 /// "innovations", "maps" ([{"suffix", "offset", "bytes"}] into the blob), "health" and
-/// "stage_seconds".
+/// "stage_seconds". With `problems`, each of these parts is read on its own: a bad one (an unknown
+/// key in a landmark, a map outside the blob) is an error in `problems` and costs only itself
+/// (and the items after the bad one in its list).
 struct Finished {
   std::vector<slam::LandmarkEstimate> landmarks;
   ReplyExtras extras;
@@ -136,7 +147,7 @@ struct Finished {
   std::map<std::string, double> stage_seconds;
 };
 Finished ParseFinished(const nlohmann::json& reply, std::string_view blob, TimeNs stamp_ns,
-                       const std::vector<std::string>& cameras);
+                       const std::vector<std::string>& cameras, ReplyProblems* problems = nullptr);
 
 /// The "type" of a message (ParseMessage checked it is a string).
 std::string MessageType(const nlohmann::json& message);

@@ -40,12 +40,19 @@ void AddTimingMetrics(const PipelineRecord& pipeline, const metrics::PipelineCon
       t.MapValue("stage_ms_per_frame", stage, seconds * 1e3 / static_cast<double>(frames));
     }
     t.Set("total_ms_per_frame", total_s * 1e3 / static_cast<double>(frames));
-    t.Set("cpu_ms_per_frame", pipeline.cpu_seconds * 1e3 / static_cast<double>(frames));
   } else {
     t.Null("total_ms_per_frame");
-    t.Null("cpu_ms_per_frame");
   }
-  t.Set("cpu_seconds", pipeline.cpu_seconds);
+  // An external program's CPU time is not corridorsim's threads': its figures, both sides named,
+  // are in timing.json's `protocol` section (PipelineRecord::protocol_timing).
+  if (pipeline.protocol_timing.is_null()) {
+    if (frames > 0) {
+      t.Set("cpu_ms_per_frame", pipeline.cpu_seconds * 1e3 / static_cast<double>(frames));
+    } else {
+      t.Null("cpu_ms_per_frame");
+    }
+    t.Set("cpu_seconds", pipeline.cpu_seconds);
+  }
   if (steps > 0) {
     t.Set("total_ms_per_step", total_s * 1e3 / static_cast<double>(steps));
   } else {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <nlohmann/json.hpp>
 
 #include "common/pose.h"
 #include "common/time.h"
@@ -73,6 +74,13 @@ struct PipelineRecord {
   // An external pipeline's program's output (stdout and stderr, its last MiB): the run folder's
   // <name>.log; empty for the others.
   std::string log;
+  // An external pipeline's cost on both sides of the connection (timing.json's
+  // `pipelines.<name>.protocol`, harness/external/exchange_timing.h); null for the others, whose
+  // `cpu_seconds` is their own cost (an external one's would be corridorsim's side only, so its
+  // timing names it `protocol.corridorsim_cpu_seconds` instead).
+  nlohmann::ordered_json protocol_timing;
+  // What was wrong with an external program's replies but cost no result (printed as warnings).
+  std::vector<std::string> warnings;
 };
 
 struct RunTiming {

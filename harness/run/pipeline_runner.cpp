@@ -163,7 +163,14 @@ void PipelineRunner::OnOdometry(const WheelOdometry& odometry) {
     run.cpu_seconds += ThreadCpuSeconds() - cpu0;
     run.seconds += SecondsSince(t0);
     wall_seconds_ += SecondsSince(t0);
-    if (ok) records_[i].estimates.push_back({odometry.stamp_ns, e.world_from_robot, e.covariance});
+    if (!ok && run.external) {
+      // A program whose reply held the estimate and a mistake (an unknown key) failed with this
+      // call, but the estimate arrived and is kept (its stamp is this message's only then).
+      e = run.external->Estimate();
+    }
+    if (ok || (run.external && e.stamp_ns == odometry.stamp_ns)) {
+      records_[i].estimates.push_back({odometry.stamp_ns, e.world_from_robot, e.covariance});
+    }
   }
 }
 
@@ -210,7 +217,14 @@ void PipelineRunner::OnCameraSet(const CameraSet& set) {
 
 void PipelineRunner::TakeDetections(std::size_t i, const CameraSet& set, TimeNs stamp_ns) {
   std::vector<slam::Detection> detections;
-  Guard(i, "TakeDetections", stamp_ns, [&](slam::Pipeline& p) { detections = p.TakeDetections(); });
+  if (runs_[i].external) {
+    // A program's detections are checked replies held by harness code: they are taken even when
+    // the reply that brought them failed the pipeline (what arrived is kept).
+    detections = runs_[i].external->TakeDetections();
+  } else {
+    Guard(i, "TakeDetections", stamp_ns,
+          [&](slam::Pipeline& p) { detections = p.TakeDetections(); });
+  }
   for (slam::Detection& d : detections) {
     // The boundary of slam/: a detection without the fields its type needs, or of a camera
     // whose frame it was not given, is a bug of the pipeline, which fails it like an exception
@@ -222,9 +236,11 @@ void PipelineRunner::TakeDetections(std::size_t i, const CameraSet& set, TimeNs 
     }
     if (problem) {
       runs_[i].failed = true;
-      records_[i].failure = PipelineFailure{stamp_ns, "TakeDetections",
-                                            "reported a " + slam::LandmarkTypeName(d.type) +
-                                                " detection that " + InputExcerpt(*problem, 2000)};
+      if (!records_[i].failure) {
+        records_[i].failure = PipelineFailure{stamp_ns, "TakeDetections",
+                                              "reported a " + slam::LandmarkTypeName(d.type) +
+                                                  " detection that " + InputExcerpt(*problem, 2000)};
+      }
       return;
     }
     if (d.type == slam::LandmarkType::kCorner) {
@@ -299,17 +315,41 @@ void PipelineRunner::Finish() {
     wall_seconds_ += SecondsSince(t0);
     record.cpu_seconds = runs_[i].cpu_seconds;
     if (record.failure) record.occupancy_map = nullptr;
-    // A program's output, whether it finished or failed (it is ended now if it still runs).
-    if (runs_[i].external) record.log = runs_[i].external->TakeLog();
+    if (external::ExternalPipeline* program = runs_[i].external) {
+      // A program's output, whether it finished or failed (it is ended now if it still runs).
+      record.log = program->TakeLog();
+      if (record.failure) KeepWhatArrived(*program, record);
+      record.warnings = program->TakeWarnings();
+      record.protocol_timing = program->ProtocolTiming(runs_[i].cpu_seconds);
+    }
   }
+}
+
+void PipelineRunner::KeepWhatArrived(external::ExternalPipeline& program,
+                                     PipelineRecord& record) {
+  // A failed program's replies were checked before they were kept (harness/external), so what
+  // they brought is safe to record: the detections and innovations of the run so far, and of the
+  // `finished` reply the parts that were right. Its metrics still say only that it failed.
+  for (slam::Detection& d : program.TakeDetections()) record.detections.push_back(std::move(d));
+  for (slam::Innovation& n : program.TakeInnovations()) record.innovations.push_back(n);
+  if (record.landmarks.empty()) record.landmarks = program.Landmarks();
+  if (record.stage_seconds.empty()) record.stage_seconds = program.stage_seconds();
 }
 
 std::vector<PipelineRunner::Latest> PipelineRunner::LatestEstimates() const {
   std::vector<Latest> latest;
   for (const PipelineRecord& record : records_) {
+    if (record.failure) {
+      // From the moment it fails: `failed` and why, never its last error as if it went on.
+      Latest failed;
+      failed.name = record.name;
+      failed.failed = InputExcerpt(record.failure->what, kLiveReasonBytes);
+      latest.push_back(std::move(failed));
+      continue;
+    }
     if (record.estimates.empty()) continue;
     const EstimateSample& e = record.estimates.back();
-    latest.push_back({record.name, e.stamp_ns, e.world_from_robot.translation()});
+    latest.push_back({record.name, e.stamp_ns, e.world_from_robot.translation(), {}});
   }
   return latest;
 }
@@ -318,6 +358,10 @@ std::string PipelineRunner::ErrorsLine(const std::vector<Latest>& latest,
                                        const TruthRecorder& truth) {
   std::string errors;
   for (const Latest& e : latest) {
+    if (!e.failed.empty()) {
+      errors += e.name + " failed: " + e.failed + "  ";
+      continue;
+    }
     if (const TruthPose* t = truth.At(e.stamp_ns)) {
       const double error_m = (e.position - t->world_from_robot.translation()).norm();
       errors += e.name + " " + FormatFixed(error_m, 3) + " m  ";

@@ -21,6 +21,9 @@
 #include "slam/pipeline.h"
 
 namespace corridorsim {
+namespace external {
+class ExternalPipeline;
+}
 
 class PipelineRunner : public BusConsumer {
  public:
@@ -50,14 +53,19 @@ class PipelineRunner : public BusConsumer {
   std::vector<const PipelineRecord*> Failed() const;
   /// One record per pipeline, scenario order.
   const std::vector<PipelineRecord>& records() const { return records_; }
-  /// Each pipeline's latest estimate (for a progress line read on another thread).
+  /// Each pipeline's latest estimate (for a progress line read on another thread), or why it
+  /// failed.
   struct Latest {
     std::string name;
     TimeNs stamp_ns = 0;
     Eigen::Vector2d position = Eigen::Vector2d::Zero();
+    std::string failed;  // a failed pipeline's reason (its start, kLiveReasonBytes at most)
   };
+  /// Bytes of a failure's reason the live line shows (the whole reason is printed at the end).
+  static constexpr std::size_t kLiveReasonBytes = 80;
   std::vector<Latest> LatestEstimates() const;
-  /// Each pipeline's current position error against `truth`: "name 0.123 m  ...".
+  /// Each pipeline's current position error against `truth`: "name 0.123 m  ...", and for a
+  /// failed one "name failed: <reason>".
   static std::string ErrorsLine(const std::vector<Latest>& latest, const TruthRecorder& truth);
   /// Writes each pipeline's maps (Pipeline::TakeMaps) as `dir/<pipeline><suffix>`, each file
   /// atomically; prints where. Call once, after Finish() and the metrics (the maps are moved
@@ -73,6 +81,8 @@ class PipelineRunner : public BusConsumer {
   // `stamp_ns`). Returns whether the call returned normally.
   template <class F>
   bool Guard(std::size_t i, const char* what, TimeNs stamp_ns, F&& call);
+  // What a failed program's replies brought before (and with) the mistake, into its record.
+  static void KeepWhatArrived(external::ExternalPipeline& program, PipelineRecord& record);
   // The camera set to the pipelines that take sets whole (programs, harness/external).
   void OnCameraSetWhole(const CameraSet& set);
   // Run i's detections of the frames of `set`, checked (a bad one fails the pipeline), into its

@@ -241,7 +241,7 @@ int RunScenario(const RunRequest& request) {
       {"timing.json", [&] { WriteFileAtomic(out->path() / "timing.json", timing_json()); }});
   const int extras_failed = CommitResultsThenExtras(*out, write_results, extras);
 
-  PrintClosingTable(scored.metrics, scored.results);
+  PrintClosingTable(scored.metrics, scored.results, failed);
   std::printf(
       "\nrun: %.1f s simulated in %.1f s (real-time factor %.1fx): physics %.1f s, "
       "rendering %.1f s, pipelines %.2f s, metrics %.2f s, writing %.2f s, export %.1f s, plots "
@@ -263,6 +263,12 @@ int RunScenario(const RunRequest& request) {
   if (extras_failed > 0) {
     std::printf("warning: %d extra(s) failed (see the messages above); the results are written\n",
                 extras_failed);
+  }
+  for (const PipelineRecord& record : pipelines.records()) {
+    for (const std::string& warning : record.warnings) {
+      std::fprintf(stderr, "corridorsim: warning: pipeline '%s': %s\n", record.name.c_str(),
+                   warning.c_str());
+    }
   }
   for (const PipelineRecord* record : failed) {
     std::fprintf(stderr,

@@ -1,5 +1,6 @@
 #include "harness/run/run_folder.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <sstream>
@@ -8,6 +9,7 @@
 #include "common/installation.h"
 #include "common/io/atomic_file.h"
 #include "common/io/child_process.h"
+#include "common/io/yaml_reader.h"
 #include "harness/run/provenance.h"
 #include "harness/run/run.h"
 #include "harness/run/run_io.h"
@@ -22,6 +24,9 @@ std::string FormatFixed(double v, int decimals) {
 }
 
 namespace {
+
+// Bytes of a failure's reason in the closing table's row.
+constexpr std::size_t kTableReasonBytes = 160;
 
 // A number from metrics.json for the closing table ("-" when absent).
 std::string Cell(const nlohmann::ordered_json& m, const char* key, int decimals) {
@@ -42,6 +47,12 @@ ScoredRun ScoreRun(const MetricsInput& input, const std::vector<Expectation>& ex
     if (m.contains("timing")) {
       scored.timing["pipelines"][name] = m["timing"];
       m.erase("timing");
+    }
+  }
+  // An external pipeline's cost on both sides of the connection, failed ones' included.
+  for (const PipelineRecord& record : input.pipelines) {
+    if (!record.protocol_timing.is_null()) {
+      scored.timing["pipelines"][record.name]["protocol"] = record.protocol_timing;
     }
   }
   nlohmann::ordered_json expectation_json = nlohmann::ordered_json::array();
@@ -100,11 +111,23 @@ void WriteRunFolder(const std::filesystem::path& out, const Scenario& scenario, 
 }
 
 void PrintClosingTable(const nlohmann::ordered_json& metrics,
-                       const std::vector<ExpectationResult>& results) {
+                       const std::vector<ExpectationResult>& results,
+                       const std::vector<const PipelineRecord*>& failed) {
   std::printf("\n%-22s %10s %12s %12s %10s %12s\n", "pipeline", "ATE rmse m", "ATE aligned",
               "final err m", "NEES mean", "NEES in band");
   if (metrics.contains("pipelines")) {
     for (const auto& [name, m] : metrics["pipelines"].items()) {
+      const auto record = std::find_if(failed.begin(), failed.end(), [&](const PipelineRecord* r) {
+        return r->name == name && r->failure;
+      });
+      if (record != failed.end()) {
+        // No metric of it could be compared: the row says so, with when and why (in full on
+        // stderr below the table).
+        const PipelineFailure& f = *(*record)->failure;
+        std::printf("%-22s failed at t = %.3f s (%s): %s\n", name.c_str(), ToSeconds(f.stamp_ns),
+                    f.call.c_str(), InputExcerpt(f.what, kTableReasonBytes).c_str());
+        continue;
+      }
       std::printf("%-22s %10s %12s %12s %10s %12s\n", name.c_str(),
                   Cell(m, "ate_rmse_m", 3).c_str(), Cell(m, "ate_aligned_rmse_m", 3).c_str(),
                   Cell(m, "final_position_error_m", 3).c_str(), Cell(m, "nees_mean", 2).c_str(),

@@ -44,9 +44,11 @@ void WriteRunFolder(const std::filesystem::path& out, const Scenario& scenario, 
 /// `v` with `decimals` digits after the point ("%.*f"), for tables, live lines and CSV.
 std::string FormatFixed(double v, int decimals);
 
-/// The closing table: each pipeline's main metrics, then every expectation with its value.
+/// The closing table: each pipeline's main metrics (a failed one: `failed`, when and why), then
+/// every expectation with its value.
 void PrintClosingTable(const nlohmann::ordered_json& metrics,
-                       const std::vector<ExpectationResult>& results);
+                       const std::vector<ExpectationResult>& results,
+                       const std::vector<const PipelineRecord*>& failed = {});
 
 /// The Python that runs the plot scripts: $CORRIDORSIM_PYTHON when set, else Debian's
 /// /usr/bin/python3 when it exists (the one python3-matplotlib serves, whatever python3 comes
