@@ -52,6 +52,15 @@ std::string ExceptionText(std::exception_ptr error) {
   }
 }
 
+// The start of a failure's reason for the live line (where the reason says what went wrong):
+// at most kLiveReasonBytes, cut at a character's start.
+std::string LiveReason(const std::string& what) {
+  if (what.size() <= PipelineRunner::kLiveReasonBytes) return what;
+  std::size_t cut = PipelineRunner::kLiveReasonBytes;
+  while (cut > 0 && (static_cast<unsigned char>(what[cut]) & 0xC0) == 0x80) --cut;
+  return what.substr(0, cut) + "...";
+}
+
 }  // namespace
 
 struct PipelineRunner::Run {
@@ -343,7 +352,7 @@ std::vector<PipelineRunner::Latest> PipelineRunner::LatestEstimates() const {
       // From the moment it fails: `failed` and why, never its last error as if it went on.
       Latest failed;
       failed.name = record.name;
-      failed.failed = InputExcerpt(record.failure->what, kLiveReasonBytes);
+      failed.failed = LiveReason(record.failure->what);
       latest.push_back(std::move(failed));
       continue;
     }

@@ -59,10 +59,10 @@ class PipelineRunner : public BusConsumer {
     std::string name;
     TimeNs stamp_ns = 0;
     Eigen::Vector2d position = Eigen::Vector2d::Zero();
-    std::string failed;  // a failed pipeline's reason (its start, kLiveReasonBytes at most)
+    std::string failed;  // a failed pipeline's reason (its start: kLiveReasonBytes and "...")
   };
   /// Bytes of a failure's reason the live line shows (the whole reason is printed at the end).
-  static constexpr std::size_t kLiveReasonBytes = 80;
+  static constexpr std::size_t kLiveReasonBytes = 120;
   std::vector<Latest> LatestEstimates() const;
   /// Each pipeline's current position error against `truth`: "name 0.123 m  ...", and for a
   /// failed one "name failed: <reason>".

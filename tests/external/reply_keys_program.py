@@ -9,7 +9,7 @@ stage_seconds (the time it spent on the messages), then by MODE:
                       pipeline must fail, what arrived is kept);
   finished_stage      `finished` says "stage_second" for "stage_seconds" (no result lost: a
                       warning);
-  estimate_key        the AFTER-th estimate (default 50) carries "covariance_note" besides its
+  estimate_key        the AFTER-th estimate (default 50) carries "covariances" besides its
                       pose and covariance (the pipeline fails at that message; its estimate is
                       kept).
 """
@@ -50,7 +50,7 @@ def main():
             if n % 10 == 0:
                 reply["innovations"] = [{"type": "lamp", "nis": 1.5, "dof": 2, "accepted": True}]
             if mode == "estimate_key" and n == after:
-                reply["covariance_note"] = "diagonal"
+                reply["covariances"] = reply["covariance"]
         elif kind == "cameras":
             reply = {"type": "processed", "stamp_ns": message["stamp_ns"]}
         elif kind == "finish":
