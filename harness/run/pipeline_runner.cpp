@@ -246,9 +246,10 @@ void PipelineRunner::TakeDetections(std::size_t i, const CameraSet& set, TimeNs 
     if (problem) {
       runs_[i].failed = true;
       if (!records_[i].failure) {
-        records_[i].failure = PipelineFailure{stamp_ns, "TakeDetections",
-                                              "reported a " + slam::LandmarkTypeName(d.type) +
-                                                  " detection that " + InputExcerpt(*problem, 2000)};
+        records_[i].failure =
+            PipelineFailure{stamp_ns, "TakeDetections",
+                            "reported a " + slam::LandmarkTypeName(d.type) + " detection that " +
+                                InputExcerpt(*problem, 2000)};
       }
       return;
     }
@@ -334,8 +335,7 @@ void PipelineRunner::Finish() {
   }
 }
 
-void PipelineRunner::KeepWhatArrived(external::ExternalPipeline& program,
-                                     PipelineRecord& record) {
+void PipelineRunner::KeepWhatArrived(external::ExternalPipeline& program, PipelineRecord& record) {
   // A failed program's replies were checked before they were kept (harness/external), so what
   // they brought is safe to record: the detections and innovations of the run so far, and of the
   // `finished` reply the parts that were right. Its metrics still say only that it failed.

@@ -58,10 +58,10 @@ TEST_CASE("a finished reply with a misspelt result key keeps its other parts and
 TEST_CASE("a misspelt key that carries no result is a warning; the results are whole",
           "[external][protocol]") {
   ReplyProblems problems;
-  const Finished finished = ParseFinished(
-      nlohmann::json::parse(R"({"type": "finished", "stage_second": {"detect": 0.5},
+  const Finished finished =
+      ParseFinished(nlohmann::json::parse(R"({"type": "finished", "stage_second": {"detect": 0.5},
                                 "landmarks": [{"id": 1, "type": "lamp", "position": [1, 2, 3]}]})"),
-      "", 100, {}, &problems);
+                    "", 100, {}, &problems);
   CHECK(finished.landmarks.size() == 1);
   CHECK(problems.errors.empty());
   REQUIRE(problems.warnings.size() == 1);
@@ -69,9 +69,9 @@ TEST_CASE("a misspelt key that carries no result is a warning; the results are w
                                             "'stage_seconds'?)") &&
                                        Contains(kFinishedKeys));
   ReplyProblems ready_problems;
-  const Ready ready = ParseReady(
-      nlohmann::json::parse(R"({"type": "ready", "name": "mine", "verison": "1"})"),
-      &ready_problems);
+  const Ready ready =
+      ParseReady(nlohmann::json::parse(R"({"type": "ready", "name": "mine", "verison": "1"})"),
+                 &ready_problems);
   CHECK(ready.name == "mine");
   CHECK(ready_problems.errors.empty());
   CHECK(ready_problems.warnings.size() == 1);
@@ -79,12 +79,11 @@ TEST_CASE("a misspelt key that carries no result is a warning; the results are w
 
 TEST_CASE("a bad part of a finished reply costs only itself", "[external][protocol]") {
   ReplyProblems problems;
-  const Finished finished = ParseFinished(
-      nlohmann::json::parse(R"({"type": "finished",
+  const Finished finished = ParseFinished(nlohmann::json::parse(R"({"type": "finished",
           "landmarks": [{"id": 1, "type": "lamp", "position": [1, 2, 3]},
                         {"id": 2, "type": "lamp", "positon": [1, 2, 3]}],
           "health": {"rejected_updates": 4}})"),
-      "", 100, {}, &problems);
+                                          "", 100, {}, &problems);
   CHECK(finished.landmarks.size() == 1);
   CHECK(finished.health.rejected_updates == 4);
   REQUIRE(problems.errors.size() == 1);
