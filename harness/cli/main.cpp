@@ -92,7 +92,7 @@ int RunWorld(const JobRequest& request) {
   const Scenario scenario = LoadScenario(request.scenario_file);
   // Written into a staging folder that replaces --out whole at the end (harness/run/run_folder.h).
   const std::unique_ptr<StagedDirectory> folder =
-      StageOutputFolder(request.out_dir, "--out", request.force);
+      StageOutputFolder(request.out_dir, "--out", request.force, ScenarioInputs(scenario));
   const std::uint64_t world_seed = request.seed.value_or(scenario.seed);
   const auto t0 = std::chrono::steady_clock::now();
   const worlds::World world = GenerateWorld(scenario, world_seed);

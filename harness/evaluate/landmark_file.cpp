@@ -1,12 +1,14 @@
 #include "harness/evaluate/landmark_file.h"
 
 #include <climits>
+#include <cmath>
 #include <initializer_list>
 #include <set>
 
 #include "common/io/atomic_file.h"
 #include "common/io/json_input.h"
-#include "common/io/yaml_reader.h"  // InputExcerpt
+#include "common/io/yaml_reader.h"             // InputExcerpt
+#include "harness/evaluate/trajectory_file.h"  // the bounds of numbers
 
 namespace corridorsim::evaluate {
 namespace {
@@ -28,6 +30,9 @@ void OnlyKeys(const JsonField& f, std::initializer_list<const char*> known) {
 
 Eigen::Vector3d Position(const JsonField& f) {
   const auto v = f.Numbers<3>();
+  for (const double x : v) {
+    if (std::abs(x) > kMaxCoordinateMetres) f.Fail("a coordinate beyond +-1e9 m");
+  }
   return {v[0], v[1], v[2]};
 }
 
@@ -36,7 +41,10 @@ Eigen::Matrix3d Covariance(const JsonField& f) {
   Eigen::Matrix3d m;
   for (std::size_t r = 0; r < 3; ++r) {
     const auto row = f.At(r).Numbers<3>();
-    for (std::size_t c = 0; c < 3; ++c) m(r, c) = row[c];
+    for (std::size_t c = 0; c < 3; ++c) {
+      if (std::abs(row[c]) > kMaxCovarianceEntry) f.At(r).Fail("an entry beyond +-1e12");
+      m(r, c) = row[c];
+    }
   }
   return m;
 }

@@ -6,7 +6,9 @@
 //    "position_in_world": [x, y, z], "covariance": [[..], [..], [..]],
 //    "points": [{"role": "column_a", "position_in_world": [..], "covariance": [[..]..]}, ...]}
 // id, type and position_in_world are required; status (default converged), label, covariance
-// and points (doors: column_a and column_b) optional. Unknown keys are refused.
+// and points (doors: column_a and column_b) optional. Unknown keys are refused. Coordinates lie
+// within +-kMaxCoordinateMetres, covariance entries within +-kMaxCovarianceEntry
+// (trajectory_file.h), as a trajectory's.
 
 #include <cstddef>
 #include <cstdint>

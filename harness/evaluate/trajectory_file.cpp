@@ -1,11 +1,12 @@
 #include "harness/evaluate/trajectory_file.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <system_error>
 
 #include "common/error.h"
-#include "common/io/atomic_file.h"
+#include "common/io/line_reader.h"
 #include "common/io/yaml_reader.h"  // InputExcerpt
 
 namespace corridorsim::evaluate {
@@ -89,97 +90,152 @@ std::string FormatName(Trajectory::Format format) {
   return format == Trajectory::Format::kTum ? "tum" : "ov_eval";
 }
 
+namespace {
+
+// The lines of one file, in order, onto one Trajectory (the checks of ParseTrajectory).
+class TrajectoryParser {
+ public:
+  explicit TrajectoryParser(const std::string& file) : file_(file) {}
+
+  void Line(std::string_view row, int line) {
+    if (row.size() > kMaxTrajectoryLineBytes) {  // ReadRegularFileLines' own words
+      FailAt(file_, line, 0,
+             "a line longer than " + std::to_string(kMaxTrajectoryLineBytes) +
+                 " bytes (is this a text file?)");
+    }
+    if (!row.empty() && row.back() == '\r') row.remove_suffix(1);
+    const std::size_t first = row.find_first_not_of(" \t");
+    if (first == std::string_view::npos || row[first] == '#') return;  // blank, comment
+    for (std::size_t i = 0; i < row.size(); ++i) {
+      const auto c = static_cast<unsigned char>(row[i]);
+      if ((c < 0x20 && c != '\t') || c == 0x7f) {
+        FailAt(file_, line, static_cast<int>(i + 1), "a control character");
+      }
+    }
+    tokens_.clear();
+    for (std::size_t i = first; i < row.size();) {
+      if (row[i] == ' ' || row[i] == '\t') {
+        ++i;
+        continue;
+      }
+      if (tokens_.size() == kOvEvalColumns) {
+        FailAt(file_, line, static_cast<int>(i + 1),
+               "more than " + std::to_string(kOvEvalColumns) + " columns");
+      }
+      std::size_t j = i;
+      while (j < row.size() && row[j] != ' ' && row[j] != '\t') ++j;
+      tokens_.push_back({row.substr(i, j - i), static_cast<int>(i + 1)});
+      i = j;
+    }
+    if (columns_ == 0) {
+      columns_ = tokens_.size();
+      first_data_line_ = line;
+      if (columns_ != kTumColumns && columns_ != kOvEvalColumns) {
+        FailAt(file_, line, 1,
+               std::to_string(columns_) +
+                   " columns: expected 8 (TUM: t tx ty tz qx qy qz qw) or 20 (ov_eval: the 8, "
+                   "then Pr11 Pr12 Pr13 Pr22 Pr23 Pr33 Pt11 Pt12 Pt13 Pt22 Pt23 Pt33)");
+      }
+      out_.format =
+          columns_ == kTumColumns ? Trajectory::Format::kTum : Trajectory::Format::kOvEval;
+    } else if (tokens_.size() != columns_) {
+      FailAt(file_, line, 1,
+             std::to_string(tokens_.size()) + " columns where line " +
+                 std::to_string(first_data_line_) + " has " + std::to_string(columns_));
+    }
+    if (out_.poses.size() == kMaxTrajectoryPoses) {
+      FailAt(file_, line, 1,
+             "more than " + std::to_string(kMaxTrajectoryPoses) + " poses (the maximum)");
+    }
+    TrajectoryPose pose;
+    if (!ParseStamp(tokens_[0].text, &pose.stamp_ns)) {
+      FailAt(file_, line, tokens_[0].column,
+             "expected a stamp in seconds within +-4e9, got '" + InputExcerpt(tokens_[0].text, 40) +
+                 "'");
+    }
+    if (!out_.poses.empty() && pose.stamp_ns <= out_.poses.back().stamp_ns) {
+      FailAt(file_, line, tokens_[0].column,
+             "stamp '" + InputExcerpt(tokens_[0].text, 40) +
+                 "' is not after the previous pose's: stamps must increase");
+    }
+    double v[kOvEvalColumns] = {};
+    for (std::size_t k = 1; k < columns_; ++k) {
+      v[k] = Number(file_, line, tokens_[k]);
+      const bool position = k <= 3, covariance = k >= 8;
+      const double bound = position ? kMaxCoordinateMetres : kMaxCovarianceEntry;
+      if ((position || covariance) && std::abs(v[k]) > bound) {
+        FailAt(file_, line, tokens_[k].column,
+               std::string(position ? "a position" : "a covariance entry") + " beyond +-" +
+                   (position ? "1e9 m" : "1e12") + ", got '" + InputExcerpt(tokens_[k].text, 40) +
+                   "'");
+      }
+    }
+    pose.position = Eigen::Vector3d(v[1], v[2], v[3]);
+    Eigen::Quaterniond q(v[7], v[4], v[5], v[6]);
+    const double norm = q.norm();
+    if (!(std::abs(norm - 1.0) <= kMaxQuaternionNormError)) {
+      FailAt(
+          file_, line, tokens_[4].column,
+          "the quaternion (qx qy qz qw) has norm " + std::to_string(norm) + ", not 1 within 1e-2");
+    }
+    q.coeffs() /= norm;
+    if (q.w() < 0.0) q.coeffs() = -q.coeffs();
+    pose.orientation = q;
+    if (columns_ == kOvEvalColumns) {
+      if (out_.covariances.empty()) out_.covariances.reserve(out_.poses.capacity());
+      out_.covariances.push_back({Symmetric(v + 8), Symmetric(v + 14)});
+    }
+    out_.poses.push_back(pose);
+  }
+
+  // Room for `lines` poses (a count of the file's data lines made before: exact memory instead of
+  // a vector's doubling; only a hint, a file that changed meanwhile is still read right).
+  void Reserve(std::size_t lines) { out_.poses.reserve(std::min(lines, kMaxTrajectoryPoses + 1)); }
+
+  Trajectory Finish() {
+    if (out_.poses.empty()) FailAt(file_, 0, 0, "no poses (only comments or blank lines)");
+    return std::move(out_);
+  }
+
+ private:
+  const std::string& file_;
+  Trajectory out_;
+  std::size_t columns_ = 0;
+  int first_data_line_ = 0;
+  std::vector<Token> tokens_;
+};
+
+}  // namespace
+
 Trajectory ParseTrajectory(std::string_view text, const std::string& file) {
-  Trajectory out;
-  std::size_t columns = 0;
-  int first_data_line = 0;
-  std::vector<Token> tokens;
+  TrajectoryParser parser(file);
   std::size_t begin = 0;
   int line = 0;
   while (begin < text.size()) {
     ++line;
     std::size_t end = text.find('\n', begin);
     if (end == std::string_view::npos) end = text.size();
-    std::string_view row = text.substr(begin, end - begin);
+    parser.Line(text.substr(begin, end - begin), line);
     begin = end + 1;
-    if (!row.empty() && row.back() == '\r') row.remove_suffix(1);
-    const std::size_t first = row.find_first_not_of(" \t");
-    if (first == std::string_view::npos || row[first] == '#') continue;  // blank, comment
-    for (std::size_t i = 0; i < row.size(); ++i) {
-      const auto c = static_cast<unsigned char>(row[i]);
-      if ((c < 0x20 && c != '\t') || c == 0x7f) {
-        FailAt(file, line, static_cast<int>(i + 1), "a control character");
-      }
-    }
-    tokens.clear();
-    for (std::size_t i = first; i < row.size();) {
-      if (row[i] == ' ' || row[i] == '\t') {
-        ++i;
-        continue;
-      }
-      if (tokens.size() == kOvEvalColumns) {
-        FailAt(file, line, static_cast<int>(i + 1),
-               "more than " + std::to_string(kOvEvalColumns) + " columns");
-      }
-      std::size_t j = i;
-      while (j < row.size() && row[j] != ' ' && row[j] != '\t') ++j;
-      tokens.push_back({row.substr(i, j - i), static_cast<int>(i + 1)});
-      i = j;
-    }
-    if (columns == 0) {
-      columns = tokens.size();
-      first_data_line = line;
-      if (columns != kTumColumns && columns != kOvEvalColumns) {
-        FailAt(file, line, 1,
-               std::to_string(columns) +
-                   " columns: expected 8 (TUM: t tx ty tz qx qy qz qw) or 20 (ov_eval: the 8, "
-                   "then Pr11 Pr12 Pr13 Pr22 Pr23 Pr33 Pt11 Pt12 Pt13 Pt22 Pt23 Pt33)");
-      }
-      out.format = columns == kTumColumns ? Trajectory::Format::kTum : Trajectory::Format::kOvEval;
-    } else if (tokens.size() != columns) {
-      FailAt(file, line, 1,
-             std::to_string(tokens.size()) + " columns where line " +
-                 std::to_string(first_data_line) + " has " + std::to_string(columns));
-    }
-    if (out.poses.size() == kMaxTrajectoryPoses) {
-      FailAt(file, line, 1, "more than " + std::to_string(kMaxTrajectoryPoses) + " poses");
-    }
-    TrajectoryPose pose;
-    if (!ParseStamp(tokens[0].text, &pose.stamp_ns)) {
-      FailAt(file, line, tokens[0].column,
-             "expected a stamp in seconds within +-4e9, got '" + InputExcerpt(tokens[0].text, 40) +
-                 "'");
-    }
-    if (!out.poses.empty() && pose.stamp_ns <= out.poses.back().stamp_ns) {
-      FailAt(file, line, tokens[0].column,
-             "stamp '" + InputExcerpt(tokens[0].text, 40) +
-                 "' is not after the previous pose's: stamps must increase");
-    }
-    double v[kOvEvalColumns] = {};
-    for (std::size_t k = 1; k < columns; ++k) v[k] = Number(file, line, tokens[k]);
-    pose.position = Eigen::Vector3d(v[1], v[2], v[3]);
-    Eigen::Quaterniond q(v[7], v[4], v[5], v[6]);
-    const double norm = q.norm();
-    if (std::abs(norm - 1.0) > kMaxQuaternionNormError) {
-      FailAt(
-          file, line, tokens[4].column,
-          "the quaternion (qx qy qz qw) has norm " + std::to_string(norm) + ", not 1 within 1e-2");
-    }
-    q.coeffs() /= norm;
-    if (q.w() < 0.0) q.coeffs() = -q.coeffs();
-    pose.orientation = q;
-    if (columns == kOvEvalColumns) {
-      pose.orientation_covariance = Symmetric(v + 8);
-      pose.position_covariance = Symmetric(v + 14);
-    }
-    out.poses.push_back(pose);
   }
-  if (out.poses.empty()) FailAt(file, 0, 0, "no poses (only comments or blank lines)");
-  return out;
+  return parser.Finish();
 }
 
 Trajectory ReadTrajectory(const std::string& file) {
-  return ParseTrajectory(ReadRegularFile(file, kMaxTrajectoryFileBytes), file);
+  TrajectoryParser parser(file);
+  // Two passes over the file: its data lines counted (a cheap scan), then parsed into vectors of
+  // that size. The text itself is never held: one chunk and one line at a time.
+  std::size_t data_lines = 0;
+  ReadRegularFileLines(file, kMaxTrajectoryFileBytes, kMaxTrajectoryLineBytes,
+                       [&](std::string_view row, std::int64_t) {
+                         const std::size_t first = row.find_first_not_of(" \t\r");
+                         data_lines += first != std::string_view::npos && row[first] != '#';
+                       });
+  parser.Reserve(data_lines);
+  ReadRegularFileLines(
+      file, kMaxTrajectoryFileBytes, kMaxTrajectoryLineBytes,
+      [&](std::string_view row, std::int64_t line) { parser.Line(row, static_cast<int>(line)); });
+  return parser.Finish();
 }
 
 }  // namespace corridorsim::evaluate

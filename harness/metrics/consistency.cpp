@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <limits>
 
 #include <Eigen/Cholesky>
@@ -127,9 +128,11 @@ std::size_t AddNisMetrics(const std::vector<slam::Innovation>& innovations,
 
 }  // namespace metrics
 
-std::string ErrorSeriesCsv(const std::vector<TruthPose>& truth, const PipelineRecord& pipeline) {
+void WriteErrorSeriesCsv(const metrics::MatchedTrajectory& matched,
+                         const std::function<void(std::string_view)>& sink) {
   using metrics::MatchedSample;
-  std::string csv = "t,ex_m,ey_m,eyaw_rad,sigma_x_m,sigma_y_m,sigma_yaw_rad,nees\n";
+  sink("t,ex_m,ey_m,eyaw_rad,sigma_x_m,sigma_y_m,sigma_yaw_rad,nees\n");
+  std::string csv;  // one line at a time
   // One field and its comma (or the line's end): the value with `decimals` decimals, or nothing
   // where it is not finite (a NaN or infinite variance): the readers take an empty field as
   // missing (harness/study/study_summary.cpp, scripts/plot_run.py, scripts/p1_study.py,
@@ -145,13 +148,14 @@ std::string ErrorSeriesCsv(const std::vector<TruthPose>& truth, const PipelineRe
   const auto m = [](double v) { return RoundToStep(v, json_steps::kMetres); };
   const auto rad = [](double v) { return RoundToStep(v, json_steps::kRad); };
   constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-  for (const MatchedSample& s : metrics::MatchToTruth(truth, pipeline.estimates).samples) {
+  for (const MatchedSample& s : matched.samples) {
     const Eigen::Vector3d e = metrics::PoseError(s.estimate, s.truth);
     Eigen::Vector3d sigma;
     for (int i = 0; i < 3; ++i) {
       const double variance = s.covariance(i, i);
       sigma[i] = std::isfinite(variance) ? std::sqrt(std::max(variance, 0.0)) : kNaN;
     }
+    csv.clear();
     field(ToSeconds(s.stamp_ns), 9, ',');
     field(m(e.x()), 6, ',');
     field(m(e.y()), 6, ',');
@@ -161,7 +165,14 @@ std::string ErrorSeriesCsv(const std::vector<TruthPose>& truth, const PipelineRe
     field(rad(sigma.z()), 8, ',');
     const std::optional<double> nees = metrics::Nees(e, s.covariance);
     field(nees ? RoundToStep(*nees, json_steps::kRatio) : kNaN, 6, '\n');
+    sink(csv);
   }
+}
+
+std::string ErrorSeriesCsv(const std::vector<TruthPose>& truth, const PipelineRecord& pipeline) {
+  std::string csv;
+  WriteErrorSeriesCsv(metrics::MatchToTruth(truth, pipeline.estimates),
+                      [&csv](std::string_view line) { csv += line; });
   return csv;
 }
 

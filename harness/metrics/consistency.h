@@ -4,8 +4,10 @@
 // errors against their sigmas (P3 Fig. 18).
 
 #include <cstddef>
+#include <functional>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <Eigen/Core>
@@ -23,6 +25,11 @@ namespace corridorsim {
 /// an empty sigma field, never `nan`: the readers take empty as missing. (MatchToTruth leaves
 /// estimates that are not finite out.)
 std::string ErrorSeriesCsv(const std::vector<TruthPose>& truth, const PipelineRecord& pipeline);
+/// The same bytes for samples already matched to the truth (MatchToTruth's), handed to `sink` line
+/// by line (the header first), never held whole: a long trajectory's file is written as it is
+/// made (`corridorsim evaluate`).
+void WriteErrorSeriesCsv(const metrics::MatchedTrajectory& matched,
+                         const std::function<void(std::string_view)>& sink);
 
 /// <pipeline>_nis.csv: one line per landmark update, in the pipeline's order: t (s), the landmark
 /// type, the innovation's degrees of freedom, its NIS, and 1 when the update was applied (0: gated

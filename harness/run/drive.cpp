@@ -75,7 +75,7 @@ void RunDrive(const DriveRequest& request) {
   const Scenario scenario = LoadScenario(request.scenario_file);
   // Written into a staging folder that replaces --out whole at the end (harness/run/run_folder.h).
   const std::unique_ptr<StagedDirectory> folder =
-      StageOutputFolder(request.out_dir, "--out", request.force);
+      StageOutputFolder(request.out_dir, "--out", request.force, ScenarioInputs(scenario));
   const std::filesystem::path out = folder->path();
   // Rendering only when frames are saved: nothing else consumes them in a drive.
   SimulationSetup setup(scenario, request.seed.value_or(scenario.seed), request.save_frames);

@@ -73,10 +73,11 @@ int RunScenario(const RunRequest& request) {
   // write, and never leaves a folder with files of two runs.
   std::unique_ptr<StagedDirectory> out, dataset;
   if (!request.check_only) {
+    const std::vector<JobInput> inputs = ScenarioInputs(scenario);
     if (request.export_dir) CheckSeparateFolders(request.out_dir, *request.export_dir);
-    out = StageOutputFolder(request.out_dir, "--out", request.force);
+    out = StageOutputFolder(request.out_dir, "--out", request.force, inputs);
     if (request.export_dir)
-      dataset = StageOutputFolder(*request.export_dir, "--export", request.force);
+      dataset = StageOutputFolder(*request.export_dir, "--export", request.force, inputs);
   }
 
   // Build: the pipelines (all on the same stream), then the world, path and cameras they need.

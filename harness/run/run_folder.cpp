@@ -178,7 +178,9 @@ std::optional<std::string> MakeViewer(const std::filesystem::path& out) {
 }
 
 std::unique_ptr<StagedDirectory> StageOutputFolder(const std::filesystem::path& dir,
-                                                   const std::string& option, bool force) {
+                                                   const std::string& option, bool force,
+                                                   const std::vector<JobInput>& inputs) {
+  RefuseOutputOverInputs(dir, option, inputs);
   const SourceLocation command_line{"command line", 0, 0};
   try {
     return std::make_unique<StagedDirectory>(dir, force);

@@ -14,6 +14,7 @@
 
 #include "common/io/atomic_file.h"
 #include "harness/metrics/metrics.h"
+#include "harness/run/job_inputs.h"
 #include "harness/run/pipeline_runner.h"
 #include "harness/run/truth_recorder.h"
 #include "harness/scenario/scenario.h"
@@ -69,11 +70,13 @@ std::optional<std::string> MakeViewer(const std::filesystem::path& out);
 std::optional<std::string> RunPlotScript(const std::string& script,
                                          const std::vector<std::string>& args);
 
-/// A job's output folder (`option`: "--out", "--export"), staged (StagedDirectory): a path that
+/// A job's output folder (`option`: "--out", "--export"), staged (StagedDirectory): a folder that
+/// is, contains or lies inside one of the job's `inputs` (RefuseOutputOverInputs), a path that
 /// names no usable folder, and a folder that holds files without `force`, are InputError at
 /// `command line: <option>`, before anything runs.
 std::unique_ptr<StagedDirectory> StageOutputFolder(const std::filesystem::path& dir,
-                                                   const std::string& option, bool force);
+                                                   const std::string& option, bool force,
+                                                   const std::vector<JobInput>& inputs);
 
 /// Something a run writes after its results are committed: maps/, the --export dataset, plots/.
 /// `write` throws (any std::exception) on failure.

@@ -31,7 +31,7 @@ void RunSnapshot(const SnapshotRequest& request) {
   const render::BackendKind backend_kind = ChooseBackend(scenario.rig.backend);
   // Written into a staging folder that replaces --out whole at the end (harness/run/run_folder.h).
   const std::unique_ptr<StagedDirectory> folder =
-      StageOutputFolder(request.out_dir, "--out", request.force);
+      StageOutputFolder(request.out_dir, "--out", request.force, ScenarioInputs(scenario));
   const std::filesystem::path dir = folder->path();
   const std::uint64_t seed = request.seed.value_or(scenario.seed);
   const worlds::World world = GenerateWorld(scenario, seed);

@@ -19,4 +19,20 @@ slam::Calibration CalibrationOf(const Scenario& scenario) {
   return calibration;
 }
 
+std::vector<slam::CameraCalibration> CamerasOfRunScenario(const std::string& path) {
+  const YamlDocument doc = YamlDocument::Load(path);
+  Scenario scenario;  // the defaults: only its rig is read
+  scenario.sensors_location = SourceLocation{path, 0, 0};
+  YamlMap root(doc, doc.root, "", &scenario.sources);
+  if (root.Has("sensors")) {
+    scenario.sensors_location = root.LocationOfKey("sensors");
+    YamlMap sensors = root.Map("sensors");
+    ReadOptions(sensors, render::SensorsOptionsTable(), scenario.rig);
+  }
+  if (const auto problem = scenario.rig.Check()) {
+    throw LocateProblem(scenario, "sensors", *problem);
+  }
+  return CalibrationOf(scenario).cameras;
+}
+
 }  // namespace corridorsim

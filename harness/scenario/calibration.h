@@ -15,4 +15,11 @@ namespace corridorsim {
 /// [min_m, max_m].
 slam::Calibration CalibrationOf(const Scenario& scenario);
 
+/// The enabled cameras' calibration (CalibrationOf's `cameras`) of a run folder's scenario.yaml,
+/// the resolved echo `run` wrote, read without loading the scenario: only its `sensors:` section
+/// is read (onto the defaults, checked as LoadScenario checks it); no `include:` is followed, no
+/// `plugins:` library is loaded and no pipeline is read, so reading a run folder never runs code
+/// from it. Throws InputError at file:line:column: key.
+std::vector<slam::CameraCalibration> CamerasOfRunScenario(const std::string& path);
+
 }  // namespace corridorsim

@@ -226,6 +226,7 @@ Scenario LoadScenario(const std::string& path, const std::vector<YamlDocument>& 
   scenario.pipelines_location = SourceLocation{path, 0, 0};
   // Documents stay alive while their maps are read: YamlMap points into them.
   std::vector<YamlDocument> chain = LoadWithIncludes(path);
+  for (const YamlDocument& doc : chain) scenario.chain_files.emplace_back(doc.file);
   chain.insert(chain.end(), overrides.begin(), overrides.end());
   for (const YamlDocument& doc : chain) {
     // A file without a key (0 bytes, only comments, `{}`) is a mistake, never "all defaults":

@@ -23,7 +23,10 @@
 namespace corridorsim {
 
 struct Scenario {
-  std::string file;         // the file given on the command line
+  std::string file;  // the file given on the command line
+  // Every file of the include chain LoadScenario read (`file` and the bases it includes): the
+  // job's inputs, which no output folder may be, contain or lie inside (harness/run/job_inputs.h).
+  std::vector<std::filesystem::path> chain_files;
   std::string name;         // optional human-readable name
   std::string description;  // optional
   std::uint64_t seed = 1;   // seed of every random stream of the run

@@ -633,6 +633,7 @@ PreparedStudy PrepareStudy(const StudyRequest& request) {
   }
   const std::string plan_text = PlanJson(spec, point_yaml).dump(2) + "\n";
   p.dir = request.out_dir;
+  RefuseOutputOverInputs(p.dir, "--out", StudyInputs(spec));
   PrepareFolder(p.dir, plan_text, request.force, "--out");
   for (std::size_t i = 0; i < spec.points.size(); ++i) {
     const fs::path file = p.dir / "points" / (spec.points[i].id + ".yaml");
@@ -966,10 +967,14 @@ int MergeStudies(const StudyRequest& request) {
                        "another study than " + (request.merge_dirs[0] / "study.json").string() +
                            " (" + why + ")");
     }
-    if (fs::weakly_canonical(d, error) == fs::weakly_canonical(request.out_dir, error)) {
-      throw InputError(command_line, "--out", "must not be one of the folders merged");
-    }
   }
+  // The output folder is none of the folders merged and lies inside none; it holds one only as
+  // the --slurm layout does, under its shards/ (never removed: --force is refused below).
+  std::vector<JobInput> inputs;
+  for (const fs::path& d : request.merge_dirs) {
+    if (!PathWithin(d, request.out_dir / "shards")) inputs.push_back({d, "a folder to merge"});
+  }
+  RefuseOutputOverInputs(request.out_dir, "--out", inputs);
   const fs::path first_plan = request.merge_dirs[0] / "study.json";
   const json plan = ReadPlan(first_plan);
   const StudySpec spec = SpecFromPlan(plan, first_plan);

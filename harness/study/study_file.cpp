@@ -314,6 +314,18 @@ void AddMayDiverge(StudySpec* spec, const std::vector<std::string>& names,
   spec->may_diverge = std::move(merged);
 }
 
+std::vector<JobInput> StudyInputs(const StudySpec& spec) {
+  std::vector<JobInput> out;
+  for (const StudyPoint& point : spec.points) {
+    for (JobInput& input : ScenarioInputs(point.scenario)) {
+      const bool seen = std::any_of(out.begin(), out.end(),
+                                    [&](const JobInput& i) { return i.path == input.path; });
+      if (!seen) out.push_back(std::move(input));
+    }
+  }
+  return out;
+}
+
 StudySpec LoadStudy(const std::string& path, std::optional<int> runs,
                     std::optional<std::uint64_t> first_seed) {
   StudySpec spec;

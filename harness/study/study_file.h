@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "harness/run/job_inputs.h"
 #include "harness/scenario/scenario.h"
 
 namespace corridorsim {
@@ -71,6 +72,9 @@ struct StudySpec {
   // pipelines, `study.may_diverge` and --may-diverge, in scenario order.
   std::vector<std::string> may_diverge;
 };
+
+/// What a study reads: every point's include chain and plugin libraries (ScenarioInputs), once.
+std::vector<JobInput> StudyInputs(const StudySpec& spec);
 
 /// The per-pipeline metrics every study summarises (before the file's `metrics:`).
 const std::vector<std::string>& DefaultStudyMetrics();

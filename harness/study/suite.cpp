@@ -193,8 +193,10 @@ std::string JunitXml(const std::vector<SuiteFile>& files) {
 int RunTestSuite(const TestRequest& request) {
   // Every file is checked before anything runs: a bad one is exit 2 with nothing run.
   std::vector<SuiteFile> files;
+  std::vector<JobInput> inputs;  // every file's chain and plugins: no output may touch them
   for (const std::string& file : request.files) {
     const StudySpec spec = LoadStudy(file, std::nullopt, std::nullopt);
+    for (JobInput& input : StudyInputs(spec)) inputs.push_back(std::move(input));
     SuiteFile f;
     f.file = file;
     f.name = fs::path(file).stem().string();
@@ -215,14 +217,9 @@ int RunTestSuite(const TestRequest& request) {
                        "'" + InputExcerpt(request.junit_file->string()) +
                            "' exists and is not a regular file (the report replaces a file)");
     }
-    for (const SuiteFile& f : files) {
-      if (fs::equivalent(f.file, *request.junit_file, error)) {
-        throw InputError(SourceLocation{"command line", 0, 0}, "--junit",
-                         "'" + InputExcerpt(request.junit_file->string()) +
-                             "' is one of the files to test: the report would replace it");
-      }
-    }
+    RefuseOutputOverInputs(*request.junit_file, "--junit", inputs);
   }
+  RefuseOutputOverInputs(request.out_dir, "--out", inputs);
   std::error_code error;
   fs::create_directories(request.out_dir, error);
   EnsureWritableDirectory(request.out_dir);

@@ -19,6 +19,7 @@
 #include "common/io/stable_json.h"
 #include "common/random.h"
 #include "harness/run/frame_io.h"
+#include "harness/run/job_inputs.h"
 #include "harness/run/simulation_setup.h"
 #include "render/backend.h"
 #include "worlds/image_io.h"
@@ -735,6 +736,7 @@ int RunDataset(const DatasetRequest& request) {
     c.enabled = std::find(cameras.begin(), cameras.end(), c.id) != cameras.end();
   }
   const fs::path dir = request.out_dir;
+  RefuseOutputOverInputs(dir, "--out", ScenarioInputs(scenario));
 
   // World 0 and its poses before anything is written: a scenario whose worlds cannot be built,
   // or poses that cannot be placed, are mostly found here.

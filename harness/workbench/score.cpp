@@ -694,7 +694,11 @@ int RunScore(const ScoreRequest& request) {
       ReadRegularFile(request.detections_file, kMaxDetectionsFileBytes), file, dataset);
   // Checked before anything is computed or written: a refused folder is bad input.
   std::unique_ptr<StagedDirectory> folder;
-  if (request.report_dir) folder = StageOutputFolder(*request.report_dir, "--out", request.force);
+  if (request.report_dir) {
+    folder = StageOutputFolder(*request.report_dir, "--out", request.force,
+                               {{request.detections_file, "the detections file"},
+                                {request.dataset_dir, "the --dataset folder"}});
+  }
 
   const Json classes = EvaluateDetections(dataset, detections);
   Json report;

@@ -784,9 +784,13 @@ TrainingResult TrainDetectors(const TrainDetectorsOptions& o) {
 }
 
 int RunTrainDetectors(const TrainDetectorsRequest& request) {
+  std::vector<JobInput> inputs;
+  if (request.train_dataset) inputs.push_back({*request.train_dataset, "the --dataset folder"});
+  if (request.eval_dataset) inputs.push_back({*request.eval_dataset, "the --eval-dataset folder"});
+  RefuseOutputOverInputs(request.out_dir, "--out", inputs);
   std::unique_ptr<StagedDirectory> report;
   if (request.report_dir)
-    report = StageOutputFolder(*request.report_dir, "--report", request.force);
+    report = StageOutputFolder(*request.report_dir, "--report", request.force, inputs);
   // The models' folder is checked before minutes of training: one that cannot be made or written
   // (a file of that name, no permission) is bad input.
   try {

@@ -9,7 +9,12 @@ file whose sigma matches its error has NEES 1; a landmark map is scored by type.
 (exit 3), a failing plot script (exit 4, results kept) and bad input (exit 2, one message naming
 the file and line or the flag, nothing written).
 
-Usage: cli_evaluate_test.py CORRIDORSIM SOURCE_DIR WORK_DIR"""
+Then the folder rules: a run folder whose scenario.yaml names a plugin library and an external
+program, each leaving a marker when it runs, is evaluated with --frame and neither marker appears;
+an --out that is, contains or lies inside an input is refused (exit 2, naming --out); and a file
+one pose over the maximum is refused at that line.
+
+Usage: cli_evaluate_test.py CORRIDORSIM SOURCE_DIR WORK_DIR CXX_COMPILER"""
 
 import json
 import math
@@ -26,8 +31,9 @@ def fail(message):
 
 
 def run(binary, args, expect, env=None):
+    """Runs it; its exit code must be `expect` (None: any)."""
     result = subprocess.run([binary] + args, capture_output=True, text=True, env=env)
-    if result.returncode != expect:
+    if expect is not None and result.returncode != expect:
         fail("%s: exit %d, expected %d\n%s\n%s" % (" ".join(args), result.returncode, expect,
                                                    result.stdout, result.stderr))
     return result
@@ -88,7 +94,7 @@ def write(path, text):
         f.write(text)
 
 
-def main(corridorsim, source_dir, work):
+def main(corridorsim, source_dir, work, compiler):
     shutil.rmtree(work, ignore_errors=True)
     os.makedirs(work)
 
@@ -287,10 +293,78 @@ def main(corridorsim, source_dir, work):
         fail("a non-empty --out: " + result.stderr)
     run(corridorsim, ["evaluate", hand, "--out", out, "--force", "--no-plots", "--estimate",
                       "a=%s/offset.tum" % work], 0)
+
+    # --- Reading a folder runs nothing of it. ----------------------------------------------------
+    # A run folder whose scenario.yaml names a plugin library that leaves a marker when loaded and
+    # an external program that leaves one when started: --frame reads the mounts, and neither
+    # marker appears. (The library is real: built here, it does leave its marker when loaded.)
+    evil = os.path.join(work, "evil_run")
+    shutil.copytree(real, evil)
+    plugin_marker = os.path.join(work, "plugin_was_loaded")
+    program_marker = os.path.join(work, "program_was_started")
+    write(os.path.join(work, "marker.cpp"),
+          '#include <fstream>\nstruct Marker { Marker() { std::ofstream("%s") << "x"; } };\n'
+          'static Marker marker;\n' % plugin_marker)
+    library = os.path.join(evil, "evil.so")
+    subprocess.run([compiler, "-shared", "-fPIC", "-o", library, os.path.join(work, "marker.cpp")],
+                   check=True)
+    scenario = open(os.path.join(real, "scenario.yaml")).read()
+    scenario = scenario.replace("\npipelines:\n", "\nplugins: [evil.so]\npipelines:\n"
+                                "  evil:\n    type: external\n"
+                                "    command: [/bin/sh, -c, 'touch %s']\n" % program_marker, 1)
+    if "evil.so" not in scenario:
+        fail("the run's scenario.yaml has no pipelines: to add to")
+    write(os.path.join(evil, "scenario.yaml"), scenario)
+    run(corridorsim, ["evaluate", evil, "--estimate", "cam=%s/camera.tum" % work, "--frame",
+                      "cam=upward", "--out", os.path.join(work, "eval_evil"), "--no-plots"], 0)
+    for marker in (plugin_marker, program_marker):
+        if os.path.exists(marker):
+            fail("evaluate of a run folder ran code from it: %s exists" % marker)
+    est = json.load(open(os.path.join(work, "eval_evil", "evaluation.json")))["estimates"]
+    close("--frame of the evil folder", est["cam"]["ate_3d_rmse_m"], 0.0, 3e-6)
+    # The control: a scenario that loads the library does leave the marker.
+    run(corridorsim, ["run", os.path.join(evil, "scenario.yaml"), "--check"], None)
+    if not os.path.exists(plugin_marker):
+        fail("the marker library leaves no marker when loaded: the check above proves nothing")
+
+    # --- No output is, contains or lies inside an input. -----------------------------------------
+    before = sorted(os.listdir(hand))
+    for args, message in [
+        (["--out", hand, "--force"], "--out: '[^']*hand' contains '[^']*ground_truth.tum', a file "
+                                     "of RUN_DIR"),
+        (["--out", os.path.join(hand, "ground_truth.tum"), "--force"], "--out: .* is "),
+        (["--out", work, "--force"], "--out: .* contains "),
+        (["--out", os.path.join(work, "offset.tum", "x")], "--out: .* lies inside "),
+        (["--out", os.path.join(work, "link_to_hand"), "--force"], "--out: .* contains "),
+    ]:
+        if not os.path.lexists(os.path.join(work, "link_to_hand")):
+            os.symlink(hand, os.path.join(work, "link_to_hand"))
+        result = run(corridorsim, ["evaluate", hand, "--estimate", "a=%s/offset.tum" % work,
+                                   "--no-plots"] + args, 2)
+        lines = result.stderr.strip().split("\n")
+        if len(lines) != 1 or not re.search(message, lines[0]):
+            fail("%s: expected one message matching '%s', got:\n%s" % (args, message,
+                                                                         result.stderr))
+    if sorted(os.listdir(hand)) != before:
+        fail("a refused --out changed the run folder: %s" % sorted(os.listdir(hand)))
+
+    # --- The maxima: one pose over kMaxTrajectoryPoses is refused at its line. -------------------
+    big = os.path.join(work, "over_maximum.tum")
+    maximum = 10_000_000
+    with open(big, "w") as f:
+        block = 100_000
+        for start in range(0, maximum + 1, block):
+            f.write("".join("%d.%06d 0 0 0 0 0 0 1\n" % (k // 10**6, k % 10**6)
+                            for k in range(start + 1, min(start + block, maximum + 1) + 1)))
+    result = run(corridorsim, ["evaluate", hand, "--estimate", "big=" + big, "--no-plots",
+                               "--out", os.path.join(work, "over_out")], 2)
+    if not re.search(r"over_maximum.tum:10000001:1: more than 10000000 poses", result.stderr):
+        fail("one pose over the maximum: " + result.stderr)
+    os.remove(big)
     print("ok")
 
 
 if __name__ == "__main__":
-    if len(sys.argv) != 4:
+    if len(sys.argv) != 5:
         fail(__doc__)
     main(*sys.argv[1:])

@@ -5,6 +5,8 @@
 #include "harness/evaluate/evaluate.h"
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -19,6 +21,7 @@
 #include "harness/metrics/registry.h"
 #include "harness/run/run_io.h"
 #include "tests/harness/metrics/support.h"
+#include "tests/support/scratch_dir.h"
 #include "tests/support/tolerances.h"
 #include "worlds/ground_truth_reader.h"
 #include "worlds/world_io.h"
@@ -84,17 +87,17 @@ TEST_CASE("trajectory files: TUM and ov_eval, exact stamps, comments", "[evaluat
   CHECK(tum.poses[2].stamp_ns == 13'000'000'000);
   CHECK(tum.poses[1].orientation.z() == Approx(std::sqrt(0.5)));
   CHECK(tum.poses[2].orientation.w() == 1.0);  // -q is q: qw >= 0
-  CHECK(tum.poses[0].position_covariance.isZero());
+  CHECK(tum.covariances.empty());              // TUM: none
 
   const Trajectory ov = ParseTrajectory(
       "0.5 1 2 3 0 0 0 1  0.1 0.01 0.02 0.2 0.03 0.3  1 0.5 0.25 2 0.125 3\n", "t.txt");
   REQUIRE(ov.format == Trajectory::Format::kOvEval);
-  CHECK(ov.poses[0].orientation_covariance(0, 1) == 0.01);
-  CHECK(ov.poses[0].orientation_covariance(1, 0) == 0.01);
-  CHECK(ov.poses[0].orientation_covariance(2, 2) == 0.3);
-  CHECK(ov.poses[0].position_covariance(1, 2) == 0.125);
-  CHECK(ov.poses[0].position_covariance(2, 1) == 0.125);
-  CHECK(ov.poses[0].position_covariance(2, 2) == 3.0);
+  CHECK(ov.covariances[0].orientation(0, 1) == 0.01);
+  CHECK(ov.covariances[0].orientation(1, 0) == 0.01);
+  CHECK(ov.covariances[0].orientation(2, 2) == 0.3);
+  CHECK(ov.covariances[0].position(1, 2) == 0.125);
+  CHECK(ov.covariances[0].position(2, 1) == 0.125);
+  CHECK(ov.covariances[0].position(2, 2) == 3.0);
 }
 
 TEST_CASE("trajectory files: every malformed line is refused at its line", "[evaluate]") {
@@ -120,6 +123,64 @@ TEST_CASE("trajectory files: every malformed line is refused at its line", "[eva
     CHECK(e.location().line == 3);
     CHECK(std::string(e.what()).find("more than 20 columns") != std::string::npos);
   }
+}
+
+TEST_CASE("trajectory files: what an attacker writes is refused at its line", "[evaluate]") {
+  const std::string ok = "1 0 0 0 0 0 0 1\n";
+  for (const char* stamp : {"nan", "-nan", "inf", "-inf", "1e400", "4.1e9", "-4.1e9", "99999999999",
+                            "0x10", "1e", ".", "-", "+-1", "1..2"}) {
+    INFO(stamp);
+    CHECK(LineOf(ok + stamp + " 0 0 0 0 0 0 1\n") == 2);
+  }
+  CHECK(LineOf(ok + "1.0000000001 0 0 0 0 0 0 1\n") == 2);  // rounds to the same nanosecond
+  CHECK(LineOf(ok + "2 0 0 0 nan 0 0 1\n") == 2);           // non-finite quaternion
+  CHECK(LineOf(ok + "2 0 0 0 inf 0 0 1\n") == 2);
+  CHECK(LineOf(ok + "2 0 0 0 1e200 1e200 0 0\n") == 2);                   // its norm overflows
+  CHECK(LineOf(ok + "2 0 0 0 0 0 0 -0\n") == 2);                          // zero, signed
+  CHECK(LineOf(ok + "2 0 0 0 0 0 0 1e-300\n") == 2);                      // nearly zero
+  CHECK(LineOf(ok + std::string(5000, ' ') + "2 0 0 0 0 0 0 1\n") == 2);  // an overlong line
+  CHECK(LineOf(ok + std::string("\x89PNG\r\n\x1a\n", 8)) == 2);           // binary junk
+  CHECK(LineOf(ok + std::string("2 0 0 0 0 0 0 1\0", 16)) == 2);          // a NUL
+  CHECK(LineOf("") == 0);                                                 // empty
+  CHECK(LineOf("\r\n\r\n") == 0);                                         // only CRLF
+  // CRLF line ends are line ends; a lone CR elsewhere is a control character.
+  CHECK(ParseTrajectory("# c\r\n1 0 0 0 0 0 0 1\r\n2 0 0 0 0 0 0 1\r\n", "t").poses.size() == 2);
+  CHECK(LineOf(ok + "2 0 0 0\r0 0 0 1\n") == 2);
+}
+
+TEST_CASE("trajectory files are read line by line with the same checks", "[evaluate]") {
+  const test::ScratchDir scratch("evaluate_read");
+  const std::filesystem::path dir = scratch.path();
+  const auto write = [&](const std::string& name, const std::string& text) {
+    const std::filesystem::path p = dir / name;
+    std::ofstream(p, std::ios::binary) << text;
+    return p.string();
+  };
+  // Lines across the reader's 1 MiB chunks, CRLF ends and no final line end: every pose read.
+  std::string text;
+  for (int k = 1; k <= 60000; ++k) text += std::to_string(k) + ".5 1 2 3 0 0 0 1\r\n";
+  text += "60001 1 2 3 0 0 0 1";
+  const Trajectory read = ReadTrajectory(write("big.tum", text));
+  REQUIRE(read.poses.size() == 60001);
+  CHECK(read.poses.back().stamp_ns == 60'001'000'000'000);
+  CHECK(read.poses[40000].position.z() == 3.0);
+  const auto line_of = [&](const std::string& name, const std::string& body) {
+    try {
+      ReadTrajectory(write(name, body));
+    } catch (const InputError& e) {
+      CHECK(e.location().file.find(name) != std::string::npos);
+      return e.location().line;
+    }
+    return -1;
+  };
+  CHECK(line_of("long.tum", "1 0 0 0 0 0 0 1\n" + std::string(3u << 20, '7') + "\n") == 2);
+  CHECK(line_of("empty.tum", "") == 0);
+  CHECK(line_of("junk.tum", std::string("\x7f"
+                                        "ELF\x02\x01\x01\0\0\0",
+                                        10)) == 1);
+  CHECK(line_of("late.tum", text + "\n5 0 0 0 0 0 0 1\n") == 60002);
+  CHECK_THROWS_AS(ReadTrajectory((dir / "missing.tum").string()), InputError);
+  CHECK_THROWS_AS(ReadTrajectory(dir.string()), InputError);  // a folder
 }
 
 TEST_CASE("an exact copy scores zero with every alignment", "[evaluate]") {
@@ -253,16 +314,25 @@ TEST_CASE("NEES of an ov_eval estimate over (x, y, yaw) from its blocks", "[eval
   // 0.1 m off in world x with sigma_x 0.1 m: NEES 1 at every sample.
   Trajectory estimate = Moved(truth, Transform(1.0, 0.0, 0.0, {0.1, 0, 0}));
   estimate.format = Trajectory::Format::kOvEval;
-  for (TrajectoryPose& p : estimate.poses) {
-    p.position_covariance = Eigen::Vector3d(0.01, 0.04, 0.0).asDiagonal();
-    p.orientation_covariance = Eigen::Vector3d(0.0, 0.0, 1e-4).asDiagonal();
-  }
+  PoseCovariance c;
+  c.position = Eigen::Vector3d(0.01, 0.04, 0.0).asDiagonal();
+  c.orientation = Eigen::Vector3d(0.0, 0.0, 1e-4).asDiagonal();
+  estimate.covariances.assign(estimate.poses.size(), c);
   const Json m = Evaluate(truth, estimate, Alignment::kNone);
   CHECK(m["nees_samples"] == 1001);
   CHECK(Num(m["nees_mean"]) == Approx(1.0).margin(1e-6));
   CHECK(Num(m["nees_final"]) == Approx(1.0).margin(1e-6));
-  // Aligned by SE(2) the offset is gone, and so is the NEES.
-  CHECK(Num(Evaluate(truth, estimate, Alignment::kSE2)["nees_mean"]) == Approx(0.0).margin(1e-6));
+  // Aligned, the fit has taken out the error the covariance described (here all of it): NEES is
+  // left out, and the estimate's object says why.
+  for (const Alignment a : {Alignment::kSE2, Alignment::kSE3, Alignment::kSim3}) {
+    INFO(AlignmentName(a));
+    const Json aligned = Evaluate(truth, estimate, a);
+    CHECK(Num(aligned["ate_rmse_m"]) == Approx(0.0).margin(test::kMetricsJsonM));
+    CHECK_FALSE(aligned.contains("nees_mean"));
+    CHECK_FALSE(aligned.contains("nees_samples"));
+    CHECK(aligned["nees"].get<std::string>().find("left out") != std::string::npos);
+  }
+  CHECK_FALSE(m.contains("nees"));  // unaligned: the NEES itself
 }
 
 TEST_CASE("landmark maps: the run's format read back, aligned and scored by type", "[evaluate]") {

@@ -25,16 +25,47 @@ TEST_CASE("StageOutputFolder refuses a previous run's folder naming --force", "[
   WriteFileAtomic(out / StagedDirectory::kOutputFolderMarker, "");  // a previous run's folder
   WriteFileAtomic(out / "metrics.json", "{}");
   try {
-    StageOutputFolder(out, "--out", /*force=*/false);
+    StageOutputFolder(out, "--out", /*force=*/false, {});
     FAIL("a non-empty folder was accepted");
   } catch (const InputError& e) {
     CHECK(e.key() == "--out");
     CHECK_THAT(e.what(), Catch::StartsWith("command line: --out: '" + out.string()));
     CHECK_THAT(e.what(), Catch::Contains("pass --force"));
   }
-  CHECK_THROWS_WITH(StageOutputFolder(out / "metrics.json" / "x", "--export", true),
+  CHECK_THROWS_WITH(StageOutputFolder(out / "metrics.json" / "x", "--export", true, {}),
                     Catch::StartsWith("command line: --export: "));
-  CHECK(StageOutputFolder(out, "--out", /*force=*/true) != nullptr);
+  CHECK(StageOutputFolder(out, "--out", /*force=*/true, {}) != nullptr);
+}
+
+TEST_CASE("No output is, contains or lies inside an input, links resolved", "[harness]") {
+  const test::ScratchDir dir("corridorsim_outputs_inputs");
+  const fs::path run = dir.path() / "run";
+  fs::create_directories(run);
+  WriteFileAtomic(run / StagedDirectory::kOutputFolderMarker, "");
+  WriteFileAtomic(run / "ground_truth.tum", "1 0 0 0 0 0 0 1\n");
+  fs::create_symlink(run, dir.path() / "link");
+  const std::vector<JobInput> inputs = {{run / "ground_truth.tum", "a file of RUN_DIR"}};
+  const auto message = [&](const fs::path& out) -> std::string {
+    try {
+      StageOutputFolder(out, "--out", /*force=*/true, inputs);
+    } catch (const InputError& e) {
+      CHECK(e.key() == "--out");
+      return e.what();
+    }
+    return "";
+  };
+  CHECK_THAT(message(run), Catch::Contains("' contains '") && Catch::Contains("a file of RUN_DIR"));
+  CHECK_THAT(message(run / "."), Catch::Contains("' contains '"));
+  CHECK_THAT(message(dir.path() / "link"), Catch::Contains("' contains '"));  // through the link
+  CHECK_THAT(message(dir.path() / "link" / "ground_truth.tum"), Catch::Contains("' is '"));
+  CHECK_THAT(message(run / "ground_truth.tum" / "x"), Catch::Contains("' lies inside '"));
+  CHECK_THAT(message(run / ".." / "run" / ""), Catch::Contains("' contains '"));
+  // Beside the input, or a folder whose name only starts like it: allowed.
+  CHECK(message(run / "evaluation").empty());
+  CHECK(message(dir.path() / "run2").empty());
+  CHECK(fs::exists(run / "ground_truth.tum"));  // refused: nothing removed
+  CHECK(PathWithin(dir.path() / "link" / "x", run));
+  CHECK_FALSE(PathWithin(dir.path() / "run2", run));
 }
 
 TEST_CASE("A failing map write keeps the committed results and exits 4", "[harness]") {
