@@ -171,7 +171,7 @@ def main():
     scenario = os.path.join(example, "lamp_ekf.yaml")
 
     # 3b. A plugin that uses Eigen alone needs neither OpenCV's nor OctoMap's CMake package (Debian
-    # 12: libopencv-dev, which pulls Qt, VTK and LLVM, alone has OpenCVConfig.cmake), and not even
+    # 12: libopencv-dev, which pulls Qt 5 and VTK, alone has OpenCVConfig.cmake), and not even
     # their files: corridorsim's package finds those from their files, for the headers that
     # include them.
     eigen_only_plugin(prefix, corridorsim, work, env)
@@ -266,7 +266,7 @@ def main():
             fail("the runtime package's Depends lacks %s: %s" % (package, depends))
     dev_depends = run(["dpkg-deb", "-f", dev, "Depends"]).stdout
     # The -dev packages of the headers the SDK's headers include, not libopencv-dev (every OpenCV
-    # module, Qt, VTK, LLVM).
+    # module, Qt 5, VTK).
     print("Depends: corridorsim: %s  corridorsim-dev: %s" % (depends.strip(), dev_depends.strip()))
     for package in ["corridorsim (= %s)" % version, "libeigen3-dev", "libopencv-core-dev",
                     "libopencv-ml-dev", "liboctomap-dev"]:
