@@ -77,9 +77,11 @@ install(FILES ${PROJECT_BINARY_DIR}/cmake/corridorsimConfig.cmake
 #                                         scripts and docs: what a CI image needs to run studies
 #   corridorsim-dev_<version>_amd64.deb   the SDK: headers, the CMake package, the example plugin
 # Depends: computed by dpkg-shlibdeps from the binaries (CPACK_DEBIAN_PACKAGE_SHLIBDEPS), plus
-# what no binary links and the program or the SDK needs: python3 and matplotlib for the plots,
-# the -dev packages whose headers the SDK's headers include and whose CMake packages its own
-# finds.
+# what no binary links and the program or the SDK needs: python3 and matplotlib for the plots;
+# for the SDK, the -dev packages of exactly the headers its installed headers include: Eigen,
+# OpenCV's core and ml modules and OctoMap (not libopencv-dev, which pulls every OpenCV module
+# with Qt, VTK and more; the CMake package finds OpenCV and OctoMap from their files,
+# cmake/corridorsimConfig.cmake.in).
 set(CPACK_PACKAGE_NAME corridorsim)
 set(CPACK_PACKAGE_VENDOR "corridorsim")
 set(CPACK_PACKAGE_CONTACT "corridorsim developers <corridorsim@localhost>")
@@ -100,7 +102,7 @@ set(CPACK_DEBIAN_RUNTIME_PACKAGE_SHLIBDEPS ON)
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS_PRIVATE_DIRS ${PROJECT_BINARY_DIR}/${CMAKE_INSTALL_LIBDIR})
 set(CPACK_DEBIAN_RUNTIME_PACKAGE_DEPENDS "python3, python3-matplotlib, python3-numpy")
 set(CPACK_DEBIAN_DEV_PACKAGE_DEPENDS
-    "corridorsim (= ${PROJECT_VERSION}), cmake (>= 3.25), g++, libeigen3-dev (>= 3.4), libopencv-dev (>= 4), liboctomap-dev (>= 1.9)")
+    "corridorsim (= ${PROJECT_VERSION}), cmake (>= 3.25), g++, libeigen3-dev (>= 3.4), libopencv-core-dev (>= 4), libopencv-ml-dev (>= 4), liboctomap-dev (>= 1.9)")
 set(CPACK_DEBIAN_PACKAGE_DESCRIPTION
     "corridorsim drives a simulated differential-drive robot through procedurally generated\n corridors, renders its cameras off-screen and scores SLAM pipelines against exact ground\n truth.")
 set(CPACK_COMPONENT_RUNTIME_DESCRIPTION

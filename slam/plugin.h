@@ -10,8 +10,10 @@
 //
 // The macro defines two C functions the loader finds by name (harness/scenario/plugins.cpp):
 //   const CorridorsimPluginInfo* corridorsim_plugin_info(void);
-//       what the plugin was built with; read before anything else, so that a plugin of another
-//       ABI is refused with both versions named instead of crashing in a C++ call
+//       what the plugin was built with; read right after dlopen() (which has already resolved
+//       the library's symbols and run its static initializers) and before any other call, so
+//       that a plugin of another ABI is refused with both versions named instead of crashing in
+//       a C++ call
 //   void corridorsim_plugin_register(corridorsim::slam::PluginRegistrar*);
 //       called once, after the ABI check, to add the plugin's types.
 // The ABI is C++ (std::string, Eigen, virtual calls): a plugin must be built against the same

@@ -1,7 +1,6 @@
 #include "harness/run/export.h"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -13,6 +12,7 @@
 
 #include "common/io/atomic_file.h"
 #include "common/io/stable_json.h"
+#include "harness/run/export_yaml.h"
 #include "harness/run/frame_io.h"
 #include "render/frame_truth.h"
 #include "worlds/image_io.h"
@@ -24,10 +24,6 @@ namespace fs = std::filesystem;
 
 // What the export writes at its root; an existing one means an earlier export is there.
 constexpr const char* kRootEntries[] = {"tum_rgbd", "euroc", "labels", "coco", "odometry.csv"};
-
-// ORB-SLAM's RGB-D close/far threshold in baselines (TUM1.yaml's 40: 3 m with the default
-// 7.5 cm projector-camera baseline of the depth noise model).
-constexpr double kOrbSlamThDepth = 40.0;
 
 std::string Quoted(const fs::path& path) { return "'" + path.string() + "'"; }
 
@@ -42,18 +38,6 @@ std::string TumSeconds(TimeNs stamp_ns) {
   return buf;
 }
 
-// The shortest text that reads back as the same double, always with a decimal point (ORB-SLAM3
-// insists on reals where it reads reals; YAML readers take it as a float).
-std::string Real(double value) {
-  char buf[64];
-  const auto result = std::to_chars(buf, buf + sizeof(buf), value);
-  std::string text(buf, result.ptr);
-  if (text.find_first_of(".ni") != std::string::npos) return text;  // has a point, nan, inf
-  const std::size_t e = text.find('e');
-  if (e == std::string::npos) return text + ".0";
-  return text.insert(e, ".0");
-}
-
 // Nine decimals; a value that rounds to zero is written without a sign.
 std::string Fixed9(double value) {
   char buf[48];
@@ -62,132 +46,11 @@ std::string Fixed9(double value) {
   return text == "-0.000000000" ? text.substr(1) : text;
 }
 
-std::string RealList(const std::vector<double>& values) {
-  std::string text = "[";
-  for (std::size_t i = 0; i < values.size(); ++i) text += (i ? ", " : "") + Real(values[i]);
-  return text + "]";
-}
-
 // COCO boxes and areas in pixels (common/io/stable_json.h).
 double Round4(double v) { return RoundToStep(v, json_steps::kPx); }
 
-// The model's intrinsics (CameraModel::intrinsics()) and whether it is the fisheye.
-struct Intrinsics : CameraIntrinsics {
-  bool fisheye = false;
-};
-
-Intrinsics IntrinsicsOf(const CameraModel& model) {
-  return Intrinsics{{model.intrinsics()}, model.kannala_brandt() != nullptr};
-}
-
-// ORB-SLAM2's Examples/RGB-D/TUM1.yaml keys with ORB-SLAM3's (pre-1.0 settings) Camera.type,
-// Camera.width and Camera.height; the ORB and viewer parameters are TUM1.yaml's.
-std::string OrbSlamYaml(const render::CameraOptions& options) {
-  const Intrinsics in = IntrinsicsOf(options.model);
-  std::ostringstream y;
-  y << "%YAML:1.0\n"
-    << "# ORB-SLAM2 / ORB-SLAM3 settings for the corridorsim front camera (tum_rgbd/), in the\n"
-    << "# form of ORB-SLAM2's Examples/RGB-D/TUM1.yaml; Camera.type, Camera.width and\n"
-    << "# Camera.height are ORB-SLAM3's additions. No File.version: ORB-SLAM3 1.0 reads this\n"
-    << "# as its old settings form. Pixel (0, 0) is the centre of the top-left pixel.\n\n";
-  y << "# Camera calibration and distortion parameters (OpenCV)\n";
-  if (in.fisheye) {
-    y << "Camera.type: \"KannalaBrandt8\"\n";
-  } else {
-    y << "Camera.type: \"PinHole\"\n";
-  }
-  y << "Camera.fx: " << Real(in.fx) << "\n"
-    << "Camera.fy: " << Real(in.fy) << "\n"
-    << "Camera.cx: " << Real(in.cx) << "\n"
-    << "Camera.cy: " << Real(in.cy) << "\n\n";
-  const char* const names[] = {"k1", "k2", "p1", "p2", "k3"};
-  const char* const fisheye_names[] = {"k1", "k2", "k3", "k4"};
-  for (std::size_t i = 0; i < in.distortion.size(); ++i) {
-    y << "Camera." << (in.fisheye ? fisheye_names[i] : names[i]) << ": " << Real(in.distortion[i])
-      << "\n";
-  }
-  y << "\nCamera.width: " << in.width << "\n"
-    << "Camera.height: " << in.height << "\n\n"
-    << "# Camera frames per second\n"
-    << "Camera.fps: " << Real(options.rate_hz) << "\n\n"
-    << "# Color order of the images (0: BGR, 1: RGB. It is ignored if images are grayscale)\n"
-    << "Camera.RGB: 1\n\n";
-  if (options.depth) {
-    const double baseline_m = options.depth_noise.baseline_m;
-    y << "# IR projector baseline (" << Real(baseline_m)
-      << " m, the depth noise model's) times fx\n"
-      << "Camera.bf: " << Real(baseline_m * in.fx) << "\n\n"
-      << "# Close/Far threshold. Baseline times.\n"
-      << "ThDepth: " << Real(kOrbSlamThDepth) << "\n\n"
-      << "# Depth map values per metre (16-bit PNG)\n"
-      << "DepthMapFactor: " << Real(kDepthScale) << "\n\n";
-  }
-  y << "# ORB extractor (TUM1.yaml's values)\n"
-    << "ORBextractor.nFeatures: 1000\n"
-    << "ORBextractor.scaleFactor: 1.2\n"
-    << "ORBextractor.nLevels: 8\n"
-    << "ORBextractor.iniThFAST: 20\n"
-    << "ORBextractor.minThFAST: 7\n\n"
-    << "# Viewer (TUM1.yaml's values)\n"
-    << "Viewer.KeyFrameSize: 0.05\n"
-    << "Viewer.KeyFrameLineWidth: 1.0\n"
-    << "Viewer.GraphLineWidth: 0.9\n"
-    << "Viewer.PointSize: 2.0\n"
-    << "Viewer.CameraSize: 0.08\n"
-    << "Viewer.CameraLineWidth: 3.0\n"
-    << "Viewer.ViewpointX: 0.0\n"
-    << "Viewer.ViewpointY: -0.7\n"
-    << "Viewer.ViewpointZ: -1.8\n"
-    << "Viewer.ViewpointF: 500.0\n";
-  return y.str();
-}
-
-// EuRoC / TUM-VI camera sensor.yaml: T_BS = robot_from_camera (body = robot frame R).
-std::string EurocSensorYaml(const render::CameraOptions& options, const std::string& cam) {
-  const Intrinsics in = IntrinsicsOf(options.model);
-  const Eigen::Matrix4d t_bs = [&] {
-    const SE3 robot_from_camera = options.mount.RobotFromCamera();
-    Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
-    m.topLeftCorner<3, 3>() = robot_from_camera.rotation();
-    m.topRightCorner<3, 1>() = robot_from_camera.translation();
-    return m;
-  }();
-  std::ostringstream y;
-  y << "# General sensor definitions.\n"
-    << "sensor_type: camera\n"
-    << "comment: corridorsim " << options.id << " camera as " << cam << "\n\n"
-    << "# Sensor extrinsics wrt. the body-frame (the robot frame R: x forward, z up).\n"
-    << "T_BS:\n"
-    << "  cols: 4\n"
-    << "  rows: 4\n"
-    << "  data: [";
-  for (int r = 0; r < 4; ++r) {
-    for (int c = 0; c < 4; ++c) {
-      y << (r == 0 && c == 0 ? "" : c == 0 ? ",\n         " : ", ") << Real(t_bs(r, c));
-    }
-  }
-  y << "]\n\n"
-    << "# Camera specific definitions.\n"
-    << "rate_hz: " << Real(options.rate_hz) << "\n"
-    << "resolution: [" << in.width << ", " << in.height << "]\n"
-    << "camera_model: pinhole\n"
-    << "intrinsics: " << RealList({in.fx, in.fy, in.cx, in.cy}) << " #fu, fv, cu, cv\n";
-  if (in.fisheye) {
-    y << "distortion_model: equidistant\n"
-      << "distortion_coefficients: " << RealList(in.distortion) << " #k1, k2, k3, k4\n";
-  } else {
-    // Kalibr's radial-tangential has four coefficients; k3 follows only when it is used.
-    std::vector<double> d(in.distortion.begin(), in.distortion.begin() + 4);
-    if (in.distortion[4] != 0.0) d.push_back(in.distortion[4]);
-    y << "distortion_model: radial-tangential\n"
-      << "distortion_coefficients: " << RealList(d)
-      << (d.size() == 4 ? " #k1, k2, p1, p2\n" : " #k1, k2, p1, p2, k3\n");
-  }
-  return y.str();
-}
-
 void CheckFrame(const render::CameraOptions& options, const render::CameraFrame& f) {
-  const Intrinsics in = IntrinsicsOf(options.model);
+  const CameraIntrinsics in = options.model.intrinsics();
   const std::size_t n = static_cast<std::size_t>(in.width) * in.height;
   const auto fail = [&](const std::string& what) {
     throw std::invalid_argument("DatasetExporter: " + options.id + " frame: " + what);
@@ -275,6 +138,7 @@ void DatasetExporter::AddFrame(const sim::CameraMessage& message, const std::str
   const int width = f.rgb.width, height = f.rgb.height;
   const fs::path labels_dir = fs::path("labels") / camera_id;
   if (camera.stamps.empty()) {
+    camera.first_world_from_robot = {t, message.world_from_robot};
     if (camera.layout != Layout::kLabelsOnly) MakeDir(camera.image_dir);
     if (camera.layout == Layout::kTumRgbd && camera.options.depth) MakeDir("tum_rgbd/depth");
     MakeDir(labels_dir);
@@ -363,6 +227,15 @@ void DatasetExporter::Finish() {
   FinishCoco();
 }
 
+// The first pose of the ground truth: the first AddTruth pose, or the robot's pose at the
+// camera's first frame when that is earlier (or there is no truth).
+BodyStart DatasetExporter::StartOf(const CameraOutput& camera) const {
+  if (!truth_.empty() && truth_.front().first <= camera.first_world_from_robot.first) {
+    return {truth_.front().first, truth_.front().second};
+  }
+  return {camera.first_world_from_robot.first, camera.first_world_from_robot.second};
+}
+
 void DatasetExporter::FinishTum(const CameraOutput& camera) const {
   const fs::path tum = dir_ / "tum_rgbd";
   std::ostringstream rgb, depth, associations, groundtruth;
@@ -405,6 +278,10 @@ void DatasetExporter::FinishTum(const CameraOutput& camera) const {
   for (const auto& [t, pose] : poses) groundtruth << sim::TumLine(t, pose) << "\n";
   WriteFileAtomic(tum / "groundtruth.txt", groundtruth.str());
   WriteFileAtomic(tum / "orb_slam.yaml", OrbSlamYaml(camera.options));
+  WriteFileAtomic(tum / "sensor.yaml",
+                  CameraSensorYaml(camera.options,
+                                   "corridorsim " + camera.options.id + " camera as tum_rgbd",
+                                   StartOf(camera)));
 }
 
 void DatasetExporter::FinishEuroc(const CameraOutput& camera) const {
@@ -414,7 +291,10 @@ void DatasetExporter::FinishEuroc(const CameraOutput& camera) const {
   csv << "#timestamp [ns],filename\n";
   for (const TimeNs t : camera.stamps) csv << t << "," << t << ".png\n";
   WriteFileAtomic(folder / "data.csv", csv.str());
-  WriteFileAtomic(folder / "sensor.yaml", EurocSensorYaml(camera.options, cam));
+  WriteFileAtomic(folder / "sensor.yaml",
+                  CameraSensorYaml(camera.options,
+                                   "corridorsim " + camera.options.id + " camera as " + cam,
+                                   StartOf(camera)));
 }
 
 // EuRoC's state_groundtruth_estimate0: the robot's pose, its velocity in W by central
@@ -452,7 +332,7 @@ void DatasetExporter::FinishOdometry() const {
   std::ostringstream csv;
   csv << "# corridorsim wheel odometry: signed distance each wheel travelled since the previous "
          "message; wheelbase_m: "
-      << Real(wheelbase_m_) << "\n"
+      << YamlReal(wheelbase_m_) << "\n"
       << "timestamp_ns,left_distance_m,right_distance_m,left_ticks,right_ticks\n";
   for (const WheelOdometry& o : odometry_) {
     csv << o.stamp_ns << "," << Fixed9(o.left_distance_m) << "," << Fixed9(o.right_distance_m)

@@ -2,10 +2,12 @@
 // The dataset export (`corridorsim run --export DIR`): a run written in the layouts other SLAM
 // systems read (docs/export.md describes every file):
 //   tum_rgbd/        the front camera as TUM RGB-D (rgb/, depth/ from the noisy depth, rgb.txt,
-//                    depth.txt, associations.txt, groundtruth.txt of world_from_camera) and an
-//                    ORB-SLAM2/3 settings file (orb_slam.yaml);
+//                    depth.txt, associations.txt, groundtruth.txt of world_from_camera), an
+//                    ORB-SLAM2/3 settings file (orb_slam.yaml) and sensor.yaml as EuRoC's;
 //   euroc/mav0/      the upward camera as cam0/ and the lateral camera as cam1/ (EuRoC/ASL:
 //                    data/<t_ns>.png, data.csv, sensor.yaml), and state_groundtruth_estimate0/;
+//   every camera's sensor.yaml carries its extrinsics (T_BS, body_from_sensor) and the body's
+//   start pose in frame W (T_WB_start: the ground truth's first pose; export_yaml.h);
 //   odometry.csv     the wheel odometry messages;
 //   labels/<camera>/ per frame: 16-bit labels (as EncodeLabels) and the frame truth as JSON;
 //   coco/plates.json door plate boxes and room numbers of the front and lateral images.
@@ -23,6 +25,7 @@
 #include "common/pose.h"
 #include "common/sensor_messages.h"
 #include "common/time.h"
+#include "harness/run/export_yaml.h"
 #include "render/camera_rig.h"
 #include "sim/simulation.h"
 
@@ -73,11 +76,13 @@ class DatasetExporter {
     std::filesystem::path image_dir;  // where the RGB images go (relative to the root)
     std::vector<TimeNs> stamps;       // of the frames written, increasing
     std::vector<std::pair<TimeNs, SE3>> world_from_camera;  // front camera: per frame
+    std::pair<TimeNs, SE3> first_world_from_robot;          // the robot at the first frame
   };
 
   CameraOutput& Camera(const std::string& camera_id);
   void MakeDir(const std::filesystem::path& relative) const;
   void CheckOpen(const char* what) const;
+  BodyStart StartOf(const CameraOutput& camera) const;
   void FinishTum(const CameraOutput& camera) const;
   void FinishEuroc(const CameraOutput& camera) const;
   void FinishGroundTruth() const;

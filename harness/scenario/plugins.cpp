@@ -15,6 +15,7 @@
 #include "common/io/options_yaml.h"
 #include "common/io/sha256.h"
 #include "common/io/yaml_reader.h"
+#include "harness/scenario/plugin_load_error.h"
 #include "slam/plugin.h"
 
 namespace corridorsim {
@@ -97,7 +98,13 @@ LoadedPlugin LoadPlugin(const std::filesystem::path& path, const SourceLocation&
   // RTLD_LOCAL: two plugins' own symbols never resolve against each other.
   dlerror();
   void* handle = dlopen(canonical.c_str(), RTLD_NOW | RTLD_LOCAL);
-  if (!handle) fail("does not load: " + FromLibrary(dlerror()));
+  // Its symbols are resolved and its static initializers run here, before any check below: a
+  // library of another std::string ABI or SDK fails here, with its symbol demangled and what to
+  // rebuild.
+  if (!handle) {
+    const char* reason = dlerror();
+    fail("does not load: " + (reason ? ExplainDlopenError(reason) : std::string("(no reason)")));
+  }
   // Never dlclose()d: its types' code must stay, and unloading C++ code is not safe in general.
   using InfoFunction = const CorridorsimPluginInfo* (*)();
   using RegisterFunction = void (*)(slam::PluginRegistrar*);

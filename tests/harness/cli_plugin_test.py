@@ -1,6 +1,7 @@
 #!/usr/bin/python3
 """`corridorsim plugin` and plugins in runs, as a user meets them (docs/plugins.md): a library
-that cannot be a plugin is exit 2 with one message at the scenario line (nothing written); a
+that cannot be a plugin is exit 2 with one message at the scenario line (nothing written; one of
+the old std::string ABI names its demangled symbol and what to rebuild); a
 plugin that throws during a run fails alone: exit 5, the other pipelines' results written, its
 metrics `health.failed`, events.json saying why, byte-identical on a second run; shards whose
 plugin libraries differ are not merged; `corridorsim test` reports a failed pipeline as an error
@@ -54,6 +55,16 @@ def main():
     if err.count("\n") != 1 or "command line: library: the plugin library" not in err or \
             "SDK ABI version" not in err:
         fail("a plugin of another ABI: expected one message naming both versions, got:\n" + err)
+
+    # A plugin built with the old std::string ABI fails in dlopen, before the ABI check: one
+    # message with the symbol demangled and what to rebuild, exit 2.
+    err = run([corridorsim, "plugin", os.path.join(plugins, "test_old_string_abi_plugin.so")],
+              2).stderr
+    for part in ["undefined symbol: corridorsim::slam::IsPipelineName(std::string const&)",
+                 "_GLIBCXX_USE_CXX11_ABI=1", "by the compiler corridorsim was built with"]:
+        if err.count("\n") != 1 or part not in err:
+            fail("a plugin of the old std::string ABI: expected one message with %r, got:\n%s"
+                 % (part, err))
 
     # A scenario naming a library that cannot load: exit 2 at its line, nothing written.
     base = "include: %s/scenarios/default.yaml\n" % source

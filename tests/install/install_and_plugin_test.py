@@ -45,6 +45,62 @@ def read(path, mode="r"):
         return f.read()
 
 
+def cache_value(build_dir, name):
+    for line in read(os.path.join(build_dir, "CMakeCache.txt")).splitlines():
+        if line.split(":", 1)[0] == name:
+            return line.split("=", 1)[1]
+    fail("%s/CMakeCache.txt has no %s" % (build_dir, name))
+
+
+def eigen_only_plugin(prefix, corridorsim, work, env):
+    """tests/plugins/echo_plugin.cpp (Eigen and the SDK only) built against the prefix with
+    OpenCV's and OctoMap's CMake packages disabled: once with their headers and libraries where
+    Debian's component packages put them (libopencv-core-dev, libopencv-ml-dev, liboctomap-dev:
+    what corridorsim-dev depends on), where a source that includes the SDK's OpenCV and OctoMap
+    headers builds too; once with those hidden from every find_* (a prefix without them), where
+    the Eigen-only plugin still builds and loads."""
+    source = os.path.join(work, "eigen_only")
+    os.makedirs(source)
+    shutil.copy(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "plugins",
+                             "echo_plugin.cpp"), source)
+    with open(os.path.join(source, "uses_opencv.cpp"), "w") as f:
+        f.write('#include "slam/features/door_plates.h"\n'
+                '#include "slam/mapping/occupancy_mapper.h"\n'
+                'int UsesOpenCv() { return cv::Mat(2, 3, CV_8U, cv::Scalar(1)).rows; }\n')
+    with open(os.path.join(source, "CMakeLists.txt"), "w") as f:
+        f.write("cmake_minimum_required(VERSION 3.25)\n"
+                "project(eigen_only_plugin LANGUAGES CXX)\n"
+                "find_package(corridorsim 0.1 CONFIG REQUIRED)\n"
+                "corridorsim_add_pipeline_plugin(eigen_only SOURCES echo_plugin.cpp)\n"
+                "if(WITH_OPENCV_HEADERS)\n"
+                "  corridorsim_add_pipeline_plugin(with_opencv SOURCES uses_opencv.cpp)\n"
+                "endif()\n")
+    disabled = ["-DCMAKE_DISABLE_FIND_PACKAGE_OpenCV=ON", "-DCMAKE_DISABLE_FIND_PACKAGE_octomap=ON"]
+    # The folders the files lie in, under both names of a merged /usr.
+    hidden = set()
+    for name in ["opencv4/opencv2/core.hpp", "octomap/OcTree.h"]:
+        for include in ["/usr/include", "/usr/local/include"]:
+            if os.path.exists(os.path.join(include, name)):
+                hidden.update([include, os.path.join(include, name.split("/")[0])])
+    for lib in ["libopencv_core.so", "libopencv_ml.so", "liboctomap.so", "liboctomath.so"]:
+        for folder in ["/usr/lib/x86_64-linux-gnu", "/usr/lib", "/usr/local/lib"]:
+            if os.path.exists(os.path.join(folder, lib)):
+                hidden.update([folder, "/" + os.path.relpath(folder, "/usr")])
+    for case, extra in [("components", ["-DWITH_OPENCV_HEADERS=ON"]),
+                        ("stripped", ["-DCMAKE_IGNORE_PATH=" + ";".join(sorted(hidden))])]:
+        build = os.path.join(source, "build_" + case)
+        run(["cmake", "-S", source, "-B", build, "-G", "Ninja", "-DCMAKE_PREFIX_PATH=" + prefix,
+             "-DCMAKE_BUILD_TYPE=Release", *disabled, *extra])
+        found = cache_value(build, "corridorsim_OPENCV_INCLUDE_DIR")
+        if (case == "stripped") != found.endswith("NOTFOUND"):
+            fail("%s: corridorsim's package found OpenCV's headers at %r" % (case, found))
+        run(["cmake", "--build", build])
+        described = run([corridorsim, "plugin", os.path.join(build, "eigen_only.so")],
+                        env=env).stdout
+        if "## pipeline type `test_echo`" not in described:
+            fail("%s: the Eigen-only plugin does not load:\n%s" % (case, described))
+
+
 def main():
     if len(sys.argv) < 3:
         fail(__doc__)
@@ -113,6 +169,12 @@ def main():
         if part not in described:
             fail("`corridorsim plugin` does not print %r:\n%s" % (part, described))
     scenario = os.path.join(example, "lamp_ekf.yaml")
+
+    # 3b. A plugin that uses Eigen alone needs neither OpenCV's nor OctoMap's CMake package (Debian
+    # 12: libopencv-dev, which pulls Qt 5 and VTK, alone has OpenCVConfig.cmake), and not even
+    # their files: corridorsim's package finds those from their files, for the headers that
+    # include them.
+    eigen_only_plugin(prefix, corridorsim, work, env)
 
     # 4. run: the plugin beats dead reckoning; provenance records the library.
     run_dir = os.path.join(work, "run")
@@ -203,9 +265,16 @@ def main():
         if package not in depends:
             fail("the runtime package's Depends lacks %s: %s" % (package, depends))
     dev_depends = run(["dpkg-deb", "-f", dev, "Depends"]).stdout
-    for package in ["corridorsim (= %s)" % version, "libeigen3-dev", "libopencv-dev"]:
+    # The -dev packages of the headers the SDK's headers include, not libopencv-dev (every OpenCV
+    # module, Qt 5, VTK).
+    print("Depends: corridorsim: %s  corridorsim-dev: %s" % (depends.strip(), dev_depends.strip()))
+    for package in ["corridorsim (= %s)" % version, "libeigen3-dev", "libopencv-core-dev",
+                    "libopencv-ml-dev", "liboctomap-dev"]:
         if package not in dev_depends:
             fail("the dev package's Depends lacks %s: %s" % (package, dev_depends))
+    if "libopencv-dev" in dev_depends or "-dev" in depends:
+        fail("a package depends on more -dev packages than the SDK's headers include: %s / %s"
+             % (depends, dev_depends))
     files = run(["dpkg-deb", "-c", runtime]).stdout
     for rel in ["./usr/bin/corridorsim", "./usr/share/corridorsim/scenarios/default.yaml",
                 "./usr/share/corridorsim/models/room_number_mlp.yml",

@@ -93,6 +93,23 @@ TEST_CASE("plugins: a library that cannot be a plugin is an input error naming w
   CHECK_FALSE(slam::FindPipelineType("Echo-Pipeline"));
 }
 
+TEST_CASE("plugins: a plugin of the old std::string ABI is refused naming its symbol and the fix") {
+  // dlopen() fails on the SDK function it calls (tests/plugins/old_string_abi_plugin.cpp) before
+  // corridorsim_plugin_info can be read: the message demangles the symbol and says what to rebuild.
+  const InputError e = InputErrorOf([&] { LoadPlugin(Plugin("test_old_string_abi_plugin"), kWhere); });
+  CHECK(e.location().line == 7);
+  CHECK(e.key() == "plugins");
+  CHECK(Contains(e.message(), "does not load: "));
+  CHECK(Contains(e.message(),
+                 "undefined symbol: corridorsim::slam::IsPipelineName(std::string const&) "
+                 "(_ZN11corridorsim4slam14IsPipelineNameERKSs)"));
+  CHECK(Contains(e.message(), "old std::string ABI (_GLIBCXX_USE_CXX11_ABI=0)"));
+  CHECK(Contains(e.message(), "rebuild it with _GLIBCXX_USE_CXX11_ABI=1"));
+  CHECK(Contains(e.message(), "by the compiler corridorsim was built with ("));
+  CHECK(e.message().find('\n') == std::string::npos);
+  CHECK_FALSE(slam::FindPipelineType("old_abi"));
+}
+
 TEST_CASE("plugins: a type another plugin registered is taken") {
   const LoadedPlugin first = LoadPlugin(Plugin("test_echo_plugin"), kWhere);
   test::ScratchDir dir("plugins_taken_test");
