@@ -7,7 +7,7 @@ PACKAGES=(
   # toolchain
   cmake g++ ninja-build pkg-config clang-format ccache
   # libraries (see ../shared/DEPENDENCIES.md)
-  libeigen3-dev libyaml-cpp-dev nlohmann-json3-dev libcli11-dev libspdlog-dev libfmt-dev
+  libeigen3-dev libyaml-cpp-dev nlohmann-json3-dev libcli11-dev
   libboost-math-dev libopencv-dev libbullet-dev liboctomap-dev
   libosmesa6-dev libegl-dev libegl-mesa0 libgl-dev
   libfreetype-dev fonts-dejavu-core
