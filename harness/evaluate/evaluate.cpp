@@ -291,7 +291,7 @@ int RunEvaluate(const EvaluateRequest& request) {
       CheckExpectations(document, expectations, "estimates");
 
   const auto write_results = [&](const std::filesystem::path& out) {
-    WriteFileAtomic(out / "evaluation.json", document.dump(2) + "\n");
+    WriteFileAtomic(out / "evaluation.json", JsonFileText(document));
     for (const auto& [name, evaluation] : evaluations) {
       std::string tum = "# " + name + ": estimate after " + AlignmentName(request.alignment) +
                         " alignment\n# timestamp tx ty tz qx qy qz qw\n";

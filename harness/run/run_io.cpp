@@ -16,7 +16,7 @@ constexpr double kSlipStepsPerM = 1e9;  // slips are often far below a micrometr
 
 nlohmann::ordered_json EventJson(const sim::Event& e) {
   nlohmann::ordered_json j;
-  j["t"] = ToSeconds(e.stamp_ns);
+  j["t"] = RoundToStep(ToSeconds(e.stamp_ns), json_steps::kSeconds);  // t_ns is exact
   j["t_ns"] = e.stamp_ns;
   j["type"] = sim::EventKindName(e.kind);
   switch (e.kind) {
