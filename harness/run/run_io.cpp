@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "common/io/outside_text.h"
 #include "common/io/stable_json.h"
 #include "worlds/world.h"
 
@@ -127,8 +128,9 @@ std::string DetectionsCsv(const std::vector<slam::Detection>& detections) {
                    : "") +
            ",";
     csv += (d.type == slam::LandmarkType::kLamp ? CsvNumber(d.radius_px, 4) : "") + ",";
-    // Labels are room numbers (digits); anything else is quoted as CSV requires.
-    std::string label = d.label;
+    // Labels are room numbers (digits); anything else is quoted as CSV requires, and a plugin's
+    // bytes that are not UTF-8 become U+FFFD (the file stays text for every reader).
+    std::string label = ValidUtf8(d.label);
     if (label.find_first_of(",\"\n\r") != std::string::npos) {
       std::string quoted = "\"";
       for (const char c : label) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
