@@ -78,6 +78,15 @@ def unrounded(value, where=""):
     return out
 
 
+def check_rounded(folder):
+    """Every number of every JSON file of `folder` (not its subfolders) is rounded."""
+    for name in sorted(os.listdir(folder)):
+        if name.endswith(b".json" if isinstance(name, bytes) else ".json"):
+            bad = unrounded(strict_json(os.path.join(folder, name)))
+            if bad:
+                fail("%s: unrounded numbers: %s" % (os.path.join(folder, name), bad[:5]))
+
+
 def page_data(page_path):
     """The JSON of a page's <script id="corridorsim-data">, checked to hold no `<`."""
     with open(page_path, "rb") as f:
@@ -139,10 +148,7 @@ def check_failed_pipelines(binary, echo, work):
         fail("events.json: the plugin's reason %r" % reasons.get("echo"))
     if "caf\ufffd " + HOSTILE not in reasons.get("mine", ""):
         fail("events.json: the program's reason %r" % reasons.get("mine"))
-    for name in ("events.json", "timing.json", "metrics.json", "provenance.json"):
-        bad = unrounded(strict_json(os.path.join(out_dir, name)))
-        if bad:
-            fail("%s: unrounded numbers: %s" % (name, bad[:5]))
+    check_rounded(out_dir)
     data = page_data(os.path.join(out_dir, "viewer.html"))
     if data.get("scenario") != HOSTILE + " caf\u00e9":
         fail("viewer.html: the scenario's name reads back as %r" % data.get("scenario"))
@@ -269,6 +275,7 @@ def check_non_utf8_paths(binary, work):
              (p.returncode, p.stderr.decode("utf-8", "replace")[-1500:]))
         return
     try:
+        check_rounded(eval_dir)
         evaluation = strict_json(os.path.join(eval_dir, b"evaluation.json"))
         if "est_caf\ufffd.tum" not in json.dumps(evaluation, ensure_ascii=False):
             fail("evaluation.json does not name the estimate with U+FFFD")
@@ -289,6 +296,7 @@ def check_study_name(binary, work):
     if rc != 0:
         fail("a study into %s: exit %d\n%s" % (HOSTILE, rc, err[-1500:]))
         return
+    check_rounded(out_dir)
     data = page_data(os.path.join(out_dir, "report.html"))
     if data.get("study") != HOSTILE:
         fail("report.html: the study's name reads back as %r" % data.get("study"))
