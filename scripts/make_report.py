@@ -12,7 +12,6 @@ not be written. corridorsim study calls it after plots/ (exit 4 there when it fa
 
 import argparse
 import html
-import json
 import math
 import os
 import sys
@@ -24,7 +23,8 @@ except ImportError:  # the checkout, not installed: the package is beside script
     from corridorsim import files
 
 sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
-from make_viewer import (read_asset, render_page, script_safe, uplot_file,  # noqa: E402
+from make_viewer import (json_in_script, keep_path_bytes, page_json,  # noqa: E402
+                         read_asset, render_page, script_safe, uplot_file, valid_text,
                          viewer_dir, write_page)
 
 SCHEMA = 1
@@ -203,20 +203,21 @@ def main(argv):
     parser.add_argument("study_dir")
     parser.add_argument("--out", help="the page (default STUDY_DIR/report.html)")
     args = parser.parse_args(argv)
+    keep_path_bytes(sys.stdout)
     out = args.out or os.path.join(args.study_dir, "report.html")
     try:
         if not os.path.isdir(args.study_dir):
             raise files.InputError(args.study_dir, None, "is not a directory")
         data = build_data(args.study_dir)
-        data_json = json.dumps(data, separators=(",", ":"), allow_nan=False, ensure_ascii=False)
+        data_json = page_json(data)
         base = viewer_dir()
         page = render_page(os.path.join(base, "report.html"), {
             "/*CORRIDORSIM_UPLOT_CSS*/": read_asset(uplot_file("uPlot.min.css")),
             "/*CORRIDORSIM_VIEWER_CSS*/": read_asset(os.path.join(base, "viewer.css")),
             "/*CORRIDORSIM_UPLOT_JS*/": script_safe(read_asset(uplot_file("uPlot.iife.min.js"))),
             "/*CORRIDORSIM_REPORT_JS*/": script_safe(read_asset(os.path.join(base, "report.js"))),
-            "CORRIDORSIM_DATA_JSON": script_safe(data_json),
-            "CORRIDORSIM_TITLE": html.escape(data["title"]),
+            "CORRIDORSIM_DATA_JSON": json_in_script(data_json),
+            "CORRIDORSIM_TITLE": html.escape(valid_text(data["title"])),
         })
     except files.InputError as e:
         print(f"make_report.py: {e}", file=sys.stderr)

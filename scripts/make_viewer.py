@@ -15,6 +15,7 @@ import html
 import json
 import math
 import os
+import re
 import sys
 
 try:
@@ -494,8 +495,37 @@ def build_data(run_dir, points, frame_stamps):
     return data
 
 
+LONE_SURROGATE = re.compile("[\ud800-\udfff]")
+
+
+def valid_text(text):
+    """`text` as text a UTF-8 file can hold: each lone surrogate (a byte of a file name that is
+    not UTF-8, as Python decodes it, or a `\\ud800` escape read from a JSON file) becomes U+FFFD."""
+    return LONE_SURROGATE.sub("\ufffd", text)
+
+
+def page_json(data):
+    """`data` as the page's JSON text (valid_text: any string may come from outside)."""
+    return valid_text(json.dumps(data, separators=(",", ":"), allow_nan=False,
+                                 ensure_ascii=False))
+
+
+def json_in_script(text):
+    """JSON text for <script type="application/json">: every `<`, `>` and `&` written as a JSON
+    escape (\\u003c, \\u003e, \\u0026), so that no string (`</script>`, `<!--<script>`) can end
+    the element or change how the HTML tokenizer reads the rest of the page. JSON holds these
+    characters only inside strings, where the escape stands for the same character."""
+    return (valid_text(text).replace("<", "\\u003c").replace(">", "\\u003e")
+            .replace("&", "\\u0026"))
+
+
 def script_safe(text):
-    """JSON inside <script>: no '</' can close the element."""
+    """The page's own JavaScript inside <script>: no `</` can close the element. A source holding
+    `<!--` (the HTML tokenizer's escaped script states, where `</script>` no longer ends the
+    element) is refused rather than embedded."""
+    if "<!--" in text:
+        raise RuntimeError("a page source holds '<!--', which would change how the browser reads "
+                           "the rest of the page")
     return text.replace("</", "<\\/")
 
 
@@ -522,9 +552,15 @@ def render(data_json, title):
         "/*CORRIDORSIM_VIEWER_CSS*/": read_asset(os.path.join(base, "viewer.css")),
         "/*CORRIDORSIM_UPLOT_JS*/": script_safe(read_asset(uplot_file("uPlot.iife.min.js"))),
         "/*CORRIDORSIM_VIEWER_JS*/": script_safe(read_asset(os.path.join(base, "viewer.js"))),
-        "CORRIDORSIM_DATA_JSON": script_safe(data_json),
-        "CORRIDORSIM_TITLE": html.escape(title),
+        "CORRIDORSIM_DATA_JSON": json_in_script(data_json),
+        "CORRIDORSIM_TITLE": html.escape(valid_text(title)),
     })
+
+
+def keep_path_bytes(stream):
+    """A path printed to `stream` keeps the bytes it was given, UTF-8 or not."""
+    if hasattr(stream, "reconfigure"):
+        stream.reconfigure(errors="surrogateescape")
 
 
 def write_page(out, page, program):
@@ -548,6 +584,7 @@ def main(argv):
     parser.add_argument("--budget-mb", type=float, default=DEFAULT_BUDGET_MB,
                         help="the page's size without frames, MB (default %(default)s)")
     args = parser.parse_args(argv)
+    keep_path_bytes(sys.stdout)
     if not (0.1 <= args.budget_mb <= 1000.0):
         print("make_viewer.py: --budget-mb must be in [0.1, 1000]", file=sys.stderr)
         return 2
@@ -560,13 +597,13 @@ def main(argv):
         points = START_POINTS
         while True:
             data = build_data(args.run_dir, points, frame_stamps)
-            text = json.dumps(data, separators=(",", ":"), allow_nan=False, ensure_ascii=False)
+            text = page_json(data)
             if len(text.encode("utf-8")) <= args.budget_mb * 1e6 or points <= MIN_POINTS:
                 break
             points //= 2
         if frames:
             data["frames"] = frames
-            text = json.dumps(data, separators=(",", ":"), allow_nan=False, ensure_ascii=False)
+            text = page_json(data)
         else:
             data["frames"] = {}
             text = text[:-1] + ',"frames":{}}'

@@ -368,7 +368,7 @@ void WriteWorldFiles(const World& world, const std::filesystem::path& dir) {
   // Build every text before writing anything, so a broken world leaves no partial folder.
   const std::string mtl = MtlText(world);
   const std::string obj = ObjText(world);
-  const std::string ground_truth = GroundTruthJson(world).dump(2) + "\n";
+  const std::string ground_truth = JsonFileText(GroundTruthJson(world));
 
   EnsureWritableDirectory(dir);
   if (!world.textures.empty()) {

@@ -30,4 +30,12 @@ nlohmann::ordered_json PoseJson(const SE3& pose) {
   return json;
 }
 
+void RoundNumbers(nlohmann::ordered_json& json, double steps_per_unit) {
+  if (json.is_number_float()) {
+    json = RoundToStep(json.get<double>(), steps_per_unit);
+  } else if (json.is_structured()) {
+    for (nlohmann::ordered_json& element : json) RoundNumbers(element, steps_per_unit);
+  }
+}
+
 }  // namespace corridorsim

@@ -3,6 +3,8 @@
 // metrics.json, events, the dataset export's JSON) rounds its numbers to fixed decimal steps
 // through here and writes poses in one convention, so that equal inputs print equal bytes.
 
+#include <string>
+
 #include <nlohmann/json.hpp>
 
 #include <Eigen/Core>
@@ -39,5 +41,24 @@ nlohmann::ordered_json RoundedJson(const Eigen::Vector3d& v, double steps_per_un
 /// rounded to json_steps::kMetres, q (Eigen's coeffs() order, Hamilton, unit norm) rounded to
 /// json_steps::kUnitVector, with the sign chosen so that qw >= 0 (q and -q are one rotation).
 nlohmann::ordered_json PoseJson(const SE3& pose);
+
+/// Every floating-point number in `json` (at any depth) rounded with RoundToStep, for documents
+/// whose numbers share one step (timing.json: seconds and ratios).
+void RoundNumbers(nlohmann::ordered_json& json, double steps_per_unit);
+
+/// `json` as text (`indent` < 0: one line). Every JSON text the project writes or sends goes
+/// through here: a string holding bytes that are not UTF-8 (text from outside: an exception
+/// message, a program's output, a file or folder name) is written with each such byte as U+FFFD
+/// instead of throwing after the work (docs/frames.md, "Text from outside").
+template <class Json>
+std::string JsonText(const Json& json, int indent = -1) {
+  return json.dump(indent, ' ', false, Json::error_handler_t::replace);
+}
+
+/// The text of a JSON file: JsonText with `indent` (2 by default), then a newline.
+template <class Json>
+std::string JsonFileText(const Json& json, int indent = 2) {
+  return JsonText(json, indent) + "\n";
+}
 
 }  // namespace corridorsim

@@ -375,7 +375,7 @@ int RunEvaluate(const EvaluateRequest& request) {
       CheckExpectations(document, expectations, "estimates");
 
   const auto write_results = [&](const std::filesystem::path& out) {
-    WriteFileAtomic(out / "evaluation.json", document.dump(2) + "\n");
+    WriteFileAtomic(out / "evaluation.json", JsonFileText(document));
   };
   std::vector<RunExtra> extras;
   if (request.plots && !alignments.empty()) {

@@ -11,6 +11,7 @@
 #include <cstring>
 #include <thread>
 
+#include "common/io/stable_json.h"
 #include "common/io/yaml_reader.h"
 #include "harness/external/protocol.h"
 
@@ -139,7 +140,7 @@ std::string ProgramConnection::WhyGone(const std::string& what) {
 
 void ProgramConnection::Send(const nlohmann::ordered_json& json, std::string_view blob, int fd,
                              std::chrono::duration<double> timeout) {
-  const std::string text = json.dump();
+  const std::string text = JsonText(json);
   const std::string header = EncodeHeader(text.size(), blob.size());
   const std::string_view parts[3] = {header, text, blob};
   const Clock::time_point deadline = DeadlineAfter(timeout);

@@ -16,6 +16,7 @@
 #include "common/io/child_process.h"
 #include "common/io/options_yaml.h"
 #include "common/io/sha256.h"
+#include "common/io/stable_json.h"
 #include "common/io/yaml_reader.h"
 #include "harness/external/protocol.h"
 
@@ -104,7 +105,7 @@ void ParsePassThrough(YamlMap& map, ExternalPipelineOptions& o) {
 }
 
 void EchoPassThrough(const ExternalPipelineOptions& o, OptionsYamlWriter& out) {
-  out.Scalar("options", o.options.dump());  // JSON is YAML's flow style: typed as it was read
+  out.Scalar("options", JsonText(o.options));  // JSON is YAML's flow style: typed as it was read
 }
 
 std::vector<OptionDocRow> PassThroughDocRows(const ExternalPipelineOptions&) {

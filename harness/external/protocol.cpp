@@ -8,6 +8,7 @@
 
 #include "common/io/camera_json.h"
 #include "common/io/json_input.h"
+#include "common/io/stable_json.h"
 #include "common/io/yaml_reader.h"
 #include "harness/external/reply_keys.h"
 
@@ -19,7 +20,7 @@ namespace {
 }
 
 // A JSON value's text for a message: short and printable.
-std::string Excerpt(const nlohmann::json& value) { return InputExcerpt(value.dump(), 80); }
+std::string Excerpt(const nlohmann::json& value) { return InputExcerpt(JsonText(value), 80); }
 
 const nlohmann::json* Find(const nlohmann::json& object, const char* key) {
   const auto it = object.find(key);

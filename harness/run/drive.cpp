@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "common/io/atomic_file.h"
+#include "common/io/stable_json.h"
 #include "common/wheel_odometry_model.h"
 #include "harness/run/frame_writer.h"
 #include "harness/run/progress.h"
@@ -116,11 +117,10 @@ void RunDrive(const DriveRequest& request) {
   WriteFileAtomic(out / "odometry.tum", odometry.tum());
   WriteFileAtomic(out / "odometry.csv", odometry.csv());
   WriteFileAtomic(out / "events.json", events.Json(setup.seed(), simulation.now_ns()));
-  WriteFileAtomic(out / "provenance.json",
-                  ProvenanceJson(scenario.file, ResolvedScenarioYaml(scenario, setup.seed()),
-                                 setup.seed(), setup.backend(), scenario.plugins)
-                          .dump(2) +
-                      "\n");
+  WriteFileAtomic(
+      out / "provenance.json",
+      JsonFileText(ProvenanceJson(scenario.file, ResolvedScenarioYaml(scenario, setup.seed()),
+                                  setup.seed(), setup.backend(), scenario.plugins)));
   if (frames) frames->Finish();
   folder->Commit();
 

@@ -161,7 +161,7 @@ void DatasetExporter::AddFrame(const sim::CameraMessage& message, const std::str
   truth["frame_index"] = message.frame_index;
   const nlohmann::ordered_json frame_truth = render::FrameTruthJson(message.truth);
   for (const auto& [key, value] : frame_truth.items()) truth[key] = value;
-  WriteFileAtomic(dir_ / labels_dir / (StampName(t) + ".json"), truth.dump(1) + "\n");
+  WriteFileAtomic(dir_ / labels_dir / (StampName(t) + ".json"), JsonFileText(truth, 1));
 
   // Door plates: the cameras that read them (front, lateral).
   if (camera.layout == Layout::kTumRgbd || camera.layout == Layout::kEurocCam1) {
@@ -379,7 +379,7 @@ void DatasetExporter::FinishCoco() const {
   coco["categories"] = nlohmann::ordered_json::array(
       {{{"id", kDoorPlateCategory}, {"name", "door_plate"}, {"supercategory", "sign"}}});
   MakeDir("coco");
-  WriteFileAtomic(dir_ / "coco" / "plates.json", coco.dump(1) + "\n");
+  WriteFileAtomic(dir_ / "coco" / "plates.json", JsonFileText(coco, 1));
 }
 
 }  // namespace corridorsim

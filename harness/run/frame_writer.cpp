@@ -4,6 +4,7 @@
 #include <string>
 
 #include "common/io/atomic_file.h"
+#include "common/io/stable_json.h"
 #include "harness/run/frame_io.h"
 #include "worlds/image_io.h"
 
@@ -22,7 +23,7 @@ FrameWriter::FrameWriter(const std::filesystem::path& dir, const render::RigOpti
     intrinsics[options.id] = IntrinsicsJson(options);
     cameras_.push_back(std::move(camera));
   }
-  WriteFileAtomic(dir / "intrinsics.json", intrinsics.dump(2) + "\n");
+  WriteFileAtomic(dir / "intrinsics.json", JsonFileText(intrinsics));
 }
 
 void FrameWriter::OnCameraSet(const CameraSet& set) {
@@ -53,7 +54,7 @@ void FrameWriter::OnCameraSet(const CameraSet& set) {
 
 void FrameWriter::Finish() const {
   for (const Camera& camera : cameras_) {
-    WriteFileAtomic(camera.dir / "frames.json", camera.truth.dump(1) + "\n");
+    WriteFileAtomic(camera.dir / "frames.json", JsonFileText(camera.truth, 1));
   }
 }
 

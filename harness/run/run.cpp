@@ -16,6 +16,7 @@
 
 #include "common/error.h"
 #include "common/io/atomic_file.h"
+#include "common/io/stable_json.h"
 #include "harness/run/async_consumer.h"
 #include "harness/run/export_consumer.h"
 #include "harness/run/frame_keeper.h"
@@ -193,7 +194,9 @@ int RunScenario(const RunRequest& request) {
         {"export_wait", export_wait_seconds},
         {"plots", plot_seconds},
         {"viewer", viewer_seconds}};
-    return timing.dump(2) + "\n";
+    nlohmann::ordered_json rounded = timing;
+    RoundNumbers(rounded, json_steps::kSeconds);
+    return JsonFileText(rounded);
   };
 
   // Results first (committed as one folder), then the extras: a failing extra costs only itself.

@@ -9,6 +9,7 @@
 #include "common/installation.h"
 #include "common/io/atomic_file.h"
 #include "common/io/child_process.h"
+#include "common/io/stable_json.h"
 #include "common/io/yaml_reader.h"
 #include "harness/run/provenance.h"
 #include "harness/run/run.h"
@@ -75,11 +76,9 @@ void WriteRunFolder(const std::filesystem::path& out, const Scenario& scenario, 
   const std::string scenario_yaml = ResolvedScenarioYaml(scenario, seed);
   WriteFileAtomic(out / "scenario.yaml", scenario_yaml);
   WriteFileAtomic(out / "provenance.json",
-                  ProvenanceJson(scenario.file, scenario_yaml, seed, backend, scenario.plugins,
-                                 ExternalProgramsJson(scenario))
-                          .dump(2) +
-                      "\n");
-  WriteFileAtomic(out / "world.json", worlds::GroundTruthJson(world).dump(2) + "\n");
+                  JsonFileText(ProvenanceJson(scenario.file, scenario_yaml, seed, backend,
+                                              scenario.plugins, ExternalProgramsJson(scenario))));
+  WriteFileAtomic(out / "world.json", JsonFileText(worlds::GroundTruthJson(world)));
   WriteFileAtomic(out / "ground_truth.tum", truth.PlanarTum());
   for (const PipelineRecord& record : pipelines.records()) {
     std::ostringstream tum, cov;
@@ -99,14 +98,14 @@ void WriteRunFolder(const std::filesystem::path& out, const Scenario& scenario, 
     }
     if (!record.landmarks.empty()) {
       WriteFileAtomic(out / (record.name + "_landmarks.json"),
-                      LandmarksJson(record.landmarks).dump(2) + "\n");
+                      JsonFileText(LandmarksJson(record.landmarks)));
     }
     if (!record.detections.empty()) {
       WriteFileAtomic(out / (record.name + "_detections.csv"), DetectionsCsv(record.detections));
     }
     if (!record.log.empty()) WriteFileAtomic(out / (record.name + ".log"), record.log);
   }
-  WriteFileAtomic(out / "metrics.json", metrics.dump(2) + "\n");
+  WriteFileAtomic(out / "metrics.json", JsonFileText(metrics));
   WriteFileAtomic(out / "events.json", events_json);
 }
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "common/io/outside_text.h"
 #include "common/io/stable_json.h"
 #include "worlds/world.h"
 
@@ -16,7 +17,7 @@ constexpr double kSlipStepsPerM = 1e9;  // slips are often far below a micrometr
 
 nlohmann::ordered_json EventJson(const sim::Event& e) {
   nlohmann::ordered_json j;
-  j["t"] = ToSeconds(e.stamp_ns);
+  j["t"] = RoundToStep(ToSeconds(e.stamp_ns), json_steps::kSeconds);  // t_ns is exact
   j["t_ns"] = e.stamp_ns;
   j["type"] = sim::EventKindName(e.kind);
   switch (e.kind) {
@@ -127,8 +128,9 @@ std::string DetectionsCsv(const std::vector<slam::Detection>& detections) {
                    : "") +
            ",";
     csv += (d.type == slam::LandmarkType::kLamp ? CsvNumber(d.radius_px, 4) : "") + ",";
-    // Labels are room numbers (digits); anything else is quoted as CSV requires.
-    std::string label = d.label;
+    // Labels are room numbers (digits); anything else is quoted as CSV requires, and a plugin's
+    // bytes that are not UTF-8 become U+FFFD (the file stays text for every reader).
+    std::string label = ValidUtf8(d.label);
     if (label.find_first_of(",\"\n\r") != std::string::npos) {
       std::string quoted = "\"";
       for (const char c : label) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);

@@ -10,6 +10,7 @@
 
 #include "common/error.h"
 #include "common/io/atomic_file.h"
+#include "common/io/stable_json.h"
 #include "common/pose.h"
 #include "harness/run/frame_io.h"
 #include "harness/run/run_folder.h"
@@ -98,8 +99,8 @@ void RunSnapshot(const SnapshotRequest& request) {
                 frame.rgb.width, frame.rgb.height, truth.plates.size(), truth.lamps.size(),
                 truth.doors.size(), truth.corners.size(), options.depth ? ", depth" : "");
   }
-  WriteFileAtomic(dir / "frame_ground_truth.json", truth_json.dump(2) + "\n");
-  WriteFileAtomic(dir / "intrinsics.json", intrinsics.dump(2) + "\n");
+  WriteFileAtomic(dir / "frame_ground_truth.json", JsonFileText(truth_json));
+  WriteFileAtomic(dir / "intrinsics.json", JsonFileText(intrinsics));
   folder->Commit();
   std::printf("wrote %s\n", folder->path().string().c_str());
 }

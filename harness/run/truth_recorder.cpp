@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "common/error.h"
+#include "common/io/stable_json.h"
 #include "harness/run/run_io.h"
 
 namespace corridorsim {
@@ -65,7 +66,7 @@ void EventLog::OnEvent(const sim::Event& event) {
 void EventLog::AddPipelineFailure(TimeNs stamp_ns, const std::string& pipeline,
                                   const std::string& call, const std::string& what) {
   nlohmann::ordered_json j;
-  j["t"] = ToSeconds(stamp_ns);
+  j["t"] = RoundToStep(ToSeconds(stamp_ns), json_steps::kSeconds);
   j["t_ns"] = stamp_ns;
   j["type"] = "pipeline_failed";
   j["pipeline"] = pipeline;
@@ -81,10 +82,10 @@ int EventLog::count(sim::EventKind kind) const {
 std::string EventLog::Json(std::uint64_t seed, TimeNs duration_ns) const {
   nlohmann::ordered_json j;
   j["seed"] = seed;
-  j["duration_s"] = ToSeconds(duration_ns);
+  j["duration_s"] = RoundToStep(ToSeconds(duration_ns), json_steps::kSeconds);
   if (failures_.empty()) {
     j["events"] = events_;
-    return j.dump(2) + "\n";
+    return JsonFileText(j);
   }
   // The failures among the simulation's events by stamp: stable, so equal stamps keep the
   // simulation's events first and the failures in the order they were added (scenario order).
@@ -100,7 +101,7 @@ std::string EventLog::Json(std::uint64_t seed, TimeNs duration_ns) const {
   }
   while (f < failures.size()) merged.push_back(failures[f++].second);
   j["events"] = std::move(merged);
-  return j.dump(2) + "\n";
+  return JsonFileText(j);
 }
 
 }  // namespace corridorsim

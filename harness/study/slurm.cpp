@@ -13,6 +13,7 @@
 #include "common/error.h"
 #include "common/io/atomic_file.h"
 #include "common/io/child_process.h"
+#include "common/io/stable_json.h"
 #include "harness/run/run_folder.h"
 #include "harness/study/study.h"
 #include "harness/study/study_internal.h"
@@ -277,7 +278,7 @@ int WriteSlurmStudy(const StudyRequest& request) {
   if (!merge_id) return 1;
   WriteFileAtomic(
       slurm_dir / "jobs.json",
-      json{{"array_job", *array_id}, {"merge_job", *merge_id}, {"tasks", tasks}}.dump(2) + "\n");
+      JsonFileText(json{{"array_job", *array_id}, {"merge_job", *merge_id}, {"tasks", tasks}}));
   std::printf(
       "study --slurm: submitted array job %s and merge job %s; the summary appears in %s "
       "when the merge job ends (squeue -j %s,%s)\n",

@@ -21,6 +21,7 @@
 #include "common/io/atomic_file.h"
 #include "common/io/child_process.h"
 #include "common/io/sha256.h"
+#include "common/io/stable_json.h"
 #include "harness/run/provenance.h"
 #include "harness/run/run.h"
 #include "harness/run/run_folder.h"
@@ -111,7 +112,7 @@ json PlanJson(const StudySpec& spec, const std::vector<std::string>& point_yaml)
     if (by_pipeline.is_null()) continue;
     for (const auto& [name, fingerprint] : by_pipeline.items()) {
       json entry = {{"pipeline", name}, {"program", fingerprint}};
-      if (seen_programs.insert(entry.dump()).second) programs.push_back(std::move(entry));
+      if (seen_programs.insert(JsonText(entry)).second) programs.push_back(std::move(entry));
     }
   }
   if (!programs.empty()) plan["external_programs"] = std::move(programs);
@@ -498,7 +499,7 @@ int FinishStudy(const StudySpec& spec, const fs::path& dir, const StudyRequest& 
   stop_here();
   const StudySummary summary = SummarizeStudy(spec, records);
   stop_here();
-  WriteFileAtomic(dir / "summary.json", summary.json.dump(2) + "\n");
+  WriteFileAtomic(dir / "summary.json", JsonFileText(summary.json));
   WriteFileAtomic(dir / "summary.csv", summary.csv);
   WriteFileAtomic(dir / "paired.csv", summary.paired_csv);
   WriteFileAtomic(dir / "report.md",
@@ -519,7 +520,8 @@ int FinishStudy(const StudySpec& spec, const fs::path& dir, const StudyRequest& 
     stop_here();  // forwarded to python3, which ended
     timing["report_seconds"] = Seconds(t_report);
   }
-  WriteFileAtomic(dir / "timing.json", timing.dump(2) + "\n");
+  RoundNumbers(timing, json_steps::kSeconds);
+  WriteFileAtomic(dir / "timing.json", JsonFileText(timing));
 
   std::printf("\nstudy: %zu point(s) x %d seed(s)\n", spec.points.size(), spec.runs);
   for (const json& point : summary.json["points"]) {
@@ -631,7 +633,7 @@ PreparedStudy PrepareStudy(const StudyRequest& request) {
   for (const StudyPoint& point : spec.points) {
     point_yaml.push_back(ResolvedScenarioYaml(point.scenario, spec.first_seed));
   }
-  const std::string plan_text = PlanJson(spec, point_yaml).dump(2) + "\n";
+  const std::string plan_text = JsonFileText(PlanJson(spec, point_yaml));
   p.dir = request.out_dir;
   RefuseOutputOverInputs(p.dir, "--out", StudyInputs(spec));
   PrepareFolder(p.dir, plan_text, request.force, "--out");
@@ -642,9 +644,8 @@ PreparedStudy PrepareStudy(const StudyRequest& request) {
     WriteFileAtomic(file, point_yaml[i]);
   }
   if (request.shard_count > 1) {
-    WriteFileAtomic(
-        p.dir / "shard.json",
-        json{{"shard", request.shard_index + 1}, {"of", request.shard_count}}.dump(2) + "\n");
+    WriteFileAtomic(p.dir / "shard.json", JsonFileText(json{{"shard", request.shard_index + 1},
+                                                            {"of", request.shard_count}}));
   }
   // The runs of this shard (run k of the plan belongs to shard k mod N) not finished yet.
   long index = 0;
@@ -715,7 +716,7 @@ json RecordRun(const StudySpec& spec, const fs::path& dir, const PlannedRun& run
                  {"signal", status.signal},
                  {"wall_seconds", elapsed},
                  {"peak_rss_mib", peak_rss_mib}};
-  WriteFileAtomic(StatusFile(dir, id, run.seed), record.dump(2) + "\n");
+  WriteFileAtomic(StatusFile(dir, id, run.seed), JsonFileText(record));
   return record;
 }
 

@@ -8,6 +8,9 @@
 #include <cstring>
 #include <fstream>
 #include <memory>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -90,6 +93,64 @@ std::string Xml(const std::string& text, bool attribute = false) {
     }
   }
   return out;
+}
+
+// True when `path` can stand in `[[ATTACHMENT|path]]` as exactly one attachment: UTF-8 without
+// control characters, and none of `[`, `]` and `|`, which the CI systems' pattern
+// (`\[\[ATTACHMENT\|(.+?)\]\]`) would read as the end of this attachment or the start of another.
+bool AttachmentPathIsSafe(const std::string& path) {
+  if (path.empty()) return false;
+  for (std::size_t i = 0; i < path.size();) {
+    const auto u = static_cast<unsigned char>(path[i]);
+    if (u < 0x20 || u == 0x7F || u == '[' || u == ']' || u == '|') return false;
+    const std::size_t n = Utf8Length(path, i);
+    if (n == 0) return false;
+    i += n;
+  }
+  return true;
+}
+
+// A file's stem as the name of its folder and log under --out: a byte that is not part of a
+// UTF-8 character, a control character and `[`, `]`, `|` each become `_`, so that the paths
+// the report attaches are whatever the stem holds (AttachmentPathIsSafe).
+std::string SuiteFolderName(const std::string& stem) {
+  std::string out;
+  for (std::size_t i = 0; i < stem.size();) {
+    const auto u = static_cast<unsigned char>(stem[i]);
+    const std::size_t n = Utf8Length(stem, i);
+    if (n == 0 || u < 0x20 || u == 0x7F || u == '[' || u == ']' || u == '|') {
+      out += '_';
+      i += n == 0 ? 1 : n;
+    } else {
+      out.append(stem, i, n);
+      i += n;
+    }
+  }
+  return out;
+}
+
+// The failed pipelines of a run's events.json, each with its reason ("failed at t = 25.000 s:
+// OnOdometry threw: ..." cut to a bounded excerpt), in the file's order; empty when it holds none
+// or cannot be read (the log's tail still holds the reasons).
+std::vector<std::pair<std::string, std::string>> PipelineFailures(const fs::path& events_file) {
+  constexpr std::size_t kMaxReasonBytes = 600;
+  constexpr std::size_t kMaxReasons = 8;
+  std::vector<std::pair<std::string, std::string>> failures;
+  try {
+    const json events = json::parse(ReadRegularFile(events_file, kMaxResultBytes));
+    for (const json& e : events.at("events")) {
+      if (e.value("type", "") != "pipeline_failed") continue;
+      if (failures.size() == kMaxReasons) break;
+      char t[32];
+      std::snprintf(t, sizeof t, "%.3f", e.value("t", 0.0));
+      failures.emplace_back(e.value("pipeline", ""),
+                            std::string("failed at t = ") + t + " s: " + e.value("call", "") +
+                                " threw: " + InputExcerpt(e.value("reason", ""), kMaxReasonBytes));
+    }
+  } catch (const std::exception&) {
+    return {};
+  }
+  return failures;
 }
 
 std::string Seconds3(double s) {
@@ -179,7 +240,9 @@ std::string JunitXml(const std::vector<SuiteFile>& files) {
         xml += "      <error message=\"" + Xml(c.message, true) + "\" type=\"run\">" +
                Xml(c.details) + "</error>\n";
       }
-      if (!c.attachment.empty()) {
+      // A path that cannot stand alone between the markers is left out: the failure's text
+      // still names it.
+      if (AttachmentPathIsSafe(c.attachment)) {
         xml += "      <system-out>[[ATTACHMENT|" + Xml(c.attachment) + "]]</system-out>\n";
       }
       xml += "    </testcase>\n";
@@ -200,6 +263,7 @@ int RunTestSuite(const TestRequest& request) {
     SuiteFile f;
     f.file = file;
     f.name = fs::path(file).stem().string();
+    f.folder_name = SuiteFolderName(f.name);
     f.study = spec.has_section;
     files.push_back(std::move(f));
   }
@@ -231,8 +295,8 @@ int RunTestSuite(const TestRequest& request) {
     SuiteFile& f = files[i];
     char prefix[32];
     std::snprintf(prefix, sizeof prefix, "%03zu_", i);
-    const fs::path folder = request.out_dir / (prefix + f.name);
-    const fs::path log = request.out_dir / (prefix + f.name + ".log");
+    const fs::path folder = request.out_dir / (prefix + f.folder_name);
+    const fs::path log = request.out_dir / (prefix + f.folder_name + ".log");
     std::vector<std::string> argv = {program,     f.study ? "study" : "run", f.file,
                                      "--out",     folder.string(),           "--force",
                                      "--no-plots"};
@@ -242,7 +306,10 @@ int RunTestSuite(const TestRequest& request) {
     const Clock::time_point start = Clock::now();
     const ChildStatus status = RunLogged(argv, log);
     f.seconds = std::chrono::duration<double>(Clock::now() - start).count();
-    const std::string classname = "corridorsim." + f.name;
+    // A dot in the stem would add a level to the CI system's package tree: `_` instead.
+    std::string stem = f.name;
+    std::replace(stem.begin(), stem.end(), '.', '_');
+    const std::string classname = "corridorsim." + stem;
     const auto error_case = [&](const std::string& name, const std::string& message) {
       SuiteCase c;
       c.classname = classname;
@@ -280,12 +347,20 @@ int RunTestSuite(const TestRequest& request) {
       code = code == 0 || code == 3 ? 1 : code;
       continue;
     }
+    const std::vector<std::pair<std::string, std::string>> failures =
+        f.study ? std::vector<std::pair<std::string, std::string>>{}
+                : PipelineFailures(folder / "events.json");
     if (!f.study && status.exit_code == kExitPipelineFailed) {
       // A pipeline failed (its reasons are in the log's tail): an error case of its own, beside
       // its expectations, which fail on its missing metrics.
+      std::string reasons;
+      for (const auto& [pipeline, reason] : failures) {
+        reasons += (reasons.empty() ? "'" : "; '") + pipeline + "' " + reason;
+      }
       error_case("pipeline failed", "corridorsim run " + DescribeChildStatus(status) +
-                                        ": a pipeline failed (events.json, log: " + log.string() +
-                                        ")");
+                                        ": a pipeline failed" +
+                                        (reasons.empty() ? "" : ": " + reasons) +
+                                        " (events.json, log: " + log.string() + ")");
       code = code == 0 || code == 3 ? 1 : code;
     }
     // What a CI system shows beside the case ([[ATTACHMENT|...]]): the page that answers "what
@@ -313,7 +388,13 @@ int RunTestSuite(const TestRequest& request) {
         add("run finishes", true, "");
       }
       for (const json& e : expectations) {
-        add(e.value("text", ""), e.value("passed", false), Measured(e["measured"]));
+        // An expectation on a failed pipeline measured nothing: the message says why.
+        const std::string text = e.value("text", "");
+        std::string measured = Measured(e["measured"]);
+        for (const auto& [pipeline, reason] : failures) {
+          if (text.rfind(pipeline + ".", 0) == 0) measured += " (" + pipeline + " " + reason + ")";
+        }
+        add(text, e.value("passed", false), measured);
       }
     } else {
       std::size_t count = 0;

@@ -31,7 +31,8 @@ struct SuiteCase {
 
 struct SuiteFile {
   std::string file;
-  std::string name;  // the suite's name: the file's stem
+  std::string name;         // the suite's name: the file's stem
+  std::string folder_name;  // its folder and log under --out: the stem made safe to attach
   bool study = false;
   double seconds = 0.0;
   std::vector<SuiteCase> cases;
@@ -39,7 +40,8 @@ struct SuiteFile {
 
 /// The JUnit XML document of `files` (testsuites > testsuite per file > testcase per
 /// expectation; failures carry the measured value and the threshold, system-out the folder as
-/// `[[ATTACHMENT|path]]`).
+/// `[[ATTACHMENT|path]]` when the path holds no `[`, `]`, `|` or control character). Every text
+/// is escaped and made XML 1.0 characters (docs/ci.md): nothing in a name changes the structure.
 std::string JunitXml(const std::vector<SuiteFile>& files);
 
 /// Runs the suite; returns 0 when every case passed, 3 when an expectation failed, 1 when a run

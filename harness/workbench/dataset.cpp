@@ -472,7 +472,7 @@ void WriteDatasetAnnotations(const fs::path& dir, const std::string& camera, int
     }
   }
   coco["categories"] = DatasetCategoriesJson();
-  WriteFileAtomic(dir / camera / "annotations.json", coco.dump(1) + "\n");
+  WriteFileAtomic(dir / camera / "annotations.json", JsonFileText(coco, 1));
 }
 
 namespace {
@@ -502,7 +502,7 @@ std::string ManifestJson(const Scenario& scenario, std::uint64_t seed,
                  {"gl_version", info.version},
                  {"GALLIVM_PERF", gallivm_perf ? Json(gallivm_perf) : Json(nullptr)}};
   j["categories"] = DatasetCategoriesJson();
-  return j.dump(2) + "\n";
+  return JsonFileText(j);
 }
 
 // The first top-level key whose value differs between two manifests, for the refusal message.
@@ -753,7 +753,7 @@ int RunDataset(const DatasetRequest& request) {
     if (!c.enabled) continue;
     for (const char* sub : {"images", "labels", "truth"}) fs::create_directories(dir / c.id / sub);
     if (c.depth) fs::create_directories(dir / c.id / "depth");
-    WriteFileAtomic(dir / c.id / "intrinsics.json", IntrinsicsJson(c).dump(2) + "\n");
+    WriteFileAtomic(dir / c.id / "intrinsics.json", JsonFileText(IntrinsicsJson(c)));
   }
 
   DatasetProgress progress(n_worlds, n_frames);
@@ -768,7 +768,7 @@ int RunDataset(const DatasetRequest& request) {
     if (!fs::exists(world_dir / "ground_truth.json")) {
       fs::create_directories(world_dir);
       WriteFileAtomic(world_dir / "ground_truth.json",
-                      worlds::GroundTruthJson(world->world()).dump(2) + "\n");
+                      JsonFileText(worlds::GroundTruthJson(world->world())));
     }
     for (int f = 0; f < n_frames; ++f) {
       const std::string stem = DatasetFrameStem(w, f, n_worlds, n_frames);
@@ -789,7 +789,7 @@ int RunDataset(const DatasetRequest& request) {
                             EncodeDepth(image.noisy_depth_m, image.camera_id + " depth " + stem));
           }
           // Written last: its presence marks the frame done.
-          WriteFileAtomic(camera_dir / "truth" / (stem + ".json"), frame.truth.dump(1) + "\n");
+          WriteFileAtomic(camera_dir / "truth" / (stem + ".json"), JsonFileText(frame.truth, 1));
         }
         ++rendered;
       }

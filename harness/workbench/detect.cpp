@@ -489,9 +489,7 @@ void RunDetectJob(const DetectRequest& request) {
     WriteFileAtomic(*request.overlay_file,
                     EncodePng(overlay, request.overlay_file->filename().string()));
   }
-  std::fputs(
-      (doc.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n").c_str(),
-      stdout);
+  std::fputs(JsonFileText(doc).c_str(), stdout);
 }
 
 }  // namespace corridorsim

@@ -754,8 +754,7 @@ int RunScore(const ScoreRequest& request) {
   report["expectations"] = std::move(checks);
 
   if (folder) {
-    WriteFileAtomic(folder->path() / "score.json",
-                    report.dump(2, ' ', false, Json::error_handler_t::replace) + "\n");
+    WriteFileAtomic(folder->path() / "score.json", JsonFileText(report));
     WriteFileAtomic(folder->path() / "score.png", ScorePng(classes));
     folder->Commit();
     std::printf("wrote %s/{score.json, score.png}\n", folder->path().string().c_str());

@@ -811,8 +811,7 @@ int RunTrainDetectors(const TrainDetectorsRequest& request) {
   std::printf("wrote %s/{%s, %s}\n", request.out_dir.string().c_str(), slam::kDoorPlateSvmFile,
               slam::kRoomNumberMlpFile);
   if (report) {
-    WriteFileAtomic(report->path() / "training_report.json",
-                    result.report.dump(2, ' ', false, Json::error_handler_t::replace) + "\n");
+    WriteFileAtomic(report->path() / "training_report.json", JsonFileText(result.report));
     WriteFileAtomic(report->path() / "training_report.png",
                     EncodePng(result.report_image, "training_report.png"));
     report->Commit();

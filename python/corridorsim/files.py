@@ -88,6 +88,19 @@ class JsonArray(list):
     line = None
 
 
+def no_json_constant(name):
+    """json's parse_constant: NaN and Infinity are not JSON (the project writes null)."""
+    raise ValueError(f"{name} is not JSON")
+
+
+def finite_float(text):
+    """json's parse_float: a number that overflows a double (1e999) is refused, not infinity."""
+    value = float(text)
+    if not math.isfinite(value):
+        raise ValueError(f"{text[:40]} is not a finite number")
+    return value
+
+
 def load_json(path, top="object", max_bytes=None):
     """Parses a JSON file into JsonObject/JsonArray values that know their line numbers; the top
     level must be a JSON `top` ('object' or 'array')."""
@@ -110,7 +123,7 @@ def load_json(path, top="object", max_bytes=None):
         return out, end
 
     # The pure-Python scanner lets us hook object and array parsing (the C one does not).
-    decoder = json.JSONDecoder()
+    decoder = json.JSONDecoder(parse_float=finite_float, parse_constant=no_json_constant)
     decoder.parse_object = parse_object
     decoder.parse_array = parse_array
     decoder.scan_once = json.scanner.py_make_scanner(decoder)
@@ -118,6 +131,10 @@ def load_json(path, top="object", max_bytes=None):
         root = decoder.decode(text)
     except json.JSONDecodeError as e:
         raise InputError(path, e.lineno, f"column {e.colno}: invalid JSON: {e.msg}") from None
+    except RecursionError:
+        raise InputError(path, None, "invalid JSON: nested too deeply") from None
+    except ValueError as e:  # a non-finite number, or an integer of thousands of digits
+        raise InputError(path, None, f"invalid JSON: {e}") from None
     if not isinstance(root, dict if top == "object" else list):
         raise InputError(path, 1, f"the top level is not a JSON {top}")
     return root
@@ -843,14 +860,11 @@ def read_nis(path):
 
 def load_json_fast(path, top="object", max_bytes=MAX_JSON_BYTES):
     """json.loads of a file of at most `max_bytes` (C parser: for large files; values do not know
-    their lines, a syntax error names its line). NaN and Infinity literals are refused."""
+    their lines, a syntax error names its line). NaN and Infinity literals, and numbers beyond a
+    double (1e999), are refused."""
     text = read_text(path, max_bytes)
-
-    def no_constant(name):
-        raise ValueError(f"{name} is not JSON")
-
     try:
-        root = json.loads(text, parse_constant=no_constant)
+        root = json.loads(text, parse_constant=no_json_constant, parse_float=finite_float)
     except json.JSONDecodeError as e:
         raise InputError(path, e.lineno, f"column {e.colno}: invalid JSON: {e.msg}") from None
     except (ValueError, RecursionError) as e:

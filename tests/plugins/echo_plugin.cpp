@@ -29,6 +29,9 @@ struct EchoOptions {
   bool read_upward = false;
   // With read_upward: every frame's detections hold a lamp without a radius (malformed).
   bool bad_detection = false;
+  // The exception's message ends in a byte that is not UTF-8 and markup (Latin-1 "caf\xE9",
+  // "<!--<script>"): text from outside (tests/harness/cli_outside_text_test.py).
+  bool latin1_message = false;
   std::optional<corridorsim::OptionsProblem> Check() const;
 };
 
@@ -42,6 +45,8 @@ const corridorsim::OptionTable<EchoOptions>& EchoOptionsTable() {
           "read the upward camera; throw_after_s then applies to OnCamera");
     t.Add("bad_detection", &EchoOptions::bad_detection, "",
           "report a malformed lamp detection (no radius) in every frame");
+    t.Add("latin1_message", &EchoOptions::latin1_message, "",
+          "the exception's message ends in a Latin-1 byte and markup");
   });
 }
 
@@ -85,7 +90,8 @@ class EchoPipeline : public corridorsim::slam::Pipeline {
 #if defined(TEST_PLUGIN_VARIANT) && TEST_PLUGIN_VARIANT == 8
       std::_Exit(0);  // ends the whole process, reporting success (harness/cli/supervisor.h)
 #endif
-      throw std::runtime_error("test_echo: the wheels went out of sync");
+      throw std::runtime_error(std::string("test_echo: the wheels went out of sync") +
+                               (options_.latin1_message ? " (caf\xE9 <!--<script>)" : ""));
     }
     estimate_.world_from_robot = corridorsim::ApplyWheelOdometry(
         estimate_.world_from_robot, options_.scale * odometry.left_distance_m,

@@ -29,7 +29,8 @@ function fill(template, js, data) {
     "/*CORRIDORSIM_VIEWER_CSS*/": read(path.join(VIEWER, "viewer.css")),
     "/*CORRIDORSIM_UPLOT_JS*/": safe(read(path.join(UPLOT, "uPlot.iife.min.js"))),
     [js === "viewer.js" ? "/*CORRIDORSIM_VIEWER_JS*/" : "/*CORRIDORSIM_REPORT_JS*/"]: safe(read(path.join(VIEWER, js))),
-    CORRIDORSIM_DATA_JSON: safe(JSON.stringify(data)),
+    // as make_viewer.py's json_in_script: no string can end the element or escape it
+    CORRIDORSIM_DATA_JSON: JSON.stringify(data).replace(/</g, "\\u003c").replace(/>/g, "\\u003e").replace(/&/g, "\\u0026"),
     CORRIDORSIM_TITLE: "odd data",
   };
   // one pass, in the template's order, so nothing inserted is searched again

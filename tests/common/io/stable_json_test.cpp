@@ -39,6 +39,29 @@ TEST_CASE("vectors are arrays of rounded components", "[stable_json]") {
         "[0.5,0.25,1.2346]");
 }
 
+TEST_CASE("text that is not UTF-8 is written with U+FFFD, not thrown at", "[stable_json]") {
+  // An external program's Latin-1 output, a plugin's message, a file name: in values and keys.
+  nlohmann::ordered_json j;
+  j["reason"] = std::string("error: caf\xE9 \xFF\xFE end");
+  j[std::string("file_\xE9")] = 1;
+  j["ok"] = "\xE5\xA4\xB1 \x01";
+  CHECK_THROWS(j.dump());  // what a plain dump does after all the work
+  const std::string fffd = "\xEF\xBF\xBD";
+  CHECK(JsonText(j) == "{\"reason\":\"error: caf" + fffd + " " + fffd + fffd + " end\",\"file_" +
+                           fffd + "\":1,\"ok\":\"\xE5\xA4\xB1 \\u0001\"}");
+  CHECK(JsonFileText(nlohmann::json{{"a", "\xE9"}}) == "{\n  \"a\": \"" + fffd + "\"\n}\n");
+  // Valid text is unchanged: the same bytes as dump().
+  const nlohmann::ordered_json valid = {{"name", "\xE5\xA4\xB1 <!--<script>"}, {"x", 0.5}};
+  CHECK(JsonFileText(valid) == valid.dump(2) + "\n");
+}
+
+TEST_CASE("RoundNumbers rounds every number of a document", "[stable_json]") {
+  nlohmann::ordered_json j = {
+      {"a", 0.1 + 0.2}, {"b", {{"c", 30.000000000000004}, {"d", {1.0000004, 7}}}}, {"text", "x"}};
+  RoundNumbers(j, json_steps::kSeconds);
+  CHECK(j.dump() == "{\"a\":0.3,\"b\":{\"c\":30.0,\"d\":[1.0,7]},\"text\":\"x\"}");
+}
+
 TEST_CASE("poses are t in metres and q = [qx, qy, qz, qw] with qw >= 0", "[stable_json]") {
   // A half turn and a bit about z: Eigen's quaternion for it may carry either sign; the JSON has
   // qw >= 0 and the same rotation.

@@ -390,6 +390,34 @@ TEST_CASE("the JUnit report is XML 1.0 text whatever bytes its names and logs ho
   CHECK(test::Contains(xml, "message=\"a run of the study failed (" + fffd + fffd + "\""));
 }
 
+TEST_CASE("no path adds or cuts an attachment of the JUnit report", "[study]") {
+  // `[[ATTACHMENT|path]]` is read by pattern: a path holding `[`, `]`, `|` or a control
+  // character is left out (its case still names it); every other path is attached once.
+  SuiteFile f;
+  f.file = "x.yaml";
+  f.name = "x";
+  SuiteCase c;
+  c.classname = "corridorsim.x";
+  c.name = "odometry.ate_rmse_m < 1";
+  for (const std::string path :
+       {std::string("/out/000_x]] [[ATTACHMENT|secrets.txt]] [[y/viewer.html"),
+        std::string("/out/a|b/viewer.html"), std::string("/out/a]/viewer.html"),
+        std::string("/out/line\nbreak/viewer.html"), std::string("/out/caf\xE9/viewer.html"),
+        std::string("/out/000_caf\xC3\xA9 (1)/viewer.html")}) {
+    c.attachment = path;
+    f.cases.push_back(c);
+  }
+  const std::string xml = JunitXml({f});
+  std::size_t markers = 0;
+  for (std::size_t at = xml.find("[[ATTACHMENT|"); at != std::string::npos;
+       at = xml.find("[[ATTACHMENT|", at + 1)) {
+    ++markers;
+  }
+  CHECK(markers == 1);
+  CHECK(test::Contains(xml, "[[ATTACHMENT|/out/000_caf\xC3\xA9 (1)/viewer.html]]"));
+  CHECK_FALSE(test::Contains(xml, "secrets.txt]]"));
+}
+
 TEST_CASE("a scenario's baselines may diverge in a study; the key is the harness's", "[study]") {
   test::ScratchDir dir("study_baselines");
   // default.yaml marks dead reckoning and P1's Harris EKF as baselines, not P1's system.
