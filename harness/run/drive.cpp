@@ -72,7 +72,7 @@ class Odometer : public BusConsumer {
 }  // namespace
 
 void RunDrive(const DriveRequest& request) {
-  const Scenario scenario = LoadScenario(request.scenario_file);
+  const Scenario scenario = LoadScenario(request.scenario_file, request.settings);
   // Written into a staging folder that replaces --out whole at the end (harness/run/run_folder.h).
   const std::unique_ptr<StagedDirectory> folder =
       StageOutputFolder(request.out_dir, "--out", request.force);
@@ -118,7 +118,8 @@ void RunDrive(const DriveRequest& request) {
   WriteFileAtomic(out / "events.json", events.Json(setup.seed(), simulation.now_ns()));
   WriteFileAtomic(out / "provenance.json",
                   ProvenanceJson(scenario.file, ResolvedScenarioYaml(scenario, setup.seed()),
-                                 setup.seed(), setup.backend(), scenario.plugins)
+                                 setup.seed(), setup.backend(), scenario.plugins, {},
+                                 scenario.settings)
                           .dump(2) +
                       "\n");
   if (frames) frames->Finish();

@@ -76,7 +76,7 @@ void WriteRunFolder(const std::filesystem::path& out, const Scenario& scenario, 
   WriteFileAtomic(out / "scenario.yaml", scenario_yaml);
   WriteFileAtomic(out / "provenance.json",
                   ProvenanceJson(scenario.file, scenario_yaml, seed, backend, scenario.plugins,
-                                 ExternalProgramsJson(scenario))
+                                 ExternalProgramsJson(scenario), scenario.settings)
                           .dump(2) +
                       "\n");
   WriteFileAtomic(out / "world.json", worlds::GroundTruthJson(world).dump(2) + "\n");
