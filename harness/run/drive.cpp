@@ -116,12 +116,12 @@ void RunDrive(const DriveRequest& request) {
   WriteFileAtomic(out / "odometry.tum", odometry.tum());
   WriteFileAtomic(out / "odometry.csv", odometry.csv());
   WriteFileAtomic(out / "events.json", events.Json(setup.seed(), simulation.now_ns()));
-  WriteFileAtomic(out / "provenance.json",
-                  ProvenanceJson(scenario.file, ResolvedScenarioYaml(scenario, setup.seed()),
-                                 setup.seed(), setup.backend(), scenario.plugins, {},
-                                 scenario.settings)
-                          .dump(2) +
-                      "\n");
+  WriteFileAtomic(
+      out / "provenance.json",
+      ProvenanceJson(scenario.file, ResolvedScenarioYaml(scenario, setup.seed()), setup.seed(),
+                     setup.backend(), scenario.plugins, {}, scenario.settings)
+              .dump(2) +
+          "\n");
   if (frames) frames->Finish();
   folder->Commit();
 

@@ -16,8 +16,8 @@ struct JobRequest {
   // --set KEY=VALUE (harness/scenario/overrides.h): scenario keys applied after the file's
   // include chain, in order (a later one wins).
   std::vector<std::string> settings;
-  std::filesystem::path out_dir;      // the job's output folder
-  bool force = false;                 // --force: replace a non-empty output folder (whole)
+  std::filesystem::path out_dir;  // the job's output folder
+  bool force = false;             // --force: replace a non-empty output folder (whole)
 };
 
 }  // namespace corridorsim

@@ -34,8 +34,7 @@ std::string Join(const std::vector<std::string>& parts, std::size_t count) {
 Setting ParseSetting(const std::string& text) {
   const std::size_t equals = text.find('=');
   if (equals == std::string::npos) {
-    Fail("", "expected KEY=VALUE, e.g. --set duration_s=20 (got '" + InputExcerpt(text) +
-                 "')");
+    Fail("", "expected KEY=VALUE, e.g. --set duration_s=20 (got '" + InputExcerpt(text) + "')");
   }
   Setting setting;
   setting.key = text.substr(0, equals);
@@ -51,7 +50,8 @@ Setting ParseSetting(const std::string& text) {
   std::size_t start = 0;
   while (true) {
     const std::size_t dot = setting.key.find('.', start);
-    setting.parts.push_back(setting.key.substr(start, dot == std::string::npos ? dot : dot - start));
+    setting.parts.push_back(
+        setting.key.substr(start, dot == std::string::npos ? dot : dot - start));
     if (dot == std::string::npos) break;
     start = dot + 1;
   }
@@ -110,14 +110,15 @@ void SetBelow(YAML::Node node, const Setting& setting, std::size_t k) {
   const bool last = k + 1 == setting.parts.size();
   const std::string here = Join(setting.parts, k);
   if (IsIndex(part)) {
-    if (!node.IsSequence()) Fail(setting.key, "'" + here + "' is not a list: " + part + " is no key");
+    if (!node.IsSequence())
+      Fail(setting.key, "'" + here + "' is not a list: " + part + " is no key");
     std::size_t index = 0;
     const auto [end, error] = std::from_chars(part.data(), part.data() + part.size(), index);
     const std::size_t size = node.size();
     if (error != std::errc() || end != part.data() + part.size() || index > size ||
         index > kMaxSettingListIndex || (index == size && !last)) {
-      Fail(setting.key, "index " + InputExcerpt(part) + " is beyond the list '" + here +
-                            "' of " + std::to_string(size) + " item(s) (" +
+      Fail(setting.key, "index " + InputExcerpt(part) + " is beyond the list '" + here + "' of " +
+                            std::to_string(size) + " item(s) (" +
                             (size == 0 ? std::string("0") : "0 to " + std::to_string(size - 1)) +
                             ", or " + std::to_string(size) + " to append as the last part)");
     }
@@ -167,8 +168,9 @@ std::vector<YamlDocument> SettingDocuments(const std::vector<Setting>& settings,
       // The list that the index goes into, as the documents before this one leave it.
       const std::string list_key = Join(setting.parts, split);
       if (setting.parts.front() == "plugins") {
-        Fail(setting.key, "the lists of `plugins` add up over the include chain: add a library "
-                          "with --set plugins=[path]");
+        Fail(setting.key,
+             "the lists of `plugins` add up over the include chain: add a library "
+             "with --set plugins=[path]");
       }
       YAML::Node list(YAML::NodeType::Undefined);
       for (auto doc = docs.rbegin(); doc != docs.rend() && !list.IsDefined(); ++doc) {

@@ -23,7 +23,7 @@
 namespace corridorsim {
 
 struct Scenario {
-  std::string file;         // the file given on the command line
+  std::string file;  // the file given on the command line
   // `--set KEY=VALUE` as given, applied after the file's include chain (overrides.h); recorded
   // in provenance.json (the echo holds their values).
   std::vector<std::string> settings;

@@ -234,15 +234,15 @@ int RunTestSuite(const TestRequest& request) {
   std::vector<SuiteCommand> commands;
   for (std::size_t i = 0; i < files.size(); ++i) {
     const SuiteFile& f = files[i];
-    std::vector<std::string> argv = {program,     f.study ? "study" : "run", f.file,
+    std::vector<std::string> argv = {program,     f.study ? "study" : "run",          f.file,
                                      "--out",     FileFolder(request, i, f).string(), "--force",
                                      "--no-plots"};
     if (f.study && jobs > 1) {
       argv.insert(argv.end(), {"--jobs", std::to_string(std::max(1, cores / jobs))});
     }
     for (const std::string& setting : request.settings) argv.insert(argv.end(), {"--set", setting});
-    commands.push_back({argv, FileLog(request, i, f),
-                        std::string(f.study ? "study " : "run ") + f.file});
+    commands.push_back(
+        {argv, FileLog(request, i, f), std::string(f.study ? "study " : "run ") + f.file});
   }
   const std::vector<SuiteCommandResult> ended = RunSuiteCommands(commands, jobs);
 

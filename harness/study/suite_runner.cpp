@@ -43,8 +43,8 @@ std::vector<SuiteCommandResult> RunSuiteCommands(const std::vector<SuiteCommand>
         ++it;
         continue;
       }
-      results[it->index] = {
-          *status, std::chrono::duration<double>(Clock::now() - it->start).count()};
+      results[it->index] = {*status,
+                            std::chrono::duration<double>(Clock::now() - it->start).count()};
       it = active.erase(it);
       ended = true;
     }

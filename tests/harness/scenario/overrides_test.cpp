@@ -76,7 +76,8 @@ TEST_CASE("a bad --set is an error naming --set and the key", "[scenarios][set]"
   CHECK(SettingError({"=3"}) ==
         "command line: --set: a key is dotted names of 1 to 64 letters, digits, '_' or '-' (e.g. "
         "world.doors.count; a part of digits is a list index)");
-  CHECK(SettingError({"0.x=3"}) == "command line: --set: 0.x: a key starts with a name, not an index");
+  CHECK(SettingError({"0.x=3"}) ==
+        "command line: --set: 0.x: a key starts with a name, not an index");
   CHECK(SettingError({"include=other.yaml"}) ==
         "command line: --set: include: cannot be set on the command line (it names a file): give "
         "that file");
@@ -105,7 +106,8 @@ TEST_CASE("--set is bounded in count, key and value", "[scenarios][set]") {
 
 TEST_CASE("--set replaces or appends an item of a list the files write", "[scenarios][set]") {
   const std::vector<YamlDocument> chain = {
-      YamlDocument::FromString("expectations: [a < 1]\npath: {commands: [[1, 0.3, 0]]}\n", "b.yaml"),
+      YamlDocument::FromString("expectations: [a < 1]\npath: {commands: [[1, 0.3, 0]]}\n",
+                               "b.yaml"),
       YamlDocument::FromString("expectations: [x < 1, y < 2]\n", "top.yaml")};
   // The last file that writes the list is the one a run uses.
   CHECK(DocumentOf("expectations.1=z < 3", chain) == "{expectations: [x < 1, z < 3]}");
@@ -190,8 +192,7 @@ TEST_CASE("a --set key is checked like a file's, the error naming --set and the 
                  "command line: --set: world.doors.cout: unknown key (known keys here: "));
   CHECK(Contains(error("world.doors.count=many"), "command line: --set: world.doors.count: "));
   CHECK(Contains(error("duration_s=-1"), "command line: --set: duration_s: must lie in"));
-  CHECK(Contains(error("expectations=[odometry.nope < 1]"),
-                 "command line: --set: expectations: "));
+  CHECK(Contains(error("expectations=[odometry.nope < 1]"), "command line: --set: expectations: "));
   CHECK(Contains(error("pipelines.odometry.k_m=-1"),
                  "command line: --set: pipelines.odometry.k_m: "));
 }
@@ -216,19 +217,19 @@ TEST_CASE("LoadStudy applies --set to the scenario of every point and to study k
   CHECK(plain.points[0].scenario.duration_s == 30);
 
   CHECK(std::string(InputErrorOf([&] {
-          LoadStudy(file, std::nullopt, std::nullopt, {"robot.odometry.random_k_m=1"});
-        }).what()) ==
+                      LoadStudy(file, std::nullopt, std::nullopt, {"robot.odometry.random_k_m=1"});
+                    }).what()) ==
         "command line: --set: robot.odometry.random_k_m: the study varies "
         "'robot.odometry.random_k_m' (study.vary), which every point sets: change the sweep's "
         "values instead (--set 'study.vary={...}')");
   CHECK(std::string(InputErrorOf([&] {
-          LoadStudy(file, std::nullopt, std::nullopt, {"study.runz=2"});
-        }).what()) ==
+                      LoadStudy(file, std::nullopt, std::nullopt, {"study.runz=2"});
+                    }).what()) ==
         "command line: --set: study.runz: unknown key (known keys here: divergence_nees, "
         "expectations, first_seed, may_diverge, metrics, run_timeout_s, runs, time_step_s, "
         "vary)");
-  const StudySpec swept = LoadStudy(file, std::nullopt, std::nullopt,
-                                    {"study.vary={world.doors.count: [4, 6, 8]}"});
+  const StudySpec swept =
+      LoadStudy(file, std::nullopt, std::nullopt, {"study.vary={world.doors.count: [4, 6, 8]}"});
   CHECK(swept.points.size() == 3);
   CHECK(swept.vary_keys == std::vector<std::string>{"world.doors.count"});
 }
