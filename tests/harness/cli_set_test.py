@@ -12,32 +12,17 @@ import json
 import os
 import re
 import shutil
-import subprocess
 import sys
 import xml.etree.ElementTree as ET
+
+sys.dont_write_bytecode = True  # nothing written into the source tree
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from cli_study_test import fail, read, run  # noqa: E402  (the CLI tests' helpers)
 
 NO_EXTRAS = ["--no-plots", "--no-viewer"]
 # Short and camera-less: what these runs check is the settings, not the pictures.
 SHORT = ["--set", "duration_s=4", "--set", "sensors.front.enabled=false",
          "--set", "sensors.lateral.enabled=false"]
-
-
-def fail(message):
-    print("FAIL: " + message)
-    sys.exit(1)
-
-
-def run(binary, args, expect, cwd):
-    result = subprocess.run([binary] + args, cwd=cwd, capture_output=True, text=True)
-    if result.returncode != expect:
-        fail("%s: exit %d, expected %d\nstdout:\n%s\nstderr:\n%s" % (
-            " ".join(args), result.returncode, expect, result.stdout[-3000:], result.stderr))
-    return result
-
-
-def read(path):
-    with open(path, "rb") as f:
-        return f.read()
 
 
 def main():
