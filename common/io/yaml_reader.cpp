@@ -519,6 +519,7 @@ YamlDocument YamlDocument::FromString(const std::string& text, const std::string
 }
 
 SourceLocation YamlDocument::LocationOf(const YAML::Node& node) const {
+  if (!has_positions) return SourceLocation{file, 0, 0};
   return FromMark(file, node.Mark());
 }
 

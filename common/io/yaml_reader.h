@@ -60,6 +60,9 @@ class SourceMap {
 struct YamlDocument {
   std::string file;
   YAML::Node root;
+  // false for a document built from the command line (`--set KEY=VALUE`): its locations name
+  // `file` only, since the line and column of a value's text would point at nothing.
+  bool has_positions = true;
 
   /// Reads `path` once into memory: it must be a regular file of at most kMaxYamlFileBytes (a
   /// FIFO, a device, a folder, a dangling link or a link loop is an error; opening never blocks).

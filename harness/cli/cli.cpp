@@ -11,6 +11,7 @@
 #include <CLI/CLI.hpp>
 
 #include "common/error.h"
+#include "harness/scenario/overrides.h"
 #include "harness/study/study_file.h"
 #include "slam/registry.h"
 
@@ -44,6 +45,26 @@ std::string Quoted(const std::string& text) {
 }
 std::string Got(const std::string& text) { return "(got " + Quoted(text) + ")"; }
 
+// `--set KEY=VALUE`, one per option (repeatable): harness/scenario/overrides.h.
+void AddSetOption(CLI::App* job, std::vector<std::string>* settings) {
+  job->add_option("--set", *settings,
+                  "Set a scenario (or study.*) key after the file's include chain: dotted key, "
+                  "YAML value (duration_s=20, world.doors.count=4, expectations=[], "
+                  "path.commands.1.0=2.5); checked like the file's keys and echoed in "
+                  "scenario.yaml; repeatable, a later one wins (docs/scenarios.md)")
+      ->type_name("KEY=VALUE")
+      ->allow_extra_args(false);  // one KEY=VALUE per --set: never the scenario file after it
+}
+
+// A count of a flag: a whole number in [1, max].
+int WholeArgument(const std::string& text, int max, const std::string& flag) {
+  // Parsed up to any int, so that the bound named is the count's, not the parser's.
+  const double v = ParseNumberArgument(text, std::numeric_limits<int>::max(), flag);
+  if (v != std::floor(v) || v < 1 || v > max)
+    Fail(flag, "must be a whole number in [1, " + std::to_string(max) + "] " + Got(text));
+  return static_cast<int>(v);
+}
+
 // The string options of every job: the scenario file, --seed, --out and --force (the folder's
 // default shown in --help).
 struct JobOptions {
@@ -51,6 +72,7 @@ struct JobOptions {
   std::string seed;
   std::string out;
   bool force = false;
+  std::vector<std::string> settings;
   CLI::Option* scenario_option = nullptr;
   CLI::Option* seed_option = nullptr;
 
@@ -63,6 +85,7 @@ struct JobOptions {
     job->add_flag("--force", force,
                   "Replace a non-empty output folder (it is replaced whole, never mixed)")
         ->disable_flag_override();
+    AddSetOption(job, &settings);
   }
 
   // Checks the strings and moves them into the request.
@@ -70,6 +93,8 @@ struct JobOptions {
     if (scenario_option->count() > 0 && scenario.empty()) Fail("scenario", "an empty file name");
     if (seed_option->count() > 0) request->seed = ParseSeedArgument(seed, "--seed");
     if (out.empty()) Fail("--out", "an empty folder name");
+    ParseSettings(settings);  // the syntax now; the keys when the scenario is loaded
+    request->settings = settings;
     request->scenario_file = scenario;
     request->out_dir = out;
     request->force = force;
@@ -648,6 +673,15 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
   CLI::Option* test_junit_option =
       test->add_option("--junit", test_junit, "Write the JUnit XML report to this file")
           ->type_name("FILE");
+  std::string test_jobs;
+  CLI::Option* test_jobs_option =
+      test->add_option("--jobs", test_jobs,
+                       "Files run at once, each its own `corridorsim run` or `study` (default 1, "
+                       "at most 256; a study's runs then share the cores); the report is the "
+                       "same for any count but for its `time` attributes")
+          ->type_name("J");
+  std::vector<std::string> test_settings;
+  AddSetOption(test, &test_settings);
   test->footer(
       "Each expectation of a scenario (or each study expectation at each sweep point) is one "
       "test case; a failure gives the measured value and the threshold, system-out the run's "
@@ -934,6 +968,9 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
       if (test_junit.empty()) Fail("--junit", "an empty file name");
       r.junit_file = test_junit;
     }
+    if (test_jobs_option->count() > 0) r.jobs = WholeArgument(test_jobs, kMaxSuiteJobs, "--jobs");
+    ParseSettings(test_settings);
+    r.settings = test_settings;
   } else if (merge->parsed()) {
     parsed.job = CommandLine::Job::kStudyMerge;
     StudyRequest& r = parsed.study;
@@ -953,13 +990,7 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
     parsed.job = CommandLine::Job::kStudy;
     StudyRequest& r = parsed.study;
     study_options.Resolve(&r);
-    const auto whole = [](const std::string& text, int max, const std::string& flag) {
-      // Parsed up to any int, so that the bound named is the count's, not the parser's.
-      const double v = ParseNumberArgument(text, std::numeric_limits<int>::max(), flag);
-      if (v != std::floor(v) || v < 1 || v > max)
-        Fail(flag, "must be a whole number in [1, " + std::to_string(max) + "] " + Got(text));
-      return static_cast<int>(v);
-    };
+    const auto whole = WholeArgument;
     if (study_runs_option->count() > 0) r.runs = whole(study_runs, kMaxStudyRuns, "--runs");
     if (study_jobs_option->count() > 0) r.jobs = whole(study_jobs, kMaxStudyJobs, "--jobs");
     if (study_shard_option->count() > 0) {

@@ -89,7 +89,7 @@ void PrintWorldSummary(const worlds::World& world, const std::filesystem::path& 
 }
 
 int RunWorld(const JobRequest& request) {
-  const Scenario scenario = LoadScenario(request.scenario_file);
+  const Scenario scenario = LoadScenario(request.scenario_file, request.settings);
   // Written into a staging folder that replaces --out whole at the end (harness/run/run_folder.h).
   const std::unique_ptr<StagedDirectory> folder =
       StageOutputFolder(request.out_dir, "--out", request.force, ScenarioInputs(scenario));

@@ -73,7 +73,7 @@ class Odometer : public BusConsumer {
 }  // namespace
 
 void RunDrive(const DriveRequest& request) {
-  const Scenario scenario = LoadScenario(request.scenario_file);
+  const Scenario scenario = LoadScenario(request.scenario_file, request.settings);
   // Written into a staging folder that replaces --out whole at the end (harness/run/run_folder.h).
   const std::unique_ptr<StagedDirectory> folder =
       StageOutputFolder(request.out_dir, "--out", request.force, ScenarioInputs(scenario));
@@ -120,7 +120,8 @@ void RunDrive(const DriveRequest& request) {
   WriteFileAtomic(
       out / "provenance.json",
       JsonFileText(ProvenanceJson(scenario.file, ResolvedScenarioYaml(scenario, setup.seed()),
-                                  setup.seed(), setup.backend(), scenario.plugins)));
+                                  setup.seed(), setup.backend(), scenario.plugins, {},
+                                  scenario.settings)));
   if (frames) frames->Finish();
   folder->Commit();
 

@@ -41,7 +41,8 @@ Json ExternalProgramsJson(const Scenario& scenario) {
 Json ProvenanceJson(const std::string& scenario_file, const std::string& scenario_yaml,
                     std::uint64_t seed, const render::Backend* backend,
                     const std::vector<std::filesystem::path>& plugins,
-                    const nlohmann::ordered_json& external_programs) {
+                    const nlohmann::ordered_json& external_programs,
+                    const std::vector<std::string>& settings) {
   const auto or_null = [](const std::optional<std::string>& s) {
     return s ? Json(*s) : Json(nullptr);
   };
@@ -55,6 +56,7 @@ Json ProvenanceJson(const std::string& scenario_file, const std::string& scenari
                    {"seed", seed},
                    {"sha256", Sha256Hex(scenario_yaml)},
                    {"sha256_of", "the resolved scenario (a run's scenario.yaml)"}};
+  if (!settings.empty()) j["scenario"]["settings"] = settings;  // --set, in order
   Json plugin_list = Json::array();
   for (const std::filesystem::path& path : plugins) {
     const LoadedPlugin* plugin = FindLoadedPlugin(path);

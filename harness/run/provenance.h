@@ -33,12 +33,15 @@ std::optional<std::string> ReleaseAfter(const std::string& gl_string, const std:
 /// exactly as written (its SHA-256 is recorded), `scenario_file` the path given on the command
 /// line; `backend` is the GL backend the job rendered with, or null when it rendered nothing;
 /// `plugins` the canonical paths of the plugin libraries the scenario loaded (each recorded with
-/// its SHA-256, name, version and types, harness/scenario/plugins.h).
+/// its SHA-256, name, version and types, harness/scenario/plugins.h); `settings` the `--set
+/// KEY=VALUE` the scenario was loaded with (recorded only when there are some, so that the
+/// provenance of a run without them keeps its bytes).
 nlohmann::ordered_json ProvenanceJson(const std::string& scenario_file,
                                       const std::string& scenario_yaml, std::uint64_t seed,
                                       const render::Backend* backend,
                                       const std::vector<std::filesystem::path>& plugins = {},
-                                      const nlohmann::ordered_json& external_programs = {});
+                                      const nlohmann::ordered_json& external_programs = {},
+                                      const std::vector<std::string>& settings = {});
 
 /// The programs of `scenario`'s enabled external pipelines, by pipeline name, each as
 /// external::ProgramFingerprint (its command and the SHA-256 of the files it names); null when

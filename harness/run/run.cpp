@@ -67,7 +67,7 @@ void CheckSeparateFolders(const std::filesystem::path& out, const std::filesyste
 // Build, loop, finish (docs/architecture.md, "How a run is made").
 int RunScenario(const RunRequest& request) {
   const WallClock::time_point run_start = WallClock::now();
-  const Scenario scenario = LoadScenario(request.scenario_file);
+  const Scenario scenario = LoadScenario(request.scenario_file, request.settings);
   const std::vector<Expectation> expectations = ScenarioExpectations(scenario);
   if (!request.export_dir) RequireScoredPipeline(scenario);  // else a run would score nothing
   // Output folders are checked and staged before anything runs: a run never ends unable to

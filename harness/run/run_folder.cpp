@@ -77,7 +77,8 @@ void WriteRunFolder(const std::filesystem::path& out, const Scenario& scenario, 
   WriteFileAtomic(out / "scenario.yaml", scenario_yaml);
   WriteFileAtomic(out / "provenance.json",
                   JsonFileText(ProvenanceJson(scenario.file, scenario_yaml, seed, backend,
-                                              scenario.plugins, ExternalProgramsJson(scenario))));
+                                              scenario.plugins, ExternalProgramsJson(scenario),
+                                              scenario.settings)));
   WriteFileAtomic(out / "world.json", JsonFileText(worlds::GroundTruthJson(world)));
   WriteFileAtomic(out / "ground_truth.tum", truth.PlanarTum());
   for (const PipelineRecord& record : pipelines.records()) {

@@ -27,7 +27,7 @@
 namespace corridorsim {
 
 void RunSnapshot(const SnapshotRequest& request) {
-  const Scenario scenario = LoadScenario(request.scenario_file);
+  const Scenario scenario = LoadScenario(request.scenario_file, request.settings);
   const SE2 pose(request.x_m, request.y_m, request.yaw_deg * std::numbers::pi / 180.0);
   const render::BackendKind backend_kind = ChooseBackend(scenario.rig.backend);
   // Written into a staging folder that replaces --out whole at the end (harness/run/run_folder.h).

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace corridorsim {
 
@@ -14,6 +15,9 @@ struct JobRequest {
   std::optional<std::uint64_t> seed;  // overrides the scenario's seed
   std::filesystem::path out_dir;      // the job's output folder
   bool force = false;                 // --force: replace a non-empty output folder (whole)
+  // --set KEY=VALUE (harness/scenario/overrides.h): scenario keys applied after the file's
+  // include chain, in order (a later one wins).
+  std::vector<std::string> settings;
 };
 
 }  // namespace corridorsim

@@ -6,6 +6,7 @@
 #include "common/io/atomic_file.h"
 #include "common/io/options_yaml.h"
 #include "harness/external/external_pipeline.h"
+#include "harness/scenario/overrides.h"
 #include "harness/scenario/plugins.h"
 
 namespace corridorsim {
@@ -213,12 +214,21 @@ const OptionTable<Scenario>& ScenarioOptionsTable() {
   });
 }
 
-Scenario LoadScenario(const std::string& path) { return LoadScenario(path, {}); }
+Scenario LoadScenario(const std::string& path) {
+  return LoadScenario(path, std::vector<std::string>{}, {});
+}
 
-Scenario LoadScenario(const std::string& path, const std::vector<YamlDocument>& overrides) {
+Scenario LoadScenario(const std::string& path, const std::vector<std::string>& settings) {
+  return LoadScenario(path, settings, {});
+}
+
+Scenario LoadScenario(const std::string& path, const std::vector<std::string>& settings,
+                      const std::vector<YamlDocument>& overrides) {
   external::RegisterExternalPipelineType();  // `type: external` (docs/protocol.md)
+  const std::vector<Setting> parsed_settings = ParseSettings(settings);
   Scenario scenario;
   scenario.file = path;
+  scenario.settings = settings;
   scenario.world_location = SourceLocation{path, 0, 0};
   scenario.sensors_location = SourceLocation{path, 0, 0};
   scenario.robot_location = SourceLocation{path, 0, 0};
@@ -227,15 +237,21 @@ Scenario LoadScenario(const std::string& path, const std::vector<YamlDocument>& 
   // Documents stay alive while their maps are read: YamlMap points into them.
   std::vector<YamlDocument> chain = LoadWithIncludes(path);
   for (const YamlDocument& doc : chain) scenario.chain_files.emplace_back(doc.file);
+  const std::vector<YamlDocument> set = SettingDocuments(parsed_settings, chain);
+  const std::size_t files = chain.size();
+  chain.insert(chain.end(), set.begin(), set.end());
   chain.insert(chain.end(), overrides.begin(), overrides.end());
-  for (const YamlDocument& doc : chain) {
+  for (std::size_t i = 0; i < chain.size(); ++i) {
+    const YamlDocument& doc = chain[i];
+    const bool setting = i >= files && i < files + set.size();
     // A file without a key (0 bytes, only comments, `{}`) is a mistake, never "all defaults":
     // it would run the default simulation with nothing to score.
     if (doc.root.size() == 0) {
       throw InputError(SourceLocation{doc.file, 0, 0}, "",
                        "the scenario is empty (no keys: nothing but comments or blank lines)");
     }
-    RequireScenarioKey(doc);
+    // A setting's unknown key is reported by name (RejectUnknownKeys) like a file's.
+    if (!setting) RequireScenarioKey(doc);
     YamlMap root(doc, doc.root, "", &scenario.sources);
     for (auto [key, location] : {std::pair{"world", &scenario.world_location},
                                  {"sensors", &scenario.sensors_location},

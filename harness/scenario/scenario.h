@@ -27,6 +27,9 @@ struct Scenario {
   // Every file of the include chain LoadScenario read (`file` and the bases it includes): the
   // job's inputs, which no output folder may be, contain or lie inside (harness/run/job_inputs.h).
   std::vector<std::filesystem::path> chain_files;
+  // `--set KEY=VALUE` as given, applied after the file's include chain (overrides.h); recorded
+  // in provenance.json (the echo holds their values).
+  std::vector<std::string> settings;
   std::string name;         // optional human-readable name
   std::string description;  // optional
   std::uint64_t seed = 1;   // seed of every random stream of the run
@@ -76,9 +79,14 @@ std::vector<OptionsDocBlock> ScenarioDocBlocks();
 /// at all (empty, only comments) is an error. A section written with nothing after it
 /// (`world:`, YAML null) overrides nothing, as `world: {}`.
 Scenario LoadScenario(const std::string& path);
-/// As above, then `overrides` applied in order on top of the chain (a study's sweep point: each a
-/// map of scenario keys, checked as strictly as a file's).
-Scenario LoadScenario(const std::string& path, const std::vector<YamlDocument>& overrides);
+/// As above, then `settings` (`--set KEY=VALUE`, harness/scenario/overrides.h) applied in order
+/// on top of the chain, each checked as strictly as a file's keys (a problem is an InputError at
+/// `command line: --set` naming the key).
+Scenario LoadScenario(const std::string& path, const std::vector<std::string>& settings);
+/// As above, then `overrides` applied in order on top of the settings (a study's sweep point: each
+/// a map of scenario keys, checked as strictly as a file's).
+Scenario LoadScenario(const std::string& path, const std::vector<std::string>& settings,
+                      const std::vector<YamlDocument>& overrides);
 
 /// Turns a problem found by a options's Check() or a generator into an InputError placed at the
 /// line that set the offending key (`section` is "world", "sensors", "robot", "path" or

@@ -181,6 +181,7 @@ int WriteSlurmStudy(const StudyRequest& request) {
   if (request.runs) seed_args += " --runs " + std::to_string(*request.runs);
   if (request.seed) seed_args += " --seed " + std::to_string(*request.seed);
   seed_args += MayDivergeArgument(request);
+  for (const std::string& setting : request.settings) seed_args += " --set " + ShellWord(setting);
   const fs::path slurm_dir = dir / "slurm";
   std::error_code error;
   fs::create_directories(slurm_dir, error);

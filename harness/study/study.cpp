@@ -411,6 +411,7 @@ std::string CommandText(const StudyRequest& request) {
     if (request.runs) text += " --runs " + std::to_string(*request.runs);
     if (request.seed) text += " --seed " + std::to_string(*request.seed);
     text += MayDivergeArgument(request);
+    for (const std::string& setting : request.settings) text += " --set " + setting;
     if (request.shard_count > 1) {
       text += " --shard " + std::to_string(request.shard_index + 1) + "/" +
               std::to_string(request.shard_count);
@@ -626,7 +627,7 @@ std::string MayDivergeArgument(const StudyRequest& request) {
 
 PreparedStudy PrepareStudy(const StudyRequest& request) {
   PreparedStudy p;
-  p.spec = LoadStudy(request.scenario_file, request.runs, request.seed);
+  p.spec = LoadStudy(request.scenario_file, request.runs, request.seed, request.settings);
   AddMayDiverge(&p.spec, request.may_diverge, "--may-diverge");
   const StudySpec& spec = p.spec;
   std::vector<std::string> point_yaml;

@@ -11,6 +11,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "harness/metrics/registry.h"
+#include "harness/scenario/overrides.h"
 
 namespace corridorsim {
 namespace {
@@ -222,6 +223,86 @@ void CheckExpectation(const StudySpec& spec, const StudyExpectation& e) {
   }
 }
 
+// What the `study:` sections read so far leave: the study file's, then each --set's.
+struct StudySection {
+  std::vector<std::string> expectation_texts;  // the last section that has them wins
+  std::vector<SourceLocation> expectation_locations;
+  std::vector<Sweep> sweeps;  // the last `vary:` wins
+};
+
+// Reads the `study:` section of `top` (the study file, or one --set) onto `spec` and `section`.
+void ReadStudySection(const YamlDocument& top, StudySpec* spec, StudySection& section) {
+  SourceMap sources;
+  YamlMap root(top, top.root, "", &sources);
+  if (root.Has("study")) {
+    spec->has_section = true;
+    YamlMap study = root.Map("study");
+    if (study.Read("runs", spec->runs) && (spec->runs < 1 || spec->runs > kMaxStudyRuns)) {
+      study.Fail("runs", "must lie in [1, " + std::to_string(kMaxStudyRuns) + "] (got " +
+                             std::to_string(spec->runs) + ")");
+    }
+    study.Read("first_seed", spec->first_seed);
+    const auto bounded = [&](const char* key, double* value, double low, double high) {
+      if (study.Read(key, *value) && !(*value >= low && *value <= high)) {
+        char text[160];
+        std::snprintf(text, sizeof text, "must lie in [%g, %g] (got %g)", low, high, *value);
+        study.Fail(key, text);
+      }
+    };
+    bounded("run_timeout_s", &spec->run_timeout_s, 1.0, kMaxRunTimeoutSeconds);
+    bounded("divergence_nees", &spec->divergence_nees, 1.0, 1e12);
+    bounded("time_step_s", &spec->time_step_s, 0.01, 3600.0);
+    std::vector<std::string> extra;
+    std::vector<SourceLocation> extra_locations;
+    if (study.Read("metrics", extra, &extra_locations)) {
+      if (extra.size() > static_cast<std::size_t>(kMaxStudyMetrics)) {
+        study.Fail("metrics", "at most " + std::to_string(kMaxStudyMetrics) + " metrics");
+      }
+      const std::vector<std::string> names = MetricNames();
+      for (std::size_t i = 0; i < extra.size(); ++i) {
+        if (!Contains(names, extra[i])) {
+          throw InputError(extra_locations[i], "study.metrics",
+                           "unknown metric '" + InputExcerpt(extra[i]) +
+                               "' (docs/metrics.md lists a pipeline's metrics)");
+        }
+        if (!Contains(spec->metrics, extra[i])) spec->metrics.push_back(extra[i]);
+      }
+    }
+    std::vector<std::string> texts;
+    std::vector<SourceLocation> locations;
+    if (study.Read("expectations", texts, &locations)) {
+      section.expectation_texts = std::move(texts);
+      section.expectation_locations = std::move(locations);
+    }
+    std::vector<std::string> may_diverge;
+    std::vector<SourceLocation> may_diverge_locations;
+    if (study.Read("may_diverge", may_diverge, &may_diverge_locations)) {
+      AddMayDiverge(spec, may_diverge, "study.may_diverge", may_diverge_locations);
+    }
+    const bool vary = study.Has("vary");
+    study.Accept("vary");
+    study.RejectUnknownKeys();
+    if (vary) section.sweeps = ReadSweeps(top, top.root["study"]["vary"]);
+  }
+}
+
+// A --set of a key that the sweep varies would be overwritten at every point: refused.
+void RejectSettingsOfSweepKeys(const std::vector<Setting>& settings,
+                               const std::vector<Sweep>& sweeps) {
+  for (const Setting& setting : settings) {
+    for (const Sweep& sweep : sweeps) {
+      const std::vector<std::string> parts = SplitKey(sweep.key);
+      const std::size_t n = std::min(parts.size(), setting.parts.size());
+      if (std::equal(parts.begin(), parts.begin() + static_cast<long>(n), setting.parts.begin())) {
+        throw InputError(SourceLocation{kSetLocation, 0, 0}, InputExcerpt(setting.key),
+                         "the study varies '" + sweep.key +
+                             "' (study.vary), which every point sets: change the sweep's "
+                             "values instead (--set 'study.vary={...}')");
+      }
+    }
+  }
+}
+
 }  // namespace
 
 const std::vector<std::string>& DefaultStudyMetrics() {
@@ -327,11 +408,13 @@ std::vector<JobInput> StudyInputs(const StudySpec& spec) {
 }
 
 StudySpec LoadStudy(const std::string& path, std::optional<int> runs,
-                    std::optional<std::uint64_t> first_seed) {
+                    std::optional<std::uint64_t> first_seed,
+                    const std::vector<std::string>& settings) {
   StudySpec spec;
   spec.file = path;
   spec.metrics = DefaultStudyMetrics();
-  const Scenario base = LoadScenario(path);  // the chain, strictly (its `study:` is skipped)
+  // The chain and the --set keys, strictly (`study:` is skipped there).
+  const Scenario base = LoadScenario(path, settings);
   spec.first_seed = base.seed;
   spec.pipelines = EnabledPipelines(base);
   RequireScoredPipeline(base);
@@ -339,55 +422,17 @@ StudySpec LoadStudy(const std::string& path, std::optional<int> runs,
 
   const std::vector<YamlDocument> chain = LoadWithIncludes(path);
   const YamlDocument& top = chain.back();
-  SourceMap sources;
-  YamlMap root(top, top.root, "", &sources);
-  std::vector<Sweep> sweeps;
-  std::vector<std::string> expectation_texts;
-  std::vector<SourceLocation> expectation_locations;
-  if (root.Has("study")) {
-    spec.has_section = true;
-    YamlMap study = root.Map("study");
-    if (study.Read("runs", spec.runs) && (spec.runs < 1 || spec.runs > kMaxStudyRuns)) {
-      study.Fail("runs", "must lie in [1, " + std::to_string(kMaxStudyRuns) + "] (got " +
-                             std::to_string(spec.runs) + ")");
-    }
-    study.Read("first_seed", spec.first_seed);
-    const auto bounded = [&](const char* key, double* value, double low, double high) {
-      if (study.Read(key, *value) && !(*value >= low && *value <= high)) {
-        char text[160];
-        std::snprintf(text, sizeof text, "must lie in [%g, %g] (got %g)", low, high, *value);
-        study.Fail(key, text);
-      }
-    };
-    bounded("run_timeout_s", &spec.run_timeout_s, 1.0, kMaxRunTimeoutSeconds);
-    bounded("divergence_nees", &spec.divergence_nees, 1.0, 1e12);
-    bounded("time_step_s", &spec.time_step_s, 0.01, 3600.0);
-    std::vector<std::string> extra;
-    std::vector<SourceLocation> extra_locations;
-    if (study.Read("metrics", extra, &extra_locations)) {
-      if (extra.size() > static_cast<std::size_t>(kMaxStudyMetrics)) {
-        study.Fail("metrics", "at most " + std::to_string(kMaxStudyMetrics) + " metrics");
-      }
-      const std::vector<std::string> names = MetricNames();
-      for (std::size_t i = 0; i < extra.size(); ++i) {
-        if (!Contains(names, extra[i])) {
-          throw InputError(extra_locations[i], "study.metrics",
-                           "unknown metric '" + InputExcerpt(extra[i]) +
-                               "' (docs/metrics.md lists a pipeline's metrics)");
-        }
-        if (!Contains(spec.metrics, extra[i])) spec.metrics.push_back(extra[i]);
-      }
-    }
-    study.Read("expectations", expectation_texts, &expectation_locations);
-    std::vector<std::string> may_diverge;
-    std::vector<SourceLocation> may_diverge_locations;
-    if (study.Read("may_diverge", may_diverge, &may_diverge_locations)) {
-      AddMayDiverge(&spec, may_diverge, "study.may_diverge", may_diverge_locations);
-    }
-    study.Accept("vary");
-    study.RejectUnknownKeys();
-    sweeps = ReadSweeps(top, top.root["study"]["vary"]);
-  }
+  const std::vector<Setting> parsed_settings = ParseSettings(settings);
+  // The file's `study:` section, then each --set's `study.*` keys (a later one wins; `metrics`
+  // add up).
+  std::vector<YamlDocument> sections = {top};
+  for (YamlDocument& doc : SettingDocuments(parsed_settings, chain)) sections.push_back(doc);
+  StudySection section;
+  for (const YamlDocument& doc : sections) ReadStudySection(doc, &spec, section);
+  const std::vector<Sweep>& sweeps = section.sweeps;
+  const std::vector<std::string>& expectation_texts = section.expectation_texts;
+  const std::vector<SourceLocation>& expectation_locations = section.expectation_locations;
+  RejectSettingsOfSweepKeys(parsed_settings, sweeps);
   if (runs) spec.runs = *runs;
   if (first_seed) spec.first_seed = *first_seed;
   if (spec.first_seed >
@@ -431,7 +476,7 @@ StudySpec LoadStudy(const std::string& path, std::optional<int> runs,
     }
     YamlDocument overrides{top.file, tree.ToNode()};
     try {
-      point.scenario = LoadScenario(path, {overrides});
+      point.scenario = LoadScenario(path, settings, {overrides});
     } catch (const InputError& e) {
       // Placed at the value that caused it: the first key whose value is in the message's key.
       std::size_t culprit = 0;

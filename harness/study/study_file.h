@@ -79,10 +79,13 @@ std::vector<JobInput> StudyInputs(const StudySpec& spec);
 /// The per-pipeline metrics every study summarises (before the file's `metrics:`).
 const std::vector<std::string>& DefaultStudyMetrics();
 
-/// Loads `path` as a study; `runs` and `first_seed` override the file's (the command line).
-/// Throws InputError naming file, line and key.
+/// Loads `path` as a study; `runs` and `first_seed` override the file's (the command line), and
+/// `settings` (`--set KEY=VALUE`, harness/scenario/overrides.h) are applied after its include
+/// chain, to the scenario of every point and to the `study:` section (a key the sweep varies
+/// cannot be set). Throws InputError naming file, line and key (or `--set` and the key).
 StudySpec LoadStudy(const std::string& path, std::optional<int> runs,
-                    std::optional<std::uint64_t> first_seed);
+                    std::optional<std::uint64_t> first_seed,
+                    const std::vector<std::string>& settings = {});
 
 /// Adds `names` (study.may_diverge, or the command line's --may-diverge) to spec->may_diverge,
 /// keeping scenario order. A name that is not an enabled pipeline is an InputError under key

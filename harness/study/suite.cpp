@@ -9,6 +9,7 @@
 #include <fstream>
 #include <memory>
 #include <string>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -21,13 +22,13 @@
 #include "harness/run/run.h"
 #include "harness/run/run_folder.h"
 #include "harness/study/study_file.h"
+#include "harness/study/suite_runner.h"
 
 namespace corridorsim {
 namespace {
 
 namespace fs = std::filesystem;
 using json = nlohmann::ordered_json;
-using Clock = std::chrono::steady_clock;
 constexpr std::uint64_t kMaxResultBytes = std::uint64_t{256} << 20;
 constexpr std::size_t kMaxListedSeeds = 10;  // diverged seeds named in one failure message
 constexpr std::uint64_t kLogTailBytes = 4000;
@@ -183,21 +184,18 @@ std::string LogTail(const fs::path& log) {
   return "..." + text.substr(skip);
 }
 
-std::string Measured(const json& value) {
-  return value.is_number() ? FormatFixed(value.get<double>(), 6) : std::string("nothing");
+// File i's folder and log under --out: numbered, so that two files of one name do not meet.
+fs::path FileFolder(const TestRequest& request, std::size_t i, const SuiteFile& f) {
+  char prefix[32];
+  std::snprintf(prefix, sizeof prefix, "%03zu_", i);
+  return request.out_dir / (prefix + f.folder_name);
+}
+fs::path FileLog(const TestRequest& request, std::size_t i, const SuiteFile& f) {
+  return FileFolder(request, i, f).string() + ".log";
 }
 
-// Runs one file's job; a stop signal (CatchStopSignals) is forwarded to it, and once it has
-// ended the suite ends as the signal ends a process: the job's children end with it.
-ChildStatus RunLogged(const std::vector<std::string>& argv, const fs::path& log) {
-  ChildProcess child(argv, log.string());
-  const ChildStatus status = child.Wait();
-  if (const int signal = StopSignal()) {
-    std::fprintf(stderr, "corridorsim: test stopped by signal %d (%s); no report written\n", signal,
-                 ::strsignal(signal));
-    DieOfSignal(signal);
-  }
-  return status;
+std::string Measured(const json& value) {
+  return value.is_number() ? FormatFixed(value.get<double>(), 6) : std::string("nothing");
 }
 
 }  // namespace
@@ -258,7 +256,7 @@ int RunTestSuite(const TestRequest& request) {
   std::vector<SuiteFile> files;
   std::vector<JobInput> inputs;  // every file's chain and plugins: no output may touch them
   for (const std::string& file : request.files) {
-    const StudySpec spec = LoadStudy(file, std::nullopt, std::nullopt);
+    const StudySpec spec = LoadStudy(file, std::nullopt, std::nullopt, request.settings);
     for (JobInput& input : StudyInputs(spec)) inputs.push_back(std::move(input));
     SuiteFile f;
     f.file = file;
@@ -290,22 +288,32 @@ int RunTestSuite(const TestRequest& request) {
   const std::string program = request.program.empty() ? ThisProgram() : request.program;
   CatchStopSignals();
 
+  // Each file's job in a folder and log of its own, --jobs at a time; a study's runs share the
+  // cores with the other jobs.
+  const int jobs = std::clamp(request.jobs, 1, kMaxSuiteJobs);
+  const int cores = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  std::vector<SuiteCommand> commands;
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    const SuiteFile& f = files[i];
+    std::vector<std::string> argv = {program,     f.study ? "study" : "run",          f.file,
+                                     "--out",     FileFolder(request, i, f).string(), "--force",
+                                     "--no-plots"};
+    if (f.study && jobs > 1) {
+      argv.insert(argv.end(), {"--jobs", std::to_string(std::max(1, cores / jobs))});
+    }
+    for (const std::string& setting : request.settings) argv.insert(argv.end(), {"--set", setting});
+    commands.push_back(
+        {argv, FileLog(request, i, f), std::string(f.study ? "study " : "run ") + f.file});
+  }
+  const std::vector<SuiteCommandResult> ended = RunSuiteCommands(commands, jobs);
+
   int code = 0;
   for (std::size_t i = 0; i < files.size(); ++i) {
     SuiteFile& f = files[i];
-    char prefix[32];
-    std::snprintf(prefix, sizeof prefix, "%03zu_", i);
-    const fs::path folder = request.out_dir / (prefix + f.folder_name);
-    const fs::path log = request.out_dir / (prefix + f.folder_name + ".log");
-    std::vector<std::string> argv = {program,     f.study ? "study" : "run", f.file,
-                                     "--out",     folder.string(),           "--force",
-                                     "--no-plots"};
-    std::printf("test: [%zu/%zu] %s %s\n", i + 1, files.size(), f.study ? "study" : "run",
-                f.file.c_str());
-    std::fflush(stdout);
-    const Clock::time_point start = Clock::now();
-    const ChildStatus status = RunLogged(argv, log);
-    f.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    const fs::path folder = FileFolder(request, i, f);
+    const fs::path log = FileLog(request, i, f);
+    const ChildStatus& status = ended[i].status;
+    f.seconds = ended[i].seconds;
     // A dot in the stem would add a level to the CI system's package tree: `_` instead.
     std::string stem = f.name;
     std::replace(stem.begin(), stem.end(), '.', '_');

@@ -10,9 +10,16 @@
 namespace corridorsim {
 
 inline constexpr int kMaxSuiteFiles = 1000;
+inline constexpr int kMaxSuiteJobs = 256;  // --jobs
 
 struct TestRequest {
   std::vector<std::string> files;  // scenario or study files; empty: scenarios/default.yaml
+  // --set KEY=VALUE: applied to every file (harness/scenario/overrides.h), passed on to its job.
+  std::vector<std::string> settings;
+  // --jobs: files whose jobs run at once (each a `corridorsim run` or `study` of its own; a
+  // study's runs then get the cores divided by this). The report is the same for any count but
+  // for its wall-clock `time` attributes.
+  int jobs = 1;
   std::filesystem::path out_dir = "out/test";       // one folder per file under it
   std::optional<std::filesystem::path> junit_file;  // --junit
   std::string program;  // the corridorsim that runs each file; empty: this executable

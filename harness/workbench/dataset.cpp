@@ -723,7 +723,7 @@ DatasetManifest ReadDatasetManifest(const fs::path& dir) {
 }
 
 int RunDataset(const DatasetRequest& request) {
-  const Scenario scenario = LoadScenario(request.scenario_file);
+  const Scenario scenario = LoadScenario(request.scenario_file, request.settings);
   const std::vector<std::string> cameras = SelectCameras(scenario, request.cameras);
   const render::BackendKind backend_kind = ChooseBackend(scenario.rig.backend);
   const std::uint64_t seed = request.seed.value_or(scenario.seed);

@@ -65,12 +65,52 @@ TEST_CASE("ParseCommandLine fills each job's request", "[harness]") {
   CHECK(world.world.seed == std::uint64_t{7});
 }
 
+TEST_CASE("--set is repeatable on every job that reads a scenario, one KEY=VALUE each",
+          "[harness]") {
+  const Args settings = {"--set", "duration_s=20", "--set=world.doors.count=4", "--set",
+                         "expectations=[]"};
+  const Args expected = {"duration_s=20", "world.doors.count=4", "expectations=[]"};
+  const auto with = [&](Args args) {
+    args.insert(args.end(), settings.begin(), settings.end());
+    args.push_back("s.yaml");  // after a --set: still the scenario, never a second value
+    return ParseCommandLine(args);
+  };
+  CHECK(with({"run"}).run.settings == expected);
+  CHECK(with({"run"}).run.scenario_file == "s.yaml");
+  CHECK(with({"world"}).world.settings == expected);
+  CHECK(with({"snapshot", "--pose", "1,0,0"}).snapshot.settings == expected);
+  CHECK(with({"drive"}).drive.settings == expected);
+  CHECK(with({"dataset"}).dataset.settings == expected);
+  CHECK(with({"study"}).study.settings == expected);
+  CHECK(with({"study"}).study.scenario_file == "s.yaml");
+  const CommandLine test = with({"test", "--jobs", "3"});
+  CHECK(test.test.settings == expected);
+  CHECK(test.test.files == Args{"s.yaml"});
+  CHECK(test.test.jobs == 3);
+  CHECK(ParseCommandLine({"test"}).test.jobs == 1);
+  CHECK(ParseCommandLine({"run"}).run.settings.empty());
+
+  // The syntax is checked here, the keys when the scenario is loaded.
+  CHECK(ErrorOf({"run", "--set", "duration_s"}) ==
+        "command line: --set: expected KEY=VALUE, e.g. --set duration_s=20 (got "
+        "'duration_s')");
+  CHECK(ErrorOf({"test", "--set", "a..b=1"}).rfind("command line: --set: a..b: ", 0) == 0);
+  CHECK(ErrorOf({"run", "--set", "world.doors.cout=4"}).empty());
+  CHECK_THAT(ErrorOf({"run", "x.yaml", "--set", "a=1", "b=2"}),
+             Catch::Contains("b=2"));  // not a second value of --set
+  CHECK(ErrorOf({"test", "--jobs", "0"}) ==
+        "command line: --jobs: must be a whole number in [1, 256] (got '0')");
+  CHECK(ErrorOf({"test", "--jobs", "257"}) ==
+        "command line: --jobs: must be a whole number in [1, 256] (got '257')");
+}
+
 TEST_CASE("ParseCommandLine returns help text with the exit codes", "[harness]") {
   const CommandLine help = ParseCommandLine({"run", "--help"});
   CHECK(help.job == Job::kHelp);
   CHECK_THAT(help.help_text, Catch::Contains("--force"));
   CHECK_THAT(help.help_text, Catch::Contains("4 the results are written but an extra"));
-  CHECK_THAT(help.help_text, Catch::Contains("3 takes precedence over 4"));
+  CHECK_THAT(help.help_text, Catch::Contains("5 a pipeline failed"));
+  CHECK_THAT(help.help_text, Catch::Contains("5 takes precedence over 3, 3 over 4"));
   for (const char* job : {"world", "snapshot", "drive"}) {
     CHECK_THAT(ParseCommandLine({job, "--help"}).help_text, Catch::Contains("Exit codes: 0"));
   }
