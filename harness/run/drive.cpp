@@ -117,11 +117,10 @@ void RunDrive(const DriveRequest& request) {
   WriteFileAtomic(out / "odometry.tum", odometry.tum());
   WriteFileAtomic(out / "odometry.csv", odometry.csv());
   WriteFileAtomic(out / "events.json", events.Json(setup.seed(), simulation.now_ns()));
-  WriteFileAtomic(
-      out / "provenance.json",
-      JsonFileText(ProvenanceJson(scenario.file, ResolvedScenarioYaml(scenario, setup.seed()),
-                                  setup.seed(), setup.backend(), scenario.plugins, {},
-                                  scenario.settings)));
+  WriteFileAtomic(out / "provenance.json",
+                  JsonFileText(ProvenanceJson(
+                      scenario.file, ResolvedScenarioYaml(scenario, setup.seed()), setup.seed(),
+                      setup.backend(), scenario.plugins, {}, scenario.settings)));
   if (frames) frames->Finish();
   folder->Commit();
 

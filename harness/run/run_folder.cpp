@@ -75,10 +75,10 @@ void WriteRunFolder(const std::filesystem::path& out, const Scenario& scenario, 
                     const std::string& events_json, const render::Backend* backend) {
   const std::string scenario_yaml = ResolvedScenarioYaml(scenario, seed);
   WriteFileAtomic(out / "scenario.yaml", scenario_yaml);
-  WriteFileAtomic(out / "provenance.json",
-                  JsonFileText(ProvenanceJson(scenario.file, scenario_yaml, seed, backend,
-                                              scenario.plugins, ExternalProgramsJson(scenario),
-                                              scenario.settings)));
+  WriteFileAtomic(
+      out / "provenance.json",
+      JsonFileText(ProvenanceJson(scenario.file, scenario_yaml, seed, backend, scenario.plugins,
+                                  ExternalProgramsJson(scenario), scenario.settings)));
   WriteFileAtomic(out / "world.json", JsonFileText(worlds::GroundTruthJson(world)));
   WriteFileAtomic(out / "ground_truth.tum", truth.PlanarTum());
   for (const PipelineRecord& record : pipelines.records()) {
