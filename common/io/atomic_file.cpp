@@ -107,6 +107,20 @@ bool IsSameOrAncestor(const std::filesystem::path& parent, const std::filesystem
   return true;
 }
 
+// Whether process `pid` still runs: it exists and is not a zombie. A job killed with its whole
+// tree (a CI timeout, CMake's execute_process TIMEOUT) is reparented to init when its supervisor
+// dies with it and stays a zombie until init reaps it: its staging folder is stale already.
+bool ProcessRuns(pid_t pid) {
+  if (::kill(pid, 0) != 0 && errno == ESRCH) return false;
+  std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+  std::string text;
+  if (!stat || !std::getline(stat, text)) return true;  // no /proc: assume it runs
+  const std::size_t close = text.rfind(')');            // the name may hold spaces and ')'
+  if (close == std::string::npos || close + 2 >= text.size()) return true;
+  const char state = text[close + 2];
+  return state != 'Z' && state != 'X';
+}
+
 // Removes `.<name>.partial-<pid>[.old]` folders beside the target whose process no longer runs (a
 // killed job's staging folder, or the previous folder a killed Commit did not get to remove).
 void RemoveStaleStaging(const std::filesystem::path& parent, const std::string& name) {
@@ -127,7 +141,7 @@ void RemoveStaleStaging(const std::filesystem::path& parent, const std::string& 
     }
     const pid_t pid = static_cast<pid_t>(std::stol(digits));
     const bool ours = pid == ::getpid();  // left by an earlier process with this pid
-    if (ours || (::kill(pid, 0) != 0 && errno == ESRCH)) {
+    if (ours || !ProcessRuns(pid)) {
       std::error_code ignored;
       std::filesystem::remove_all(entry.path(), ignored);
     }

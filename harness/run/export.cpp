@@ -278,10 +278,10 @@ void DatasetExporter::FinishTum(const CameraOutput& camera) const {
   for (const auto& [t, pose] : poses) groundtruth << sim::TumLine(t, pose) << "\n";
   WriteFileAtomic(tum / "groundtruth.txt", groundtruth.str());
   WriteFileAtomic(tum / "orb_slam.yaml", OrbSlamYaml(camera.options));
-  WriteFileAtomic(tum / "sensor.yaml",
-                  CameraSensorYaml(camera.options,
-                                   "corridorsim " + camera.options.id + " camera as tum_rgbd",
-                                   StartOf(camera)));
+  WriteFileAtomic(
+      tum / "sensor.yaml",
+      CameraSensorYaml(camera.options, "corridorsim " + camera.options.id + " camera as tum_rgbd",
+                       StartOf(camera)));
 }
 
 void DatasetExporter::FinishEuroc(const CameraOutput& camera) const {
@@ -291,10 +291,10 @@ void DatasetExporter::FinishEuroc(const CameraOutput& camera) const {
   csv << "#timestamp [ns],filename\n";
   for (const TimeNs t : camera.stamps) csv << t << "," << t << ".png\n";
   WriteFileAtomic(folder / "data.csv", csv.str());
-  WriteFileAtomic(folder / "sensor.yaml",
-                  CameraSensorYaml(camera.options,
-                                   "corridorsim " + camera.options.id + " camera as " + cam,
-                                   StartOf(camera)));
+  WriteFileAtomic(
+      folder / "sensor.yaml",
+      CameraSensorYaml(camera.options, "corridorsim " + camera.options.id + " camera as " + cam,
+                       StartOf(camera)));
 }
 
 // EuRoC's state_groundtruth_estimate0: the robot's pose, its velocity in W by central

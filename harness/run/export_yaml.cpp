@@ -83,8 +83,8 @@ std::string OrbSlamYaml(const render::CameraOptions& options) {
   const char* const names[] = {"k1", "k2", "p1", "p2", "k3"};
   const char* const fisheye_names[] = {"k1", "k2", "k3", "k4"};
   for (std::size_t i = 0; i < in.distortion.size(); ++i) {
-    y << "Camera." << (in.fisheye ? fisheye_names[i] : names[i]) << ": " << YamlReal(in.distortion[i])
-      << "\n";
+    y << "Camera." << (in.fisheye ? fisheye_names[i] : names[i]) << ": "
+      << YamlReal(in.distortion[i]) << "\n";
   }
   y << "\nCamera.width: " << in.width << "\n"
     << "Camera.height: " << in.height << "\n\n"
@@ -150,8 +150,8 @@ std::string CameraSensorYaml(const render::CameraOptions& options, const std::st
   }
   y << "\n# The body's start pose: world_from_body (the robot frame R in the world frame W, z up)\n"
     << "# at start_timestamp_ns, the first pose of the export's ground truth.\n"
-    << Matrix4Yaml("T_WB_start", start.world_from_robot)
-    << "start_timestamp_ns: " << start.stamp_ns << "\n";
+    << Matrix4Yaml("T_WB_start", start.world_from_robot) << "start_timestamp_ns: " << start.stamp_ns
+    << "\n";
   return y.str();
 }
 

@@ -180,8 +180,16 @@ std::optional<std::string> MakeViewer(const std::filesystem::path& out) {
 std::unique_ptr<StagedDirectory> StageOutputFolder(const std::filesystem::path& dir,
                                                    const std::string& option, bool force,
                                                    const std::vector<JobInput>& inputs) {
-  RefuseOutputOverInputs(dir, option, inputs);
   const SourceLocation command_line{"command line", 0, 0};
+  // The current folder first: it holds the inputs too, and this is what to change.
+  std::error_code cwd_error;
+  const std::filesystem::path cwd = std::filesystem::current_path(cwd_error);
+  if (!cwd_error && PathWithin(cwd, dir)) {
+    throw InputError(command_line, option,
+                     "output folder '" + dir.string() +
+                         "' is the current folder or contains it; choose a folder below it");
+  }
+  RefuseOutputOverInputs(dir, option, inputs);
   try {
     return std::make_unique<StagedDirectory>(dir, force);
   } catch (const FolderNotEmptyError&) {

@@ -56,8 +56,9 @@ std::string Advice(const std::string& mangled, const std::string& demangled) {
            std::string(kCompiler) + "), against this corridorsim's SDK";
   }
   if (Has(shown, "corridorsim")) {
-    return std::string("; the library was built against another corridorsim SDK: rebuild it "
-                       "against this corridorsim's (") +
+    return std::string(
+               "; the library was built against another corridorsim SDK: rebuild it "
+               "against this corridorsim's (") +
            CORRIDORSIM_VERSION + ", SDK ABI version " +
            std::to_string(CORRIDORSIM_SDK_ABI_VERSION) +
            ": find_package(corridorsim) from its prefix, corridorsim_add_pipeline_plugin)";
@@ -94,8 +95,8 @@ std::string ExplainDlopenError(std::string_view dlerror_text, std::size_t max_by
     const std::string mangled(text.substr(i, end - i));
     const std::string demangled = Demangle(mangled);
     out += demangled.empty() ? mangled : demangled + " (" + mangled + ")";
-    const bool undefined =
-        i >= kUndefined.size() && text.substr(i - kUndefined.size(), kUndefined.size()) == kUndefined;
+    const bool undefined = i >= kUndefined.size() &&
+                           text.substr(i - kUndefined.size(), kUndefined.size()) == kUndefined;
     if (undefined && advice.empty()) advice = Advice(mangled, demangled);
     i = end;
   }
@@ -105,15 +106,16 @@ std::string ExplainDlopenError(std::string_view dlerror_text, std::size_t max_by
     if (at != std::string_view::npos) {
       std::size_t end = at + kUndefined.size();
       while (end < text.size() && IsSymbolChar(text[end])) ++end;
-      advice = Advice(std::string(text.substr(at + kUndefined.size(), end - at - kUndefined.size())),
-                      "");
+      advice = Advice(
+          std::string(text.substr(at + kUndefined.size(), end - at - kUndefined.size())), "");
     }
   }
   // A library that needs a newer libstdc++ (or C library) than this system's.
   if (advice.empty() && Has(std::string(text), "' not found (required by")) {
-    advice = "; the library was built by a newer compiler or C library than this system's: "
-             "rebuild it by the compiler corridorsim was built with (" +
-             std::string(kCompiler) + ")";
+    advice =
+        "; the library was built by a newer compiler or C library than this system's: "
+        "rebuild it by the compiler corridorsim was built with (" +
+        std::string(kCompiler) + ")";
   }
   return InputExcerpt(out, kMaxTextInMessage) + advice;
 }

@@ -65,7 +65,7 @@ TEST_CASE("ParseCommandLine fills each job's request", "[harness]") {
   CHECK(world.world.seed == std::uint64_t{7});
 }
 
-TEST_CASE("--set is repeatable on every job that reads a scenario, one KEY=VALUE each",
+TEST_CASE("A setting (--set) is repeatable on every job that reads a scenario, one KEY=VALUE each",
           "[harness]") {
   const Args settings = {"--set", "duration_s=20", "--set=world.doors.count=4", "--set",
                          "expectations=[]"};

@@ -75,8 +75,8 @@ sim::CameraMessage Frame(const render::CameraOptions& options, TimeNs t) {
 
 // Frames of every camera from `first_frame_ns`, and with `truth` the robot's truth at 100 Hz from
 // `first_truth_ns`.
-void Export(const fs::path& dir, const render::RigOptions& rig, TimeNs first_frame_ns,
-            bool truth, TimeNs first_truth_ns) {
+void Export(const fs::path& dir, const render::RigOptions& rig, TimeNs first_frame_ns, bool truth,
+            TimeNs first_truth_ns) {
   DatasetExporter exporter(dir, rig, 0.33);
   const TimeNs end = first_frame_ns + 2 * kFramePeriodNs;
   for (TimeNs t = 0; t <= end; t += kTruthPeriodNs) {
@@ -183,8 +183,7 @@ TEST_CASE("without truth before the first frame, the start pose is the robot's a
     Export(dir.path(), rig, 50'000'000, truth, 200'000'000);
     for (const Sensor& sensor : kSensors) {
       INFO(sensor.folder);
-      const YAML::Node yaml =
-          YAML::LoadFile((dir.path() / sensor.folder / "sensor.yaml").string());
+      const YAML::Node yaml = YAML::LoadFile((dir.path() / sensor.folder / "sensor.yaml").string());
       CHECK(Matrix(yaml["T_WB_start"]) == MatrixOf(RobotPoseAt(50'000'000)));
       CHECK(yaml["start_timestamp_ns"].as<TimeNs>() == 50'000'000);
     }

@@ -42,7 +42,7 @@ std::string Write(const test::ScratchDir& dir, const std::string& name, const st
   return path;
 }
 
-TEST_CASE("--set puts a dotted key into nested maps", "[scenarios][set]") {
+TEST_CASE("A setting (--set) puts a dotted key into nested maps", "[scenarios][set]") {
   CHECK(DocumentOf("path.speed_mps=0.2") == "{path: {speed_mps: 0.2}}");
   CHECK(DocumentOf("world.doors.count=4") == "{world: {doors: {count: 4}}}");
   CHECK(DocumentOf("seed=7") == "{seed: 7}");
@@ -50,7 +50,7 @@ TEST_CASE("--set puts a dotted key into nested maps", "[scenarios][set]") {
         "{pipelines: {odometry: {enabled: false}}}");
 }
 
-TEST_CASE("--set reads its value as YAML", "[scenarios][set]") {
+TEST_CASE("A setting (--set) reads its value as YAML", "[scenarios][set]") {
   const auto value = [](const std::string& text) {
     return ParseSettings({"k=" + text}).front().value;
   };
@@ -92,7 +92,7 @@ TEST_CASE("a bad --set is an error naming --set and the key", "[scenarios][set]"
         "v})");
 }
 
-TEST_CASE("--set is bounded in count, key and value", "[scenarios][set]") {
+TEST_CASE("A setting (--set) is bounded in count, key and value", "[scenarios][set]") {
   CHECK(SettingError(std::vector<std::string>(65, "seed=1")) ==
         "command line: --set: at most 64 --set options (got 65)");
   CHECK(Contains(SettingError({std::string(257, 'a') + "=1"}),
@@ -104,7 +104,8 @@ TEST_CASE("--set is bounded in count, key and value", "[scenarios][set]") {
   CHECK_NOTHROW(ParseSettings(std::vector<std::string>(64, "seed=1")));
 }
 
-TEST_CASE("--set replaces or appends an item of a list the files write", "[scenarios][set]") {
+TEST_CASE("A setting (--set) replaces or appends an item of a list the files write",
+          "[scenarios][set]") {
   const std::vector<YamlDocument> chain = {
       YamlDocument::FromString("expectations: [a < 1]\npath: {commands: [[1, 0.3, 0]]}\n",
                                "b.yaml"),

@@ -16,11 +16,12 @@ namespace {
 using test::Contains;
 
 TEST_CASE("plugin load error: an old-ABI std::string symbol is demangled and the ABI named") {
-  const std::string text = ExplainDlopenError(
-      "/p/old.so: undefined symbol: _ZN11corridorsim4slam14IsPipelineNameERKSs");
-  CHECK(Contains(text, "/p/old.so: undefined symbol: corridorsim::slam::IsPipelineName(std::string "
-                       "const&) (_ZN11corridorsim4slam14IsPipelineNameERKSs); the library was "
-                       "built with the old std::string ABI (_GLIBCXX_USE_CXX11_ABI=0)"));
+  const std::string text =
+      ExplainDlopenError("/p/old.so: undefined symbol: _ZN11corridorsim4slam14IsPipelineNameERKSs");
+  CHECK(Contains(text,
+                 "/p/old.so: undefined symbol: corridorsim::slam::IsPipelineName(std::string "
+                 "const&) (_ZN11corridorsim4slam14IsPipelineNameERKSs); the library was "
+                 "built with the old std::string ABI (_GLIBCXX_USE_CXX11_ABI=0)"));
   CHECK(Contains(text, "rebuild it with _GLIBCXX_USE_CXX11_ABI=1"));
   // std::list of the old ABI too.
   CHECK(Contains(ExplainDlopenError("x.so: undefined symbol: _Z1fRKSt4listIiSaIiEE"),
@@ -30,11 +31,13 @@ TEST_CASE("plugin load error: an old-ABI std::string symbol is demangled and the
 TEST_CASE("plugin load error: a C++11-ABI corridorsim symbol asks for this corridorsim's SDK") {
   const std::string text = ExplainDlopenError(
       "/p/new.so: undefined symbol: "
-      "_ZN11corridorsim4slam13GoneInThisSdkERKNSt7__cxx1112basic_stringIcSt11char_traitsIcESaIcEEE");
+      "_ZN11corridorsim4slam13GoneInThisSdkERKNSt7__cxx1112basic_stringIcSt11char_"
+      "traitsIcESaIcEEE");
   CHECK(Contains(text, "corridorsim::slam::GoneInThisSdk(std::__cxx11::basic_string<char"));
   CHECK_FALSE(Contains(text, "_GLIBCXX_USE_CXX11_ABI=1"));
-  CHECK(Contains(text, std::string("rebuild it against this corridorsim's (") + CORRIDORSIM_VERSION +
-                           ", SDK ABI version " + std::to_string(CORRIDORSIM_SDK_ABI_VERSION)));
+  CHECK(Contains(text, std::string("rebuild it against this corridorsim's (") +
+                           CORRIDORSIM_VERSION + ", SDK ABI version " +
+                           std::to_string(CORRIDORSIM_SDK_ABI_VERSION)));
 }
 
 TEST_CASE("plugin load error: other symbols, versions and texts without symbols") {

@@ -96,7 +96,8 @@ TEST_CASE("plugins: a library that cannot be a plugin is an input error naming w
 TEST_CASE("plugins: a plugin of the old std::string ABI is refused naming its symbol and the fix") {
   // dlopen() fails on the SDK function it calls (tests/plugins/old_string_abi_plugin.cpp) before
   // corridorsim_plugin_info can be read: the message demangles the symbol and says what to rebuild.
-  const InputError e = InputErrorOf([&] { LoadPlugin(Plugin("test_old_string_abi_plugin"), kWhere); });
+  const InputError e =
+      InputErrorOf([&] { LoadPlugin(Plugin("test_old_string_abi_plugin"), kWhere); });
   CHECK(e.location().line == 7);
   CHECK(e.key() == "plugins");
   CHECK(Contains(e.message(), "does not load: "));
