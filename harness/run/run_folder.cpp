@@ -117,8 +117,10 @@ void PrintClosingTable(const nlohmann::ordered_json& metrics,
               "final err m", "NEES mean", "NEES in band");
   if (metrics.contains("pipelines")) {
     for (const auto& [name, m] : metrics["pipelines"].items()) {
+      // Not captured by the lambda: clang 14 (the sanitized tree) refuses a captured binding.
+      const std::string& pipeline = name;
       const auto record = std::find_if(failed.begin(), failed.end(), [&](const PipelineRecord* r) {
-        return r->name == name && r->failure;
+        return r->name == pipeline && r->failure;
       });
       if (record != failed.end()) {
         // No metric of it could be compared: the row says so, with when and why (in full on
