@@ -1,5 +1,6 @@
 #pragma once
-// PNG encoding of the project's plain images (OpenCV stays out of public headers). Output is
+// PNG and JPEG of the project's plain images, through libpng and libjpeg (OpenCV stays out of
+// public headers; its imgcodecs module is not linked: image_io.cpp says why). Output is
 // deterministic: fixed compression settings.
 
 #include <cstdint>
@@ -24,5 +25,26 @@ std::string EncodeJpegShrunk(const Image8& image, int max_width, int quality,
 /// PNG bytes of a 16-bit image, row-major, `channels` 1 or 3 (RGB order).
 std::string EncodePng16(int width, int height, int channels, const std::vector<std::uint16_t>& data,
                         const std::string& what);
+
+/// A PNG's samples as decoded: a palette expanded to RGB (RGBA where it has transparency), grey
+/// of 1, 2 or 4 bits expanded to 8; otherwise as stored (1 grey, 2 grey + alpha, 3 RGB, 4 RGBA
+/// channels, 8 or 16 bits).
+struct DecodedPng {
+  int width = 0;
+  int height = 0;
+  int channels = 0;
+  int bit_depth = 8;                     // 8 or 16
+  std::vector<std::uint8_t> samples8;    // bit_depth 8: width * height * channels
+  std::vector<std::uint16_t> samples16;  // bit_depth 16: width * height * channels
+};
+
+/// Decodes PNG bytes. Throws std::invalid_argument naming `what` for bytes that are not a
+/// readable PNG (libpng's reason in brackets) or a side over `max_side` pixels (refused from the
+/// header, before any pixel is decoded).
+DecodedPng DecodePng(const std::vector<std::uint8_t>& bytes, int max_side, const std::string& what);
+
+/// The decoded image as 8-bit RGB: grey replicated, alpha dropped, 16 bits scaled to 8 (the
+/// nearest of v / 257).
+Image8 DecodedPngAsRgb(const DecodedPng& png);
 
 }  // namespace corridorsim

@@ -13,7 +13,6 @@
 #include <vector>
 
 #include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "common/error.h"
@@ -73,7 +72,7 @@ std::vector<std::uint8_t> ReadInputFile(const std::filesystem::path& path) {
 
 // Decodes a PNG after checking its signature and its header's size against the bounds (so that a
 // huge image is refused before any pixel is decoded).
-cv::Mat DecodePng(const std::filesystem::path& path, const std::string& what) {
+DecodedPng ReadPngFile(const std::filesystem::path& path, const std::string& what) {
   const std::vector<std::uint8_t> bytes = ReadInputFile(path);
   static const std::uint8_t kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
   if (bytes.size() < 33 || std::memcmp(bytes.data(), kSignature, 8) != 0 ||
@@ -89,39 +88,11 @@ cv::Mat DecodePng(const std::filesystem::path& path, const std::string& what) {
     Bad(path, "is " + std::to_string(width) + "x" + std::to_string(height) +
                   " px: each side must lie in [1, " + std::to_string(kMaxDetectImageSide) + "]");
   }
-  cv::Mat image;
   try {
-    image = cv::imdecode(bytes, cv::IMREAD_UNCHANGED);
-  } catch (const cv::Exception&) {
-    image = cv::Mat();
+    return DecodePng(bytes, static_cast<int>(kMaxDetectImageSide), what);
+  } catch (const std::invalid_argument&) {
+    Bad(path, "is not a readable PNG image (" + what + ")");
   }
-  if (image.empty()) Bad(path, "is not a readable PNG image (" + what + ")");
-  return image;
-}
-
-// The image as 8-bit RGB (grey replicated, alpha dropped, 16 bits scaled to 8).
-Image8 ToRgb(const std::filesystem::path& path, cv::Mat image) {
-  if (image.depth() == CV_16U) {
-    cv::Mat eight;
-    image.convertTo(eight, CV_8U, 1.0 / 257.0);
-    image = eight;
-  }
-  if (image.depth() != CV_8U) Bad(path, "is not an 8- or 16-bit image");
-  cv::Mat bgr;
-  switch (image.channels()) {
-    case 1:
-      cv::cvtColor(image, bgr, cv::COLOR_GRAY2BGR);
-      break;
-    case 3:
-      bgr = image;
-      break;
-    case 4:
-      cv::cvtColor(image, bgr, cv::COLOR_BGRA2BGR);
-      break;
-    default:
-      Bad(path, "has " + std::to_string(image.channels()) + " channels (expected 1, 3 or 4)");
-  }
-  return slam::ImageFromMat(bgr);
 }
 
 cv::Mat View(Image8* image) {
@@ -147,7 +118,7 @@ double Significant6(double value) {
 }  // namespace
 
 Image8 ReadRgbPng(const std::filesystem::path& path, const std::string& what) {
-  return ToRgb(path, DecodePng(path, what));
+  return DecodedPngAsRgb(ReadPngFile(path, what));
 }
 
 std::string DetectCameraName(DetectCamera camera) {
@@ -169,21 +140,22 @@ DetectInput LoadDetectInput(const DetectRequest& request) {
   input.rgb = ReadRgbPng(request.image_file, "the image");
   if (request.depth_file) {
     const std::filesystem::path& path = *request.depth_file;
-    const cv::Mat raw = DecodePng(path, "the --depth image");
-    if (raw.type() != CV_16UC1) {
+    const DecodedPng raw = ReadPngFile(path, "the --depth image");
+    if (raw.bit_depth != 16 || raw.channels != 1) {
       Bad(path, "--depth: expected a 16-bit one-channel PNG at " +
                     std::to_string(static_cast<int>(kDepthScale)) +
                     " per metre (TUM RGB-D, as snapshot writes front_depth.png)");
     }
-    if (raw.cols != input.rgb.width || raw.rows != input.rgb.height) {
-      Bad(path, "--depth: the depth image is " + std::to_string(raw.cols) + "x" +
-                    std::to_string(raw.rows) + " px, the image " + std::to_string(input.rgb.width) +
-                    "x" + std::to_string(input.rgb.height) + " (it must be registered to it)");
+    if (raw.width != input.rgb.width || raw.height != input.rgb.height) {
+      Bad(path, "--depth: the depth image is " + std::to_string(raw.width) + "x" +
+                    std::to_string(raw.height) + " px, the image " +
+                    std::to_string(input.rgb.width) + "x" + std::to_string(input.rgb.height) +
+                    " (it must be registered to it)");
     }
-    ImageF depth(raw.cols, raw.rows);
-    for (int y = 0; y < raw.rows; ++y) {
-      const std::uint16_t* row = raw.ptr<std::uint16_t>(y);
-      for (int x = 0; x < raw.cols; ++x) {
+    ImageF depth(raw.width, raw.height);
+    for (int y = 0; y < raw.height; ++y) {
+      const std::uint16_t* row = raw.samples16.data() + std::size_t(y) * raw.width;
+      for (int x = 0; x < raw.width; ++x) {
         depth.at(x, y) = static_cast<float>(row[x] / kDepthScale);  // 0 stays 0 (invalid)
       }
     }
