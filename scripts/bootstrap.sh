@@ -2,8 +2,10 @@
 # One entry point for a fresh Debian 12 machine: installs what is missing, builds, then
 #   run       runs the main job on the default scenario
 #   test      runs the whole test suite (Release build)
-#   sanitize  builds the tree with clang, AddressSanitizer + UndefinedBehaviorSanitizer (build-fuzz/)
-#             and runs the unit tests in it
+#   sanitize [all|inputs]  builds the tree with clang, AddressSanitizer + UndefinedBehaviorSanitizer
+#             (build-fuzz/) and runs the unit tests in it: all of them (default), or `inputs`, the
+#             tests of the code that reads what comes from outside (common_tests, harness_tests,
+#             slam_plate_tests and the command-line tests registered there), as CI does (docs/ci.md)
 #   fuzz [SECONDS]  builds the libFuzzer targets in that same tree and runs each for SECONDS
 #             (default 60 per target), as many at a time as build jobs, on a copy of its seed corpus
 #             (docs/fuzzing.md); fails on a crash, a leak, an input slower than its timeout (1 s
@@ -92,11 +94,13 @@ install_clang() {  # clang and its libFuzzer runtime (Debian 12: clang-14), as s
     fi
   done
 }
-build_sanitized() {  # [target]: builds it (default: everything) in build-fuzz/
+build_sanitized() {  # [target [cmake args...]]: builds it (default: everything) in build-fuzz/
   install_clang
-  CORRIDORSIM_BUILD_TARGET="${1:-}" configure_and_build build-fuzz \
+  local target="${1:-}"
+  shift || true
+  CORRIDORSIM_BUILD_TARGET="$target" configure_and_build build-fuzz \
     -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_C_COMPILER=clang \
-    -DCORRIDORSIM_FUZZ=ON -DCORRIDORSIM_BUILD_BENCHMARKS=OFF
+    -DCORRIDORSIM_FUZZ=ON -DCORRIDORSIM_BUILD_BENCHMARKS=OFF "$@"
 }
 
 case "$mode" in
@@ -112,7 +116,12 @@ case "$mode" in
     timed "the Release suite (ctest)" ctest --test-dir build --output-on-failure --parallel "$jobs"
     ;;
   sanitize)
-    build_sanitized
+    scope="${2:-all}"
+    if [ "$scope" != all ] && [ "$scope" != inputs ]; then
+      echo "usage: scripts/bootstrap.sh sanitize [all|inputs]" >&2
+      exit 2
+    fi
+    build_sanitized "" -DCORRIDORSIM_SANITIZED_TESTS="$scope"
     ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
       timed "the sanitized unit tests (ctest -L unit)" ctest --test-dir build-fuzz --output-on-failure --parallel "$jobs" -L unit \
         -E "scripts.plot_run"
@@ -131,7 +140,7 @@ case "$mode" in
     timed "the fuzz runs" run_fuzzers "$seconds"
     ;;
   *)
-    echo "usage: scripts/bootstrap.sh [run|test|sanitize|fuzz [SECONDS]|build]" >&2
+    echo "usage: scripts/bootstrap.sh [run|test|sanitize [all|inputs]|fuzz [SECONDS]|build]" >&2
     exit 2
     ;;
 esac
