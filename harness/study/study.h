@@ -3,7 +3,8 @@
 // child process of its own, J at a time; then the aggregate (harness/study/study_summary.h). A
 // study folder is resumable: finished runs are kept and skipped, so a killed study loses at most
 // the runs in flight. `--shard K/N` runs a deterministic part; `study merge` combines parts into
-// the summary a whole study gives, byte for byte (docs/studies.md).
+// the summary a whole study gives, byte for byte (docs/studies.md). RunStudy is in study_run.cpp,
+// MergeStudies in study_merge.cpp, WriteSlurmStudy in slurm.cpp (study_internal.h: what they share).
 
 #include <cstdint>
 #include <filesystem>
