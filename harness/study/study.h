@@ -4,7 +4,8 @@
 // study folder is resumable: finished runs are kept and skipped, so a killed study loses at most
 // the runs in flight. `--shard K/N` runs a deterministic part; `study merge` combines parts into
 // the summary a whole study gives, byte for byte (docs/studies.md). RunStudy is in study_run.cpp,
-// MergeStudies in study_merge.cpp, WriteSlurmStudy in slurm.cpp (study_internal.h: what they share).
+// MergeStudies in study_merge.cpp, WriteSlurmStudy in slurm.cpp; study_internal.h: what they
+// share.
 
 #include <cstdint>
 #include <filesystem>
