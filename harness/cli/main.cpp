@@ -104,7 +104,28 @@ int RunWorld(const JobRequest& request) {
   return kExitSuccess;
 }
 
+// The request of a job that reads a scenario (whose default Dispatch resolves first), else null.
+JobRequest* ScenarioRequest(CommandLine& command) {
+  switch (command.job) {
+    case CommandLine::Job::kWorld:
+      return &command.world;
+    case CommandLine::Job::kSnapshot:
+      return &command.snapshot;
+    case CommandLine::Job::kRun:
+      return &command.run;
+    case CommandLine::Job::kDrive:
+      return &command.drive;
+    case CommandLine::Job::kDataset:
+      return &command.dataset;
+    case CommandLine::Job::kStudy:
+      return &command.study;
+    default:
+      return nullptr;
+  }
+}
+
 int Dispatch(CommandLine& command) {
+  if (JobRequest* request = ScenarioRequest(command)) ResolveDefaultScenario(request);
   switch (command.job) {
     case CommandLine::Job::kHelp:
       std::fputs(command.help_text.c_str(), stdout);
@@ -120,17 +141,13 @@ int Dispatch(CommandLine& command) {
       return kExitSuccess;
     }
     case CommandLine::Job::kWorld:
-      ResolveDefaultScenario(&command.world);
       return RunWorld(command.world);
     case CommandLine::Job::kSnapshot:
-      ResolveDefaultScenario(&command.snapshot);
       RunSnapshot(command.snapshot);
       return kExitSuccess;
     case CommandLine::Job::kRun:
-      ResolveDefaultScenario(&command.run);
       return RunScenario(command.run);
     case CommandLine::Job::kDrive:
-      ResolveDefaultScenario(&command.drive);
       RunDrive(command.drive);
       return kExitSuccess;
     case CommandLine::Job::kWhere:
@@ -142,14 +159,12 @@ int Dispatch(CommandLine& command) {
     case CommandLine::Job::kTrainDetectors:
       return RunTrainDetectors(command.train_detectors);
     case CommandLine::Job::kDataset:
-      ResolveDefaultScenario(&command.dataset);
       return RunDataset(command.dataset);
     case CommandLine::Job::kScore:
       return RunScore(command.score);
     case CommandLine::Job::kEvaluate:
       return evaluate::RunEvaluate(command.evaluate);
     case CommandLine::Job::kStudy:
-      ResolveDefaultScenario(&command.study);
       return RunStudy(command.study);
     case CommandLine::Job::kStudyMerge:
       return MergeStudies(command.study);

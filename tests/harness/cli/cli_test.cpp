@@ -1,4 +1,4 @@
-// Tests harness/cli/cli.cpp: the command line parsed strictly, without touching any file.
+// Tests harness/cli/ (ParseCommandLine): the command line parsed strictly, touching no file.
 #include "harness/cli/cli.h"
 
 #include <cstdint>

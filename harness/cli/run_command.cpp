@@ -1,0 +1,94 @@
+// The `run` subcommand: a scenario closed loop, every pipeline scored, the run folder written.
+#include <memory>
+#include <string>
+
+#include "harness/cli/options.h"
+#include "harness/cli/subcommands.h"
+#include "slam/registry.h"
+
+namespace corridorsim::cli {
+namespace {
+
+// `run --help`'s list of the shipped pipeline types (slam/registry.h).
+std::string PipelineListFooter() {
+  std::string names;
+  for (const std::string& n : slam::PipelineNames()) names += (names.empty() ? "" : ", ") + n;
+  return "Pipelines (under `pipelines:`, docs/scenarios.md; P1's: docs/p1.md): " + names + ".\n";
+}
+
+class RunCommand final : public Subcommand {
+ public:
+  RunCommand(CLI::App* app, CommandLine* parsed)
+      : Subcommand(app->add_subcommand(
+            "run",
+            "Run a scenario closed loop, score every pipeline against ground truth, write the "
+            "run")),
+        options_(job_, "out/run", std::string("Scenario YAML ") + kDefaultScenarioHelp,
+                 "Seed of every random stream of the run", "Run folder") {
+    export_option_ =
+        AddOption(job_, "--export", export_,
+                  "Also write a dataset into this folder (outside the run folder): TUM RGB-D "
+                  "(front), EuRoC/ASL (upward, lateral), odometry CSV, labels and COCO plate "
+                  "boxes (docs/export.md); staged and replaced like --out");
+    AddSwitch(job_, "--no-plots", no_plots_, "Skip plots/ (matplotlib)");
+    AddSwitch(job_, "--no-viewer", no_viewer_, "Skip viewer.html (docs/viewer.md)");
+    AddSwitch(job_, "--keep-frames", parsed->run.keep_frames,
+              "Keep downscaled JPEGs of the rendered frames in frames/ for viewer.html "
+              "(within --keep-frames-mb)");
+    keep_frames_mb_option_ =
+        AddOption(job_, "--keep-frames-mb", keep_frames_mb_,
+                  "The most frames/ may hold, MB (1-40, default 20): past it every other kept "
+                  "frame is dropped and the stride doubles");
+    AddSwitch(job_, "--check", parsed->run.check_only,
+              "Only check the scenario: load it, build its world, path and pipelines, and exit");
+    SetFooter(
+        job_,
+        "Writes the results first: scenario.yaml (resolved, with the seed), world.json, "
+        "ground_truth.tum (the planar truth at 100 Hz and every odometry stamp, as drive "
+        "writes it), <pipeline>.tum, <pipeline>_cov.txt (ov_eval), "
+        "<pipeline>_errors.csv, <pipeline>_nis.csv, <pipeline>_landmarks.json, "
+        "<pipeline>_detections.csv, "
+        "metrics.json (docs/metrics.md), timing.json, events.json, "
+        "provenance.json (what the bytes depend on: build, compiler, Mesa, backend); then "
+        "the extras: maps/, the --export dataset, plots/ (python3 scripts/plot_run.py), "
+        "viewer.html (scripts/make_viewer.py: one page, offline, docs/viewer.md).\n" +
+            PipelineListFooter(),
+        FolderFooter::kStaged,
+        "0 success; 5 a pipeline failed (it alone: the run went on and the other "
+        "pipelines' results are written; the reason is on stderr and in events.json); 3 an "
+        "expectation failed; 4 the results are written but an extra (maps/, plots/, viewer.html, "
+        "the --export dataset) failed (its message is on stderr); 5 takes precedence over 3, 3 "
+        "over 4; 2 bad input (nothing is written); 1 other failures (the previous folder is left "
+        "as it was).");
+  }
+
+  void Resolve(CommandLine* parsed) const override {
+    parsed->job = CommandLine::Job::kRun;
+    options_.Resolve(&parsed->run);
+    if (export_option_->count() > 0) parsed->run.export_dir = FolderName(export_, "--export");
+    parsed->run.plots = !no_plots_;
+    parsed->run.viewer = !no_viewer_;
+    if (keep_frames_mb_option_->count() > 0) {
+      const double mb = ParseNumberArgument(keep_frames_mb_, 1e6, "--keep-frames-mb");
+      if (!(mb >= 1.0 && mb <= 40.0))
+        Fail("--keep-frames-mb", "must be in [1, 40] " + Got(keep_frames_mb_));
+      if (!parsed->run.keep_frames) Fail("--keep-frames-mb", "needs --keep-frames");
+      parsed->run.keep_frames_budget_mb = mb;
+    }
+  }
+
+ private:
+  JobOptions options_;
+  std::string export_, keep_frames_mb_;
+  bool no_plots_ = false, no_viewer_ = false;
+  CLI::Option* export_option_ = nullptr;
+  CLI::Option* keep_frames_mb_option_ = nullptr;
+};
+
+}  // namespace
+
+std::unique_ptr<Subcommand> AddRunCommand(CLI::App* app, CommandLine* parsed) {
+  return std::make_unique<RunCommand>(app, parsed);
+}
+
+}  // namespace corridorsim::cli

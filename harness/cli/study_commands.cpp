@@ -1,0 +1,206 @@
+// The subcommands of many runs: study (with `study merge`) and test.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "harness/cli/options.h"
+#include "harness/cli/subcommands.h"
+#include "harness/scenario/overrides.h"
+#include "harness/study/study_file.h"
+
+namespace corridorsim::cli {
+namespace {
+
+class StudyCommand final : public Subcommand {
+ public:
+  explicit StudyCommand(CLI::App* app)
+      : Subcommand(app->add_subcommand(
+            "study",
+            "Run a scenario over many seeds (and sweep points) and aggregate the statistics")),
+        options_(job_, "out/study",
+                 "Study YAML (a scenario with a `study:` section, docs/studies.md) or a "
+                 "plain scenario file",
+                 "First seed (run i uses seed + i; default: study.first_seed, else the "
+                 "scenario's seed)",
+                 "Study folder (resumed when it holds the same study)") {
+    runs_option_ =
+        AddOption(job_, "--runs", runs_, "Seeds per sweep point (default: study.runs, 10)", "N");
+    jobs_option_ =
+        AddOption(job_, "--jobs", jobs_, "Worker processes (default: the number of cores)", "J");
+    shard_option_ = AddOption(job_, "--shard", shard_,
+                              "Run only part K of N (run k of the plan belongs to part k mod N); "
+                              "`study merge` combines the parts",
+                              "K/N");
+    AddOption(job_, "--may-diverge", may_diverge_,
+              "Pipelines whose diverged runs do not fail the study (added to the "
+              "scenario's baseline: true pipelines and study.may_diverge)",
+              "PIPELINE[,PIPELINE]")
+        ->delimiter(',');
+    AddSwitch(job_, "--no-plots", no_plots_, "Skip plots/ (matplotlib)");
+    AddSwitch(job_, "--no-viewer", no_viewer_,
+              "Skip report.html and each run's viewer.html (docs/viewer.md)");
+    AddSwitch(job_, "--slurm", slurm_,
+              "Write a Slurm job array (one task per shard) and a merge job into <out>/slurm/ "
+              "instead of running here (one run is run here first to measure the cost)");
+    AddSwitch(job_, "--submit", submit_, "With --slurm: submit both jobs with sbatch");
+    slurm_tasks_option_ =
+        AddOption(job_, "--slurm-tasks", slurm_tasks_,
+                  "With --slurm: the number of array tasks (default: from the measured cost)", "N");
+    task_minutes_option_ = AddOption(job_, "--slurm-task-minutes", task_minutes_,
+                                     "With --slurm: the run time a task packs (default 60)", "MIN");
+    merge_ = job_->add_subcommand(
+        "merge", "Combine study folders of one plan (shards) into one study folder and summary");
+    AddOption(merge_, "dirs", merge_dirs_, "Study folders to combine")->required();
+    AddOutFolder(merge_, merge_out_, "The combined study folder");
+    AddSwitch(merge_, "--force", merge_force_,
+              "Replace a non-empty --out folder written by corridorsim");
+    AddSwitch(merge_, "--no-plots", merge_no_plots_, "Skip plots/ (matplotlib)");
+    AddSwitch(merge_, "--no-viewer", merge_no_viewer_, "Skip report.html (docs/viewer.md)");
+    SetFooter(job_,
+              "Each run is `corridorsim run <point scenario> --seed S --no-plots` in a process of "
+              "its own; finished runs are kept (runs/<point>/seed_<S>/, each with its "
+              "viewer.html) and skipped when the same study is run again. Writes study.json (the "
+              "plan), points/, runs/, status/, logs/, summary.json, summary.csv, paired.csv, "
+              "report.md, timing.json, plots/ (docs/studies.md) and report.html "
+              "(docs/viewer.md).\n",
+              FolderFooter::kNone,
+              "0 success; 1 a run failed or timed out, or a pipeline that is neither a "
+              "baseline nor in may_diverge diverged (the others are summarised, each one named); "
+              "3 a study expectation failed; 4 only plots/ or report.html failed; 2 bad input "
+              "(nothing runs), or `study merge` folders that lack runs of the plan (nothing is "
+              "written). Ctrl-C or SIGTERM stops the runs in flight too; the same command "
+              "resumes the study.");
+  }
+
+  void Resolve(CommandLine* parsed) const override {
+    if (merge_->parsed()) {
+      ResolveMerge(parsed);
+      return;
+    }
+    parsed->job = CommandLine::Job::kStudy;
+    StudyRequest& r = parsed->study;
+    options_.Resolve(&r);
+    if (runs_option_->count() > 0) r.runs = WholeArgument(runs_, kMaxStudyRuns, "--runs");
+    if (jobs_option_->count() > 0) r.jobs = WholeArgument(jobs_, kMaxStudyJobs, "--jobs");
+    if (shard_option_->count() > 0) {
+      const std::size_t slash = shard_.find('/');
+      if (slash == std::string::npos) Fail("--shard", "expected K/N, e.g. 2/8 " + Got(shard_));
+      const int k = WholeArgument(shard_.substr(0, slash), kMaxShards, "--shard");
+      const int n = WholeArgument(shard_.substr(slash + 1), kMaxShards, "--shard");
+      if (k > n) Fail("--shard", "K must lie in [1, N] " + Got(shard_));
+      r.shard_index = k - 1;
+      r.shard_count = n;
+    }
+    r.plots = !no_plots_;
+    r.viewer = !no_viewer_;
+    if (may_diverge_.size() > 64) Fail("--may-diverge", "at most 64 pipelines");
+    r.may_diverge = may_diverge_;
+    r.slurm = slurm_;
+    r.submit = submit_;
+    if (submit_ && !slurm_) Fail("--submit", "only with --slurm");
+    if (slurm_tasks_option_->count() > 0) {
+      if (!slurm_) Fail("--slurm-tasks", "only with --slurm");
+      r.slurm_tasks = WholeArgument(slurm_tasks_, kMaxSlurmTasks, "--slurm-tasks");
+    }
+    if (task_minutes_option_->count() > 0) {
+      if (!slurm_) Fail("--slurm-task-minutes", "only with --slurm");
+      r.slurm_task_minutes = WholeArgument(task_minutes_, 100000, "--slurm-task-minutes");
+    }
+    if (slurm_ && shard_option_->count() > 0) {
+      Fail("--shard", "--slurm writes the shards itself");
+    }
+  }
+
+ private:
+  // `study merge DIR...`
+  void ResolveMerge(CommandLine* parsed) const {
+    parsed->job = CommandLine::Job::kStudyMerge;
+    StudyRequest& r = parsed->study;
+    FolderName(merge_out_, "--out");
+    if (merge_dirs_.size() > static_cast<std::size_t>(kMaxShards)) {
+      Fail("dirs", "at most " + std::to_string(kMaxShards) + " folders");
+    }
+    for (const std::string& d : merge_dirs_) r.merge_dirs.emplace_back(FolderName(d, "dirs"));
+    r.out_dir = merge_out_;
+    r.force = merge_force_;
+    r.plots = !merge_no_plots_;
+    r.viewer = !merge_no_viewer_;
+  }
+
+  JobOptions options_;
+  std::string runs_, jobs_, shard_, slurm_tasks_, task_minutes_;
+  std::vector<std::string> may_diverge_;
+  bool no_plots_ = false, no_viewer_ = false, slurm_ = false, submit_ = false;
+  CLI::Option* runs_option_ = nullptr;
+  CLI::Option* jobs_option_ = nullptr;
+  CLI::Option* shard_option_ = nullptr;
+  CLI::Option* slurm_tasks_option_ = nullptr;
+  CLI::Option* task_minutes_option_ = nullptr;
+  CLI::App* merge_ = nullptr;
+  std::vector<std::string> merge_dirs_;
+  std::string merge_out_ = "out/study_merged";
+  bool merge_force_ = false, merge_no_plots_ = false, merge_no_viewer_ = false;
+};
+
+class TestCommand final : public Subcommand {
+ public:
+  explicit TestCommand(CLI::App* app)
+      : Subcommand(app->add_subcommand(
+            "test", "Run scenarios and studies as a test suite and write a JUnit XML report")) {
+    AddOption(job_, "files", files_,
+              "Scenario or study files (default: ./scenarios/default.yaml if it exists, "
+              "else the shipped one)");
+    AddOutFolder(job_, out_, "Folder of the runs and studies (one folder per file)");
+    junit_option_ =
+        AddOption(job_, "--junit", junit_, "Write the JUnit XML report to this file", "FILE");
+    jobs_option_ =
+        AddOption(job_, "--jobs", jobs_,
+                  "Files run at once, each its own `corridorsim run` or `study` (default 1, "
+                  "at most 256; a study's runs then share the cores); the report is the "
+                  "same for any count but for its `time` attributes",
+                  "J");
+    AddSetOption(job_, &settings_);
+    SetFooter(job_,
+              "Each expectation of a scenario (or each study expectation at each sweep point) is "
+              "one test case; a failure gives the measured value and the threshold, system-out "
+              "the run's viewer.html (a study's report.html; the folder with --no-viewer) as "
+              "[[ATTACHMENT|path]]; a run that cannot finish is an error case with its log's "
+              "tail (docs/ci.md).\n",
+              FolderFooter::kNone,
+              "0 every case passed; 3 an expectation failed; 1 a run or study could not "
+              "finish; 2 bad input (nothing runs).");
+  }
+
+  void Resolve(CommandLine* parsed) const override {
+    parsed->job = CommandLine::Job::kTest;
+    TestRequest& r = parsed->test;
+    if (files_.size() > static_cast<std::size_t>(kMaxSuiteFiles)) {
+      Fail("files", "at most " + std::to_string(kMaxSuiteFiles) + " files");
+    }
+    for (const std::string& f : files_) FileName(f, "files");
+    r.files = files_;
+    r.out_dir = FolderName(out_, "--out");
+    if (junit_option_->count() > 0) r.junit_file = FileName(junit_, "--junit");
+    if (jobs_option_->count() > 0) r.jobs = WholeArgument(jobs_, kMaxSuiteJobs, "--jobs");
+    ParseSettings(settings_);
+    r.settings = settings_;
+  }
+
+ private:
+  std::vector<std::string> files_;
+  std::string out_ = "out/test", junit_, jobs_;
+  std::vector<std::string> settings_;
+  CLI::Option* junit_option_ = nullptr;
+  CLI::Option* jobs_option_ = nullptr;
+};
+
+}  // namespace
+
+std::unique_ptr<Subcommand> AddStudyCommand(CLI::App* app) {
+  return std::make_unique<StudyCommand>(app);
+}
+std::unique_ptr<Subcommand> AddTestCommand(CLI::App* app) {
+  return std::make_unique<TestCommand>(app);
+}
+
+}  // namespace corridorsim::cli
