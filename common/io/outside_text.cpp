@@ -1,6 +1,6 @@
 #include "common/io/outside_text.h"
 
-#include "common/io/yaml_reader.h"
+#include "common/io/input_text.h"
 
 namespace corridorsim {
 

@@ -61,7 +61,7 @@ bool YamlMap::ReadJson(const std::string& key, nlohmann::ordered_json& value) {
       nlohmann::ordered_json object = nlohmann::ordered_json::object();
       for (const auto& kv : n) {
         if (!kv.first.IsScalar()) {
-          throw InputError(doc_->LocationOf(kv.first), InputExcerpt(FullKey(key), 120),
+          throw InputError(doc_->LocationOf(kv.first), KeyExcerpt(FullKey(key)),
                            "a key must be a plain string");
         }
         object[kv.first.Scalar()] = convert(kv.second);
@@ -78,7 +78,7 @@ bool YamlMap::ReadJson(const std::string& key, nlohmann::ordered_json& value) {
     bool non_finite = false;
     nlohmann::ordered_json scalar = PlainScalarJson(n.Scalar(), &non_finite);
     if (non_finite) {
-      throw InputError(doc_->LocationOf(n), InputExcerpt(FullKey(key), 120),
+      throw InputError(doc_->LocationOf(n), KeyExcerpt(FullKey(key)),
                        "'" + InputExcerpt(n.Scalar()) + "' is not a finite number (JSON has none)");
     }
     return scalar;

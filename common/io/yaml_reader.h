@@ -3,6 +3,10 @@
 // position, unknown and duplicate keys are errors, wrong types are errors, and every error names
 // `file:line:column: key`. Options are applied on top of code defaults, so a file only sets what
 // it names, and `include:` chains apply base files first.
+//
+// Three files implement it: yaml_document.cpp (one document: text, bounds, duplicate keys),
+// yaml_includes.cpp (files read safely and their include chains), yaml_reader.cpp (YamlMap's
+// strict key reading and the SourceMap).
 
 #include <cmath>
 #include <cstddef>
@@ -19,6 +23,7 @@
 #include <nlohmann/json.hpp>
 
 #include "common/error.h"
+#include "common/io/input_text.h"  // Utf8Length, InputExcerpt: user text in messages
 
 namespace corridorsim {
 
@@ -33,15 +38,6 @@ inline constexpr std::size_t kMaxYamlNodes = 100000;
 inline constexpr std::size_t kMaxYamlTextBytes = std::size_t{4} << 20;  // 4 MiB
 inline constexpr int kMaxYamlDepth = 64;                                // nested maps and lists
 inline constexpr int kMaxIncludeChain = 16;  // files in one `include:` chain
-
-/// The length of the UTF-8 character starting at text[i], or 0 if it is not well formed
-/// (overlong forms, surrogates, code points above U+10FFFF and a sequence cut by the end of
-/// `text` included). `i` must be less than text.size().
-std::size_t Utf8Length(std::string_view text, std::size_t i);
-
-/// User text made safe to put into a message: control characters as `\xNN`, at most `max_bytes`
-/// (a longer text keeps its head and tail around "..."), never split inside a UTF-8 character.
-std::string InputExcerpt(std::string_view text, std::size_t max_bytes = 80);
 
 /// Where each dotted key (e.g. "world.doors.width_m") was last set, so that a `Check()` problem
 /// found after parsing can be reported at the line that caused it.

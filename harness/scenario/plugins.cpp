@@ -12,16 +12,15 @@
 #include <utility>
 
 #include "common/io/atomic_file.h"
+#include "common/io/input_text.h"
 #include "common/io/options_yaml.h"
 #include "common/io/sha256.h"
-#include "common/io/yaml_reader.h"
 #include "harness/scenario/plugin_load_error.h"
 #include "slam/plugin.h"
 
 namespace corridorsim {
 namespace {
 
-constexpr std::size_t kMaxPathInMessage = 240;
 constexpr std::size_t kMaxTextFromPlugin = 200;  // its name, version, an exception's text
 
 struct Registry {
@@ -68,7 +67,7 @@ LoadedPlugin LoadPlugin(const std::filesystem::path& path, const SourceLocation&
                         const std::string& key) {
   Registry& registry = Plugins();
   const std::lock_guard<std::mutex> lock(registry.mutex);
-  const std::string shown = "'" + InputExcerpt(path.string(), kMaxPathInMessage) + "'";
+  const std::string shown = "'" + PathExcerpt(path.string()) + "'";
   const auto fail = [&](const std::string& message) {
     throw InputError(where, key, "the plugin library " + shown + " " + message);
   };
@@ -174,8 +173,7 @@ LoadedPlugin LoadPlugin(const std::filesystem::path& path, const SourceLocation&
       fail("registers the type '" + type.name + "', which " +
            (taken->library.empty()
                 ? std::string("corridorsim ships")
-                : "the plugin '" + InputExcerpt(taken->library, kMaxPathInMessage) +
-                      "' registered"));
+                : "the plugin '" + PathExcerpt(taken->library) + "' registered"));
     }
   }
   for (slam::PipelineType& type : registrar.types) {

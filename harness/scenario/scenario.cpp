@@ -4,6 +4,7 @@
 #include <tuple>
 
 #include "common/io/atomic_file.h"
+#include "common/io/input_text.h"
 #include "common/io/options_yaml.h"
 #include "harness/external/external_pipeline.h"
 #include "harness/scenario/overrides.h"
@@ -83,10 +84,7 @@ void ParsePlugins(YamlMap& root, Scenario& scenario) {
   }
   for (std::size_t i = 0; i < paths.size(); ++i) {
     const std::string& name = paths[i];
-    const bool control = std::any_of(name.begin(), name.end(), [](char c) {
-      return static_cast<unsigned char>(c) < 0x20 || c == 0x7f;
-    });
-    if (name.empty() || control) {
+    if (name.empty() || HasControlCharacter(name)) {
       throw InputError(locations[i], "plugins",
                        name.empty()
                            ? "expected the path of a plugin library"

@@ -6,6 +6,9 @@
 // with its COCO annotations, and at the end one COCO file per camera built from the truth files.
 // The folder is filled in place, file by file (atomically), so that a killed job resumes: a frame
 // whose truth files exist is done.
+//
+// The job and its folder: dataset.cpp; the poses: dataset_poses.cpp; a world's frames:
+// dataset_world.cpp; the COCO annotations: dataset_coco.cpp.
 
 #include <cstdint>
 #include <filesystem>

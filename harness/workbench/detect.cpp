@@ -108,6 +108,16 @@ nlohmann::ordered_json LineJson(const slam::ImageLineSegment& line) {
       {RoundToStep(line.a_px.x(), json_steps::kPx), RoundToStep(line.a_px.y(), json_steps::kPx),
        RoundToStep(line.b_px.x(), json_steps::kPx), RoundToStep(line.b_px.y(), json_steps::kPx)});
 }
+// A section of `count` items with one tally of them (`tally_key`: how many have depth, how many
+// were accepted), in that order.
+nlohmann::ordered_json ItemsSection(std::size_t count, const char* tally_key, int tally,
+                                    nlohmann::ordered_json items) {
+  nlohmann::ordered_json j;
+  j["count"] = count;
+  j[tally_key] = tally;
+  j["items"] = std::move(items);
+  return j;
+}
 // Six significant digits (a Harris response has no fixed scale).
 double Significant6(double value) {
   char text[32];
@@ -248,7 +258,6 @@ nlohmann::ordered_json CornersSection(const DetectInput& input, Image8* overlay)
   const slam::HarrisCornerOptions options;
   const std::vector<slam::HarrisCorner> corners =
       slam::DetectHarrisCorners(input.rgb, input.depth_m ? &*input.depth_m : nullptr, options);
-  nlohmann::ordered_json j;
   int with_depth = 0;
   nlohmann::ordered_json items = nlohmann::ordered_json::array();
   for (const slam::HarrisCorner& c : corners) {
@@ -259,9 +268,8 @@ nlohmann::ordered_json CornersSection(const DetectInput& input, Image8* overlay)
                                            : nlohmann::ordered_json()},
                      {"response", Significant6(c.response)}});
   }
-  j["count"] = corners.size();
-  j["with_depth"] = with_depth;
-  j["items"] = std::move(items);
+  nlohmann::ordered_json j =
+      ItemsSection(corners.size(), "with_depth", with_depth, std::move(items));
   if (overlay) {
     cv::Mat view = View(overlay);
     for (const slam::HarrisCorner& c : corners) {
@@ -301,10 +309,7 @@ nlohmann::ordered_json PlatesSection(const DetectInput& input, Image8* overlay) 
                      {"min_digit_score", RoundToStep(p.reading.min_score, json_steps::kRatio)},
                      {"digits", std::move(digits)}});
   }
-  nlohmann::ordered_json j;
-  j["count"] = plates.size();
-  j["accepted"] = accepted;
-  j["items"] = std::move(items);
+  nlohmann::ordered_json j = ItemsSection(plates.size(), "accepted", accepted, std::move(items));
   if (overlay) {
     cv::Mat view = View(overlay);
     for (const slam::DoorPlateDetection& p : plates) {

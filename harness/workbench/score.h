@@ -5,6 +5,9 @@
 // score, 101-point interpolated AP over IoU 0.50:0.05:0.95), plus what a detector developer
 // needs beside it: precision and recall at the best-F1 threshold, localisation error, the plates'
 // reading accuracy, and recall by distance, viewing angle and appearance.
+//
+// The input read and checked: score_input.cpp; the evaluation: score_evaluation.cpp; the job and
+// its report: score.cpp.
 
 #include <array>
 #include <cstdint>

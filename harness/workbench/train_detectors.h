@@ -11,6 +11,9 @@
 // Every random choice is seeded from `seed` (world seeds, poses, subsampling, OpenCV's RNG, the
 // MLP's initial weights), OpenCV runs on one thread while training, so the same request writes
 // byte-identical model files.
+//
+// The training and the command: train_detectors.cpp; the views: train_detectors_views.cpp; the
+// held-out evaluation and its report: train_detectors_evaluation.cpp.
 
 #include <cstdint>
 #include <filesystem>
@@ -75,9 +78,11 @@ std::string WithoutUncompressedSupportVectors(const std::string& yaml);
 /// Progress lines go to stdout.
 TrainingResult TrainDetectors(const TrainDetectorsOptions& options);
 
-/// The command: TrainDetectors with the request's counts and seed (the other options at their
-/// defaults), then the model files into out_dir (each replaced atomically) and the report into
-/// report_dir. Returns the exit code.
+/// The options of a request: its seed, counts and dataset folders; the others at their defaults.
+TrainDetectorsOptions TrainDetectorsOptionsOf(const TrainDetectorsRequest& request);
+
+/// The command: TrainDetectors with TrainDetectorsOptionsOf(request), then the model files into
+/// out_dir (each replaced atomically) and the report into report_dir. Returns the exit code.
 int RunTrainDetectors(const TrainDetectorsRequest& request);
 
 }  // namespace corridorsim

@@ -1,6 +1,6 @@
-// Tests harness/workbench/score.cpp: COCO's AP on hand-computed cases, matching thresholds for
-// boxes, circles and corner points, reading accuracy, binned recall, expectations and every kind of
-// bad detections file.
+// Tests harness/workbench/score*.cpp (the input, the evaluation, the job): COCO's AP on
+// hand-computed cases, matching thresholds for boxes, circles and corner points, reading accuracy,
+// binned recall, expectations and every kind of bad detections file.
 #include "harness/workbench/score.h"
 
 #include <cmath>

@@ -1,4 +1,4 @@
-// harness/workbench/train_detectors.cpp: the same request trains byte-identical model files; the
+// harness/workbench/train_detectors*.cpp: the same request trains byte-identical model files; the
 // models load back through slam::DoorPlateModels; the views come through `dataset` (a folder it
 // wrote trains the models the in-memory path trains); dataset folders that do not fit are refused.
 #include <catch2/catch.hpp>
@@ -15,12 +15,10 @@
 namespace corridorsim {
 namespace {
 
+// A small request's options, as the command makes them, with a short MLP training.
 TrainDetectorsOptions Small(std::uint64_t seed) {
-  TrainDetectorsOptions o;
-  o.seed = seed;
-  o.train_worlds = 2;
-  o.eval_worlds = 1;
-  o.views_per_world = 10;
+  TrainDetectorsOptions o = TrainDetectorsOptionsOf(
+      {.seed = seed, .train_worlds = 2, .eval_worlds = 1, .views_per_world = 10});
   o.mlp_iterations = 60;
   return o;
 }
