@@ -24,12 +24,16 @@ const fail = (m) => failures.push(m);
 function fill(template, js, data) {
   const read = (p) => fs.readFileSync(p, "utf8");
   const safe = (s) => s.replace(/<\//g, "<\\/");
+  // as scripts/pages.py's page_script: each CORRIDORSIM_INCLUDE line becomes the part it names,
+  // without the part's opening comment
+  const part = (name) => { const t = read(path.join(VIEWER, name)); return t.startsWith("/*") ? t.slice(t.indexOf("*/\n") + 3) : t; };
+  const script = (name) => read(path.join(VIEWER, name)).replace(/^[ \t]*\/\*CORRIDORSIM_INCLUDE ([A-Za-z0-9_.-]+)\*\/\n/gm, (m, name) => part(name));
   const parts = {
     "/*CORRIDORSIM_UPLOT_CSS*/": read(path.join(UPLOT, "uPlot.min.css")),
     "/*CORRIDORSIM_VIEWER_CSS*/": read(path.join(VIEWER, "viewer.css")),
     "/*CORRIDORSIM_UPLOT_JS*/": safe(read(path.join(UPLOT, "uPlot.iife.min.js"))),
-    [js === "viewer.js" ? "/*CORRIDORSIM_VIEWER_JS*/" : "/*CORRIDORSIM_REPORT_JS*/"]: safe(read(path.join(VIEWER, js))),
-    // as make_viewer.py's json_in_script: no string can end the element or escape it
+    [js === "viewer.js" ? "/*CORRIDORSIM_VIEWER_JS*/" : "/*CORRIDORSIM_REPORT_JS*/"]: safe(script(js)),
+    // as scripts/pages.py's json_in_script: no string can end the element or escape it
     CORRIDORSIM_DATA_JSON: JSON.stringify(data).replace(/</g, "\\u003c").replace(/>/g, "\\u003e").replace(/&/g, "\\u0026"),
     CORRIDORSIM_TITLE: "odd data",
   };
