@@ -288,12 +288,9 @@ def plot_summary(metrics, plots_dir, written):
     save(fig, plots_dir, "summary.png", written)
 
 
-def plot_run(run, plots_dir):
-    """Draws every plot whose data is present; returns the paths written."""
-    os.makedirs(plots_dir, exist_ok=True)
-    written = []
-    plot_trajectories(run, plots_dir, written)
-    metrics = run["metrics"]
+def plot_errors_and_nees(run, band_of, plots_dir, written):
+    """errors_<pipeline>.png of every pipeline with error samples, and nees_<pipeline>.png where
+    its NEES has a finite value, with the band `band_of(pipeline)` (None: the chi-square band)."""
     for name, p in run["pipelines"].items():
         errors = p["errors"]
         if errors["t"].size == 0:
@@ -301,8 +298,17 @@ def plot_run(run, plots_dir):
         plot_errors(name, errors, plots_dir, written)
         nees = errors.get("nees")
         if nees is not None and np.isfinite(nees).any():
-            band = metrics["pipelines"].get(name, {}).get("nees_band")
-            plot_nees(name, errors, band, plots_dir, written)
+            plot_nees(name, errors, band_of(name), plots_dir, written)
+
+
+def plot_run(run, plots_dir):
+    """Draws every plot whose data is present; returns the paths written."""
+    os.makedirs(plots_dir, exist_ok=True)
+    written = []
+    plot_trajectories(run, plots_dir, written)
+    metrics = run["metrics"]
+    plot_errors_and_nees(run, lambda name: metrics["pipelines"].get(name, {}).get("nees_band"),
+                         plots_dir, written)
     for name, p in run["pipelines"].items():
         if p["landmarks"]:
             plot_landmarks(name, run, p["landmarks"], plots_dir, written)
@@ -325,19 +331,26 @@ def plot_run(run, plots_dir):
     return written
 
 
+def write_plots(program, read, plot, plots_dir):
+    """The plot commands' end: read() (InputError: `<program>: <file>:<line>: <what>` on stderr,
+    exit 1), then plot(what was read, plots_dir), each path written printed; exit 0."""
+    try:
+        run = read()
+    except InputError as e:
+        print(f"{program}: {e}", file=sys.stderr)
+        return 1
+    for path in plot(run, plots_dir):
+        print(path)
+    return 0
+
+
 def main(argv):
     parser = argparse.ArgumentParser(description="Writes RUN_DIR/plots/*.png for a finished "
                                      "`corridorsim run`.")
     parser.add_argument("run_dir", metavar="RUN_DIR")
     args = parser.parse_args(argv)
-    try:
-        run = read_run(args.run_dir)
-    except InputError as e:
-        print(f"plot_run: {e}", file=sys.stderr)
-        return 1
-    for path in plot_run(run, os.path.join(args.run_dir, "plots")):
-        print(path)
-    return 0
+    return write_plots("plot_run", lambda: read_run(args.run_dir), plot_run,
+                       os.path.join(args.run_dir, "plots"))
 
 
 if __name__ == "__main__":

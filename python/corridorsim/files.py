@@ -6,6 +6,11 @@ line (and the key or column) on the first problem; every size and count is bound
 are shared by scripts/plot_run.py (and the scripts that import it), scripts/make_viewer.py and
 corridorsim.analysis (Run, Study, Dataset).
 
+The run folder's files are read here; the reading under them (InputError, JSON with line numbers,
+CSV tables and cells, FolderReader) is readers.py, the exact pose and whole-JSON readers the
+analysis side adds are analysis_files.py, and both are importable from here under the same names.
+Study folders: study_files.py; datasets and exports: dataset_files.py.
+
 Units: metres, seconds, radians, world frame W (docs/frames.md).
 """
 
@@ -313,16 +318,28 @@ def finite_numbers(value, count):
             all(is_number(v) and math.isfinite(v) for v in value))
 
 
+def map_items(path, expected, key):
+    """A maps/ file whose `format` is `expected` (read_format): its JsonReader and its array `key`
+    as (name, object) pairs, failing at the one after MAX_LANDMARKS."""
+    root = load_json(path)
+    r = JsonReader(path)
+    read_format(r, root, expected)
+
+    def items():
+        for count, (name, item) in enumerate(r.items(root, key)):
+            if count == MAX_LANDMARKS:
+                r.fail(item, name, f"more than {MAX_LANDMARKS} {key}")
+            yield name, item
+
+    return r, items()
+
+
 def read_upward_doors(path):
     """maps/<pipeline>_doors.json (slam/p3_upward_pipeline.cpp) as a list of
     {id, columns: ((xa, ya), (xb, yb)), particles: [(xa, ya, xb, yb, h)]}."""
-    root = load_json(path)
-    r = JsonReader(path)
-    read_format(r, root, "corridorsim.upward_doors")
+    r, items = map_items(path, "corridorsim.upward_doors", "doors")
     doors = []
-    for name, door in r.items(root, "doors"):
-        if len(doors) == MAX_LANDMARKS:
-            r.fail(door, name, f"more than {MAX_LANDMARKS} doors")
+    for name, door in items:
         lid = door.get("landmark_id")
         if not is_integer(lid):
             r.fail(door, f"{name}.landmark_id", "expected an integer")
@@ -345,13 +362,9 @@ def read_upward_doors(path):
 def read_areas(path):
     """maps/<pipeline>_areas.json (slam/mapping/door_areas.h) as a list of
     {id, kind, door, polygon: [(x, y)] or None, landmarks: set of ids}."""
-    root = load_json(path)
-    r = JsonReader(path)
-    read_format(r, root, "corridorsim.upward_areas")
+    r, items = map_items(path, "corridorsim.upward_areas", "areas")
     areas = []
-    for name, area in r.items(root, "areas"):
-        if len(areas) == MAX_LANDMARKS:
-            r.fail(area, name, f"more than {MAX_LANDMARKS} areas")
+    for name, area in items:
         aid = area.get("id")
         if not is_integer(aid):
             r.fail(area, f"{name}.id", "expected an integer")
