@@ -7,7 +7,7 @@ import json
 import math
 import re
 
-from .readers import (InputError, JsonReader, finite_float, is_integer, load_json,
+from .readers import (InputError, JsonReader, data_lines, finite_float, is_integer, load_json,
                       no_json_constant, read_short_text, read_text)
 
 
@@ -40,6 +40,16 @@ def parse_stamp_ns(text):
     return int(m.group(1)) * 1_000_000_000 + int((m.group(2) or "").ljust(9, "0"))
 
 
+def read_stamp_ns(path, number, text):
+    """parse_stamp_ns of the stamp `text` on line `number` of `path`; InputError when it is not
+    one."""
+    stamp = parse_stamp_ns(text)
+    if stamp is None:
+        raise InputError(path, number, "t: expected seconds with at most nine decimals, got "
+                         f"'{text[:40]}'")
+    return stamp
+
+
 def parse_number(text):
     """float(text) for a plain decimal number, nan or inf (no underscores, hex or spaces, which
     Python's float() would take); None otherwise. The value is the one C's strtod gives."""
@@ -53,20 +63,13 @@ def _read_pose_lines(path, extra, what, allow_non_finite, increasing, allow_empt
     out = {"t_ns": [], "t": []}
     out.update({n: [] for n in names})
     fields_wanted = 1 + len(names)
-    for number, line in enumerate(read_text(path).splitlines(), start=1):
-        line = line.strip()
-        if not line or line.startswith("#"):
-            continue
-        fields = line.split()
+    for number, fields in data_lines(path):
         if len(fields) != fields_wanted:
             raise InputError(path, number, f"expected {fields_wanted} fields '{what}', "
                              f"got {len(fields)}")
         if len(out["t_ns"]) == MAX_POSES:
             raise InputError(path, number, f"more than {MAX_POSES} poses")
-        stamp = parse_stamp_ns(fields[0])
-        if stamp is None:
-            raise InputError(path, number, "t: expected seconds with at most nine decimals, got "
-                             f"'{fields[0][:40]}'")
+        stamp = read_stamp_ns(path, number, fields[0])
         if increasing and out["t_ns"] and stamp <= out["t_ns"][-1]:
             raise InputError(path, number, f"t: {fields[0]} is not after the previous stamp")
         values = []

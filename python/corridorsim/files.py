@@ -27,11 +27,12 @@ import numpy as np
 from .analysis_files import (MAX_EVENTS, MAX_JSON_BYTES, MAX_POSES,  # noqa: F401
                              OV_EVAL_COVARIANCE, PIPELINE_NAME, TUM_FIELDS, load_json_fast,
                              parse_number, parse_stamp_ns, read_covariance, read_events,
-                             read_json_object, read_metrics_full, read_tum_exact, text_list)
+                             read_json_object, read_metrics_full, read_stamp_ns,
+                             read_tum_exact, text_list)
 from .readers import (MAX_CSV_ROWS, MAX_FILE_BYTES, MAX_TEXT_CHARS, CsvCells,  # noqa: F401
-                      FolderReader, InputError, JsonArray, JsonObject, JsonReader, finite_float,
-                      is_integer, is_number, load_json, no_json_constant, read_csv_records,
-                      read_csv_table, read_short_text, read_text)
+                      FolderReader, InputError, JsonArray, JsonObject, JsonReader, data_lines,
+                      finite_float, is_integer, is_number, load_json, no_json_constant,
+                      read_csv_records, read_csv_table, read_short_text, read_text)
 
 # Bounds on what an input may hold (each becomes a loop count or a figure size).
 MAX_LANDMARKS = 100_000
@@ -131,11 +132,7 @@ def read_world(path):
 def read_tum(path):
     """TUM trajectory as an (N, 8) array: t tx ty tz qx qy qz qw (s, m, unit quaternion)."""
     rows = []
-    for number, line in enumerate(read_text(path).splitlines(), start=1):
-        line = line.strip()
-        if not line or line.startswith("#"):
-            continue
-        fields = line.split()
+    for number, fields in data_lines(path):
         if len(fields) != 8:
             raise InputError(path, number, f"expected 8 numbers 't tx ty tz qx qy qz qw', "
                              f"got {len(fields)} fields")

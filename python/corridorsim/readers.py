@@ -49,6 +49,16 @@ def read_text(path, max_bytes=None):
         raise InputError(path, None, f"cannot be read: {e}") from None
 
 
+def data_lines(path):
+    """(line number, whitespace-separated fields) of each line of a text file (read_text) that is
+    neither empty nor a '#' comment: TUM trajectories and frame lists."""
+    for number, line in enumerate(read_text(path).splitlines(), start=1):
+        line = line.strip()
+        if not line or line.startswith("#"):
+            continue
+        yield number, line.split()
+
+
 class JsonObject(dict):
     """A JSON object that remembers the line of its opening brace."""
     line = None
