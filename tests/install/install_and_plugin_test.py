@@ -290,7 +290,11 @@ def main():
     files = run(["dpkg-deb", "-c", runtime]).stdout
     for rel in ["./usr/bin/corridorsim", "./usr/share/corridorsim/scenarios/default.yaml",
                 "./usr/share/corridorsim/models/room_number_mlp.yml",
-                "./usr/share/corridorsim/scripts/plot_study.py"]:
+                "./usr/share/corridorsim/scripts/plot_study.py",
+                "./usr/share/corridorsim/scripts/study_summary.py",
+                "./usr/share/corridorsim/scripts/system_python.py",
+                "./usr/share/corridorsim/viewer/page.js",
+                "./usr/share/corridorsim/viewer/viewer_plan.js"]:
         if rel not in files:
             fail("the runtime package lacks " + rel)
     if "./usr/include/" in files:
