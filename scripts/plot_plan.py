@@ -1,7 +1,7 @@
-"""plot_run.py's plan (docs/viewer.md's plots): the world drawn top-down (walls, doors, lamps,
-plates) in the colours of worlds/map_plot.cpp's map.png, the plan's extent and its panels when a
-corridor is long, the figure that holds them, the legend's world entries; and saving a figure
-without metadata. The run plots (plot_run.py, plot_map.py) draw on it; plot_run.py chooses the
+"""plot_run.py's plan: the world drawn top-down (walls, doors, lamps, plates) in the colours of
+worlds/map_plot.cpp's map.png, the plan's extent and its panels when a corridor is long, the
+figure that holds them and the legend's world entries; and saving a figure without metadata. The
+run plots (plot_run.py, plot_map.py, plot_detections.py) use it; plot_run.py chooses the
 matplotlib backend before any of them is imported."""
 
 import math
