@@ -207,8 +207,7 @@ def main(argv):
             raise files.InputError(args.study_dir, None, "is not a directory")
         data = build_data(args.study_dir)
         made["runs"] = len(data["runs"])
-        made["page"] = fill_page("report.html", "/*CORRIDORSIM_REPORT_JS*/", "report.js",
-                                 page_json(data), data["title"])
+        made["page"] = fill_page("report.html", "report.js", page_json(data), data["title"])
         return made["page"]
 
     code = make_page("make_report.py", args.study_dir, out, build,

@@ -471,7 +471,7 @@ def build_data(run_dir, points, frame_stamps):
 
 
 def render(data_json, title):
-    return fill_page("viewer.html", "/*CORRIDORSIM_VIEWER_JS*/", "viewer.js", data_json, title)
+    return fill_page("viewer.html", "viewer.js", data_json, title)
 
 
 def main(argv):

@@ -2,8 +2,9 @@
 make_report.py's report.html of a study are each one self-contained file, a template from viewer/
 with uPlot, the styles, the page's script and its data inlined. Here: finding viewer/ and uPlot,
 the page's script with its parts inlined (CORRIDORSIM_INCLUDE), the data as JSON that cannot end
-its <script> element, the template filled in one pass, and the page written atomically with the
-commands' exit codes (2: a malformed input, 1: the page could not be made or written)."""
+its <script> element, the template (its shared head and tail inlined) filled in one pass, and the
+page written atomically with the commands' exit codes (2: a malformed input, 1: the page could not
+be made or written)."""
 
 import html
 import json
@@ -75,9 +76,10 @@ def script_safe(text):
 
 
 def render_page(template_path, parts):
-    """The template with each placeholder of `parts` (each present exactly once) replaced in one
-    pass, so that nothing inserted is searched for placeholders again."""
-    page = read_asset(template_path)
+    """The template (with_parts: its parts inlined) with each placeholder of `parts` (each present
+    exactly once) replaced in one pass, so that nothing inserted is searched for placeholders
+    again."""
+    page = with_parts(template_path)
     for key in parts:
         if page.count(key) != 1:
             raise RuntimeError(f"{template_path}: expected one {key}, found {page.count(key)}")
@@ -90,32 +92,39 @@ def render_page(template_path, parts):
     return "".join(out)
 
 
+# A line of a page source that names a part to inline there: `/*CORRIDORSIM_INCLUDE part.js*/` in
+# a script, `<!--CORRIDORSIM_INCLUDE part.html-->` in a template.
+INCLUDE = re.compile(r"^[ \t]*(?:/\*|<!--)CORRIDORSIM_INCLUDE ([A-Za-z0-9_.-]+)(?:\*/|-->)\n",
+                     re.MULTILINE)
 
-INCLUDE = re.compile(r"^[ \t]*/\*CORRIDORSIM_INCLUDE ([A-Za-z0-9_.-]+)\*/\n", re.MULTILINE)
 
-
-def page_script(name):
-    """viewer/<name> with each line `/*CORRIDORSIM_INCLUDE <part>*/` replaced by viewer/<part>
-    (page.js, the pages' shared helpers; viewer_*.js, the viewer's parts), in place, inside the
-    page's closure. A part's opening comment is for the reader of its file and stays out."""
-    base = viewer_dir()
+def with_parts(path):
+    """The page source at `path` with each INCLUDE line replaced by the part it names (a file of
+    the same folder), in place: page.js, the pages' shared helpers, into viewer.js and report.js;
+    viewer_*.js, the run viewer's parts, into viewer.js; page_head.html and page_tail.html into
+    both templates. A part's opening comment (`/* ... */` or `<!-- ... -->`) is for the reader of
+    its file and stays out."""
+    base = os.path.dirname(path)
 
     def part(match):
         text = read_asset(os.path.join(base, match.group(1)))
-        return text[text.index("*/\n") + 3:] if text.startswith("/*") else text
+        for start, end in (("/*", "*/\n"), ("<!--", "-->\n")):
+            if text.startswith(start):
+                return text[text.index(end) + len(end):]
+        return text
 
-    return INCLUDE.sub(part, read_asset(os.path.join(base, name)))
+    return INCLUDE.sub(part, read_asset(path))
 
 
-def fill_page(template, script_key, script, data_json, title):
-    """viewer/<template> with uPlot, viewer.css, the page's script (viewer/<script> through
-    page_script, at `script_key`), the data and the title inlined."""
+def fill_page(template, script, data_json, title):
+    """viewer/<template> with uPlot, viewer.css, the page's script (viewer/<script>, with_parts),
+    the data and the title inlined."""
     base = viewer_dir()
     return render_page(os.path.join(base, template), {
         "/*CORRIDORSIM_UPLOT_CSS*/": read_asset(uplot_file("uPlot.min.css")),
         "/*CORRIDORSIM_VIEWER_CSS*/": read_asset(os.path.join(base, "viewer.css")),
         "/*CORRIDORSIM_UPLOT_JS*/": script_safe(read_asset(uplot_file("uPlot.iife.min.js"))),
-        script_key: script_safe(page_script(script)),
+        "/*CORRIDORSIM_PAGE_JS*/": script_safe(with_parts(os.path.join(base, script))),
         "CORRIDORSIM_DATA_JSON": json_in_script(data_json),
         "CORRIDORSIM_TITLE": html.escape(valid_text(title)),
     })

@@ -136,6 +136,8 @@ def main():
                 "share/corridorsim/viewer/viewer_plots.js",
                 "share/corridorsim/viewer/viewer_frames.js",
                 "share/corridorsim/viewer/viewer_tables.js",
+                "share/corridorsim/viewer/page_head.html",
+                "share/corridorsim/viewer/page_tail.html",
                 "share/corridorsim/viewer/vendor/uplot/uPlot.iife.min.js",
                 "lib/python3/dist-packages/corridorsim/files.py",
                 "lib/python3/dist-packages/corridorsim/analysis.py",
