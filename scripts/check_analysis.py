@@ -18,28 +18,21 @@ import math
 import os
 import sys
 
-# Debian's python3-numpy and python3-pandas live in /usr/bin/python3's site-packages; a pyenv or
-# venv `python3` first on PATH may not see them, so the script re-runs itself there.
-SYSTEM_PYTHON = "/usr/bin/python3"
-REEXEC_ENV = "CORRIDORSIM_CHECK_ANALYSIS_REEXEC"
+# numpy and pandas: Debian's, under /usr/bin/python3 when the python3 that started this lacks them
+# (system_python.py, beside this script); corridorsim.analysis: the installed package's, else the
+# checkout's.
+sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
+import system_python  # noqa: E402
+
 try:
     import numpy  # noqa: F401
     import pandas  # noqa: F401
 except ImportError as missing:
-    if (not os.environ.get(REEXEC_ENV) and os.path.exists(SYSTEM_PYTHON) and
-            os.path.realpath(sys.executable) != os.path.realpath(SYSTEM_PYTHON)):
-        os.environ[REEXEC_ENV] = "1"
-        os.execv(SYSTEM_PYTHON, [SYSTEM_PYTHON, os.path.abspath(__file__)] + sys.argv[1:])
-    print(f"check_analysis: {missing.name} is not installed for {sys.executable} "
-          "(Debian: python3-numpy python3-pandas)", file=sys.stderr)
-    sys.exit(2)
+    system_python.rerun_or_exit(__file__, missing, "check_analysis",
+                                reexec_env="CORRIDORSIM_CHECK_ANALYSIS_REEXEC",
+                                hint="Debian: python3-numpy python3-pandas", status=2)
 
-try:
-    import corridorsim.analysis  # noqa: F401
-except ImportError:
-    sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), "..", "python"))
-    for _module in [m for m in sys.modules if m == "corridorsim" or m.startswith("corridorsim.")]:
-        del sys.modules[_module]  # an installed package without analysis.py: take the checkout's
+system_python.use_corridorsim_with("analysis")
 from corridorsim.analysis import RPE_DISTANCES_M, Run  # noqa: E402
 from corridorsim.files import InputError  # noqa: E402
 

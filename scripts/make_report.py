@@ -11,21 +11,16 @@ not be written. corridorsim study calls it after plots/ (exit 4 there when it fa
 """
 
 import argparse
-import html
 import math
 import os
 import sys
 
-try:
-    from corridorsim import files
-except ImportError:  # the checkout, not installed: the package is beside scripts/
-    sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), "..", "python"))
-    from corridorsim import files
-
 sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
-from make_viewer import (json_in_script, keep_path_bytes, page_json,  # noqa: E402
-                         read_asset, render_page, script_safe, uplot_file, valid_text,
-                         viewer_dir, write_page)
+import system_python  # noqa: E402
+
+system_python.use_corridorsim_with("files")
+from corridorsim import files  # noqa: E402
+from pages import fill_page, keep_path_bytes, make_page, page_json  # noqa: E402
 
 SCHEMA = 1
 MAX_TEXT = 300
@@ -205,30 +200,22 @@ def main(argv):
     args = parser.parse_args(argv)
     keep_path_bytes(sys.stdout)
     out = args.out or os.path.join(args.study_dir, "report.html")
-    try:
+    made = {}
+
+    def build():
         if not os.path.isdir(args.study_dir):
             raise files.InputError(args.study_dir, None, "is not a directory")
         data = build_data(args.study_dir)
-        data_json = page_json(data)
-        base = viewer_dir()
-        page = render_page(os.path.join(base, "report.html"), {
-            "/*CORRIDORSIM_UPLOT_CSS*/": read_asset(uplot_file("uPlot.min.css")),
-            "/*CORRIDORSIM_VIEWER_CSS*/": read_asset(os.path.join(base, "viewer.css")),
-            "/*CORRIDORSIM_UPLOT_JS*/": script_safe(read_asset(uplot_file("uPlot.iife.min.js"))),
-            "/*CORRIDORSIM_REPORT_JS*/": script_safe(read_asset(os.path.join(base, "report.js"))),
-            "CORRIDORSIM_DATA_JSON": json_in_script(data_json),
-            "CORRIDORSIM_TITLE": html.escape(valid_text(data["title"])),
-        })
-    except files.InputError as e:
-        print(f"make_report.py: {e}", file=sys.stderr)
-        return 2
-    except (OSError, RuntimeError, ValueError, KeyError, TypeError, AttributeError) as e:
-        print(f"make_report.py: {args.study_dir}: {type(e).__name__}: {e}", file=sys.stderr)
-        return 1
-    if not write_page(out, page, "make_report.py"):
-        return 1
-    print(f"wrote {out} ({len(page.encode('utf-8')) / 1e6:.2f} MB, {len(data['runs'])} runs)")
-    return 0
+        made["runs"] = len(data["runs"])
+        made["page"] = fill_page("report.html", "report.js", page_json(data), data["title"])
+        return made["page"]
+
+    code = make_page("make_report.py", args.study_dir, out, build,
+                     (OSError, RuntimeError, ValueError, KeyError, TypeError, AttributeError))
+    if code == 0:
+        print(f"wrote {out} ({len(made['page'].encode('utf-8')) / 1e6:.2f} MB, "
+              f"{made['runs']} runs)")
+    return code
 
 
 if __name__ == "__main__":

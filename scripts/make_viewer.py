@@ -11,20 +11,18 @@ page could not be written. corridorsim run calls it after the results (an extra:
 
 import argparse
 import base64
-import html
 import json
 import math
 import os
-import re
 import sys
 
-try:
-    from corridorsim import files
-    from corridorsim.stats import chi2_band
-except ImportError:  # the checkout, not installed: the package is beside scripts/
-    sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), "..", "python"))
-    from corridorsim import files
-    from corridorsim.stats import chi2_band
+sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
+import system_python  # noqa: E402
+
+system_python.use_corridorsim_with("files", "stats")
+from corridorsim import files  # noqa: E402
+from corridorsim.stats import chi2_band  # noqa: E402
+from pages import fill_page, keep_path_bytes, make_page, page_json  # noqa: E402
 
 SCHEMA = 1
 # Samples per series before decimation starts (paths, error plots); halved until the page fits.
@@ -38,29 +36,6 @@ M, RAD, S = 4, 5, 4        # decimals of metres, radians, seconds in the page
 # Significant digits of covariances: an elongated ellipse (odometry's, eigenvalue ratio ~4000)
 # keeps its minor axis to 1e-5 m with 7; 4 moved it by 1.4 %.
 COV_DIGITS = 7
-
-
-def viewer_dir():
-    """The page's sources: <data>/viewer beside <data>/scripts (the checkout, a build tree's
-    links, or share/corridorsim installed)."""
-    return os.path.join(os.path.dirname(os.path.realpath(__file__)), "..", "viewer")
-
-
-def uplot_file(name):
-    """uPlot's dist file: viewer/vendor/ when installed, viewer/node_modules/ in a checkout
-    (scripts/setup.sh runs npm ci there)."""
-    base = viewer_dir()
-    for candidate in (os.path.join(base, "vendor", "uplot", name),
-                      os.path.join(base, "node_modules", "uplot", "dist", name)):
-        if os.path.isfile(candidate):
-            return candidate
-    raise FileNotFoundError(f"uPlot's {name} is not installed under {base} "
-                            "(scripts/setup.sh runs `npm ci` in viewer/)")
-
-
-def read_asset(path):
-    with open(path, encoding="utf-8") as f:
-        return f.read()
 
 
 def rounded(values, decimals):
@@ -495,86 +470,8 @@ def build_data(run_dir, points, frame_stamps):
     return data
 
 
-LONE_SURROGATE = re.compile("[\ud800-\udfff]")
-
-
-def valid_text(text):
-    """`text` as text a UTF-8 file can hold: each lone surrogate (a byte of a file name that is
-    not UTF-8, as Python decodes it, or a `\\ud800` escape read from a JSON file) becomes U+FFFD."""
-    return LONE_SURROGATE.sub("\ufffd", text)
-
-
-def page_json(data):
-    """`data` as the page's JSON text (valid_text: any string may come from outside)."""
-    return valid_text(json.dumps(data, separators=(",", ":"), allow_nan=False,
-                                 ensure_ascii=False))
-
-
-def json_in_script(text):
-    """JSON text for <script type="application/json">: every `<`, `>` and `&` written as a JSON
-    escape (\\u003c, \\u003e, \\u0026), so that no string (`</script>`, `<!--<script>`) can end
-    the element or change how the HTML tokenizer reads the rest of the page. JSON holds these
-    characters only inside strings, where the escape stands for the same character."""
-    return (valid_text(text).replace("<", "\\u003c").replace(">", "\\u003e")
-            .replace("&", "\\u0026"))
-
-
-def script_safe(text):
-    """The page's own JavaScript inside <script>: no `</` can close the element. A source holding
-    `<!--` (the HTML tokenizer's escaped script states, where `</script>` no longer ends the
-    element) is refused rather than embedded."""
-    if "<!--" in text:
-        raise RuntimeError("a page source holds '<!--', which would change how the browser reads "
-                           "the rest of the page")
-    return text.replace("</", "<\\/")
-
-
-def render_page(template_path, parts):
-    """The template with each placeholder of `parts` (each present exactly once) replaced in one
-    pass, so that nothing inserted is searched for placeholders again."""
-    page = read_asset(template_path)
-    for key in parts:
-        if page.count(key) != 1:
-            raise RuntimeError(f"{template_path}: expected one {key}, found {page.count(key)}")
-    out, i = [], 0
-    for position, key in sorted((page.index(k), k) for k in parts):
-        out.append(page[i:position])
-        out.append(parts[key])
-        i = position + len(key)
-    out.append(page[i:])
-    return "".join(out)
-
-
 def render(data_json, title):
-    base = viewer_dir()
-    return render_page(os.path.join(base, "viewer.html"), {
-        "/*CORRIDORSIM_UPLOT_CSS*/": read_asset(uplot_file("uPlot.min.css")),
-        "/*CORRIDORSIM_VIEWER_CSS*/": read_asset(os.path.join(base, "viewer.css")),
-        "/*CORRIDORSIM_UPLOT_JS*/": script_safe(read_asset(uplot_file("uPlot.iife.min.js"))),
-        "/*CORRIDORSIM_VIEWER_JS*/": script_safe(read_asset(os.path.join(base, "viewer.js"))),
-        "CORRIDORSIM_DATA_JSON": json_in_script(data_json),
-        "CORRIDORSIM_TITLE": html.escape(valid_text(title)),
-    })
-
-
-def keep_path_bytes(stream):
-    """A path printed to `stream` keeps the bytes it was given, UTF-8 or not."""
-    if hasattr(stream, "reconfigure"):
-        stream.reconfigure(errors="surrogateescape")
-
-
-def write_page(out, page, program):
-    """Writes the page atomically (a temporary file beside it, then rename); False, with the
-    reason on stderr, when it cannot."""
-    tmp = out + ".tmp"
-    try:
-        with open(tmp, "w", encoding="utf-8") as f:
-            f.write(page)
-        os.replace(tmp, out)
-    except OSError as e:
-        print(f"{program}: cannot write {out}: {e}", file=sys.stderr)
-        return False
-    return True
+    return fill_page("viewer.html", "viewer.js", data_json, title)
 
 
 def main(argv):
@@ -589,7 +486,9 @@ def main(argv):
         print("make_viewer.py: --budget-mb must be in [0.1, 1000]", file=sys.stderr)
         return 2
     out = args.out or os.path.join(args.run_dir, "viewer.html")
-    try:
+    made = {}
+
+    def build():
         if not os.path.isdir(args.run_dir):
             raise files.InputError(args.run_dir, None, "is not a directory")
         frames, frames_bytes = read_frames(args.run_dir)
@@ -607,18 +506,18 @@ def main(argv):
         else:
             data["frames"] = {}
             text = text[:-1] + ',"frames":{}}'
-        page = render(text, data["title"])
-    except files.InputError as e:
-        print(f"make_viewer.py: {e}", file=sys.stderr)
-        return 2
-    except (OSError, RuntimeError, ValueError, KeyError, IndexError, TypeError) as e:
-        print(f"make_viewer.py: {args.run_dir}: {type(e).__name__}: {e}", file=sys.stderr)
-        return 1
-    if not write_page(out, page, "make_viewer.py"):
-        return 1
-    print(f"wrote {out} ({len(page.encode('utf-8')) / 1e6:.2f} MB, {points} points per series"
-          + (f", frames {frames_bytes / 1e6:.1f} MB" if frames else "") + ")")
-    return 0
+        made.update(points=points, frames_bytes=frames_bytes if frames else None)
+        made["page"] = render(text, data["title"])
+        return made["page"]
+
+    code = make_page("make_viewer.py", args.run_dir, out, build,
+                     (OSError, RuntimeError, ValueError, KeyError, IndexError, TypeError))
+    if code == 0:
+        print(f"wrote {out} ({len(made['page'].encode('utf-8')) / 1e6:.2f} MB, "
+              f"{made['points']} points per series"
+              + (f", frames {made['frames_bytes'] / 1e6:.1f} MB"
+                 if made["frames_bytes"] is not None else "") + ")")
+    return code
 
 
 if __name__ == "__main__":

@@ -19,13 +19,12 @@ Also reported (not a target): the plates' own NEES over their x-y covariance, av
 plate of every seed, against the 95 % band of the mean of that many chi-square(2) values.
 Standard library only.
 """
-import argparse
 import json
 import math
 import os
 import sys
 
-from study_common import average_nees, chi2_quantile, parse_seeds, run_all
+from study_common import average_nees, chi2_quantile, run_all, study_arguments
 
 PIPELINE = "p1_vp_doorplate"
 
@@ -82,22 +81,9 @@ def plate_check(run_dir):
 
 
 def main(argv):
-    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--scenario", default="scenarios/default.yaml")
-    parser.add_argument("--seeds", default="1-10")
-    parser.add_argument("--out", default="out/p1_study")
-    parser.add_argument("--corridorsim", default="build/bin/corridorsim")
-    parser.add_argument("--jobs", type=int, default=1)
-    parser.add_argument("--resume", action="store_true",
-                        help="keep the seeds whose run folder is already complete")
-    args = parser.parse_args(argv)
-    try:
-        seeds = parse_seeds(args.seeds)
-    except ValueError as e:
-        sys.stderr.write(f"p1_study: error: {e}\n")
-        return 2
-    if not (1 <= args.jobs <= 64):
-        sys.stderr.write("p1_study: error: --jobs: between 1 and 64\n")
+    args, seeds = study_arguments(argv, __doc__.split("\n")[0], "p1_study",
+                                  "scenarios/default.yaml", "out/p1_study")
+    if seeds is None:
         return 2
     os.makedirs(args.out, exist_ok=True)
     try:

@@ -29,13 +29,12 @@ detector's recall, precision and centre error and the data association precision
 type, each over the counts summed over every seed.
 Standard library only.
 """
-import argparse
 import json
 import math
 import os
 import sys
 
-from study_common import average_nees, parse_seeds, run_all
+from study_common import average_nees, run_all, study_arguments
 
 PIPELINE = "p3_upward"
 CORNERS = "p3_corners"
@@ -118,22 +117,9 @@ def ratio(a, b):
 
 
 def main(argv):
-    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--scenario", default="scenarios/p3_lamps.yaml")
-    parser.add_argument("--seeds", default="1-10")
-    parser.add_argument("--out", default="out/p3_study")
-    parser.add_argument("--corridorsim", default="build/bin/corridorsim")
-    parser.add_argument("--jobs", type=int, default=1)
-    parser.add_argument("--resume", action="store_true",
-                        help="keep the seeds whose run folder is already complete")
-    args = parser.parse_args(argv)
-    try:
-        seeds = parse_seeds(args.seeds)
-    except ValueError as e:
-        sys.stderr.write(f"p3_study: error: {e}\n")
-        return 2
-    if not (1 <= args.jobs <= 64):
-        sys.stderr.write("p3_study: error: --jobs: between 1 and 64\n")
+    args, seeds = study_arguments(argv, __doc__.split("\n")[0], "p3_study",
+                                  "scenarios/p3_lamps.yaml", "out/p3_study")
+    if seeds is None:
         return 2
     if not os.path.isfile(args.scenario):
         sys.stderr.write(f"p3_study: error: --scenario: no file '{args.scenario}'\n")

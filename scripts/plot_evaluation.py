@@ -22,8 +22,6 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import numpy as np  # noqa: E402
-
 import plot_run  # noqa: E402
 from plot_run import InputError  # noqa: E402
 
@@ -57,14 +55,7 @@ def plot_evaluation(run, plots_dir):
     os.makedirs(plots_dir, exist_ok=True)
     written = []
     plot_run.plot_trajectories(run, plots_dir, written)
-    for name, p in run["pipelines"].items():
-        errors = p["errors"]
-        if errors["t"].size == 0:
-            continue
-        plot_run.plot_errors(name, errors, plots_dir, written)
-        nees = errors.get("nees")
-        if nees is not None and np.isfinite(nees).any():
-            plot_run.plot_nees(name, errors, None, plots_dir, written)
+    plot_run.plot_errors_and_nees(run, lambda name: None, plots_dir, written)
     return written
 
 
@@ -74,14 +65,9 @@ def main(argv):
     parser.add_argument("out_dir", metavar="OUT_DIR")
     parser.add_argument("run_dir", metavar="RUN_DIR")
     args = parser.parse_args(argv)
-    try:
-        run = read_evaluation(args.out_dir, args.run_dir)
-    except InputError as e:
-        print(f"plot_evaluation: {e}", file=sys.stderr)
-        return 1
-    for path in plot_evaluation(run, os.path.join(args.out_dir, "plots")):
-        print(path)
-    return 0
+    return plot_run.write_plots("plot_evaluation",
+                                lambda: read_evaluation(args.out_dir, args.run_dir),
+                                plot_evaluation, os.path.join(args.out_dir, "plots"))
 
 
 if __name__ == "__main__":

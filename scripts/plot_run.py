@@ -54,35 +54,24 @@ import os
 import sys
 import textwrap
 
-# Debian's python3-matplotlib and python3-numpy live in /usr/bin/python3's site-packages; a pyenv
-# or venv `python3` that comes first on PATH may not see them, so the script re-runs itself there.
-SYSTEM_PYTHON = "/usr/bin/python3"
-REEXEC_ENV = "CORRIDORSIM_PLOT_REEXEC"
+# matplotlib and numpy: Debian's, under /usr/bin/python3 when the python3 that started this lacks
+# them (system_python.py, beside this script).
+sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
+import system_python  # noqa: E402
+
 try:
     import matplotlib
     import numpy as np
 except ImportError as missing:
-    if (not os.environ.get(REEXEC_ENV) and os.path.exists(SYSTEM_PYTHON) and
-            os.path.realpath(sys.executable) != os.path.realpath(SYSTEM_PYTHON)):
-        os.environ[REEXEC_ENV] = "1"
-        os.execv(SYSTEM_PYTHON, [SYSTEM_PYTHON, os.path.abspath(__file__)] + sys.argv[1:])
-    print(f"plot_run: {missing.name} is not installed for {sys.executable} "
-          "(scripts/setup.sh installs python3-matplotlib)", file=sys.stderr)
-    sys.exit(1)
+    system_python.rerun_or_exit(__file__, missing, "plot_run")
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402 (after choosing the backend)
 from matplotlib.lines import Line2D  # noqa: E402
-from matplotlib.patches import Circle, Ellipse, Polygon, Rectangle  # noqa: E402
 
 # The strict readers of a run folder live in the corridorsim Python package (python/corridorsim/
 # files.py); the names are re-exported here for the scripts that import plot_run. When the package
 # is not on sys.path (a checkout's script run directly), the checkout's python/ folder is added.
-try:
-    import corridorsim.files  # noqa: F401
-except ImportError:
-    sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), "..", "python"))
-    for _module in [m for m in sys.modules if m == "corridorsim" or m.startswith("corridorsim.")]:
-        del sys.modules[_module]  # an installed package without files.py: take the checkout's
+system_python.use_corridorsim_with("files")
 from corridorsim.files import (  # noqa: E402,F401
     BOX_COLUMNS, DETECTION_COLUMNS, DETECTOR_SCORES, DOOR_STATES, ERROR_COLUMNS_OPTIONAL,
     ERROR_COLUMNS_REQUIRED, LANDMARK_STATUSES, LANDMARK_TYPES, MAX_CSV_ROWS, MAX_LANDMARK_POINTS,
@@ -101,30 +90,12 @@ NEES_DOF = 3  # x, y, yaw
 # summary.png), DETECTOR_SCORES, LANDMARK_TYPES (in drawing order), LANDMARK_STATUSES and the
 # MAX_* bounds on the inputs come from corridorsim.files.
 
-# Plan colours, the same as worlds/map_plot.cpp draws map.png.
-DOOR_COLORS = {"closed": "#d72828", "open": "#1ea03c", "empty": "#285adc"}
-WALL_COLOR = "#37373c"
-LAMP_ON_FACE, LAMP_ON_EDGE = "#ffd700", "#aa8200"
-LAMP_OFF_EDGE = "#646464"
-PLATE_COLOR = "#6a3d9a"
-
-# The colours of the landmark and detection types; the true plates keep PLATE_COLOR.
-TYPE_COLORS = {"door_plate": "#e6550d", "door": "#8c564b", "lamp": "#e91e63", "corner": "#17a2b8",
-               "vanishing_point": "#7f7f7f"}
-SCORE_NAMES = {"door_plate": "SVM margin", "corner": "Harris response",
-               "vanishing_point": "line count", "door": "score", "lamp": "score"}
-CHI2_2DOF_95 = 5.991  # 95 % quantile of chi-square with 2 dof: the ellipse is sqrt(5.991) sigma
-
-# Bounds on what is drawn.
-MAX_PLATE_ANNOTATIONS = 80  # labelled plate tracks in detections_<pipeline>.png
-MAX_LISTED_VPS = 6         # vanishing points listed in the legend of landmarks_<pipeline>.png
-
-PANEL_MAX_ASPECT = 8.0  # a trajectories panel is at most 8 times longer than it is wide
-PANEL_MAX_COUNT = 8
-PANEL_OVERLAP_M = 0.5   # neighbouring panels share this much, so nothing hides at a cut
-PLAN_MARGIN_M = 0.3
-ESTIMATE_SLACK_M = 1.5  # how far beyond the world and the truth the plan grows for estimates
-DPI = 100
+# The drawing beside this script: the plan (and save), the map plots, the detection plots.
+from plot_detections import plot_detections, plot_frame_time  # noqa: E402
+from plot_map import (ellipse_2sigma, plot_areas, plot_door_particles,  # noqa: E402,F401
+                      plot_landmarks, vanishing_point_text)
+from plot_plan import (draw_world, outside, plain, plan_extent, plan_figure,  # noqa: E402,F401
+                       save, world_handles)
 
 
 # ------------------------------------------------------------------------------------------------
@@ -142,158 +113,6 @@ def chi2_95_bounds(dof):
         return CHI2_95_BOUNDS[dof]
     z, h = 1.959964, 2.0 / (9.0 * dof)
     return tuple(dof * (1.0 - h + s * z * math.sqrt(h)) ** 3 for s in (-1.0, 1.0))
-
-
-def save(fig, plots_dir, name, written):
-    """Writes the figure atomically (temporary file, then rename) and without metadata."""
-    path = os.path.join(plots_dir, name)
-    tmp = path + ".tmp"
-    fig.savefig(tmp, format="png", dpi=DPI, metadata={"Software": None})
-    os.replace(tmp, path)
-    written.append(path)
-    plt.close(fig)
-
-
-def plan_extent(run):
-    """(xmin, xmax, ymin, ymax) of the plan: walls, lamps, plates and the true trajectory, with a
-    margin, grown by at most ESTIMATE_SLACK_M to take in the estimates. A diverged estimate is
-    cut at the border rather than shrinking the corridor to a line."""
-    world = run["world"]
-    xs, ys = [], []
-    for a, b in world["walls"]:
-        xs += [a[0], b[0]]
-        ys += [a[1], b[1]]
-    for p in world["plates"] + world["lamps"]:
-        xs.append(p["center"][0])
-        ys.append(p["center"][1])
-    xs += [run["truth"][:, 1].min(), run["truth"][:, 1].max()]
-    ys += [run["truth"][:, 2].min(), run["truth"][:, 2].max()]
-    m = PLAN_MARGIN_M
-    xmin, xmax, ymin, ymax = min(xs) - m, max(xs) + m, min(ys) - m, max(ys) + m
-    for p in run["pipelines"].values():
-        tum = p["trajectory"]
-        xmin = max(min(xmin, tum[:, 1].min() - m), xmin - ESTIMATE_SLACK_M)
-        xmax = min(max(xmax, tum[:, 1].max() + m), xmax + ESTIMATE_SLACK_M)
-        ymin = max(min(ymin, tum[:, 2].min() - m), ymin - ESTIMATE_SLACK_M)
-        ymax = min(max(ymax, tum[:, 2].max() + m), ymax + ESTIMATE_SLACK_M)
-    return xmin, xmax, ymin, ymax
-
-
-def outside(tum, extent):
-    """Whether some pose of the trajectory lies outside the plotted extent."""
-    xmin, xmax, ymin, ymax = extent
-    x, y = tum[:, 1], tum[:, 2]
-    return bool(((x < xmin) | (x > xmax) | (y < ymin) | (y > ymax)).any())
-
-
-def plan_panels(extent):
-    """Splits a long plan along its longer axis into panels of at most PANEL_MAX_ASPECT:1.
-    Returns ([(xlim, ylim)], stacked) where stacked means one panel above the other."""
-    xmin, xmax, ymin, ymax = extent
-    dx, dy = xmax - xmin, ymax - ymin
-    stacked = dx >= dy
-    long_lo, long_len, short = (xmin, dx, dy) if stacked else (ymin, dy, dx)
-    count = max(1, min(PANEL_MAX_COUNT, math.ceil(long_len / (PANEL_MAX_ASPECT * short))))
-    step = long_len / count
-    overlap = PANEL_OVERLAP_M if count > 1 else 0.0
-    panels = []
-    for i in range(count):
-        lo = long_lo + i * step - (overlap if i > 0 else 0.0)
-        hi = long_lo + (i + 1) * step + (overlap if i < count - 1 else 0.0)
-        panels.append(((lo, hi), (ymin, ymax)) if stacked else ((xmin, xmax), (lo, hi)))
-    return panels, stacked
-
-
-def draw_world(ax, world):
-    """The top-down plan: walls, doors by state, lamps (off ones hollow), plates with numbers."""
-    for a, b in world["walls"]:
-        ax.plot([a[0], b[0]], [a[1], b[1]], color=WALL_COLOR, lw=2.0, solid_capstyle="butt",
-                zorder=3)
-    for door in world["doors"]:
-        color = DOOR_COLORS.get(door["state"], "0.5")
-        ax.plot([door["a"][0], door["b"][0]], [door["a"][1], door["b"][1]], color=color,
-                lw=4.0, solid_capstyle="butt", zorder=4)
-    for lamp in world["lamps"]:
-        (x, y), on = lamp["center"], lamp["on"]
-        style = dict(facecolor=LAMP_ON_FACE if on else "none",
-                     edgecolor=LAMP_ON_EDGE if on else LAMP_OFF_EDGE, lw=0.8, zorder=1)
-        if lamp["shape"] == "circular":
-            ax.add_patch(Circle((x, y), lamp["extent"], **style))
-        else:
-            sx, sy = lamp["extent"]
-            ax.add_patch(Rectangle((x - sx / 2, y - sy / 2), sx, sy, **style))
-    for plate in world["plates"]:
-        (x, y) = plate["center"]
-        ax.plot([x], [y], marker="s", ms=5, color=PLATE_COLOR, zorder=5)
-        if plate["room"] is not None:
-            # The number sits on the corridor side of the plate, along its normal.
-            nx, ny = plate["normal"] or (0.0, 0.0)
-            ax.text(x + 0.3 * nx, y + 0.3 * ny, plain(plate["room"]), fontsize=7,
-                    color=PLATE_COLOR, ha="center", va="center", clip_on=True, zorder=5)
-
-
-def plan_figure(extent, handles, title, draw):
-    """A figure of the plan over `extent` cut into panels (plan_panels) stacked top to bottom (or
-    placed left to right), with equal axes in metres, `handles` as a legend on top and `title`;
-    draw(ax) fills each panel. Returns the figure."""
-    panels, stacked = plan_panels(extent)
-    n = len(panels)
-    (xlim, ylim) = panels[0]
-    pw, ph = xlim[1] - xlim[0], ylim[1] - ylim[0]
-
-    # Figure layout in inches: at most 16 in wide, each panel's axes at most 10 in high, sized
-    # by the data's aspect ratio; the legend's rows on top.
-    left, right, bottom, max_w, max_h = 0.7, 0.25, 0.55, 16.0, 10.0
-    gap = 0.45 if stacked else 0.85  # side by side, the gap holds the tick labels
-    if stacked:
-        aw = max_w - left - right
-        ah = min(aw * ph / pw, max_h)
-        aw = ah * pw / ph
-    else:
-        aw = (max_w - left - right - (n - 1) * gap) / n
-        ah = min(aw * ph / pw, max_h)
-        aw = ah * pw / ph
-    content_w = aw if stacked else n * aw + (n - 1) * gap
-    width = max(8.0, left + right + content_w)
-    x0 = left + (width - left - right - content_w) / 2  # centres narrow panels
-    columns = max(2, min(len(handles), int(width / 2.2)))
-    title_lines = title.count("\n") + 1
-    top = 0.55 + 0.2 * (title_lines - 1) + 0.25 * math.ceil(len(handles) / columns)
-    height = bottom + top + (n * ah + (n - 1) * gap if stacked else ah)
-    fig = plt.figure(figsize=(width, height))
-    for i, (xlim, ylim) in enumerate(panels):
-        if stacked:
-            rect = [x0, bottom + (n - 1 - i) * (ah + gap), aw, ah]
-        else:
-            rect = [x0 + i * (aw + gap), bottom, aw, ah]
-        ax = fig.add_axes([rect[0] / width, rect[1] / height, rect[2] / width, rect[3] / height])
-        draw(ax)
-        ax.set_xlim(*xlim)
-        ax.set_ylim(*ylim)
-        ax.set_aspect("equal", adjustable="box")
-        ax.grid(True, lw=0.3, color="0.85")
-        if stacked or i == 0:
-            ax.set_ylabel("y [m]")
-        if not stacked or i == n - 1:
-            ax.set_xlabel("x [m]")
-
-    fig.legend(handles=handles, loc="upper center", ncol=columns, frameon=False, fontsize=9,
-               bbox_to_anchor=(0.5, 1.0 - (0.35 + 0.2 * (title_lines - 1)) / height))
-    fig.suptitle(title, y=1.0 - 0.08 / height, va="top", fontsize=11)
-    return fig
-
-
-def world_handles(plate_label="door plate (room)"):
-    """Legend entries of draw_world's plan."""
-    handles = [Line2D([], [], color=WALL_COLOR, lw=2.0, label="wall")]
-    for state, color in DOOR_COLORS.items():
-        handles.append(Line2D([], [], color=color, lw=4.0, label=f"door {state}"))
-    handles.append(Line2D([], [], ls="", marker="s", ms=5, color=PLATE_COLOR,
-                          label=plate_label))
-    handles.append(Circle((0, 0), 1, facecolor=LAMP_ON_FACE, edgecolor=LAMP_ON_EDGE,
-                          label="lamp on"))
-    handles.append(Circle((0, 0), 1, facecolor="none", edgecolor=LAMP_OFF_EDGE, label="lamp off"))
-    return handles
 
 
 def plot_trajectories(run, plots_dir, written):
@@ -410,368 +229,6 @@ def plot_detectors(with_detectors, plots_dir, written):
     save(fig, plots_dir, "detectors.png", written)
 
 
-def plain(text):
-    """Text drawn as it is: matplotlib reads '$...$' as mathtext, which a label may contain."""
-    return str(text).replace("$", r"\$")
-
-
-def ellipse_2sigma(covariance):
-    """(width, height, angle_deg) in m of the 95 % ellipse (chi-square 2 dof) of the x-y block of a
-    3x3 covariance (m^2), or None when that block has a null entry or is not positive
-    semi-definite. Closed form for a symmetric 2x2 (the block symmetrised)."""
-    a, b1, b2, d = covariance[0][0], covariance[0][1], covariance[1][0], covariance[1][1]
-    if any(v is None for v in (a, b1, b2, d)):
-        return None
-    b = 0.5 * (b1 + b2)
-    mean, half = 0.5 * (a + d), math.hypot(0.5 * (a - d), b)
-    major, minor = mean + half, mean - half
-    if minor < -1e-9 * max(abs(major), 1e-300):
-        return None
-    minor = max(minor, 0.0)
-    angle = 0.5 * math.degrees(math.atan2(2.0 * b, a - d))
-    scale = 2.0 * math.sqrt(CHI2_2DOF_95)
-    return scale * math.sqrt(major), scale * math.sqrt(minor), angle
-
-
-def in_extent(xy, extent):
-    xmin, xmax, ymin, ymax = extent
-    return xmin <= xy[0] <= xmax and ymin <= xy[1] <= ymax
-
-
-def vanishing_point_text(landmark):
-    """A legend line for a vanishing point: its bearing seen from the W origin (deg) with the
-    2-sigma of that bearing (first order from the x-y covariance)."""
-    x, y = landmark["position"][:2]
-    bearing = math.atan2(y, x)
-    c = landmark["covariance"]
-    spread = ""
-    if all(c[i][j] is not None for i in (0, 1) for j in (0, 1)) and x * x + y * y > 0:
-        r2 = x * x + y * y
-        jx, jy = -y / r2, x / r2  # d bearing / d (x, y)
-        var = jx * jx * c[0][0] + jx * jy * (c[0][1] + c[1][0]) + jy * jy * c[1][1]
-        if var >= 0:
-            spread = f" ± {math.degrees(2.0 * math.sqrt(var)):.2f}° (2σ)"
-    return (f"vanishing point #{landmark['id']} ({landmark['status']}): bearing "
-            f"{math.degrees(bearing):.2f}°{spread} from the W origin")
-
-
-def plot_landmarks(name, run, landmarks, plots_dir, written):
-    """landmarks_<name>.png: the pipeline's final map over the plan (as trajectories.png): each
-    landmark at its x-y estimate (m) with the 2-sigma ellipse of the x-y block of its covariance
-    (chi-square 2 dof, 95 %), coloured by type, dashed while initialising; plates labelled with
-    the room number read; a door's column points joined. Vanishing points lie ~1000 m away, so
-    the legend lists them instead."""
-    extent = plan_extent(run)
-    trajectory = run["pipelines"][name]["trajectory"]
-    on_plan = [lm for lm in landmarks if lm["type"] != "vanishing_point"]
-    vps = [lm for lm in landmarks if lm["type"] == "vanishing_point"]
-    many = len(on_plan) > 100
-    no_ellipse = sum(1 for lm in on_plan for c in [lm["covariance"]] +
-                     [p["covariance"] for p in lm["points"]] if ellipse_2sigma(c) is None)
-    off_plan = sum(1 for lm in on_plan if not in_extent(lm["position"], extent))
-
-    def marker_size(kind):
-        return 2.0 if kind == "corner" else (4.0 if many else 5.0)
-
-    handles = [Line2D([], [], color="0.55", lw=1.0, label="ground truth"),
-               Line2D([], [], color="C0", lw=1.1, marker="x", ms=7, label=f"{name} (x end)")]
-    for kind in LANDMARK_TYPES[:-1]:
-        count = sum(1 for lm in on_plan if lm["type"] == kind)
-        if count:
-            handles.append(Line2D([], [], color=TYPE_COLORS[kind], lw=0.9, marker="o",
-                                  ms=marker_size(kind) + 1, label=f"{kind} ({count})"))
-    statuses = {lm["status"] for lm in landmarks}
-    if "converged" in statuses:
-        handles.append(Line2D([], [], color="0.3", lw=0.9, label="converged (solid)"))
-    if "initializing" in statuses:
-        handles.append(Line2D([], [], color="0.3", lw=0.9, ls="--",
-                              label="initialising (dashed, hollow)"))
-    for lm in vps[:MAX_LISTED_VPS]:
-        handles.append(Line2D([], [], ls="", marker="*", ms=8, color=TYPE_COLORS[lm["type"]],
-                              label=vanishing_point_text(lm)))
-    if len(vps) > MAX_LISTED_VPS:
-        handles.append(Line2D([], [], ls="", label=f"... and {len(vps) - MAX_LISTED_VPS} more "
-                              "vanishing points"))
-    handles += world_handles("true door plate (room)")
-
-    def draw_point(ax, kind, status, xy, covariance, ms, lw):
-        color = TYPE_COLORS[kind]
-        dashed = status == "initializing"
-        ax.plot([xy[0]], [xy[1]], ls="", marker="o", ms=ms, mew=0.8, color=color,
-                markerfacecolor="none" if dashed else color, zorder=8)
-        shape = ellipse_2sigma(covariance)
-        if shape is not None:
-            ax.add_patch(Ellipse(xy[:2], shape[0], shape[1], angle=shape[2], fill=False,
-                                 edgecolor=color, lw=lw, ls="--" if dashed else "-", zorder=7))
-
-    def draw(ax):
-        draw_world(ax, run["world"])
-        truth = run["truth"]
-        ax.plot(truth[:, 1], truth[:, 2], color="0.55", lw=1.0, zorder=6)
-        ax.plot(trajectory[:, 1], trajectory[:, 2], color="C0", lw=1.1, zorder=6)
-        ax.plot(trajectory[-1:, 1], trajectory[-1:, 2], "x", color="C0", ms=7, mew=1.5, zorder=7)
-        for lm in on_plan:
-            kind, status = lm["type"], lm["status"]
-            ms, lw = marker_size(kind), 0.4 if kind == "corner" else 0.9
-            draw_point(ax, kind, status, lm["position"], lm["covariance"], ms, lw)
-            if lm["points"]:
-                xs = [p["position"][0] for p in lm["points"]]
-                ys = [p["position"][1] for p in lm["points"]]
-                ax.plot(xs, ys, color=TYPE_COLORS[kind], lw=0.8, zorder=7,
-                        ls="--" if status == "initializing" else "-")
-                for p in lm["points"]:
-                    draw_point(ax, kind, status, p["position"], p["covariance"], 0.6 * ms, 0.6)
-            if kind == "door_plate":
-                ax.annotate(plain(lm["label"] or "?"), lm["position"][:2], xytext=(3, 3),
-                            textcoords="offset points", fontsize=7, color=TYPE_COLORS[kind],
-                            weight="bold", zorder=9)
-
-    converged = sum(1 for lm in landmarks if lm["status"] == "converged")
-    notes = [f"{len(landmarks)} landmarks ({converged} converged)"]
-    if no_ellipse:
-        notes.append(f"{no_ellipse} without an ellipse (covariance not positive semi-definite "
-                     "or not finite)")
-    if off_plan:
-        notes.append(f"{off_plan} beyond the plan")
-    title = (f"{name}: landmarks with 2σ ellipses (x-y covariance, χ² 2 dof 95 %: "
-             f"√{CHI2_2DOF_95} σ), frame W, metres\n" + "; ".join(notes))
-    fig = plan_figure(extent, handles, title, draw)
-    save(fig, plots_dir, f"landmarks_{name}.png", written)
-
-
-def plot_door_particles(name, run, doors, plots_dir, written):
-    """doors_<name>.png: each registered door's particle cloud at registration (P3 Fig. 9), the
-    two columns of every sample (x-y, m), and the door landmark's final columns joined, over the
-    plan with the true doorways by state."""
-    extent = plan_extent(run)
-    truth = run["truth"]
-    samples = sum(len(d["particles"]) for d in doors)
-    handles = [Line2D([], [], color="0.55", lw=1.0, label="ground truth"),
-               Line2D([], [], ls="", marker=".", ms=4, color="C1",
-                      label="column a of a sample"),
-               Line2D([], [], ls="", marker=".", ms=4, color="C4",
-                      label="column b of a sample"),
-               Line2D([], [], color=TYPE_COLORS["door"], lw=1.5, marker="o", ms=5,
-                      label=f"door landmark, final columns ({len(doors)})")]
-    handles += world_handles("true door plate (room)")
-
-    def draw(ax):
-        draw_world(ax, run["world"])
-        ax.plot(truth[:, 1], truth[:, 2], color="0.55", lw=1.0, zorder=6)
-        for door in doors:
-            if door["particles"]:
-                p = np.array(door["particles"])
-                ax.plot(p[:, 0], p[:, 1], ls="", marker=".", ms=1.5, color="C1", alpha=0.5,
-                        zorder=7)
-                ax.plot(p[:, 2], p[:, 3], ls="", marker=".", ms=1.5, color="C4", alpha=0.5,
-                        zorder=7)
-            (xa, ya), (xb, yb) = door["columns"]
-            ax.plot([xa, xb], [ya, yb], color=TYPE_COLORS["door"], lw=1.5, marker="o", ms=4,
-                    zorder=8)
-            ax.annotate(str(door["id"]), ((xa + xb) / 2, (ya + yb) / 2), xytext=(3, 3),
-                        textcoords="offset points", fontsize=7, color=TYPE_COLORS["door"],
-                        zorder=9)
-
-    title = (f"{name}: door particle clouds at registration (P3 Fig. 9; {samples} samples of "
-             f"{len(doors)} doors) and the doors' final columns, frame W, metres")
-    save(plan_figure(extent, handles, title, draw), plots_dir, f"doors_{name}.png", written)
-
-
-def plot_areas(name, run, areas, landmarks, plots_dir, written):
-    """areas_<name>.png: the map divided at the doors (P2 Fig. 12): each room area's outline
-    filled in its own colour, the point landmarks coloured by their area (the corridor grey),
-    over the plan with the true rooms dotted."""
-    extent = plan_extent(run)
-    truth = run["truth"]
-    position = {lm["id"]: lm["position"] for lm in landmarks}
-    rooms = [a for a in areas if a["kind"] == "room"]
-    corridor = sum(len(a["landmarks"]) for a in areas if a["kind"] == "corridor")
-    colors = plt.get_cmap("tab10")
-
-    def color_of(area):
-        return "0.45" if area["kind"] == "corridor" else colors((area["id"] - 1) % 10)
-
-    handles = [Line2D([], [], color="0.55", lw=1.0, label="ground truth"),
-               Line2D([], [], ls="", marker="o", ms=4, color="0.45",
-                      label=f"corridor landmark ({corridor})"),
-               Line2D([], [], color="0.3", lw=0.8, ls=":", label="true room"),
-               Rectangle((0, 0), 1, 1, facecolor=colors(0), alpha=0.25,
-                         label=f"room area ({len(rooms)}) and its landmarks")]
-    handles += world_handles("true door plate (room)")
-
-    def draw(ax):
-        draw_world(ax, run["world"])
-        for door in run["world"]["doors"]:
-            if door["footprint"] is not None:
-                (x0, y0), (x1, y1) = door["footprint"]
-                ax.add_patch(Rectangle((x0, y0), x1 - x0, y1 - y0, fill=False, edgecolor="0.3",
-                                       lw=0.8, ls=":", zorder=2))
-        ax.plot(truth[:, 1], truth[:, 2], color="0.55", lw=1.0, zorder=6)
-        for area in areas:
-            c = color_of(area)
-            if area["polygon"]:
-                ax.add_patch(Polygon(area["polygon"], closed=True, facecolor=c, alpha=0.2,
-                                     edgecolor=c, lw=1.0, zorder=2))
-                x, y = area["polygon"][0]
-                ax.annotate(f"room {area['id']}", (x, y), fontsize=7, color=c, zorder=9)
-            xy = np.array([position[i][:2] for i in sorted(area["landmarks"]) if i in position])
-            if len(xy):
-                ax.plot(xy[:, 0], xy[:, 1], ls="", marker="o",
-                        ms=2.0 if area["kind"] == "corridor" else 4.0, color=c, zorder=8)
-
-    title = (f"{name}: the map divided at the doors (P2 Fig. 12): {len(rooms)} rooms, "
-             "landmarks coloured by area, frame W, metres")
-    save(plan_figure(extent, handles, title, draw), plots_dir, f"areas_{name}.png", written)
-
-
-def score_bins(values):
-    """Histogram bins for the scores: 30 over their range, log-spaced when they are positive and
-    span more than three decades (Harris responses); (bins, log)."""
-    lo, hi = float(values.min()), float(values.max())
-    if lo > 0 and hi / lo > 1e3:
-        return np.geomspace(lo, hi, 31), True
-    if hi - lo <= 1e-12 * max(abs(lo), abs(hi), 1.0):
-        return np.linspace(lo - 0.5, hi + 0.5, 31), False
-    return np.linspace(lo, hi, 31), False
-
-
-def plot_detections(name, detections, plots_dir, written):
-    """detections_<name>.png: one row per detection type: u_px against time (s) coloured by the
-    association (plates labelled with the room number read, hollow when none was read), the
-    detections per frame over time, and the score of associated against unassociated detections
-    where scores exist (a first precision-recall view)."""
-    stamp = np.array(detections["stamp_s"])
-    u = np.array(detections["u_px"])
-    score = np.array(detections["score"])
-    landmark_id = np.array(detections["landmark_id"])
-    new = np.array(detections["new_landmark"], dtype=bool)
-    kinds = np.array(detections["type"])
-    cameras = np.array(detections["camera"])
-    labels = detections["label"]
-    present = [k for k in LANDMARK_TYPES if (kinds == k).any()]
-    fig, axes = plt.subplots(len(present), 3, figsize=(16, 3.0 * len(present) + 0.8),
-                             squeeze=False, gridspec_kw={"width_ratios": [3.0, 2.0, 1.6]})
-    groups = [("associated", "C0", (landmark_id >= 0) & ~new),
-              ("new landmark", "C2", new),
-              ("not associated", "C3", landmark_id < 0)]
-    for row, kind in zip(axes, present):
-        raster, per_frame, scores = row
-        of_kind = kinds == kind
-        dense = of_kind.sum() > 2000
-        names = sorted(set(cameras[of_kind]))
-        markers = dict(zip(names, "os^Dv<>p"))  # beyond 8 cameras, all take the last marker
-        for label, color, chosen in groups:
-            for camera in names:
-                sel = of_kind & chosen & (cameras == camera)
-                if not sel.any():
-                    continue
-                read = np.array([bool(labels[i]) for i in np.flatnonzero(sel)])
-                face = color if kind != "door_plate" else np.where(read, color, "none")
-                raster.scatter(stamp[sel], u[sel], s=3 if dense else 12, marker=markers.get(
-                    camera, "p"), facecolors=face, edgecolors=color, linewidths=0.6, label=(
-                    f"{label} ({camera})" if len(names) > 1 else label), zorder=3)
-        if kind == "door_plate":
-            # The room number read for each plate track (label, landmark), at its first
-            # detection; unread plates are the hollow markers.
-            seen = set()
-            for i in np.flatnonzero(of_kind):
-                key = (labels[i], int(landmark_id[i]))
-                if not labels[i] or key in seen or len(seen) == MAX_PLATE_ANNOTATIONS:
-                    continue
-                seen.add(key)
-                color = "C3" if landmark_id[i] < 0 else "C0"
-                raster.annotate(plain(labels[i]), (stamp[i], u[i]), xytext=(0, 5),
-                                textcoords="offset points", fontsize=6, color=color,
-                                rotation=90, ha="center", va="bottom")
-        raster.set_ylabel(f"{kind}\nu [px] ({', '.join(plain(c) for c in names)})")
-        raster.grid(True, lw=0.3, color="0.85")
-        raster.legend(loc="upper right", fontsize=7, ncol=3)
-
-        # Detections per frame (camera, stamp) with at least one detection of the type.
-        frames = {}
-        for i in np.flatnonzero(of_kind):
-            total, associated = frames.get((stamp[i], cameras[i]), (0, 0))
-            frames[(stamp[i], cameras[i])] = (total + 1, associated + (landmark_id[i] >= 0))
-        keys = sorted(frames)
-        t = np.array([k[0] for k in keys])
-        per_frame.plot(t, [frames[k][0] for k in keys], ".", ms=3, color="0.35", label="all")
-        per_frame.plot(t, [frames[k][1] for k in keys], ".", ms=3, color="C0",
-                       label="associated")
-        per_frame.set_ylabel("per frame")
-        per_frame.set_ylim(bottom=0)
-        per_frame.grid(True, lw=0.3, color="0.85")
-        per_frame.legend(loc="upper right", fontsize=7)
-        per_frame.set_title(f"{of_kind.sum()} in {len(keys)} frames (frames with one or more)",
-                            fontsize=8)
-
-        finite = of_kind & np.isfinite(score)
-        if finite.any():
-            bins, log = score_bins(score[finite])
-            for label, color, chosen in [("associated", "C0", landmark_id >= 0),
-                                         ("not associated", "C3", landmark_id < 0)]:
-                values = score[finite & chosen]
-                if values.size:
-                    scores.hist(values, bins=bins, histtype="step", lw=1.2, color=color,
-                                label=f"{label} ({values.size})")
-            if log:
-                scores.set_xscale("log")
-            scores.set_xlabel(SCORE_NAMES[kind], fontsize=8)
-            scores.set_ylabel("detections")
-            scores.legend(loc="upper right", fontsize=7)
-            scores.grid(True, lw=0.3, color="0.85")
-        else:
-            scores.axis("off")
-            scores.text(0.5, 0.5, "no scores", ha="center", va="center", color="0.4",
-                        transform=scores.transAxes)
-    axes[-1, 0].set_xlabel("time [s]")
-    axes[-1, 1].set_xlabel("time [s]")
-    axes[0, 2].set_title("score: associated against not\n(a first precision-recall view)",
-                         fontsize=8)
-    fig.suptitle(f"{name}: detections by type ({len(stamp)} in all)")
-    fig.tight_layout()
-    save(fig, plots_dir, f"detections_{name}.png", written)
-
-
-def plot_frame_time(name, frame_times, plots_dir, written):
-    """frame_time_<name>.png (P1 Fig. 16): the cost of each front frame (ms) against the landmarks
-    in the state, with the median per landmark count and the frame interval (the real-time
-    budget), and both over time (s)."""
-    t, n, ms = frame_times["stamp_s"], frame_times["landmarks"], frame_times["frame_ms"]
-    fig, (by_count, by_time) = plt.subplots(1, 2, figsize=(14, 5))
-    by_count.plot(n, ms, ".", ms=3, color="C0", alpha=0.6, label="frame")
-    counts = np.unique(n)
-    medians = [float(np.median(ms[n == c])) for c in counts]
-    by_count.plot(counts, medians, color="C1", lw=1.3, label="median per landmark count")
-    budget = float(np.median(np.diff(t))) * 1e3 if t.size > 1 else None
-    if budget is not None:
-        for ax in (by_count, by_time):
-            ax.axhline(budget, color="C3", lw=0.9, ls="--",
-                       label=f"frame interval {budget:.0f} ms (real time)")
-    by_count.set_xlabel("landmarks in the state")
-    by_count.set_ylabel("frame time [ms]")
-    by_count.set_ylim(bottom=0)
-    by_count.grid(True, lw=0.3, color="0.85")
-    by_count.legend(loc="upper left", fontsize=8)
-    by_time.plot(t, ms, color="C0", lw=0.8, label="frame time")
-    by_time.set_xlabel("time [s]")
-    by_time.set_ylabel("frame time [ms]")
-    by_time.set_ylim(bottom=0)
-    by_time.grid(True, lw=0.3, color="0.85")
-    state = by_time.twinx()
-    state.plot(t, n, color="C2", lw=1.2, label="landmarks in the state")
-    state.set_ylabel("landmarks")
-    state.set_ylim(bottom=0)
-    lines = by_time.get_legend_handles_labels()
-    extra = state.get_legend_handles_labels()
-    by_time.legend(lines[0] + extra[0], lines[1] + extra[1], loc="upper left", fontsize=8)
-    slow = int((ms > budget).sum()) if budget is not None else 0
-    fig.suptitle(f"{name}: computation time per frame (P1 Fig. 16): {t.size} frames, mean "
-                 f"{ms.mean():.1f} ms, max {ms.max():.1f} ms, {slow} over the frame interval, "
-                 f"{int(n.max())} landmarks at most")
-    fig.tight_layout()
-    save(fig, plots_dir, f"frame_time_{name}.png", written)
-
-
 def format_value(v):
     if v is None:
         return "–"
@@ -831,12 +288,9 @@ def plot_summary(metrics, plots_dir, written):
     save(fig, plots_dir, "summary.png", written)
 
 
-def plot_run(run, plots_dir):
-    """Draws every plot whose data is present; returns the paths written."""
-    os.makedirs(plots_dir, exist_ok=True)
-    written = []
-    plot_trajectories(run, plots_dir, written)
-    metrics = run["metrics"]
+def plot_errors_and_nees(run, band_of, plots_dir, written):
+    """errors_<pipeline>.png of every pipeline with error samples, and nees_<pipeline>.png where
+    its NEES has a finite value, with the band `band_of(pipeline)` (None: the chi-square band)."""
     for name, p in run["pipelines"].items():
         errors = p["errors"]
         if errors["t"].size == 0:
@@ -844,8 +298,17 @@ def plot_run(run, plots_dir):
         plot_errors(name, errors, plots_dir, written)
         nees = errors.get("nees")
         if nees is not None and np.isfinite(nees).any():
-            band = metrics["pipelines"].get(name, {}).get("nees_band")
-            plot_nees(name, errors, band, plots_dir, written)
+            plot_nees(name, errors, band_of(name), plots_dir, written)
+
+
+def plot_run(run, plots_dir):
+    """Draws every plot whose data is present; returns the paths written."""
+    os.makedirs(plots_dir, exist_ok=True)
+    written = []
+    plot_trajectories(run, plots_dir, written)
+    metrics = run["metrics"]
+    plot_errors_and_nees(run, lambda name: metrics["pipelines"].get(name, {}).get("nees_band"),
+                         plots_dir, written)
     for name, p in run["pipelines"].items():
         if p["landmarks"]:
             plot_landmarks(name, run, p["landmarks"], plots_dir, written)
@@ -868,20 +331,28 @@ def plot_run(run, plots_dir):
     return written
 
 
+def write_plots(program, read, plot, plots_dir):
+    """The plot commands' end: read() (InputError: `<program>: <file>:<line>: <what>` on stderr,
+    exit 1), then plot(what was read, plots_dir), each path written printed; exit 0."""
+    try:
+        run = read()
+    except InputError as e:
+        print(f"{program}: {e}", file=sys.stderr)
+        return 1
+    for path in plot(run, plots_dir):
+        print(path)
+    return 0
+
+
 def main(argv):
     parser = argparse.ArgumentParser(description="Writes RUN_DIR/plots/*.png for a finished "
                                      "`corridorsim run`.")
     parser.add_argument("run_dir", metavar="RUN_DIR")
     args = parser.parse_args(argv)
-    try:
-        run = read_run(args.run_dir)
-    except InputError as e:
-        print(f"plot_run: {e}", file=sys.stderr)
-        return 1
-    for path in plot_run(run, os.path.join(args.run_dir, "plots")):
-        print(path)
-    return 0
+    return write_plots("plot_run", lambda: read_run(args.run_dir), plot_run,
+                       os.path.join(args.run_dir, "plots"))
 
 
 if __name__ == "__main__":
     sys.exit(main(sys.argv[1:]))
+

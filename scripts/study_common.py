@@ -1,6 +1,8 @@
-"""What the seed studies (p1_study.py, p3_study.py) share: the --seeds syntax, running
+"""What the seed studies (p1_study.py, p3_study.py) share: their command line and the --seeds
+syntax, running
 `corridorsim run SCENARIO --seed N` for each seed, and the NEES averaged over seeds against its
 chi-square band. Standard library only."""
+import argparse
 import concurrent.futures
 import math
 import os
@@ -24,6 +26,30 @@ def parse_seeds(text):
     if not seeds or len(seeds) > 1000:
         raise ValueError("--seeds: between 1 and 1000 seeds")
     return sorted(set(seeds))
+
+
+def study_arguments(argv, description, tool, scenario, out):
+    """The seed studies' command line (--scenario, default `scenario`; --seeds; --out, default
+    `out`; --corridorsim; --jobs; --resume): (args, seeds), with seeds None after the error
+    `<tool>: error: ...` is printed (exit 2)."""
+    parser = argparse.ArgumentParser(description=description)
+    parser.add_argument("--scenario", default=scenario)
+    parser.add_argument("--seeds", default="1-10")
+    parser.add_argument("--out", default=out)
+    parser.add_argument("--corridorsim", default="build/bin/corridorsim")
+    parser.add_argument("--jobs", type=int, default=1)
+    parser.add_argument("--resume", action="store_true",
+                        help="keep the seeds whose run folder is already complete")
+    args = parser.parse_args(argv)
+    try:
+        seeds = parse_seeds(args.seeds)
+    except ValueError as e:
+        sys.stderr.write(f"{tool}: error: {e}\n")
+        return args, None
+    if not (1 <= args.jobs <= 64):
+        sys.stderr.write(f"{tool}: error: --jobs: between 1 and 64\n")
+        return args, None
+    return args, seeds
 
 
 def chi2_quantile(p, dof):

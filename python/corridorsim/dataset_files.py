@@ -6,8 +6,8 @@ import json
 import re
 
 from .files import (MAX_FILE_BYTES, MAX_POSES, MAX_TEXT_CHARS, InputError, JsonReader,
-                    finite_numbers, is_integer, load_json, load_json_fast, parse_stamp_ns,
-                    read_text, text_list)
+                    data_lines, finite_numbers, is_integer, load_json, load_json_fast,
+                    read_stamp_ns, read_text, text_list)
 
 MAX_COCO_ITEMS = 10_000_000    # images or annotations of one COCO file
 MAX_FILE_NAME_CHARS = 255
@@ -113,17 +113,10 @@ def read_tum_file_list(path):
     """An export's tum_rgbd/rgb.txt or depth.txt: '#' comments, then `t filename` per frame, as
     [(t_ns, file name)] (t exact from its nine decimals)."""
     out = []
-    for number, line in enumerate(read_text(path).splitlines(), start=1):
-        line = line.strip()
-        if not line or line.startswith("#"):
-            continue
-        fields = line.split()
+    for number, fields in data_lines(path):
         if len(fields) != 2:
             raise InputError(path, number, f"expected 't filename', got {len(fields)} fields")
-        stamp = parse_stamp_ns(fields[0])
-        if stamp is None:
-            raise InputError(path, number, f"t: expected seconds with at most nine decimals, got "
-                             f"'{fields[0][:40]}'")
+        stamp = read_stamp_ns(path, number, fields[0])
         _add_frame(out, path, number, "t", stamp, fields[1])
     return out
 

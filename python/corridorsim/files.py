@@ -6,29 +6,39 @@ line (and the key or column) on the first problem; every size and count is bound
 are shared by scripts/plot_run.py (and the scripts that import it), scripts/make_viewer.py and
 corridorsim.analysis (Run, Study, Dataset).
 
+The run folder's files are read here; the reading under them (InputError, JSON with line numbers,
+CSV tables and cells, FolderReader) is readers.py, the exact pose and whole-JSON readers the
+analysis side adds are analysis_files.py, and both are importable from here under the same names.
+Study folders: study_files.py; datasets and exports: dataset_files.py.
+
 Units: metres, seconds, radians, world frame W (docs/frames.md).
 """
 
-import bisect
 import csv
-import io
 import json
-import json.decoder
-import json.scanner
 import math
 import os
 import re
 
 import numpy as np
 
+# The reading machinery (readers.py) and the analysis side's readers (analysis_files.py), under
+# their names here as before.
+from .analysis_files import (MAX_EVENTS, MAX_JSON_BYTES, MAX_POSES,  # noqa: F401
+                             OV_EVAL_COVARIANCE, PIPELINE_NAME, TUM_FIELDS, load_json_fast,
+                             parse_number, parse_stamp_ns, read_covariance, read_events,
+                             read_json_object, read_metrics_full, read_stamp_ns,
+                             read_tum_exact, text_list)
+from .readers import (MAX_CSV_ROWS, MAX_FILE_BYTES, MAX_TEXT_CHARS, CsvCells,  # noqa: F401
+                      FolderReader, InputError, JsonArray, JsonObject, JsonReader, data_lines,
+                      finite_float, is_integer, is_number, load_json, no_json_constant,
+                      read_csv_records, read_csv_table, read_short_text, read_text)
+
 # Bounds on what an input may hold (each becomes a loop count or a figure size).
 MAX_LANDMARKS = 100_000
 MAX_LANDMARK_POINTS = 16
 MAX_PARTICLES = 100_000    # samples of one door in maps/<pipeline>_doors.json
-MAX_CSV_ROWS = 2_000_000
-MAX_TEXT_CHARS = 64        # labels, roles and camera names
 MAX_DISTRACTORS = 100_000
-MAX_FILE_BYTES = 1 << 30   # any text file read whole
 
 # Scalars read_metrics takes from metrics.json's pipelines, with their labels in plot_run's
 # summary.png.
@@ -47,147 +57,6 @@ DOOR_STATES = ("closed", "open", "empty")
 # Landmark and detection types (slam/pipeline.cpp's names) and landmark statuses.
 LANDMARK_TYPES = ["door_plate", "door", "lamp", "corner", "vanishing_point"]
 LANDMARK_STATUSES = ["initializing", "converged"]
-
-
-class InputError(Exception):
-    """A missing or malformed input: file, line (None when unknown) and what is wrong."""
-
-    def __init__(self, path, line, message):
-        super().__init__(message)
-        self.path, self.line, self.message = path, line, message
-
-    def __str__(self):
-        where = self.path if self.line is None else f"{self.path}:{self.line}"
-        return f"{where}: {self.message}"
-
-
-# ------------------------------------------------------------------------------------------------
-# Common parts
-
-def read_text(path, max_bytes=None):
-    """The text of a regular UTF-8 file of at most `max_bytes` (MAX_FILE_BYTES by default)."""
-    if not os.path.isfile(path):
-        raise InputError(path, None, "missing")
-    limit = MAX_FILE_BYTES if max_bytes is None else max_bytes
-    try:
-        if os.path.getsize(path) > limit:
-            raise InputError(path, None, f"larger than {limit} bytes")
-        with open(path, encoding="utf-8") as f:
-            return f.read()
-    except (OSError, UnicodeDecodeError) as e:
-        raise InputError(path, None, f"cannot be read: {e}") from None
-
-
-class JsonObject(dict):
-    """A JSON object that remembers the line of its opening brace."""
-    line = None
-
-
-class JsonArray(list):
-    """A JSON array that remembers the line of its opening bracket."""
-    line = None
-
-
-def no_json_constant(name):
-    """json's parse_constant: NaN and Infinity are not JSON (the project writes null)."""
-    raise ValueError(f"{name} is not JSON")
-
-
-def finite_float(text):
-    """json's parse_float: a number that overflows a double (1e999) is refused, not infinity."""
-    value = float(text)
-    if not math.isfinite(value):
-        raise ValueError(f"{text[:40]} is not a finite number")
-    return value
-
-
-def load_json(path, top="object", max_bytes=None):
-    """Parses a JSON file into JsonObject/JsonArray values that know their line numbers; the top
-    level must be a JSON `top` ('object' or 'array')."""
-    text = read_text(path, max_bytes)
-    newlines = [m.start() for m in re.finditer("\n", text)]
-
-    def line_of(pos):
-        return bisect.bisect_left(newlines, pos) + 1
-
-    def parse_object(s_and_end, *args):
-        value, end = json.decoder.JSONObject(s_and_end, *args)
-        out = JsonObject(value)
-        out.line = line_of(s_and_end[1] - 1)
-        return out, end
-
-    def parse_array(s_and_end, scan_once):
-        value, end = json.decoder.JSONArray(s_and_end, scan_once)
-        out = JsonArray(value)
-        out.line = line_of(s_and_end[1] - 1)
-        return out, end
-
-    # The pure-Python scanner lets us hook object and array parsing (the C one does not).
-    decoder = json.JSONDecoder(parse_float=finite_float, parse_constant=no_json_constant)
-    decoder.parse_object = parse_object
-    decoder.parse_array = parse_array
-    decoder.scan_once = json.scanner.py_make_scanner(decoder)
-    try:
-        root = decoder.decode(text)
-    except json.JSONDecodeError as e:
-        raise InputError(path, e.lineno, f"column {e.colno}: invalid JSON: {e.msg}") from None
-    except RecursionError:
-        raise InputError(path, None, "invalid JSON: nested too deeply") from None
-    except ValueError as e:  # a non-finite number, or an integer of thousands of digits
-        raise InputError(path, None, f"invalid JSON: {e}") from None
-    if not isinstance(root, dict if top == "object" else list):
-        raise InputError(path, 1, f"the top level is not a JSON {top}")
-    return root
-
-
-class JsonReader:
-    """Typed access to optional keys of one JSON file; errors name the file, line and key."""
-
-    def __init__(self, path):
-        self.path = path
-
-    def fail(self, parent, where, message):
-        raise InputError(self.path, getattr(parent, "line", None), f"{where}: {message}")
-
-    def get(self, obj, key, kind, where):
-        """obj[key] if it is of `kind` ('object', 'array', 'number', 'bool', 'text'); None when
-        absent or null."""
-        value = obj.get(key)
-        if value is None:
-            return None
-        name = f"{where}.{key}" if where else key
-        ok = {
-            "object": isinstance(value, dict),
-            "array": isinstance(value, list),
-            "number": isinstance(value, (int, float)) and not isinstance(value, bool),
-            "bool": isinstance(value, bool),
-            "text": isinstance(value, (str, int)) and not isinstance(value, bool),
-        }[kind]
-        if not ok:
-            self.fail(obj, name, f"expected {kind}, got {json.dumps(value)[:40]}")
-        return value
-
-    def vec2(self, obj, key, where):
-        """The x, y of a [x, y] or [x, y, z] array; None when absent."""
-        value = obj.get(key)
-        if value is None:
-            return None
-        ok = (isinstance(value, list) and len(value) in (2, 3) and
-              all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value))
-        if not ok:
-            self.fail(obj, f"{where}.{key}", f"expected [x, y] or [x, y, z] in metres, "
-                      f"got {json.dumps(value)[:40]}")
-        return float(value[0]), float(value[1])
-
-    def items(self, obj, key):
-        """The objects in the array obj[key], each with its name `key[i]`; [] when absent."""
-        array = self.get(obj, key, "array", "")
-        out = []
-        for i, item in enumerate(array or []):
-            if not isinstance(item, dict):
-                self.fail(array, f"{key}[{i}]", "expected an object")
-            out.append((f"{key}[{i}]", item))
-        return out
 
 
 def read_world(path):
@@ -263,11 +132,7 @@ def read_world(path):
 def read_tum(path):
     """TUM trajectory as an (N, 8) array: t tx ty tz qx qy qz qw (s, m, unit quaternion)."""
     rows = []
-    for number, line in enumerate(read_text(path).splitlines(), start=1):
-        line = line.strip()
-        if not line or line.startswith("#"):
-            continue
-        fields = line.split()
+    for number, fields in data_lines(path):
         if len(fields) != 8:
             raise InputError(path, number, f"expected 8 numbers 't tx ty tz qx qy qz qw', "
                              f"got {len(fields)} fields")
@@ -375,14 +240,6 @@ def read_detectors(r, entry, where):
     return out
 
 
-def is_number(value):
-    return isinstance(value, (int, float)) and not isinstance(value, bool)
-
-
-def is_integer(value):
-    return isinstance(value, int) and not isinstance(value, bool)
-
-
 def read_point3(r, obj, where):
     """position_in_world and covariance of a landmark or one of its points: ((x, y, z) in m,
     3x3 list in m^2 with None for a null or non-finite entry: the writer emits null for NaN, and
@@ -401,18 +258,6 @@ def read_point3(r, obj, where):
     return (tuple(float(v) for v in position),
             [[None if v is None or not math.isfinite(v) else float(v) for v in row]
              for row in covariance])
-
-
-def read_short_text(r, obj, key, where, required):
-    value = r.get(obj, key, "text", where)
-    if value is None:
-        if required:
-            r.fail(obj, f"{where}.{key}", "missing")
-        return ""
-    value = str(value)
-    if len(value) > MAX_TEXT_CHARS:
-        r.fail(obj, f"{where}.{key}", f"longer than {MAX_TEXT_CHARS} characters")
-    return value
 
 
 def read_landmarks(path):
@@ -470,16 +315,28 @@ def finite_numbers(value, count):
             all(is_number(v) and math.isfinite(v) for v in value))
 
 
+def map_items(path, expected, key):
+    """A maps/ file whose `format` is `expected` (read_format): its JsonReader and its array `key`
+    as (name, object) pairs, failing at the one after MAX_LANDMARKS."""
+    root = load_json(path)
+    r = JsonReader(path)
+    read_format(r, root, expected)
+
+    def items():
+        for count, (name, item) in enumerate(r.items(root, key)):
+            if count == MAX_LANDMARKS:
+                r.fail(item, name, f"more than {MAX_LANDMARKS} {key}")
+            yield name, item
+
+    return r, items()
+
+
 def read_upward_doors(path):
     """maps/<pipeline>_doors.json (slam/p3_upward_pipeline.cpp) as a list of
     {id, columns: ((xa, ya), (xb, yb)), particles: [(xa, ya, xb, yb, h)]}."""
-    root = load_json(path)
-    r = JsonReader(path)
-    read_format(r, root, "corridorsim.upward_doors")
+    r, items = map_items(path, "corridorsim.upward_doors", "doors")
     doors = []
-    for name, door in r.items(root, "doors"):
-        if len(doors) == MAX_LANDMARKS:
-            r.fail(door, name, f"more than {MAX_LANDMARKS} doors")
+    for name, door in items:
         lid = door.get("landmark_id")
         if not is_integer(lid):
             r.fail(door, f"{name}.landmark_id", "expected an integer")
@@ -502,13 +359,9 @@ def read_upward_doors(path):
 def read_areas(path):
     """maps/<pipeline>_areas.json (slam/mapping/door_areas.h) as a list of
     {id, kind, door, polygon: [(x, y)] or None, landmarks: set of ids}."""
-    root = load_json(path)
-    r = JsonReader(path)
-    read_format(r, root, "corridorsim.upward_areas")
+    r, items = map_items(path, "corridorsim.upward_areas", "areas")
     areas = []
-    for name, area in r.items(root, "areas"):
-        if len(areas) == MAX_LANDMARKS:
-            r.fail(area, name, f"more than {MAX_LANDMARKS} areas")
+    for name, area in items:
         aid = area.get("id")
         if not is_integer(aid):
             r.fail(area, f"{name}.id", "expected an integer")
@@ -526,124 +379,6 @@ def read_areas(path):
                       "polygon": [tuple(v) for v in polygon] if kind == "room" else None,
                       "landmarks": set(ids)})
     return areas
-
-
-def read_csv_records(path, max_rows=MAX_CSV_ROWS, check_header=None):
-    """(header, [(line, [cell])]) of a CSV file: the header's names stripped, then every record as
-    long as the header, cells as written; blank rows skipped; quoted cells may hold commas and
-    newlines; at most `max_rows` records. `check_header(header)` runs before any record is read."""
-    text = read_text(path)
-    reader = csv.reader(io.StringIO(text, newline=""))
-    try:
-        header = [h.strip() for h in next(reader)]
-    except StopIteration:
-        header = []
-    except csv.Error as e:
-        raise InputError(path, 1, f"not CSV: {e}") from None
-    if not any(header):
-        raise InputError(path, 1, "missing the header line")
-    if check_header is not None:
-        check_header(header)
-    rows = []
-    line = reader.line_num + 1  # where the next record starts
-    try:
-        for row in reader:
-            start, line = line, reader.line_num + 1
-            if not row or all(not cell.strip() for cell in row):
-                continue
-            if len(row) != len(header):
-                raise InputError(path, start, f"expected {len(header)} fields, got {len(row)}")
-            if len(rows) == max_rows:
-                raise InputError(path, start, f"more than {max_rows} rows")
-            rows.append((start, row))
-    except csv.Error as e:
-        raise InputError(path, line, f"not CSV: {e}") from None
-    return header, rows
-
-
-def read_csv_table(path, columns):
-    """The rows of a CSV file whose header holds every name in `columns` (in any order; other
-    columns are ignored) as (line, {column: stripped cell}); quoted cells may hold commas and
-    newlines. Blank rows are skipped; at most MAX_CSV_ROWS rows."""
-    def check_header(header):
-        for column in columns:
-            if column not in header:
-                raise InputError(path, 1, f"the header has no column '{column}'")
-
-    header, records = read_csv_records(path, check_header=check_header)
-    index = {c: header.index(c) for c in columns}
-    return [(line, {c: row[index[c]].strip() for c in columns}) for line, row in records]
-
-
-class FolderReader:
-    """Base of corridorsim.Run, Study and Dataset: a folder's path (InputError when it is not a
-    directory) and the files read from it, each read when first asked for and kept."""
-
-    def __init__(self, path):
-        path = os.fspath(path)
-        if not os.path.isdir(path):
-            raise InputError(path, None, "is not a directory")
-        self.path = path
-        self._cache = {}
-
-    def __repr__(self):
-        return f"{type(self).__name__}({self.path!r})"
-
-    def _cached(self, key, make):
-        if key not in self._cache:
-            self._cache[key] = make()
-        return self._cache[key]
-
-
-class CsvCells:
-    """Typed cells of one CSV row; errors name the file, line and column."""
-
-    def __init__(self, path, line, cells):
-        self.path, self.line, self.cells = path, line, cells
-
-    def fail(self, column, message):
-        raise InputError(self.path, self.line, f"{column}: {message}")
-
-    def number(self, column, required=True, lo=-math.inf, hi=math.inf):
-        """A finite number in [lo, hi]; NaN for an empty cell when not required."""
-        cell = self.cells[column]
-        if not cell:
-            if required:
-                self.fail(column, "missing")
-            return math.nan
-        try:
-            value = float(cell)
-        except ValueError:
-            self.fail(column, f"not a number: '{cell[:40]}'")
-        if not math.isfinite(value):
-            self.fail(column, f"not finite: '{cell[:40]}'")
-        if not lo <= value <= hi:
-            self.fail(column, f"{cell[:40]} is outside [{lo:g}, {hi:g}]")
-        return value
-
-    def integer(self, column, lo, hi):
-        cell = self.cells[column]
-        if not re.fullmatch(r"-?[0-9]{1,12}", cell):
-            self.fail(column, f"expected an integer, got '{cell[:40]}'")
-        value = int(cell)
-        if not lo <= value <= hi:
-            self.fail(column, f"{value} is outside [{lo}, {hi}]")
-        return value
-
-    def choice(self, column, allowed):
-        cell = self.cells[column]
-        if cell not in allowed:
-            shown = [a if a else "(empty)" for a in allowed]
-            self.fail(column, f"expected one of {shown}, got '{cell[:40]}'")
-        return cell
-
-    def text(self, column, required):
-        cell = self.cells[column]
-        if required and not cell:
-            self.fail(column, "missing")
-        if len(cell) > MAX_TEXT_CHARS:
-            self.fail(column, f"longer than {MAX_TEXT_CHARS} characters")
-        return cell
 
 
 DETECTION_COLUMNS = ["stamp_s", "camera", "type", "u_px", "v_px", "box_min_x_px", "box_min_y_px",
@@ -743,100 +478,6 @@ def read_run(run_dir):
     return run
 
 
-
-
-# ------------------------------------------------------------------------------------------------
-# Poses exactly as written (corridorsim.analysis scores these; harness/metrics/trajectory.h
-# PoseAsWritten)
-
-MAX_POSES = 2_000_000          # lines of one TUM or ov_eval file
-MAX_JSON_BYTES = 64 << 20      # metrics.json, study.json, status files (docs/studies.md "Bounds")
-MAX_EVENTS = 1_000_000
-
-TUM_FIELDS = ["x", "y", "z", "qx", "qy", "qz", "qw"]
-# <pipeline>_cov.txt (harness/run/run_io.cpp OvEvalLine): the TUM line, then the upper triangles
-# of the rotation (roll, pitch, yaw) and position covariances as OpenVINS ov_eval reads them;
-# corridorsim fills Pr33 (yaw, rad^2), Pt11, Pt12, Pt22 (x-y block, m^2) and writes 0 elsewhere.
-OV_EVAL_COVARIANCE = ["Pr11", "Pr12", "Pr13", "Pr22", "Pr23", "Pr33",
-                      "Pt11", "Pt12", "Pt13", "Pt22", "Pt23", "Pt33"]
-
-_STAMP = re.compile(r"([0-9]{1,12})(?:\.([0-9]{1,9}))?")
-_NUMBER = re.compile(r"[-+]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][-+]?[0-9]{1,3})?"
-                     r"|[-+]?(?:nan|inf|infinity)", re.IGNORECASE)
-
-
-def parse_stamp_ns(text):
-    """Integer nanoseconds from seconds written with at most nine decimals ('12.300000000'), exact
-    (never through a double); None when the text is not such a stamp."""
-    m = _STAMP.fullmatch(text)
-    if m is None:
-        return None
-    return int(m.group(1)) * 1_000_000_000 + int((m.group(2) or "").ljust(9, "0"))
-
-
-def parse_number(text):
-    """float(text) for a plain decimal number, nan or inf (no underscores, hex or spaces, which
-    Python's float() would take); None otherwise. The value is the one C's strtod gives."""
-    return float(text) if _NUMBER.fullmatch(text) else None
-
-
-def _read_pose_lines(path, extra, what, allow_non_finite, increasing, allow_empty=False):
-    """The lines of a TUM-like file: `t tx ty tz qx qy qz qw` plus the names in `extra`, as
-    {t_ns: [int], t: [float], x, y, z, qx, qy, qz, qw, *extra: [float]}."""
-    names = TUM_FIELDS + extra
-    out = {"t_ns": [], "t": []}
-    out.update({n: [] for n in names})
-    fields_wanted = 1 + len(names)
-    for number, line in enumerate(read_text(path).splitlines(), start=1):
-        line = line.strip()
-        if not line or line.startswith("#"):
-            continue
-        fields = line.split()
-        if len(fields) != fields_wanted:
-            raise InputError(path, number, f"expected {fields_wanted} fields '{what}', "
-                             f"got {len(fields)}")
-        if len(out["t_ns"]) == MAX_POSES:
-            raise InputError(path, number, f"more than {MAX_POSES} poses")
-        stamp = parse_stamp_ns(fields[0])
-        if stamp is None:
-            raise InputError(path, number, "t: expected seconds with at most nine decimals, got "
-                             f"'{fields[0][:40]}'")
-        if increasing and out["t_ns"] and stamp <= out["t_ns"][-1]:
-            raise InputError(path, number, f"t: {fields[0]} is not after the previous stamp")
-        values = []
-        for name, field in zip(names, fields[1:]):
-            value = parse_number(field)
-            if value is None:
-                raise InputError(path, number, f"{name}: not a number: '{field[:40]}'")
-            if not allow_non_finite and not math.isfinite(value):
-                raise InputError(path, number, f"{name}: not finite: '{field[:40]}'")
-            values.append(value)
-        out["t_ns"].append(stamp)
-        out["t"].append(float(fields[0]))
-        for name, value in zip(names, values):
-            out[name].append(value)
-    if not out["t_ns"] and not allow_empty:
-        raise InputError(path, None, "has no poses")
-    return out
-
-
-def read_tum_exact(path, allow_non_finite=False, increasing=False, allow_empty=False):
-    """A TUM trajectory exactly as written: {t_ns: [int] (exact from the text), t: [float] (s),
-    x, y, z, qx, qy, qz, qw: [float]} in file order. `allow_non_finite`: an estimate may be
-    'nan' (the runner writes the pose a pipeline reported); `increasing`: stamps must increase
-    (the truth); `allow_empty`: a pipeline that gave no estimate has a file of comments only."""
-    return _read_pose_lines(path, [], "t tx ty tz qx qy qz qw", allow_non_finite, increasing,
-                            allow_empty)
-
-
-def read_covariance(path):
-    """<pipeline>_cov.txt (OpenVINS ov_eval, 20 columns: harness/run/run_io.cpp OvEvalLine) as
-    read_tum_exact's columns plus OV_EVAL_COVARIANCE's (rad^2, m^2; NaN where the pipeline
-    reported a non-finite covariance)."""
-    return _read_pose_lines(path, OV_EVAL_COVARIANCE, "t tx ty tz qx qy qz qw Pr11 ... Pt33",
-                            allow_non_finite=True, increasing=False, allow_empty=True)
-
-
 NIS_COLUMNS = ["t", "type", "dof", "nis", "accepted"]
 MAX_DOF = 10_000
 
@@ -853,94 +494,3 @@ def read_nis(path):
         out["nis"].append(c.number("nis", lo=0.0))
         out["accepted"].append(c.choice("accepted", ["0", "1"]) == "1")
     return out
-
-
-# ------------------------------------------------------------------------------------------------
-# Whole JSON files
-
-def load_json_fast(path, top="object", max_bytes=MAX_JSON_BYTES):
-    """json.loads of a file of at most `max_bytes` (C parser: for large files; values do not know
-    their lines, a syntax error names its line). NaN and Infinity literals, and numbers beyond a
-    double (1e999), are refused."""
-    text = read_text(path, max_bytes)
-    try:
-        root = json.loads(text, parse_constant=no_json_constant, parse_float=finite_float)
-    except json.JSONDecodeError as e:
-        raise InputError(path, e.lineno, f"column {e.colno}: invalid JSON: {e.msg}") from None
-    except (ValueError, RecursionError) as e:
-        raise InputError(path, None, f"invalid JSON: {e}") from None
-    if not isinstance(root, dict if top == "object" else list):
-        raise InputError(path, 1, f"the top level is not a JSON {top}")
-    return root
-
-
-PIPELINE_NAME = re.compile(r"[A-Za-z0-9_+-][A-Za-z0-9_.+-]{0,127}")
-
-
-def read_metrics_full(path, fast=False):
-    """The whole metrics.json (docs/metrics.md) as parsed, after checking its frame: an object
-    whose `pipelines` (when present) is an object of objects keyed by plain file stems; the key
-    order is the file's (the runner's pipeline order). `fast`: the C parser (errors then name the
-    line of a syntax error only), for the many files of a study."""
-    root = load_json_fast(path) if fast else load_json(path, max_bytes=MAX_JSON_BYTES)
-    r = JsonReader(path)
-    pipelines = r.get(root, "pipelines", "object", "")
-    for name, entry in (pipelines or {}).items():
-        if not PIPELINE_NAME.fullmatch(name):
-            r.fail(pipelines, f"pipelines.{name}", "a pipeline name must be a plain file stem")
-        if not isinstance(entry, dict):
-            r.fail(pipelines, f"pipelines.{name}", "expected an object")
-    for name, item in r.items(root, "expectations"):
-        r.get(item, "text", "text", name)
-        r.get(item, "passed", "bool", name)
-    return root
-
-
-def read_json_object(path, max_bytes=MAX_JSON_BYTES):
-    """A JSON file whose top level is an object (timing.json, provenance.json, summary.json ...),
-    as parsed."""
-    return load_json_fast(path, "object", max_bytes)
-
-
-def read_events(path):
-    """events.json (harness/run/truth_recorder.cpp EventLog::Json) as {seed, duration_s, events:
-    [{t (s), t_ns (int), type, ...the event's own keys}]} in stamp order."""
-    root = load_json(path)
-    r = JsonReader(path)
-    seed = root.get("seed")
-    if not (is_integer(seed) and seed >= 0):
-        r.fail(root, "seed", f"expected a non-negative integer, got {json.dumps(seed)[:40]}")
-    duration = r.get(root, "duration_s", "number", "")
-    events = r.get(root, "events", "array", "")
-    if events is None:
-        r.fail(root, "events", "missing")
-    if len(events) > MAX_EVENTS:
-        r.fail(events, "events", f"more than {MAX_EVENTS} events")
-    out = []
-    for name, event in r.items(root, "events"):
-        t_ns = event.get("t_ns")
-        if not (is_integer(t_ns) and t_ns >= 0):
-            r.fail(event, f"{name}.t_ns", f"expected a non-negative integer, got "
-                   f"{json.dumps(t_ns)[:40]}")
-        if out and t_ns < out[-1]["t_ns"]:
-            r.fail(event, f"{name}.t_ns", f"{t_ns} is before the previous event's")
-        if r.get(event, "t", "number", name) is None:
-            r.fail(event, f"{name}.t", "missing")
-        read_short_text(r, event, "type", name, required=True)
-        out.append(dict(event))
-    return {"seed": seed, "duration_s": None if duration is None else float(duration),
-            "events": out}
-
-
-def text_list(r, obj, key, where, pattern=None, limit=100_000):
-    """A JSON array of strings (each matching `pattern` when given), at most `limit`."""
-    value = r.get(obj, key, "array", where)
-    if value is None:
-        r.fail(obj, f"{where}{key}", "missing")
-    if len(value) > limit or not all(isinstance(v, str) and len(v) <= 256 for v in value):
-        r.fail(obj, f"{where}{key}", f"expected at most {limit} names")
-    if pattern is not None:
-        for v in value:
-            if not pattern.fullmatch(v):
-                r.fail(obj, f"{where}{key}", f"'{v[:40]}' is not a plain name")
-    return list(value)

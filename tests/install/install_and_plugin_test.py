@@ -127,10 +127,22 @@ def main():
                 "share/corridorsim/scripts/plot_run.py",
                 "share/corridorsim/scripts/plot_evaluation.py", "share/doc/corridorsim/plugins.md",
                 "share/corridorsim/scripts/make_viewer.py", "share/corridorsim/scripts/make_report.py",
+                "share/corridorsim/scripts/system_python.py", "share/corridorsim/scripts/pages.py",
+                "share/corridorsim/scripts/plot_plan.py", "share/corridorsim/scripts/plot_map.py",
+                "share/corridorsim/scripts/plot_detections.py",
+                "share/corridorsim/scripts/study_summary.py",
                 "share/corridorsim/viewer/viewer.js", "share/corridorsim/viewer/report.js",
+                "share/corridorsim/viewer/page.js", "share/corridorsim/viewer/viewer_plan.js",
+                "share/corridorsim/viewer/viewer_plots.js",
+                "share/corridorsim/viewer/viewer_frames.js",
+                "share/corridorsim/viewer/viewer_tables.js",
+                "share/corridorsim/viewer/page_head.html",
+                "share/corridorsim/viewer/page_tail.html",
                 "share/corridorsim/viewer/vendor/uplot/uPlot.iife.min.js",
                 "lib/python3/dist-packages/corridorsim/files.py",
                 "lib/python3/dist-packages/corridorsim/analysis.py",
+                "lib/python3/dist-packages/corridorsim/readers.py",
+                "lib/python3/dist-packages/corridorsim/run.py",
                 "share/doc/corridorsim/examples/cpp_plugin/lamp_ekf.cpp"]:
         if not os.path.exists(os.path.join(prefix, rel)):
             fail("cmake --install did not install " + rel)
@@ -280,7 +292,11 @@ def main():
     files = run(["dpkg-deb", "-c", runtime]).stdout
     for rel in ["./usr/bin/corridorsim", "./usr/share/corridorsim/scenarios/default.yaml",
                 "./usr/share/corridorsim/models/room_number_mlp.yml",
-                "./usr/share/corridorsim/scripts/plot_study.py"]:
+                "./usr/share/corridorsim/scripts/plot_study.py",
+                "./usr/share/corridorsim/scripts/study_summary.py",
+                "./usr/share/corridorsim/scripts/system_python.py",
+                "./usr/share/corridorsim/viewer/page.js",
+                "./usr/share/corridorsim/viewer/viewer_plan.js"]:
         if rel not in files:
             fail("the runtime package lacks " + rel)
     if "./usr/include/" in files:

@@ -24,17 +24,25 @@ const fail = (m) => failures.push(m);
 function fill(template, js, data) {
   const read = (p) => fs.readFileSync(p, "utf8");
   const safe = (s) => s.replace(/<\//g, "<\\/");
+  // as scripts/pages.py's with_parts: each CORRIDORSIM_INCLUDE line becomes the part it names,
+  // without the part's opening comment
+  const part = (name) => {
+    const t = read(path.join(VIEWER, name));
+    for (const [start, end] of [["/*", "*/\n"], ["<!--", "-->\n"]]) if (t.startsWith(start)) return t.slice(t.indexOf(end) + end.length);
+    return t;
+  };
+  const withParts = (name) => read(path.join(VIEWER, name)).replace(/^[ \t]*(?:\/\*|<!--)CORRIDORSIM_INCLUDE ([A-Za-z0-9_.-]+)(?:\*\/|-->)\n/gm, (m, name) => part(name));
   const parts = {
     "/*CORRIDORSIM_UPLOT_CSS*/": read(path.join(UPLOT, "uPlot.min.css")),
     "/*CORRIDORSIM_VIEWER_CSS*/": read(path.join(VIEWER, "viewer.css")),
     "/*CORRIDORSIM_UPLOT_JS*/": safe(read(path.join(UPLOT, "uPlot.iife.min.js"))),
-    [js === "viewer.js" ? "/*CORRIDORSIM_VIEWER_JS*/" : "/*CORRIDORSIM_REPORT_JS*/"]: safe(read(path.join(VIEWER, js))),
-    // as make_viewer.py's json_in_script: no string can end the element or escape it
+    "/*CORRIDORSIM_PAGE_JS*/": safe(withParts(js)),
+    // as scripts/pages.py's json_in_script: no string can end the element or escape it
     CORRIDORSIM_DATA_JSON: JSON.stringify(data).replace(/</g, "\\u003c").replace(/>/g, "\\u003e").replace(/&/g, "\\u0026"),
     CORRIDORSIM_TITLE: "odd data",
   };
   // one pass, in the template's order, so nothing inserted is searched again
-  let page = read(path.join(VIEWER, template));
+  let page = withParts(template);
   const found = Object.keys(parts).map((k) => [page.indexOf(k), k]).filter(([i]) => i >= 0).sort((a, b) => a[0] - b[0]);
   let out = "", at = 0;
   for (const [i, k] of found) { out += page.slice(at, i) + parts[k]; at = i + k.length; }
