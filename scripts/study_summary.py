@@ -302,7 +302,7 @@ def read_summary(study_dir):
 
 
 def read_frame_times(study_dir):
-    """STUDY_DIR/frame_times.csv (harness/study/study.cpp, WriteFrameTimes: point, pipeline,
+    """STUDY_DIR/frame_times.csv (harness/study/study_finish.cpp, WriteFrameTimes: point, pipeline,
     landmarks_low, landmarks_high, frames, mean_ms, median_ms, p95_ms), or None when the study
     has none (no pipeline of its runs records frame costs). Raises InputError when malformed."""
     path = os.path.join(study_dir, "frame_times.csv")
