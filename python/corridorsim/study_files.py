@@ -20,7 +20,7 @@ STUDY_OUTCOMES = ["finished", "failed", "timed_out"]
 
 
 def read_study_plan(path):
-    """study.json (harness/study/study.cpp PlanJson) as {runs_per_point, first_seed, pipelines,
+    """study.json (harness/study/study_plan.cpp PlanJson) as {runs_per_point, first_seed, pipelines,
     metrics, vary: [key], points: [{id, vary: {key: value text}}], expectations, may_diverge};
     the full object under `raw`."""
     root = load_json(path)
@@ -57,7 +57,7 @@ def read_study_plan(path):
 
 
 def read_run_status(path):
-    """status/<point>/seed_<S>.json (harness/study/study.cpp RecordRun) as {point, seed, outcome
+    """status/<point>/seed_<S>.json (harness/study/study_run.cpp RecordRun) as {point, seed, outcome
     (finished, failed or timed_out), detail, exit_code, signal, wall_seconds, peak_rss_mib}."""
     root = load_json(path)
     r = JsonReader(path)
