@@ -146,7 +146,7 @@ class Builder {
 
   // ---- generator_lamps.cpp: lamps and the reflective panels mirroring them ----------------------
   int AddLamp(const Vector3d& centre, LampShape shape, double radius, const Vector2d& size,
-              int room_door_id);
+              int room_door_id);  // a room's lamp too (BuildRoom, during PlaceDoors)
   void PlaceLamps();
   void PlaceReflectors();
   void BuildReflector(const Reflector& r, const Wall& wall, double s0, double s1, const Lamp& lamp);
