@@ -4,6 +4,7 @@
 #include <initializer_list>
 
 #include "common/io/json_input.h"
+#include "worlds/ground_truth_fields.h"
 
 namespace corridorsim::worlds {
 namespace {
@@ -46,6 +47,51 @@ void ForEach(const JsonField& top, const char* key, Each each) {
   for (std::size_t i = 0; i < n; ++i) each(array.At(i));
 }
 
+// A field's value from ground_truth.json: ids in int's range, vectors of 2 or 3 numbers, enums by
+// name.
+void Read(const JsonField& f, int& v) { v = Id(f); }
+void Read(const JsonField& f, bool& v) { v = f.Bool(); }
+void Read(const JsonField& f, double& v) { v = f.Number(); }
+void Read(const JsonField& f, std::string& v) { v = f.String(); }
+void Read(const JsonField& f, Eigen::Vector2d& v) { v = Vec2(f); }
+void Read(const JsonField& f, Eigen::Vector3d& v) { v = Vec3(f); }
+void Read(const JsonField& f, LampShape& v) {
+  v = EnumOf(f, {LampShape::kCircular, LampShape::kPanel}, LampShapeName);
+}
+void Read(const JsonField& f, DoorState& v) {
+  v = EnumOf(f, {DoorState::kClosed, DoorState::kOpen, DoorState::kEmpty}, DoorStateName);
+}
+void Read(const JsonField& f, CornerKind& v) {
+  v = EnumOf(f,
+             {CornerKind::kTileSeam, CornerKind::kVent, CornerKind::kSmokeDetector,
+              CornerKind::kSprinkler},
+             CornerKindName);
+}
+
+// Whether an element carries a field: a When field when its earlier fields say so, an IfPresent
+// field when its key is there.
+template <class Pred, class T>
+bool Carries(const ground_truth_fields::When<Pred>& only, const T& read_so_far, const JsonField&,
+             const char*) {
+  return only.holds(read_so_far);
+}
+template <class Pred, class T>
+bool Carries(const ground_truth_fields::IfPresent<Pred>&, const T&, const JsonField& element,
+             const char* key) {
+  return element.Has(key);
+}
+
+// An element of type T read through its field list (ground_truth_fields.h), field by field in
+// the order of the list.
+template <class T>
+T ElementOf(const JsonField& element) {
+  T item;
+  ground_truth_fields::Fields<T>::Visit([&](const char* key, auto member, const auto&... only) {
+    if ((Carries(only, item, element, key) && ...)) Read(element.At(key), item.*member);
+  });
+  return item;
+}
+
 }  // namespace
 
 World ParseGroundTruthJson(std::string_view text, const std::string& file) {
@@ -53,65 +99,14 @@ World ParseGroundTruthJson(std::string_view text, const std::string& file) {
   const JsonField top{file, "", document};
   World world;
   world.seed = top.At("seed").Unsigned();
-  ForEach(top, "door_plates", [&](const JsonField& p) {
-    DoorPlate plate;
-    plate.id = Id(p.At("id"));
-    plate.door_id = Id(p.At("door_id"));
-    plate.room_number = p.At("room_number").String();
-    plate.center = Vec3(p.At("center"));
-    plate.normal = Vec3(p.At("normal"));
-    plate.size_m = Vec2(p.At("size"));
-    world.plates.push_back(std::move(plate));
-  });
-  ForEach(top, "lamps", [&](const JsonField& l) {
-    Lamp lamp;
-    lamp.id = Id(l.At("id"));
-    lamp.shape = EnumOf(l.At("shape"), {LampShape::kCircular, LampShape::kPanel}, LampShapeName);
-    lamp.center = Vec3(l.At("center"));
-    if (lamp.shape == LampShape::kCircular) {
-      lamp.radius_m = l.At("radius").Number();
-    } else {
-      lamp.size_m = Vec2(l.At("size"));
-    }
-    lamp.on = l.At("on").Bool();
-    if (l.Has("room_door_id")) lamp.room_door_id = Id(l.At("room_door_id"));
-    world.lamps.push_back(lamp);
-  });
-  ForEach(top, "doors", [&](const JsonField& d) {
-    Doorway door;
-    door.id = Id(d.At("id"));
-    door.state = EnumOf(d.At("state"), {DoorState::kClosed, DoorState::kOpen, DoorState::kEmpty},
-                        DoorStateName);
-    door.wall_id = Id(d.At("wall_id"));
-    door.column_a = Vec2(d.At("column_a"));
-    door.column_b = Vec2(d.At("column_b"));
-    door.top_height_m = d.At("top_height").Number();
-    door.width_m = d.At("width").Number();
-    door.column_width_m = d.At("column_width").Number();
-    door.inward_normal = Vec2(d.At("inward_normal"));
-    door.room_number = d.At("room_number").String();
-    world.doors.push_back(std::move(door));
-  });
-  ForEach(top, "reflectors", [&](const JsonField& r) {
-    Reflector reflector;
-    reflector.id = Id(r.At("id"));
-    reflector.wall_id = Id(r.At("wall_id"));
-    reflector.mirrored_lamp_id = Id(r.At("mirrored_lamp_id"));
-    reflector.center = Vec3(r.At("center"));
-    reflector.size_m = Vec2(r.At("size"));
-    reflector.apparent_lamp_center = Vec3(r.At("apparent_lamp_center"));
-    world.reflectors.push_back(reflector);
-  });
-  ForEach(top, "corner_points", [&](const JsonField& c) {
-    CornerPoint corner;
-    corner.id = Id(c.At("id"));
-    corner.kind = EnumOf(c.At("kind"),
-                         {CornerKind::kTileSeam, CornerKind::kVent, CornerKind::kSmokeDetector,
-                          CornerKind::kSprinkler},
-                         CornerKindName);
-    corner.position = Vec3(c.At("position"));
-    world.corner_points.push_back(corner);
-  });
+  ForEach(top, "door_plates",
+          [&](const JsonField& p) { world.plates.push_back(ElementOf<DoorPlate>(p)); });
+  ForEach(top, "lamps", [&](const JsonField& l) { world.lamps.push_back(ElementOf<Lamp>(l)); });
+  ForEach(top, "doors", [&](const JsonField& d) { world.doors.push_back(ElementOf<Doorway>(d)); });
+  ForEach(top, "reflectors",
+          [&](const JsonField& r) { world.reflectors.push_back(ElementOf<Reflector>(r)); });
+  ForEach(top, "corner_points",
+          [&](const JsonField& c) { world.corner_points.push_back(ElementOf<CornerPoint>(c)); });
   return world;
 }
 

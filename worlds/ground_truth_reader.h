@@ -12,11 +12,10 @@
 namespace corridorsim::worlds {
 
 /// The landmark truth of `text` (the contents of `file`, GroundTruthJson's document): seed, door
-/// plates (id, door_id, room_number, center, normal, size), lamps (id, shape, center, radius or
-/// size, on, room_door_id), doors (id, state, columns, top_height, width, column_width,
-/// inward_normal, room_number), reflectors (id, wall_id, mirrored_lamp_id, center, size,
-/// apparent_lamp_center) and corner points (id, kind, position). Geometry, meshes, textures and
-/// the other entries stay empty. Throws InputError (nesting and size bounded before parsing).
+/// plates, lamps, doors, reflectors and corner points, each with the fields that
+/// worlds/ground_truth_fields.h lists (not a plate's texture and number region, nor a door's
+/// room). Geometry, meshes, textures and the other entries stay empty. Throws InputError (nesting
+/// and size bounded before parsing).
 World ParseGroundTruthJson(std::string_view text, const std::string& file);
 
 }  // namespace corridorsim::worlds

@@ -2,6 +2,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <functional>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -14,6 +15,7 @@
 
 #include "common/io/atomic_file.h"
 #include "common/io/stable_json.h"
+#include "worlds/ground_truth_fields.h"
 #include "worlds/image_io.h"
 #include "worlds/map_plot.h"
 
@@ -33,14 +35,30 @@ double Rounded(double v) { return RoundToStep(v, json_steps::kMetres); }
 Json Vec(const Eigen::Vector2d& v) { return RoundedJson(v, json_steps::kMetres); }
 Json Vec(const Eigen::Vector3d& v) { return RoundedJson(v, json_steps::kMetres); }
 
-Json PlateJson(const World& world, const DoorPlate& plate) {
+// A field's value as ground_truth.json holds it: lengths and coordinates rounded, enums by name.
+Json FieldJson(int v) { return v; }
+Json FieldJson(bool v) { return v; }
+Json FieldJson(double v) { return Rounded(v); }
+Json FieldJson(const std::string& v) { return v; }
+Json FieldJson(const Eigen::Vector2d& v) { return Vec(v); }
+Json FieldJson(const Eigen::Vector3d& v) { return Vec(v); }
+Json FieldJson(LampShape v) { return LampShapeName(v); }
+Json FieldJson(DoorState v) { return DoorStateName(v); }
+Json FieldJson(CornerKind v) { return CornerKindName(v); }
+Json FieldJson(SemanticClass v) { return SemanticClassName(v); }
+
+// The fields of `item` that it carries, in the order of its list (ground_truth_fields.h).
+template <class T>
+Json ElementJson(const T& item) {
   Json j;
-  j["id"] = plate.id;
-  j["door_id"] = plate.door_id;
-  j["room_number"] = plate.room_number;
-  j["center"] = Vec(plate.center);
-  j["normal"] = Vec(plate.normal);
-  j["size"] = Vec(plate.size_m);
+  ground_truth_fields::Fields<T>::Visit([&](const char* key, auto member, const auto&... only) {
+    if ((only.holds(item) && ...)) j[key] = FieldJson(std::invoke(member, item));
+  });
+  return j;
+}
+
+Json PlateJson(const World& world, const DoorPlate& plate) {
+  Json j = ElementJson(plate);
   if (plate.texture >= 0 && plate.texture < static_cast<int>(world.textures.size())) {
     j["texture"] = "textures/" + world.textures[plate.texture].name + ".png";
     j["font"] = plate.font;
@@ -51,33 +69,8 @@ Json PlateJson(const World& world, const DoorPlate& plate) {
   return j;
 }
 
-Json LampJson(const Lamp& lamp) {
-  Json j;
-  j["id"] = lamp.id;
-  j["shape"] = LampShapeName(lamp.shape);
-  j["center"] = Vec(lamp.center);
-  if (lamp.shape == LampShape::kCircular) {
-    j["radius"] = Rounded(lamp.radius_m);
-  } else {
-    j["size"] = Vec(lamp.size_m);
-  }
-  j["on"] = lamp.on;
-  if (lamp.room_door_id >= 0) j["room_door_id"] = lamp.room_door_id;
-  return j;
-}
-
 Json DoorJson(const Doorway& door) {
-  Json j;
-  j["id"] = door.id;
-  j["state"] = DoorStateName(door.state);
-  j["wall_id"] = door.wall_id;
-  j["column_a"] = Vec(door.column_a);
-  j["column_b"] = Vec(door.column_b);
-  j["top_height"] = Rounded(door.top_height_m);
-  j["width"] = Rounded(door.width_m);
-  j["column_width"] = Rounded(door.column_width_m);
-  j["inward_normal"] = Vec(door.inward_normal);
-  j["room_number"] = door.room_number;
+  Json j = ElementJson(door);
   if (door.room) {
     Json room;
     room["min"] = Vec(Eigen::Vector2d(door.room->footprint.min()));
@@ -85,59 +78,6 @@ Json DoorJson(const Doorway& door) {
     room["ceiling_height"] = Rounded(door.room->ceiling_height_m);
     j["room"] = std::move(room);
   }
-  return j;
-}
-
-Json SegmentJson(const CorridorSegment& segment) {
-  Json j;
-  j["id"] = segment.id;
-  j["start"] = Vec(segment.start);
-  j["end"] = Vec(segment.end);
-  j["direction"] = Vec(segment.direction());
-  j["width"] = Rounded(segment.width_m);
-  j["height"] = Rounded(segment.height_m);
-  return j;
-}
-
-Json WallJson(const Wall& wall) {
-  Json j;
-  j["id"] = wall.id;
-  j["start"] = Vec(wall.start);
-  j["end"] = Vec(wall.end);
-  j["inward_normal"] = Vec(wall.inward_normal);
-  j["segment_id"] = wall.segment_id;
-  j["side_wall"] = wall.side_wall;
-  return j;
-}
-
-Json ReflectorJson(const Reflector& reflector) {
-  Json j;
-  j["id"] = reflector.id;
-  j["wall_id"] = reflector.wall_id;
-  j["mirrored_lamp_id"] = reflector.mirrored_lamp_id;
-  j["center"] = Vec(reflector.center);
-  j["size"] = Vec(reflector.size_m);
-  j["apparent_lamp_center"] = Vec(reflector.apparent_lamp_center);
-  return j;
-}
-
-Json CornerJson(const CornerPoint& corner) {
-  Json j;
-  j["id"] = corner.id;
-  j["kind"] = CornerKindName(corner.kind);
-  j["position"] = Vec(corner.position);
-  return j;
-}
-
-Json DistractorJson(const Distractor& distractor) {
-  Json j;
-  j["id"] = distractor.id;
-  j["class"] = SemanticClassName(distractor.semantic_class);
-  j["wall_id"] = distractor.wall_id;
-  j["center"] = Vec(distractor.center);
-  j["size"] = Vec(distractor.size_m);
-  j["normal"] = Vec(distractor.normal);
-  j["text"] = distractor.text;
   return j;
 }
 
@@ -351,13 +291,13 @@ nlohmann::ordered_json GroundTruthJson(const World& world) {
                    {"max", Vec(Eigen::Vector3d(world.bounds.max()))}};
   }
   j["door_plates"] = ArrayOf(world.plates, [&](const DoorPlate& p) { return PlateJson(world, p); });
-  j["lamps"] = ArrayOf(world.lamps, LampJson);
+  j["lamps"] = ArrayOf(world.lamps, ElementJson<Lamp>);
   j["doors"] = ArrayOf(world.doors, DoorJson);
-  j["corridor_segments"] = ArrayOf(world.segments, SegmentJson);
-  j["walls"] = ArrayOf(world.walls, WallJson);
-  j["reflectors"] = ArrayOf(world.reflectors, ReflectorJson);
-  j["corner_points"] = ArrayOf(world.corner_points, CornerJson);
-  j["distractors"] = ArrayOf(world.distractors, DistractorJson);
+  j["corridor_segments"] = ArrayOf(world.segments, ElementJson<CorridorSegment>);
+  j["walls"] = ArrayOf(world.walls, ElementJson<Wall>);
+  j["reflectors"] = ArrayOf(world.reflectors, ElementJson<Reflector>);
+  j["corner_points"] = ArrayOf(world.corner_points, ElementJson<CornerPoint>);
+  j["distractors"] = ArrayOf(world.distractors, ElementJson<Distractor>);
   j["counts"] = CountsJson(world);
   j["appearance"] = AppearanceJson(world.appearance);
   return j;

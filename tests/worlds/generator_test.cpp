@@ -1,6 +1,7 @@
-// Tests worlds/generator.cpp: invariants of generated worlds for every layout and several seeds
-// (doors, plates, lamps, rooms, corner points, distractors, ids, meshes, a drivable centre line),
-// determinism, independent random streams, and the error for distractors that do not fit.
+// Tests worlds::Generate (worlds/generator*.cpp): invariants of generated worlds for every layout
+// and several seeds (doors, plates, lamps, rooms, corner points, distractors, ids, meshes, a
+// drivable centre line), determinism, independent random streams, and the error for distractors
+// that do not fit.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -29,7 +30,7 @@ using Eigen::Vector3d;
 using test::kFloatTol;
 using test::kGeomTolM;
 
-// The generator's fixed offsets (worlds/generator.cpp), as the ground truth documents them.
+// The generator's fixed offsets (worlds/generator_internal.h), as the ground truth documents them.
 constexpr double kLampDropM = 0.005;       // lamps hang this far below the ceiling
 constexpr double kPlateMaxOffsetM = 0.01;  // a plate's front face stands this close to its wall
 
