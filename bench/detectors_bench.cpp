@@ -18,6 +18,7 @@
 #include "render/camera_rig.h"
 #include "render/frame_truth.h"
 #include "render/scene.h"
+#include "render/software_rasterizer.h"
 #include "slam/features/harris_corners.h"
 #include "slam/features/vanishing_point.h"
 #include "worlds/world.h"
@@ -62,6 +63,7 @@ struct Timed {
 }  // namespace
 
 int main(int argc, char** argv) {
+  render::PinSoftwareRasterizer();  // Mesa's environment, before any thread
   const int frames = argc > 1 ? std::clamp(std::atoi(argv[1]), 1, 10000) : 60;
   const std::string backend_name = argc > 2 ? argv[2] : "osmesa";
   const render::BackendKind kind =

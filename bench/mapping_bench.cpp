@@ -13,6 +13,7 @@
 #include "render/backend.h"
 #include "render/camera_rig.h"
 #include "render/scene.h"
+#include "render/software_rasterizer.h"
 #include "slam/mapping/occupancy_mapper.h"
 #include "slam/mapping/voxel_filter.h"
 #include "worlds/world.h"
@@ -34,6 +35,7 @@ SE3 RobotAt(int i) { return SE3::FromSE2(SE2(2.0 + 0.5 * i, 0.0, 0.0)); }
 }  // namespace
 
 int main(int argc, char** argv) {
+  render::PinSoftwareRasterizer();  // Mesa's environment, before any thread
   const int keyframes = argc > 1 ? std::clamp(std::atoi(argv[1]), 2, 200) : 40;
   const worlds::World world = worlds::Generate(worlds::WorldOptions{}, 7);
   const render::RigOptions rig_options = render::RigOptions::Default();

@@ -16,6 +16,7 @@
 #include "render/camera_rig.h"
 #include "render/noise.h"
 #include "render/scene.h"
+#include "render/software_rasterizer.h"
 #include "worlds/world.h"
 
 namespace {
@@ -41,6 +42,7 @@ SE3 PoseAt(int i) { return SE3::FromSE2(SE2(3.0 + 0.1 * (i % 480), 0.0, 0.0)); }
 }  // namespace
 
 int main(int argc, char** argv) {
+  render::PinSoftwareRasterizer();  // Mesa's environment, before any thread
   const int frames = argc > 1 ? std::max(10, std::atoi(argv[1])) : 200;
   const std::string backend_name = argc > 2 ? argv[2] : "osmesa";
   const render::BackendKind kind =
@@ -67,11 +69,12 @@ int main(int argc, char** argv) {
   const render::Scene scene = render::BuildScene(world, rig_options.scene);
   auto backend = render::CreateBackend(kind);
   backend->Upload(scene);
-  const char* gallivm_perf = std::getenv("GALLIVM_PERF");  // set by the backend unless it was
+  // Set in main() unless the user set it; a GPU ignores it.
+  const std::string gallivm_perf = render::GallivmPerfInEffect(backend.get()).value_or("");
   std::printf(
       "backend %s (GALLIVM_PERF=%s), default world: %zu triangles, %zu drawables, %d frames per "
       "figure\n",
-      backend_name.c_str(), gallivm_perf != nullptr ? gallivm_perf : "", scene.triangle_count(),
+      backend_name.c_str(), gallivm_perf.c_str(), scene.triangle_count(),
       scene.drawables.size(), frames);
   // Which device the figures are of: the EGL backend takes a GPU when there is one.
   std::printf("device: %s; GL_RENDERER %s\n", backend->info().device.c_str(),

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "render/camera_rig.h"
+#include "render/software_rasterizer.h"
 #include "sim/robot.h"
 #include "sim/simulation.h"
 #include "tests/support/uploaded_rig.h"
@@ -59,6 +60,7 @@ TimedDrive DriveTimed(const worlds::World& world, sim::SimulationOptions options
 }  // namespace
 
 int main(int argc, char** argv) {
+  render::PinSoftwareRasterizer();  // Mesa's environment, before any thread
   const double sim_s = argc > 1 ? std::max(5.0, std::atof(argv[1])) : 60.0;
   const std::string only = argc > 2 ? argv[2] : "all";
   auto run = [&](const char* part) { return only == "all" || only == part; };

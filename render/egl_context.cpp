@@ -19,6 +19,7 @@
 #include <EGL/eglext.h>
 
 #include "render/gl_context.h"
+#include "render/software_rasterizer.h"
 
 namespace corridorsim::render {
 namespace {
@@ -237,7 +238,7 @@ class EglContext final : public GlContext {
               HasExtension(devices.extensions[std::size_t(index)].value_or("").c_str(),
                            kEglSoftwareDeviceExtension);
           try {
-            if (software) PinSoftwareRasterizer();
+            if (software) RequireSoftwareRasterizerPinned("egl");
             display_ = InitializeDeviceDisplay(devices, index, label);
             CreateContext(label);
             device_ = std::string(software ? "software: " : "hardware: ") + label + " (" +
@@ -259,8 +260,8 @@ class EglContext final : public GlContext {
     // Mesa's surfaceless platform would take a render node's hardware driver where there is one:
     // LIBGL_ALWAYS_SOFTWARE keeps it on swrast (llvmpipe). overwrite = 0: a value the user set
     // wins.
+    RequireSoftwareRasterizerPinned("egl");
     setenv("LIBGL_ALWAYS_SOFTWARE", "1", 0);
-    PinSoftwareRasterizer();
     display_ = InitializeSurfacelessDisplay();
     CreateContext("the surfaceless display");
     device_ =

@@ -77,21 +77,4 @@ struct EglDeviceChoice {
 EglDeviceChoice ChooseEglDevice(std::span<const std::optional<std::string>> device_extensions,
                                 const EglDeviceRequest& request);
 
-/// llvmpipe's texture-sampling shortcuts corridorsim asks for unless GALLIVM_PERF is set.
-inline constexpr const char* kDefaultGallivmPerf = "brilinear,rho_approx";
-
-/// llvmpipe's rasterizer threads unless LP_NUM_THREADS is set: none (it draws on the calling
-/// thread). Mesa 22.3's llvmpipe can free a fence its rasterizer thread is still signalling.
-inline constexpr const char* kDefaultLlvmpipeThreads = "0";
-
-/// Pins Mesa's software rasterizer to llvmpipe (softpipe gives different images) unless the user
-/// set GALLIUM_DRIVER already, sets GALLIVM_PERF to kDefaultGallivmPerf unless it is set
-/// (empty: llvmpipe's exact trilinear LOD and filter) and LP_NUM_THREADS to
-/// kDefaultLlvmpipeThreads unless it is set. Called before a software context is
-/// created. It leaves LIBGL_ALWAYS_SOFTWARE alone: only Mesa's EGL platforms read it (the EGL
-/// backend sets it before it opens the surfaceless display), and the EGL backend reads it as a
-/// request for software, so an OSMesa backend setting it would keep a later EGL backend off the
-/// GPU.
-void PinSoftwareRasterizer();
-
 }  // namespace corridorsim::render

@@ -8,6 +8,7 @@
 #include <GL/osmesa.h>
 
 #include "render/gl_context.h"
+#include "render/software_rasterizer.h"
 
 namespace corridorsim::render {
 
@@ -18,7 +19,7 @@ constexpr int kBufferSize = 16;  // px, width and height of the bound client buf
 class OsMesaContext final : public GlContext {
  public:
   OsMesaContext() : buffer_(std::size_t(kBufferSize) * kBufferSize * 4, 0) {
-    PinSoftwareRasterizer();
+    RequireSoftwareRasterizerPinned("osmesa");  // llvmpipe as main() set it up
     const int attribs[] = {OSMESA_FORMAT,
                            OSMESA_RGBA,
                            OSMESA_DEPTH_BITS,

@@ -37,6 +37,7 @@
 #include "harness/workbench/detect.h"
 #include "harness/workbench/score.h"
 #include "harness/workbench/train_detectors.h"
+#include "render/software_rasterizer.h"
 #include "slam/features/door_plates.h"
 #include "slam/sdk_version.h"
 #include "worlds/world_io.h"
@@ -184,6 +185,7 @@ int Dispatch(CommandLine& command) {
 
 int main(int argc, char** argv) {
   using namespace corridorsim;
+  render::PinSoftwareRasterizer();  // Mesa's environment, before any thread or fork
   SuperviseThisJob();  // from here on: the job (harness/cli/supervisor.h)
   try {
     external::RegisterExternalPipelineType();  // `type: external` (docs/protocol.md)

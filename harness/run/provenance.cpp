@@ -1,11 +1,13 @@
 #include "harness/run/provenance.h"
 
-#include <cstdlib>
+#include <optional>
+#include <string>
 
 #include "common/io/sha256.h"
 #include "corridorsim_version.h"  // generated at build time (cmake/version.cmake)
 #include "harness/external/external_pipeline.h"
 #include "harness/scenario/plugins.h"
+#include "render/software_rasterizer.h"
 #include "slam/sdk_version.h"
 
 namespace corridorsim {
@@ -88,9 +90,10 @@ Json ProvenanceJson(const std::string& scenario_file, const std::string& scenari
     render["llvm_version"] = or_null(ReleaseAfter(info.renderer, "LLVM "));
   }
   j["render"] = std::move(render);
-  // As in effect now: the backends set it before their first context unless the user did.
-  const char* gallivm_perf = std::getenv("GALLIVM_PERF");
-  j["environment"] = {{"GALLIVM_PERF", gallivm_perf ? Json(gallivm_perf) : Json(nullptr)}};
+  // As in effect for llvmpipe: main() sets it unless the user did; null on a GPU or without a
+  // render unless the user set it (render/software_rasterizer.h).
+  const std::optional<std::string> gallivm_perf = render::GallivmPerfInEffect(backend);
+  j["environment"] = {{"GALLIVM_PERF", gallivm_perf ? Json(*gallivm_perf) : Json(nullptr)}};
   return j;
 }
 

@@ -23,6 +23,7 @@
 
 #include "render/backend.h"
 #include "render/gl_context.h"
+#include "render/software_rasterizer.h"
 #include "tests/render/render_error_of.h"
 #include "tests/support/hand_built_scene.h"
 
@@ -352,7 +353,7 @@ std::vector<std::string> ThreadsNamed(const std::string& prefix) {
 TEST_CASE("the software backends draw on the calling thread: no llvmpipe rasterizer thread runs",
           "[render][backend]") {
   // Mesa 22.3's llvmpipe frees a fence that its rasterizer thread can still be signalling
-  // (render/backend.cpp, PinSoftwareRasterizer), so corridorsim asks for none. ctest runs this
+  // (render/software_rasterizer.cpp, PinSoftwareRasterizer), so corridorsim asks for none. ctest runs this
   // case in a process of its own: the first context below is the one that reads LP_NUM_THREADS.
   const char* user_value = std::getenv("LP_NUM_THREADS");
   if (user_value != nullptr && std::string(user_value) != "0") {

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "render/backend.h"
+#include "render/software_rasterizer.h"
 #include "tests/support/hand_built_scene.h"
 
 namespace {
@@ -147,6 +148,7 @@ std::uint64_t Fnv1a(std::uint64_t hash, const void* data, std::size_t size) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  PinSoftwareRasterizer();  // Mesa's environment, before any thread
   const char* usage =
       "usage: render_probe <osmesa|egl> [--bench FRAMES] [--lights N] [--width W]\n";
   if (argc < 2 || argc % 2 != 0) {
