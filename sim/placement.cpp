@@ -11,6 +11,7 @@
 #include <Eigen/Geometry>
 
 #include "common/options_checker.h"
+#include "render/camera_placement.h"
 
 namespace corridorsim::sim {
 namespace {

@@ -1,6 +1,9 @@
-// Tests render/camera_rig.cpp without GL: mounts, the rig's options and checks, and the remap
-// of distorted and fisheye cameras onto their pinhole passes.
+// Tests the camera rig without GL: mounts, the rig's options and checks (render/camera_options),
+// budgets (render/camera_budget), placement (render/camera_placement), and the remap of distorted
+// and fisheye cameras onto their pinhole passes (render/camera_renderer, render/remap_kernel).
 #include "render/camera_rig.h"
+#include "render/camera_budget.h"
+#include "render/camera_placement.h"
 
 #include <algorithm>
 #include <cmath>

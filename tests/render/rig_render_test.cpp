@@ -11,6 +11,8 @@
 #include <catch2/catch.hpp>
 
 #include "render/backend.h"
+#include "render/camera_budget.h"
+#include "render/camera_placement.h"
 #include "render/camera_rig.h"
 #include "render/frame_truth.h"
 #include "render/scene.h"

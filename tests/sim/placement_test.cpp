@@ -11,6 +11,7 @@
 #include <catch2/catch.hpp>
 
 #include "render/camera_rig.h"
+#include "render/camera_placement.h"
 #include "sim/robot.h"
 #include "sim/robot_path.h"
 #include "worlds/world.h"

@@ -38,7 +38,7 @@ SE3 OpticalMount(double yaw, double pitch, const Vector3d& t) {
   return SE3(r, t);
 }
 
-// The rig's defaults (render/camera_rig.cpp): the front RGB-D sensor and the lateral camera.
+// The rig's defaults (render/camera_options.cpp): the front RGB-D sensor and the lateral camera.
 SE3 FrontMount() { return OpticalMount(0.0, 0.0, Vector3d(0.18, 0.0, 0.45)); }
 SE3 LateralMount() { return OpticalMount(90 * kDeg, 25 * kDeg, Vector3d(0.0, 0.12, 0.55)); }
 CameraModel Front() { return PinholeRadTan::FromFov(640, 480, 58 * kDeg); }
