@@ -8,89 +8,14 @@
 #if defined(__GLIBC__)
 #include <malloc.h>
 #endif
+#include <optional>
 #include <stdexcept>
 #include <string>
 
+#include "render/gl_shaders.h"
+
 namespace corridorsim::render {
 namespace {
-
-constexpr const char* kVertexShader = R"glsl(#version 330 core
-layout(location = 0) in vec3 a_position;  // world frame, m
-layout(location = 1) in vec3 a_normal;    // world frame
-layout(location = 2) in vec2 a_uv;
-layout(location = 3) in vec3 a_irradiance;  // ambient + baked lamps and bounces, RGB
-uniform mat4 u_camera_from_world;
-uniform mat4 u_clip_from_camera;
-out vec3 v_world;
-out vec3 v_normal;
-out vec2 v_uv;
-out vec3 v_camera;  // OpenCV optical frame, m
-out vec3 v_irradiance;
-void main() {
-  vec4 p_in_camera = u_camera_from_world * vec4(a_position, 1.0);
-  v_world = a_position;
-  v_normal = a_normal;
-  v_uv = a_uv;
-  v_camera = p_in_camera.xyz;
-  v_irradiance = a_irradiance;
-  gl_Position = u_clip_from_camera * p_in_camera;
-}
-)glsl";
-
-// Compiled once per light count (LIGHT_COUNT is prepended): llvmpipe runs a loop over a uniform
-// count for every array slot, so a constant bound costs only the lights that are drawn.
-constexpr const char* kFragmentShader = R"glsl(
-in vec3 v_world;
-in vec3 v_normal;
-in vec2 v_uv;
-in vec3 v_camera;
-in vec3 v_irradiance;
-uniform vec3 u_diffuse;
-uniform float u_exposure;  // the camera's gain: 1 maps radiance 1 to full scale
-uniform vec3 u_emission;
-uniform int u_has_texture;
-uniform sampler2D u_texture;
-uniform float u_inv_falloff2;  // 1 / falloff^2, 1/m^2: a light's contribution halves at falloff
-#if LIGHT_COUNT > 0
-uniform vec3 u_light_position[LIGHT_COUNT];   // world frame, m
-uniform vec3 u_light_intensity[LIGHT_COUNT];  // RGB
-#endif
-uniform uint u_instance;
-uniform uint u_semantic;
-layout(location = 0) out vec4 o_color;
-layout(location = 1) out uint o_instance;
-layout(location = 2) out uint o_semantic;
-layout(location = 3) out float o_z;
-void main() {
-  vec3 base = u_diffuse;
-  if (u_has_texture != 0) base *= texture(u_texture, v_uv).rgb;
-  vec3 n = normalize(v_normal);
-  vec3 light = v_irradiance;  // ambient (+ lamps and bounces when baked)
-#if LIGHT_COUNT > 0
-  for (int i = 0; i < LIGHT_COUNT; ++i) {
-    // intensity * max(0, n.l) / (1 + (d / falloff)^2)
-    vec3 to_light = u_light_position[i] - v_world;
-    float d2 = max(dot(to_light, to_light), 1e-12);
-    float n_dot_l = max(dot(n, to_light) * inversesqrt(d2), 0.0);
-    light += u_light_intensity[i] * (n_dot_l / (1.0 + d2 * u_inv_falloff2));
-  }
-#endif
-  o_color = vec4(clamp(u_exposure * (base * light + u_emission), 0.0, 1.0), 1.0);
-  o_instance = u_instance;
-  o_semantic = u_semantic;
-  o_z = v_camera.z;  // exact for planar faces: perspective-correct interpolation of camera-frame z
-}
-)glsl";
-
-// Marks a pass's unused pixels as nearest possible (depth 0) before the scene is drawn: llvmpipe
-// tests depth before shading, so the scene's fragments there fail without being shaded.
-constexpr const char* kMaskVertexShader = R"glsl(#version 330 core
-layout(location = 0) in vec2 a_ndc;
-void main() { gl_Position = vec4(a_ndc, -1.0, 1.0); }
-)glsl";
-constexpr const char* kMaskFragmentShader = R"glsl(#version 330 core
-void main() {}
-)glsl";
 
 // Column-major 4x4 clip_from_camera for the OpenCV pinhole model. GL window pixel centres
 // (i + 0.5, j + 0.5) map to (u, v) = (i, j), and window row j is image row j: the y axis is not
@@ -262,14 +187,18 @@ void GlBackend::CheckGlError(const char* where) {
 
 namespace {
 
-// The info log of a shader or program (GL's glGet*iv and glGet*InfoLog of the same object).
+// Nothing when a shader compiled or a program linked (`status`: GL_COMPILE_STATUS,
+// GL_LINK_STATUS), else its info log (GL's glGet*iv and glGet*InfoLog of the same object).
 template <class GetIv, class GetLog>
-std::string InfoLog(GLuint id, GetIv get_iv, GetLog get_log) {
+std::optional<std::string> FailureLog(GLuint id, GLenum status, GetIv get_iv, GetLog get_log) {
+  GLint ok = GL_FALSE;
+  get_iv(id, status, &ok);
+  if (ok == GL_TRUE) return std::nullopt;
   GLint length = 0;
   get_iv(id, GL_INFO_LOG_LENGTH, &length);
   std::string log(std::size_t(std::max(length, 1)), '\0');
   get_log(id, GLsizei(log.size()), nullptr, log.data());
-  return log.c_str();  // up to the terminating zero GL wrote
+  return std::string(log.c_str());  // up to the terminating zero GL wrote
 }
 
 }  // namespace
@@ -281,12 +210,10 @@ GLuint GlBackend::LinkProgram(const std::string& vertex_source,
     const char* text = source.c_str();
     gl_.ShaderSource(shader, 1, &text, nullptr);
     gl_.CompileShader(shader);
-    GLint ok = GL_FALSE;
-    gl_.GetShaderiv(shader, GL_COMPILE_STATUS, &ok);
-    if (ok != GL_TRUE) {
-      const std::string log = InfoLog(shader, gl_.GetShaderiv, gl_.GetShaderInfoLog);
+    if (const auto log =
+            FailureLog(shader, GL_COMPILE_STATUS, gl_.GetShaderiv, gl_.GetShaderInfoLog)) {
       gl_.DeleteShader(shader);
-      Fail(std::string(name) + " shader does not compile: " + log);
+      Fail(std::string(name) + " shader does not compile: " + *log);
     }
     return shader;
   };
@@ -304,12 +231,9 @@ GLuint GlBackend::LinkProgram(const std::string& vertex_source,
   gl_.LinkProgram(id);
   gl_.DeleteShader(vertex);  // flagged; freed with the program
   gl_.DeleteShader(fragment);
-  GLint ok = GL_FALSE;
-  gl_.GetProgramiv(id, GL_LINK_STATUS, &ok);
-  if (ok != GL_TRUE) {
-    const std::string log = InfoLog(id, gl_.GetProgramiv, gl_.GetProgramInfoLog);
+  if (const auto log = FailureLog(id, GL_LINK_STATUS, gl_.GetProgramiv, gl_.GetProgramInfoLog)) {
     gl_.DeleteProgram(id);
-    Fail(std::string("shader program does not link: ") + log);
+    Fail(std::string("shader program does not link: ") + *log);
   }
   return id;
 }

@@ -10,6 +10,19 @@
 namespace corridorsim::render::detail {
 namespace {
 
+// Where entry `e`'s bilinear block starts in its pass's colour (its second row `*stride` bytes
+// further), or nullptr outside the model's valid angle, with the output pixel `rgb` set black.
+inline const std::uint8_t* ColourBlock(const RemapEntry& e, std::span<const PassImages> passes,
+                                       std::uint8_t* rgb, std::size_t* stride) {
+  if (e.nearest == RemapEntry::kInvalid) {
+    rgb[0] = rgb[1] = rgb[2] = 0;
+    return nullptr;
+  }
+  const PassImages& pass = passes[e.pass];
+  *stride = pass.width * 3;
+  return pass.rgb + std::size_t(e.top_left) * 3;
+}
+
 #if defined(CORRIDORSIM_REMAP_SSE41)
 // The two texels at p as 16-bit lanes r0 r1 g0 g1 b0 b1 . . (4-byte loads at p and p + 2).
 __attribute__((target("sse4.1"))) inline __m128i TexelPair(const std::uint8_t* p) {
@@ -30,15 +43,12 @@ __attribute__((target("sse4.1"))) void BilinearRgbSse41(std::span<const RemapEnt
   const __m128i round = _mm_set1_epi32(32768);
   for (std::size_t i = 0; i < remap.size(); ++i, rgb += 3) {
     const RemapEntry e = remap[i];
-    if (e.nearest == RemapEntry::kInvalid) {
-      rgb[0] = rgb[1] = rgb[2] = 0;
-      continue;
-    }
-    const PassImages& pass = passes[e.pass];
-    const std::uint8_t* top_row = pass.rgb + std::size_t(e.top_left) * 3;
+    std::size_t stride = 0;
+    const std::uint8_t* top_row = ColourBlock(e, passes, rgb, &stride);
+    if (top_row == nullptr) continue;
     const __m128i weights_x = _mm_set1_epi32(int(std::uint32_t(e.wx) << 16 | (256u - e.wx)));
     const __m128i top = _mm_madd_epi16(TexelPair(top_row), weights_x);
-    const __m128i bottom = _mm_madd_epi16(TexelPair(top_row + pass.width * 3), weights_x);
+    const __m128i bottom = _mm_madd_epi16(TexelPair(top_row + stride), weights_x);
     const __m128i sum = _mm_add_epi32(_mm_mullo_epi32(top, _mm_set1_epi32(256 - e.wy)),
                                       _mm_mullo_epi32(bottom, _mm_set1_epi32(e.wy)));
     const __m128i value = _mm_srli_epi32(_mm_add_epi32(sum, round), 16);
@@ -60,13 +70,10 @@ void BilinearRgbScalar(std::span<const RemapEntry> remap, std::span<const PassIm
                        std::uint8_t* rgb) {
   for (std::size_t i = 0; i < remap.size(); ++i, rgb += 3) {
     const RemapEntry e = remap[i];
-    if (e.nearest == RemapEntry::kInvalid) {
-      rgb[0] = rgb[1] = rgb[2] = 0;
-      continue;
-    }
-    const PassImages& pass = passes[e.pass];
-    const std::uint8_t* a = pass.rgb + std::size_t(e.top_left) * 3;
-    const std::uint8_t* c = a + pass.width * 3;
+    std::size_t stride = 0;
+    const std::uint8_t* a = ColourBlock(e, passes, rgb, &stride);
+    if (a == nullptr) continue;
+    const std::uint8_t* c = a + stride;
     const std::uint32_t wx = e.wx, wy = e.wy;
     for (int k = 0; k < 3; ++k) {
       const std::uint32_t top = a[k] * (256 - wx) + a[k + 3] * wx;
