@@ -1,7 +1,7 @@
 #pragma once
 // The one GL renderer behind both backends (OSMesa and EGL provide only the context): GLSL 330
-// core shaders, the scene in one VBO + IBO, mip-mapped textures, and an FBO with colour, instance
-// id, semantic class and view-space z attachments read back top-down.
+// core shaders (render/gl_shaders.h), the scene in one VBO + IBO, mip-mapped textures, and an FBO
+// with colour, instance id, semantic class and view-space z attachments read back top-down.
 
 #include <array>
 #include <cstdint>
