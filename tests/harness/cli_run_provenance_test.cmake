@@ -38,8 +38,8 @@ cli_expect_bad(timing "include: ${SOURCE_DIR}/scenarios/default.yaml\nexpectatio
 
 # A run records its provenance; the hash is that of the scenario.yaml it wrote.
 file(WRITE "${WORK_DIR}/short.yaml" "${no_pipeline}pipelines:\n  odometry: {}\n")
-cli_run(EXIT 0 WHAT "short run" ARGS run "${WORK_DIR}/short.yaml" --out "${WORK_DIR}/run" --no-plots
-        --no-viewer)
+cli_run(EXIT 0 WHAT "short run" ENV --unset=GALLIVM_PERF
+        ARGS run "${WORK_DIR}/short.yaml" --out "${WORK_DIR}/run" --no-plots --no-viewer)
 cli_expect_files("${WORK_DIR}/run" scenario.yaml provenance.json metrics.json)
 file(SHA256 "${WORK_DIR}/run/scenario.yaml" expected)
 file(READ "${WORK_DIR}/run/provenance.json" provenance)
@@ -56,6 +56,11 @@ if(NOT rendered STREQUAL "OFF" OR version STREQUAL "" OR compiler STREQUAL "")
 endif()
 if(NOT file STREQUAL "${WORK_DIR}/short.yaml")
   message(FATAL_ERROR "provenance.json names the scenario '${file}'")
+endif()
+# main() set GALLIVM_PERF for llvmpipe, but nothing was rendered and the user set none: null.
+string(JSON gallivm_perf_type TYPE "${provenance}" environment GALLIVM_PERF)
+if(NOT gallivm_perf_type STREQUAL "NULL")
+  message(FATAL_ERROR "provenance.json: environment.GALLIVM_PERF is not null without a render")
 endif()
 # metrics.json holds no wall-clock value (timing.json does).
 file(READ "${WORK_DIR}/run/metrics.json" metrics)

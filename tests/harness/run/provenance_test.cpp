@@ -9,6 +9,7 @@
 #include <catch2/catch.hpp>
 
 #include "common/io/sha256.h"
+#include "render/software_rasterizer.h"
 
 namespace corridorsim {
 namespace {
@@ -36,6 +37,31 @@ TEST_CASE("the Mesa and LLVM releases are read from the GL strings", "[provenanc
   CHECK(ReleaseAfter("llvmpipe (LLVM 15.0.6, 256 bits)", "LLVM ") == "15.0.6");
   CHECK(ReleaseAfter("softpipe", "LLVM ") == std::nullopt);
   CHECK(ReleaseAfter("Mesa ", "Mesa ") == std::nullopt);
+}
+
+TEST_CASE("provenance.json's GALLIVM_PERF is llvmpipe's; on a GPU or without a render the user's",
+          "[provenance]") {
+  // As main() left the process (here the test listener, tests/support): set unless the user had.
+  const char* now = std::getenv("GALLIVM_PERF");
+  const StringsOnlyBackend llvmpipe({"Mesa", "llvmpipe (LLVM 15.0.6, 256 bits)",
+                                     "4.5 (Core Profile) Mesa 22.3.6", "software: OSMesa"});
+  const StringsOnlyBackend gpu({"NVIDIA Corporation", "NVIDIA H100 80GB HBM3/PCIe/SSE2",
+                                "4.6.0 NVIDIA 550.54.15",
+                                "hardware: EGL device 0 (/dev/dri/renderD128) (the first EGL "
+                                "device without EGL_MESA_device_software, of 2)"});
+  auto reported = [](const render::Backend* backend) {
+    return ProvenanceJson("s.yaml", "seed: 1\n", 1, backend)["environment"]["GALLIVM_PERF"];
+  };
+  CHECK(reported(&llvmpipe) == (now != nullptr ? nlohmann::ordered_json(now) : nullptr));
+  // A GPU ignores it and nothing read it without a render: the user's value, else null.
+  CHECK(reported(&gpu) == reported(nullptr));
+  if (now == nullptr) {
+    CHECK(reported(&gpu).is_null());
+  } else if (std::string(now) != render::kDefaultGallivmPerf) {
+    CHECK(reported(&gpu) == now);
+  } else if (!reported(&gpu).is_null()) {
+    WARN("GALLIVM_PERF=" << now << " was set before the tests started: the default is untested");
+  }
 }
 
 TEST_CASE("provenance.json names the renderer used and hashes the scenario bytes", "[provenance]") {
