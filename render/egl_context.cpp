@@ -257,10 +257,10 @@ class EglContext final : public GlContext {
       }
     }
 
+    RequireSoftwareRasterizerPinned("egl");
     // Mesa's surfaceless platform would take a render node's hardware driver where there is one:
     // LIBGL_ALWAYS_SOFTWARE keeps it on swrast (llvmpipe). overwrite = 0: a value the user set
-    // wins.
-    RequireSoftwareRasterizerPinned("egl");
+    // wins. The one variable a backend sets: set in main(), it would keep EGL off a GPU.
     setenv("LIBGL_ALWAYS_SOFTWARE", "1", 0);
     display_ = InitializeSurfacelessDisplay();
     CreateContext("the surfaceless display");
