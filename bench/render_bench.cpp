@@ -74,8 +74,8 @@ int main(int argc, char** argv) {
   std::printf(
       "backend %s (GALLIVM_PERF=%s), default world: %zu triangles, %zu drawables, %d frames per "
       "figure\n",
-      backend_name.c_str(), gallivm_perf.c_str(), scene.triangle_count(),
-      scene.drawables.size(), frames);
+      backend_name.c_str(), gallivm_perf.c_str(), scene.triangle_count(), scene.drawables.size(),
+      frames);
   // Which device the figures are of: the EGL backend takes a GPU when there is one.
   std::printf("device: %s; GL_RENDERER %s\n", backend->info().device.c_str(),
               backend->info().renderer.c_str());

@@ -186,7 +186,7 @@ int Dispatch(CommandLine& command) {
 int main(int argc, char** argv) {
   using namespace corridorsim;
   render::PinSoftwareRasterizer();  // Mesa's environment, before any thread or fork
-  SuperviseThisJob();  // from here on: the job (harness/cli/supervisor.h)
+  SuperviseThisJob();               // from here on: the job (harness/cli/supervisor.h)
   try {
     external::RegisterExternalPipelineType();  // `type: external` (docs/protocol.md)
     const std::vector<std::string> args =

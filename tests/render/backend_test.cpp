@@ -353,8 +353,9 @@ std::vector<std::string> ThreadsNamed(const std::string& prefix) {
 TEST_CASE("the software backends draw on the calling thread: no llvmpipe rasterizer thread runs",
           "[render][backend]") {
   // Mesa 22.3's llvmpipe frees a fence that its rasterizer thread can still be signalling
-  // (render/software_rasterizer.cpp, PinSoftwareRasterizer), so corridorsim asks for none. ctest runs this
-  // case in a process of its own: the first context below is the one that reads LP_NUM_THREADS.
+  // (render/software_rasterizer.cpp, PinSoftwareRasterizer), so corridorsim asks for none. ctest
+  // runs this case in a process of its own: the first context below is the one that reads
+  // LP_NUM_THREADS.
   const char* user_value = std::getenv("LP_NUM_THREADS");
   if (user_value != nullptr && std::string(user_value) != "0") {
     WARN("LP_NUM_THREADS=" << user_value << " is set: the default is not what this run tests");

@@ -10,8 +10,8 @@
 
 #include <catch2/catch.hpp>
 
-#include "render/camera_rig.h"
 #include "render/camera_placement.h"
+#include "render/camera_rig.h"
 #include "sim/robot.h"
 #include "sim/robot_path.h"
 #include "worlds/world.h"
