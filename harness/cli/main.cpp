@@ -185,8 +185,9 @@ int Dispatch(CommandLine& command) {
 
 int main(int argc, char** argv) {
   using namespace corridorsim;
-  render::PinSoftwareRasterizer();  // Mesa's environment, before any thread or fork
-  SuperviseThisJob();               // from here on: the job (harness/cli/supervisor.h)
+  // Mesa's environment, set before any thread or fork (render/software_rasterizer.h).
+  render::PinSoftwareRasterizer();
+  SuperviseThisJob();  // from here on: the job (harness/cli/supervisor.h)
   try {
     external::RegisterExternalPipelineType();  // `type: external` (docs/protocol.md)
     const std::vector<std::string> args =
