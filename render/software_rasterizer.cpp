@@ -2,6 +2,7 @@
 
 #include <atomic>
 #include <cstdlib>
+#include <cstring>
 
 namespace corridorsim::render {
 
@@ -14,8 +15,18 @@ std::atomic<bool> gallivm_perf_ours{false};
 
 }  // namespace
 
+// Set beside GALLIVM_PERF when PinSoftwareRasterizer chose its value, so that a corridorsim child
+// (a study's run, a test's job) that inherits the variable knows it as corridorsim's, not the
+// user's: its provenance then says what a run started on its own says.
+constexpr const char* kPinnedMarker = "CORRIDORSIM_PINNED_GALLIVM_PERF";
+
 void PinSoftwareRasterizer() {
-  if (!pinned.load()) gallivm_perf_ours.store(std::getenv("GALLIVM_PERF") == nullptr);
+  if (!pinned.load()) {
+    const char* value = std::getenv("GALLIVM_PERF");
+    const char* marker = std::getenv(kPinnedMarker);
+    gallivm_perf_ours.store(value == nullptr ||
+                            (marker != nullptr && std::strcmp(marker, value) == 0));
+  }
   // llvmpipe only: softpipe gives different images. overwrite = 0: a value the user set wins.
   // LIBGL_ALWAYS_SOFTWARE is the EGL backend's to set, only when it takes Mesa's surfaceless
   // platform (render/gl_context.h).
@@ -37,6 +48,7 @@ void PinSoftwareRasterizer() {
   // same byte for byte with any thread count (test render.lp_threads_identical), and the rig's
   // SerialWorker and the pipelines' threads keep the other cores busy meanwhile.
   setenv("LP_NUM_THREADS", kDefaultLlvmpipeThreads, 0);
+  if (gallivm_perf_ours.load()) setenv(kPinnedMarker, std::getenv("GALLIVM_PERF"), 1);
   pinned.store(true);
 }
 

@@ -19,6 +19,7 @@
 #include "harness/run/simulation_setup.h"
 #include "harness/workbench/dataset_internal.h"
 #include "render/backend.h"
+#include "render/software_rasterizer.h"
 #include "worlds/image_io.h"
 #include "worlds/world_io.h"
 
@@ -54,12 +55,12 @@ std::string ManifestJson(const Scenario& scenario, std::uint64_t seed,
   j["cameras"] = cameras;
   j["poses"] = DatasetPoseModeName(request.poses);
   const render::BackendInfo info = backend.info();
-  const char* gallivm_perf = std::getenv("GALLIVM_PERF");
+  const std::optional<std::string> gallivm_perf = render::GallivmPerfInEffect(&backend);
   j["render"] = {{"backend", render::BackendName(backend.kind())},
                  {"device", info.device},
                  {"gl_renderer", info.renderer},
                  {"gl_version", info.version},
-                 {"GALLIVM_PERF", gallivm_perf ? Json(gallivm_perf) : Json(nullptr)}};
+                 {"GALLIVM_PERF", gallivm_perf ? Json(*gallivm_perf) : Json(nullptr)}};
   j["categories"] = DatasetCategoriesJson();
   return JsonFileText(j);
 }
