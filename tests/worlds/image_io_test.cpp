@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <functional>
 #include <random>
 #include <string>
 #include <utility>
@@ -71,9 +72,11 @@ std::vector<std::uint8_t> Bytes(const std::string& text) {
   return std::vector<std::uint8_t>(text.begin(), text.end());
 }
 
-// A palette PNG (4 colours, 2 bits, one transparent) written with libpng itself: OpenCV
-// cannot write one.
-std::vector<std::uint8_t> PalettePng(int width, int height) {
+// A PNG written by libpng itself, for the kinds OpenCV cannot write: `header` sets IHDR (and a
+// palette), `row` packs row y into its bytes; interlaced files get every pass.
+std::vector<std::uint8_t> LibpngFile(int height,
+                                     const std::function<void(png_structp, png_infop)>& header,
+                                     const std::function<std::vector<std::uint8_t>(int)>& row) {
   std::vector<std::uint8_t> out;
   png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
   png_infop info = png_create_info_struct(png);
@@ -84,28 +87,60 @@ std::vector<std::uint8_t> PalettePng(int width, int height) {
         o->insert(o->end(), data, data + size);
       },
       nullptr);
-  png_set_IHDR(png, info, width, height, 2, PNG_COLOR_TYPE_PALETTE, PNG_INTERLACE_ADAM7,
-               PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
-  png_color palette[4] = {{0, 0, 0}, {255, 0, 0}, {0, 200, 30}, {20, 40, 250}};
-  png_set_PLTE(png, info, palette, 4);
-  png_byte alpha[1] = {0};
-  png_set_tRNS(png, info, alpha, 1, nullptr);
+  header(png, info);
   png_write_info(png, info);
-  std::vector<std::uint8_t> row((width * 2 + 7) / 8);
   const int passes = png_set_interlace_handling(png);
   for (int pass = 0; pass < passes; ++pass) {
     for (int y = 0; y < height; ++y) {
-      std::fill(row.begin(), row.end(), 0);
-      for (int x = 0; x < width; ++x) {
-        const int index = (x + y) % 4;
-        row[x / 4] |= static_cast<std::uint8_t>(index << (6 - 2 * (x % 4)));
-      }
-      png_write_row(png, row.data());
+      std::vector<std::uint8_t> bytes = row(y);
+      png_write_row(png, bytes.data());
     }
   }
   png_write_end(png, info);
   png_destroy_write_struct(&png, &info);
   return out;
+}
+
+// A palette PNG (4 colours, 2 bits, one transparent, interlaced).
+std::vector<std::uint8_t> PalettePng(int width, int height) {
+  return LibpngFile(
+      height,
+      [&](png_structp png, png_infop info) {
+        png_set_IHDR(png, info, width, height, 2, PNG_COLOR_TYPE_PALETTE, PNG_INTERLACE_ADAM7,
+                     PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+        png_color palette[4] = {{0, 0, 0}, {255, 0, 0}, {0, 200, 30}, {20, 40, 250}};
+        png_set_PLTE(png, info, palette, 4);
+        png_byte alpha[1] = {0};
+        png_set_tRNS(png, info, alpha, 1, nullptr);
+      },
+      [&](int y) {
+        std::vector<std::uint8_t> row((width * 2 + 7) / 8, 0);
+        for (int x = 0; x < width; ++x) {
+          row[x / 4] |= static_cast<std::uint8_t>(((x + y) % 4) << (6 - 2 * (x % 4)));
+        }
+        return row;
+      });
+}
+
+// Grey of `bits` bits (1, 2 or 4 expand to 8 when read) or grey with alpha (bits 8, `alpha`).
+std::vector<std::uint8_t> GreyPng(int width, int height, int bits, bool alpha) {
+  const int channels = alpha ? 2 : 1;
+  return LibpngFile(
+      height,
+      [&](png_structp png, png_infop info) {
+        png_set_IHDR(png, info, width, height, bits,
+                     alpha ? PNG_COLOR_TYPE_GRAY_ALPHA : PNG_COLOR_TYPE_GRAY, PNG_INTERLACE_NONE,
+                     PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+      },
+      [&](int y) {
+        std::vector<std::uint8_t> row((width * channels * bits + 7) / 8, 0);
+        for (int i = 0; i < width * channels; ++i) {
+          const int value = (i * 37 + y * 11) % (1 << bits);
+          const int shift = 8 - bits - (i * bits) % 8;
+          row[(i * bits) / 8] |= static_cast<std::uint8_t>(value << shift);
+        }
+        return row;
+      });
 }
 
 // What detect read before: cv::imdecode(IMREAD_UNCHANGED), 16 bits to 8, grey to BGR, alpha
@@ -197,27 +232,8 @@ TEST_CASE("decoding gives what cv::imdecode gave, as RGB", "[image_io]") {
     files.push_back(Bytes(EncodePng16(33, 19, channels, data, "t")));
   }
   // Grey of one bit and grey with alpha (OpenCV writes neither from these calls: libpng does).
-  cv::Mat grey_alpha(9, 13, CV_8UC2);
-  cv::randu(grey_alpha, 0, 255);
-  {
-    std::vector<std::uint8_t> out;
-    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
-    png_infop info = png_create_info_struct(png);
-    png_set_write_fn(
-        png, &out,
-        [](png_structp p, png_bytep data, png_size_t size) {
-          auto* o = static_cast<std::vector<std::uint8_t>*>(png_get_io_ptr(p));
-          o->insert(o->end(), data, data + size);
-        },
-        nullptr);
-    png_set_IHDR(png, info, 13, 9, 8, PNG_COLOR_TYPE_GRAY_ALPHA, PNG_INTERLACE_NONE,
-                 PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
-    png_write_info(png, info);
-    for (int y = 0; y < 9; ++y) png_write_row(png, grey_alpha.ptr<std::uint8_t>(y));
-    png_write_end(png, info);
-    png_destroy_write_struct(&png, &info);
-    files.push_back(out);
-  }
+  files.push_back(GreyPng(13, 9, 1, false));
+  files.push_back(GreyPng(13, 9, 8, true));
   files.push_back(PalettePng(23, 11));
   for (std::size_t k = 0; k < files.size(); ++k) {
     INFO("file " << k);
