@@ -39,6 +39,16 @@ def fail(message):
     print("FAIL: " + message, flush=True)
 
 
+def finish(passed):
+    """main's exit status once every case ran: 1 if one failed (each said why), else 0 with
+    `passed` printed."""
+    if FAILURES:
+        print("%d case(s) failed" % len(FAILURES))
+        return 1
+    print(passed)
+    return 0
+
+
 def scenario(path, mode, after=50, timeout_s=10, cameras=(), transport="shared_memory",
              options=None, command=None, extra=""):
     here = os.path.dirname(os.path.abspath(__file__))
@@ -287,11 +297,7 @@ def main():
         print("ok: test --junit reports the failed pipeline as an error: %s" %
               errors[0].get("message", "")[:120])
 
-    if FAILURES:
-        print("%d case(s) failed" % len(FAILURES))
-        return 1
-    print("all external-pipeline cases passed")
-    return 0
+    return finish("all external-pipeline cases passed")
 
 
 if __name__ == "__main__":

@@ -24,18 +24,12 @@ import shutil
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from external_test import NO_EXTRAS, scenario, run  # noqa: E402
+from external_test import NO_EXTRAS, fail, finish, scenario, run  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 PROGRAM = os.path.join(HERE, "reply_keys_program.py")
 FINISHED_KEYS = "the valid keys are type, landmarks, detections, innovations, maps, health, " \
                 "stage_seconds"
-FAILURES = []
-
-
-def fail(message):
-    FAILURES.append(message)
-    print("FAIL: " + message, flush=True)
 
 
 def case(binary, work, mode, cameras=(), extras=NO_EXTRAS):
@@ -57,14 +51,7 @@ def odometry_steps(run_dir):
     return len(data_lines(os.path.join(run_dir, "odometry.tum")))
 
 
-def check_finished_landmarks(binary, work):
-    rc, out, err, d = case(binary, work, "finished_landmarks")
-    name = "a misspelt 'landmarks' in finished"
-    wanted = ("'finish' message: finished reply: unknown key 'landmark' (did you mean "
-              "'landmarks'?); " + FINISHED_KEYS)
-    if rc != 5 or wanted not in err:
-        fail("%s: exit %d (expected 5), stderr lacks %r:\n%s" % (name, rc, wanted, err[-3000:]))
-        return
+def check_finished_landmarks(name, out, d):
     steps = odometry_steps(d)
     mine = os.path.join(d, "mine.tum")
     if not os.path.exists(mine) or len(data_lines(mine)) != steps or steps == 0:
@@ -89,14 +76,7 @@ def check_finished_landmarks(binary, work):
               (name, steps, rows[0][:60]))
 
 
-def check_finished_stage(binary, work):
-    rc, out, err, d = case(binary, work, "finished_stage")
-    name = "a misspelt 'stage_seconds' in finished"
-    wanted = ("corridorsim: warning: pipeline 'mine': 'finish' message: finished reply: unknown "
-              "key 'stage_second' (did you mean 'stage_seconds'?); " + FINISHED_KEYS)
-    if rc != 0 or wanted not in err:
-        fail("%s: exit %d (expected 0 with a warning %r):\n%s" % (name, rc, wanted, err[-3000:]))
-        return
+def check_finished_stage(name, out, d):
     metrics = json.load(open(os.path.join(d, "metrics.json")))["pipelines"]["mine"]
     if "ate_rmse_m" not in metrics or "map" not in metrics:
         fail("%s: its results are not scored: %s" % (name, sorted(metrics)))
@@ -105,15 +85,7 @@ def check_finished_stage(binary, work):
               name)
 
 
-def check_estimate_key(binary, work):
-    rc, out, err, d = case(binary, work, "estimate_key")
-    name = "an unknown key in the 50th estimate"
-    wanted = ("'odometry' message: estimate reply: unknown key 'covariances' (did you mean "
-              "'covariance'?); the valid keys are type, stamp_ns, pose, covariance, detections, "
-              "innovations")
-    if rc != 5 or wanted not in err:
-        fail("%s: exit %d (expected 5), stderr lacks %r:\n%s" % (name, rc, wanted, err[-3000:]))
-        return
+def check_estimate_key(name, out, d):
     estimates = len(data_lines(os.path.join(d, "mine.tum")))
     if estimates != 50:
         fail("%s: mine.tum holds %d estimates, expected the 50 that arrived" % (name, estimates))
@@ -128,6 +100,32 @@ def check_estimate_key(binary, work):
     else:
         print("ok: %s fails it there, keeps that estimate, and the live line says %r" %
               (name, later[-1][later[-1].index("mine failed"):][:90]))
+
+
+# The misspelt and unknown keys: the mode of reply_keys_program.py, the case's name, the exit code
+# and the message on stderr the run must give, then the check of the rest (its stdout and folder).
+KEY_CASES = [
+    ("finished_landmarks", "a misspelt 'landmarks' in finished", 5,
+     "'finish' message: finished reply: unknown key 'landmark' (did you mean 'landmarks'?); " +
+     FINISHED_KEYS, check_finished_landmarks),
+    ("finished_stage", "a misspelt 'stage_seconds' in finished", 0,
+     "corridorsim: warning: pipeline 'mine': 'finish' message: finished reply: unknown key "
+     "'stage_second' (did you mean 'stage_seconds'?); " + FINISHED_KEYS, check_finished_stage),
+    ("estimate_key", "an unknown key in the 50th estimate", 5,
+     "'odometry' message: estimate reply: unknown key 'covariances' (did you mean "
+     "'covariance'?); the valid keys are type, stamp_ns, pose, covariance, detections, "
+     "innovations", check_estimate_key),
+]
+
+
+def check_key_cases(binary, work):
+    for mode, name, expect, wanted, check_rest in KEY_CASES:
+        rc, out, err, d = case(binary, work, mode)
+        if rc != expect or wanted not in err:
+            fail("%s: exit %d (expected %d), stderr lacks %r:\n%s" %
+                 (name, rc, expect, wanted, err[-3000:]))
+        else:
+            check_rest(name, out, d)
 
 
 def positive(value):
@@ -205,15 +203,9 @@ def main():
     shutil.rmtree(work, ignore_errors=True)
     os.makedirs(work)
     check_help(binary)
-    check_finished_landmarks(binary, work)
-    check_finished_stage(binary, work)
-    check_estimate_key(binary, work)
+    check_key_cases(binary, work)
     check_timing(binary, work)
-    if FAILURES:
-        print("%d case(s) failed" % len(FAILURES))
-        return 1
-    print("all cases passed")
-    return 0
+    return finish("all cases passed")
 
 
 if __name__ == "__main__":

@@ -14,21 +14,11 @@ import subprocess
 import sys
 import zlib
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from cli_test_support import fail, run  # noqa: E402
+
 # tests/support/feature_tolerances.h: kRenderedVanishingPointPx.
 RENDERED_VANISHING_POINT_PX = 4.0
-
-
-def fail(message):
-    print("FAIL: " + message)
-    sys.exit(1)
-
-
-def run(binary, args, expect, cwd):
-    result = subprocess.run([binary] + args, cwd=cwd, capture_output=True, text=True)
-    if result.returncode != expect:
-        fail("%s: exit %d, expected %d\n%s" % (" ".join(args), result.returncode, expect,
-                                               result.stderr))
-    return result
 
 
 def read_png(path):

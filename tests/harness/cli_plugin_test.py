@@ -39,6 +39,20 @@ def read(path):
         return f.read()
 
 
+def write_scenario(path, base, duration_s, plugin, pipelines, sensors="", expectations="[]",
+                   study=""):
+    """`base` for `duration_s` with `plugin` loaded and its camera pipelines off: the odometry
+    pipeline and `pipelines` (YAML lines) run."""
+    with open(path, "w") as f:
+        f.write(base + "duration_s: %d\n" % duration_s +
+                "plugins: [%s]\n" % plugin + sensors +
+                "pipelines:\n"
+                "  p1_harris: {enabled: false}\n"
+                "  p1_vp_doorplate: {enabled: false}\n" + pipelines +
+                "expectations: %s\n" % expectations + study)
+    return path
+
+
 def main():
     corridorsim, plugins, source, work = (os.path.abspath(a) for a in sys.argv[1:5])
     shutil.rmtree(work, ignore_errors=True)
@@ -78,15 +92,9 @@ def main():
         fail("a bad plugin still created the run folder")
 
     # A plugin that throws mid-run fails alone.
-    scenario = os.path.join(work, "throws.yaml")
-    with open(scenario, "w") as f:
-        f.write(base + "duration_s: 8\n"
-                "plugins: [%s]\n"
-                "pipelines:\n"
-                "  p1_harris: {enabled: false}\n"
-                "  p1_vp_doorplate: {enabled: false}\n"
-                "  echo: {type: test_echo, throw_after_s: 3}\n"
-                "expectations: [odometry.ate_rmse_m < 10, echo.ate_rmse_m < 10]\n" % echo)
+    scenario = write_scenario(os.path.join(work, "throws.yaml"), base, 8, echo,
+                              "  echo: {type: test_echo, throw_after_s: 3}\n",
+                              expectations="[odometry.ate_rmse_m < 10, echo.ate_rmse_m < 10]")
     folders = []
     for k in (1, 2):
         folder = os.path.join(work, "run%d" % k)
@@ -118,21 +126,14 @@ def main():
             fail("%s differs between two runs of the same seed" % name)
 
     # The same from a camera frame, while another pipeline processes the same frame concurrently.
-    camera = os.path.join(work, "camera.yaml")
-    with open(camera, "w") as f:
-        f.write(base + "duration_s: 4\n"
-                "plugins: [%s]\n"
-                "sensors:\n"
-                "  front: {enabled: false}\n"
-                "  lateral: {enabled: false}\n"
-                "  upward: {enabled: true, rate_hz: 5}\n"
-                "pipelines:\n"
-                "  p1_harris: {enabled: false}\n"
-                "  p1_vp_doorplate: {enabled: false}\n"
-                "  sees: {type: test_echo, read_upward: true, throw_after_s: 2}\n"
-                "  also: {type: test_echo, read_upward: true}\n"
-                "  bad: {type: test_echo, read_upward: true, bad_detection: true}\n"
-                "expectations: []\n" % echo)
+    camera = write_scenario(os.path.join(work, "camera.yaml"), base, 4, echo,
+                            "  sees: {type: test_echo, read_upward: true, throw_after_s: 2}\n"
+                            "  also: {type: test_echo, read_upward: true}\n"
+                            "  bad: {type: test_echo, read_upward: true, bad_detection: true}\n",
+                            sensors="sensors:\n"
+                                    "  front: {enabled: false}\n"
+                                    "  lateral: {enabled: false}\n"
+                                    "  upward: {enabled: true, rate_hz: 5}\n")
     folder = os.path.join(work, "camera")
     run([corridorsim, "run", camera, "--out", folder, *NO_EXTRAS], 5)
     metrics = json.loads(read(os.path.join(folder, "metrics.json")))["pipelines"]
@@ -154,16 +155,8 @@ def main():
     lib = os.path.join(work, "lib")
     os.makedirs(lib)
     shutil.copy(echo, os.path.join(lib, "echo.so"))
-    study = os.path.join(work, "study.yaml")
-    with open(study, "w") as f:
-        f.write(base + "duration_s: 4\n"
-                "plugins: [lib/echo.so]\n"
-                "pipelines:\n"
-                "  p1_harris: {enabled: false}\n"
-                "  p1_vp_doorplate: {enabled: false}\n"
-                "  echo: {type: test_echo}\n"
-                "expectations: []\n"
-                "study: {runs: 2}\n")
+    study = write_scenario(os.path.join(work, "study.yaml"), base, 4, "lib/echo.so",
+                           "  echo: {type: test_echo}\n", study="study: {runs: 2}\n")
     run([corridorsim, "study", study, "--shard", "1/2", *NO_EXTRAS, "--out",
          os.path.join(work, "shard1")], 0)
     with open(os.path.join(lib, "echo.so"), "ab") as f:

@@ -26,17 +26,13 @@ import sys
 import time
 import xml.etree.ElementTree as ET
 
-# What these runs and studies check is their results: plots/ and the pages are left out
-# (scripts.plot_run, viewer.browser and viewer.odd_data test those).
-NO_EXTRAS = ["--no-plots", "--no-viewer"]
-
-
-def fail(message):
-    print("FAIL: " + message)
-    sys.exit(1)
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from cli_test_support import NO_EXTRAS, fail  # noqa: E402
 
 
 def run(binary, args, expect, cwd):
+    """cli_test_support.run for hostile input: the output's bytes decoded leniently (names that
+    are not UTF-8) and as they are (a carriage return stays one), returned as (stdout, stderr)."""
     result = subprocess.run([binary] + args, cwd=cwd, capture_output=True)
     stdout = result.stdout.decode(errors="replace")
     stderr = result.stderr.decode(errors="replace")

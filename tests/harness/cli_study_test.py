@@ -13,31 +13,11 @@ import json
 import math
 import os
 import shutil
-import subprocess
 import sys
 import xml.etree.ElementTree as ET
 
-# What these runs and studies check is their results: plots/ and the pages are left out
-# (scripts.plot_run, viewer.browser and viewer.odd_data test those).
-NO_EXTRAS = ["--no-plots", "--no-viewer"]
-
-
-def fail(message):
-    print("FAIL: " + message)
-    sys.exit(1)
-
-
-def run(binary, args, expect, cwd):
-    result = subprocess.run([binary] + args, cwd=cwd, capture_output=True, text=True)
-    if result.returncode != expect:
-        fail("%s: exit %d, expected %d\nstdout:\n%s\nstderr:\n%s" % (
-            " ".join(args), result.returncode, expect, result.stdout[-3000:], result.stderr))
-    return result
-
-
-def read(path):
-    with open(path, "rb") as f:
-        return f.read()
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from cli_test_support import NO_EXTRAS, fail, read, run  # noqa: E402
 
 
 def same_files(a, b, names):

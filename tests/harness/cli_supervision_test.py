@@ -177,13 +177,20 @@ def check_external_descendants(binary, work):
               (sig.name, 128 + sig))
 
 
+def study_case(work, case, name, scenario, duration_s, runs):
+    """A new folder `work`/`case` holding the study file `name`: `runs` runs of `scenario` cut to
+    `duration_s`. Returns the folder and the file."""
+    folder = os.path.join(work, case)
+    os.makedirs(folder)
+    path = os.path.join(folder, name)
+    with open(path, "w") as f:
+        f.write("include: %s\nduration_s: %d\nstudy:\n  runs: %d\n" % (scenario, duration_s, runs))
+    return folder, path
+
+
 def check_study_stop(binary, work, source):
-    case = os.path.join(work, "study_stop")
-    os.makedirs(case)
-    slow = os.path.join(case, "slow.yaml")
-    with open(slow, "w") as f:
-        f.write("include: %s\nduration_s: 300\nstudy:\n  runs: 2\n" %
-                os.path.join(source, "scenarios", "p3_lamps.yaml"))
+    case, slow = study_case(work, "study_stop", "slow.yaml",
+                            os.path.join(source, "scenarios", "p3_lamps.yaml"), 300, 2)
     proc = subprocess.Popen([binary, "study", slow, "--jobs", "2", "--out", "study"] + NO_EXTRAS,
                             cwd=case, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
     try:
@@ -204,12 +211,8 @@ def check_study_stop(binary, work, source):
 
 
 def check_inf_stamp(binary, work, source):
-    case = os.path.join(work, "inf_stamp")
-    os.makedirs(case)
-    short = os.path.join(case, "short.yaml")
-    with open(short, "w") as f:
-        f.write("include: %s\nduration_s: 3\nstudy:\n  runs: 1\n" %
-                os.path.join(source, "scenarios", "umbmark_cw.yaml"))
+    case, short = study_case(work, "inf_stamp", "short.yaml",
+                             os.path.join(source, "scenarios", "umbmark_cw.yaml"), 3, 1)
     rc, out, err = run([binary, "study", short, "--out", "study"] + NO_EXTRAS, cwd=case)
     if rc != 0:
         fail("the study to tamper with: exit %d\n%s%s" % (rc, out[-2000:], err))

@@ -45,6 +45,15 @@ function(cli_expect_bad name yaml pattern subcommand)
           ARGS ${subcommand} "${WORK_DIR}/${name}.yaml" ${ARGN})
 endfunction()
 
+# cli_expect_bad_run(<name> <yaml text> <stderr regex>): cli_expect_bad of `run`, whose
+# --out WORK_DIR/out_<name> bad input must not create.
+function(cli_expect_bad_run name yaml pattern)
+  cli_expect_bad(${name} "${yaml}" "${pattern}" run --out "${WORK_DIR}/out_${name}")
+  if(EXISTS "${WORK_DIR}/out_${name}")
+    message(FATAL_ERROR "${name}: bad input still created the run folder")
+  endif()
+endfunction()
+
 # cli_expect_files(<dir> <relative paths...>): each exists.
 function(cli_expect_files dir)
   foreach(f ${ARGN})

@@ -254,9 +254,27 @@ def replace_line(text, number, line):
     return "\n".join(lines)
 
 
+def edit_json(change):
+    """A mutate for break_files: the file's JSON value, changed in place by `change`, written
+    back indented."""
+    def mutate(text):
+        value = json.loads(text)
+        change(value)
+        return json.dumps(value, indent=2)
+    return mutate
+
+
 class RunFolderCase(unittest.TestCase):
-    """A synthetic run folder (run_dir) plotted once in setUpClass (result), and helpers to break
-    copies of it."""
+    """A synthetic run folder (run_dir, in a temporary folder named TEMP_PREFIX...) that the
+    subclass's write_files fills, plotted once in setUpClass (result), and helpers to break copies
+    of it."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.mkdtemp(prefix=cls.TEMP_PREFIX)
+        cls.run_dir = os.path.join(cls.tmp, "run")
+        cls.write_files(cls.run_dir)
+        cls.result = run_script(cls.run_dir)
 
     @classmethod
     def tearDownClass(cls):
@@ -291,6 +309,13 @@ class RunFolderCase(unittest.TestCase):
                     f.write(broken)
                 self.assert_fails(run_dir, pattern)
 
+    def assert_expected_pngs(self):
+        """The script exited 0 and printed the paths of EXPECTED, in order, each a PNG."""
+        self.assertEqual(self.result.returncode, 0, self.result.stderr)
+        printed = self.result.stdout.splitlines()
+        self.assertEqual([os.path.basename(p) for p in printed], self.EXPECTED)
+        self.assert_pngs(printed)
+
     def assert_pngs(self, printed):
         for path in printed:
             self.assertTrue(os.path.isfile(path), path)
@@ -304,18 +329,14 @@ class PlotRunTest(RunFolderCase):
     EXPECTED = ["trajectories.png", "errors_odometry.png", "nees_odometry.png", "detectors.png",
                 "summary.png"]
 
-    @classmethod
-    def setUpClass(cls):
-        cls.tmp = tempfile.mkdtemp(prefix="plot_run_test_")
-        cls.run_dir = os.path.join(cls.tmp, "run")
-        write_run(cls.run_dir)
-        cls.result = run_script(cls.run_dir)
+    TEMP_PREFIX = "plot_run_test_"
+
+    @staticmethod
+    def write_files(run_dir):
+        write_run(run_dir)
 
     def test_writes_every_plot_as_a_png(self):
-        self.assertEqual(self.result.returncode, 0, self.result.stderr)
-        printed = self.result.stdout.splitlines()
-        self.assertEqual([os.path.basename(p) for p in printed], self.EXPECTED)
-        self.assert_pngs(printed)
+        self.assert_expected_pngs()
         self.assertEqual(sorted(os.listdir(os.path.join(self.run_dir, "plots"))),
                          sorted(self.EXPECTED), "no temporary files are left")
 
@@ -422,19 +443,15 @@ class SlamPlotsTest(RunFolderCase):
     DOORS = os.path.join("maps", "odometry_doors.json")
     AREAS = os.path.join("maps", "odometry_areas.json")
 
-    @classmethod
-    def setUpClass(cls):
-        cls.tmp = tempfile.mkdtemp(prefix="plot_run_slam_test_")
-        cls.run_dir = os.path.join(cls.tmp, "run")
-        write_run(cls.run_dir, length_m=55.0)
-        write_slam_outputs(cls.run_dir)
-        cls.result = run_script(cls.run_dir)
+    TEMP_PREFIX = "plot_run_slam_test_"
+
+    @staticmethod
+    def write_files(run_dir):
+        write_run(run_dir, length_m=55.0)
+        write_slam_outputs(run_dir)
 
     def test_writes_the_landmark_detection_and_frame_time_plots(self):
-        self.assertEqual(self.result.returncode, 0, self.result.stderr)
-        printed = self.result.stdout.splitlines()
-        self.assertEqual([os.path.basename(p) for p in printed], self.EXPECTED)
-        self.assert_pngs(printed)
+        self.assert_expected_pngs()
         plots = os.path.join(self.run_dir, "plots")
         # The vanishing point 1000 m away is listed, not drawn: the map keeps the plan's panels.
         plan_w, plan_h = png_size(os.path.join(plots, "trajectories.png"))
@@ -470,57 +487,43 @@ class SlamPlotsTest(RunFolderCase):
                           "summary.png"])  # the areas need the landmarks
 
     def test_malformed_landmarks_exit_1_naming_file_line_and_key(self):
-        def landmarks(edit):
-            def mutate(text):
-                items = json.loads(text)
-                edit(items)
-                return json.dumps(items, indent=2)
-            return mutate
-
         f = r"odometry_landmarks\.json:\d+: "
         self.break_files([
             (self.LANDMARKS, lambda s: s[:-20], f + r"column \d+: invalid JSON"),
             (self.LANDMARKS, lambda s: '{"landmarks": ' + s + "}",
              r"odometry_landmarks\.json:1: the top level is not a JSON array"),
-            (self.LANDMARKS, landmarks(lambda a: a[3].update(type="window")),
+            (self.LANDMARKS, edit_json(lambda a: a[3].update(type="window")),
              f + r"\[3\]\.type: expected one of"),
-            (self.LANDMARKS, landmarks(lambda a: a[1].update(status="lost")),
+            (self.LANDMARKS, edit_json(lambda a: a[1].update(status="lost")),
              f + r"\[1\]\.status: expected one of"),
-            (self.LANDMARKS, landmarks(lambda a: a[0]["covariance"].pop()),
+            (self.LANDMARKS, edit_json(lambda a: a[0]["covariance"].pop()),
              f + r"\[0\]\.covariance: expected 3 rows of 3 numbers"),
-            (self.LANDMARKS, landmarks(lambda a: a[5].update(position_in_world=[1, "2", 3])),
+            (self.LANDMARKS, edit_json(lambda a: a[5].update(position_in_world=[1, "2", 3])),
              f + r"\[5\]\.position_in_world: expected \[x, y, z\]"),
-            (self.LANDMARKS, landmarks(lambda a: a[2].update(id=1)),
+            (self.LANDMARKS, edit_json(lambda a: a[2].update(id=1)),
              f + r"\[2\]\.id: 1 is not above the previous id 1"),
-            (self.LANDMARKS, landmarks(lambda a: a[14]["points"][1].update(covariance=[[1]])),
+            (self.LANDMARKS, edit_json(lambda a: a[14]["points"][1].update(covariance=[[1]])),
              f + r"\[14\]\.points\[1\]\.covariance: expected 3 rows"),
-            (self.LANDMARKS, landmarks(lambda a: a[4].update(label=["1", "2"])),
+            (self.LANDMARKS, edit_json(lambda a: a[4].update(label=["1", "2"])),
              f + r"\[4\]\.label: expected text"),
         ])
 
     def test_malformed_door_and_area_maps_exit_1_naming_file_line_and_key(self):
-        def edit(change):
-            def mutate(text):
-                root = json.loads(text)
-                change(root)
-                return json.dumps(root, indent=2)
-            return mutate
-
         d = r"maps/odometry_doors\.json:\d+: "
         a = r"maps/odometry_areas\.json:\d+: "
         self.break_files([
-            (self.DOORS, edit(lambda r: r.update(format="corridorsim.doors")),
+            (self.DOORS, edit_json(lambda r: r.update(format="corridorsim.doors")),
              d + r"format: expected 'corridorsim.upward_doors'"),
-            (self.DOORS, edit(lambda r: r.update(version=2)), d + r"version: expected 1"),
-            (self.DOORS, edit(lambda r: r["doors"][0]["particles"][7].pop()),
+            (self.DOORS, edit_json(lambda r: r.update(version=2)), d + r"version: expected 1"),
+            (self.DOORS, edit_json(lambda r: r["doors"][0]["particles"][7].pop()),
              d + r"doors\[0\]\.particles\[7\]: expected \[x_a, y_a, x_b, y_b, top_height\]"),
-            (self.DOORS, edit(lambda r: r["doors"][0].update(columns_m=[[1, 2]])),
+            (self.DOORS, edit_json(lambda r: r["doors"][0].update(columns_m=[[1, 2]])),
              d + r"doors\[0\]\.columns_m: expected"),
-            (self.AREAS, edit(lambda r: r["areas"][1].update(kind="office")),
+            (self.AREAS, edit_json(lambda r: r["areas"][1].update(kind="office")),
              a + r"areas\[1\]\.kind: expected corridor or room"),
-            (self.AREAS, edit(lambda r: r["areas"][1].update(polygon_m=None)),
+            (self.AREAS, edit_json(lambda r: r["areas"][1].update(polygon_m=None)),
              a + r"areas\[1\]\.polygon_m: a room needs"),
-            (self.AREAS, edit(lambda r: r["areas"][0].update(landmark_ids=[1, "2"])),
+            (self.AREAS, edit_json(lambda r: r["areas"][0].update(landmark_ids=[1, "2"])),
              a + r"areas\[0\]\.landmark_ids: expected landmark ids"),
         ])
 

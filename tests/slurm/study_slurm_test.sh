@@ -12,46 +12,26 @@ set -euo pipefail
 corridorsim="$1"
 source_dir="$2"
 work="$3"
-slurm_local="$source_dir/scripts/slurm_local.sh"
 timeout_s="${STUDY_SLURM_TIMEOUT:-300}"
+# shellcheck source=tests/slurm/slurm_test_support.sh
+source "$(dirname "${BASH_SOURCE[0]}")/slurm_test_support.sh"
 
-for cmd in munged slurmctld slurmd sbatch squeue scontrol sinfo; do
-  if ! command -v "$cmd" >/dev/null 2>&1; then
-    echo "SKIPPED: $cmd not found (scripts/setup.sh installs Slurm)"
-    exit 77
-  fi
-done
-
-fail() {
-  echo "FAIL: $*" >&2
-  exit 1
-}
+require_slurm "scripts/setup.sh installs Slurm"
 
 rm -rf "$work"
 mkdir -p "$work"
-# Short path: unix sockets (munge, slurmstepd) live below it and are limited to 108 bytes.
 cluster="$(mktemp -d /tmp/cs_slurm.XXXXXX)"
 ok=0
 cleanup() {
   local rc=$?
-  if [ "$ok" -ne 1 ]; then
-    echo "---- diagnostics ----" >&2
-    for f in "$cluster"/log/*.log "$work"/slurm_study/slurm/*.log; do
-      if [ -f "$f" ]; then
-        echo "---- $f ----" >&2
-        tail -n 30 "$f" >&2
-      fi
-    done
-  fi
-  "$slurm_local" stop "$cluster" || rc=1
+  stop_cluster "$ok" "$cluster" "$cluster"/log/*.log "$work"/slurm_study/slurm/*.log || rc=1
   rm -rf "$cluster"
   exit "$rc"
 }
 trap cleanup EXIT
 trap 'exit 130' INT TERM
 
-env_lines="$("$slurm_local" start "$cluster")" || fail "could not start the cluster"
-eval "$env_lines"
+start_cluster "$cluster"
 
 cat > "$work/study.yaml" <<YAML
 include: $source_dir/scenarios/umbmark_cw.yaml
@@ -81,17 +61,8 @@ scontrol show job -o "$merge_id" | grep -q "Dependency=afterok:${array_id}" ||
   scontrol show job -o "$merge_id" | grep -q "JobState=COMPLETED" ||
   fail "the merge job does not depend on the array: $(scontrol show job -o "$merge_id")"
 
-deadline=$((SECONDS + timeout_s))
-while [ -n "$(squeue -h -j "$array_id,$merge_id" -t PD,R,CG,CF 2>/dev/null || true)" ]; do
-  [ "$SECONDS" -lt "$deadline" ] || fail "jobs still active after ${timeout_s} s"
-  sleep 0.5
-done
-for id in "$array_id" "$merge_id"; do
-  states="$(scontrol show job -o "$id" | grep -o 'JobState=[A-Z_]*' | sort -u | tr '\n' ' ')"
-  [ "$states" = "JobState=COMPLETED " ] || fail "job $id ended as: $states"
-done
-tasks="$(scontrol show job -o "$array_id" | grep -c 'JobState=COMPLETED')"
-[ "$tasks" -eq 3 ] || fail "$tasks array tasks completed, expected 3"
+wait_for_jobs "$timeout_s" "$array_id" "$merge_id"
+expect_completed "$array_id" 3 "$merge_id"
 
 # The run measured here before submitting is given to its shard (task 1), not run again.
 grep -q "1 already finished, 1 to run" slurm_study/slurm/task_1.log ||
