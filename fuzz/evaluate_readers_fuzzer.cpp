@@ -14,8 +14,6 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
-#include <cstdio>
-#include <cstdlib>
 #include <exception>
 #include <set>
 #include <string>
@@ -25,6 +23,7 @@
 #include <nlohmann/json.hpp>
 
 #include "common/error.h"
+#include "fuzz/fuzz_checks.h"
 #include "harness/evaluate/evaluate.h"
 #include "harness/evaluate/landmark_file.h"
 #include "harness/evaluate/trajectory_file.h"
@@ -32,12 +31,8 @@
 namespace {
 
 namespace ev = corridorsim::evaluate;
-
-[[noreturn]] void Bug(const std::string& what) {
-  std::fprintf(stderr, "evaluate_readers_fuzzer: BUG: %s\n", what.c_str());
-  std::fflush(stderr);
-  std::abort();
-}
+using corridorsim::fuzz::Bug;
+using corridorsim::fuzz::CheckFinite;
 
 // A left arc at 1 m/s, radius 20 m, 10 s on the 100 Hz grid (stamps 0 ... 10 s).
 const std::vector<corridorsim::TruthPose>& Truth() {
@@ -51,13 +46,6 @@ const std::vector<corridorsim::TruthPose>& Truth() {
     return out;
   }();
   return truth;
-}
-
-void CheckFinite(const nlohmann::ordered_json& j, const std::string& path) {
-  if (j.is_number() && !std::isfinite(j.get<double>())) Bug("not finite: " + path);
-  if (j.is_structured()) {
-    for (const auto& [key, value] : j.items()) CheckFinite(value, path + "." + key);
-  }
 }
 
 bool Finite(const Eigen::MatrixXd& m) { return m.allFinite(); }

@@ -3,31 +3,28 @@
 // of includable files (copies of the shipped scenarios and tests/data/includes/*.yaml, and the
 // files a loader must refuse without reading or blocking: fifo.yaml, zero.yaml -> /dev/zero,
 // link_loop.yaml, dangling.yaml, folder.yaml), the check that an input's `include:` stays inside
-// it, and the check that an error message quotes the input only briefly.
+// it, the input taken in as a scenario file (plugin loading off), and the check that an error
+// message quotes the input only briefly.
 
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include <cerrno>
-#include <cstdio>
+#include <cstddef>
+#include <cstdint>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <optional>
 #include <string>
 #include <system_error>
+#include <utility>
 
 #include "common/error.h"
 #include "common/io/yaml_reader.h"
+#include "fuzz/fuzz_checks.h"
+#include "harness/scenario/plugins.h"
 
 namespace corridorsim::fuzz {
-
-/// A bug found: said on stderr, then abort() (libFuzzer saves the input).
-[[noreturn]] inline void Bug(const std::string& what) {
-  std::fprintf(stderr, "%s: BUG: %s\n", program_invocation_short_name, what.c_str());
-  std::fflush(stderr);
-  std::abort();
-}
 
 inline void WriteFile(const std::filesystem::path& path, const std::string& bytes) {
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
@@ -95,6 +92,25 @@ inline std::optional<std::filesystem::path> WriteInput(const std::string& text) 
   const std::filesystem::path input = IncludeFolder() / "input.yaml";
   WriteFile(input, text);
   return input;
+}
+
+/// An input as the text of a scenario file and the path it is written to (WriteInput).
+struct ScenarioInput {
+  std::string text;
+  std::filesystem::path path;
+};
+
+/// What a target that loads the input as a scenario file does first: plugin loading disabled,
+/// the input written by WriteInput. Nothing when its `include:` would leave IncludeFolder() (the
+/// target then returns -1).
+inline std::optional<ScenarioInput> TakeScenarioInput(const std::uint8_t* data, std::size_t size) {
+  // A scenario's `plugins:` would dlopen() whatever library an input names: never here.
+  static const bool no_plugins = (DisablePluginLoading(), true);
+  (void)no_plugins;
+  std::string text(reinterpret_cast<const char*>(data), size);
+  std::optional<std::filesystem::path> written = WriteInput(text);
+  if (!written) return std::nullopt;
+  return ScenarioInput{std::move(text), std::move(*written)};
 }
 
 /// A message quotes at most a short excerpt of the input (InputExcerpt: a path at most 240

@@ -26,12 +26,15 @@
 
 namespace {
 
+// Runs `call`: true when it returned, false when it threw ProtocolError (the documented
+// outcome); anything else thrown aborts.
 template <class F>
-void Expect(const char* what, F&& call) {
+bool Expect(const char* what, F&& call) {
   try {
     call();
+    return true;
   } catch (const corridorsim::external::ProtocolError&) {
-    // the documented outcome
+    return false;  // the documented outcome
   } catch (const std::exception& e) {
     std::fprintf(stderr, "%s threw %s: %s\n", what, typeid(e).name(), e.what());
     std::abort();
@@ -48,12 +51,7 @@ void ReadFramed(std::string_view input) {
   char bytes[ext::kHeaderBytes];
   std::memcpy(bytes, input.data(), ext::kHeaderBytes);
   ext::Header header;
-  bool decoded = false;
-  Expect("DecodeHeader (framed)", [&] {
-    header = ext::DecodeHeader(bytes);
-    decoded = true;
-  });
-  if (!decoded) return;
+  if (!Expect("DecodeHeader (framed)", [&] { header = ext::DecodeHeader(bytes); })) return;
   if (header.json_bytes > ext::kMaxJsonBytes || header.blob_bytes > ext::kMaxBlobBytes) {
     std::fprintf(stderr, "DecodeHeader accepted lengths over their bounds\n");
     std::abort();
@@ -63,12 +61,7 @@ void ReadFramed(std::string_view input) {
   const std::string_view json = rest.substr(0, header.json_bytes);
   const std::string_view blob = rest.substr(header.json_bytes, header.blob_bytes);
   nlohmann::json message;
-  bool parsed = false;
-  Expect("ParseMessage (framed)", [&] {
-    message = ext::ParseMessage(json);
-    parsed = true;
-  });
-  if (!parsed) return;
+  if (!Expect("ParseMessage (framed)", [&] { message = ext::ParseMessage(json); })) return;
   if (!message.is_object() || !message.contains("type") || !message["type"].is_string()) {
     std::fprintf(stderr, "ParseMessage accepted a message without a string \"type\"\n");
     std::abort();
@@ -109,12 +102,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   const std::string_view json = size >= ext::kHeaderBytes ? input.substr(ext::kHeaderBytes) : input;
   nlohmann::json message;
-  bool parsed = false;
-  Expect("ParseMessage", [&] {
-    message = ext::ParseMessage(json);
-    parsed = true;
-  });
-  if (!parsed) return 0;
+  if (!Expect("ParseMessage", [&] { message = ext::ParseMessage(json); })) return 0;
   const std::vector<std::string> cameras = {"front", "upward"};
   Expect("ParseReady", [&] { ext::ParseReady(message); });
   Expect("ParseEstimate", [&] {

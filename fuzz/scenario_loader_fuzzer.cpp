@@ -28,7 +28,6 @@
 #include "fuzz/fuzz_support.h"
 #include "harness/run/pipeline_runner.h"
 #include "harness/scenario/calibration.h"
-#include "harness/scenario/plugins.h"
 #include "harness/scenario/scenario.h"
 
 namespace {
@@ -45,16 +44,13 @@ std::string Echo(const corridorsim::Scenario& scenario) {
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  // A scenario's `plugins:` would dlopen() whatever library an input names: never here.
-  static const bool no_plugins = (corridorsim::DisablePluginLoading(), true);
-  (void)no_plugins;
-  const std::string text(reinterpret_cast<const char*>(data), size);
-  const std::optional<fs::path> written = corridorsim::fuzz::WriteInput(text);
-  if (!written) return -1;
-  const fs::path& input = *written;
+  const std::optional<corridorsim::fuzz::ScenarioInput> input =
+      corridorsim::fuzz::TakeScenarioInput(data, size);
+  if (!input) return -1;
   corridorsim::Scenario scenario;
-  if (!corridorsim::fuzz::LoadedOrRefused(
-          text, "LoadScenario", [&] { scenario = corridorsim::LoadScenario(input.string()); })) {
+  if (!corridorsim::fuzz::LoadedOrRefused(input->text, "LoadScenario", [&] {
+        scenario = corridorsim::LoadScenario(input->path.string());
+      })) {
     return 0;
   }
   // Building the pipelines is part of the check too (`run --check` does it): a pipeline that
@@ -63,7 +59,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     corridorsim::PipelineRunner pipelines(scenario, corridorsim::CalibrationOf(scenario),
                                           scenario.seed);
   } catch (const corridorsim::InputError& e) {
-    CheckShortQuotes(e, text);
+    CheckShortQuotes(e, input->text);
     return 0;
   } catch (const std::exception& e) {
     Bug(std::string("a loaded scenario's pipelines failed to build: ") + e.what());

@@ -8,10 +8,7 @@
 // an evaluation that does not count every accepted detection, or a metric that is not a finite
 // number or null is a bug: the target aborts, and libFuzzer saves the input.
 
-#include <cmath>
 #include <cstdint>
-#include <cstdio>
-#include <cstdlib>
 #include <exception>
 #include <string>
 #include <vector>
@@ -19,9 +16,13 @@
 #include <nlohmann/json.hpp>
 
 #include "common/error.h"
+#include "fuzz/fuzz_checks.h"
 #include "harness/workbench/score.h"
 
 namespace {
+
+using corridorsim::fuzz::Bug;
+using corridorsim::fuzz::CheckFinite;
 
 // One label of each class over two images, with appearance keys (the binned recall's quartiles).
 constexpr const char* kAnnotations = R"({
@@ -37,12 +38,6 @@ constexpr const char* kAnnotations = R"({
   {"id": 4, "image_id": 2, "category_id": 4, "bbox": [40, 20, 1, 1], "keypoints": [40.5, 20.5, 2]}],
  "categories": []})";
 
-[[noreturn]] void Bug(const std::string& what) {
-  std::fprintf(stderr, "score_detections_fuzzer: BUG: %s\n", what.c_str());
-  std::fflush(stderr);
-  std::abort();
-}
-
 const corridorsim::ScoreDataset& Dataset() {
   static const corridorsim::ScoreDataset dataset = [] {
     corridorsim::ScoreDataset d = corridorsim::ParseScoreDataset(kAnnotations, "annotations.json");
@@ -50,14 +45,6 @@ const corridorsim::ScoreDataset& Dataset() {
     return d;
   }();
   return dataset;
-}
-
-// Every number of the evaluation is finite (a NaN would compare false everywhere).
-void CheckFinite(const nlohmann::ordered_json& j, const std::string& path) {
-  if (j.is_number() && !std::isfinite(j.get<double>())) Bug("not finite: " + path);
-  if (j.is_structured()) {
-    for (const auto& [key, value] : j.items()) CheckFinite(value, path + "." + key);
-  }
 }
 
 }  // namespace

@@ -27,7 +27,6 @@
 
 #include "common/error.h"
 #include "fuzz/fuzz_support.h"
-#include "harness/scenario/plugins.h"
 #include "harness/scenario/scenario.h"
 #include "harness/study/study_file.h"
 
@@ -88,16 +87,12 @@ void CheckSpec(const StudySpec& spec) {
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  // A scenario's `plugins:` would dlopen() whatever library an input names: never here.
-  static const bool no_plugins = (corridorsim::DisablePluginLoading(), true);
-  (void)no_plugins;
-  const std::string text(reinterpret_cast<const char*>(data), size);
-  const std::optional<fs::path> written = corridorsim::fuzz::WriteInput(text);
-  if (!written) return -1;
-  const fs::path& input = *written;
+  const std::optional<corridorsim::fuzz::ScenarioInput> input =
+      corridorsim::fuzz::TakeScenarioInput(data, size);
+  if (!input) return -1;
   StudySpec spec;
-  if (!corridorsim::fuzz::LoadedOrRefused(text, "LoadStudy", [&] {
-        spec = corridorsim::LoadStudy(input.string(), std::nullopt, std::nullopt);
+  if (!corridorsim::fuzz::LoadedOrRefused(input->text, "LoadStudy", [&] {
+        spec = corridorsim::LoadStudy(input->path.string(), std::nullopt, std::nullopt);
       })) {
     return 0;
   }
@@ -116,7 +111,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   // --seed 18446744073709551615 --runs 2: the seeds overflow, refused as bad input.
   try {
-    corridorsim::LoadStudy(input.string(), 2, std::numeric_limits<std::uint64_t>::max());
+    corridorsim::LoadStudy(input->path.string(), 2, std::numeric_limits<std::uint64_t>::max());
     Bug("a study whose seeds overflow was loaded");
   } catch (const InputError&) {
   } catch (const std::exception& e) {

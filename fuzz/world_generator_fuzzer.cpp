@@ -20,8 +20,6 @@
 // that one input stays under 1 s and 2 GiB in the ASan build.
 
 #include <cstdint>
-#include <cstdio>
-#include <cstdlib>
 #include <exception>
 #include <string>
 
@@ -29,11 +27,13 @@
 #include "common/io/options_yaml.h"
 #include "common/io/yaml_reader.h"
 #include "common/options_table.h"
+#include "fuzz/fuzz_checks.h"
 #include "worlds/world.h"
 #include "worlds/world_options.h"
 
 namespace {
 
+using corridorsim::fuzz::Bug;
 using corridorsim::worlds::WorldOptions;
 
 // The fuzz budgets (worlds::WorldBudget). Textures dominate the cost (P1's default corridor, at
@@ -65,12 +65,6 @@ const corridorsim::OptionTable<WorldSpec>& WorldSpecTable() {
         corridorsim::worlds::AppearanceOptionsTable(), "appearance randomisation",
         &corridorsim::worlds::AppearanceOptions::Check);
   });
-}
-
-[[noreturn]] void Bug(const std::string& what) {
-  std::fprintf(stderr, "world_generator_fuzzer: BUG: %s\n", what.c_str());
-  std::fflush(stderr);
-  std::abort();
 }
 
 // Whether the root holds no key but world, appearance and seed (a root that is not a map: true,
