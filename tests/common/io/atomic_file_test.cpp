@@ -11,6 +11,7 @@
 
 #include <catch2/catch.hpp>
 
+#include "tests/support/previous_job_folder.h"
 #include "tests/support/scratch_dir.h"
 
 namespace corridorsim {
@@ -119,11 +120,8 @@ TEST_CASE("StagedDirectory refuses a folder with files unless told to replace it
 TEST_CASE("StagedDirectory replaces a previous folder whole, never a mix", "[common]") {
   const test::ScratchDir dir("corridorsim_staged_replace");
   const fs::path target = dir.path() / "run";
-  fs::create_directories(target / "plots");
-  WriteFileAtomic(target / StagedDirectory::kOutputFolderMarker, "");  // a previous job's folder
-  WriteFileAtomic(target / "metrics.json", "old");
-  WriteFileAtomic(target / "plots" / "old.png", "old");
-  WriteFileAtomic(target / "only_in_old.tum", "old");
+  test::WritePreviousJobFolder(
+      target, {{"metrics.json", "old"}, {"plots/old.png", "old"}, {"only_in_old.tum", "old"}});
   {
     StagedDirectory staged(target, /*replace_existing=*/true);
     WriteFileAtomic(staged.path() / "metrics.json", "new");
@@ -156,9 +154,7 @@ TEST_CASE("StagedDirectory replaces only a folder that a corridorsim job wrote",
 TEST_CASE("StagedDirectory not committed leaves the previous folder untouched", "[common]") {
   const test::ScratchDir dir("corridorsim_staged_abandon");
   const fs::path target = dir.path() / "run";
-  fs::create_directories(target);
-  WriteFileAtomic(target / StagedDirectory::kOutputFolderMarker, "");
-  WriteFileAtomic(target / "metrics.json", "old");
+  test::WritePreviousJobFolder(target, {{"metrics.json", "old"}});
   {
     StagedDirectory staged(target, true);
     WriteFileAtomic(staged.path() / "metrics.json", "half of a new run");

@@ -5,9 +5,6 @@
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
-#include <numbers>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -15,20 +12,11 @@
 #include <catch2/catch.hpp>
 
 #include "harness/run/export.h"
+#include "tests/support/exported_dataset.h"
 #include "tests/support/scratch_dir.h"
-#include "tests/support/tolerances.h"
 
-namespace corridorsim {
+namespace corridorsim::export_tests {
 namespace {
-
-namespace fs = std::filesystem;
-using test::kEurocPoseTol;
-using test::kTumRotationTol;
-using test::kTumTranslationTolM;
-
-constexpr double kDeg = std::numbers::pi / 180.0;
-constexpr TimeNs kFramePeriodNs = 300'000'000;
-constexpr TimeNs kTruthPeriodNs = 10'000'000;
 
 // The default rig with small images and mounts moved off their defaults on every axis, so that
 // T_BS can only be the scenario's mount.
@@ -108,16 +96,9 @@ Eigen::Matrix4d MatrixOf(const SE3& pose) {
 
 // The first data line of a text file, split at `separator`.
 std::vector<std::string> FirstRow(const fs::path& path, char separator) {
-  std::ifstream in(path);
-  REQUIRE(in.good());
-  std::string line;
-  while (std::getline(in, line) && (line.empty() || line[0] == '#')) {
-  }
-  std::vector<std::string> fields;
-  std::istringstream text(line);
-  std::string field;
-  while (std::getline(text, field, separator)) fields.push_back(field);
-  return fields;
+  const std::vector<std::vector<std::string>> rows = Rows(path, separator);
+  REQUIRE_FALSE(rows.empty());
+  return rows.front();
 }
 
 double RotationError(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) {
@@ -196,4 +177,4 @@ TEST_CASE("without truth before the first frame, the start pose is the robot's a
 }
 
 }  // namespace
-}  // namespace corridorsim
+}  // namespace corridorsim::export_tests

@@ -4,8 +4,6 @@
 // COCO JSON with nlohmann-json).
 #include "harness/run/export.h"
 
-#include <unistd.h>
-
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -13,7 +11,6 @@
 #include <memory>
 #include <numbers>
 #include <set>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -28,43 +25,14 @@
 #include "render/camera_rig.h"
 #include "render/frame_truth.h"
 #include "render/scene.h"
+#include "tests/support/exported_dataset.h"
+#include "tests/support/scratch_dir.h"
 #include "tests/support/tiny_world.h"
-#include "tests/support/tolerances.h"
 
-namespace corridorsim {
+namespace corridorsim::export_tests {
 namespace {
 
-namespace fs = std::filesystem;
-using test::kEurocPoseTol;
-using test::kTumRotationTol;
-using test::kTumTranslationTolM;
-
-constexpr double kDeg = std::numbers::pi / 180.0;
-constexpr TimeNs kFramePeriodNs = 300'000'000;  // the rig's 10/3 Hz
-constexpr TimeNs kTruthPeriodNs = 10'000'000;   // 100 Hz
 constexpr double kWheelbaseM = 0.331;
-
-// A fresh folder under the system temp folder, removed at the end of the test.
-class TempDir {
- public:
-  TempDir()
-      : path_(fs::temp_directory_path() / ("corridorsim_export_test_" + std::to_string(::getpid()) +
-                                           "_" + std::to_string(counter_++))) {
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ignored;
-    fs::remove_all(path_, ignored);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  const fs::path& path() const { return path_; }
-
- private:
-  static inline int counter_ = 0;
-  fs::path path_;
-};
 
 // Small cameras with the default mounts: a 64x48 RGB-D front, a distorted 64x48 lateral
 // pinhole and a 64x48 Kannala-Brandt upward fisheye (noise on, as in a run).
@@ -171,30 +139,6 @@ void ExportAll(const fs::path& dir, const render::RigOptions& rig) {
   exporter.Finish();
 }
 
-std::string ReadText(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  REQUIRE(in.good());
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-// Lines that are not comments, split at `separator` (' ' or ',').
-std::vector<std::vector<std::string>> Rows(const fs::path& path, char separator) {
-  std::vector<std::vector<std::string>> rows;
-  std::istringstream text(ReadText(path));
-  std::string line;
-  while (std::getline(text, line)) {
-    if (line.empty() || line[0] == '#') continue;
-    std::vector<std::string> fields;
-    std::istringstream fields_text(line);
-    std::string field;
-    while (std::getline(fields_text, field, separator)) fields.push_back(field);
-    rows.push_back(fields);
-  }
-  return rows;
-}
-
 std::vector<const Input*> InputsOf(const std::string& camera_id) {
   std::vector<const Input*> out;
   for (const Input& in : Frames().inputs) {
@@ -219,7 +163,7 @@ double RotationError(const Eigen::Quaterniond& a, const Eigen::Quaterniond& b) {
 std::vector<double> Doubles(const YAML::Node& node) { return node.as<std::vector<double>>(); }
 
 TEST_CASE("the front camera is exported in TUM RGB-D layout with its noisy depth", "[export][gl]") {
-  const TempDir dir;
+  const test::ScratchDir dir("corridorsim_export_test");
   ExportAll(dir.path(), Frames().rig);
   const fs::path tum = dir.path() / "tum_rgbd";
   const std::vector<const Input*> front = InputsOf("front");
@@ -315,7 +259,7 @@ TEST_CASE("the front camera is exported in TUM RGB-D layout with its noisy depth
 }
 
 TEST_CASE("the ORB-SLAM settings file reads back with cv::FileStorage", "[export][gl]") {
-  const TempDir dir;
+  const test::ScratchDir dir("corridorsim_export_test");
   ExportAll(dir.path(), Frames().rig);
   const fs::path path = dir.path() / "tum_rgbd" / "orb_slam.yaml";
   CHECK(ReadText(path).rfind("%YAML:1.0\n", 0) == 0);
@@ -366,7 +310,7 @@ TEST_CASE("a fisheye front camera's ORB-SLAM settings read back with cv::FileSto
   front.model = fisheye;
   front.depth = false;
   REQUIRE_FALSE(rig.Check());
-  const TempDir dir;
+  const test::ScratchDir dir("corridorsim_export_test");
   DatasetExporter exporter(dir.path(), rig, kWheelbaseM);
   sim::CameraMessage message;
   message.frame.camera_id = "front";
@@ -394,7 +338,7 @@ TEST_CASE("a fisheye front camera's ORB-SLAM settings read back with cv::FileSto
 }
 
 TEST_CASE("the upward and lateral cameras are exported in EuRoC layout", "[export][gl]") {
-  const TempDir dir;
+  const test::ScratchDir dir("corridorsim_export_test");
   ExportAll(dir.path(), Frames().rig);
   const fs::path mav0 = dir.path() / "euroc" / "mav0";
   for (const auto& [cam, camera_id] : {std::pair{"cam0", "upward"}, std::pair{"cam1", "lateral"}}) {
@@ -449,7 +393,7 @@ TEST_CASE("the upward and lateral cameras are exported in EuRoC layout", "[expor
 }
 
 TEST_CASE("labels and the frame truth are exported per camera and frame", "[export][gl]") {
-  const TempDir dir;
+  const test::ScratchDir dir("corridorsim_export_test");
   ExportAll(dir.path(), Frames().rig);
   for (const Input& in : Frames().inputs) {
     const sim::CameraMessage& m = in.message;
@@ -485,7 +429,7 @@ TEST_CASE("labels and the frame truth are exported per camera and frame", "[expo
 
 TEST_CASE("COCO JSON has one annotation per visible plate of the front and lateral images",
           "[export][gl]") {
-  const TempDir dir;
+  const test::ScratchDir dir("corridorsim_export_test");
   ExportAll(dir.path(), Frames().rig);
   const auto coco = nlohmann::json::parse(ReadText(dir.path() / "coco" / "plates.json"));
   REQUIRE(coco["categories"].size() == 1);
@@ -549,7 +493,7 @@ TEST_CASE("COCO JSON has one annotation per visible plate of the front and later
 }
 
 TEST_CASE("odometry and the robot's ground truth are exported as CSV", "[export]") {
-  const TempDir dir;
+  const test::ScratchDir dir("corridorsim_export_test");
   render::RigOptions rig = SmallRig();
   // The robot drives at 0.5 m/s along y; frames without images (nothing rendered) export nothing.
   const auto pose = [](TimeNs t) { return SE3::FromSE2(SE2(1.0, 0.5 * ToSeconds(t), 0.3)); };
@@ -604,7 +548,7 @@ TEST_CASE("odometry and the robot's ground truth are exported as CSV", "[export]
 }
 
 TEST_CASE("a disabled camera writes nothing", "[export][gl]") {
-  const TempDir dir;
+  const test::ScratchDir dir("corridorsim_export_test");
   render::RigOptions rig = SmallRig();
   for (render::CameraOptions& camera : rig.cameras) camera.enabled = camera.id != "upward";
   ExportAll(dir.path(), rig);
@@ -618,7 +562,7 @@ TEST_CASE("a disabled camera writes nothing", "[export][gl]") {
 }
 
 TEST_CASE("an export folder that cannot be made throws naming it", "[export]") {
-  const TempDir dir;
+  const test::ScratchDir dir("corridorsim_export_test");
   const fs::path file = dir.path() / "a_file";
   std::ofstream(file) << "not a folder";
   const fs::path target = file / "export";
@@ -641,7 +585,7 @@ TEST_CASE("an export folder that cannot be made throws naming it", "[export]") {
 
 TEST_CASE("out-of-order stamps, wrong image sizes and use after Finish are refused",
           "[export][gl]") {
-  const TempDir dir;
+  const test::ScratchDir dir("corridorsim_export_test");
   DatasetExporter exporter(dir.path(), Frames().rig, kWheelbaseM);
   const Input& first = *InputsOf("front")[0];
   const Input& second = *InputsOf("front")[1];
@@ -663,7 +607,7 @@ TEST_CASE("out-of-order stamps, wrong image sizes and use after Finish are refus
 }
 
 TEST_CASE("two exports of the same input are byte-identical", "[export][gl]") {
-  const TempDir a, b;
+  const test::ScratchDir a("corridorsim_export_test_a"), b("corridorsim_export_test_b");
   ExportAll(a.path(), Frames().rig);
   ExportAll(b.path(), Frames().rig);
   std::map<std::string, std::string> files_a, files_b;
@@ -681,4 +625,4 @@ TEST_CASE("two exports of the same input are byte-identical", "[export][gl]") {
 }
 
 }  // namespace
-}  // namespace corridorsim
+}  // namespace corridorsim::export_tests

@@ -11,6 +11,7 @@
 #include "common/error.h"
 #include "common/io/atomic_file.h"
 #include "harness/run/run.h"
+#include "tests/support/previous_job_folder.h"
 #include "tests/support/scratch_dir.h"
 
 namespace corridorsim {
@@ -21,9 +22,7 @@ namespace fs = std::filesystem;
 TEST_CASE("StageOutputFolder refuses a previous run's folder naming --force", "[harness]") {
   const test::ScratchDir dir("corridorsim_stage_refuse");
   const fs::path out = dir.path() / "run";
-  fs::create_directories(out);
-  WriteFileAtomic(out / StagedDirectory::kOutputFolderMarker, "");  // a previous run's folder
-  WriteFileAtomic(out / "metrics.json", "{}");
+  test::WritePreviousJobFolder(out, {{"metrics.json", "{}"}});
   try {
     StageOutputFolder(out, "--out", /*force=*/false, {});
     FAIL("a non-empty folder was accepted");
@@ -40,9 +39,7 @@ TEST_CASE("StageOutputFolder refuses a previous run's folder naming --force", "[
 TEST_CASE("No output is, contains or lies inside an input, links resolved", "[harness]") {
   const test::ScratchDir dir("corridorsim_outputs_inputs");
   const fs::path run = dir.path() / "run";
-  fs::create_directories(run);
-  WriteFileAtomic(run / StagedDirectory::kOutputFolderMarker, "");
-  WriteFileAtomic(run / "ground_truth.tum", "1 0 0 0 0 0 0 1\n");
+  test::WritePreviousJobFolder(run, {{"ground_truth.tum", "1 0 0 0 0 0 0 1\n"}});
   fs::create_symlink(run, dir.path() / "link");
   const std::vector<JobInput> inputs = {{run / "ground_truth.tum", "a file of RUN_DIR"}};
   const auto message = [&](const fs::path& out) -> std::string {
@@ -98,9 +95,7 @@ TEST_CASE("A failing map write keeps the committed results and exits 4", "[harne
 TEST_CASE("Results that fail to write leave the previous folder as it was", "[harness]") {
   const test::ScratchDir dir("corridorsim_extras_results");
   const fs::path out = dir.path() / "run";
-  fs::create_directories(out);
-  WriteFileAtomic(out / StagedDirectory::kOutputFolderMarker, "");
-  WriteFileAtomic(out / "metrics.json", "previous");
+  test::WritePreviousJobFolder(out, {{"metrics.json", "previous"}});
   bool extra_ran = false;
   {
     StagedDirectory folder(out, true);
