@@ -13,11 +13,7 @@ namespace corridorsim::metrics_tests {
 namespace {
 
 slam::Detection PlateDetection(TimeNs stamp, const Vector2d& px, int landmark, bool created) {
-  slam::Detection d;
-  d.stamp_ns = stamp;
-  d.camera_id = "lateral";
-  d.type = LandmarkType::kDoorPlate;
-  d.pixel = px;
+  slam::Detection d = DetectionAt(stamp, "lateral", LandmarkType::kDoorPlate, px);
   d.landmark_id = landmark;
   d.new_landmark = created;
   return d;
@@ -26,8 +22,7 @@ slam::Detection PlateDetection(TimeNs stamp, const Vector2d& px, int landmark, b
 TEST_CASE("data association precision and recall count one wrong association", "[metrics]") {
   const worlds::World world = PlateWorld();
   const std::vector<TruthPose> truth = ArcTruth(1.0);
-  PipelineRecord record = Record("da", truth, [](const SE2& p) { return p; });
-  record.cameras_used = {"lateral"};
+  PipelineRecord record = ExactRecord("da", truth, {"lateral"});
   record.landmarks = {Landmark(10, LandmarkType::kDoorPlate, {1, 1, 1.5}, "101"),
                       Landmark(20, LandmarkType::kDoorPlate, {4, 1, 1.5}, "102")};
   std::vector<FrameTruthSample> frames;

@@ -37,7 +37,7 @@ TEST_CASE("the run section reports wall times and their fractions only when give
 TEST_CASE("a healthy pipeline's health holds the pipeline's own counters only", "[metrics]") {
   const worlds::World world;
   const std::vector<TruthPose> truth = ArcTruth(1.0);
-  PipelineRecord record = Record("healthy", truth, [](const SE2& p) { return p; });
+  PipelineRecord record = ExactRecord("healthy", truth);
   record.health.non_positive_covariance = 2;
   record.health.rejected_updates = 3;
   const Json m = RunOne(world, truth, record);
@@ -48,7 +48,7 @@ TEST_CASE("malformed pipeline output is counted in health and reported, never ab
           "[metrics]") {
   const worlds::World world;
   const std::vector<TruthPose> truth = ArcTruth(1.0);
-  PipelineRecord record = Record("broken", truth, [](const SE2& p) { return p; });
+  PipelineRecord record = ExactRecord("broken", truth);
   const std::size_t estimates = record.estimates.size();
   // A NaN covariance (kept: no NEES) and a NaN pose (left out of the trajectory metrics).
   record.estimates[10].covariance(1, 1) = kNaN;

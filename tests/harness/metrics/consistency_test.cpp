@@ -86,7 +86,7 @@ TEST_CASE("NEES of errors drawn from the covariance lands in band; an overconfid
 TEST_CASE("NIS is reported per landmark type over the accepted updates", "[metrics]") {
   const worlds::World world;
   const std::vector<TruthPose> truth = ArcTruth(1.0);
-  PipelineRecord record = Record("nis", truth, [](const SE2& p) { return p; });
+  PipelineRecord record = ExactRecord("nis", truth);
   // Lamps, 2 dof: 1, 2, 3 accepted (inside [0.0506, 7.38]), 0.01 accepted (below), 50 gated.
   for (const double nis : {1.0, 2.0, 3.0, 0.01}) {
     record.innovations.push_back({0, LandmarkType::kLamp, nis, 2, true});

@@ -15,14 +15,36 @@
 namespace corridorsim::metrics_tests {
 namespace {
 
+slam::Detection VpDetection(TimeNs stamp, const Vector2d& pixel) {
+  return DetectionAt(stamp, "front", LandmarkType::kVanishingPoint, pixel);
+}
+
+FrameTruthSample VpFrame(TimeNs stamp, const Vector2d& pixel) {
+  FrameTruthSample f = Frame("front", stamp);
+  render::VanishingPointTruth vp;
+  vp.direction_in_world = Vector2d(1, 0);
+  vp.pixel = pixel;
+  vp.in_image = true;
+  vp.camera_in_segment = true;
+  f.truth.vanishing_points = {vp};
+  return f;
+}
+
+slam::Detection PlateDetection(TimeNs stamp, const Vector4d& box, slam::PlateBox kind) {
+  slam::Detection d = DetectionAt(stamp, "lateral", LandmarkType::kDoorPlate,
+                                  0.5 * (box.head<2>() + box.tail<2>()));
+  d.box_px = box;
+  d.plate_box = kind;
+  return d;
+}
+
 TEST_CASE(
     "lamps: only lit circular lamps are to be found; panels and dark lamps rejected; "
     "border-cut lamps apart",
     "[metrics]") {
   const worlds::World world;
   const std::vector<TruthPose> truth = ArcTruth(1.0);
-  PipelineRecord record = Record("lamps", truth, [](const SE2& p) { return p; });
-  record.cameras_used = {"upward"};
+  PipelineRecord record = ExactRecord("lamps", truth, {"upward"});
   FrameTruthSample upward = Frame("upward", 5);
   const auto lamp = [](int id, const Vector2d& c, worlds::LampShape shape, bool on, bool cut,
                        double visible) {
@@ -48,11 +70,7 @@ TEST_CASE(
       lamp(8, {300, 450}, LampShape::kCircular, true, false, 0.2),   // mostly hidden
   };
   const auto at = [](const Vector2d& px) {
-    slam::Detection d;
-    d.stamp_ns = 5;
-    d.camera_id = "upward";
-    d.type = LandmarkType::kLamp;
-    d.pixel = px;
+    slam::Detection d = DetectionAt(5, "upward", LandmarkType::kLamp, px);
     d.radius_px = 15;
     return d;
   };
@@ -80,8 +98,7 @@ TEST_CASE("detector precision, recall, IoU, centre error and door state against 
           "[metrics]") {
   const worlds::World world;
   const std::vector<TruthPose> truth = ArcTruth(1.0);
-  PipelineRecord record = Record("detectors", truth, [](const SE2& p) { return p; });
-  record.cameras_used = {"front", "lateral", "upward"};
+  PipelineRecord record = ExactRecord("detectors", truth, {"front", "lateral", "upward"});
 
   FrameTruthSample lateral = Frame("lateral", 5);
   const auto plate = [](int id, double x0, double x1, bool full) {
@@ -98,13 +115,7 @@ TEST_CASE("detector precision, recall, IoU, centre error and door state against 
   lateral.truth.plates = {plate(1, 100, 200, true), plate(2, 300, 400, true),
                           plate(3, 600, 640, false)};  // cut by the border: not scored
   const auto plate_detection = [](const Vector4d& box, const std::string& label) {
-    slam::Detection d;
-    d.stamp_ns = 5;
-    d.camera_id = "lateral";
-    d.type = LandmarkType::kDoorPlate;
-    d.box_px = box;
-    d.plate_box = slam::PlateBox::kOutline;  // boxes of the whole plate
-    d.pixel = 0.5 * (box.head<2>() + box.tail<2>());
+    slam::Detection d = PlateDetection(5, box, slam::PlateBox::kOutline);  // the whole plate
     d.label = label;
     return d;
   };
@@ -129,34 +140,16 @@ TEST_CASE("detector precision, recall, IoU, centre error and door state against 
   door.column_b_px = Vector2d(260, 300);
   door.visible = true;
   upward.truth.doors = {door};
-  const auto upward_detection = [](LandmarkType type, const Vector2d& px) {
-    slam::Detection d;
-    d.stamp_ns = 5;
-    d.camera_id = "upward";
-    d.type = type;
-    d.pixel = px;
-    return d;
-  };
-  record.detections.push_back(upward_detection(LandmarkType::kLamp, {323, 244}));  // 5 px off
-  record.detections.push_back(upward_detection(LandmarkType::kLamp, {500, 400}));  // nothing
-  slam::Detection door_detection = upward_detection(LandmarkType::kDoor, {230, 300});
+  // A lamp 5 px off lamp 1, and one where there is nothing.
+  record.detections.push_back(DetectionAt(5, "upward", LandmarkType::kLamp, {323, 244}));
+  record.detections.push_back(DetectionAt(5, "upward", LandmarkType::kLamp, {500, 400}));
+  slam::Detection door_detection = DetectionAt(5, "upward", LandmarkType::kDoor, {230, 300});
   door_detection.box_px = Vector4d(198, 290, 262, 310);
   door_detection.open = true;
   record.detections.push_back(door_detection);
 
-  FrameTruthSample front = Frame("front", 5);
-  render::VanishingPointTruth vp;
-  vp.direction_in_world = Vector2d(1, 0);
-  vp.pixel = Vector2d(320, 240);
-  vp.in_image = true;
-  vp.camera_in_segment = true;
-  front.truth.vanishing_points = {vp};
-  slam::Detection vp_detection;
-  vp_detection.stamp_ns = 5;
-  vp_detection.camera_id = "front";
-  vp_detection.type = LandmarkType::kVanishingPoint;
-  vp_detection.pixel = Vector2d(323, 244);
-  record.detections.push_back(vp_detection);
+  const FrameTruthSample front = VpFrame(5, {320, 240});
+  record.detections.push_back(VpDetection(5, {323, 244}));
 
   const Json m = RunOne(world, truth, record, {front, lateral, upward});
   REQUIRE(m.contains("detection"));
@@ -204,38 +197,11 @@ TEST_CASE("detector precision, recall, IoU, centre error and door state against 
   }
 }
 
-}  // namespace
-}  // namespace corridorsim::metrics_tests
-
-namespace corridorsim::metrics_tests {
-namespace {
-
-slam::Detection VpDetection(TimeNs stamp, const Vector2d& pixel) {
-  slam::Detection d;
-  d.stamp_ns = stamp;
-  d.camera_id = "front";
-  d.type = LandmarkType::kVanishingPoint;
-  d.pixel = pixel;
-  return d;
-}
-
-FrameTruthSample VpFrame(TimeNs stamp, const Vector2d& pixel) {
-  FrameTruthSample f = Frame("front", stamp);
-  render::VanishingPointTruth vp;
-  vp.direction_in_world = Vector2d(1, 0);
-  vp.pixel = pixel;
-  vp.in_image = true;
-  vp.camera_in_segment = true;
-  f.truth.vanishing_points = {vp};
-  return f;
-}
-
 TEST_CASE("a vanishing-point detection far from the true vanishing point is not a hit",
           "[metrics]") {
   const worlds::World world;
   const std::vector<TruthPose> truth = ArcTruth(1.0);
-  PipelineRecord record = Record("vp", truth, [](const SE2& p) { return p; });
-  record.cameras_used = {"front"};
+  PipelineRecord record = ExactRecord("vp", truth, {"front"});
   // Frame 5: 5 px off (a hit); frame 6: 100 px off (a false positive, and the frame is not
   // detected); frame 7: nothing detected.
   record.detections = {VpDetection(5, {323, 244}), VpDetection(6, {420, 240})};
@@ -264,23 +230,16 @@ render::PlateTruth PlateWithRegions(int id, double distance_m, double height_px,
   return p;
 }
 
-slam::Detection PlateDetection(TimeNs stamp, const Vector4d& box, slam::PlateBox kind) {
-  slam::Detection d;
-  d.stamp_ns = stamp;
-  d.camera_id = "lateral";
-  d.type = LandmarkType::kDoorPlate;
-  d.box_px = box;
-  d.plate_box = kind;
-  d.pixel = 0.5 * (box.head<2>() + box.tail<2>());
-  return d;
-}
-
-TEST_CASE("a plate is scored only where it was legible: large enough and not too oblique",
-          "[metrics]") {
+// The plate cases: a pipeline whose estimates are the truth and that used the lateral camera.
+struct LateralPlates {
   const worlds::World world;
   const std::vector<TruthPose> truth = ArcTruth(1.0);
-  PipelineRecord record = Record("plates", truth, [](const SE2& p) { return p; });
-  record.cameras_used = {"lateral"};
+  PipelineRecord record = ExactRecord("plates", truth, {"lateral"});
+};
+
+TEST_CASE_METHOD(LateralPlates,
+                 "a plate is scored only where it was legible: large enough and not too oblique",
+                 "[metrics]") {
   FrameTruthSample legible = Frame("lateral", 5);
   legible.truth.plates = {PlateWithRegions(1, 1.2, 40, 10)};
   FrameTruthSample tiny = Frame("lateral", 6);  // a dot far ahead: 4 px high
@@ -296,12 +255,9 @@ TEST_CASE("a plate is scored only where it was legible: large enough and not too
   CHECK(plates["true_positives"] == 0);
 }
 
-TEST_CASE("a plate detection is matched to the number region or the outline, as it reports",
-          "[metrics]") {
-  const worlds::World world;
-  const std::vector<TruthPose> truth = ArcTruth(1.0);
-  PipelineRecord record = Record("plates", truth, [](const SE2& p) { return p; });
-  record.cameras_used = {"lateral"};
+TEST_CASE_METHOD(LateralPlates,
+                 "a plate detection is matched to the number region or the outline, as it reports",
+                 "[metrics]") {
   // A plate 100 x 50 px whose number region is the middle 60 x 20 px.
   FrameTruthSample frame = Frame("lateral", 5);
   render::PlateTruth plate = PlateWithRegions(1, 1.2, 50, 0);

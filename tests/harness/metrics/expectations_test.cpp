@@ -86,12 +86,12 @@ TEST_CASE("a health counter written only when non-zero reads as 0 where it is ab
           "[metrics]") {
   const worlds::World world;
   const std::vector<TruthPose> truth = ArcTruth(1.0);
-  PipelineRecord broken = Record("broken", truth, [](const SE2& p) { return p; });
+  PipelineRecord broken = ExactRecord("broken", truth);
   broken.innovations.push_back({0, LandmarkType::kLamp, 1.0, 0, true});  // no dof: malformed
   MetricsInput input;
   input.world = &world;
   input.truth = truth;
-  input.pipelines = {broken, Record("clean", truth, [](const SE2& p) { return p; })};
+  input.pipelines = {broken, ExactRecord("clean", truth)};
   const std::vector<ExpectationResult> results =
       ParseAndCheck(ComputeMetrics(input), {"broken.health.malformed_innovations < 1",
                                             "clean.health.malformed_innovations < 1",

@@ -18,8 +18,7 @@ TEST_CASE("landmark matching counts a spurious and a missed landmark and wrong r
           "[metrics]") {
   const worlds::World world = PlateWorld();
   const std::vector<TruthPose> truth = ArcTruth(1.0);
-  PipelineRecord record = Record("map", truth, [](const SE2& p) { return p; });
-  record.cameras_used = {"lateral"};
+  PipelineRecord record = ExactRecord("map", truth, {"lateral"});
   record.landmarks = {
       Landmark(10, LandmarkType::kDoorPlate, {1.1, 1.0, 1.4}, "101"),   // plate 1, 0.1 m off
       Landmark(11, LandmarkType::kDoorPlate, {4.0, 1.2, 1.5}, "999"),   // plate 2, wrong number
@@ -59,11 +58,7 @@ namespace {
 
 // A corner detection that created landmark `landmark_id`.
 slam::Detection NewCorner(const std::string& camera, int landmark_id) {
-  slam::Detection d;
-  d.stamp_ns = 5;
-  d.camera_id = camera;
-  d.type = LandmarkType::kCorner;
-  d.pixel = Vector2d(100, 100);
+  slam::Detection d = DetectionAt(5, camera, LandmarkType::kCorner, Vector2d(100, 100));
   d.landmark_id = landmark_id;
   d.new_landmark = true;
   return d;
@@ -82,8 +77,7 @@ TEST_CASE(
     world.corner_points.push_back(c);
   }
   const std::vector<TruthPose> truth = ArcTruth(1.0);
-  PipelineRecord record = Record("harris", truth, [](const SE2& p) { return p; });
-  record.cameras_used = {"front"};
+  PipelineRecord record = ExactRecord("harris", truth, {"front"});
   record.detections = {NewCorner("front", 1), NewCorner("front", 2)};
   // Landmark 1 saw a door-frame corner at (3.0, 1.1, 2.0) and is estimated 5 cm from it;
   // landmark 2 saw a point at (4.0, -1.1, 0.5) but is estimated 1.1 m away, on a tile
@@ -127,8 +121,7 @@ TEST_CASE("map.area scores each landmark's area against the area its true positi
   lamp.room_door_id = 20;
   world.lamps.push_back(lamp);
   const std::vector<TruthPose> truth = ArcTruth(1.0);
-  PipelineRecord record = Record("upward", truth, [](const SE2& p) { return p; });
-  record.cameras_used = {"upward"};
+  PipelineRecord record = ExactRecord("upward", truth, {"upward"});
   // Door landmark 50 is doorway 20 (its columns 2 cm off); doorway 21 was never registered.
   slam::LandmarkEstimate door = Landmark(50, LandmarkType::kDoor, {3.5, 1.2, 2.0});
   for (const auto& [role, x] : {std::pair("column_a", 3.02), std::pair("column_b", 3.98)}) {

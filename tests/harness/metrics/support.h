@@ -1,7 +1,7 @@
 #pragma once
 // Shared constructed cases of the metrics tests (tests/harness/metrics/*_test.cpp): truth on the
 // 100 Hz grid, pipelines whose estimates are the truth mapped by a function, a small world of
-// plates and a lamp, and ComputeMetrics on one pipeline.
+// plates and a lamp, detections and frame truth, and ComputeMetrics on one pipeline.
 
 #include <cmath>
 #include <functional>
@@ -38,6 +38,14 @@ inline PipelineRecord Record(const std::string& name, const std::vector<TruthPos
   for (std::size_t k = 0; k < truth.size(); k += 2) {
     record.estimates.push_back({truth[k].stamp_ns, f(truth[k].world_from_robot), covariance});
   }
+  return record;
+}
+
+// A pipeline whose estimates are the truth (Record without error) and that used `cameras`.
+inline PipelineRecord ExactRecord(const std::string& name, const std::vector<TruthPose>& truth,
+                                  const std::vector<std::string>& cameras = {}) {
+  PipelineRecord record = Record(name, truth, [](const SE2& p) { return p; });
+  record.cameras_used = cameras;
   return record;
 }
 
@@ -91,6 +99,17 @@ inline render::PlateTruth PlateSeen(int id, const Eigen::Vector2d& center_px) {
   return p;
 }
 
+/// A detection of a `type` landmark by `camera` at `stamp`, at `pixel`.
+inline slam::Detection DetectionAt(TimeNs stamp, const std::string& camera, slam::LandmarkType type,
+                                   const Eigen::Vector2d& pixel) {
+  slam::Detection d;
+  d.stamp_ns = stamp;
+  d.camera_id = camera;
+  d.type = type;
+  d.pixel = pixel;
+  return d;
+}
+
 inline FrameTruthSample Frame(const std::string& camera, TimeNs stamp) {
   FrameTruthSample f;
   f.stamp_ns = stamp;
@@ -109,6 +128,8 @@ using Eigen::Vector3d;
 using Eigen::Vector4d;
 using slam::LandmarkType;
 using test::ArcTruth;
+using test::DetectionAt;
+using test::ExactRecord;
 using test::Frame;
 using test::Json;
 using test::kGridNs;

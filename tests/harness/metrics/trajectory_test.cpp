@@ -18,7 +18,7 @@ namespace {
 TEST_CASE("identical trajectories give zero errors", "[metrics]") {
   const worlds::World world;
   const std::vector<TruthPose> truth = ArcTruth(20.0);
-  const Json m = RunOne(world, truth, Record("same", truth, [](const SE2& p) { return p; }));
+  const Json m = RunOne(world, truth, ExactRecord("same", truth));
   CHECK(m["samples"] == 1001);
   CHECK(m["samples_without_truth"] == 0);
   CHECK(Num(m["distance_travelled_m"]) == Approx(20.0).margin(test::kMetricsJsonM));

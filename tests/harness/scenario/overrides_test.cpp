@@ -6,6 +6,7 @@
 #include <fstream>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <catch2/catch.hpp>
@@ -67,29 +68,34 @@ TEST_CASE("A setting (--set) reads its value as YAML", "[scenarios][set]") {
 }
 
 TEST_CASE("a bad --set is an error naming --set and the key", "[scenarios][set]") {
-  CHECK(SettingError({"duration_s"}) ==
-        "command line: --set: expected KEY=VALUE, e.g. --set duration_s=20 (got "
-        "'duration_s')");
-  CHECK(SettingError({"world..count=3"}) ==
-        "command line: --set: world..count: a key is dotted names of 1 to 64 letters, digits, "
-        "'_' or '-' (e.g. world.doors.count; a part of digits is a list index)");
-  CHECK(SettingError({"=3"}) ==
-        "command line: --set: a key is dotted names of 1 to 64 letters, digits, '_' or '-' (e.g. "
-        "world.doors.count; a part of digits is a list index)");
-  CHECK(SettingError({"0.x=3"}) ==
-        "command line: --set: 0.x: a key starts with a name, not an index");
-  CHECK(SettingError({"include=other.yaml"}) ==
-        "command line: --set: include: cannot be set on the command line (it names a file): give "
-        "that file");
-  CHECK(SettingError({"world.doors={count: 4"}) ==
-        "command line: --set: world.doors: the value '{count: 4' is not YAML: invalid YAML: end "
-        "of map flow not found");
-  CHECK(SettingError({"world.doors={count: 4, count: 5}"}) ==
-        "command line: --set: world.doors: the value '{count: 4, count: 5}' is not YAML: "
-        "duplicate key");
-  CHECK(SettingError({"name=a\nb"}) ==
-        "command line: --set: name: a value is one line of YAML (a list as [a, b], a map as {k: "
-        "v})");
+  const std::pair<const char*, const char*> bad[] = {
+      {"duration_s",
+       "command line: --set: expected KEY=VALUE, e.g. --set duration_s=20 (got "
+       "'duration_s')"},
+      {"world..count=3",
+       "command line: --set: world..count: a key is dotted names of 1 to 64 letters, digits, "
+       "'_' or '-' (e.g. world.doors.count; a part of digits is a list index)"},
+      {"=3",
+       "command line: --set: a key is dotted names of 1 to 64 letters, digits, '_' or '-' (e.g. "
+       "world.doors.count; a part of digits is a list index)"},
+      {"0.x=3", "command line: --set: 0.x: a key starts with a name, not an index"},
+      {"include=other.yaml",
+       "command line: --set: include: cannot be set on the command line (it names a file): give "
+       "that file"},
+      {"world.doors={count: 4",
+       "command line: --set: world.doors: the value '{count: 4' is not YAML: invalid YAML: end "
+       "of map flow not found"},
+      {"world.doors={count: 4, count: 5}",
+       "command line: --set: world.doors: the value '{count: 4, count: 5}' is not YAML: "
+       "duplicate key"},
+      {"name=a\nb",
+       "command line: --set: name: a value is one line of YAML (a list as [a, b], a map as {k: "
+       "v})"},
+  };
+  for (const auto& [setting, message] : bad) {
+    INFO(setting);
+    CHECK(SettingError({setting}) == message);
+  }
 }
 
 TEST_CASE("A setting (--set) is bounded in count, key and value", "[scenarios][set]") {
@@ -130,25 +136,31 @@ TEST_CASE("A setting (--set) replaces or appends an item of a list the files wri
   const auto error = [&](const std::string& text) -> std::string {
     return InputErrorOf([&] { SettingDocuments(ParseSettings({text}), chain); }).what();
   };
-  CHECK(error("expectations.3=z < 3") ==
-        "command line: --set: expectations.3: index 3 is beyond the list 'expectations' of 2 "
-        "item(s) (0 to 1, or 2 to append as the last part)");
-  CHECK(error("path.commands.0.4=1") ==
-        "command line: --set: path.commands.0.4: index 4 is beyond the list 'path.commands.0' of 3 "
-        "item(s) (0 to 2, or 3 to append as the last part)");
-  CHECK(error("expectations.2.x=1") ==
-        "command line: --set: expectations.2.x: index 2 is beyond the list 'expectations' of 2 "
-        "item(s) (0 to 1, or 2 to append as the last part)");
-  CHECK(error("sensors.front.distortion.0=0.1") ==
-        "command line: --set: sensors.front.distortion.0: 'sensors.front.distortion' is not a "
-        "list written in the scenario's files (its value is the code default): set it whole, "
-        "e.g. --set 'sensors.front.distortion=[...]'");
-  CHECK(error("path.commands.0.1.2=1") ==
-        "command line: --set: path.commands.0.1.2: 'path.commands.0.1' is not a list: 2 is no "
-        "key");
-  CHECK(error("plugins.0=x.so") ==
-        "command line: --set: plugins.0: the lists of `plugins` add up over the include chain: "
-        "add a library with --set plugins=[path]");
+  const std::pair<const char*, const char*> bad[] = {
+      {"expectations.3=z < 3",
+       "command line: --set: expectations.3: index 3 is beyond the list 'expectations' of 2 "
+       "item(s) (0 to 1, or 2 to append as the last part)"},
+      {"path.commands.0.4=1",
+       "command line: --set: path.commands.0.4: index 4 is beyond the list 'path.commands.0' of 3 "
+       "item(s) (0 to 2, or 3 to append as the last part)"},
+      {"expectations.2.x=1",
+       "command line: --set: expectations.2.x: index 2 is beyond the list 'expectations' of 2 "
+       "item(s) (0 to 1, or 2 to append as the last part)"},
+      {"sensors.front.distortion.0=0.1",
+       "command line: --set: sensors.front.distortion.0: 'sensors.front.distortion' is not a "
+       "list written in the scenario's files (its value is the code default): set it whole, "
+       "e.g. --set 'sensors.front.distortion=[...]'"},
+      {"path.commands.0.1.2=1",
+       "command line: --set: path.commands.0.1.2: 'path.commands.0.1' is not a list: 2 is no "
+       "key"},
+      {"plugins.0=x.so",
+       "command line: --set: plugins.0: the lists of `plugins` add up over the include chain: "
+       "add a library with --set plugins=[path]"},
+  };
+  for (const auto& [setting, message] : bad) {
+    INFO(setting);
+    CHECK(error(setting) == message);
+  }
 }
 
 TEST_CASE("LoadScenario applies --set after the include chain, a later one winning",
@@ -192,13 +204,19 @@ TEST_CASE("a --set key is checked like a file's, the error naming --set and the 
         "command line: --set: wrld: unknown key (known keys here: appearance, description, "
         "duration_s, expectations, include, name, path, pipelines, plugins, render, robot, seed, "
         "sensors, study, world)");
-  CHECK(Contains(error("world.doors.cout=4"),
-                 "command line: --set: world.doors.cout: unknown key (known keys here: "));
-  CHECK(Contains(error("world.doors.count=many"), "command line: --set: world.doors.count: "));
-  CHECK(Contains(error("duration_s=-1"), "command line: --set: duration_s: must lie in"));
-  CHECK(Contains(error("expectations=[odometry.nope < 1]"), "command line: --set: expectations: "));
-  CHECK(Contains(error("pipelines.odometry.k_m=-1"),
-                 "command line: --set: pipelines.odometry.k_m: "));
+  // Each message names --set and the key; the rest is what a file's key gets.
+  const std::pair<const char*, const char*> bad[] = {
+      {"world.doors.cout=4",
+       "command line: --set: world.doors.cout: unknown key (known keys here: "},
+      {"world.doors.count=many", "command line: --set: world.doors.count: "},
+      {"duration_s=-1", "command line: --set: duration_s: must lie in"},
+      {"expectations=[odometry.nope < 1]", "command line: --set: expectations: "},
+      {"pipelines.odometry.k_m=-1", "command line: --set: pipelines.odometry.k_m: "},
+  };
+  for (const auto& [setting, part] : bad) {
+    INFO(setting);
+    CHECK(Contains(error(setting), part));
+  }
 }
 
 TEST_CASE("LoadStudy applies --set to the scenario of every point and to study keys",

@@ -143,65 +143,67 @@ TEST_CASE("a study file's errors name the file, line and key", "[study]") {
     return test::InputErrorOf([&] { LoadStudy(file, std::nullopt, std::nullopt); });
   };
 
-  SECTION("a sweep value the key does not take, at the value's line") {
-    const InputError e =
-        error_of("study:\n  vary:\n    robot.odometry.random_k_m:\n      - 1.0e-5\n      - -3\n");
-    CHECK(e.location().line == 7);
-    CHECK(e.key() == "study.vary.robot.odometry.random_k_m");
-    CHECK(test::Contains(e.message(), "-3"));
-  }
-  SECTION("a sweep key the scenario does not have") {
-    const InputError e = error_of("study:\n  vary:\n    robot.odometry.no_such_key: [1, 2]\n");
-    CHECK(e.location().line == 5);
-    CHECK(test::Contains(e.key(), "study.vary.robot.odometry.no_such_key"));
-  }
-  SECTION("the seed is not swept") {
-    const InputError e = error_of("study:\n  vary:\n    seed: [1, 2]\n");
-    CHECK(e.location().line == 5);
-  }
-  SECTION("overlapping sweep keys") {
-    const InputError e =
-        error_of("study:\n  vary:\n    robot.odometry: [{}]\n    robot.odometry.random_k_m: [1]\n");
-    CHECK(e.location().line == 6);
-    CHECK(test::Contains(e.message(), "overlaps"));
-  }
-  SECTION("an unknown study key") {
-    const InputError e = error_of("study:\n  runz: 4\n");
-    CHECK(e.location().line == 4);
-    CHECK(test::Contains(e.key(), "runz"));
-  }
-  SECTION("runs out of bounds") {
-    const InputError e = error_of("study:\n  runs: 0\n");
-    CHECK(e.key() == "study.runs");
-  }
-  SECTION("an expectation on a pipeline that does not run") {
-    const InputError e =
-        error_of("study:\n  expectations:\n    - p3_upward.ate_rmse_m.mean < 0.1\n");
-    CHECK(e.location().line == 5);
-    CHECK(test::Contains(e.message(), "does not run"));
-  }
-  SECTION("an expectation on a metric the study does not summarise") {
-    const InputError e =
-        error_of("study:\n  expectations:\n    - odometry.map.corner.rmse_m.mean < 0.1\n");
-    CHECK(test::Contains(e.message(), "study.metrics"));
-  }
-  SECTION("an unknown extra metric") {
-    const InputError e = error_of("study:\n  metrics: [ate_rmse_m, no_such_metric]\n");
-    CHECK(e.key() == "study.metrics");
-  }
-  SECTION("may_diverge names a pipeline the scenario does not run, at its line") {
-    const InputError e = error_of("study:\n  may_diverge:\n    - odometry\n    - p1_harris\n");
-    CHECK(e.location().line == 6);
-    CHECK(e.key() == "study.may_diverge");
-    CHECK(test::Contains(e.message(), "p1_harris"));
-  }
-  SECTION("too many points") {
-    std::string values = "[";
-    for (int i = 0; i < 40; ++i) values += (i ? ", " : "") + std::to_string(1e-5 * (i + 1));
-    values += "]";
-    const InputError e = error_of("study:\n  vary:\n    robot.odometry.random_k_m: " + values +
-                                  "\n    world.plates.count: " + values + "\n");
-    CHECK(test::Contains(e.message(), "points"));
+  // Each case: its study section, and what its error says: the line, the key (exactly or a part
+  // of it) and a part of the message, where given.
+  struct Case {
+    const char* what;
+    std::string body;
+    int line = 0;
+    const char* key = nullptr;
+    const char* key_part = nullptr;
+    const char* message_part = nullptr;
+  };
+  std::string values = "[";  // 40 sweep values
+  for (int i = 0; i < 40; ++i) values += (i ? ", " : "") + std::to_string(1e-5 * (i + 1));
+  values += "]";
+  const Case cases[] = {
+      {.what = "a sweep value the key does not take, at the value's line",
+       .body = "study:\n  vary:\n    robot.odometry.random_k_m:\n      - 1.0e-5\n      - -3\n",
+       .line = 7,
+       .key = "study.vary.robot.odometry.random_k_m",
+       .message_part = "-3"},
+      {.what = "a sweep key the scenario does not have",
+       .body = "study:\n  vary:\n    robot.odometry.no_such_key: [1, 2]\n",
+       .line = 5,
+       .key_part = "study.vary.robot.odometry.no_such_key"},
+      {.what = "the seed is not swept", .body = "study:\n  vary:\n    seed: [1, 2]\n", .line = 5},
+      {.what = "overlapping sweep keys",
+       .body = "study:\n  vary:\n    robot.odometry: [{}]\n    robot.odometry.random_k_m: [1]\n",
+       .line = 6,
+       .message_part = "overlaps"},
+      {.what = "an unknown study key",
+       .body = "study:\n  runz: 4\n",
+       .line = 4,
+       .key_part = "runz"},
+      {.what = "runs out of bounds", .body = "study:\n  runs: 0\n", .key = "study.runs"},
+      {.what = "an expectation on a pipeline that does not run",
+       .body = "study:\n  expectations:\n    - p3_upward.ate_rmse_m.mean < 0.1\n",
+       .line = 5,
+       .message_part = "does not run"},
+      {.what = "an expectation on a metric the study does not summarise",
+       .body = "study:\n  expectations:\n    - odometry.map.corner.rmse_m.mean < 0.1\n",
+       .message_part = "study.metrics"},
+      {.what = "an unknown extra metric",
+       .body = "study:\n  metrics: [ate_rmse_m, no_such_metric]\n",
+       .key = "study.metrics"},
+      {.what = "may_diverge names a pipeline the scenario does not run, at its line",
+       .body = "study:\n  may_diverge:\n    - odometry\n    - p1_harris\n",
+       .line = 6,
+       .key = "study.may_diverge",
+       .message_part = "p1_harris"},
+      {.what = "too many points",
+       .body = "study:\n  vary:\n    robot.odometry.random_k_m: " + values +
+               "\n    world.plates.count: " + values + "\n",
+       .message_part = "points"},
+  };
+  for (const Case& c : cases) {
+    DYNAMIC_SECTION(c.what) {
+      const InputError e = error_of(c.body);
+      if (c.line != 0) CHECK(e.location().line == c.line);
+      if (c.key) CHECK(e.key() == c.key);
+      if (c.key_part) CHECK(test::Contains(e.key(), c.key_part));
+      if (c.message_part) CHECK(test::Contains(e.message(), c.message_part));
+    }
   }
 }
 
