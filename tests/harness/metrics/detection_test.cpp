@@ -232,7 +232,7 @@ render::PlateTruth PlateWithRegions(int id, double distance_m, double height_px,
 
 // The plate cases: a pipeline whose estimates are the truth and that used the lateral camera.
 struct LateralPlates {
-  const worlds::World world;
+  const worlds::World world{};
   const std::vector<TruthPose> truth = ArcTruth(1.0);
   PipelineRecord record = ExactRecord("plates", truth, {"lateral"});
 };
