@@ -1,10 +1,13 @@
-// The scenario keys of the simulation (robot:, odometry:): one table per options struct,
+// The scenario keys of the simulation (robot:, its odometry:, path:): one table per options struct,
 // with each key's unit, bounds and doc (common/options_table.h). The structs, their Check() and
 // the code that reads them stay in their own files.
 
+#include "common/io/options_yaml.h"
+#include "common/io/yaml_reader.h"
 #include "common/options_table.h"
 #include "sim/odometry.h"
 #include "sim/robot.h"
+#include "sim/robot_path.h"
 
 namespace corridorsim::sim {
 
@@ -44,6 +47,64 @@ const OptionTable<RobotOptions>& RobotOptionsTable() {
         .Note("[1, physics_rate_hz]");
     t.AddSection("odometry", &R::odometry, OdometryOptionsTable(),
                  "the wheel encoders and their errors", &OdometryOptions::Check);
+  });
+}
+
+const OptionTable<RobotPathOptions>& RobotPathOptionsTable() {
+  return StaticOptionTable<RobotPathOptions>([](OptionTable<RobotPathOptions>& t) {
+    using P = RobotPathOptions;
+    t.AddEnum("kind", &P::kind, kPathKindNames, "what the robot drives (below)");
+    t.Add("speed_mps", &P::speed_mps, "m/s",
+          "cruise speed on straight legs (P1: 0.34 m/s; P3 drove at 0.30)")
+        .Range(0.01, kMaxPathSpeedMps);
+    t.Add("acceleration_mps2", &P::acceleration_mps2, "m/s^2",
+          "speed ramps up and down (before every turn and the goal)")
+        .Range(0.01, 10);
+    t.Add("turn_rate_dps", &P::turn_rate_dps, "deg/s", "yaw rate of in-place turns")
+        .Range(1, kMaxPathTurnRateDps);
+    t.Add("turn_acceleration_dps2", &P::turn_acceleration_dps2, "deg/s^2",
+          "yaw-rate ramps of in-place turns")
+        .Range(1, 3000);
+    t.Add("lateral_offset_m", &P::lateral_offset_m, "m",
+          "straight legs run this far to the left of the direction of travel (negative: right); "
+          "UMBmark: moves the whole square left")
+        .Range(-100, 100);
+    t.Add("end_margin_m", &P::end_margin_m, "m",
+          "where the robot starts and turns, measured from the corridor ends (loop: where it "
+          "starts along the first side)")
+        .Range(0, 1000);
+    t.Add("laps", &P::laps, "", "`round_trip`: repetitions; `loop`: laps; UMBmark: squares")
+        .Range(1, 1000);
+    t.Add("umbmark_side_m", &P::umbmark_side_m, "m",
+          "side of the UMBmark square (Borenstein's 4 m needs a corridor 4.7 m wide)")
+        .Range(0.1, 100);
+    t.AddCustom(
+        "commands", "`script` only: rows [duration_s, linear_mps, angular_dps]",
+        [](YamlMap& map, P& options) {
+          std::vector<std::vector<double>> rows;
+          if (map.Read("commands", rows, 3)) {
+            options.commands.clear();
+            for (const std::vector<double>& row : rows)
+              options.commands.push_back({row[0], row[1], row[2]});
+          }
+        },
+        [](const P& options, OptionsYamlWriter& out) {
+          std::string rows;
+          for (const VelocityCommand& c : options.commands) {
+            rows +=
+                (rows.empty() ? "" : ", ") + YamlList({c.duration_s, c.linear_mps, c.angular_dps});
+          }
+          out.Scalar("commands", "[" + rows + "]");
+        },
+        [](const P&) {
+          return std::vector<OptionDocRow>{
+              {"commands", "s, m/s, deg/s", "`[]`",
+               "at most 10000 rows; duration_s in [0.001, 1e6] (the rows' sum at most 1e6), "
+               "linear_mps in [-1.2, 1.2], angular_dps in [-300, 300]",
+               "`script` only: rows `[duration_s, linear_mps, angular_dps]`, e.g. `[[10, 0.3, "
+               "0], "
+               "[3, 0, 30]]`, driven in order (angular_dps positive counter-clockwise)"}};
+        });
   });
 }
 
