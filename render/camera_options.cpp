@@ -282,6 +282,59 @@ const OptionTable<SceneOptions>& SceneRenderOptionsTable() {
 
 }  // namespace
 
+const OptionTable<DepthNoiseOptions>& DepthNoiseOptionsTable() {
+  return StaticOptionTable<DepthNoiseOptions>([](OptionTable<DepthNoiseOptions>& t) {
+    using D = DepthNoiseOptions;
+    t.Add("min_m", &D::min_m, "m", "nearest valid depth").AtLeast(0);
+    t.Add("max_m", &D::max_m, "m", "farthest valid depth").Range(0, 1000).Note("> min_m");
+    t.Add("quantise", &D::quantise, "", "disparity quantisation to 1 / subpixel px");
+    t.Add("baseline_m", &D::baseline_m, "m", "projector-camera baseline").Greater(0).Range(0, 10);
+    t.Add("subpixel", &D::subpixel, "", "disparity steps per px")
+        .AtLeast(1, "must be at least 1 (got {})")
+        .Range(1, 1024);
+    t.Add("axial", &D::axial, "",
+          "axial noise sigma_z = axial_a_m + axial_b (z - axial_z0_m)^2 (Nguyen 2012 eq. 6)");
+    t.Add("axial_a_m", &D::axial_a_m, "m", "sigma at z = axial_z0_m").AtLeast(0);
+    t.Add("axial_b", &D::axial_b, "1/m", "growth of sigma with (z - axial_z0_m)^2").AtLeast(0);
+    t.Add("axial_z0_m", &D::axial_z0_m, "m", "depth of the smallest sigma").AtLeast(0);
+    t.Add("lateral_sigma_px", &D::lateral_sigma_px, "px",
+          "lateral noise: a pixel takes the depth of one displaced by round(N(0, sigma)); 0 = off")
+        .Range(0, 10, "must lie in [0, 10] px (got {})");
+    t.Add("grazing", &D::grazing, "", "dropouts at grazing incidence");
+    t.Add("grazing_start_deg", &D::grazing_start_deg, "deg", "dropouts begin")
+        .Range(0, 90, "must lie in [0, 90] deg (got {})");
+    t.Add("grazing_max_deg", &D::grazing_max_deg, "deg", "everything beyond is invalid")
+        .Note("[grazing_start_deg, 90]");
+    t.Add("random_dropout", &D::random_dropout, "",
+          "probability that any valid pixel becomes invalid")
+        .Range(0, 1);
+  });
+}
+
+const OptionTable<RgbNoiseOptions>& RgbNoiseOptionsTable() {
+  return StaticOptionTable<RgbNoiseOptions>([](OptionTable<RgbNoiseOptions>& t) {
+    using R = RgbNoiseOptions;
+    t.Add("exposure", &R::exposure, "",
+          "gain on the collected signal (exposure time ratio); 1 = off")
+        .Greater(0)
+        .Range(0, 100);
+    t.Add("vignetting", &R::vignetting, "", "relative fall-off at the image corners; 0 = off")
+        .Range(0, 1);
+    t.Add("full_well_electrons", &R::full_well_electrons, "",
+          "electrons at 255 DN (shot noise); 0 = off, e.g. 6000 for a web camera")
+        .AtLeast(0)
+        .Range(0, 1e7);
+    t.Add("read_noise_electrons", &R::read_noise_electrons, "",
+          "read noise (std, electrons); 0 = off")
+        .AtLeast(0)
+        .Range(0, 1e4)
+        .Note("needs full_well_electrons > 0");
+    t.Add("motion_blur_px", &R::motion_blur_px, "px", "length of the linear motion blur; 0 = off")
+        .AtLeast(0)
+        .Range(0, 64);
+  });
+}
+
 const OptionTable<CameraOptions>& CameraOptionsTable() {
   return StaticOptionTable<CameraOptions>([](OptionTable<CameraOptions>& t) {
     using C = CameraOptions;

@@ -108,7 +108,8 @@ cleanup() {
 }
 trap cleanup EXIT
 mountpoint -q "$root/proc" || mount -t proc proc "$root/proc"
-mountpoint -q "$root/sys" || mount -t sysfs sys "$root/sys"
+# /sys with what is mounted under it (the cgroup file system: slurmd needs it, as on a machine)
+if ! mountpoint -q "$root/sys"; then mount --rbind /sys "$root/sys"; mount --make-rslave "$root/sys"; fi
 if ! mountpoint -q "$root/dev"; then mount --rbind /dev "$root/dev"; mount --make-rslave "$root/dev"; fi
 
 # A clean clone of HEAD (no build tree, no node_modules, no untracked files).

@@ -9,42 +9,6 @@
 
 namespace corridorsim::sim {
 
-const OptionTable<OdometryOptions>& OdometryOptionsTable() {
-  return StaticOptionTable<OdometryOptions>([](OptionTable<OdometryOptions>& t) {
-    using O = OdometryOptions;
-    // At least 1 Hz: the slips of one message are drawn one by one (at most slip_rate_per_m
-    // times the wheels' travel in a period: 100 / m * 100 m/s * 1 s), and real encoders report
-    // far faster.
-    t.Add("rate_hz", &O::rate_hz, "Hz",
-          "odometry messages per second; stamps at n periods, the period being 1 / rate_hz "
-          "rounded to the nanosecond")
-        .Range(1, 1000, "must lie in [1, 1000] Hz (got {})");
-    // At most kMaxTicksPerRevolution: a 0.6 um tick on a 195 mm wheel, finer than any wheel.
-    t.Add("ticks_per_revolution", &O::ticks_per_revolution, "",
-          "encoder counts per wheel turn (0 = no quantisation); at most 1e6, a 0.6 um tick on "
-          "the Pioneer's 195 mm wheel, finer than anything a wheel measures")
-        .Range(0, kMaxTicksPerRevolution, "must lie in [0, 1000000] (0 = no quantisation; got {})");
-    // Real robots stay within a few per cent of 1; beyond a factor 2 the wheels are not one model.
-    t.Add("diameter_ratio", &O::diameter_ratio, "",
-          "Borenstein's E_d = D_R / D_L of the real wheels (their mean stays nominal)")
-        .Range(0.5, 2);
-    t.Add("wheelbase_ratio", &O::wheelbase_ratio, "", "E_b = real / nominal wheelbase")
-        .Range(0.5, 2);
-    // k = 0.1 m is a 30 cm standard deviation after 1 m: far beyond any wheel.
-    t.Add(
-         "random_k_m", &O::random_k_m, "m",
-         "k: each wheel's reported distance gets variance k |s| (m^2 per m, the form of P1 eq. 17)")
-        .Range(0, 0.1);
-    // The slip count per message is drawn from this rate: the upper bound keeps it small.
-    t.Add("slip_rate_per_m", &O::slip_rate_per_m, "1/m",
-          "slip events per metre travelled (Poisson)")
-        .Range(0, 100);
-    t.Add("slip_mean_m", &O::slip_mean_m, "m",
-          "mean extra distance a slipping wheel reports (exponential)")
-        .RangeOpenLow(0, 1, "must lie in (0, 1] m (got {})");
-  });
-}
-
 std::optional<OptionsProblem> OdometryOptions::Check() const {
   return CheckOptionBounds(OdometryOptionsTable(), *this);
 }

@@ -44,45 +44,6 @@ btTransform ToBt(const SE3& pose) {
 
 }  // namespace
 
-const OptionTable<RobotOptions>& RobotOptionsTable() {
-  return StaticOptionTable<RobotOptions>([](OptionTable<RobotOptions>& t) {
-    using R = RobotOptions;
-    t.Add("body_length_m", &R::body_length_m, "m", "overall length, wheels included")
-        .Range(0.1, 3)
-        .Note("longer than wheel_diameter_m");
-    t.Add("body_width_m", &R::body_width_m, "m", "overall width, wheels included")
-        .Range(0.1, 2)
-        .Note("at least wheelbase_m + wheel_width_m");
-    t.Add("body_height_m", &R::body_height_m, "m", "floor to top plate")
-        .Range(0.1, 2)
-        .Note("higher than wheel_diameter_m");
-    t.Add("mass_kg", &R::mass_kg, "kg", "whole robot").Range(2, 500);
-    t.Add("wheel_diameter_m", &R::wheel_diameter_m, "m",
-          "driven wheels, nominal (what odometry and the controller assume)")
-        .Range(0.02, 1);
-    t.Add("wheel_width_m", &R::wheel_width_m, "m", "").Range(0.005, 0.3);
-    t.Add("wheelbase_m", &R::wheelbase_m, "m",
-          "nominal distance between the wheels' mid-planes (B of P1 eq. 13)")
-        .Range(0.05, 2);
-    t.Add("wheel_friction", &R::wheel_friction, "",
-          "Coulomb coefficient of the wheel-floor contact (traction limit: wheels can slip)")
-        .Range(0.05, 3);
-    t.Add("max_wheel_torque_nm", &R::max_wheel_torque_nm, "N m", "per wheel motor")
-        .Range(0.01, 1000);
-    t.Add("max_wheel_speed_rps", &R::max_wheel_speed_rps, "rad/s", "per wheel motor")
-        .Range(0.1, 200);
-    t.Add("physics_rate_hz", &R::physics_rate_hz, "Hz",
-          "fixed physics step (its period rounded to the nanosecond)")
-        .Range(100, 20000);
-    t.Add("control_rate_hz", &R::control_rate_hz, "Hz",
-          "path follower and motor commands, at the first physics step at or after each n / "
-          "control_rate_hz")
-        .Note("[1, physics_rate_hz]");
-    t.AddSection("odometry", &R::odometry, OdometryOptionsTable(),
-                 "the wheel encoders and their errors", &OdometryOptions::Check);
-  });
-}
-
 std::optional<OptionsProblem> RobotOptions::Check() const {
   if (auto problem = CheckOptionBounds(RobotOptionsTable(), *this)) return problem;
   OptionsChecker c;

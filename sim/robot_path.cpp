@@ -18,9 +18,6 @@ using Eigen::Vector2d;
 
 constexpr double kDegToRad = std::numbers::pi / 180.0;
 constexpr double kEpsM = 1e-9;
-// Pioneer 3-DX limits (MobileRobots datasheet): 1.2 m/s, 300 deg/s.
-constexpr double kMaxSpeedMps = 1.2;
-constexpr double kMaxTurnRateDps = 300.0;
 // Script rows: each command holds for at least a millisecond (a physics step at 1 kHz; a
 // shorter one would round towards 0 ns and is never driven), and the rows together fit the
 // longest run.
@@ -224,71 +221,7 @@ double StoppingRate(double remaining, double accel, double dt_s) {
 
 }  // namespace
 
-constexpr EnumName<PathKind> kPathKindNames[] = {{PathKind::kRoundTrip, "round_trip"},
-                                                 {PathKind::kLoop, "loop"},
-                                                 {PathKind::kUmbmarkCw, "umbmark_cw"},
-                                                 {PathKind::kUmbmarkCcw, "umbmark_ccw"},
-                                                 {PathKind::kScript, "script"}};
-
 std::string PathKindName(PathKind kind) { return NameOf(kPathKindNames, kind); }
-
-const OptionTable<RobotPathOptions>& RobotPathOptionsTable() {
-  return StaticOptionTable<RobotPathOptions>([](OptionTable<RobotPathOptions>& t) {
-    using P = RobotPathOptions;
-    t.AddEnum("kind", &P::kind, kPathKindNames, "what the robot drives (below)");
-    t.Add("speed_mps", &P::speed_mps, "m/s",
-          "cruise speed on straight legs (P1: 0.34 m/s; P3 drove at 0.30)")
-        .Range(0.01, kMaxSpeedMps);
-    t.Add("acceleration_mps2", &P::acceleration_mps2, "m/s^2",
-          "speed ramps up and down (before every turn and the goal)")
-        .Range(0.01, 10);
-    t.Add("turn_rate_dps", &P::turn_rate_dps, "deg/s", "yaw rate of in-place turns")
-        .Range(1, kMaxTurnRateDps);
-    t.Add("turn_acceleration_dps2", &P::turn_acceleration_dps2, "deg/s^2",
-          "yaw-rate ramps of in-place turns")
-        .Range(1, 3000);
-    t.Add("lateral_offset_m", &P::lateral_offset_m, "m",
-          "straight legs run this far to the left of the direction of travel (negative: right); "
-          "UMBmark: moves the whole square left")
-        .Range(-100, 100);
-    t.Add("end_margin_m", &P::end_margin_m, "m",
-          "where the robot starts and turns, measured from the corridor ends (loop: where it "
-          "starts along the first side)")
-        .Range(0, 1000);
-    t.Add("laps", &P::laps, "", "`round_trip`: repetitions; `loop`: laps; UMBmark: squares")
-        .Range(1, 1000);
-    t.Add("umbmark_side_m", &P::umbmark_side_m, "m",
-          "side of the UMBmark square (Borenstein's 4 m needs a corridor 4.7 m wide)")
-        .Range(0.1, 100);
-    t.AddCustom(
-        "commands", "`script` only: rows [duration_s, linear_mps, angular_dps]",
-        [](YamlMap& map, P& options) {
-          std::vector<std::vector<double>> rows;
-          if (map.Read("commands", rows, 3)) {
-            options.commands.clear();
-            for (const std::vector<double>& row : rows)
-              options.commands.push_back({row[0], row[1], row[2]});
-          }
-        },
-        [](const P& options, OptionsYamlWriter& out) {
-          std::string rows;
-          for (const VelocityCommand& c : options.commands) {
-            rows +=
-                (rows.empty() ? "" : ", ") + YamlList({c.duration_s, c.linear_mps, c.angular_dps});
-          }
-          out.Scalar("commands", "[" + rows + "]");
-        },
-        [](const P&) {
-          return std::vector<OptionDocRow>{
-              {"commands", "s, m/s, deg/s", "`[]`",
-               "at most 10000 rows; duration_s in [0.001, 1e6] (the rows' sum at most 1e6), "
-               "linear_mps in [-1.2, 1.2], angular_dps in [-300, 300]",
-               "`script` only: rows `[duration_s, linear_mps, angular_dps]`, e.g. `[[10, 0.3, "
-               "0], "
-               "[3, 0, 30]]`, driven in order (angular_dps positive counter-clockwise)"}};
-        });
-  });
-}
 
 std::optional<OptionsProblem> RobotPathOptions::Check() const {
   if (auto problem = CheckOptionBounds(RobotPathOptionsTable(), *this)) return problem;
@@ -314,10 +247,10 @@ std::optional<OptionsProblem> RobotPathOptions::Check() const {
               row + "the commands up to here last " + FormatNumber(total_s) +
                   " s, more than the longest run (1e+06 s)");
     c.Require(
-        std::abs(cmd.linear_mps) <= kMaxSpeedMps, "commands",
+        std::abs(cmd.linear_mps) <= kMaxPathSpeedMps, "commands",
         row + "linear_mps must lie in [-1.2, 1.2] (got " + FormatNumber(cmd.linear_mps) + ")");
     c.Require(
-        std::abs(cmd.angular_dps) <= kMaxTurnRateDps, "commands",
+        std::abs(cmd.angular_dps) <= kMaxPathTurnRateDps, "commands",
         row + "angular_dps must lie in [-300, 300] (got " + FormatNumber(cmd.angular_dps) + ")");
   }
   return c.problem();

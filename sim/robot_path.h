@@ -15,6 +15,7 @@
 
 #include <Eigen/Core>
 
+#include "common/enum_names.h"
 #include "common/error.h"
 #include "common/io/yaml_reader.h"
 #include "common/options_table.h"
@@ -33,7 +34,17 @@ inline constexpr double kRobotHalfWidthM = 0.2;
 inline constexpr double kPathWallClearanceM = 0.35;
 
 enum class PathKind { kRoundTrip, kLoop, kUmbmarkCw, kUmbmarkCcw, kScript };
+inline constexpr EnumName<PathKind> kPathKindNames[] = {{PathKind::kRoundTrip, "round_trip"},
+                                                        {PathKind::kLoop, "loop"},
+                                                        {PathKind::kUmbmarkCw, "umbmark_cw"},
+                                                        {PathKind::kUmbmarkCcw, "umbmark_ccw"},
+                                                        {PathKind::kScript, "script"}};
 std::string PathKindName(PathKind kind);
+
+// Pioneer 3-DX limits (MobileRobots datasheet): 1.2 m/s, 300 deg/s; a path's speed and turn rate
+// (and a script's rows) stay within them.
+inline constexpr double kMaxPathSpeedMps = 1.2;
+inline constexpr double kMaxPathTurnRateDps = 300.0;
 
 /// One open-loop command of a `script` path, held for its duration.
 struct VelocityCommand {

@@ -6,15 +6,6 @@
 
 namespace corridorsim::slam {
 
-const OptionTable<OdometryPipelineOptions>& OdometryPipelineOptionsTable() {
-  return StaticOptionTable<OdometryPipelineOptions>([](OptionTable<OdometryPipelineOptions>& t) {
-    t.Add("k_m", &OdometryPipelineOptions::k_m, "m",
-          "k of P1 eq. 17: Q = diag(k |s_l|, k |s_r|); set it to robot.odometry.random_k_m for a "
-          "consistent filter")
-        .Range(0, 0.1);
-  });
-}
-
 std::optional<OptionsProblem> OdometryPipelineOptions::Check() const {
   return CheckOptionBounds(OdometryPipelineOptionsTable(), *this);
 }

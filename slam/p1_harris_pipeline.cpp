@@ -17,41 +17,6 @@ constexpr auto* SecondsSince = &StageClock::SecondsSince;
 
 }  // namespace
 
-const OptionTable<P1HarrisOptions>& P1HarrisOptionsTable() {
-  return StaticOptionTable<P1HarrisOptions>([](OptionTable<P1HarrisOptions>& t) {
-    using O = P1HarrisOptions;
-    t.Add("k_m", &O::k_m, "m",
-          "k of P1 eq. 17: Q = diag(k |s_l|, k |s_r|); set it to robot.odometry.random_k_m")
-        .Range(0, 0.1);
-    t.Add("gate_chi2", &O::gate_chi2, "",
-          "Mahalanobis gate of an association (chi-square at 3 dof; 11.34 = 99 %)")
-        .Range(1, 1000);
-    t.Add("pixel_sigma_px", &O::pixel_sigma_px, "px", "sigma of a corner's u and v")
-        .Greater(0)
-        .Range(0, 100);
-    t.Add("depth_sigma_a_m", &O::depth_sigma_a_m, "m", "depth sigma at zero range")
-        .Greater(0)
-        .Range(0, 10);
-    t.Add("depth_sigma_b", &O::depth_sigma_b, "1/m", "growth of the depth sigma with z^2")
-        .Range(0, 10);
-    t.Add("max_depth_m", &O::max_depth_m, "m", "corners farther than this are not used")
-        .Greater(0)
-        .Range(0, 100);
-    t.Add("search_radius_px", &O::search_radius_px, "px",
-          "landmarks predicted within this of a corner are association candidates")
-        .Greater(0)
-        .Range(0, 1000);
-    t.Add("max_corners_per_frame", &O::max_corners_per_frame, "",
-          "corners used per frame, strongest first")
-        .Range(1, 1000);
-    t.Add("max_landmarks", &O::max_landmarks, "",
-          "the state stops growing at this many point landmarks")
-        .Range(1, 2500);
-    t.AddSection("corners", &O::corners, HarrisCornerOptionsTable(), "the Harris detector",
-                 &HarrisCornerOptions::Check);
-  });
-}
-
 std::optional<OptionsProblem> P1HarrisOptions::Check() const {
   return CheckOptionBounds(P1HarrisOptionsTable(), *this);
 }

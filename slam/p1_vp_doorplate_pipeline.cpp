@@ -18,63 +18,6 @@ constexpr double kDegToRad = M_PI / 180.0;
 
 }  // namespace
 
-const OptionTable<P1VpDoorplateOptions>& P1VpDoorplateOptionsTable() {
-  return StaticOptionTable<P1VpDoorplateOptions>([](OptionTable<P1VpDoorplateOptions>& t) {
-    using O = P1VpDoorplateOptions;
-    t.Add("k_m", &O::k_m, "m",
-          "k of P1 eq. 17: Q = diag(k |s_l|, k |s_r|); set it to robot.odometry.random_k_m")
-        .Range(0, 0.1);
-    t.Add("gate_chi2", &O::gate_chi2, "",
-          "NIS gate of every update (chi-square at 1 dof; 10.83 = 99.9 %)")
-        .Range(1, 1000);
-    t.Add("use_vanishing_point", &O::use_vanishing_point, "",
-          "observe the front camera's vanishing point (P1 eq. 19)");
-    t.Add("vp_sigma_px", &O::vp_sigma_px, "px", "sigma of the vanishing point's u (eq. 19's R)")
-        .Greater(0)
-        .Range(0, 100);
-    t.Add("vp_virtual_distance_m", &O::vp_virtual_distance_m, "m",
-          "distance of the virtual plane the VP landmark lies on (P1 Fig. 10)")
-        .Range(10, 1e6);
-    t.AddSection("vanishing_point", &O::vanishing_point, VanishingPointOptionsTable(),
-                 "the vanishing-point detector (P1 section 2)", &VanishingPointOptions::Check);
-    t.Add("use_door_plates", &O::use_door_plates, "",
-          "observe the lateral camera's door plates (P1 eq. 20)");
-    t.Add("plate_sigma_px", &O::plate_sigma_px, "px", "sigma_u of P1 eq. 25")
-        .Greater(0)
-        .Range(0, 100);
-    t.Add("plate_height_m", &O::plate_height_m, "m",
-          "nominal height of the plates' numbers (the plate state is planar, P1 eq. 11)")
-        .Range(0, 10);
-    t.Add("plate_height_tolerance_m", &O::plate_height_tolerance_m, "m",
-          "a plate is initialised only when seen within this of plate_height_m (row and depth)")
-        .Greater(0)
-        .Range(0, 10);
-    t.Add("min_readings", &O::min_readings, "",
-          "accepted readings of a number before it may become a landmark")
-        .Range(1, 100);
-    t.Add("min_parallax_deg", &O::min_parallax_deg, "deg",
-          "parallax of the two sightings a plate is triangulated from (delayed initialisation)")
-        .Range(0.5, 90);
-    t.Add("max_plate_range_m", &O::max_plate_range_m, "m",
-          "a triangulated plate farther than this from the camera is refused")
-        .Greater(0)
-        .Range(0, 100);
-    t.Add("pending_timeout_s", &O::pending_timeout_s, "s",
-          "a number read but not initialised within this is forgotten (its clone removed)")
-        .Greater(0)
-        .Range(0, 3600);
-    t.Add("models_dir", &O::models_dir, "",
-          "folder of the trained detector models (docs/detectors.md); empty: the source tree's "
-          "models/");
-    t.AddSection("door_plates", &O::door_plates, DoorPlateOptionsTable(),
-                 "door-plate detector and room-number reader (P1 section 3)",
-                 &DoorPlateOptions::Check);
-    t.Add("octomap", &O::octomap, "", "build the OctoMap from the front depth (P1 section 5)");
-    t.AddSection("octomap_map", &O::octomap_map, OccupancyMapperOptionsTable(),
-                 "the OctoMap's resolution, range and keyframes", &OccupancyMapperOptions::Check);
-  });
-}
-
 std::optional<OptionsProblem> P1VpDoorplateOptions::Check() const {
   return CheckOptionBounds(P1VpDoorplateOptionsTable(), *this);
 }

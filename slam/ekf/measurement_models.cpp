@@ -67,6 +67,36 @@ Eigen::Vector3d WorldPointInCamera(const SE2& world_from_robot, const Eigen::Vec
   return p_in_camera;
 }
 
+namespace {
+
+// A world point through the camera: its camera-frame position, its pixel and the Jacobians both
+// projections share (pixel by camera point; camera point by pose and by world point).
+struct CameraProjection {
+  Eigen::Vector3d p_in_camera;
+  Eigen::Vector2d pixel;
+  // Zero where the caller asked for no Jacobians.
+  Eigen::Matrix<double, 2, 3> d_pixel_d_camera = Eigen::Matrix<double, 2, 3>::Zero();
+  Eigen::Matrix3d d_camera_d_pose = Eigen::Matrix3d::Zero();
+  Eigen::Matrix3d d_camera_d_point = Eigen::Matrix3d::Zero();
+};
+
+std::optional<CameraProjection> ProjectThroughCamera(const SE2& world_from_robot,
+                                                     const Eigen::Vector3d& p_in_world,
+                                                     const SE3& robot_from_camera,
+                                                     const CameraModel& model, bool jacobians) {
+  CameraProjection p;
+  p.p_in_camera = WorldPointInCamera(world_from_robot, p_in_world, robot_from_camera,
+                                     jacobians ? &p.d_camera_d_pose : nullptr,
+                                     jacobians ? &p.d_camera_d_point : nullptr);
+  const std::optional<Eigen::Vector2d> pixel =
+      model.Project(p.p_in_camera, jacobians ? &p.d_pixel_d_camera : nullptr);
+  if (!pixel) return std::nullopt;
+  p.pixel = *pixel;
+  return p;
+}
+
+}  // namespace
+
 std::optional<Eigen::Vector2d> ProjectWorldPoint(const SE2& world_from_robot,
                                                  const Eigen::Vector3d& p_in_world,
                                                  const SE3& robot_from_camera,
@@ -74,17 +104,12 @@ std::optional<Eigen::Vector2d> ProjectWorldPoint(const SE2& world_from_robot,
                                                  Eigen::Matrix<double, 2, 3>* d_pixel_d_pose,
                                                  Eigen::Matrix<double, 2, 3>* d_pixel_d_point) {
   const bool jacobians = d_pixel_d_pose != nullptr || d_pixel_d_point != nullptr;
-  Eigen::Matrix3d d_camera_d_pose, d_camera_d_point;
-  const Eigen::Vector3d p_in_camera = WorldPointInCamera(
-      world_from_robot, p_in_world, robot_from_camera, jacobians ? &d_camera_d_pose : nullptr,
-      jacobians ? &d_camera_d_point : nullptr);
-  Eigen::Matrix<double, 2, 3> d_pixel_d_camera;
-  const std::optional<Eigen::Vector2d> pixel =
-      model.Project(p_in_camera, jacobians ? &d_pixel_d_camera : nullptr);
-  if (!pixel) return std::nullopt;
-  if (d_pixel_d_pose != nullptr) *d_pixel_d_pose = d_pixel_d_camera * d_camera_d_pose;
-  if (d_pixel_d_point != nullptr) *d_pixel_d_point = d_pixel_d_camera * d_camera_d_point;
-  return pixel;
+  const std::optional<CameraProjection> p =
+      ProjectThroughCamera(world_from_robot, p_in_world, robot_from_camera, model, jacobians);
+  if (!p) return std::nullopt;
+  if (d_pixel_d_pose != nullptr) *d_pixel_d_pose = p->d_pixel_d_camera * p->d_camera_d_pose;
+  if (d_pixel_d_point != nullptr) *d_pixel_d_point = p->d_pixel_d_camera * p->d_camera_d_point;
+  return p->pixel;
 }
 
 std::optional<Eigen::Vector3d> ProjectWorldPointWithDepth(const SE2& world_from_robot,
@@ -94,24 +119,19 @@ std::optional<Eigen::Vector3d> ProjectWorldPointWithDepth(const SE2& world_from_
                                                           Eigen::Matrix3d* d_measurement_d_pose,
                                                           Eigen::Matrix3d* d_measurement_d_point) {
   const bool jacobians = d_measurement_d_pose != nullptr || d_measurement_d_point != nullptr;
-  Eigen::Matrix3d d_camera_d_pose, d_camera_d_point;
-  const Eigen::Vector3d p_in_camera = WorldPointInCamera(
-      world_from_robot, p_in_world, robot_from_camera, jacobians ? &d_camera_d_pose : nullptr,
-      jacobians ? &d_camera_d_point : nullptr);
-  Eigen::Matrix<double, 2, 3> d_pixel_d_camera;
-  const std::optional<Eigen::Vector2d> pixel =
-      model.Project(p_in_camera, jacobians ? &d_pixel_d_camera : nullptr);
-  if (!pixel) return std::nullopt;
+  const std::optional<CameraProjection> p =
+      ProjectThroughCamera(world_from_robot, p_in_world, robot_from_camera, model, jacobians);
+  if (!p) return std::nullopt;
   Eigen::Matrix3d d_measurement_d_camera;
-  d_measurement_d_camera.topRows<2>() = d_pixel_d_camera;
+  d_measurement_d_camera.topRows<2>() = p->d_pixel_d_camera;
   d_measurement_d_camera.row(2) = Eigen::RowVector3d(0.0, 0.0, 1.0);  // depth = z in the camera
   if (d_measurement_d_pose != nullptr) {
-    *d_measurement_d_pose = d_measurement_d_camera * d_camera_d_pose;
+    *d_measurement_d_pose = d_measurement_d_camera * p->d_camera_d_pose;
   }
   if (d_measurement_d_point != nullptr) {
-    *d_measurement_d_point = d_measurement_d_camera * d_camera_d_point;
+    *d_measurement_d_point = d_measurement_d_camera * p->d_camera_d_point;
   }
-  return Eigen::Vector3d(pixel->x(), pixel->y(), p_in_camera.z());
+  return Eigen::Vector3d(p->pixel.x(), p->pixel.y(), p->p_in_camera.z());
 }
 
 std::optional<double> VanishingPointU(const SE2& world_from_robot,

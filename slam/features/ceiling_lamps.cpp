@@ -11,43 +11,6 @@
 
 namespace corridorsim::slam {
 
-const OptionTable<CeilingLampOptions>& CeilingLampOptionsTable() {
-  using O = CeilingLampOptions;
-  return StaticOptionTable<O>([](OptionTable<O>& t) {
-    t.Add("brightness_threshold", &O::brightness_threshold, "grey level",
-          "pixels above this are the image's brightest parts")
-        .Range(1, 254);
-    t.Add("min_area_px", &O::min_area_px, "px", "smallest bright region tested").Range(3, 1e6);
-    t.Add("max_area_px", &O::max_area_px, "px", "largest bright region tested")
-        .Range(3, 1e7)
-        .Note(">= min_area_px");
-    t.Add("max_regions", &O::max_regions, "", "regions tested per image, largest first")
-        .Range(1, 1000);
-    t.Add("canny_low", &O::canny_low, "grey levels/px", "Canny's lower threshold").Range(0, 5000);
-    t.Add("canny_high", &O::canny_high, "grey levels/px", "Canny's upper threshold")
-        .Range(0, 5000)
-        .Note(">= canny_low");
-    t.Add("min_edge_contrast", &O::min_edge_contrast, "grey levels",
-          "grey step across a region's outline below which it is not a lamp (wall glare)")
-        .Range(0, 255);
-    t.Add("border_margin_px", &O::border_margin_px, "px",
-          "edge points this close to the image border are ignored (P3 Fig. 3b)")
-        .Range(0, 50);
-    t.Add("min_edge_points", &O::min_edge_points, "", "fewer usable edge points: no test")
-        .Range(3, 100000);
-    t.Add("triples", &O::triples, "", "random three-point centres per region (P3 eqs. 1-2)")
-        .Range(3, 10000);
-    t.Add("min_chord_fraction", &O::min_chord_fraction, "",
-          "shortest chord of a triple, as a fraction of the edge points' RMS spread")
-        .Range(0, 2);
-    t.Add("k_conv_px", &O::k_conv_px, "px",
-          "K_conv: both principal standard deviations of the centres below it = circular")
-        .Greater(0)
-        .Range(0, 1000);
-    t.Add("seed", &O::seed, "", "seed of the random triples");
-  });
-}
-
 std::optional<OptionsProblem> CeilingLampOptions::Check() const {
   if (auto p = CheckOptionBounds(CeilingLampOptionsTable(), *this)) return p;
   if (max_area_px < min_area_px) {

@@ -11,29 +11,6 @@
 
 namespace corridorsim::slam {
 
-const OptionTable<CornerPatchOptions>& CornerPatchOptionsTable() {
-  using O = CornerPatchOptions;
-  return StaticOptionTable<O>([](OptionTable<O>& t) {
-    t.AddEnum("detector", &O::detector,
-              {{"fast", CornerDetector::kFast}, {"harris", CornerDetector::kHarris}},
-              "corner detector: fast (P3) or harris (P2)");
-    t.Add("fast_threshold", &O::fast_threshold, "grey levels",
-          "FAST: intensity difference on the 16-pixel circle")
-        .Range(1, 254);
-    t.Add("harris_k", &O::harris_k, "", "Harris: k of det(M) - k trace(M)^2").Range(0.01, 0.25);
-    t.Add("harris_quality", &O::harris_quality, "",
-          "Harris: fraction of the best response a corner must reach")
-        .RangeOpenLow(0, 1);
-    t.Add("max_corners", &O::max_corners, "", "corners per image, strongest first").Range(1, 2000);
-    t.Add("min_distance_px", &O::min_distance_px, "px", "spacing of kept corners").Range(0, 200);
-    t.Add("patch_half_px", &O::patch_half_px, "px", "patch half side (patch 2 h + 1 square)")
-        .Range(1, 15);
-    t.Add("fast_subpixel_half_px", &O::fast_subpixel_half_px, "px",
-          "FAST: half side of the cv::cornerSubPix window refining each corner (0 = integer pixel)")
-        .Range(0, 10);
-  });
-}
-
 std::optional<OptionsProblem> CornerPatchOptions::Check() const {
   return CheckOptionBounds(CornerPatchOptionsTable(), *this);
 }

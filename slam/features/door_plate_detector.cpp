@@ -20,47 +20,6 @@ double IntersectionOverUnion(const BoxPx& a, const BoxPx& b) {
   return inter / (a.width() * a.height() + b.width() * b.height() - inter);
 }
 
-const OptionTable<DoorPlateDetectorOptions>& DoorPlateDetectorOptionsTable() {
-  using O = DoorPlateDetectorOptions;
-  return StaticOptionTable<O>([](OptionTable<O>& t) {
-    t.Add("scales", &O::scales, "", "image scales searched for digit-sized blobs, each in (0, 1]")
-        .Note("1 to 6 values in (0, 1]");
-    t.Add("edge_threshold", &O::edge_threshold, "", "|Sobel x| (3x3) that counts as an edge")
-        .Range(1, 1020);
-    t.Add("close_width_px", &O::close_width_px, "px", "closing kernel width (merges digits)")
-        .Range(1, 31);
-    t.Add("close_height_px", &O::close_height_px, "px", "closing kernel height").Range(1, 31);
-    t.Add("min_height_px", &O::min_height_px, "px", "smallest blob height at a scale")
-        .Range(1, 1000);
-    t.Add("max_height_px", &O::max_height_px, "px", "largest blob height at a scale")
-        .Range(1, 1000)
-        .Note(">= min_height_px");
-    t.Add("min_width_px", &O::min_width_px, "px", "smallest blob width at a scale").Range(1, 4000);
-    t.Add("max_width_px", &O::max_width_px, "px", "largest blob width at a scale")
-        .Range(1, 4000)
-        .Note(">= min_width_px");
-    t.Add("min_aspect", &O::min_aspect, "", "smallest blob width / height").Range(0.05, 50);
-    t.Add("max_aspect", &O::max_aspect, "", "largest blob width / height")
-        .Range(0.05, 50)
-        .Note(">= min_aspect");
-    t.Add("min_edge_fill", &O::min_edge_fill, "", "fraction of edge pixels in a blob's box")
-        .Range(0, 1);
-    t.Add("max_candidates", &O::max_candidates, "", "candidates kept per image").Range(1, 10000);
-    t.Add("duplicate_iou", &O::duplicate_iou, "", "IoU above which two candidates are one")
-        .RangeOpenLow(0, 1);
-    t.Add("suppression_iou", &O::suppression_iou, "",
-          "IoU above which the lower-scored of two detections is dropped")
-        .RangeOpenLow(0, 1);
-    t.Add("patch_width_px", &O::patch_width_px, "px", "P1 eq. 5 patch width").Range(4, 256);
-    t.Add("patch_height_px", &O::patch_height_px, "px", "P1 eq. 5 patch height").Range(4, 256);
-    t.Add("context", &O::context, "", "box fraction added on each side of the patch").Range(0, 2);
-    t.Add("hog_cell_px", &O::hog_cell_px, "px",
-          "HOG cell side appended to the patch's pixels (0 = pixels only)")
-        .ZeroOr(2, 32)
-        .Note("divides both patch sides, at least 2 cells each");
-  });
-}
-
 std::optional<OptionsProblem> DoorPlateDetectorOptions::Check() const {
   if (auto p = CheckOptionBounds(DoorPlateDetectorOptionsTable(), *this)) return p;
   if (scales.empty() || scales.size() > 6)

@@ -68,19 +68,6 @@ DoorPlateModels DoorPlateModels::Load(const std::filesystem::path& dir) {
   return models;
 }
 
-const OptionTable<DoorPlateOptions>& DoorPlateOptionsTable() {
-  return StaticOptionTable<DoorPlateOptions>([](OptionTable<DoorPlateOptions>& t) {
-    t.AddSection("detector", &DoorPlateOptions::detector, DoorPlateDetectorOptionsTable(),
-                 "P1 section 3.1 candidate segmentation and SVM patch",
-                 &DoorPlateDetectorOptions::Check);
-    t.AddSection("reader", &DoorPlateOptions::reader, RoomNumberReaderOptionsTable(),
-                 "P1 section 3.2 digit segmentation and MLP", &RoomNumberReaderOptions::Check);
-    t.Add("min_plate_score", &DoorPlateOptions::min_plate_score, "",
-          "SVM margins above this are plates (P1 eq. 6: 0)")
-        .Range(-100, 100);
-  });
-}
-
 std::optional<OptionsProblem> DoorPlateOptions::Check() const {
   return CheckOptionBounds(DoorPlateOptionsTable(), *this);
 }

@@ -9,28 +9,6 @@
 
 namespace corridorsim::slam {
 
-const OptionTable<HarrisCornerOptions>& HarrisCornerOptionsTable() {
-  using O = HarrisCornerOptions;
-  return StaticOptionTable<O>([](OptionTable<O>& t) {
-    t.Add("max_corners", &O::max_corners, "", "at most this many corners, strongest first")
-        .Range(1, 10000);
-    t.Add("quality_level", &O::quality_level, "",
-          "a corner's response must reach this fraction of the best one")
-        .RangeOpenLow(0, 1);
-    t.Add("min_distance_px", &O::min_distance_px, "px",
-          "no two corners closer than this; the stronger stays")
-        .Range(0, 1000);
-    t.Add("block_size_px", &O::block_size_px, "px",
-          "side of the structure tensor's summation window")
-        .Range(2, 31);
-    t.Add("harris_k", &O::harris_k, "", "k of the response det(M) - k trace(M)^2")
-        .Range(0.01, 0.25);
-    t.Add("subpixel_half_window_px", &O::subpixel_half_window_px, "px",
-          "cv::cornerSubPix half window (0 = the integer pixel of the maximum)")
-        .Range(0, 15);
-  });
-}
-
 std::optional<OptionsProblem> HarrisCornerOptions::Check() const {
   return CheckOptionBounds(HarrisCornerOptionsTable(), *this);
 }

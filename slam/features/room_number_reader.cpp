@@ -7,36 +7,6 @@
 
 namespace corridorsim::slam {
 
-const OptionTable<RoomNumberReaderOptions>& RoomNumberReaderOptionsTable() {
-  using O = RoomNumberReaderOptions;
-  return StaticOptionTable<O>([](OptionTable<O>& t) {
-    t.Add("margin", &O::margin, "", "box height fraction added on each side").Range(0, 2);
-    t.Add("work_height_px", &O::work_height_px, "px", "the box is rescaled to this height")
-        .Range(8, 512);
-    t.Add("min_digit_height", &O::min_digit_height, "", "digit height / box height, at least")
-        .Range(0.05, 5);
-    t.Add("max_digit_height", &O::max_digit_height, "", "digit height / box height, at most")
-        .Range(0.05, 5)
-        .Note(">= min_digit_height");
-    t.Add("max_digit_aspect", &O::max_digit_aspect, "", "digit width / height, at most")
-        .Range(0.05, 10);
-    t.Add("min_digits", &O::min_digits, "", "fewest digits of an accepted reading").Range(1, 16);
-    t.Add("max_digits", &O::max_digits, "", "most digits of an accepted reading")
-        .Range(1, 16)
-        .Note(">= min_digits");
-    t.Add("cell_width_px", &O::cell_width_px, "px", "P1 Fig. 7b cell width").Range(2, 64);
-    t.Add("cell_height_px", &O::cell_height_px, "px", "P1 Fig. 7b cell height").Range(2, 64);
-    t.Add("zone_cols", &O::zone_cols, "", "zoning grid columns (0 with zone_rows 0: off)")
-        .Range(0, 16)
-        .Note("<= cell_width_px");
-    t.Add("zone_rows", &O::zone_rows, "", "zoning grid rows")
-        .Range(0, 16)
-        .Note("<= cell_height_px");
-    t.Add("min_digit_score", &O::min_digit_score, "", "P1 Fig. 8: every digit's score, at least")
-        .Range(0, 1);
-  });
-}
-
 std::optional<OptionsProblem> RoomNumberReaderOptions::Check() const {
   if (auto p = CheckOptionBounds(RoomNumberReaderOptionsTable(), *this)) return p;
   if (max_digit_height < min_digit_height) {

@@ -125,53 +125,6 @@ double ChordRadius(const Eigen::Vector2d& p1, const Eigen::Vector2d& p2, double 
 
 }  // namespace
 
-const OptionTable<UpwardDoorOptions>& UpwardDoorOptionsTable() {
-  using O = UpwardDoorOptions;
-  return StaticOptionTable<O>([](OptionTable<O>& t) {
-    t.Add("lsd_scale", &O::lsd_scale, "", "image scale the Line Segment Detector works at")
-        .RangeOpenLow(0, 1);
-    t.Add("min_line_px", &O::min_line_px, "px", "shorter line segments are ignored")
-        .Range(1, 10000);
-    t.Add("radial_tolerance_deg", &O::radial_tolerance_deg, "deg",
-          "a vertical line points at the principal point within this")
-        .Range(0, 45);
-    t.Add("min_radius_px", &O::min_radius_px, "px",
-          "segments whose midpoint is nearer the principal point are ignored")
-        .Range(0, 10000);
-    t.Add("group_gap_deg", &O::group_gap_deg, "deg",
-          "vertical lines this close in angle form one column (P3 Fig. 5a)")
-        .Range(0, 45);
-    t.Add("max_column_gap_px", &O::max_column_gap_px, "px",
-          "radial gap between lines of one column at most")
-        .Range(0, 10000);
-    t.Add("min_column_px", &O::min_column_px, "px", "shortest radial extent of a column")
-        .Range(0, 10000);
-    t.Add("min_door_angle_deg", &O::min_door_angle_deg, "deg",
-          "smallest angle between a door's columns about the principal point")
-        .Range(0, 180);
-    t.Add("max_door_angle_deg", &O::max_door_angle_deg, "deg", "largest such angle")
-        .Range(0, 180)
-        .Note(">= min_door_angle_deg");
-    t.Add("max_top_ratio", &O::max_top_ratio, "",
-          "largest ratio of the two column tops' distances from the principal point")
-        .Range(1, 100);
-    t.Add("bar_margin", &O::bar_margin, "",
-          "the bar's ends may lie this fraction beyond the column tops (P3 Fig. 6b)")
-        .Range(0, 1);
-    t.Add("bar_angle_slack", &O::bar_angle_slack, "",
-          "the bar's ends may lie this fraction of the columns' separation outside them (the "
-          "frame's outer corners)")
-        .Range(0, 1);
-    t.Add("min_bar_coverage", &O::min_bar_coverage, "",
-          "fraction of the columns' angular separation the bar lines must cover")
-        .Range(0, 1);
-    t.Add("max_lines", &O::max_lines, "", "line segments considered at most, longest first")
-        .Range(1, 100000);
-    t.Add("max_columns", &O::max_columns, "", "columns kept at most, longest first").Range(2, 1000);
-    t.Add("max_candidates", &O::max_candidates, "", "door candidates kept at most").Range(1, 10000);
-  });
-}
-
 std::optional<OptionsProblem> UpwardDoorOptions::Check() const {
   if (auto p = CheckOptionBounds(UpwardDoorOptionsTable(), *this)) return p;
   if (max_door_angle_deg < min_door_angle_deg) {

@@ -18,9 +18,6 @@ namespace {
 
 constexpr double kDegToRad = std::numbers::pi / 180.0;
 
-constexpr EnumName<HoughMethod> kHoughMethodNames[] = {
-    {HoughMethod::kProbabilistic, "probabilistic"}, {HoughMethod::kStandard, "standard"}};
-
 constexpr EnumName<VanishingPointStatus> kStatusNames[] = {
     {VanishingPointStatus::kFound, "found"},
     {VanishingPointStatus::kTooFewLines, "too_few_lines"},
@@ -331,74 +328,6 @@ std::string HoughMethodName(HoughMethod method) { return NameOf(kHoughMethodName
 
 std::string VanishingPointStatusName(VanishingPointStatus status) {
   return NameOf(kStatusNames, status);
-}
-
-const OptionTable<VanishingPointOptions>& VanishingPointOptionsTable() {
-  using O = VanishingPointOptions;
-  return StaticOptionTable<O>([](OptionTable<O>& t) {
-    t.Add("blur_sigma_px", &O::blur_sigma_px, "px",
-          "Gaussian smoothing before Canny, standard deviation (0 = none)")
-        .Range(0, 10);
-    t.Add("canny_low", &O::canny_low, "grey levels/px",
-          "Canny's lower hysteresis threshold (L2 gradient of the 3x3 Sobel)")
-        .Range(0, 5000);
-    t.Add("canny_high", &O::canny_high, "grey levels/px", "Canny's upper hysteresis threshold")
-        .Range(0, 5000)
-        .Note(">= canny_low");
-    t.AddEnum("hough", &O::hough, kHoughMethodNames,
-              "probabilistic (cv::HoughLinesP, segments) or standard (cv::HoughLines, infinite "
-              "lines clipped to the image)");
-    t.Add("hough_rho_px", &O::hough_rho_px, "px", "distance resolution of the Hough accumulator")
-        .Range(0.1, 10);
-    t.Add("hough_theta_deg", &O::hough_theta_deg, "deg", "angle resolution of the accumulator")
-        .Range(0.05, 10);
-    t.Add("hough_votes", &O::hough_votes, "", "accumulator threshold: edge pixels on a line")
-        .Range(1, 10000);
-    t.Add("min_line_length_px", &O::min_line_length_px, "px",
-          "probabilistic: the shortest segment kept")
-        .Range(0, 10000);
-    t.Add("max_line_gap_px", &O::max_line_gap_px, "px",
-          "probabilistic: the largest gap bridged within one segment")
-        .Range(0, 1000);
-    t.Add("merge_angle_deg", &O::merge_angle_deg, "deg",
-          "segments within this angle and merge_distance_px of a longer one are one line")
-        .Range(0, 10);
-    t.Add("merge_distance_px", &O::merge_distance_px, "px",
-          "the largest distance of a merged segment's ends from the longer one's line")
-        .Range(0, 20);
-    t.Add("refine_band_px", &O::refine_band_px, "px",
-          "each line is re-fitted to the edge pixels within this distance (0 = Hough's line)")
-        .Range(0, 10);
-    t.Add("axis_reject_deg", &O::axis_reject_deg, "deg",
-          "P1 section 2: lines within this angle of the u or v axis are rejected")
-        .RangeOpenHigh(0, 45);
-    t.Add("max_lines", &O::max_lines, "", "at most this many candidates enter the solve")
-        .Range(2, 500);
-    t.Add("min_lines", &O::min_lines, "", "fewer lines after the rejections: no point")
-        .Range(2, 500)
-        .Note("<= max_lines");
-    t.Add("min_directions", &O::min_directions, "",
-          "fewer distinct directions (merge_angle_deg apart) among the agreeing lines: no point")
-        .Range(2, 500)
-        .Note("<= min_lines");
-    t.Add("weighted", &O::weighted, "",
-          "beyond P1: eq. 4 weighted by each line's fit precision at the point (false: equal "
-          "weights, as P1)");
-    t.Add("outlier_distance_px", &O::outlier_distance_px, "px",
-          "consensus and outlier pass (beyond P1): lines farther from the point disagree")
-        .Greater(0)
-        .AtMost(1000);
-    t.Add("max_rms_residual_px", &O::max_rms_residual_px, "px",
-          "no point when the kept lines' RMS distance to it is larger")
-        .Greater(0)
-        .AtMost(1000);
-    t.Add("min_direction_spread_deg", &O::min_direction_spread_deg, "deg",
-          "no point when the lines' normals spread less (RMS angle): nearly parallel lines")
-        .Range(0, 45);
-    t.Add("max_outside_image_px", &O::max_outside_image_px, "px",
-          "no point farther than this outside the image rectangle")
-        .Range(0, 100000);
-  });
 }
 
 std::optional<OptionsProblem> VanishingPointOptions::Check() const {

@@ -10,6 +10,7 @@
 
 #include <Eigen/Core>
 
+#include "common/enum_names.h"
 #include "common/error.h"
 #include "common/image.h"
 #include "common/options_table.h"
@@ -21,6 +22,8 @@ enum class HoughMethod {
   kProbabilistic,  // cv::HoughLinesP: segments with endpoints (the default; docs/detectors.md)
   kStandard,       // cv::HoughLines: infinite lines (rho, theta), clipped to the image
 };
+inline constexpr EnumName<HoughMethod> kHoughMethodNames[] = {
+    {HoughMethod::kProbabilistic, "probabilistic"}, {HoughMethod::kStandard, "standard"}};
 std::string HoughMethodName(HoughMethod method);
 
 /// The detector's options (defaults measured on rendered 640x480 corridor frames,

@@ -41,26 +41,6 @@ std::optional<RoomFrame> FrameOf(const AreaDoor& door, int index, const DoorArea
 
 }  // namespace
 
-const OptionTable<DoorAreaOptions>& DoorAreaOptionsTable() {
-  using O = DoorAreaOptions;
-  return StaticOptionTable<O>([](OptionTable<O>& t) {
-    t.Add("room_depth_m", &O::room_depth_m, "m",
-          "how far behind a door's wall line its room reaches")
-        .Range(0.1, 1000);
-    t.Add("room_reach_m", &O::room_reach_m, "m",
-          "how far beyond a door's columns its room reaches along the wall")
-        .Range(0, 1000);
-    t.Add("min_depth_m", &O::min_depth_m, "m",
-          "landmarks nearer a door's wall line than this are the doorway's: the corridor's")
-        .Range(0, 10);
-    t.Add("manhattan", &O::manhattan, "",
-          "square each door's wall line to the directions all doors agree on (modulo 90 deg)");
-    t.Add("max_turn_deg", &O::max_turn_deg, "deg",
-          "manhattan: a door line further than this from both directions keeps its own")
-        .Range(0, 45);
-  });
-}
-
 std::optional<OptionsProblem> DoorAreaOptions::Check() const {
   if (auto p = CheckOptionBounds(DoorAreaOptionsTable(), *this)) return p;
   if (!(room_depth_m > min_depth_m)) {

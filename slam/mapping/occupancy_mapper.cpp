@@ -28,30 +28,6 @@ const DepthRange& DepthRangeOf(const CameraCalibration& camera) {
 
 }  // namespace
 
-const OptionTable<OccupancyMapperOptions>& OccupancyMapperOptionsTable() {
-  return StaticOptionTable<OccupancyMapperOptions>([](OptionTable<OccupancyMapperOptions>& t) {
-    t.Add("resolution_m", &OccupancyMapperOptions::resolution_m, "m",
-          "edge of the OctoMap's smallest voxel")
-        .Range(0.01, 1.0);
-    t.Add("max_range_m", &OccupancyMapperOptions::max_range_m, "m",
-          "rays are cut at this length (the insertion's cost grows with it)")
-        .Greater(0)
-        .AtMost(20);
-    t.Add("pixel_stride", &OccupancyMapperOptions::pixel_stride, "px",
-          "every stride-th pixel of every stride-th depth row is inserted")
-        .Range(1, 64);
-    t.Add("voxel_leaf_m", &OccupancyMapperOptions::voxel_leaf_m, "m",
-          "voxel-grid filter leaf before insertion (P1 Fig. 12b); 0 = off")
-        .ZeroOr(0.005, 1.0);
-    t.Add("keyframe_distance_m", &OccupancyMapperOptions::keyframe_distance_m, "m",
-          "a frame is inserted when the camera has moved this far since the last keyframe")
-        .Range(0, 100);
-    t.Add("keyframe_angle_deg", &OccupancyMapperOptions::keyframe_angle_deg, "deg",
-          "... or turned this much")
-        .Range(0, 180);
-  });
-}
-
 std::optional<OptionsProblem> OccupancyMapperOptions::Check() const {
   return CheckOptionBounds(OccupancyMapperOptionsTable(), *this);
 }

@@ -22,14 +22,6 @@ std::optional<Eigen::Vector3d> UnprojectDepth(const CameraModel& model,
   return depth_m * ray;
 }
 
-const OptionTable<DepthCloudOptions>& DepthCloudOptionsTable() {
-  return StaticOptionTable<DepthCloudOptions>([](OptionTable<DepthCloudOptions>& t) {
-    t.Add("pixel_stride", &DepthCloudOptions::pixel_stride, "px",
-          "every stride-th pixel of every stride-th row of the depth image becomes a point")
-        .Range(1, 64);
-  });
-}
-
 std::optional<OptionsProblem> DepthCloudOptions::Check() const {
   return CheckOptionBounds(DepthCloudOptionsTable(), *this);
 }

@@ -7,14 +7,6 @@
 
 namespace corridorsim::slam {
 
-const OptionTable<VoxelFilterOptions>& VoxelFilterOptionsTable() {
-  return StaticOptionTable<VoxelFilterOptions>([](OptionTable<VoxelFilterOptions>& t) {
-    t.Add("leaf_size_m", &VoxelFilterOptions::leaf_size_m, "m",
-          "edge of the voxel grid's cubes: one point (the centroid) per occupied cube")
-        .Range(0.001, 10);
-  });
-}
-
 std::optional<OptionsProblem> VoxelFilterOptions::Check() const {
   return CheckOptionBounds(VoxelFilterOptionsTable(), *this);
 }

@@ -1,0 +1,147 @@
+// The scenario keys of the simulation (robot:, its odometry:, path:): one table per options struct,
+// with each key's unit, bounds and doc (common/options_table.h). The structs, their Check() and
+// the code that reads them stay in their own files.
+
+#include "common/io/options_yaml.h"
+#include "common/io/yaml_reader.h"
+#include "common/options_table.h"
+#include "sim/odometry.h"
+#include "sim/robot.h"
+#include "sim/robot_path.h"
+
+namespace corridorsim::sim {
+
+const OptionTable<RobotOptions>& RobotOptionsTable() {
+  return StaticOptionTable<RobotOptions>([](OptionTable<RobotOptions>& t) {
+    using R = RobotOptions;
+    t.Add("body_length_m", &R::body_length_m, "m", "overall length, wheels included")
+        .Range(0.1, 3)
+        .Note("longer than wheel_diameter_m");
+    t.Add("body_width_m", &R::body_width_m, "m", "overall width, wheels included")
+        .Range(0.1, 2)
+        .Note("at least wheelbase_m + wheel_width_m");
+    t.Add("body_height_m", &R::body_height_m, "m", "floor to top plate")
+        .Range(0.1, 2)
+        .Note("higher than wheel_diameter_m");
+    t.Add("mass_kg", &R::mass_kg, "kg", "whole robot").Range(2, 500);
+    t.Add("wheel_diameter_m", &R::wheel_diameter_m, "m",
+          "driven wheels, nominal (what odometry and the controller assume)")
+        .Range(0.02, 1);
+    t.Add("wheel_width_m", &R::wheel_width_m, "m", "").Range(0.005, 0.3);
+    t.Add("wheelbase_m", &R::wheelbase_m, "m",
+          "nominal distance between the wheels' mid-planes (B of P1 eq. 13)")
+        .Range(0.05, 2);
+    t.Add("wheel_friction", &R::wheel_friction, "",
+          "Coulomb coefficient of the wheel-floor contact (traction limit: wheels can slip)")
+        .Range(0.05, 3);
+    t.Add("max_wheel_torque_nm", &R::max_wheel_torque_nm, "N m", "per wheel motor")
+        .Range(0.01, 1000);
+    t.Add("max_wheel_speed_rps", &R::max_wheel_speed_rps, "rad/s", "per wheel motor")
+        .Range(0.1, 200);
+    t.Add("physics_rate_hz", &R::physics_rate_hz, "Hz",
+          "fixed physics step (its period rounded to the nanosecond)")
+        .Range(100, 20000);
+    t.Add("control_rate_hz", &R::control_rate_hz, "Hz",
+          "path follower and motor commands, at the first physics step at or after each n / "
+          "control_rate_hz")
+        .Note("[1, physics_rate_hz]");
+    t.AddSection("odometry", &R::odometry, OdometryOptionsTable(),
+                 "the wheel encoders and their errors", &OdometryOptions::Check);
+  });
+}
+
+const OptionTable<RobotPathOptions>& RobotPathOptionsTable() {
+  return StaticOptionTable<RobotPathOptions>([](OptionTable<RobotPathOptions>& t) {
+    using P = RobotPathOptions;
+    t.AddEnum("kind", &P::kind, kPathKindNames, "what the robot drives (below)");
+    t.Add("speed_mps", &P::speed_mps, "m/s",
+          "cruise speed on straight legs (P1: 0.34 m/s; P3 drove at 0.30)")
+        .Range(0.01, kMaxPathSpeedMps);
+    t.Add("acceleration_mps2", &P::acceleration_mps2, "m/s^2",
+          "speed ramps up and down (before every turn and the goal)")
+        .Range(0.01, 10);
+    t.Add("turn_rate_dps", &P::turn_rate_dps, "deg/s", "yaw rate of in-place turns")
+        .Range(1, kMaxPathTurnRateDps);
+    t.Add("turn_acceleration_dps2", &P::turn_acceleration_dps2, "deg/s^2",
+          "yaw-rate ramps of in-place turns")
+        .Range(1, 3000);
+    t.Add("lateral_offset_m", &P::lateral_offset_m, "m",
+          "straight legs run this far to the left of the direction of travel (negative: right); "
+          "UMBmark: moves the whole square left")
+        .Range(-100, 100);
+    t.Add("end_margin_m", &P::end_margin_m, "m",
+          "where the robot starts and turns, measured from the corridor ends (loop: where it "
+          "starts along the first side)")
+        .Range(0, 1000);
+    t.Add("laps", &P::laps, "", "`round_trip`: repetitions; `loop`: laps; UMBmark: squares")
+        .Range(1, 1000);
+    t.Add("umbmark_side_m", &P::umbmark_side_m, "m",
+          "side of the UMBmark square (Borenstein's 4 m needs a corridor 4.7 m wide)")
+        .Range(0.1, 100);
+    t.AddCustom(
+        "commands", "`script` only: rows [duration_s, linear_mps, angular_dps]",
+        [](YamlMap& map, P& options) {
+          std::vector<std::vector<double>> rows;
+          if (map.Read("commands", rows, 3)) {
+            options.commands.clear();
+            for (const std::vector<double>& row : rows)
+              options.commands.push_back({row[0], row[1], row[2]});
+          }
+        },
+        [](const P& options, OptionsYamlWriter& out) {
+          std::string rows;
+          for (const VelocityCommand& c : options.commands) {
+            rows +=
+                (rows.empty() ? "" : ", ") + YamlList({c.duration_s, c.linear_mps, c.angular_dps});
+          }
+          out.Scalar("commands", "[" + rows + "]");
+        },
+        [](const P&) {
+          return std::vector<OptionDocRow>{
+              {"commands", "s, m/s, deg/s", "`[]`",
+               "at most 10000 rows; duration_s in [0.001, 1e6] (the rows' sum at most 1e6), "
+               "linear_mps in [-1.2, 1.2], angular_dps in [-300, 300]",
+               "`script` only: rows `[duration_s, linear_mps, angular_dps]`, e.g. `[[10, 0.3, "
+               "0], "
+               "[3, 0, 30]]`, driven in order (angular_dps positive counter-clockwise)"}};
+        });
+  });
+}
+
+const OptionTable<OdometryOptions>& OdometryOptionsTable() {
+  return StaticOptionTable<OdometryOptions>([](OptionTable<OdometryOptions>& t) {
+    using O = OdometryOptions;
+    // At least 1 Hz: the slips of one message are drawn one by one (at most slip_rate_per_m
+    // times the wheels' travel in a period: 100 / m * 100 m/s * 1 s), and real encoders report
+    // far faster.
+    t.Add("rate_hz", &O::rate_hz, "Hz",
+          "odometry messages per second; stamps at n periods, the period being 1 / rate_hz "
+          "rounded to the nanosecond")
+        .Range(1, 1000, "must lie in [1, 1000] Hz (got {})");
+    // At most kMaxTicksPerRevolution: a 0.6 um tick on a 195 mm wheel, finer than any wheel.
+    t.Add("ticks_per_revolution", &O::ticks_per_revolution, "",
+          "encoder counts per wheel turn (0 = no quantisation); at most 1e6, a 0.6 um tick on "
+          "the Pioneer's 195 mm wheel, finer than anything a wheel measures")
+        .Range(0, kMaxTicksPerRevolution, "must lie in [0, 1000000] (0 = no quantisation; got {})");
+    // Real robots stay within a few per cent of 1; beyond a factor 2 the wheels are not one model.
+    t.Add("diameter_ratio", &O::diameter_ratio, "",
+          "Borenstein's E_d = D_R / D_L of the real wheels (their mean stays nominal)")
+        .Range(0.5, 2);
+    t.Add("wheelbase_ratio", &O::wheelbase_ratio, "", "E_b = real / nominal wheelbase")
+        .Range(0.5, 2);
+    // k = 0.1 m is a 30 cm standard deviation after 1 m: far beyond any wheel.
+    t.Add(
+         "random_k_m", &O::random_k_m, "m",
+         "k: each wheel's reported distance gets variance k |s| (m^2 per m, the form of P1 eq. 17)")
+        .Range(0, 0.1);
+    // The slip count per message is drawn from this rate: the upper bound keeps it small.
+    t.Add("slip_rate_per_m", &O::slip_rate_per_m, "1/m",
+          "slip events per metre travelled (Poisson)")
+        .Range(0, 100);
+    t.Add("slip_mean_m", &O::slip_mean_m, "m",
+          "mean extra distance a slipping wheel reports (exponential)")
+        .RangeOpenLow(0, 1, "must lie in (0, 1] m (got {})");
+  });
+}
+
+}  // namespace corridorsim::sim
