@@ -1,8 +1,14 @@
-// The scenario keys of the shipped pipelines (a pipeline's `options:` map, docs/scenarios.md): one
-// table per options struct, with each key's unit, bounds and doc (common/options_table.h). The
-// structs, their Check() and the pipelines that read them stay in their own files.
+// The scenario keys of the shipped pipelines (a pipeline's `options:` map, docs/scenarios.md), with
+// the door verifier's and the mapping stages' (slam/mapping/) they hold as sections: one table per
+// options struct, with each key's unit, bounds and doc (common/options_table.h). The structs,
+// their Check() and the code that reads them stay in their own files; the detectors' tables are
+// in slam/features/feature_options.cpp.
 
 #include "common/options_table.h"
+#include "slam/mapping/door_areas.h"
+#include "slam/mapping/occupancy_mapper.h"
+#include "slam/mapping/point_cloud.h"
+#include "slam/mapping/voxel_filter.h"
 #include "slam/odometry_pipeline.h"
 #include "slam/p1_harris_pipeline.h"
 #include "slam/p1_vp_doorplate_pipeline.h"
@@ -292,6 +298,68 @@ const OptionTable<DoorVerifierOptions>& DoorVerifierOptionsTable() {
         .Range(1, 100000);
     t.Add("max_tracks", &O::max_tracks, "", "candidates followed at once at most").Range(1, 1000);
     t.Add("seed", &O::seed, "", "seed of the samples");
+  });
+}
+
+// The mapping stages the pipelines hold as sections (slam/mapping/).
+
+const OptionTable<DepthCloudOptions>& DepthCloudOptionsTable() {
+  return StaticOptionTable<DepthCloudOptions>([](OptionTable<DepthCloudOptions>& t) {
+    t.Add("pixel_stride", &DepthCloudOptions::pixel_stride, "px",
+          "every stride-th pixel of every stride-th row of the depth image becomes a point")
+        .Range(1, 64);
+  });
+}
+
+const OptionTable<VoxelFilterOptions>& VoxelFilterOptionsTable() {
+  return StaticOptionTable<VoxelFilterOptions>([](OptionTable<VoxelFilterOptions>& t) {
+    t.Add("leaf_size_m", &VoxelFilterOptions::leaf_size_m, "m",
+          "edge of the voxel grid's cubes: one point (the centroid) per occupied cube")
+        .Range(0.001, 10);
+  });
+}
+
+const OptionTable<OccupancyMapperOptions>& OccupancyMapperOptionsTable() {
+  return StaticOptionTable<OccupancyMapperOptions>([](OptionTable<OccupancyMapperOptions>& t) {
+    t.Add("resolution_m", &OccupancyMapperOptions::resolution_m, "m",
+          "edge of the OctoMap's smallest voxel")
+        .Range(0.01, 1.0);
+    t.Add("max_range_m", &OccupancyMapperOptions::max_range_m, "m",
+          "rays are cut at this length (the insertion's cost grows with it)")
+        .Greater(0)
+        .AtMost(20);
+    t.Add("pixel_stride", &OccupancyMapperOptions::pixel_stride, "px",
+          "every stride-th pixel of every stride-th depth row is inserted")
+        .Range(1, 64);
+    t.Add("voxel_leaf_m", &OccupancyMapperOptions::voxel_leaf_m, "m",
+          "voxel-grid filter leaf before insertion (P1 Fig. 12b); 0 = off")
+        .ZeroOr(0.005, 1.0);
+    t.Add("keyframe_distance_m", &OccupancyMapperOptions::keyframe_distance_m, "m",
+          "a frame is inserted when the camera has moved this far since the last keyframe")
+        .Range(0, 100);
+    t.Add("keyframe_angle_deg", &OccupancyMapperOptions::keyframe_angle_deg, "deg",
+          "... or turned this much")
+        .Range(0, 180);
+  });
+}
+
+const OptionTable<DoorAreaOptions>& DoorAreaOptionsTable() {
+  using O = DoorAreaOptions;
+  return StaticOptionTable<O>([](OptionTable<O>& t) {
+    t.Add("room_depth_m", &O::room_depth_m, "m",
+          "how far behind a door's wall line its room reaches")
+        .Range(0.1, 1000);
+    t.Add("room_reach_m", &O::room_reach_m, "m",
+          "how far beyond a door's columns its room reaches along the wall")
+        .Range(0, 1000);
+    t.Add("min_depth_m", &O::min_depth_m, "m",
+          "landmarks nearer a door's wall line than this are the doorway's: the corridor's")
+        .Range(0, 10);
+    t.Add("manhattan", &O::manhattan, "",
+          "square each door's wall line to the directions all doors agree on (modulo 90 deg)");
+    t.Add("max_turn_deg", &O::max_turn_deg, "deg",
+          "manhattan: a door line further than this from both directions keeps its own")
+        .Range(0, 45);
   });
 }
 
