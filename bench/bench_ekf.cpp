@@ -36,6 +36,7 @@
 #include "common/random.h"
 #include "slam/ekf/ekf_state.h"
 #include "slam/ekf/measurement_models.h"
+#include "tests/support/planar_motion.h"
 
 namespace {
 
@@ -77,19 +78,7 @@ struct Figures {
   int rejected = 0;            // updates refused (gate, non-finite, not positive definite)
 };
 
-SE2 Compose(const SE2& pose, const Eigen::Vector3d& delta, Eigen::Matrix3d* f = nullptr,
-            Eigen::Matrix3d* g = nullptr) {
-  const Eigen::Vector2d step = pose.rotation() * delta.head<2>();
-  if (f != nullptr) {
-    *f = Eigen::Matrix3d::Identity();
-    f->block<2, 1>(0, 2) = Eigen::Vector2d(-step.y(), step.x());
-  }
-  if (g != nullptr) {
-    *g = Eigen::Matrix3d::Identity();
-    g->topLeftCorner<2, 2>() = pose.rotation();
-  }
-  return SE2(pose.translation() + step, pose.yaw() + delta.z());
-}
+using corridorsim::test::Compose;
 
 Figures Run(int landmark_count, int steps, Mode mode) {
   RandomStream world_rng(1, static_cast<std::uint64_t>(landmark_count), "bench.ekf.world");

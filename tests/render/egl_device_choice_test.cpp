@@ -64,63 +64,53 @@ TEST_CASE(
   const std::string nvidia = "EGL_NV_device_cuda EGL_EXT_device_drm EGL_EXT_device_query_name";
   const EglDeviceRequest automatic = ParseEglDeviceRequest(nullptr, nullptr);
 
-  // What Mesa lists on a machine without a GPU: its software device only.
-  const EglDeviceChoice no_gpu = ChooseEglDevice(Devices{software}, automatic);
-  CHECK_FALSE(no_gpu.device);
-  CHECK_FALSE(no_gpu.forced);
-  CHECK(no_gpu.reason == "no hardware EGL device: 1 EGL device, 1 with EGL_MESA_device_software");
-  const EglDeviceChoice none = ChooseEglDevice(Devices{}, automatic);
-  CHECK_FALSE(none.device);
-  CHECK(none.reason == "no hardware EGL device: this libEGL lists none");
-
-  // The first device without the software mark, in enumeration order.
-  const EglDeviceChoice first = ChooseEglDevice(Devices{nvidia, software, mesa_gpu}, automatic);
-  REQUIRE(first.device);
-  CHECK(*first.device == 0);
-  CHECK_FALSE(first.forced);
-  CHECK(first.reason == "the first EGL device without EGL_MESA_device_software, of 3");
-  const EglDeviceChoice after_software =
-      ChooseEglDevice(Devices{software, mesa_gpu, nvidia}, automatic);
-  REQUIRE(after_software.device);
-  CHECK(*after_software.device == 1);
-  // A whole extension name only: a longer name that starts with the mark is not the mark.
-  const EglDeviceChoice longer =
-      ChooseEglDevice(Devices{"EGL_MESA_device_software_x EGL_EXT_device_drm"}, automatic);
-  REQUIRE(longer.device);
-  CHECK(*longer.device == 0);
-
-  // A device whose extensions could not be read is never taken unasked.
-  const EglDeviceChoice unknown_first =
-      ChooseEglDevice(Devices{std::nullopt, software, mesa_gpu}, automatic);
-  REQUIRE(unknown_first.device);
-  CHECK(*unknown_first.device == 2);
-  const EglDeviceChoice only_unknown = ChooseEglDevice(Devices{software, std::nullopt}, automatic);
-  CHECK_FALSE(only_unknown.device);
-  CHECK(only_unknown.reason ==
-        "no hardware EGL device: 2 EGL devices, 1 with "
-        "EGL_MESA_device_software, 1 without an extension string");
-
-  // Software when asked, whatever is there.
-  const EglDeviceChoice asked_software =
-      ChooseEglDevice(Devices{nvidia}, ParseEglDeviceRequest("software", nullptr));
-  CHECK_FALSE(asked_software.device);
-  CHECK(asked_software.reason == "CORRIDORSIM_EGL_DEVICE=software");
-  const EglDeviceChoice mesa_software =
-      ChooseEglDevice(Devices{nvidia}, ParseEglDeviceRequest(nullptr, "1"));
-  CHECK_FALSE(mesa_software.device);
-  CHECK(mesa_software.reason == "LIBGL_ALWAYS_SOFTWARE=1");
-
-  // An index is taken as it is, Mesa's software device included, and forced (no fallback).
-  const EglDeviceChoice second =
-      ChooseEglDevice(Devices{nvidia, mesa_gpu}, ParseEglDeviceRequest("1", nullptr));
-  REQUIRE(second.device);
-  CHECK(*second.device == 1);
-  CHECK(second.forced);
-  CHECK(second.reason == "CORRIDORSIM_EGL_DEVICE=1");
-  const EglDeviceChoice forced_software =
-      ChooseEglDevice(Devices{software, nvidia}, ParseEglDeviceRequest("0", nullptr));
-  REQUIRE(forced_software.device);
-  CHECK(*forced_software.device == 0);
+  // Each case: the devices' extension strings in enumeration order, the request, and the
+  // choice it must make.
+  struct Case {
+    const char* what;
+    Devices devices;
+    EglDeviceRequest request;
+    std::optional<int> device;
+    bool forced;
+    std::string reason;
+  };
+  const std::string first_of_3 = "the first EGL device without EGL_MESA_device_software, of 3";
+  const Case cases[] = {
+      // What Mesa lists on a machine without a GPU: its software device only.
+      {"software only", Devices{software}, automatic, std::nullopt, false,
+       "no hardware EGL device: 1 EGL device, 1 with EGL_MESA_device_software"},
+      {"no devices", Devices{}, automatic, std::nullopt, false,
+       "no hardware EGL device: this libEGL lists none"},
+      // The first device without the software mark, in enumeration order.
+      {"hardware first", Devices{nvidia, software, mesa_gpu}, automatic, 0, false, first_of_3},
+      {"software first", Devices{software, mesa_gpu, nvidia}, automatic, 1, false, first_of_3},
+      // A whole extension name only: a longer name that starts with the mark is not the mark.
+      {"a longer name", Devices{"EGL_MESA_device_software_x EGL_EXT_device_drm"}, automatic, 0,
+       false, "the first EGL device without EGL_MESA_device_software, of 1"},
+      // A device whose extensions could not be read is never taken unasked.
+      {"unknown first", Devices{std::nullopt, software, mesa_gpu}, automatic, 2, false, first_of_3},
+      {"only unknown and software", Devices{software, std::nullopt}, automatic, std::nullopt, false,
+       "no hardware EGL device: 2 EGL devices, 1 with EGL_MESA_device_software, 1 without an "
+       "extension string"},
+      // Software when asked, whatever is there.
+      {"software asked", Devices{nvidia}, ParseEglDeviceRequest("software", nullptr), std::nullopt,
+       false, "CORRIDORSIM_EGL_DEVICE=software"},
+      {"Mesa's software asked", Devices{nvidia}, ParseEglDeviceRequest(nullptr, "1"), std::nullopt,
+       false, "LIBGL_ALWAYS_SOFTWARE=1"},
+      // An index is taken as it is, Mesa's software device included, and forced (no fallback).
+      {"index 1", Devices{nvidia, mesa_gpu}, ParseEglDeviceRequest("1", nullptr), 1, true,
+       "CORRIDORSIM_EGL_DEVICE=1"},
+      {"index 0 on software", Devices{software, nvidia}, ParseEglDeviceRequest("0", nullptr), 0,
+       true, "CORRIDORSIM_EGL_DEVICE=0"},
+  };
+  for (const Case& c : cases) {
+    INFO(c.what);
+    const EglDeviceChoice choice = ChooseEglDevice(c.devices, c.request);
+    CHECK(choice.device == c.device);
+    CHECK(choice.forced == c.forced);
+    CHECK(choice.reason == c.reason);
+  }
+  // An index past the devices listed is an error.
   const std::string past = RenderErrorOf([&] {
     ChooseEglDevice(Devices{software, nvidia}, ParseEglDeviceRequest("2", nullptr));
   });

@@ -16,6 +16,8 @@
 
 #include "common/camera_models.h"
 #include "common/pose.h"
+#include "tests/support/generated_worlds.h"
+#include "tests/support/test_cameras.h"
 #include "tests/support/tiny_world.h"
 #include "tests/support/tolerances.h"
 #include "worlds/world.h"
@@ -31,22 +33,12 @@ using test::kFrameTruthRad;
 
 constexpr double kPi = std::numbers::pi;
 
-const worlds::World& GeneratedWorld() {
-  static const worlds::World world = worlds::Generate(worlds::WorldOptions{}, 7);
-  return world;
-}
+const worlds::World& GeneratedWorld() { return test::GeneratedWorld(7); }
 
-PinholeRadTan FrontPinhole() {
-  PinholeRadTan camera;
-  camera.width = 640;
-  camera.height = 480;
-  camera.fx = camera.fy = 525.0;
-  camera.cx = 319.5;
-  camera.cy = 239.5;
-  return camera;
-}
+// The front camera: the Kinect's 640 x 480 pinhole, f = 525 px.
+PinholeRadTan FrontPinhole() { return test::Kinect(); }
 
-KannalaBrandt UpwardFisheye() { return KannalaBrandt::FromFov(640, 480, 110.0 * kPi / 180.0); }
+using test::UpwardFisheye;
 
 Matrix3d Rz(double yaw) { return Eigen::AngleAxisd(yaw, Vector3d::UnitZ()).toRotationMatrix(); }
 
@@ -119,6 +111,17 @@ template <class Entry>
 const Entry* FindId(const std::vector<Entry>&& entries, int id) = delete;
 
 double AngleDiff(double a, double b) { return std::abs(NormalizeAngle(a - b)); }
+
+// The truth of lamp `id` in the frame of the upward `camera` at `position` (robot yaw 0): the
+// lamp must be in the frame.
+LampTruth LampSeenFromBelow(const worlds::World& world, const CameraModel& camera,
+                            const Vector3d& position, int id) {
+  const FrameTruth truth =
+      ComputeFrameTruth(Input(world, camera, UpwardCamera(position, 0.0), RobotAt(position, 0.0)));
+  const LampTruth* seen = FindId(truth.lamps, id);
+  REQUIRE(seen != nullptr);
+  return *seen;
+}
 
 // The camera of the plate tests: facing plates[index] straight on from `distance_m`.
 SE3 FacingPlate(const worlds::DoorPlate& plate, double distance_m) {
@@ -287,19 +290,16 @@ TEST_CASE(
   const KannalaBrandt camera = UpwardFisheye();
   const Vector3d position(lamp.center.x(), lamp.center.y(), 1.0);
   const double h = lamp.center.z() - position.z();
-  const FrameTruth truth =
-      ComputeFrameTruth(Input(world, camera, UpwardCamera(position, 0.0), RobotAt(position, 0.0)));
-  const LampTruth* seen = FindId(truth.lamps, lamp.id);
-  REQUIRE(seen != nullptr);
-  CHECK_FALSE(seen->reflection);
-  CHECK(seen->shape == worlds::LampShape::kCircular);
-  CHECK((seen->center_px - Vector2d(camera.cx, camera.cy)).norm() < kFrameTruthPx);
-  CHECK(seen->radius_px == Approx(camera.fx * std::atan(lamp.radius_m / h)).margin(kFrameTruthPx));
-  CHECK_FALSE(seen->cut_by_border);
-  CHECK(seen->visible_fraction == 1.0);
-  CHECK(seen->on == lamp.on);
-  REQUIRE(seen->polar.has_value());
-  CHECK(seen->polar->r_px == Approx(0.0).margin(kFrameTruthPx));
+  const LampTruth seen = LampSeenFromBelow(world, camera, position, lamp.id);
+  CHECK_FALSE(seen.reflection);
+  CHECK(seen.shape == worlds::LampShape::kCircular);
+  CHECK((seen.center_px - Vector2d(camera.cx, camera.cy)).norm() < kFrameTruthPx);
+  CHECK(seen.radius_px == Approx(camera.fx * std::atan(lamp.radius_m / h)).margin(kFrameTruthPx));
+  CHECK_FALSE(seen.cut_by_border);
+  CHECK(seen.visible_fraction == 1.0);
+  CHECK(seen.on == lamp.on);
+  REQUIRE(seen.polar.has_value());
+  CHECK(seen.polar->r_px == Approx(0.0).margin(kFrameTruthPx));
 }
 
 TEST_CASE("a lamp moved towards the image border is cut by the border", "[render][frame_truth]") {
@@ -311,20 +311,17 @@ TEST_CASE("a lamp moved towards the image border is cut by the border", "[render
   const double target_row = 475.0;
   const double shift = h * std::tan((target_row - camera.cy) / camera.fx);
   const Vector3d position(lamp.center.x(), lamp.center.y() - shift, 1.0);
-  const FrameTruth truth =
-      ComputeFrameTruth(Input(world, camera, UpwardCamera(position, 0.0), RobotAt(position, 0.0)));
-  const LampTruth* seen = FindId(truth.lamps, lamp.id);
-  REQUIRE(seen != nullptr);
-  CHECK(seen->center_px.y() == Approx(target_row).margin(kFrameTruthPx));
-  CHECK(seen->center_px.x() == Approx(camera.cx).margin(kFrameTruthPx));
-  CHECK(seen->cut_by_border);
-  CHECK(seen->visible_fraction > 0.0);
-  CHECK(seen->visible_fraction < 1.0);
+  const LampTruth seen = LampSeenFromBelow(world, camera, position, lamp.id);
+  CHECK(seen.center_px.y() == Approx(target_row).margin(kFrameTruthPx));
+  CHECK(seen.center_px.x() == Approx(camera.cx).margin(kFrameTruthPx));
+  CHECK(seen.cut_by_border);
+  CHECK(seen.visible_fraction > 0.0);
+  CHECK(seen.visible_fraction < 1.0);
   // P3 eq. 16 polar coordinates of the centre: r = d f / dz, theta = bearing in the robot frame.
-  REQUIRE(seen->polar.has_value());
-  CHECK(seen->polar->r_px == Approx(shift * camera.fx / h).margin(kFrameTruthPx));
-  CHECK(AngleDiff(seen->polar->theta_rad, kPi / 2) < kFrameTruthRad);
-  CHECK(AngleDiff(seen->polar->p2_theta_rad, 0.0) < kFrameTruthRad);
+  REQUIRE(seen.polar.has_value());
+  CHECK(seen.polar->r_px == Approx(shift * camera.fx / h).margin(kFrameTruthPx));
+  CHECK(AngleDiff(seen.polar->theta_rad, kPi / 2) < kFrameTruthRad);
+  CHECK(AngleDiff(seen.polar->p2_theta_rad, 0.0) < kFrameTruthRad);
 }
 
 TEST_CASE("a panel lamp's radius is half the diagonal of its image box", "[render][frame_truth]") {
@@ -334,16 +331,13 @@ TEST_CASE("a panel lamp's radius is half the diagonal of its image box", "[rende
   const KannalaBrandt camera = UpwardFisheye();
   const Vector3d position(panel.center.x(), panel.center.y(), 1.0);
   const double h = panel.center.z() - position.z();
-  const FrameTruth truth =
-      ComputeFrameTruth(Input(world, camera, UpwardCamera(position, 0.0), RobotAt(position, 0.0)));
-  const LampTruth* seen = FindId(truth.lamps, panel.id);
-  REQUIRE(seen != nullptr);
+  const LampTruth seen = LampSeenFromBelow(world, camera, position, panel.id);
   // Equidistant: the outline's extreme columns and rows are the midpoints of its sides.
   const double half_u = camera.fx * std::atan(panel.size_m.x() / 2 / h);
   const double half_v = camera.fy * std::atan(panel.size_m.y() / 2 / h);
-  CHECK(seen->shape == worlds::LampShape::kPanel);
-  CHECK(seen->radius_px == Approx(std::hypot(half_u, half_v)).margin(kFrameTruthPx));
-  CHECK_FALSE(seen->on);
+  CHECK(seen.shape == worlds::LampShape::kPanel);
+  CHECK(seen.radius_px == Approx(std::hypot(half_u, half_v)).margin(kFrameTruthPx));
+  CHECK_FALSE(seen.on);
 }
 
 TEST_CASE("a reflection is listed only when the mirrored lamp is seen through the strip",

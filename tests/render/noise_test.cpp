@@ -9,7 +9,10 @@
 
 #include <catch2/catch.hpp>
 
+#include "tests/support/broken_options.h"
 #include "tests/support/expect_input_error.h"
+#include "tests/support/parsed_options.h"
+#include "tests/support/test_cameras.h"
 
 namespace corridorsim::render {
 namespace {
@@ -20,16 +23,7 @@ constexpr double kStatRelTol = 0.10;
 
 constexpr double kRadPerDeg = std::numbers::pi / 180;
 
-// An ASUS Xtion / Kinect v1 depth camera: 640 x 480, f = 525 px.
-PinholeRadTan Kinect() {
-  PinholeRadTan k;
-  k.width = 640;
-  k.height = 480;
-  k.fx = k.fy = 525.0;
-  k.cx = 319.5;
-  k.cy = 239.5;
-  return k;
-}
+using test::Kinect;
 
 PinholeRadTan Narrow(int size, double f) {
   PinholeRadTan k;
@@ -446,12 +440,7 @@ TEST_CASE("rgb noise is a function of its stream", "[render][noise]") {
 
 TEST_CASE("Check accepts the defaults and names the first bad depth noise value",
           "[render][noise]") {
-  CHECK_FALSE(DepthNoiseOptions{}.Check());
-  struct Case {
-    void (*set)(DepthNoiseOptions&);
-    const char* key;
-  };
-  const Case cases[] = {
+  test::CheckEachBrokenOption<DepthNoiseOptions>({
       {[](DepthNoiseOptions& o) { o.min_m = -0.1; }, "min_m"},
       {[](DepthNoiseOptions& o) { o.max_m = o.min_m; }, "max_m"},
       {[](DepthNoiseOptions& o) { o.baseline_m = 0; }, "baseline_m"},
@@ -463,23 +452,11 @@ TEST_CASE("Check accepts the defaults and names the first bad depth noise value"
       {[](DepthNoiseOptions& o) { o.grazing_max_deg = 95; }, "grazing_max_deg"},
       {[](DepthNoiseOptions& o) { o.random_dropout = 1.5; }, "random_dropout"},
       {[](DepthNoiseOptions& o) { o.random_dropout = -0.1; }, "random_dropout"},
-  };
-  for (const Case& c : cases) {
-    DepthNoiseOptions o;
-    c.set(o);
-    const auto problem = o.Check();
-    REQUIRE(problem);
-    CHECK(problem->key == c.key);
-  }
+  });
 }
 
 TEST_CASE("Check accepts the defaults and names the first bad rgb noise value", "[render][noise]") {
-  CHECK_FALSE(RgbNoiseOptions{}.Check());
-  struct Case {
-    void (*set)(RgbNoiseOptions&);
-    const char* key;
-  };
-  const Case cases[] = {
+  test::CheckEachBrokenOption<RgbNoiseOptions>({
       {[](RgbNoiseOptions& o) { o.exposure = 0; }, "exposure"},
       {[](RgbNoiseOptions& o) { o.vignetting = 1.2; }, "vignetting"},
       {[](RgbNoiseOptions& o) { o.full_well_electrons = -1; }, "full_well_electrons"},
@@ -490,33 +467,23 @@ TEST_CASE("Check accepts the defaults and names the first bad rgb noise value", 
        },
        "read_noise_electrons"},
       {[](RgbNoiseOptions& o) { o.motion_blur_px = -2; }, "motion_blur_px"},
-  };
-  for (const Case& c : cases) {
-    RgbNoiseOptions o;
-    c.set(o);
-    const auto problem = o.Check();
-    REQUIRE(problem);
-    CHECK(problem->key == c.key);
-  }
+  });
 }
 
 TEST_CASE("noise options parse their keys over the defaults", "[render][noise]") {
-  const YamlDocument depth_doc = YamlDocument::FromString(
-      "max_m: 4.5\nquantise: false\nsubpixel: 4\nlateral_sigma_px: 0.5\n", "depth.yaml");
-  YamlMap depth_map(depth_doc, depth_doc.root, "depth_noise", nullptr);
-  DepthNoiseOptions d;
-  ParseDepthNoiseOptions(depth_map, d);
+  const DepthNoiseOptions d = test::ParsedOptions(
+      ParseDepthNoiseOptions, "max_m: 4.5\nquantise: false\nsubpixel: 4\nlateral_sigma_px: 0.5\n",
+      "depth.yaml", "depth_noise");
   CHECK(d.max_m == 4.5);
   CHECK_FALSE(d.quantise);
   CHECK(d.subpixel == 4);
   CHECK(d.lateral_sigma_px == 0.5);
   CHECK(d.min_m == DepthNoiseOptions{}.min_m);
 
-  const YamlDocument rgb_doc = YamlDocument::FromString(
-      "full_well_electrons: 6000\nread_noise_electrons: 6\nmotion_blur_px: 2.5\n", "rgb.yaml");
-  YamlMap rgb_map(rgb_doc, rgb_doc.root, "rgb_noise", nullptr);
-  RgbNoiseOptions r;
-  ParseRgbNoiseOptions(rgb_map, r);
+  const RgbNoiseOptions r = test::ParsedOptions(
+      ParseRgbNoiseOptions,
+      "full_well_electrons: 6000\nread_noise_electrons: 6\nmotion_blur_px: 2.5\n", "rgb.yaml",
+      "rgb_noise");
   CHECK(r.full_well_electrons == 6000);
   CHECK(r.read_noise_electrons == 6);
   CHECK(r.motion_blur_px == 2.5);
@@ -525,25 +492,20 @@ TEST_CASE("noise options parse their keys over the defaults", "[render][noise]")
 
 TEST_CASE("noise options reject unknown keys naming file, line, column and key",
           "[render][noise]") {
-  const YamlDocument depth_doc =
-      YamlDocument::FromString("max_m: 4.5\naxial_sigma: 0.1\n", "noise.yaml");
-  YamlMap depth_map(depth_doc, depth_doc.root, "camera.depth_noise", nullptr);
-  DepthNoiseOptions d;
-  const InputError e = test::InputErrorOf([&] { ParseDepthNoiseOptions(depth_map, d); });
+  const InputError e = test::ParseErrorOf(ParseDepthNoiseOptions, "max_m: 4.5\naxial_sigma: 0.1\n",
+                                          "noise.yaml", "camera.depth_noise");
   CHECK(std::string(e.what()).rfind(
             "noise.yaml:2:1: camera.depth_noise.axial_sigma: unknown key (known keys here: ", 0) ==
         0);
 
-  const YamlDocument rgb_doc = YamlDocument::FromString("exposure: 2\ngain: 3\n", "noise.yaml");
-  YamlMap rgb_map(rgb_doc, rgb_doc.root, "camera.rgb_noise", nullptr);
-  RgbNoiseOptions r;
-  const InputError e2 = test::InputErrorOf([&] { ParseRgbNoiseOptions(rgb_map, r); });
+  const InputError e2 = test::ParseErrorOf(ParseRgbNoiseOptions, "exposure: 2\ngain: 3\n",
+                                           "noise.yaml", "camera.rgb_noise");
   CHECK(std::string(e2.what()).rfind(
             "noise.yaml:2:1: camera.rgb_noise.gain: unknown key (known keys here: ", 0) == 0);
 
-  const YamlDocument type_doc = YamlDocument::FromString("subpixel: 2.5\n", "noise.yaml");
-  YamlMap type_map(type_doc, type_doc.root, "depth_noise", nullptr);
-  CHECK(std::string(test::InputErrorOf([&] { ParseDepthNoiseOptions(type_map, d); }).what()) ==
+  CHECK(std::string(test::ParseErrorOf(ParseDepthNoiseOptions, "subpixel: 2.5\n", "noise.yaml",
+                                       "depth_noise")
+                        .what()) ==
         "noise.yaml:1:1: depth_noise.subpixel: expected an integer, got '2.5'");
 }
 

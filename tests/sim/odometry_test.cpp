@@ -21,8 +21,10 @@
 #include <catch2/catch.hpp>
 
 #include "common/wheel_odometry_model.h"
+#include "tests/support/broken_options.h"
 #include "tests/support/expect_input_error.h"
 #include "tests/support/option_bounds.h"
+#include "tests/support/parsed_options.h"
 #include "tests/support/tolerances.h"
 
 namespace corridorsim::sim {
@@ -458,13 +460,8 @@ TEST_CASE("the real geometry turns E_d into a curve and E_b into a heading error
 }
 
 TEST_CASE("Check accepts the defaults and names the first bad odometry value", "[sim][odometry]") {
-  CHECK_FALSE(OdometryOptions{}.Check());
   CHECK_FALSE(AllErrors().Check());
-  struct Case {
-    void (*set)(OdometryOptions&);
-    const char* key;
-  };
-  const Case cases[] = {
+  test::CheckEachBrokenOption<OdometryOptions>({
       {[](OdometryOptions& o) { o.rate_hz = 0; }, "rate_hz"},
       {[](OdometryOptions& o) { o.rate_hz = -50; }, "rate_hz"},
       {[](OdometryOptions& o) { o.rate_hz = 1e6; }, "rate_hz"},
@@ -486,16 +483,7 @@ TEST_CASE("Check accepts the defaults and names the first bad odometry value", "
       {[](OdometryOptions& o) { o.slip_rate_per_m = 1e4; }, "slip_rate_per_m"},
       {[](OdometryOptions& o) { o.slip_mean_m = 0; }, "slip_mean_m"},
       {[](OdometryOptions& o) { o.slip_mean_m = 5; }, "slip_mean_m"},
-  };
-  for (const Case& c : cases) {
-    OdometryOptions o;
-    c.set(o);
-    const auto problem = o.Check();
-    INFO("expected a problem at " << c.key);
-    REQUIRE(problem);
-    CHECK(problem->key == c.key);
-    CHECK_FALSE(problem->message.empty());
-  }
+  });
 }
 
 TEST_CASE("every bound of the odometry options names its key and the value", "[sim][odometry]") {
@@ -504,13 +492,11 @@ TEST_CASE("every bound of the odometry options names its key and the value", "[s
 }
 
 TEST_CASE("odometry options parse their keys over the defaults", "[sim][odometry]") {
-  const YamlDocument doc = YamlDocument::FromString(
+  const OdometryOptions o = test::ParsedOptions(
+      ParseOdometryOptions,
       "rate_hz: 20\nticks_per_revolution: 0\ndiameter_ratio: 1.005\nwheelbase_ratio: 0.98\n"
       "random_k_m: 0.0002\nslip_rate_per_m: 0.5\nslip_mean_m: 0.01\n",
-      "odometry.yaml");
-  YamlMap map(doc, doc.root, "robot.odometry", nullptr);
-  OdometryOptions o;
-  ParseOdometryOptions(map, o);
+      "odometry.yaml", "robot.odometry");
   CHECK(o.rate_hz == 20.0);
   CHECK(o.ticks_per_revolution == 0);
   CHECK(o.diameter_ratio == 1.005);
@@ -519,10 +505,8 @@ TEST_CASE("odometry options parse their keys over the defaults", "[sim][odometry
   CHECK(o.slip_rate_per_m == 0.5);
   CHECK(o.slip_mean_m == 0.01);
 
-  const YamlDocument partial = YamlDocument::FromString("random_k_m: 0.001\n", "odometry.yaml");
-  YamlMap partial_map(partial, partial.root, "robot.odometry", nullptr);
-  OdometryOptions p;
-  ParseOdometryOptions(partial_map, p);
+  const OdometryOptions p = test::ParsedOptions(ParseOdometryOptions, "random_k_m: 0.001\n",
+                                                "odometry.yaml", "robot.odometry");
   CHECK(p.random_k_m == 0.001);
   CHECK(p.ticks_per_revolution == OdometryOptions{}.ticks_per_revolution);
   CHECK(p.rate_hz == OdometryOptions{}.rate_hz);
@@ -530,18 +514,15 @@ TEST_CASE("odometry options parse their keys over the defaults", "[sim][odometry
 
 TEST_CASE("odometry options reject unknown keys and wrong types naming file, line and key",
           "[sim][odometry]") {
-  const YamlDocument doc =
-      YamlDocument::FromString("random_k_m: 0.001\nslip_rate: 0.5\n", "odometry.yaml");
-  YamlMap map(doc, doc.root, "robot.odometry", nullptr);
-  OdometryOptions o;
-  const InputError e = test::InputErrorOf([&] { ParseOdometryOptions(map, o); });
+  const InputError e =
+      test::ParseErrorOf(ParseOdometryOptions, "random_k_m: 0.001\nslip_rate: 0.5\n",
+                         "odometry.yaml", "robot.odometry");
   CHECK(std::string(e.what()).rfind(
             "odometry.yaml:2:1: robot.odometry.slip_rate: unknown key (known keys here: ", 0) == 0);
 
-  const YamlDocument type_doc =
-      YamlDocument::FromString("ticks_per_revolution: 500.5\n", "odometry.yaml");
-  YamlMap type_map(type_doc, type_doc.root, "robot.odometry", nullptr);
-  CHECK(std::string(test::InputErrorOf([&] { ParseOdometryOptions(type_map, o); }).what()) ==
+  CHECK(std::string(test::ParseErrorOf(ParseOdometryOptions, "ticks_per_revolution: 500.5\n",
+                                       "odometry.yaml", "robot.odometry")
+                        .what()) ==
         "odometry.yaml:1:1: robot.odometry.ticks_per_revolution: expected an integer, got "
         "'500.5'");
 }

@@ -6,6 +6,8 @@
 
 #include <cmath>
 #include <numbers>
+#include <optional>
+#include <string>
 #include <tuple>
 
 #include <catch2/catch.hpp>
@@ -14,6 +16,7 @@
 #include "render/camera_rig.h"
 #include "sim/robot.h"
 #include "sim/robot_path.h"
+#include "tests/support/generated_worlds.h"
 #include "worlds/world.h"
 
 namespace corridorsim::sim {
@@ -21,12 +24,9 @@ namespace {
 
 // A straight corridor `length_m` long, `width_m` wide (walls at y = +-width_m / 2), 2.7 m high.
 worlds::World Corridor(double length_m, int doors = 0, double width_m = 2.4) {
-  worlds::WorldOptions world_options;
-  world_options.length_m = length_m;
+  worlds::WorldOptions world_options = test::BareCorridorOptions(length_m);
   world_options.width_m = width_m;
   world_options.doors.count = doors;
-  world_options.plates.count = 0;
-  world_options.distractors = worlds::DistractorOptions{0, 0, 0, 0, 0};
   return worlds::Generate(world_options, 5);
 }
 
@@ -43,6 +43,16 @@ render::RigOptions WithMount(const std::string& camera, const render::Mount& mou
     if (c.id == camera) c.mount = mount;
   }
   return rig;
+}
+
+// Requires a placement problem in `section` at `key` whose message matches `message`.
+template <class Matcher>
+void CheckRefusedAt(const std::optional<PlacementProblem>& problem, const std::string& section,
+                    const std::string& key, const Matcher& message) {
+  REQUIRE(problem);
+  CHECK(problem->section == section);
+  CHECK(problem->problem.key == key);
+  CHECK_THAT(problem->problem.message, message);
 }
 
 TEST_CASE("the Pioneer and the default rig fit every shipped path kind", "[sim][placement]") {
@@ -74,12 +84,9 @@ TEST_CASE("a body wider than the corridor is refused at robot.body_width_m", "[s
   RobotOptions robot;
   robot.body_width_m = 2.0;
   const auto problem = CheckPathPlacement(world, robot, path, nullptr);
-  REQUIRE(problem);
-  CHECK(problem->section == "robot");
-  CHECK(problem->problem.key == "body_width_m");
-  CHECK_THAT(problem->problem.message, Catch::Contains("intersects a wall") &&
-                                           Catch::Contains("0 m along the path") &&
-                                           Catch::Contains("(got 2)"));
+  CheckRefusedAt(problem, "robot", "body_width_m",
+                 Catch::Contains("intersects a wall") && Catch::Contains("0 m along the path") &&
+                     Catch::Contains("(got 2)"));
 }
 
 TEST_CASE("a body that only hits a wall while it turns is refused at robot.body_length_m",
@@ -94,11 +101,8 @@ TEST_CASE("a body that only hits a wall while it turns is refused at robot.body_
   // does not.
   CHECK_FALSE(CheckPathPlacement(world, robot, StandAt(path.world_from_start), nullptr));
   const auto problem = CheckPathPlacement(world, robot, path, nullptr);
-  REQUIRE(problem);
-  CHECK(problem->section == "robot");
-  CHECK(problem->problem.key == "body_length_m");
-  CHECK_THAT(problem->problem.message,
-             Catch::Contains("9 m along the path") && Catch::Contains("(got 2.4)"));
+  CheckRefusedAt(problem, "robot", "body_length_m",
+                 Catch::Contains("9 m along the path") && Catch::Contains("(got 2.4)"));
 }
 
 TEST_CASE("a camera above the ceiling is refused at its mount", "[sim][placement]") {
@@ -108,10 +112,8 @@ TEST_CASE("a camera above the ceiling is refused at its mount", "[sim][placement
   mount.z_m = 3.0;
   const render::RigOptions rig = WithMount("front", mount);
   const auto problem = CheckPathPlacement(world, RobotOptions{}, path, &rig);
-  REQUIRE(problem);
-  CHECK(problem->section == "sensors");
-  CHECK(problem->problem.key == "front.mount");
-  CHECK_THAT(problem->problem.message, Catch::Contains("above the ceiling (2.7 m high)"));
+  CheckRefusedAt(problem, "sensors", "front.mount",
+                 Catch::Contains("above the ceiling (2.7 m high)"));
 }
 
 TEST_CASE("a camera 0.6 m to the side that meets the end wall only during a turn is refused",
@@ -132,10 +134,7 @@ TEST_CASE("a camera 0.6 m to the side that meets the end wall only during a turn
   // The start-pose check passes: the camera is 0.6 m from the axis of a 2.4 m corridor.
   CHECK_FALSE(render::CheckCameraPlacement(world, rig, SE3::FromSE2(path.world_from_start)));
   const auto problem = CheckPathPlacement(world, RobotOptions{}, path, &rig);
-  REQUIRE(problem);
-  CHECK(problem->section == "sensors");
-  CHECK(problem->problem.key == "lateral.mount");
-  CHECK_THAT(problem->problem.message, Catch::Contains("inside a wall"));
+  CheckRefusedAt(problem, "sensors", "lateral.mount", Catch::Contains("inside a wall"));
   // The other side swings away from the wall and fits.
   mount.y_m = -mount.y_m;
   const render::RigOptions other = WithMount("lateral", mount);
@@ -154,10 +153,7 @@ TEST_CASE("a camera 1 m ahead of the axle that reaches the end wall at a turnaro
   const render::RigOptions rig = WithMount("front", mount);
   CHECK_FALSE(render::CheckCameraPlacement(world, rig, SE3::FromSE2(path.world_from_start)));
   const auto problem = CheckPathPlacement(world, RobotOptions{}, path, &rig);
-  REQUIRE(problem);
-  CHECK(problem->section == "sensors");
-  CHECK(problem->problem.key == "front.mount");
-  CHECK_THAT(problem->problem.message, Catch::Contains("it would see through it"));
+  CheckRefusedAt(problem, "sensors", "front.mount", Catch::Contains("it would see through it"));
   // The same camera 0.7 m ahead keeps a clearance of 0.3 m and fits.
   mount.x_m = 0.7;
   const render::RigOptions shorter = WithMount("front", mount);
@@ -198,10 +194,7 @@ TEST_CASE("a script that drives into a wall is refused at path.commands", "[sim]
   CHECK_FALSE(CheckPathPlacement(world, RobotOptions{}, path, nullptr));
   path.commands.push_back(VelocityCommand{10.0, 0.3, 10.0});  // an arc into a side wall
   const auto problem = CheckPathPlacement(world, RobotOptions{}, path, nullptr);
-  REQUIRE(problem);
-  CHECK(problem->section == "path");
-  CHECK(problem->problem.key == "commands");
-  CHECK_THAT(problem->problem.message, Catch::Contains("intersects a wall"));
+  CheckRefusedAt(problem, "path", "commands", Catch::Contains("intersects a wall"));
 }
 
 TEST_CASE("a script spinning for a million seconds is swept once round and stays fast",

@@ -14,6 +14,7 @@
 #include <catch2/catch.hpp>
 
 #include "tests/support/expect_input_error.h"
+#include "tests/support/generated_worlds.h"
 #include "worlds/world.h"
 
 namespace corridorsim::sim {
@@ -162,6 +163,13 @@ double MaxLinearAcceleration(const Run& run) {
   return worst;
 }
 
+// The farthest the robot got along world x (axis 0) or y (axis 1), from 0.
+double Farthest(const Run& run, int axis) {
+  double farthest = 0.0;
+  for (const SE2& pose : run.poses) farthest = std::max(farthest, pose.translation()[axis]);
+  return farthest;
+}
+
 double MaxSpeed(const Run& run) {
   double fastest = 0.0;
   for (const Step& s : run.steps) fastest = std::max(fastest, s.command.linear_mps);
@@ -169,28 +177,9 @@ double MaxSpeed(const Run& run) {
 }
 
 // Worlds (generated once per test binary).
-const worlds::World& DefaultWorld() {
-  static const worlds::World world = worlds::Generate(worlds::WorldOptions{}, 1);
-  return world;
-}
-
-const worlds::World& LoopWorld() {
-  static const worlds::World world = [] {
-    worlds::WorldOptions world_options;
-    world_options.layout = worlds::Layout::kLoop;
-    return worlds::Generate(world_options, 1);
-  }();
-  return world;
-}
-
-const worlds::World& LTurnWorld() {
-  static const worlds::World world = [] {
-    worlds::WorldOptions world_options;
-    world_options.layout = worlds::Layout::kLTurn;
-    return worlds::Generate(world_options, 1);
-  }();
-  return world;
-}
+const worlds::World& DefaultWorld() { return test::GeneratedWorld(1); }
+const worlds::World& LoopWorld() { return test::GeneratedWorld(1, worlds::Layout::kLoop); }
+const worlds::World& LTurnWorld() { return test::GeneratedWorld(1, worlds::Layout::kLTurn); }
 
 // A 6 m wide hall: room for Borenstein's 4 m UMBmark square.
 const worlds::World& WideWorld() {
@@ -225,9 +214,7 @@ TEST_CASE("the default round trip goes to the far end of the corridor and return
 
   const Run run = Simulate(path, options);
   RequireReturnsToStart(path, run);
-  double far_x = 0.0;
-  for (const SE2& pose : run.poses) far_x = std::max(far_x, pose.x());
-  CHECK(far_x == Approx(world.options.length_m - options.end_margin_m).margin(0.01));
+  CHECK(Farthest(run, 0) == Approx(world.options.length_m - options.end_margin_m).margin(0.01));
   CHECK(MinWallDistance(world, run.poses) >= kMinWallDistanceM);
   CHECK(run.steps.back().progress == 1.0);
 }
@@ -333,9 +320,8 @@ TEST_CASE("the round trip on an L-turn drives both legs and returns", "[sim][pat
   const RobotPath path = BuildRobotPath(world, options);
   const Run run = Simulate(path, options);
   RequireReturnsToStart(path, run);
-  double far_y = 0.0;
-  for (const SE2& pose : run.poses) far_y = std::max(far_y, pose.y());
-  CHECK(far_y == Approx(world.options.second_length_m - options.end_margin_m).margin(0.01));
+  CHECK(Farthest(run, 1) ==
+        Approx(world.options.second_length_m - options.end_margin_m).margin(0.01));
   CHECK(MinWallDistance(world, run.poses) >= kMinWallDistanceM);
 }
 

@@ -9,6 +9,7 @@
 #include <catch2/catch.hpp>
 
 #include "tests/support/expect_input_error.h"
+#include "tests/support/generated_worlds.h"
 #include "worlds/world.h"
 
 namespace corridorsim::sim {
@@ -16,14 +17,7 @@ namespace {
 
 // A 12 m straight corridor, 2.4 m wide (walls at y = +-1.2), without doors or furniture.
 const worlds::World& Corridor() {
-  static const worlds::World world = [] {
-    worlds::WorldOptions options;
-    options.length_m = 12.0;
-    options.doors.count = 0;
-    options.plates.count = 0;
-    options.distractors = worlds::DistractorOptions{0, 0, 0, 0, 0};
-    return worlds::Generate(options, 3);
-  }();
+  static const worlds::World world = worlds::Generate(test::BareCorridorOptions(12.0), 3);
   return world;
 }
 

@@ -16,6 +16,7 @@
 
 #include "common/wheel_odometry_model.h"
 #include "render/camera_rig.h"
+#include "tests/support/generated_worlds.h"
 #include "tests/support/uploaded_rig.h"
 #include "worlds/world.h"
 
@@ -30,12 +31,7 @@ constexpr double kRoundTripReturnM = 0.2;
 
 // A straight corridor `length_m` long without doors or furniture (walls at y = +-1.2).
 worlds::World Corridor(double length_m) {
-  worlds::WorldOptions world_options;
-  world_options.length_m = length_m;
-  world_options.doors.count = 0;
-  world_options.plates.count = 0;
-  world_options.distractors = worlds::DistractorOptions{0, 0, 0, 0, 0};
-  return worlds::Generate(world_options, 5);
+  return worlds::Generate(test::BareCorridorOptions(length_m), 5);
 }
 
 // What a run leaves behind: dead reckoning from the odometry messages next to the truth.

@@ -9,20 +9,14 @@
 
 #include "common/random.h"
 #include "common/wheel_odometry_model.h"
+#include "tests/support/odometry_message.h"
 #include "tests/support/pioneer_calibration.h"
 
 namespace corridorsim::slam {
 namespace {
 
+using test::OdometryMessage;
 using test::PioneerCalibration;
-
-WheelOdometry Message(TimeNs stamp, double left_m, double right_m) {
-  WheelOdometry m;
-  m.stamp_ns = stamp;
-  m.left_distance_m = left_m;
-  m.right_distance_m = right_m;
-  return m;
-}
 
 TEST_CASE("the odometry pipeline starts at the given pose with zero covariance", "[slam]") {
   OdometryPipeline pipeline(OdometryPipelineOptions{}, PioneerCalibration());
@@ -43,7 +37,7 @@ TEST_CASE("straight driving grows the along-track variance by k s / 2 and bends 
   pipeline.Initialize(0, SE2(0, 0, 0));
   const int n = 100;
   const double step = 0.01;  // 1 m in all
-  for (int i = 1; i <= n; ++i) pipeline.OnOdometry(Message(i, step, step));
+  for (int i = 1; i <= n; ++i) pipeline.OnOdometry(OdometryMessage(i, step, step));
   const PoseEstimate e = pipeline.Estimate();
   CHECK(e.world_from_robot.x() == Approx(1.0).epsilon(1e-12));
   CHECK(e.world_from_robot.y() == Approx(0.0).margin(1e-15));
@@ -67,7 +61,7 @@ TEST_CASE("the propagated covariance matches the spread of simulated wheel noise
   const double left = 0.0095, right = 0.0105;
   OdometryPipeline reference(options, PioneerCalibration());
   reference.Initialize(0, SE2());
-  for (int i = 1; i <= messages; ++i) reference.OnOdometry(Message(i, left, right));
+  for (int i = 1; i <= messages; ++i) reference.OnOdometry(OdometryMessage(i, left, right));
   const PoseEstimate expected = reference.Estimate();
   Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
   RandomStream rng(11, 0, "tests.slam.odometry");
@@ -99,26 +93,20 @@ TEST_CASE("odometry pipeline options reject a negative k", "[slam]") {
   CHECK(options.Check()->key == "k_m");
 }
 
-}  // namespace
-}  // namespace corridorsim::slam
-
-namespace corridorsim::slam {
-namespace {
-
 TEST_CASE("odometry with a NaN or out of time order is refused and counted, not applied",
           "[slam]") {
   OdometryPipeline pipeline(OdometryPipelineOptions{}, test::PioneerCalibration());
   pipeline.Initialize(0, SE2(0.0, 0.0, 0.0));
-  pipeline.OnOdometry(Message(10, 0.1, 0.1));
+  pipeline.OnOdometry(OdometryMessage(10, 0.1, 0.1));
   const PoseEstimate before = pipeline.Estimate();
-  pipeline.OnOdometry(Message(20, std::nan(""), 0.1));
-  pipeline.OnOdometry(Message(5, 0.1, 0.1));  // older than the last one
+  pipeline.OnOdometry(OdometryMessage(20, std::nan(""), 0.1));
+  pipeline.OnOdometry(OdometryMessage(5, 0.1, 0.1));  // older than the last one
   const PoseEstimate after = pipeline.Estimate();
   CHECK(after.world_from_robot.x() == before.world_from_robot.x());
   CHECK(after.covariance == before.covariance);
   CHECK(after.covariance.allFinite());
   CHECK(pipeline.health().rejected_odometry == 2);
-  pipeline.OnOdometry(Message(30, 0.1, 0.1));  // good data afterwards is used
+  pipeline.OnOdometry(OdometryMessage(30, 0.1, 0.1));  // good data afterwards is used
   CHECK(pipeline.Estimate().world_from_robot.x() > before.world_from_robot.x());
 }
 

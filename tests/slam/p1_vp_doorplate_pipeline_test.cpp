@@ -9,6 +9,7 @@
 
 #include <catch2/catch.hpp>
 
+#include "tests/support/odometry_message.h"
 #include "tests/support/pioneer_calibration.h"
 #include "tests/support/synthetic_corridor.h"
 
@@ -48,18 +49,10 @@ CameraInput Frame(const std::string& camera, TimeNs stamp, int width, int height
   return input;
 }
 
-WheelOdometry Step(TimeNs stamp, double left_m, double right_m) {
-  WheelOdometry m;
-  m.stamp_ns = stamp;
-  m.left_distance_m = left_m;
-  m.right_distance_m = right_m;
-  return m;
-}
-
 struct Fixture {
   Fixture() : pipeline(Options(), P1Calibration(), 7) {
     pipeline.Initialize(0, SE2(0, 0, 0));
-    pipeline.OnOdometry(Step(10'000'000, 0.01, 0.01));
+    pipeline.OnOdometry(test::OdometryMessage(10'000'000, 0.01, 0.01));
     before = pipeline.Estimate();
   }
   static P1VpDoorplateOptions Options() {
@@ -113,11 +106,13 @@ TEST_CASE("P1: a depth image of zeros is refused and counted, nothing enters the
 
 TEST_CASE("P1: odometry with a NaN or out of time order is refused and counted", "[slam][p1]") {
   Fixture f;
-  f.pipeline.OnOdometry(Step(20'000'000, std::numeric_limits<double>::quiet_NaN(), 0.01));
-  f.pipeline.OnOdometry(Step(5'000'000, 0.01, 0.01));
+  f.pipeline.OnOdometry(
+      test::OdometryMessage(20'000'000, std::numeric_limits<double>::quiet_NaN(), 0.01));
+  f.pipeline.OnOdometry(test::OdometryMessage(5'000'000, 0.01, 0.01));
   CHECK(f.pipeline.health().rejected_odometry == 2);
   f.CheckUntouched();
-  f.pipeline.OnOdometry(Step(30'000'000, 0.01, 0.01));  // good data afterwards is used
+  f.pipeline.OnOdometry(
+      test::OdometryMessage(30'000'000, 0.01, 0.01));  // good data afterwards is used
   CHECK(f.pipeline.Estimate().world_from_robot.x() > f.before.world_from_robot.x());
 }
 

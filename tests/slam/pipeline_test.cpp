@@ -39,12 +39,6 @@ TEST_CASE("a calibration names its first missing or impossible value", "[slam]")
   CHECK(calibration.Check()->key == "cameras.front.model");
 }
 
-}  // namespace
-}  // namespace corridorsim::slam
-
-namespace corridorsim::slam {
-namespace {
-
 Detection Valid(LandmarkType type) {
   Detection d;
   d.camera_id = "front";

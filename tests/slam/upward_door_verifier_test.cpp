@@ -17,20 +17,13 @@
 #include <opencv2/imgproc.hpp>
 
 #include "common/random.h"
+#include "tests/support/test_cameras.h"
 
 namespace corridorsim {
 namespace {
 
-// The default rig's upward camera: Kannala-Brandt 640x480, 110 deg, at (-0.05, 0, 0.4) m, image
-// x = the robot's -y, image y = its +x.
-SE3 UpwardMount() {
-  Eigen::Matrix3d r;
-  r.col(0) = Eigen::Vector3d(0, -1, 0);
-  r.col(1) = Eigen::Vector3d(1, 0, 0);
-  r.col(2) = Eigen::Vector3d(0, 0, 1);
-  return SE3(r, Eigen::Vector3d(-0.05, 0.0, 0.4));
-}
-CameraModel Fisheye() { return KannalaBrandt::FromFov(640, 480, 110.0 * std::numbers::pi / 180.0); }
+using test::UpwardFisheye;
+using test::UpwardMount;
 
 struct Door {
   Eigen::Vector2d a{2.0, 1.2};
@@ -107,7 +100,7 @@ Frame Render(const Door& door, const std::vector<Eigen::Vector3d>& texture, cons
 std::optional<slam::DoorTrackReport> DrivePast(const Door& door,
                                                const std::vector<Eigen::Vector3d>& texture,
                                                const slam::DoorVerifierOptions& options) {
-  const CameraModel model = Fisheye();
+  const CameraModel model = UpwardFisheye();
   const SE3 mount = UpwardMount();
   slam::UpwardDoorVerifier verifier(options, model, mount);
   std::optional<slam::DoorTrackReport> last;
@@ -191,7 +184,7 @@ TEST_CASE("door verifier: a door's size is checked again when it is tested", "[d
   // its span in every sighting (the detector pairing a door's column with a poster's side
   // behind the same bearings): by the test, the median coverage is no door's. Open behind.
   const Door door;
-  const CameraModel model = Fisheye();
+  const CameraModel model = UpwardFisheye();
   const SE3 mount = UpwardMount();
   const std::vector<Eigen::Vector3d> texture = Texture(door, 2.0);
   slam::DoorVerifierOptions options;
@@ -227,7 +220,7 @@ TEST_CASE("door verifier: a wrong pairing of a door's column does not hold the d
   const Door door;
   Door wrong = door;
   wrong.b = door.b + Eigen::Vector2d(0.6, 0.0);
-  const CameraModel model = Fisheye();
+  const CameraModel model = UpwardFisheye();
   const SE3 mount = UpwardMount();
   const std::vector<Eigen::Vector3d> texture = Texture(door, 2.0);
   slam::UpwardDoorVerifier verifier({}, model, mount);
@@ -257,7 +250,7 @@ TEST_CASE("door verifier: a wrong pairing of a door's column does not hold the d
 // (kVerifying), then frames without it (the detector no longer pairing the door as it passes).
 // Returns the reports of tracks decided open without a candidate.
 std::vector<slam::DoorTrackReport> DriveUnpairedOnceKnown(const Door& door, double behind_m) {
-  const CameraModel model = Fisheye();
+  const CameraModel model = UpwardFisheye();
   const SE3 mount = UpwardMount();
   const std::vector<Eigen::Vector3d> texture = Texture(door, behind_m);
   slam::UpwardDoorVerifier verifier({}, model, mount);
@@ -370,7 +363,7 @@ struct Doorway {
 std::optional<slam::DoorTrackReport> DrivePastDoorway(const Doorway& doorway,
                                                       const slam::DoorVerifierOptions& options,
                                                       double start_m = 0.5) {
-  const CameraModel model = Fisheye();
+  const CameraModel model = UpwardFisheye();
   const SE3 mount = UpwardMount();
   const std::vector<Eigen::Vector3d> texture = doorway.Texture();
   const Visible visible = [&](const Eigen::Vector3d& p, const Eigen::Vector3d& c) {

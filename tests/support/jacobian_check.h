@@ -51,4 +51,17 @@ void CheckJacobian(const Eigen::MatrixBase<DerivedA>& analytic,
   REQUIRE(max_error <= rel_tol * scale);
 }
 
+// CheckJacobian of both partial Jacobians of f(a, b) at (a, b): `d_f_d_a` against the central
+// differences of f(., b) at a, then `d_f_d_b` against those of f(a, .) at b.
+template <int Rows, int A, int B, class F>
+void CheckPartialJacobians(F&& f, const Eigen::Matrix<double, A, 1>& a,
+                           const Eigen::Matrix<double, B, 1>& b,
+                           const Eigen::Matrix<double, Rows, A>& d_f_d_a,
+                           const Eigen::Matrix<double, Rows, B>& d_f_d_b) {
+  CheckJacobian(d_f_d_a, NumericalJacobian<Rows, A>(
+                             [&](const Eigen::Matrix<double, A, 1>& x) { return f(x, b); }, a));
+  CheckJacobian(d_f_d_b, NumericalJacobian<Rows, B>(
+                             [&](const Eigen::Matrix<double, B, 1>& y) { return f(a, y); }, b));
+}
+
 }  // namespace corridorsim::test

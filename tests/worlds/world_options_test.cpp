@@ -8,7 +8,9 @@
 
 #include <catch2/catch.hpp>
 
+#include "tests/support/broken_options.h"
 #include "tests/support/expect_input_error.h"
+#include "tests/support/parsed_options.h"
 
 namespace corridorsim::worlds {
 namespace {
@@ -17,11 +19,28 @@ using test::Contains;
 
 // The problem Check() reports for the default options changed by `change`.
 OptionsProblem ProblemOf(const std::function<void(WorldOptions&)>& change) {
-  WorldOptions options;
-  change(options);
-  const auto problem = options.Check();
-  REQUIRE(problem);
-  return *problem;
+  return test::ProblemOf<WorldOptions>(change);
+}
+
+// A rule of WorldOptions::Check: a change to the defaults that breaks it, the key of the problem
+// and a part of its message.
+struct Rule {
+  const char* name;
+  std::function<void(WorldOptions&)> change;
+  const char* key;
+  const char* gist;
+};
+
+// Each rule's change makes Check() report its key, with its gist in the message.
+void CheckEachRule(const std::vector<Rule>& rules) {
+  for (const Rule& rule : rules) {
+    DYNAMIC_SECTION(rule.name) {
+      const OptionsProblem p = ProblemOf(rule.change);
+      CHECK(p.key == rule.key);
+      INFO("message: " << p.message);
+      CHECK(Contains(p.message, rule.gist));
+    }
+  }
 }
 
 TEST_CASE("the default options passes Check", "[worlds][world_options]") {
@@ -159,13 +178,7 @@ TEST_CASE("fractions outside [0, 1] name their key", "[worlds][world_options]") 
 // Every other rule of WorldOptions::Check, one row each: the change, the key, a part of the
 // message.
 TEST_CASE("every Check rule reports its key and says what is wrong", "[worlds][world_options]") {
-  struct Rule {
-    const char* name;
-    std::function<void(WorldOptions&)> change;
-    const char* key;
-    const char* gist;
-  };
-  const std::vector<Rule> rules = {
+  CheckEachRule({
       {"second leg not longer than the width",
        [](WorldOptions& s) {
          s.layout = Layout::kTJunction;
@@ -314,15 +327,7 @@ TEST_CASE("every Check rule reports its key and says what is wrong", "[worlds][w
          s.doors.width_m = 3;
        },
        "doors.width_m", "wider than every wall segment"},
-  };
-  for (const Rule& rule : rules) {
-    DYNAMIC_SECTION(rule.name) {
-      const OptionsProblem p = ProblemOf(rule.change);
-      CHECK(p.key == rule.key);
-      INFO("message: " << p.message);
-      CHECK(Contains(p.message, rule.gist));
-    }
-  }
+  });
 }
 
 TEST_CASE("the generator's loop counts and textures are bounded before it runs",
@@ -336,13 +341,7 @@ TEST_CASE("the generator's loop counts and textures are bounded before it runs",
   CHECK(WorldBudgetOf(largest).tile_corners <= kMaxTileCorners);
   CHECK(WorldBudgetOf(WorldOptions{}).texture_bytes < 8e6);
 
-  struct Rule {
-    const char* name;
-    std::function<void(WorldOptions&)> change;
-    const char* key;
-    const char* gist;
-  };
-  const std::vector<Rule> rules = {
+  CheckEachRule({
       // 4 million tile corners, each tested against the fixtures near it (it hung for minutes).
       {"tiny tiles over a 2 km corridor",
        [](WorldOptions& s) {
@@ -387,13 +386,7 @@ TEST_CASE("the generator's loop counts and textures are bounded before it runs",
          s.distractors.bookshelves = 1900;
        },
        "distractors", "MiB, more than 1024 MiB (got 1911 distractors)"},
-  };
-  for (const Rule& rule : rules) {
-    INFO(rule.name);
-    const OptionsProblem p = ProblemOf(rule.change);
-    CHECK(p.key == rule.key);
-    CHECK(Contains(p.message, rule.gist));
-  }
+  });
 }
 
 TEST_CASE("Check reports the first problem in the order of the options",
@@ -547,11 +540,8 @@ TEST_CASE("ParseWorldOptions reads every documented key", "[worlds][world_option
 
 TEST_CASE("ParseWorldOptions leaves keys that are absent at their defaults",
           "[worlds][world_options]") {
-  const YamlDocument doc =
-      YamlDocument::FromString("doors:\n  count: 4\nplates:\n  count: 2\n", "few.yaml");
-  YamlMap map(doc, doc.root, "world", nullptr);
-  WorldOptions s;
-  ParseWorldOptions(map, s);
+  const WorldOptions s = test::ParsedOptions(
+      ParseWorldOptions, "doors:\n  count: 4\nplates:\n  count: 2\n", "few.yaml", "world");
   const WorldOptions defaults;
   CHECK(s.doors.count == 4);
   CHECK(s.plates.count == 2);
@@ -565,29 +555,22 @@ TEST_CASE("ParseWorldOptions leaves keys that are absent at their defaults",
 TEST_CASE("ParseWorldOptions rejects unknown keys in every section", "[worlds][world_options]") {
   for (const char* section : {"doors", "plates", "lamps", "ceiling", "distractors"}) {
     const std::string text = std::string(section) + ":\n  colour: red\n";
-    const YamlDocument doc = YamlDocument::FromString(text, "unknown.yaml");
-    YamlMap map(doc, doc.root, "world", nullptr);
-    WorldOptions s;
-    const InputError e = test::InputErrorOf([&] { ParseWorldOptions(map, s); });
+    const InputError e = test::ParseErrorOf(ParseWorldOptions, text, "unknown.yaml", "world");
     CHECK(e.key() == "world." + std::string(section) + ".colour");
     CHECK(e.location().line == 2);
     CHECK(e.location().column == 3);
     CHECK(Contains(e.message(), "unknown key"));
   }
-  const YamlDocument doc = YamlDocument::FromString("length_m: 3\nlenght: 4\n", "top.yaml");
-  YamlMap map(doc, doc.root, "world", nullptr);
-  WorldOptions s;
-  const InputError e = test::InputErrorOf([&] { ParseWorldOptions(map, s); });
+  const InputError e =
+      test::ParseErrorOf(ParseWorldOptions, "length_m: 3\nlenght: 4\n", "top.yaml", "world");
   CHECK(std::string(e.what()).rfind("top.yaml:2:1: world.lenght: unknown key (known keys here: ",
                                     0) == 0);
 }
 
 TEST_CASE("ParseWorldOptions rejects an unknown layout listing the valid ones",
           "[worlds][world_options]") {
-  const YamlDocument doc = YamlDocument::FromString("layout: u_turn\n", "layout.yaml");
-  YamlMap map(doc, doc.root, "world", nullptr);
-  WorldOptions s;
-  const InputError e = test::InputErrorOf([&] { ParseWorldOptions(map, s); });
+  const InputError e =
+      test::ParseErrorOf(ParseWorldOptions, "layout: u_turn\n", "layout.yaml", "world");
   CHECK(std::string(e.what()) ==
         "layout.yaml:1:1: world.layout: unknown value 'u_turn' (expected one of: straight, l_turn, "
         "t_junction, loop)");
@@ -609,10 +592,9 @@ TEST_CASE("ParseWorldOptions rejects wrong types naming the key", "[worlds][worl
        "types.yaml:2:3: world.plates.count: expected an integer, got a list"},
   };
   for (const Case& c : cases) {
-    const YamlDocument doc = YamlDocument::FromString(c.yaml, "types.yaml");
-    YamlMap map(doc, doc.root, "world", nullptr);
-    WorldOptions s;
-    CHECK(std::string(test::InputErrorOf([&] { ParseWorldOptions(map, s); }).what()) == c.what);
+    CHECK(
+        std::string(test::ParseErrorOf(ParseWorldOptions, c.yaml, "types.yaml", "world").what()) ==
+        c.what);
   }
 }
 

@@ -19,6 +19,7 @@
 #include "common/pose.h"
 #include "common/random.h"
 #include "slam/ekf/measurement_models.h"
+#include "tests/support/planar_motion.h"
 #include "tests/support/tolerances.h"
 
 namespace corridorsim::slam::ekf {
@@ -371,19 +372,7 @@ Eigen::Vector3d CircleStep() {
                          Simulation::kRadiusM * (1.0 - std::cos(turn)), turn);
 }
 
-SE2 Compose(const SE2& pose, const Eigen::Vector3d& delta_in_robot, Eigen::Matrix3d* f = nullptr,
-            Eigen::Matrix3d* g = nullptr) {
-  const Eigen::Vector2d step = pose.rotation() * delta_in_robot.head<2>();
-  if (f != nullptr) {
-    *f = Eigen::Matrix3d::Identity();
-    f->block<2, 1>(0, 2) = Eigen::Vector2d(-step.y(), step.x());
-  }
-  if (g != nullptr) {
-    *g = Eigen::Matrix3d::Identity();
-    g->topLeftCorner<2, 2>() = pose.rotation();
-  }
-  return SE2(pose.translation() + step, pose.yaw() + delta_in_robot.z());
-}
+using test::Compose;
 
 struct NeesFigures {
   double mean_nees = 0.0;  // robot pose NEES over every run and step

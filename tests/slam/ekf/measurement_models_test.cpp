@@ -22,8 +22,7 @@ namespace {
 using Eigen::Matrix;
 using Eigen::Vector2d;
 using Eigen::Vector3d;
-using test::CheckJacobian;
-using test::NumericalJacobian;
+using test::CheckPartialJacobians;
 constexpr double kPi = std::numbers::pi;
 constexpr double kDeg = kPi / 180.0;
 
@@ -75,30 +74,20 @@ TEST_CASE("ProjectWorldPoint and its depth form have the Jacobians of central di
     INFO("pose " << pose.transpose() << " point " << point.transpose());
     Matrix<double, 2, 3> d_pose, d_point;
     REQUIRE(ProjectWorldPoint(PoseOf(pose), point, mount, model, &d_pose, &d_point));
-    CheckJacobian(d_pose, NumericalJacobian<2, 3>(
-                              [&](const Vector3d& p) {
-                                return *ProjectWorldPoint(PoseOf(p), point, mount, model);
-                              },
-                              pose));
-    CheckJacobian(d_point, NumericalJacobian<2, 3>(
-                               [&](const Vector3d& p) {
-                                 return *ProjectWorldPoint(PoseOf(pose), p, mount, model);
-                               },
-                               point));
+    CheckPartialJacobians(
+        [&](const Vector3d& x, const Vector3d& p) {
+          return *ProjectWorldPoint(PoseOf(x), p, mount, model);
+        },
+        pose, point, d_pose, d_point);
     Eigen::Matrix3d d3_pose, d3_point;
     const auto measured =
         ProjectWorldPointWithDepth(PoseOf(pose), point, mount, model, &d3_pose, &d3_point);
     REQUIRE(measured);
-    CheckJacobian(d3_pose, NumericalJacobian<3, 3>(
-                               [&](const Vector3d& p) {
-                                 return *ProjectWorldPointWithDepth(PoseOf(p), point, mount, model);
-                               },
-                               pose));
-    CheckJacobian(d3_point, NumericalJacobian<3, 3>(
-                                [&](const Vector3d& p) {
-                                  return *ProjectWorldPointWithDepth(PoseOf(pose), p, mount, model);
-                                },
-                                point));
+    CheckPartialJacobians(
+        [&](const Vector3d& x, const Vector3d& p) {
+          return *ProjectWorldPointWithDepth(PoseOf(x), p, mount, model);
+        },
+        pose, point, d3_pose, d3_point);
     CHECK(measured->head<2>() == *ProjectWorldPoint(PoseOf(pose), point, mount, model));
   }
 }
@@ -135,14 +124,9 @@ TEST_CASE("VanishingPointU and DoorPlateU have the Jacobians of central differen
            : DoorPlateU(PoseOf(pose), landmark, height, mount, model, &d_pose, &d_landmark);
     REQUIRE(u);
     INFO("pose " << pose.transpose() << " landmark " << landmark.transpose());
-    CheckJacobian(
-        d_pose,
-        NumericalJacobian<1, 3>(
-            [&](const Vector3d& x) { return Matrix<double, 1, 1>(*u_of(x, landmark)); }, pose));
-    CheckJacobian(
-        d_landmark,
-        NumericalJacobian<1, 2>(
-            [&](const Vector2d& l) { return Matrix<double, 1, 1>(*u_of(pose, l)); }, landmark));
+    CheckPartialJacobians(
+        [&](const Vector3d& x, const Vector2d& l) { return Matrix<double, 1, 1>(*u_of(x, l)); },
+        pose, landmark, d_pose, d_landmark);
   }
 }
 
@@ -239,16 +223,11 @@ TEST_CASE("InitVanishingPoint inverts VanishingPointU and has central-difference
     const Vector3d centre_in_robot = mount.translation();
     const Vector2d centre = PoseOf(pose) * Vector2d(centre_in_robot.head<2>());
     CHECK((*vp - centre).norm() == Approx(distance).epsilon(1e-12));
-    CheckJacobian(d_pose, NumericalJacobian<2, 3>(
-                              [&](const Vector3d& x) {
-                                return *InitVanishingPoint(PoseOf(x), u, distance, mount, model);
-                              },
-                              pose));
-    CheckJacobian(d_u, NumericalJacobian<2, 1>(
-                           [&](const Matrix<double, 1, 1>& v) {
-                             return *InitVanishingPoint(PoseOf(pose), v[0], distance, mount, model);
-                           },
-                           Matrix<double, 1, 1>(u)));
+    CheckPartialJacobians(
+        [&](const Vector3d& x, const Matrix<double, 1, 1>& v) {
+          return *InitVanishingPoint(PoseOf(x), v[0], distance, mount, model);
+        },
+        pose, Matrix<double, 1, 1>(u), d_pose, d_u);
   }
 }
 
@@ -291,20 +270,14 @@ TEST_CASE("TriangulateDoorPlate recovers the plate from two sightings, with its 
       return TriangulateDoorPlate(PoseOf(p1), v1, PoseOf(p2), v2, height, mount, model)
           ->plate_in_world;
     };
-    CheckJacobian(d_first,
-                  NumericalJacobian<2, 3>(
-                      [&](const Vector3d& x) { return solve(x, *u1, second, *u2); }, first));
-    CheckJacobian(d_second,
-                  NumericalJacobian<2, 3>(
-                      [&](const Vector3d& x) { return solve(first, *u1, x, *u2); }, second));
-    CheckJacobian(
-        d_u1, NumericalJacobian<2, 1>(
-                  [&](const Matrix<double, 1, 1>& v) { return solve(first, v[0], second, *u2); },
-                  Matrix<double, 1, 1>(*u1)));
-    CheckJacobian(
-        d_u2, NumericalJacobian<2, 1>(
-                  [&](const Matrix<double, 1, 1>& v) { return solve(first, *u1, second, v[0]); },
-                  Matrix<double, 1, 1>(*u2)));
+    CheckPartialJacobians(
+        [&](const Vector3d& p1, const Vector3d& p2) { return solve(p1, *u1, p2, *u2); }, first,
+        second, d_first, d_second);
+    CheckPartialJacobians(
+        [&](const Matrix<double, 1, 1>& v1, const Matrix<double, 1, 1>& v2) {
+          return solve(first, v1[0], second, v2[0]);
+        },
+        Matrix<double, 1, 1>(*u1), Matrix<double, 1, 1>(*u2), d_u1, d_u2);
     ++checked;
   }
   CHECK(checked >= 30);
@@ -328,16 +301,11 @@ TEST_CASE("UnprojectRgbdPoint inverts the depth projection and has central-diffe
     REQUIRE(back);
     INFO("pose " << pose.transpose() << " point " << point.transpose());
     CHECK((*back - point).norm() <= 1e-8);
-    CheckJacobian(d_pose, NumericalJacobian<3, 3>(
-                              [&](const Vector3d& x) {
-                                return *UnprojectRgbdPoint(PoseOf(x), z, mount, model);
-                              },
-                              pose));
-    CheckJacobian(d_z, NumericalJacobian<3, 3>(
-                           [&](const Vector3d& m) {
-                             return *UnprojectRgbdPoint(PoseOf(pose), m, mount, model);
-                           },
-                           z));
+    CheckPartialJacobians(
+        [&](const Vector3d& x, const Vector3d& m) {
+          return *UnprojectRgbdPoint(PoseOf(x), m, mount, model);
+        },
+        pose, z, d_pose, d_z);
   }
   CHECK_FALSE(UnprojectRgbdPoint(SE2(), Vector3d(320, 240, 0.0), mount, model));
 }
@@ -353,23 +321,15 @@ TEST_CASE("range-bearing and its inverse have central-difference Jacobians", "[e
     Eigen::Matrix2d d_landmark;
     const Vector2d z = RangeBearing(PoseOf(pose), landmark, &d_pose, &d_landmark);
     CHECK((z - z_true).norm() <= 1e-9);
-    CheckJacobian(d_pose,
-                  NumericalJacobian<2, 3>(
-                      [&](const Vector3d& x) { return RangeBearing(PoseOf(x), landmark); }, pose));
-    CheckJacobian(d_landmark,
-                  NumericalJacobian<2, 2>(
-                      [&](const Vector2d& l) { return RangeBearing(PoseOf(pose), l); }, landmark));
+    CheckPartialJacobians(
+        [&](const Vector3d& x, const Vector2d& l) { return RangeBearing(PoseOf(x), l); }, pose,
+        landmark, d_pose, d_landmark);
     Matrix<double, 2, 3> d_inv_pose;
     Eigen::Matrix2d d_inv_z;
     RangeBearingInverse(PoseOf(pose), z_true, &d_inv_pose, &d_inv_z);
-    CheckJacobian(
-        d_inv_pose,
-        NumericalJacobian<2, 3>(
-            [&](const Vector3d& x) { return RangeBearingInverse(PoseOf(x), z_true); }, pose));
-    CheckJacobian(
-        d_inv_z,
-        NumericalJacobian<2, 2>(
-            [&](const Vector2d& m) { return RangeBearingInverse(PoseOf(pose), m); }, z_true));
+    CheckPartialJacobians(
+        [&](const Vector3d& x, const Vector2d& m) { return RangeBearingInverse(PoseOf(x), m); },
+        pose, z_true, d_inv_pose, d_inv_z);
   }
 }
 

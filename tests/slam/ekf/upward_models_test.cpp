@@ -9,24 +9,14 @@
 #include <catch2/catch.hpp>
 
 #include "tests/support/jacobian_check.h"
+#include "tests/support/test_cameras.h"
 
 namespace corridorsim {
 namespace {
 
 using slam::ekf::InverseDepthPoint;
-
-// The default rig's upward camera: Kannala-Brandt 640x480, 110 deg, at (-0.05, 0, 0.4) m,
-// pitched up 90 deg.
-SE3 UpwardMount() {
-  // render::Mount{-0.05, 0, 0.4, yaw 0, pitch 90, roll 0}: image x (right) = the robot's -y,
-  // image y (down) = its +x, the optical axis up.
-  Eigen::Matrix3d r;
-  r.col(0) = Eigen::Vector3d(0, -1, 0);
-  r.col(1) = Eigen::Vector3d(1, 0, 0);
-  r.col(2) = Eigen::Vector3d(0, 0, 1);
-  return SE3(r, Eigen::Vector3d(-0.05, 0.0, 0.4));
-}
-CameraModel Fisheye() { return KannalaBrandt::FromFov(640, 480, 110.0 * std::numbers::pi / 180.0); }
+using test::UpwardFisheye;
+using test::UpwardMount;
 
 TEST_CASE("upward model: the optical axis points up", "[ekf][upward]") {
   const SE3 mount = UpwardMount();
@@ -35,7 +25,7 @@ TEST_CASE("upward model: the optical axis points up", "[ekf][upward]") {
 
 TEST_CASE("upward model: an initialised landmark projects back to its pixel at any depth",
           "[ekf][upward]") {
-  const CameraModel model = Fisheye();
+  const CameraModel model = UpwardFisheye();
   const SE2 pose(1.2, -0.4, 0.7);
   for (const Eigen::Vector2d pixel :
        {Eigen::Vector2d(100, 50), Eigen::Vector2d(330, 250), Eigen::Vector2d(600, 430)}) {
@@ -76,7 +66,7 @@ TEST_CASE("upward model: a pinhole at the robot's origin looking up is P3 eq. 16
 }
 
 TEST_CASE("upward model: analytic Jacobians match central differences", "[ekf][upward]") {
-  const CameraModel model = Fisheye();
+  const CameraModel model = UpwardFisheye();
   const SE3 mount = UpwardMount();
   const Eigen::Vector3d x0(0.8, -0.3, 0.9);
   InverseDepthPoint l;
@@ -85,37 +75,22 @@ TEST_CASE("upward model: analytic Jacobians match central differences", "[ekf][u
   Eigen::Matrix<double, 2, 5> d_landmark;
   REQUIRE(slam::ekf::InverseDepthPolar(SE2(x0.x(), x0.y(), x0.z()), l, mount, model, &d_pose,
                                        &d_landmark));
-  test::CheckJacobian(d_pose, test::NumericalJacobian<2, 3>(
-                                  [&](const Eigen::Vector3d& x) {
-                                    return *slam::ekf::InverseDepthPolar(SE2(x.x(), x.y(), x.z()),
-                                                                         l, mount, model);
-                                  },
-                                  x0));
-  test::CheckJacobian(d_landmark, test::NumericalJacobian<2, 5>(
-                                      [&](const InverseDepthPoint& y) {
-                                        return *slam::ekf::InverseDepthPolar(
-                                            SE2(x0.x(), x0.y(), x0.z()), y, mount, model);
-                                      },
-                                      l));
+  test::CheckPartialJacobians(
+      [&](const Eigen::Vector3d& x, const InverseDepthPoint& y) {
+        return *slam::ekf::InverseDepthPolar(SE2(x.x(), x.y(), x.z()), y, mount, model);
+      },
+      x0, l, d_pose, d_landmark);
   // Initialisation: over the pose and over (u, v, rho).
   const Eigen::Vector3d z0(250.0, 180.0, 0.6);
   Eigen::Matrix<double, 5, 3> a_pose, a_z;
   REQUIRE(slam::ekf::InitInverseDepthPoint(SE2(x0.x(), x0.y(), x0.z()), z0.head<2>(), z0(2), mount,
                                            model, 0.1, &a_pose, &a_z));
-  test::CheckJacobian(a_pose, test::NumericalJacobian<5, 3>(
-                                  [&](const Eigen::Vector3d& x) {
-                                    return *slam::ekf::InitInverseDepthPoint(
-                                        SE2(x.x(), x.y(), x.z()), z0.head<2>(), z0(2), mount, model,
-                                        0.1);
-                                  },
-                                  x0));
-  test::CheckJacobian(a_z, test::NumericalJacobian<5, 3>(
-                               [&](const Eigen::Vector3d& z) {
-                                 return *slam::ekf::InitInverseDepthPoint(
-                                     SE2(x0.x(), x0.y(), x0.z()), z.head<2>(), z(2), mount, model,
-                                     0.1);
-                               },
-                               z0));
+  test::CheckPartialJacobians(
+      [&](const Eigen::Vector3d& x, const Eigen::Vector3d& z) {
+        return *slam::ekf::InitInverseDepthPoint(SE2(x.x(), x.y(), x.z()), z.head<2>(), z(2), mount,
+                                                 model, 0.1);
+      },
+      x0, z0, a_pose, a_z);
   Eigen::Matrix<double, 3, 5> d_point;
   slam::ekf::InverseDepthToPoint(l, 0.4, &d_point);
   test::CheckJacobian(
@@ -125,7 +100,7 @@ TEST_CASE("upward model: analytic Jacobians match central differences", "[ekf][u
 }
 
 TEST_CASE("upward model: no projection for rho <= 0 or a ray pointing down", "[ekf][upward]") {
-  const CameraModel model = Fisheye();
+  const CameraModel model = UpwardFisheye();
   InverseDepthPoint l;
   l << 0, 0, 0.1, 0.1, 0.0;
   CHECK_FALSE(slam::ekf::InverseDepthPixel(SE2(), l, UpwardMount(), model));

@@ -5,6 +5,8 @@
 #include <catch2/catch.hpp>
 
 #include "slam/features/door_plates.h"
+#include "tests/support/door_plate_truth.h"
+#include "tests/support/generated_worlds.h"
 #include "tests/support/lateral_views.h"
 #include "tests/support/scratch_dir.h"
 
@@ -12,21 +14,10 @@ namespace corridorsim {
 namespace {
 
 using slam::BoxPx;
+using test::NumberBox;
+using test::ShippedModels;
 
-BoxPx NumberBox(const render::PlateTruth& p) {
-  return BoxPx{p.number_bbox_min_px.x(), p.number_bbox_min_px.y(), p.number_bbox_max_px.x(),
-               p.number_bbox_max_px.y()};
-}
-
-const worlds::World& TestWorld() {
-  static const worlds::World world = worlds::Generate(worlds::WorldOptions{}, 11);
-  return world;
-}
-
-const slam::DoorPlateModels& ShippedModels() {
-  static const slam::DoorPlateModels models = slam::DoorPlateModels::Load();
-  return models;
-}
+const worlds::World& TestWorld() { return test::GeneratedWorld(11); }
 
 TEST_CASE("box IoU: identical boxes 1, disjoint 0, half overlap 1/3", "[plates]") {
   const BoxPx a{0, 0, 10, 10};

@@ -4,34 +4,19 @@
 #include <catch2/catch.hpp>
 
 #include "slam/features/door_plates.h"
+#include "tests/support/door_plate_truth.h"
+#include "tests/support/generated_worlds.h"
 #include "tests/support/lateral_views.h"
 
 namespace corridorsim {
 namespace {
 
 using slam::BoxPx;
+using test::NumberBox;
+using test::ShippedModels;
+using test::TruthOf;
 
-BoxPx NumberBox(const render::PlateTruth& p) {
-  return BoxPx{p.number_bbox_min_px.x(), p.number_bbox_min_px.y(), p.number_bbox_max_px.x(),
-               p.number_bbox_max_px.y()};
-}
-
-const worlds::World& TestWorld() {
-  static const worlds::World world = worlds::Generate(worlds::WorldOptions{}, 23);
-  return world;
-}
-
-const slam::DoorPlateModels& ShippedModels() {
-  static const slam::DoorPlateModels models = slam::DoorPlateModels::Load();
-  return models;
-}
-
-const render::PlateTruth* TruthOf(const test::LateralView& view, int id) {
-  for (const auto& p : view.truth.plates) {
-    if (p.id == id) return &p;
-  }
-  return nullptr;
-}
+const worlds::World& TestWorld() { return test::GeneratedWorld(23); }
 
 TEST_CASE("the projected number box holds the rendered plate's text pixels", "[plates][render]") {
   const worlds::World& world = TestWorld();

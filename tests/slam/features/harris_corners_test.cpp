@@ -10,6 +10,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "slam/features/image_conversion.h"
+#include "tests/support/broken_options.h"
 #include "tests/support/feature_tolerances.h"
 
 namespace corridorsim::slam {
@@ -142,17 +143,11 @@ TEST_CASE("MedianDepth3x3 ignores invalid depths and clips the window", "[slam][
 }
 
 TEST_CASE("Harris options: defaults pass and bounds are checked", "[slam][features]") {
-  CHECK_FALSE(HarrisCornerOptions{}.Check());
-  HarrisCornerOptions o;
-  o.max_corners = 0;
-  REQUIRE(o.Check());
-  CHECK(o.Check()->key == "max_corners");
-  o = HarrisCornerOptions{};
-  o.quality_level = 0.0;
-  CHECK(o.Check()->key == "quality_level");
-  o = HarrisCornerOptions{};
-  o.block_size_px = 1;
-  CHECK(o.Check()->key == "block_size_px");
+  test::CheckEachBrokenOption<HarrisCornerOptions>({
+      {[](HarrisCornerOptions& o) { o.max_corners = 0; }, "max_corners"},
+      {[](HarrisCornerOptions& o) { o.quality_level = 0.0; }, "quality_level"},
+      {[](HarrisCornerOptions& o) { o.block_size_px = 1; }, "block_size_px"},
+  });
 }
 
 }  // namespace

@@ -7,6 +7,8 @@
 
 #include <catch2/catch.hpp>
 
+#include "tests/support/broken_options.h"
+
 namespace corridorsim::slam {
 namespace {
 
@@ -146,16 +148,11 @@ TEST_CASE("the .bt bytes read back into the same tree, and the same input gives 
 }
 
 TEST_CASE("the mapper's options are checked", "[slam][mapping]") {
-  CHECK_FALSE(OccupancyMapperOptions{}.Check());
-  OccupancyMapperOptions options;
-  options.resolution_m = 0.0;
-  CHECK(options.Check()->key == "resolution_m");
-  options = OccupancyMapperOptions{};
-  options.max_range_m = 50.0;
-  CHECK(options.Check()->key == "max_range_m");
-  options = OccupancyMapperOptions{};
-  options.voxel_leaf_m = 0.001;
-  CHECK(options.Check()->key == "voxel_leaf_m");
+  test::CheckEachBrokenOption<OccupancyMapperOptions>({
+      {[](OccupancyMapperOptions& o) { o.resolution_m = 0.0; }, "resolution_m"},
+      {[](OccupancyMapperOptions& o) { o.max_range_m = 50.0; }, "max_range_m"},
+      {[](OccupancyMapperOptions& o) { o.voxel_leaf_m = 0.001; }, "voxel_leaf_m"},
+  });
 }
 
 // Writes a .bt file for tests/slam/mapping/octomap_tools_test.cmake, which reads it with

@@ -120,32 +120,23 @@ TEST_CASE("the semantic map parser names what is wrong", "[slam][mapping]") {
   CHECK(ProblemOf(head + R"("rooms": {}})") == "rooms: expected an array (got object)");
   CHECK(ProblemOf(head + R"("rooms": [)" + room + ", " + room + "]}") ==
         "rooms[1].room: room '101' appears twice");
-  std::string bad = room;
-  bad.replace(bad.find("[1, 2, 3]"), 9, "[1, 2]");
-  CHECK(ProblemOf(head + R"("rooms": [)" + bad + "]}") ==
-        "rooms[0].position_m: expected [x, y, z] in metres");
-  bad = room;
-  bad.replace(bad.find("[1, 2, 3]"), 9, "[1, \"2\", 3]");
-  CHECK(ProblemOf(head + R"("rooms": [)" + bad + "]}") ==
+  // The problem of a map of the one room with its first `part` replaced by `replacement`.
+  const auto edited = [&](const std::string& part, const std::string& replacement) {
+    std::string bad = room;
+    bad.replace(bad.find(part), part.size(), replacement);
+    return ProblemOf(head + R"("rooms": [)" + bad + "]}");
+  };
+  CHECK(edited("[1, 2, 3]", "[1, 2]") == "rooms[0].position_m: expected [x, y, z] in metres");
+  CHECK(edited("[1, 2, 3]", "[1, \"2\", 3]") ==
         "rooms[0].position_m[1]: expected a number (got string)");
-  bad = room;
-  bad.replace(bad.find("[[1, 0], [0, 1]]"), 16, "[[1, 0.5], [0, 1]]");
-  CHECK(ProblemOf(head + R"("rooms": [)" + bad + "]}") == "rooms[0].covariance_m2: not symmetric");
-  bad = room;
-  bad.replace(bad.find("[[1, 0], [0, 1]]"), 16, "[[-1, 0], [0, 1]]");
-  CHECK(ProblemOf(head + R"("rooms": [)" + bad + "]}") ==
+  CHECK(edited("[[1, 0], [0, 1]]", "[[1, 0.5], [0, 1]]") ==
+        "rooms[0].covariance_m2: not symmetric");
+  CHECK(edited("[[1, 0], [0, 1]]", "[[-1, 0], [0, 1]]") ==
         "rooms[0].covariance_m2: a variance is negative");
-  bad = room;
-  bad.replace(bad.find("\"101\""), 5, "\"1 01\"");
-  CHECK_THAT(ProblemOf(head + R"("rooms": [)" + bad + "]}"), Catch::StartsWith("rooms[0].room: "));
-  bad = room;
-  bad.replace(bad.find("3, \"pos"), 1, "3.5");
-  CHECK_THAT(ProblemOf(head + R"("rooms": [)" + bad + "]}"),
+  CHECK_THAT(edited("\"101\"", "\"1 01\""), Catch::StartsWith("rooms[0].room: "));
+  CHECK_THAT(edited("3, \"pos", "3.5, \"pos"),
              Catch::StartsWith("rooms[0].landmark_id: expected an integer"));
-  bad = room;
-  bad.replace(bad.find("[1, 2, 3]"), 9, "[1, 2, 1e400]");
-  CHECK(ProblemOf(head + R"("rooms": [)" + bad + "]}") ==
-        "not JSON: number overflow parsing '1e400'");
+  CHECK(edited("[1, 2, 3]", "[1, 2, 1e400]") == "not JSON: number overflow parsing '1e400'");
   CHECK_THAT(ProblemOf(std::string(kSemanticMapMaxBytes + 1, ' ')),
              Catch::StartsWith("longer than"));
 }
