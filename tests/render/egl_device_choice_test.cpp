@@ -1,7 +1,7 @@
 // Tests for the EGL backend's choice of device, without EGL (render/egl_context.cpp):
 // CORRIDORSIM_EGL_DEVICE and LIBGL_ALWAYS_SOFTWARE as ParseEglDeviceRequest reads them, and
-// ChooseEglDevice over the devices' extension strings. tests/render/backend_test.cpp creates the
-// backends themselves.
+// ChooseEglDevice over the devices' extension strings. tests/render/backend_egl_device_test.cpp
+// creates the EGL backend on the device chosen.
 
 #include <optional>
 #include <string>
