@@ -1,7 +1,7 @@
 // Tests worlds::Generate (worlds/generator*.cpp): invariants of generated worlds for every layout
 // and several seeds (doors, plates, lamps, rooms, corner points, distractors, ids, meshes, a
-// drivable centre line, lamps at a corridor's far end). What the seed and the options change is
-// tested in generator_options_test.cpp.
+// drivable centre line), the error for distractors that do not fit and lamps at a corridor's far
+// end. Determinism and independent random streams: generator_determinism_test.cpp.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -12,6 +12,7 @@
 
 #include <catch2/catch.hpp>
 
+#include "tests/support/expect_input_error.h"
 #include "tests/support/generator_layouts.h"
 #include "tests/support/tolerances.h"
 #include "worlds/layout.h"
@@ -612,7 +613,35 @@ TEST_CASE("the robot can drive along every corridor centre line", "[worlds][gene
   });
 }
 
-// ---- lamps at a corridor's far end ------------------------------------------------------------
+// ---- all_options the generator cannot place
+// ----------------------------------------------------------
+
+TEST_CASE("more distractors than fit on the walls throw a OptionsError naming the kind",
+          "[worlds][generator]") {
+  struct Case {
+    const char* key;
+    int DistractorOptions::*field;
+  };
+  for (const Case& k :
+       {Case{"distractors.posters", &DistractorOptions::posters},
+        Case{"distractors.bookshelves", &DistractorOptions::bookshelves},
+        Case{"distractors.fire_extinguishers", &DistractorOptions::fire_extinguishers}}) {
+    INFO(k.key);
+    WorldOptions options;
+    options.distractors.*k.field = 300;
+    REQUIRE_FALSE(options.Check());  // the options is valid; only the generated walls are too short
+    const OptionsProblem p = test::OptionsErrorOf([&] { Generate(options, 1); });
+    CHECK(p.key == k.key);
+    CHECK(test::Contains(p.message, " of 300 fit on the free wall stretches"));
+  }
+}
+
+TEST_CASE("Generate rejects a options that fails Check with its problem", "[worlds][generator]") {
+  WorldOptions options;
+  options.plates.count = 20;
+  const OptionsProblem p = test::OptionsErrorOf([&] { Generate(options, 1); });
+  CHECK(p.key == "plates.count");
+}
 
 TEST_CASE("lamps near the far end of a corridor stay inside it", "[worlds][generator]") {
   // The last lamp slot of a 40.6 m corridor with 3 m spacing is at 40.5 m, 0.1 m before the end

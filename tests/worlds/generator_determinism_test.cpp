@@ -1,7 +1,7 @@
 // Tests worlds::Generate (worlds/generator*.cpp) for what the seed and the options change in a
 // world and what they leave: determinism, independent random streams, plain ceiling stretches and
-// plain walls, and the errors for options the generator cannot place. The invariants of every
-// generated world are tested in generator_test.cpp.
+// plain walls that move nothing else. The invariants of every generated world are tested in
+// generator_test.cpp.
 #include <algorithm>
 #include <cstdint>
 #include <string>
@@ -9,7 +9,6 @@
 
 #include <catch2/catch.hpp>
 
-#include "tests/support/expect_input_error.h"
 #include "tests/support/generator_layouts.h"
 #include "worlds/world.h"
 #include "worlds/world_io.h"
@@ -233,36 +232,6 @@ TEST_CASE("plain walls: the corridor's walls smooth, the rooms' speckled, the re
     REQUIRE(same != plain.textures.end());
     CHECK((same->image.data == t.image.data));
   }
-}
-
-// ---- all_options the generator cannot place
-// ----------------------------------------------------------
-
-TEST_CASE("more distractors than fit on the walls throw a OptionsError naming the kind",
-          "[worlds][generator]") {
-  struct Case {
-    const char* key;
-    int DistractorOptions::*field;
-  };
-  for (const Case& k :
-       {Case{"distractors.posters", &DistractorOptions::posters},
-        Case{"distractors.bookshelves", &DistractorOptions::bookshelves},
-        Case{"distractors.fire_extinguishers", &DistractorOptions::fire_extinguishers}}) {
-    INFO(k.key);
-    WorldOptions options;
-    options.distractors.*k.field = 300;
-    REQUIRE_FALSE(options.Check());  // the options is valid; only the generated walls are too short
-    const OptionsProblem p = test::OptionsErrorOf([&] { Generate(options, 1); });
-    CHECK(p.key == k.key);
-    CHECK(test::Contains(p.message, " of 300 fit on the free wall stretches"));
-  }
-}
-
-TEST_CASE("Generate rejects a options that fails Check with its problem", "[worlds][generator]") {
-  WorldOptions options;
-  options.plates.count = 20;
-  const OptionsProblem p = test::OptionsErrorOf([&] { Generate(options, 1); });
-  CHECK(p.key == "plates.count");
 }
 
 }  // namespace
