@@ -85,8 +85,7 @@ void WriteStreamed(const std::filesystem::path& path,
 }  // namespace
 
 void WriteEstimateFiles(const std::filesystem::path& out, const std::string& name,
-                        Alignment alignment, const std::vector<TruthPose>& truth,
-                        const TrajectoryEvaluation& evaluation) {
+                        Alignment alignment, const TrajectoryEvaluation& evaluation) {
   WriteStreamed(out / (name + "_aligned.tum"), [&](const auto& sink) {
     sink("# " + name + ": estimate after " + AlignmentName(alignment) +
          " alignment\n# timestamp tx ty tz qx qy qz qw\n");
@@ -348,7 +347,7 @@ int RunEvaluate(const EvaluateRequest& request) {
     for (auto& [key, value] : evaluation.metrics.items()) object[key] = value;
     estimates[e.name] = std::move(object);
     alignments.emplace(e.name, evaluation.alignment);
-    WriteEstimateFiles(folder->path(), e.name, request.alignment, truth, evaluation);
+    WriteEstimateFiles(folder->path(), e.name, request.alignment, evaluation);
   }
   if (!request.landmarks.empty()) {
     const std::filesystem::path world_file = request.run_dir / "world.json";

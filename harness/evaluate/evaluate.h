@@ -45,8 +45,7 @@ TrajectoryEvaluation EvaluateTrajectory(const std::vector<TruthPose>& truth, Tra
 /// <name>_aligned.tum and <name>_errors.csv of `evaluation` into the folder `out`, each written as
 /// it is made (never held whole). Throws std::runtime_error naming a file that cannot be written.
 void WriteEstimateFiles(const std::filesystem::path& out, const std::string& name,
-                        Alignment alignment, const std::vector<TruthPose>& truth,
-                        const TrajectoryEvaluation& evaluation);
+                        Alignment alignment, const TrajectoryEvaluation& evaluation);
 
 /// `estimate` (poses of world_from_camera, the camera's optical frame) as world_from_robot:
 /// each pose times camera_from_robot; an ov_eval file's position covariance gains the lever

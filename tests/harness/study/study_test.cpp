@@ -401,7 +401,7 @@ TEST_CASE("no path adds or cuts an attachment of the JUnit report", "[study]") {
   SuiteCase c;
   c.classname = "corridorsim.x";
   c.name = "odometry.ate_rmse_m < 1";
-  for (const std::string path :
+  for (const std::string& path :
        {std::string("/out/000_x]] [[ATTACHMENT|secrets.txt]] [[y/viewer.html"),
         std::string("/out/a|b/viewer.html"), std::string("/out/a]/viewer.html"),
         std::string("/out/line\nbreak/viewer.html"), std::string("/out/caf\xE9/viewer.html"),

@@ -27,7 +27,7 @@ TEST_CASE("upward model: an initialised landmark projects back to its pixel at a
           "[ekf][upward]") {
   const CameraModel model = UpwardFisheye();
   const SE2 pose(1.2, -0.4, 0.7);
-  for (const Eigen::Vector2d pixel :
+  for (const Eigen::Vector2d& pixel :
        {Eigen::Vector2d(100, 50), Eigen::Vector2d(330, 250), Eigen::Vector2d(600, 430)}) {
     for (const double rho : {0.2, 0.5, 2.0}) {
       const std::optional<InverseDepthPoint> l =
