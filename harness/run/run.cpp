@@ -218,14 +218,19 @@ int RunScenario(const RunRequest& request) {
                         dataset->Commit();
                       }});
   }
+  // plots/ and viewer.html, made by a script over the run folder: timed, and noted when written.
+  using MakePage = std::optional<std::string> (*)(const std::filesystem::path&);
+  const auto page_extra = [&](const char* name, MakePage make, double* seconds, bool* written) {
+    return RunExtra{name, [&out, make, seconds, written] {
+                      const WallClock::time_point t_start = WallClock::now();
+                      const std::optional<std::string> error = make(out->path());
+                      *seconds = SecondsSince(t_start);
+                      if (error) throw std::runtime_error(*error);
+                      *written = true;
+                    }};
+  };
   if (request.plots) {
-    extras.push_back({"plots/", [&] {
-                        const WallClock::time_point t_plots = WallClock::now();
-                        const std::optional<std::string> error = MakePlots(out->path());
-                        plot_seconds = SecondsSince(t_plots);
-                        if (error) throw std::runtime_error(*error);
-                        plots_written = true;
-                      }});
+    extras.push_back(page_extra("plots/", &MakePlots, &plot_seconds, &plots_written));
   }
   if (kept_frames) {
     extras.push_back({"frames/", [&] { kept_frames->Write(out->path() / "frames"); }});
@@ -233,13 +238,7 @@ int RunScenario(const RunRequest& request) {
   bool viewer_written = false;
   if (request.viewer) {
     // After plots/ and before timing.json's last write: the page shows the run's timing.
-    extras.push_back({"viewer.html", [&] {
-                        const WallClock::time_point t_viewer = WallClock::now();
-                        const std::optional<std::string> error = MakeViewer(out->path());
-                        viewer_seconds = SecondsSince(t_viewer);
-                        if (error) throw std::runtime_error(*error);
-                        viewer_written = true;
-                      }});
+    extras.push_back(page_extra("viewer.html", &MakeViewer, &viewer_seconds, &viewer_written));
   }
   extras.push_back(
       {"timing.json", [&] { WriteFileAtomic(out->path() / "timing.json", timing_json()); }});
