@@ -62,6 +62,16 @@ std::string String(const nlohmann::json& value, const std::string& where, std::s
   return s;
 }
 
+// One of two names (a string of at most 32 bytes) as its value: "expected <a> or <b>" else.
+template <class E>
+E OneOf(const nlohmann::json& value, const std::string& where, std::pair<const char*, E> a,
+        std::pair<const char*, E> b) {
+  const std::string name = String(value, where, 32);
+  if (name == a.first) return a.second;
+  if (name == b.first) return b.second;
+  Fail(where, std::string("expected ") + a.first + " or " + b.first);
+}
+
 const nlohmann::json& Array(const nlohmann::json& value, const std::string& where,
                             std::size_t max_items) {
   if (!value.is_array()) Fail(where, "expected an array, got " + Excerpt(value));
@@ -70,6 +80,19 @@ const nlohmann::json& Array(const nlohmann::json& value, const std::string& wher
                     std::to_string(value.size()) + ")");
   }
   return value;
+}
+
+// The items of the array `object[key]`, when it is there (at most `max_items`): calls
+// `parse(item, "<where>[i]")` for each.
+template <class F>
+void ForEachItem(const nlohmann::json& object, const char* key, const std::string& where,
+                 std::size_t max_items, F parse) {
+  if (const nlohmann::json* list = Find(object, key)) {
+    Array(*list, where, max_items);
+    for (std::size_t i = 0; i < list->size(); ++i) {
+      parse((*list)[i], where + "[" + std::to_string(i) + "]");
+    }
+  }
 }
 
 template <int N>
@@ -172,14 +195,9 @@ slam::Detection ParseDetection(const nlohmann::json& d, const std::string& where
     out.radius_px = Number(*v, where + ".radius_px");
   if (const nlohmann::json* v = Find(d, "box_px")) out.box_px = Vector<4>(*v, where + ".box_px");
   if (const nlohmann::json* v = Find(d, "plate_box")) {
-    const std::string box = String(*v, where + ".plate_box", 32);
-    if (box == "number_region") {
-      out.plate_box = slam::PlateBox::kNumberRegion;
-    } else if (box == "outline") {
-      out.plate_box = slam::PlateBox::kOutline;
-    } else {
-      Fail(where + ".plate_box", "expected number_region or outline");
-    }
+    out.plate_box = OneOf<slam::PlateBox>(*v, where + ".plate_box",
+                                          {"number_region", slam::PlateBox::kNumberRegion},
+                                          {"outline", slam::PlateBox::kOutline});
   }
   if (const nlohmann::json* v = Find(d, "label")) out.label = String(*v, where + ".label", 256);
   if (const nlohmann::json* v = Find(d, "open")) out.open = Boolean(*v, where + ".open");
@@ -221,28 +239,23 @@ void ParseDetectionList(const nlohmann::json& reply, const std::string& what, Ti
 
 void ParseInnovationList(const nlohmann::json& reply, const std::string& what, TimeNs stamp_ns,
                          ReplyExtras* extras) {
-  if (const nlohmann::json* list = Find(reply, "innovations")) {
-    const std::string where = what + ".innovations";
-    Array(*list, where, kMaxReplyItems);
-    for (std::size_t i = 0; i < list->size(); ++i) {
-      const nlohmann::json& n = (*list)[i];
-      const std::string w = where + "[" + std::to_string(i) + "]";
-      OnlyKeys(n, w, {"type", "nis", "dof", "accepted"});
-      slam::Innovation innovation;
-      innovation.stamp_ns = stamp_ns;
-      if (!Find(n, "type") || !Find(n, "nis") || !Find(n, "dof")) {
-        Fail(w, "needs type, nis and dof");
-      }
-      innovation.type = LandmarkTypeFrom(n["type"], w + ".type");
-      innovation.nis = Number(n["nis"], w + ".nis");
-      if (innovation.nis < 0) Fail(w + ".nis", "must not be negative");
-      innovation.dof = static_cast<int>(Integer(n["dof"], w + ".dof", 1, 64));
-      if (const nlohmann::json* v = Find(n, "accepted")) {
-        innovation.accepted = Boolean(*v, w + ".accepted");
-      }
-      extras->innovations.push_back(innovation);
-    }
-  }
+  ForEachItem(reply, "innovations", what + ".innovations", kMaxReplyItems,
+              [&](const nlohmann::json& n, const std::string& w) {
+                OnlyKeys(n, w, {"type", "nis", "dof", "accepted"});
+                slam::Innovation innovation;
+                innovation.stamp_ns = stamp_ns;
+                if (!Find(n, "type") || !Find(n, "nis") || !Find(n, "dof")) {
+                  Fail(w, "needs type, nis and dof");
+                }
+                innovation.type = LandmarkTypeFrom(n["type"], w + ".type");
+                innovation.nis = Number(n["nis"], w + ".nis");
+                if (innovation.nis < 0) Fail(w + ".nis", "must not be negative");
+                innovation.dof = static_cast<int>(Integer(n["dof"], w + ".dof", 1, 64));
+                if (const nlohmann::json* v = Find(n, "accepted")) {
+                  innovation.accepted = Boolean(*v, w + ".accepted");
+                }
+                extras->innovations.push_back(innovation);
+              });
 }
 
 void ParseExtras(const nlohmann::json& reply, const std::string& what, TimeNs stamp_ns,
@@ -296,90 +309,76 @@ const ReplyKeys& FinishedKeys() {
 
 void ParseLandmarks(const nlohmann::json& reply, Finished* finished) {
   Finished& out = *finished;
-  if (const nlohmann::json* list = Find(reply, "landmarks")) {
-    Array(*list, "finished.landmarks", kMaxReplyItems);
-    for (std::size_t i = 0; i < list->size(); ++i) {
-      const nlohmann::json& l = (*list)[i];
-      const std::string w = "finished.landmarks[" + std::to_string(i) + "]";
-      OnlyKeys(l, w, {"id", "type", "status", "position", "covariance", "points", "label"});
-      if (!Find(l, "id") || !Find(l, "type") || !Find(l, "position")) {
-        Fail(w, "needs id, type and position");
-      }
-      slam::LandmarkEstimate landmark;
-      landmark.id =
-          static_cast<int>(Integer(l["id"], w + ".id", 0, std::numeric_limits<int>::max()));
-      landmark.type = LandmarkTypeFrom(l["type"], w + ".type");
-      if (const nlohmann::json* v = Find(l, "status")) {
-        const std::string status = String(*v, w + ".status", 32);
-        if (status == "converged") {
-          landmark.status = slam::LandmarkStatus::kConverged;
-        } else if (status == "initializing") {
-          landmark.status = slam::LandmarkStatus::kInitializing;
-        } else {
-          Fail(w + ".status", "expected converged or initializing");
+  ForEachItem(
+      reply, "landmarks", "finished.landmarks", kMaxReplyItems,
+      [&](const nlohmann::json& l, const std::string& w) {
+        OnlyKeys(l, w, {"id", "type", "status", "position", "covariance", "points", "label"});
+        if (!Find(l, "id") || !Find(l, "type") || !Find(l, "position")) {
+          Fail(w, "needs id, type and position");
         }
-      }
-      landmark.position_in_world = Vector<3>(l["position"], w + ".position");
-      if (const nlohmann::json* v = Find(l, "covariance")) {
-        landmark.covariance = Matrix3(*v, w + ".covariance");
-      }
-      if (const nlohmann::json* v = Find(l, "label"))
-        landmark.label = String(*v, w + ".label", 256);
-      if (const nlohmann::json* points = Find(l, "points")) {
-        Array(*points, w + ".points", kMaxLandmarkPoints);
-        for (std::size_t k = 0; k < points->size(); ++k) {
-          const nlohmann::json& p = (*points)[k];
-          const std::string pw = w + ".points[" + std::to_string(k) + "]";
-          OnlyKeys(p, pw, {"role", "position", "covariance"});
-          if (!Find(p, "role") || !Find(p, "position")) Fail(pw, "needs role and position");
-          slam::LandmarkPoint point;
-          point.role = String(p["role"], pw + ".role", 64);
-          point.position_in_world = Vector<3>(p["position"], pw + ".position");
-          if (const nlohmann::json* v = Find(p, "covariance")) {
-            point.covariance = Matrix3(*v, pw + ".covariance");
-          }
-          landmark.points.push_back(std::move(point));
+        slam::LandmarkEstimate landmark;
+        landmark.id =
+            static_cast<int>(Integer(l["id"], w + ".id", 0, std::numeric_limits<int>::max()));
+        landmark.type = LandmarkTypeFrom(l["type"], w + ".type");
+        if (const nlohmann::json* v = Find(l, "status")) {
+          landmark.status = OneOf<slam::LandmarkStatus>(
+              *v, w + ".status", {"converged", slam::LandmarkStatus::kConverged},
+              {"initializing", slam::LandmarkStatus::kInitializing});
         }
-      }
-      out.landmarks.push_back(std::move(landmark));
-    }
-  }
+        landmark.position_in_world = Vector<3>(l["position"], w + ".position");
+        if (const nlohmann::json* v = Find(l, "covariance")) {
+          landmark.covariance = Matrix3(*v, w + ".covariance");
+        }
+        if (const nlohmann::json* v = Find(l, "label"))
+          landmark.label = String(*v, w + ".label", 256);
+        ForEachItem(l, "points", w + ".points", kMaxLandmarkPoints,
+                    [&](const nlohmann::json& p, const std::string& pw) {
+                      OnlyKeys(p, pw, {"role", "position", "covariance"});
+                      if (!Find(p, "role") || !Find(p, "position"))
+                        Fail(pw, "needs role and position");
+                      slam::LandmarkPoint point;
+                      point.role = String(p["role"], pw + ".role", 64);
+                      point.position_in_world = Vector<3>(p["position"], pw + ".position");
+                      if (const nlohmann::json* v = Find(p, "covariance")) {
+                        point.covariance = Matrix3(*v, pw + ".covariance");
+                      }
+                      landmark.points.push_back(std::move(point));
+                    });
+        out.landmarks.push_back(std::move(landmark));
+      });
 }
 
 void ParseMaps(const nlohmann::json& reply, std::string_view blob, Finished* finished) {
   Finished& out = *finished;
-  if (const nlohmann::json* list = Find(reply, "maps")) {
-    Array(*list, "finished.maps", kMaxMapFiles);
-    for (std::size_t i = 0; i < list->size(); ++i) {
-      const nlohmann::json& m = (*list)[i];
-      const std::string w = "finished.maps[" + std::to_string(i) + "]";
-      OnlyKeys(m, w, {"suffix", "offset", "bytes"});
-      if (!Find(m, "suffix") || !Find(m, "offset") || !Find(m, "bytes")) {
-        Fail(w, "needs suffix, offset and bytes");
-      }
-      slam::MapFile map;
-      map.suffix = String(m["suffix"], w + ".suffix", 64);
-      // A suffix names a file beside the pipeline's own: no folder, nothing hidden.
-      if (map.suffix.empty() || map.suffix.find('/') != std::string::npos ||
-          map.suffix.find('\0') != std::string::npos || map.suffix == "." || map.suffix == ".." ||
-          map.suffix.find("..") != std::string::npos) {
-        Fail(w + ".suffix", "must be a file name suffix without '/' or '..' (got '" +
-                                InputExcerpt(map.suffix, 64) + "')");
-      }
-      for (const char c : map.suffix) {
-        if (static_cast<unsigned char>(c) < 0x20) Fail(w + ".suffix", "has a control character");
-      }
-      const auto offset = static_cast<std::size_t>(
-          Integer(m["offset"], w + ".offset", 0, static_cast<std::int64_t>(blob.size())));
-      const auto bytes = static_cast<std::size_t>(
-          Integer(m["bytes"], w + ".bytes", 0, static_cast<std::int64_t>(blob.size() - offset)));
-      map.bytes.assign(blob.substr(offset, bytes));
-      for (const slam::MapFile& other : out.maps) {
-        if (other.suffix == map.suffix) Fail(w + ".suffix", "'" + map.suffix + "' twice");
-      }
-      out.maps.push_back(std::move(map));
-    }
-  }
+  ForEachItem(reply, "maps", "finished.maps", kMaxMapFiles,
+              [&](const nlohmann::json& m, const std::string& w) {
+                OnlyKeys(m, w, {"suffix", "offset", "bytes"});
+                if (!Find(m, "suffix") || !Find(m, "offset") || !Find(m, "bytes")) {
+                  Fail(w, "needs suffix, offset and bytes");
+                }
+                slam::MapFile map;
+                map.suffix = String(m["suffix"], w + ".suffix", 64);
+                // A suffix names a file beside the pipeline's own: no folder, nothing hidden.
+                if (map.suffix.empty() || map.suffix.find('/') != std::string::npos ||
+                    map.suffix.find('\0') != std::string::npos || map.suffix == "." ||
+                    map.suffix == ".." || map.suffix.find("..") != std::string::npos) {
+                  Fail(w + ".suffix", "must be a file name suffix without '/' or '..' (got '" +
+                                          InputExcerpt(map.suffix, 64) + "')");
+                }
+                for (const char c : map.suffix) {
+                  if (static_cast<unsigned char>(c) < 0x20)
+                    Fail(w + ".suffix", "has a control character");
+                }
+                const auto offset = static_cast<std::size_t>(
+                    Integer(m["offset"], w + ".offset", 0, static_cast<std::int64_t>(blob.size())));
+                const auto bytes = static_cast<std::size_t>(Integer(
+                    m["bytes"], w + ".bytes", 0, static_cast<std::int64_t>(blob.size() - offset)));
+                map.bytes.assign(blob.substr(offset, bytes));
+                for (const slam::MapFile& other : out.maps) {
+                  if (other.suffix == map.suffix) Fail(w + ".suffix", "'" + map.suffix + "' twice");
+                }
+                out.maps.push_back(std::move(map));
+              });
 }
 
 void ParseHealth(const nlohmann::json& reply, Finished* finished) {
