@@ -1,7 +1,10 @@
 #include "harness/scenario/scenario.h"
 
 #include <algorithm>
+#include <functional>
+#include <string>
 #include <tuple>
+#include <vector>
 
 #include "common/io/atomic_file.h"
 #include "common/io/input_text.h"
@@ -126,6 +129,15 @@ void EchoPipelines(const Scenario& scenario, OptionsYamlWriter& out) {
   out.EndMap();
 }
 
+// The docs of a key that hooks read and echo: one row, without unit or bounds.
+std::function<std::vector<OptionDocRow>(const Scenario&)> OneDocRow(std::string key,
+                                                                    std::string default_value,
+                                                                    std::string doc) {
+  return [key, default_value, doc](const Scenario&) {
+    return std::vector<OptionDocRow>{{key, "", default_value, "", doc}};
+  };
+}
+
 void EchoExpectations(const Scenario& scenario, OptionsYamlWriter& out) {
   std::string list;
   for (const std::string& e : scenario.expectations) {
@@ -142,20 +154,14 @@ const OptionTable<Scenario>& ScenarioOptionsTable() {
     t.AddCustom(
         "include", "", [](YamlMap& root, S&) { root.Accept("include"); },
         [](const S&, OptionsYamlWriter&) {},  // the echo has every key: it includes nothing
-        [](const S&) {
-          return std::vector<OptionDocRow>{
-              {"include", "", "", "",
-               "a base scenario (path relative to this file); this file overrides it"}};
-        });
+        OneDocRow("include", "",
+                  "a base scenario (path relative to this file); this file overrides it"));
     t.AddCustom(
         "study", "", [](YamlMap& root, S&) { root.Accept("study"); },
         [](const S&, OptionsYamlWriter&) {},  // a run's echo is one run: no study
-        [](const S&) {
-          return std::vector<OptionDocRow>{
-              {"study", "", "", "",
-               "a study's settings (seeds, sweeps, expectations; docs/studies.md), read by "
-               "`corridorsim study` from the file it is given; `run` ignores it"}};
-        });
+        OneDocRow("study", "",
+                  "a study's settings (seeds, sweeps, expectations; docs/studies.md), read by "
+                  "`corridorsim study` from the file it is given; `run` ignores it"));
     t.Add("name", &S::name, "", "free text");
     t.Add("description", &S::description, "", "free text");
     t.Add("seed", &S::seed, "",
@@ -180,12 +186,9 @@ const OptionTable<Scenario>& ScenarioOptionsTable() {
         .ZeroOr(1e-3, kMaxRunSeconds, "must lie in [0.001, 1e+06] s or be 0 (got {})");
     t.AddCustom(
         "plugins", "", [](YamlMap& root, S& s) { ParsePlugins(root, s); }, &EchoPlugins,
-        [](const S&) {
-          return std::vector<OptionDocRow>{
-              {"plugins", "", "`[]`", "",
-               "pipeline plugin libraries (paths relative to this file) whose pipeline types "
-               "`pipelines:` may name (docs/plugins.md)"}};
-        });
+        OneDocRow("plugins", "`[]`",
+                  "pipeline plugin libraries (paths relative to this file) whose pipeline types "
+                  "`pipelines:` may name (docs/plugins.md)"));
     t.AddCustom(
         "pipelines", "",
         [](YamlMap& root, S& s) {
@@ -193,22 +196,17 @@ const OptionTable<Scenario>& ScenarioOptionsTable() {
           ParsePipelines(pipelines, s);
         },
         &EchoPipelines,
-        [](const S&) {
-          return std::vector<OptionDocRow>{
-              {"pipelines", "", "`{}`", "",
-               "the SLAM pipelines that run on the sensor stream, by name, each with its options "
-               "(below)"}};
-        });
+        OneDocRow(
+            "pipelines", "`{}`",
+            "the SLAM pipelines that run on the sensor stream, by name, each with its options "
+            "(below)"));
     t.AddCustom(
         "expectations", "",
         [](YamlMap& root, S& s) {
           root.Read("expectations", s.expectations, &s.expectation_locations);
         },
         &EchoExpectations,
-        [](const S&) {
-          return std::vector<OptionDocRow>{
-              {"expectations", "", "`[]`", "", "assertions on the run's metrics (below)"}};
-        });
+        OneDocRow("expectations", "`[]`", "assertions on the run's metrics (below)"));
   });
 }
 
