@@ -38,9 +38,8 @@ std::vector<EvaluateRequest::NamedFile> NamedFiles(const std::vector<std::string
 class EvaluateCommand final : public Subcommand {
  public:
   explicit EvaluateCommand(CLI::App* app)
-      : Subcommand(app->add_subcommand(
-            "evaluate",
-            "Score trajectories and landmark maps of any system against a run's truth")) {
+      : Subcommand(app, "evaluate",
+                   "Score trajectories and landmark maps of any system against a run's truth") {
     AddOption(job_, "run", run_,
               "The run folder (corridorsim run --out): its ground_truth.tum and world.json",
               "RUN_DIR")
@@ -62,11 +61,11 @@ class EvaluateCommand final : public Subcommand {
               "Fit before scoring: none, se2 (yaw + x-y), se3, sim3 (with scale: monocular)",
               "none|se2|se3|sim3")
         ->capture_default_str();
-    max_dt_option_ = AddOption(job_, "--max-dt", max_dt_,
-                               "Largest stamp difference to a truth pose for a pose to be "
-                               "scored, s (default 0.01, as evo's; at most 1)",
-                               "S");
-    out_option_ = AddOutFolder(job_, out_, "Output folder (default: RUN_DIR/evaluation)", "DIR");
+    AddOption(job_, "--max-dt", max_dt_,
+              "Largest stamp difference to a truth pose for a pose to be "
+              "scored, s (default 0.01, as evo's; at most 1)",
+              "S");
+    AddOutFolder(job_, out_, "Output folder (default: RUN_DIR/evaluation)", "DIR");
     AddSwitch(job_, "--force", force_, "Replace a non-empty output folder");
     AddOption(job_, "--expect", expect_,
               "A check such as mine.ate_rmse_m<0.2 or mine.map.lamp.rmse_m<=0.1 (repeatable)",
@@ -101,11 +100,11 @@ class EvaluateCommand final : public Subcommand {
     const std::optional<evaluate::Alignment> alignment = evaluate::AlignmentFromName(align_);
     if (!alignment) Fail("--align", "expected none, se2, se3 or sim3 " + Got(align_));
     r.alignment = *alignment;
-    if (max_dt_option_->count() > 0) {
-      r.max_dt_s = ParseNumberArgument(max_dt_, kMaxAssociationSeconds, "--max-dt");
-      if (r.max_dt_s < 0.0) Fail("--max-dt", "must not be negative " + Got(max_dt_));
+    if (max_dt_.given()) {
+      r.max_dt_s = ParseNumberArgument(max_dt_.text, kMaxAssociationSeconds, "--max-dt");
+      if (r.max_dt_s < 0.0) Fail("--max-dt", "must not be negative " + Got(max_dt_.text));
     }
-    if (out_option_->count() > 0) r.out_dir = FolderName(out_, "--out");
+    if (out_.given()) r.out_dir = FolderName(out_.text, "--out");
     r.force = force_;
     r.plots = !no_plots_;
     if (expect_.size() > 256) Fail("--expect", "at most 256 checks");
@@ -113,19 +112,17 @@ class EvaluateCommand final : public Subcommand {
   }
 
  private:
-  std::string run_, align_ = "none", max_dt_, out_;
+  std::string run_, align_ = "none";
+  OptionalArgument max_dt_, out_;
   std::vector<std::string> estimates_, landmarks_, expect_, frames_;
   bool force_ = false, no_plots_ = false;
-  CLI::Option* max_dt_option_ = nullptr;
-  CLI::Option* out_option_ = nullptr;
 };
 
 class PluginCommand final : public Subcommand {
  public:
   explicit PluginCommand(CLI::App* app)
-      : Subcommand(app->add_subcommand(
-            "plugin",
-            "Load a pipeline plugin library and print what it registers (docs/plugins.md)")) {
+      : Subcommand(app, "plugin",
+                   "Load a pipeline plugin library and print what it registers (docs/plugins.md)") {
     AddOption(job_, "library", file_, "The plugin library (a .so file)", "LIB")->required();
     SetFooter(job_,
               "Prints the plugin's name, version, the corridorsim version it was built against, "

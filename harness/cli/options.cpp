@@ -53,6 +53,12 @@ const std::string& FolderName(const std::string& text, const std::string& flag) 
   return text;
 }
 
+CLI::Option* AddOption(CLI::App* job, const std::string& name, OptionalArgument& value,
+                       const std::string& help, const std::string& type_name) {
+  value.option = AddOption(job, name, value.text, help, type_name);
+  return value.option;
+}
+
 CLI::Option* AddSwitch(CLI::App* job, const std::string& name, bool& value,
                        const std::string& help) {
   return job->add_flag(name, value, help)->disable_flag_override();
@@ -62,6 +68,12 @@ CLI::Option* AddOutFolder(CLI::App* job, std::string& folder, const std::string&
                           const std::string& type_name) {
   CLI::Option* option = AddOption(job, "--out", folder, help, type_name);
   return folder.empty() ? option : option->capture_default_str();
+}
+
+CLI::Option* AddOutFolder(CLI::App* job, OptionalArgument& folder, const std::string& help,
+                          const std::string& type_name) {
+  folder.option = AddOutFolder(job, folder.text, help, type_name);
+  return folder.option;
 }
 
 void AddSetOption(CLI::App* job, std::vector<std::string>* settings) {
@@ -77,8 +89,8 @@ void AddSetOption(CLI::App* job, std::vector<std::string>* settings) {
 JobOptions::JobOptions(CLI::App* job, std::string default_out, const std::string& scenario_help,
                        const std::string& seed_help, const std::string& out_help)
     : out(std::move(default_out)) {
-  scenario_option = AddOption(job, "scenario", scenario, scenario_help);
-  seed_option = AddOption(job, "--seed", seed, seed_help, "UINT64");
+  AddOption(job, "scenario", scenario, scenario_help);
+  AddOption(job, "--seed", seed, seed_help, "UINT64");
   AddOutFolder(job, out, out_help);
   AddSwitch(job, "--force", force,
             "Replace a non-empty output folder (it is replaced whole, never mixed)");
@@ -86,12 +98,12 @@ JobOptions::JobOptions(CLI::App* job, std::string default_out, const std::string
 }
 
 void JobOptions::Resolve(JobRequest* request) const {
-  if (scenario_option->count() > 0 && scenario.empty()) Fail("scenario", "an empty file name");
-  if (seed_option->count() > 0) request->seed = ParseSeedArgument(seed, "--seed");
+  if (scenario.given() && scenario.text.empty()) Fail("scenario", "an empty file name");
+  if (seed.given()) request->seed = ParseSeedArgument(seed.text, "--seed");
   if (out.empty()) Fail("--out", "an empty folder name");
   ParseSettings(settings);  // the syntax now; the keys when the scenario is loaded
   request->settings = settings;
-  request->scenario_file = scenario;
+  request->scenario_file = scenario.text;
   request->out_dir = out;
   request->force = force;
 }

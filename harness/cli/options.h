@@ -1,8 +1,9 @@
 #pragma once
 // The one way every subcommand of `corridorsim` (harness/cli/cli.h) declares and checks its
-// options: failing with `command line: <flag>: <message>`, an option, a switch, `--set`, the
-// options of the jobs that read a scenario (JobOptions), output folders (--out, --force) and the
-// footer that ends with the subcommand's exit codes. Internal to the library corridorsim_cli.
+// options: failing with `command line: <flag>: <message>`, an option (OptionalArgument: one that
+// may be left out), a switch, `--set`, the options of the jobs that read a scenario (JobOptions),
+// output folders (--out, --force) and the footer that ends with the subcommand's exit codes.
+// Internal to the library corridorsim_cli.
 
 #include <string>
 #include <vector>
@@ -38,6 +39,17 @@ CLI::Option* AddOption(CLI::App* job, const std::string& name, T& value, const s
   return type_name.empty() ? option : option->type_name(type_name);
 }
 
+/// An option that may be left out: its text, and whether it was given.
+struct OptionalArgument {
+  std::string text;
+  CLI::Option* option = nullptr;  // set when it is added
+  bool given() const { return option->count() > 0; }
+};
+
+/// An option (or positional argument) that may be left out, filling `value`.
+CLI::Option* AddOption(CLI::App* job, const std::string& name, OptionalArgument& value,
+                       const std::string& help, const std::string& type_name = "");
+
 /// A switch: a flag without a value (`--flag=false` is refused).
 CLI::Option* AddSwitch(CLI::App* job, const std::string& name, bool& value,
                        const std::string& help);
@@ -46,6 +58,9 @@ CLI::Option* AddSwitch(CLI::App* job, const std::string& name, bool& value,
 /// optional folder, shown as `type_name`).
 CLI::Option* AddOutFolder(CLI::App* job, std::string& folder, const std::string& help,
                           const std::string& type_name = "");
+/// `--out` without a default: an output folder that may be left out.
+CLI::Option* AddOutFolder(CLI::App* job, OptionalArgument& folder, const std::string& help,
+                          const std::string& type_name);
 
 /// `--set KEY=VALUE`, one per option (repeatable): harness/scenario/overrides.h.
 void AddSetOption(CLI::App* job, std::vector<std::string>* settings);
@@ -53,13 +68,11 @@ void AddSetOption(CLI::App* job, std::vector<std::string>* settings);
 /// The options of every job that reads a scenario: the scenario file, --seed, --out (its default
 /// shown in --help), --force and --set. Declared on construction; CLI11 fills the members.
 struct JobOptions {
-  std::string scenario;
-  std::string seed;
+  OptionalArgument scenario;
+  OptionalArgument seed;
   std::string out;
   bool force = false;
   std::vector<std::string> settings;
-  CLI::Option* scenario_option = nullptr;
-  CLI::Option* seed_option = nullptr;
 
   JobOptions(CLI::App* job, std::string default_out, const std::string& scenario_help,
              const std::string& seed_help, const std::string& out_help);

@@ -19,26 +19,24 @@ std::string PipelineListFooter() {
 class RunCommand final : public Subcommand {
  public:
   RunCommand(CLI::App* app, CommandLine* parsed)
-      : Subcommand(app->add_subcommand(
-            "run",
+      : Subcommand(
+            app, "run",
             "Run a scenario closed loop, score every pipeline against ground truth, write the "
-            "run")),
+            "run"),
         options_(job_, "out/run", std::string("Scenario YAML ") + kDefaultScenarioHelp,
                  "Seed of every random stream of the run", "Run folder") {
-    export_option_ =
-        AddOption(job_, "--export", export_,
-                  "Also write a dataset into this folder (outside the run folder): TUM RGB-D "
-                  "(front), EuRoC/ASL (upward, lateral), odometry CSV, labels and COCO plate "
-                  "boxes (docs/export.md); staged and replaced like --out");
+    AddOption(job_, "--export", export_,
+              "Also write a dataset into this folder (outside the run folder): TUM RGB-D "
+              "(front), EuRoC/ASL (upward, lateral), odometry CSV, labels and COCO plate "
+              "boxes (docs/export.md); staged and replaced like --out");
     AddSwitch(job_, "--no-plots", no_plots_, "Skip plots/ (matplotlib)");
     AddSwitch(job_, "--no-viewer", no_viewer_, "Skip viewer.html (docs/viewer.md)");
     AddSwitch(job_, "--keep-frames", parsed->run.keep_frames,
               "Keep downscaled JPEGs of the rendered frames in frames/ for viewer.html "
               "(within --keep-frames-mb)");
-    keep_frames_mb_option_ =
-        AddOption(job_, "--keep-frames-mb", keep_frames_mb_,
-                  "The most frames/ may hold, MB (1-40, default 20): past it every other kept "
-                  "frame is dropped and the stride doubles");
+    AddOption(job_, "--keep-frames-mb", keep_frames_mb_,
+              "The most frames/ may hold, MB (1-40, default 20): past it every other kept "
+              "frame is dropped and the stride doubles");
     AddSwitch(job_, "--check", parsed->run.check_only,
               "Only check the scenario: load it, build its world, path and pipelines, and exit");
     SetFooter(
@@ -65,13 +63,13 @@ class RunCommand final : public Subcommand {
   void Resolve(CommandLine* parsed) const override {
     parsed->job = CommandLine::Job::kRun;
     options_.Resolve(&parsed->run);
-    if (export_option_->count() > 0) parsed->run.export_dir = FolderName(export_, "--export");
+    if (export_.given()) parsed->run.export_dir = FolderName(export_.text, "--export");
     parsed->run.plots = !no_plots_;
     parsed->run.viewer = !no_viewer_;
-    if (keep_frames_mb_option_->count() > 0) {
-      const double mb = ParseNumberArgument(keep_frames_mb_, 1e6, "--keep-frames-mb");
+    if (keep_frames_mb_.given()) {
+      const double mb = ParseNumberArgument(keep_frames_mb_.text, 1e6, "--keep-frames-mb");
       if (!(mb >= 1.0 && mb <= 40.0))
-        Fail("--keep-frames-mb", "must be in [1, 40] " + Got(keep_frames_mb_));
+        Fail("--keep-frames-mb", "must be in [1, 40] " + Got(keep_frames_mb_.text));
       if (!parsed->run.keep_frames) Fail("--keep-frames-mb", "needs --keep-frames");
       parsed->run.keep_frames_budget_mb = mb;
     }
@@ -79,10 +77,8 @@ class RunCommand final : public Subcommand {
 
  private:
   JobOptions options_;
-  std::string export_, keep_frames_mb_;
+  OptionalArgument export_, keep_frames_mb_;
   bool no_plots_ = false, no_viewer_ = false;
-  CLI::Option* export_option_ = nullptr;
-  CLI::Option* keep_frames_mb_option_ = nullptr;
 };
 
 }  // namespace

@@ -14,23 +14,21 @@ namespace {
 class StudyCommand final : public Subcommand {
  public:
   explicit StudyCommand(CLI::App* app)
-      : Subcommand(app->add_subcommand(
-            "study",
-            "Run a scenario over many seeds (and sweep points) and aggregate the statistics")),
+      : Subcommand(
+            app, "study",
+            "Run a scenario over many seeds (and sweep points) and aggregate the statistics"),
         options_(job_, "out/study",
                  "Study YAML (a scenario with a `study:` section, docs/studies.md) or a "
                  "plain scenario file",
                  "First seed (run i uses seed + i; default: study.first_seed, else the "
                  "scenario's seed)",
                  "Study folder (resumed when it holds the same study)") {
-    runs_option_ =
-        AddOption(job_, "--runs", runs_, "Seeds per sweep point (default: study.runs, 10)", "N");
-    jobs_option_ =
-        AddOption(job_, "--jobs", jobs_, "Worker processes (default: the number of cores)", "J");
-    shard_option_ = AddOption(job_, "--shard", shard_,
-                              "Run only part K of N (run k of the plan belongs to part k mod N); "
-                              "`study merge` combines the parts",
-                              "K/N");
+    AddOption(job_, "--runs", runs_, "Seeds per sweep point (default: study.runs, 10)", "N");
+    AddOption(job_, "--jobs", jobs_, "Worker processes (default: the number of cores)", "J");
+    AddOption(job_, "--shard", shard_,
+              "Run only part K of N (run k of the plan belongs to part k mod N); "
+              "`study merge` combines the parts",
+              "K/N");
     AddOption(job_, "--may-diverge", may_diverge_,
               "Pipelines whose diverged runs do not fail the study (added to the "
               "scenario's baseline: true pipelines and study.may_diverge)",
@@ -43,11 +41,10 @@ class StudyCommand final : public Subcommand {
               "Write a Slurm job array (one task per shard) and a merge job into <out>/slurm/ "
               "instead of running here (one run is run here first to measure the cost)");
     AddSwitch(job_, "--submit", submit_, "With --slurm: submit both jobs with sbatch");
-    slurm_tasks_option_ =
-        AddOption(job_, "--slurm-tasks", slurm_tasks_,
-                  "With --slurm: the number of array tasks (default: from the measured cost)", "N");
-    task_minutes_option_ = AddOption(job_, "--slurm-task-minutes", task_minutes_,
-                                     "With --slurm: the run time a task packs (default 60)", "MIN");
+    AddOption(job_, "--slurm-tasks", slurm_tasks_,
+              "With --slurm: the number of array tasks (default: from the measured cost)", "N");
+    AddOption(job_, "--slurm-task-minutes", task_minutes_,
+              "With --slurm: the run time a task packs (default 60)", "MIN");
     merge_ = job_->add_subcommand(
         "merge", "Combine study folders of one plan (shards) into one study folder and summary");
     AddOption(merge_, "dirs", merge_dirs_, "Study folders to combine")->required();
@@ -80,14 +77,15 @@ class StudyCommand final : public Subcommand {
     parsed->job = CommandLine::Job::kStudy;
     StudyRequest& r = parsed->study;
     options_.Resolve(&r);
-    if (runs_option_->count() > 0) r.runs = WholeArgument(runs_, kMaxStudyRuns, "--runs");
-    if (jobs_option_->count() > 0) r.jobs = WholeArgument(jobs_, kMaxStudyJobs, "--jobs");
-    if (shard_option_->count() > 0) {
-      const std::size_t slash = shard_.find('/');
-      if (slash == std::string::npos) Fail("--shard", "expected K/N, e.g. 2/8 " + Got(shard_));
-      const int k = WholeArgument(shard_.substr(0, slash), kMaxShards, "--shard");
-      const int n = WholeArgument(shard_.substr(slash + 1), kMaxShards, "--shard");
-      if (k > n) Fail("--shard", "K must lie in [1, N] " + Got(shard_));
+    if (runs_.given()) r.runs = WholeArgument(runs_.text, kMaxStudyRuns, "--runs");
+    if (jobs_.given()) r.jobs = WholeArgument(jobs_.text, kMaxStudyJobs, "--jobs");
+    if (shard_.given()) {
+      const std::string& shard = shard_.text;
+      const std::size_t slash = shard.find('/');
+      if (slash == std::string::npos) Fail("--shard", "expected K/N, e.g. 2/8 " + Got(shard));
+      const int k = WholeArgument(shard.substr(0, slash), kMaxShards, "--shard");
+      const int n = WholeArgument(shard.substr(slash + 1), kMaxShards, "--shard");
+      if (k > n) Fail("--shard", "K must lie in [1, N] " + Got(shard));
       r.shard_index = k - 1;
       r.shard_count = n;
     }
@@ -98,15 +96,15 @@ class StudyCommand final : public Subcommand {
     r.slurm = slurm_;
     r.submit = submit_;
     if (submit_ && !slurm_) Fail("--submit", "only with --slurm");
-    if (slurm_tasks_option_->count() > 0) {
+    if (slurm_tasks_.given()) {
       if (!slurm_) Fail("--slurm-tasks", "only with --slurm");
-      r.slurm_tasks = WholeArgument(slurm_tasks_, kMaxSlurmTasks, "--slurm-tasks");
+      r.slurm_tasks = WholeArgument(slurm_tasks_.text, kMaxSlurmTasks, "--slurm-tasks");
     }
-    if (task_minutes_option_->count() > 0) {
+    if (task_minutes_.given()) {
       if (!slurm_) Fail("--slurm-task-minutes", "only with --slurm");
-      r.slurm_task_minutes = WholeArgument(task_minutes_, 100000, "--slurm-task-minutes");
+      r.slurm_task_minutes = WholeArgument(task_minutes_.text, 100000, "--slurm-task-minutes");
     }
-    if (slurm_ && shard_option_->count() > 0) {
+    if (slurm_ && shard_.given()) {
       Fail("--shard", "--slurm writes the shards itself");
     }
   }
@@ -128,14 +126,9 @@ class StudyCommand final : public Subcommand {
   }
 
   JobOptions options_;
-  std::string runs_, jobs_, shard_, slurm_tasks_, task_minutes_;
+  OptionalArgument runs_, jobs_, shard_, slurm_tasks_, task_minutes_;
   std::vector<std::string> may_diverge_;
   bool no_plots_ = false, no_viewer_ = false, slurm_ = false, submit_ = false;
-  CLI::Option* runs_option_ = nullptr;
-  CLI::Option* jobs_option_ = nullptr;
-  CLI::Option* shard_option_ = nullptr;
-  CLI::Option* slurm_tasks_option_ = nullptr;
-  CLI::Option* task_minutes_option_ = nullptr;
   CLI::App* merge_ = nullptr;
   std::vector<std::string> merge_dirs_;
   std::string merge_out_ = "out/study_merged";
@@ -145,20 +138,18 @@ class StudyCommand final : public Subcommand {
 class TestCommand final : public Subcommand {
  public:
   explicit TestCommand(CLI::App* app)
-      : Subcommand(app->add_subcommand(
-            "test", "Run scenarios and studies as a test suite and write a JUnit XML report")) {
+      : Subcommand(app, "test",
+                   "Run scenarios and studies as a test suite and write a JUnit XML report") {
     AddOption(job_, "files", files_,
               "Scenario or study files (default: ./scenarios/default.yaml if it exists, "
               "else the shipped one)");
     AddOutFolder(job_, out_, "Folder of the runs and studies (one folder per file)");
-    junit_option_ =
-        AddOption(job_, "--junit", junit_, "Write the JUnit XML report to this file", "FILE");
-    jobs_option_ =
-        AddOption(job_, "--jobs", jobs_,
-                  "Files run at once, each its own `corridorsim run` or `study` (default 1, "
-                  "at most 256; a study's runs then share the cores); the report is the "
-                  "same for any count but for its `time` attributes",
-                  "J");
+    AddOption(job_, "--junit", junit_, "Write the JUnit XML report to this file", "FILE");
+    AddOption(job_, "--jobs", jobs_,
+              "Files run at once, each its own `corridorsim run` or `study` (default 1, "
+              "at most 256; a study's runs then share the cores); the report is the "
+              "same for any count but for its `time` attributes",
+              "J");
     AddSetOption(job_, &settings_);
     SetFooter(job_,
               "Each expectation of a scenario (or each study expectation at each sweep point) is "
@@ -180,18 +171,17 @@ class TestCommand final : public Subcommand {
     for (const std::string& f : files_) FileName(f, "files");
     r.files = files_;
     r.out_dir = FolderName(out_, "--out");
-    if (junit_option_->count() > 0) r.junit_file = FileName(junit_, "--junit");
-    if (jobs_option_->count() > 0) r.jobs = WholeArgument(jobs_, kMaxSuiteJobs, "--jobs");
+    if (junit_.given()) r.junit_file = FileName(junit_.text, "--junit");
+    if (jobs_.given()) r.jobs = WholeArgument(jobs_.text, kMaxSuiteJobs, "--jobs");
     ParseSettings(settings_);
     r.settings = settings_;
   }
 
  private:
   std::vector<std::string> files_;
-  std::string out_ = "out/test", junit_, jobs_;
+  std::string out_ = "out/test";
+  OptionalArgument junit_, jobs_;
   std::vector<std::string> settings_;
-  CLI::Option* junit_option_ = nullptr;
-  CLI::Option* jobs_option_ = nullptr;
 };
 
 }  // namespace

@@ -3,6 +3,7 @@
 // the order of `corridorsim --help` and resolves the one given. Internal to corridorsim_cli.
 
 #include <memory>
+#include <string>
 
 #include <CLI/CLI.hpp>
 
@@ -15,7 +16,9 @@ namespace corridorsim::cli {
 /// and request) when this subcommand was given.
 class Subcommand {
  public:
-  explicit Subcommand(CLI::App* job) : job_(job) {}
+  // Adds subcommand `name` to `app`; `description` is its line in `corridorsim --help`.
+  Subcommand(CLI::App* app, const std::string& name, const std::string& description)
+      : job_(app->add_subcommand(name, description)) {}
   virtual ~Subcommand() = default;
   Subcommand(const Subcommand&) = delete;  // CLI11 holds the members' addresses
   Subcommand& operator=(const Subcommand&) = delete;

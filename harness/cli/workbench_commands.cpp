@@ -13,33 +13,30 @@ namespace {
 class DetectCommand final : public Subcommand {
  public:
   explicit DetectCommand(CLI::App* app)
-      : Subcommand(app->add_subcommand("detect",
-                                       "Run the detectors (vanishing point, door plates, lamps, "
-                                       "corners) on an image; JSON on stdout")) {
-    image_option_ = AddOption(job_, "image", image_,
-                              "PNG image (8-bit grey, RGB or RGBA, or 16-bit)", "IMAGE.png")
-                        ->required();
+      : Subcommand(app, "detect",
+                   "Run the detectors (vanishing point, door plates, lamps, "
+                   "corners) on an image; JSON on stdout") {
+    AddOption(job_, "image", image_, "PNG image (8-bit grey, RGB or RGBA, or 16-bit)", "IMAGE.png")
+        ->required();
     AddOption(job_, "--camera", camera_,
               "The camera the image comes from: front (vanishing point and corners; P1's "
               "RGB-D sensor), lateral (door plates and corners) or upward (P3's circular "
               "lamps and corners)",
               "front|lateral|upward")
         ->capture_default_str();
-    depth_option_ =
-        AddOption(job_, "--depth", depth_,
-                  "Depth registered to the image (front only): 16-bit PNG at 5000 per metre, "
-                  "0 = invalid (TUM RGB-D; snapshot's front_depth.png); gives each corner "
-                  "its depth",
-                  "D.png");
-    intrinsics_option_ =
-        AddOption(job_, "--intrinsics", intrinsics_,
-                  "The upward camera's model as intrinsics.json holds it (docs/frames.md; a "
-                  "dataset's upward/intrinsics.json, or snapshot's intrinsics.json, whose "
-                  "\"upward\" entry is used); default: the default rig's upward "
-                  "camera (Kannala-Brandt, 640x480, 110 deg)",
-                  "FILE.json");
-    out_option_ = AddOption(job_, "--out", out_,
-                            "Also write the image with what was found drawn on it", "overlay.png");
+    AddOption(job_, "--depth", depth_,
+              "Depth registered to the image (front only): 16-bit PNG at 5000 per metre, "
+              "0 = invalid (TUM RGB-D; snapshot's front_depth.png); gives each corner "
+              "its depth",
+              "D.png");
+    AddOption(job_, "--intrinsics", intrinsics_,
+              "The upward camera's model as intrinsics.json holds it (docs/frames.md; a "
+              "dataset's upward/intrinsics.json, or snapshot's intrinsics.json, whose "
+              "\"upward\" entry is used); default: the default rig's upward "
+              "camera (Kannala-Brandt, 640x480, 110 deg)",
+              "FILE.json");
+    AddOption(job_, "--out", out_, "Also write the image with what was found drawn on it",
+              "overlay.png");
     SetFooter(job_,
               "Prints one JSON document on stdout (docs/detectors.md): the image, the camera, "
               "then one section per detector: vanishing_point (front: the point, its lines and "
@@ -56,8 +53,8 @@ class DetectCommand final : public Subcommand {
   void Resolve(CommandLine* parsed) const override {
     parsed->job = CommandLine::Job::kDetect;
     DetectRequest& r = parsed->detect;
-    if (image_option_->count() > 0) FileName(image_, "image");
-    r.image_file = image_;
+    if (image_.given()) FileName(image_.text, "image");
+    r.image_file = image_.text;
     if (camera_ == "front") {
       r.camera = DetectCamera::kFront;
     } else if (camera_ == "lateral") {
@@ -67,58 +64,49 @@ class DetectCommand final : public Subcommand {
     } else {
       Fail("--camera", "expected front, lateral or upward " + Got(camera_));
     }
-    if (intrinsics_option_->count() > 0) {
-      FileName(intrinsics_, "--intrinsics");
+    if (intrinsics_.given()) {
+      FileName(intrinsics_.text, "--intrinsics");
       if (r.camera != DetectCamera::kUpward) {
         Fail("--intrinsics", "only for --camera upward (got --camera " + camera_ + ")");
       }
-      r.intrinsics_file = intrinsics_;
+      r.intrinsics_file = intrinsics_.text;
     }
-    if (depth_option_->count() > 0) {
-      FileName(depth_, "--depth");
+    if (depth_.given()) {
+      FileName(depth_.text, "--depth");
       if (r.camera != DetectCamera::kFront) {
         Fail("--depth", "only the front camera has a depth sensor (got --camera " + camera_ + ")");
       }
-      r.depth_file = depth_;
+      r.depth_file = depth_.text;
     }
-    if (out_option_->count() > 0) r.overlay_file = FileName(out_, "--out");
+    if (out_.given()) r.overlay_file = FileName(out_.text, "--out");
   }
 
  private:
-  std::string image_, camera_ = "front", depth_, out_, intrinsics_;
-  CLI::Option* image_option_ = nullptr;
-  CLI::Option* depth_option_ = nullptr;
-  CLI::Option* intrinsics_option_ = nullptr;
-  CLI::Option* out_option_ = nullptr;
+  std::string camera_ = "front";
+  OptionalArgument image_, depth_, out_, intrinsics_;
 };
 
 class TrainDetectorsCommand final : public Subcommand {
  public:
   explicit TrainDetectorsCommand(CLI::App* app)
-      : Subcommand(app->add_subcommand(
-            "train-detectors",
-            "Render labelled lateral views of seeded worlds, train P1's door-plate SVM and "
-            "room-number MLP, evaluate them on held-out worlds and fonts")) {
+      : Subcommand(app, "train-detectors",
+                   "Render labelled lateral views of seeded worlds, train P1's door-plate SVM and "
+                   "room-number MLP, evaluate them on held-out worlds and fonts") {
     AddOutFolder(job_, out_, "Folder of the two model files (replaced atomically)");
-    report_option_ = AddOption(job_, "--report", report_,
-                               "Also write training_report.json and training_report.png into "
-                               "this folder (staged and replaced like every output folder)");
-    seed_option_ =
-        AddOption(job_, "--seed", seed_, "Seed of every random choice (default 1)", "UINT64");
-    train_worlds_option_ = AddOption(job_, "--train-worlds", train_worlds_,
-                                     "Training worlds, 1-200 (default 24)", "N");
-    eval_worlds_option_ = AddOption(job_, "--eval-worlds", eval_worlds_,
-                                    "Held-out evaluation worlds, 1-200 (default 8)", "N");
-    views_option_ =
-        AddOption(job_, "--views", views_, "Lateral views per world, 1-500 (default 48)", "N");
-    train_dataset_option_ =
-        AddOption(job_, "--dataset", train_dataset_,
-                  "Train on this folder of `corridorsim dataset` (its lateral camera; e.g. "
-                  "--poses plates, appearance randomisation) instead of the built-in views",
-                  "DIR");
-    eval_dataset_option_ =
-        AddOption(job_, "--eval-dataset", eval_dataset_,
-                  "Evaluate on this dataset folder instead of the built-in held-out worlds", "DIR");
+    AddOption(job_, "--report", report_,
+              "Also write training_report.json and training_report.png into "
+              "this folder (staged and replaced like every output folder)");
+    AddOption(job_, "--seed", seed_, "Seed of every random choice (default 1)", "UINT64");
+    AddOption(job_, "--train-worlds", train_worlds_, "Training worlds, 1-200 (default 24)", "N");
+    AddOption(job_, "--eval-worlds", eval_worlds_, "Held-out evaluation worlds, 1-200 (default 8)",
+              "N");
+    AddOption(job_, "--views", views_, "Lateral views per world, 1-500 (default 48)", "N");
+    AddOption(job_, "--dataset", train_dataset_,
+              "Train on this folder of `corridorsim dataset` (its lateral camera; e.g. "
+              "--poses plates, appearance randomisation) instead of the built-in views",
+              "DIR");
+    AddOption(job_, "--eval-dataset", eval_dataset_,
+              "Evaluate on this dataset folder instead of the built-in held-out worlds", "DIR");
     AddSwitch(job_, "--force", force_, "Replace a non-empty --report folder");
     SetFooter(job_,
               "The built-in views are the frames of `corridorsim dataset "
@@ -139,49 +127,42 @@ class TrainDetectorsCommand final : public Subcommand {
     parsed->job = CommandLine::Job::kTrainDetectors;
     TrainDetectorsRequest& r = parsed->train_detectors;
     r.out_dir = FolderName(out_, "--out");
-    if (report_option_->count() > 0) r.report_dir = FolderName(report_, "--report");
+    if (report_.given()) r.report_dir = FolderName(report_.text, "--report");
     r.force = force_;
-    if (seed_option_->count() > 0) r.seed = ParseSeedArgument(seed_, "--seed");
-    if (train_worlds_option_->count() > 0)
-      r.train_worlds = WholeArgument(train_worlds_, kMaxTrainWorlds, "--train-worlds");
-    if (eval_worlds_option_->count() > 0)
-      r.eval_worlds = WholeArgument(eval_worlds_, kMaxTrainWorlds, "--eval-worlds");
-    if (views_option_->count() > 0)
-      r.views_per_world = WholeArgument(views_, kMaxViewsPerWorld, "--views");
-    if (train_dataset_option_->count() > 0) {
-      r.train_dataset = std::filesystem::path(FolderName(train_dataset_, "--dataset"));
-      if (train_worlds_option_->count() > 0)
+    if (seed_.given()) r.seed = ParseSeedArgument(seed_.text, "--seed");
+    if (train_worlds_.given())
+      r.train_worlds = WholeArgument(train_worlds_.text, kMaxTrainWorlds, "--train-worlds");
+    if (eval_worlds_.given())
+      r.eval_worlds = WholeArgument(eval_worlds_.text, kMaxTrainWorlds, "--eval-worlds");
+    if (views_.given())
+      r.views_per_world = WholeArgument(views_.text, kMaxViewsPerWorld, "--views");
+    if (train_dataset_.given()) {
+      r.train_dataset = std::filesystem::path(FolderName(train_dataset_.text, "--dataset"));
+      if (train_worlds_.given())
         Fail("--train-worlds", "the --dataset folder decides the training worlds");
     }
-    if (eval_dataset_option_->count() > 0) {
-      r.eval_dataset = std::filesystem::path(FolderName(eval_dataset_, "--eval-dataset"));
-      if (eval_worlds_option_->count() > 0)
+    if (eval_dataset_.given()) {
+      r.eval_dataset = std::filesystem::path(FolderName(eval_dataset_.text, "--eval-dataset"));
+      if (eval_worlds_.given())
         Fail("--eval-worlds", "the --eval-dataset folder decides the evaluation worlds");
     }
-    if (r.train_dataset && r.eval_dataset && views_option_->count() > 0)
+    if (r.train_dataset && r.eval_dataset && views_.given())
       Fail("--views", "both sets are dataset folders, whose frames decide the views");
   }
 
  private:
-  std::string out_ = "models", report_, seed_, train_worlds_, eval_worlds_, views_;
-  std::string train_dataset_, eval_dataset_;
+  std::string out_ = "models";
+  OptionalArgument report_, seed_, train_worlds_, eval_worlds_, views_;
+  OptionalArgument train_dataset_, eval_dataset_;
   bool force_ = false;
-  CLI::Option* report_option_ = nullptr;
-  CLI::Option* seed_option_ = nullptr;
-  CLI::Option* train_worlds_option_ = nullptr;
-  CLI::Option* eval_worlds_option_ = nullptr;
-  CLI::Option* views_option_ = nullptr;
-  CLI::Option* train_dataset_option_ = nullptr;
-  CLI::Option* eval_dataset_option_ = nullptr;
 };
 
 class DatasetCommand final : public Subcommand {
  public:
   explicit DatasetCommand(CLI::App* app)
-      : Subcommand(app->add_subcommand(
-            "dataset",
-            "Render labelled images of seeded worlds (images, labels, depth, truth, COCO "
-            "annotations) for developing detectors")),
+      : Subcommand(app, "dataset",
+                   "Render labelled images of seeded worlds (images, labels, depth, truth, COCO "
+                   "annotations) for developing detectors"),
         options_(job_, "out/dataset",
                  std::string("Scenario YAML (world, sensors, path) ") + kDefaultScenarioHelp,
                  "Seed of world 0 (world w uses seed + w; default: the scenario's `seed`)",
@@ -189,10 +170,10 @@ class DatasetCommand final : public Subcommand {
     AddOption(job_, "--worlds", worlds_, "Number of worlds, 1-100000", "N")->capture_default_str();
     AddOption(job_, "--frames-per-world", frames_, "Poses rendered per world, 1-100000", "M")
         ->capture_default_str();
-    cameras_option_ = AddOption(job_, "--cameras", cameras_,
-                                "Comma-separated cameras to render, each enabled in the scenario "
-                                "(default: every enabled camera)",
-                                "front,lateral,upward");
+    AddOption(job_, "--cameras", cameras_,
+              "Comma-separated cameras to render, each enabled in the scenario "
+              "(default: every enabled camera)",
+              "front,lateral,upward");
     AddOption(job_, "--poses", poses_,
               "random: uniform in the corridor, yaw uniform, collisions redrawn; path: evenly "
               "spaced along the scenario's path; plates: the lateral camera aimed at door "
@@ -221,13 +202,14 @@ class DatasetCommand final : public Subcommand {
     options_.Resolve(&r);
     r.worlds = WholeArgument(worlds_, kMaxDatasetWorlds, "--worlds");
     r.frames_per_world = WholeArgument(frames_, kMaxDatasetFramesPerWorld, "--frames-per-world");
-    if (cameras_option_->count() > 0) {
+    if (cameras_.given()) {
+      const std::string& cameras = cameras_.text;
       std::size_t start = 0;
       for (;;) {
-        const std::size_t comma = cameras_.find(',', start);
+        const std::size_t comma = cameras.find(',', start);
         const std::string id =
-            cameras_.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
-        if (id.empty()) Fail("--cameras", "an empty camera name " + Got(cameras_));
+            cameras.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+        if (id.empty()) Fail("--cameras", "an empty camera name " + Got(cameras));
         r.cameras.push_back(id);
         if (comma == std::string::npos) break;
         start = comma + 1;
@@ -246,15 +228,15 @@ class DatasetCommand final : public Subcommand {
 
  private:
   JobOptions options_;
-  std::string worlds_ = "1", frames_ = "1", cameras_, poses_ = "random";
-  CLI::Option* cameras_option_ = nullptr;
+  std::string worlds_ = "1", frames_ = "1", poses_ = "random";
+  OptionalArgument cameras_;
 };
 
 class ScoreCommand final : public Subcommand {
  public:
   explicit ScoreCommand(CLI::App* app)
-      : Subcommand(app->add_subcommand(
-            "score", "Score detections (COCO results JSON) against a dataset's annotations")) {
+      : Subcommand(app, "score",
+                   "Score detections (COCO results JSON) against a dataset's annotations") {
     AddOption(job_, "detections", detections_,
               "COCO results: [{image_id, category_id, bbox | circle | point | keypoints, "
               "score, room_number?}, ...]",
@@ -262,13 +244,13 @@ class ScoreCommand final : public Subcommand {
         ->required();
     AddOption(job_, "--dataset", dataset_, "Dataset folder (corridorsim dataset --out)", "DIR")
         ->required();
-    camera_option_ = AddOption(job_, "--camera", camera_,
-                               "The camera the detections are for (default: the dataset's only "
-                               "one)");
-    out_option_ = AddOutFolder(job_, out_,
-                               "Also write score.json and score.png into this folder (staged and "
-                               "replaced like every output folder)",
-                               "REPORT_DIR");
+    AddOption(job_, "--camera", camera_,
+              "The camera the detections are for (default: the dataset's only "
+              "one)");
+    AddOutFolder(job_, out_,
+                 "Also write score.json and score.png into this folder (staged and "
+                 "replaced like every output folder)",
+                 "REPORT_DIR");
     AddSwitch(job_, "--force", force_, "Replace a non-empty --out folder");
     AddOption(job_, "--expect", expect_,
               "A check such as lamp.ap50>=0.8 or door_plate.recall>=0.5 (repeatable)",
@@ -289,11 +271,11 @@ class ScoreCommand final : public Subcommand {
     ScoreRequest& r = parsed->score;
     r.detections_file = FileName(detections_, "detections");
     r.dataset_dir = FolderName(dataset_, "--dataset");
-    if (camera_option_->count() > 0) {
-      if (camera_.empty()) Fail("--camera", "an empty camera name");
-      r.camera = camera_;
+    if (camera_.given()) {
+      if (camera_.text.empty()) Fail("--camera", "an empty camera name");
+      r.camera = camera_.text;
     }
-    if (out_option_->count() > 0) r.report_dir = FolderName(out_, "--out");
+    if (out_.given()) r.report_dir = FolderName(out_.text, "--out");
     r.force = force_;
     for (const std::string& e : expect_) {
       r.expectations.push_back(ParseScoreExpectation(e, "--expect"));
@@ -301,11 +283,10 @@ class ScoreCommand final : public Subcommand {
   }
 
  private:
-  std::string detections_, dataset_, camera_, out_;
+  std::string detections_, dataset_;
+  OptionalArgument camera_, out_;
   bool force_ = false;
   std::vector<std::string> expect_;
-  CLI::Option* camera_option_ = nullptr;
-  CLI::Option* out_option_ = nullptr;
 };
 
 }  // namespace

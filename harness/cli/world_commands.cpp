@@ -11,9 +11,9 @@ namespace {
 class WorldCommand final : public Subcommand {
  public:
   explicit WorldCommand(CLI::App* app)
-      : Subcommand(app->add_subcommand(
-            "world",
-            "Generate a corridor world and write its geometry, textures, ground truth and plan")),
+      : Subcommand(
+            app, "world",
+            "Generate a corridor world and write its geometry, textures, ground truth and plan"),
         options_(job_, "out/world",
                  "Scenario YAML whose `world:` section and `seed` are used "
                  "(default: ./scenarios/default.yaml if it exists, else the shipped "
@@ -42,8 +42,8 @@ class WorldCommand final : public Subcommand {
 class SnapshotCommand final : public Subcommand {
  public:
   explicit SnapshotCommand(CLI::App* app)
-      : Subcommand(app->add_subcommand(
-            "snapshot", "Place the robot at one pose and render every camera of the rig")),
+      : Subcommand(app, "snapshot",
+                   "Place the robot at one pose and render every camera of the rig"),
         options_(job_, "out/snapshot",
                  std::string("Scenario YAML (world, sensors, render) ") + kDefaultScenarioHelp,
                  "Seed of the world and the sensor noise", "Output folder") {
@@ -81,9 +81,9 @@ class SnapshotCommand final : public Subcommand {
 class DriveCommand final : public Subcommand {
  public:
   DriveCommand(CLI::App* app, CommandLine* parsed)
-      : Subcommand(app->add_subcommand(
-            "drive",
-            "Drive the scenario's path closed loop and write trajectories, odometry and events")),
+      : Subcommand(
+            app, "drive",
+            "Drive the scenario's path closed loop and write trajectories, odometry and events"),
         options_(job_, "out/drive",
                  std::string("Scenario YAML (world, robot, path, sensors) ") + kDefaultScenarioHelp,
                  "Seed of the world, the odometry errors and the sensor noise", "Output folder") {
@@ -115,14 +115,13 @@ class DriveCommand final : public Subcommand {
 class WhereCommand final : public Subcommand {
  public:
   explicit WhereCommand(CLI::App* app)
-      : Subcommand(app->add_subcommand(
-            "where", "Say where a room is, as each pipeline of a finished run mapped it")) {
+      : Subcommand(app, "where",
+                   "Say where a room is, as each pipeline of a finished run mapped it") {
     AddOption(job_, "room", room_, "Room number, as on its door plate (e.g. 101)", "ROOM")
         ->required();
     AddOption(job_, "--run", run_, "Run folder (corridorsim run --out)", "DIR")->required();
-    pipeline_option_ =
-        AddOption(job_, "--pipeline", pipeline_,
-                  "Only this pipeline's map (default: every DIR/maps/<pipeline>_semantic.json)");
+    AddOption(job_, "--pipeline", pipeline_,
+              "Only this pipeline's map (default: every DIR/maps/<pipeline>_semantic.json)");
     SetFooter(job_,
               "Reads DIR/maps/<pipeline>_semantic.json (the semantic map: room number -> door "
               "plate position with covariance) and prints per pipeline x and y in metres, world "
@@ -136,14 +135,14 @@ class WhereCommand final : public Subcommand {
     parsed->job = CommandLine::Job::kWhere;
     parsed->where.room = ParseRoomArgument(room_, "ROOM");
     parsed->where.run_dir = FolderName(run_, "--run");
-    if (pipeline_option_->count() > 0) {
-      parsed->where.pipeline = ParsePipelineArgument(pipeline_, "--pipeline");
+    if (pipeline_.given()) {
+      parsed->where.pipeline = ParsePipelineArgument(pipeline_.text, "--pipeline");
     }
   }
 
  private:
-  std::string room_, run_, pipeline_;
-  CLI::Option* pipeline_option_ = nullptr;
+  std::string room_, run_;
+  OptionalArgument pipeline_;
 };
 
 }  // namespace
