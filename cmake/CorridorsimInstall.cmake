@@ -41,7 +41,8 @@ install(FILES ${PROJECT_SOURCE_DIR}/viewer/viewer.html ${PROJECT_SOURCE_DIR}/vie
               ${PROJECT_SOURCE_DIR}/viewer/viewer_plan.js ${PROJECT_SOURCE_DIR}/viewer/viewer_plots.js
               ${PROJECT_SOURCE_DIR}/viewer/viewer_frames.js
               ${PROJECT_SOURCE_DIR}/viewer/viewer_tables.js ${PROJECT_SOURCE_DIR}/viewer/page.js
-              ${PROJECT_SOURCE_DIR}/viewer/page_head.html ${PROJECT_SOURCE_DIR}/viewer/page_tail.html
+              ${PROJECT_SOURCE_DIR}/viewer/page_head.html ${PROJECT_SOURCE_DIR}/viewer/page_header.html
+              ${PROJECT_SOURCE_DIR}/viewer/page_tail.html
               ${PROJECT_SOURCE_DIR}/viewer/viewer.css ${PROJECT_SOURCE_DIR}/viewer/report.html
               ${PROJECT_SOURCE_DIR}/viewer/report.js
         DESTINATION ${CORRIDORSIM_INSTALL_DATADIR}/viewer COMPONENT runtime)

@@ -43,6 +43,22 @@ Matrix3d FaceRotation(int face) {
   return r;
 }
 
+// `frame`'s images sized to width x height (the colour image made anew only when its size
+// changed; depth only for a camera that reads it), their pixels left to the caller to write.
+void SizeFrame(int width, int height, bool reads_depth, CameraFrame* frame) {
+  if (frame->rgb.width != width || frame->rgb.height != height || frame->rgb.channels != 3) {
+    frame->rgb = Image8(width, height, 3);
+  }
+  const std::size_t pixels = static_cast<std::size_t>(width) * height;
+  frame->instance.resize(pixels);
+  frame->semantic.resize(pixels);
+  if (reads_depth) {
+    frame->depth_m.width = width;
+    frame->depth_m.height = height;
+    frame->depth_m.data.resize(pixels);
+  }
+}
+
 }  // namespace
 
 CameraRenderer::CameraRenderer(const CameraOptions& options, int samples_per_side)
@@ -333,17 +349,7 @@ void CameraRenderer::Finish(CameraFrame* frame) {
 void CameraRenderer::Downsample(const CameraFrame& hires, CameraFrame* frame) const {
   const int width = options_.model.width(), height = options_.model.height(), n = n_;
   const std::size_t hw = static_cast<std::size_t>(width) * n;
-  if (frame->rgb.width != width || frame->rgb.height != height || frame->rgb.channels != 3) {
-    frame->rgb = Image8(width, height, 3);
-  }
-  const std::size_t pixels = static_cast<std::size_t>(width) * height;
-  frame->instance.resize(pixels);
-  frame->semantic.resize(pixels);
-  if (options_.ReadsDepth()) {
-    frame->depth_m.width = width;
-    frame->depth_m.height = height;
-    frame->depth_m.data.resize(pixels);
-  }
+  SizeFrame(width, height, options_.ReadsDepth(), frame);
   const unsigned count = static_cast<unsigned>(n * n);
   for (int v = 0; v < height; ++v) {
     for (int u = 0; u < width; ++u) {
@@ -371,17 +377,7 @@ void CameraRenderer::Downsample(const CameraFrame& hires, CameraFrame* frame) co
 
 void CameraRenderer::Compose(CameraFrame* frame) const {
   const int width = draw_model_.width(), height = draw_model_.height();
-  const std::size_t n = static_cast<std::size_t>(width) * height;
-  if (frame->rgb.width != width || frame->rgb.height != height || frame->rgb.channels != 3) {
-    frame->rgb = Image8(width, height, 3);
-  }
-  frame->instance.resize(n);
-  frame->semantic.resize(n);
-  if (options_.ReadsDepth()) {
-    frame->depth_m.width = width;
-    frame->depth_m.height = height;
-    frame->depth_m.data.resize(n);
-  }
+  SizeFrame(width, height, options_.ReadsDepth(), frame);
   // Per pass: where its images start (up to 6 cube faces).
   std::array<detail::PassImages, 6> images{};
   for (std::size_t k = 0; k < rendered_.size() && k < images.size(); ++k) {

@@ -24,7 +24,7 @@ import math
 import os
 import sys
 
-from study_common import average_nees, chi2_quantile, run_all, study_arguments
+from study_common import average_nees, chi2_quantile, nees_cell, run_all, study_arguments
 
 PIPELINE = "p1_vp_doorplate"
 
@@ -35,11 +35,7 @@ def read_nees(path):
         header = f.readline().strip().split(",")
         column = header.index("nees")
         for line in f:
-            cells = line.strip().split(",")
-            if len(cells) > column and cells[column] not in ("", "nan"):
-                values.append(float(cells[column]))
-            else:
-                values.append(float("nan"))
+            values.append(nees_cell(line.strip().split(","), column))
     return values
 
 

@@ -34,7 +34,7 @@ import math
 import os
 import sys
 
-from study_common import average_nees, run_all, study_arguments
+from study_common import average_nees, nees_cell, run_all, study_arguments
 
 PIPELINE = "p3_upward"
 CORNERS = "p3_corners"
@@ -74,10 +74,7 @@ def read_errors(path, truth_yaw):
         ct, cx, cy, cn = (header.index(k) for k in ("t", "ex_m", "ey_m", "nees"))
         for line in f:
             cells = line.strip().split(",")
-            if len(cells) > cn and cells[cn] not in ("", "nan"):
-                nees.append(float(cells[cn]))
-            else:
-                nees.append(float("nan"))
+            nees.append(nees_cell(cells, cn))
             if len(cells) > cy and cells[cx] not in ("", "nan") and cells[cy] not in ("", "nan"):
                 ex, ey = float(cells[cx]), float(cells[cy])
                 e = math.hypot(ex, ey)

@@ -1,7 +1,7 @@
 """What the seed studies (p1_study.py, p3_study.py) share: their command line and the --seeds
 syntax, running
-`corridorsim run SCENARIO --seed N` for each seed, and the NEES averaged over seeds against its
-chi-square band. Standard library only."""
+`corridorsim run SCENARIO --seed N` for each seed, the NEES cells of the runs' errors.csv, and the
+NEES averaged over seeds against its chi-square band. Standard library only."""
 import argparse
 import concurrent.futures
 import math
@@ -92,6 +92,14 @@ def run_all(args, seeds, tool, allow_extra_failure=False):
     with concurrent.futures.ThreadPoolExecutor(max_workers=args.jobs) as pool:
         return dict(zip(seeds, pool.map(
             lambda s: run_one(args, s, tool, allow_extra_failure), seeds)))
+
+
+def nees_cell(cells, column):
+    """The NEES of a row of <pipeline>_errors.csv (its cells, the nees column's index): nan where
+    the row has none (the cell empty or nan while the covariance is singular, at the start)."""
+    if len(cells) > column and cells[column] not in ("", "nan"):
+        return float(cells[column])
+    return float("nan")
 
 
 def average_nees(series, dof=3):

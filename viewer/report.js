@@ -42,18 +42,11 @@
   }
 
   // ---------------------------------------------------------------- the data
-  const PALETTE = ["#6ea8ff", "#ff9f43", "#2ed3b7", "#e86bd8", "#b5e853", "#ff6b6b", "#c9a0ff", "#ffd166"];
   let D = null;
   const colorOf = new Map();
 
   function load() {
-    let raw = {};
-    const node = $("corridorsim-data");
-    const text = node ? node.textContent.trim() : "";
-    if (text && text !== "CORRIDORSIM_" + "DATA_JSON") {
-      try { raw = JSON.parse(text); } catch (e) { report(e, "reading the page's data"); }
-    }
-    if (!isObj(raw)) raw = {};
+    const raw = pageData();
     const runs = arr(raw.runs).filter(isObj).map((r) => ({
       point: str(r.point, "?"), seed: r.seed, status: str(r.status, "unknown"), reason: r.reason === null || r.reason === undefined ? null : str(r.reason),
       viewer: relHref(r.viewer), metrics: isObj(r.metrics) ? r.metrics : {},
@@ -70,8 +63,8 @@
     }
     const points = arr(raw.points).filter(isObj).map((p) => ({ id: str(p.id, "?"), label: str(p.label), values: isObj(p.values) ? p.values : {} }));
     for (const r of runs) if (!points.some((p) => p.id === r.point)) points.push({ id: r.point, label: "", values: {} });
-    let ci = 0;
-    for (const p of pipelines) colorOf.set(p, p === "odometry" ? "#a7adb8" : PALETTE[ci++ % PALETTE.length]);
+    const colorOfPipeline = pipelineColors();
+    for (const p of pipelines) colorOf.set(p, colorOfPipeline(p));
     return {
       title: str(raw.title, "corridorsim study"), study: str(raw.study), command: str(raw.command),
       pipelines: pipelines, metrics: metrics, points: points, runs: runs,
@@ -521,18 +514,7 @@
   function buildExpectations() {
     const box = $("cs-expectations"), list = D.expectations;
     if (!list.length) { box.append(el("div", { cls: "cs-empty", text: "This study states no expectations." })); return; }
-    const table = el("table", { cls: "cs-table" }, [el("tr", {}, [el("th"), el("th", { text: "expectation" }), el("th", { cls: "cs-num", text: "measured" })])]);
-    let pass = 0;
-    for (const x of list) {
-      const ok = x.passed === true;
-      if (ok) pass++;
-      table.append(el("tr", {}, [el("td", {}, [el("span", { cls: "cs-badge " + (ok ? "cs-pass" : "cs-fail"), text: ok ? "PASS" : "FAIL" })]),
-        el("td", { text: str(x.text) }), el("td", { cls: "cs-num", text: fmt(x.measured) })]));
-    }
-    box.append(table);
-    const v = $("cs-verdict");
-    v.textContent = pass === list.length ? "expectations: all " + pass + " pass" : "expectations: " + (list.length - pass) + " of " + list.length + " FAIL";
-    v.className = "cs-badge " + (pass === list.length ? "cs-pass" : "cs-fail");
+    box.append(expectationsTable(el("table", { cls: "cs-table" }), list));
   }
 
   function buildSummary() {
@@ -553,10 +535,7 @@
 
   function start() {
     D = load();
-    document.title = D.title || document.title;
-    $("cs-title").textContent = D.title;
-    $("cs-sub").textContent = [D.study ? "study " + D.study : "", D.points.length + " points", D.pipelines.length + " pipelines", D.runs.length + " runs"]
-      .filter(Boolean).join(" · ");
+    pageHeader(D.title, [D.study ? "study " + D.study : "", D.points.length + " points", D.pipelines.length + " pipelines", D.runs.length + " runs"]);
     $("cs-command").textContent = D.command ? "$ " + D.command : "";
     const counts = {};
     for (const r of D.runs) counts[r.status] = (counts[r.status] || 0) + 1;
@@ -576,7 +555,7 @@
     for (const p of withSeries) psel.append(el("option", { value: p.id, text: pointName(p.id) }));
     psel.addEventListener("change", guard(buildSeries, "series"));
 
-    for (const [name, f] of [
+    startParts([
       ["strip", () => charts.push(chart($("cs-strip"), 300, drawStrip))],
       ["paired", () => charts.push(chart($("cs-paired"), () => Math.max(140, 50 + pairedRows().length * 24), drawPaired))],
       ["series", buildSeries],
@@ -589,12 +568,9 @@
           charts.push(chart(wrap, 260, (c) => drawSweep(c, k)));
         }
       }],
-      ["expectations", buildExpectations], ["failed", buildFailed], ["runs", buildRunsTable], ["summary", buildSummary]]) {
-      try { f(); } catch (e) { report(e, name); }
-    }
+      ["expectations", buildExpectations], ["failed", buildFailed], ["runs", buildRunsTable], ["summary", buildSummary]]);
     api.ready = true;
   }
 
-  if (document.readyState === "loading") document.addEventListener("DOMContentLoaded", guard(start, "start"));
-  else guard(start, "start")();
+  whenReady(start);
 })();

@@ -64,7 +64,6 @@
   }
 
   // ---------------------------------------------------------------- the data
-  const PALETTE = ["#6ea8ff", "#ff9f43", "#2ed3b7", "#e86bd8", "#b5e853", "#ff6b6b", "#c9a0ff", "#ffd166"];
   const TYPE_COLORS = ["#4fc3f7", "#ffb74d", "#81c784", "#f06292", "#ba68c8", "#fff176", "#a1887f", "#90a4ae"];
   const typeColorMap = new Map();
   function typeColor(type) {
@@ -78,13 +77,7 @@
   let snap = null;       // what is drawn at the cursor (state() reports it)
 
   function loadData() {
-    let raw = {};
-    const node = document.getElementById("corridorsim-data");
-    const text = node ? node.textContent.trim() : "";
-    if (text && text !== "CORRIDORSIM_" + "DATA_JSON") {
-      try { raw = JSON.parse(text); } catch (e) { report(e, "reading the page's data"); raw = {}; }
-    }
-    if (!isObj(raw)) raw = {};
+    const raw = pageData();
     const world = isObj(raw.world) ? raw.world : {};
     const d = {
       title: str(raw.title, "corridorsim run"), scenario: str(raw.scenario), seed: raw.seed,
@@ -102,7 +95,7 @@
       expectations: arr(raw.expectations).filter(isObj),
       frames: isObj(raw.frames) ? raw.frames : {},
     };
-    let ci = 0;
+    const colorOfPipeline = pipelineColors();
     arr(raw.pipelines).filter(isObj).forEach((p, k) => {
       const name = str(p.name, "pipeline_" + k);
       const path = columns(p.path, ["x", "y", "yaw", "cxx", "cxy", "cyy"]);
@@ -123,7 +116,7 @@
         detByCam.get(cam).push(q);
       }
       for (const list of detByCam.values()) list.sort((a, b) => a.t - b.t);
-      const color = name === "odometry" ? "#a7adb8" : PALETTE[ci++ % PALETTE.length];
+      const color = colorOfPipeline(name);
       d.pipelines.push({
         name: name, failed: p.failed === null || p.failed === undefined ? null : str(p.failed, "failed"),
         color: color, visible: true,
@@ -286,30 +279,24 @@
 
   // ---------------------------------------------------------------- start
   function header() {
-    document.title = D.title || document.title;
-    $("cs-title").textContent = D.title;
     const bits = [];
     if (D.scenario) bits.push("scenario " + D.scenario);
     if (D.seed !== undefined && D.seed !== null) bits.push("seed " + D.seed);
     if (isFinite(D.duration)) bits.push(D.duration.toFixed(1) + " s");
     bits.push(D.pipelines.length + " pipeline" + (D.pipelines.length === 1 ? "" : "s"));
-    $("cs-sub").textContent = bits.join(" · ");
+    pageHeader(D.title, bits);
   }
 
   function start() {
     D = loadData();
     buildStamps();
-    // Each part on its own: one that fails is recorded and the others still work.
-    for (const [name, f] of [["header", header], ["legend", initLegend], ["plan", initPlan], ["transport", initTransport],
-      ["plots", initPlots], ["frames", initFrames], ["events", initEvents], ["expectations", initExpectations], ["metrics", initMetrics]]) {
-      try { f(); } catch (e) { report(e, name); }
-    }
+    startParts([["header", header], ["legend", initLegend], ["plan", initPlan], ["transport", initTransport],
+      ["plots", initPlots], ["frames", initFrames], ["events", initEvents], ["expectations", initExpectations], ["metrics", initMetrics]]);
     const t = timeFromHash();
     setIndex(t === null ? 0 : Math.max(lastAtOrBefore(stamps, t), 0), { url: t === null ? "none" : "now" });
     drawPlanNow();
     api.ready = true;
   }
 
-  if (document.readyState === "loading") document.addEventListener("DOMContentLoaded", guard(start, "start"));
-  else guard(start, "start")();
+  whenReady(start);
 })();

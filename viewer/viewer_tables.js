@@ -59,17 +59,7 @@
   function initExpectations() {
     const table = $("cs-expectations"), list = D.expectations;
     if (!list.length) { table.replaceWith(el("div", { cls: "cs-empty", text: "This run states no expectations." })); return; }
-    table.append(el("tr", {}, [el("th", { text: "" }), el("th", { text: "expectation" }), el("th", { cls: "cs-num", text: "measured" })]));
-    let pass = 0;
-    for (const x of list) {
-      const ok = x.passed === true;
-      if (ok) pass++;
-      table.append(el("tr", {}, [el("td", {}, [el("span", { cls: "cs-badge " + (ok ? "cs-pass" : "cs-fail"), text: ok ? "PASS" : "FAIL" })]),
-        el("td", { text: str(x.text) }), el("td", { cls: "cs-num", text: fmt(x.measured) })]));
-    }
-    const v = $("cs-verdict");
-    v.textContent = pass === list.length ? "expectations: all " + pass + " pass" : "expectations: " + (list.length - pass) + " of " + list.length + " FAIL";
-    v.className = "cs-badge " + (pass === list.length ? "cs-pass" : "cs-fail");
+    expectationsTable(table, list);
   }
 
   const MAIN_METRICS = ["ate_rmse_m", "ate_aligned_rmse_m", "rpe_1m_trans_rmse_m", "final_position_error_m", "nees_mean", "nees_in_band_fraction"];

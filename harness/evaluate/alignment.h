@@ -11,31 +11,27 @@
 
 #include <Eigen/Core>
 
+#include "common/enum_names.h"
+
 namespace corridorsim::evaluate {
 
 enum class Alignment { kNone, kSE2, kSE3, kSim3 };
 inline constexpr Alignment kAllAlignments[] = {Alignment::kNone, Alignment::kSE2, Alignment::kSE3,
                                                Alignment::kSim3};
 
-/// "none", "se2", "se3", "sim3" (header-only: the command-line parser uses it).
-inline std::string AlignmentName(Alignment alignment) {
-  switch (alignment) {
-    case Alignment::kSE2:
-      return "se2";
-    case Alignment::kSE3:
-      return "se3";
-    case Alignment::kSim3:
-      return "sim3";
-    case Alignment::kNone:
-      break;
-  }
-  return "none";
-}
+/// Each alignment's name (header-only: the command-line parser reads them).
+inline constexpr EnumName<Alignment> kAlignmentNames[] = {{Alignment::kNone, "none"},
+                                                          {Alignment::kSE2, "se2"},
+                                                          {Alignment::kSE3, "se3"},
+                                                          {Alignment::kSim3, "sim3"}};
+
+/// "none", "se2", "se3", "sim3".
+inline std::string AlignmentName(Alignment alignment) { return NameOf(kAlignmentNames, alignment); }
 
 /// From its name; nullopt for anything else.
 inline std::optional<Alignment> AlignmentFromName(const std::string& name) {
-  for (const Alignment a : kAllAlignments) {
-    if (AlignmentName(a) == name) return a;
+  for (const EnumName<Alignment>& a : kAlignmentNames) {
+    if (a.name == name) return a.value;
   }
   return std::nullopt;
 }

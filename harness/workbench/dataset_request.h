@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "common/enum_names.h"
 #include "harness/scenario/job.h"
 
 namespace corridorsim {
@@ -15,16 +16,12 @@ enum class DatasetPoseMode {
   kPath,    // evenly spaced along the scenario's path (BuildRobotPath), heading along the leg
   kPlates,  // the lateral camera aimed at door plates and printed distractors (train-detectors)
 };
-inline const char* DatasetPoseModeName(DatasetPoseMode mode) {
-  switch (mode) {
-    case DatasetPoseMode::kPath:
-      return "path";
-    case DatasetPoseMode::kPlates:
-      return "plates";
-    case DatasetPoseMode::kRandom:
-      break;
-  }
-  return "random";
+inline constexpr EnumName<DatasetPoseMode> kDatasetPoseModeNames[] = {
+    {DatasetPoseMode::kRandom, "random"},
+    {DatasetPoseMode::kPath, "path"},
+    {DatasetPoseMode::kPlates, "plates"}};
+inline std::string DatasetPoseModeName(DatasetPoseMode mode) {
+  return NameOf(kDatasetPoseModeNames, mode);
 }
 
 /// Bounds of --worlds and --frames-per-world.

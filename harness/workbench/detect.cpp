@@ -15,6 +15,7 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "common/enum_names.h"
 #include "common/error.h"
 #include "common/io/atomic_file.h"
 #include "common/io/camera_json.h"
@@ -131,17 +132,11 @@ Image8 ReadRgbPng(const std::filesystem::path& path, const std::string& what) {
   return DecodedPngAsRgb(ReadPngFile(path, what));
 }
 
-std::string DetectCameraName(DetectCamera camera) {
-  switch (camera) {
-    case DetectCamera::kFront:
-      return "front";
-    case DetectCamera::kLateral:
-      return "lateral";
-    case DetectCamera::kUpward:
-      return "upward";
-  }
-  return "front";
-}
+constexpr EnumName<DetectCamera> kDetectCameraNames[] = {{DetectCamera::kFront, "front"},
+                                                         {DetectCamera::kLateral, "lateral"},
+                                                         {DetectCamera::kUpward, "upward"}};
+
+std::string DetectCameraName(DetectCamera camera) { return NameOf(kDetectCameraNames, camera); }
 
 DetectInput LoadDetectInput(const DetectRequest& request) {
   DetectInput input;

@@ -223,13 +223,16 @@ def _plain(value):
     return value
 
 
+def _put_any(reply, key, value, kind):
+    """reply[key]: what the pipeline gave (`value`, as a `kind`, list or dict, of plain JSON
+    types), when it gave any."""
+    if value:
+        reply[key] = _plain(kind(value))
+
+
 def _with_extras(reply, pipeline):
-    detections = pipeline.detections()
-    if detections:
-        reply["detections"] = _plain(list(detections))
-    innovations = pipeline.innovations()
-    if innovations:
-        reply["innovations"] = _plain(list(innovations))
+    _put_any(reply, "detections", pipeline.detections(), list)
+    _put_any(reply, "innovations", pipeline.innovations(), list)
     return reply
 
 
@@ -328,12 +331,8 @@ def serve(pipeline, fd=None):
                 map_blob += data
             if maps:
                 reply["maps"] = maps
-            health = pipeline.health()
-            if health:
-                reply["health"] = _plain(dict(health))
-            stages = pipeline.stage_seconds()
-            if stages:
-                reply["stage_seconds"] = _plain(dict(stages))
+            _put_any(reply, "health", pipeline.health(), dict)
+            _put_any(reply, "stage_seconds", pipeline.stage_seconds(), dict)
             connection.send(reply, bytes(map_blob))
             # corridorsim closes the connection now; wait for that, then end.
             connection.receive()
