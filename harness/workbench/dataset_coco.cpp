@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <iterator>
 #include <map>
 #include <numbers>
 #include <optional>
@@ -11,6 +12,7 @@
 #include "common/io/json_input.h"
 #include "common/io/stable_json.h"
 #include "harness/workbench/dataset_internal.h"
+#include "harness/workbench/score_request.h"
 
 // `dataset`'s COCO annotations (dataset.h): the fixed categories, a frame's annotations from its
 // truth (FrameAnnotations: plates, doors from the instance image, lamps, ceiling corners) and a
@@ -90,18 +92,10 @@ std::map<int, PixelBox> DoorPixels(const render::FrameTruth& truth,
 }  // namespace
 
 std::string DatasetCategoryName(int category_id) {
-  switch (category_id) {
-    case kCategoryDoorPlate:
-      return "door_plate";
-    case kCategoryDoor:
-      return "door";
-    case kCategoryLamp:
-      return "lamp";
-    case kCategoryCeilingCorner:
-      return "ceiling_corner";
-    default:
-      return "";
-  }
+  // One list of the names: the classes `score --expect` names are these categories.
+  static_assert(std::size(kScoreClassNames) == kDatasetCategoryCount);
+  if (category_id < 1 || category_id > kDatasetCategoryCount) return "";
+  return kScoreClassNames[category_id - 1];
 }
 
 nlohmann::ordered_json DatasetCategoriesJson() {

@@ -10,7 +10,8 @@
 namespace corridorsim {
 
 /// The classes and per-class metrics `--expect` may name (docs/datasets.md): class names are
-/// the dataset's category names (harness/workbench/dataset.h).
+/// the dataset's category names, in the order of their ids (harness/workbench/dataset.h;
+/// DatasetCategoryName reads them from here).
 inline constexpr const char* kScoreClassNames[] = {"door_plate", "door", "lamp", "ceiling_corner"};
 inline constexpr const char* kScoreMetricNames[] = {
     "labels",          "detections", "precision", "recall",       "f1",

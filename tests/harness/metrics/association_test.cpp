@@ -43,10 +43,7 @@ TEST_CASE("data association precision and recall count one wrong association", "
   const Json m = RunOne(world, truth, record, frames);
   REQUIRE(m.contains("data_association"));
   const Json& da = m["data_association"]["door_plate"];
-  CHECK(da["associations"] == 3);
-  CHECK(da["correct"] == 2);
-  CHECK(da["possible"] == 4);
-  CHECK(da["unverifiable"] == 1);
+  CheckCounts(da, {{"associations", 3}, {"correct", 2}, {"possible", 4}, {"unverifiable", 1}});
   CHECK(Num(da["precision"]) == Approx(2.0 / 3.0).margin(test::kMetricsJsonRatio));
   CHECK(Num(da["recall"]) == Approx(0.5).margin(test::kMetricsJsonRatio));
 }

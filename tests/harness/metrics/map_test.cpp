@@ -32,11 +32,11 @@ TEST_CASE("landmark matching counts a spurious and a missed landmark and wrong r
   const Json m = RunOne(world, truth, record, {frame});
   REQUIRE(m.contains("map"));
   const Json& plates = m["map"]["door_plate"];
-  CHECK(plates["estimated"] == 3);
-  CHECK(plates["matched"] == 2);
-  CHECK(plates["spurious"] == 1);
-  CHECK(plates["observed"] == 3);
-  CHECK(plates["missed"] == 1);  // plate 3 was seen but never mapped
+  CheckCounts(plates, {{"estimated", 3},
+                       {"matched", 2},
+                       {"spurious", 1},
+                       {"observed", 3},
+                       {"missed", 1}});  // missed: plate 3 was seen but never mapped
   CHECK(Num(plates["mean_error_m"]) == Approx(0.15).margin(test::kMetricsJsonM));
   CHECK(Num(plates["rmse_m"]) == Approx(std::sqrt(0.025)).margin(test::kMetricsJsonM));
   CHECK(Num(plates["max_error_m"]) == Approx(0.2).margin(test::kMetricsJsonM));

@@ -5,8 +5,12 @@
 
 #include <cmath>
 #include <functional>
+#include <initializer_list>
 #include <string>
+#include <utility>
 #include <vector>
+
+#include <catch2/catch.hpp>
 
 #include "harness/metrics/metrics.h"
 
@@ -60,6 +64,16 @@ inline Json RunOne(const worlds::World& world, const std::vector<TruthPose>& tru
 }
 
 inline double Num(const Json& j) { return j.get<double>(); }
+
+/// The whole-number fields of one metrics group (`m["detection"]["door_plate"]`, ...), each
+/// checked, a failure naming its key.
+inline void CheckCounts(const Json& group,
+                        std::initializer_list<std::pair<const char*, int>> counts) {
+  for (const auto& [key, expected] : counts) {
+    INFO(key);
+    CHECK(group.at(key) == expected);
+  }
+}
 
 inline worlds::World PlateWorld() {
   worlds::World world;
@@ -128,6 +142,7 @@ using Eigen::Vector3d;
 using Eigen::Vector4d;
 using slam::LandmarkType;
 using test::ArcTruth;
+using test::CheckCounts;
 using test::DetectionAt;
 using test::ExactRecord;
 using test::Frame;
