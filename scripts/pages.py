@@ -101,9 +101,9 @@ INCLUDE = re.compile(r"^[ \t]*(?:/\*|<!--)CORRIDORSIM_INCLUDE ([A-Za-z0-9_.-]+)(
 def with_parts(path):
     """The page source at `path` with each INCLUDE line replaced by the part it names (a file of
     the same folder), in place: page.js, the pages' shared helpers, into viewer.js and report.js;
-    viewer_*.js, the run viewer's parts, into viewer.js; page_head.html and page_tail.html into
-    both templates. A part's opening comment (`/* ... */` or `<!-- ... -->`) is for the reader of
-    its file and stays out."""
+    viewer_*.js, the run viewer's parts, into viewer.js; page_head.html, page_header.html and
+    page_tail.html into both templates. A part's opening comment (`/* ... */` or `<!-- ... -->`)
+    is for the reader of its file and stays out."""
     base = os.path.dirname(path)
 
     def part(match):

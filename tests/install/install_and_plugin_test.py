@@ -137,6 +137,7 @@ def main():
                 "share/corridorsim/viewer/viewer_frames.js",
                 "share/corridorsim/viewer/viewer_tables.js",
                 "share/corridorsim/viewer/page_head.html",
+                "share/corridorsim/viewer/page_header.html",
                 "share/corridorsim/viewer/page_tail.html",
                 "share/corridorsim/viewer/vendor/uplot/uPlot.iife.min.js",
                 "lib/python3/dist-packages/corridorsim/files.py",
