@@ -91,6 +91,15 @@ class Connection:
             raise ProtocolError("a message is not a JSON object with a type")
         return message, blob, fds
 
+    def messages(self):
+        """Yields each message as receive() returns it, until corridorsim closes the
+        connection between messages (a connection cut inside a message raises)."""
+        while True:
+            received = self.receive()
+            if received is None:
+                return
+            yield received
+
     def send(self, message, blob=b""):
         """Sends one message. Raises ValueError for a non-finite number (named by its key)."""
         _finite(message, message.get("type", "message"))

@@ -14,12 +14,12 @@ stage_seconds (the time it spent on the messages), then by MODE:
                       kept).
 """
 
-import math
 import socket
 import sys
 import time
 
 from corridorsim.protocol import Connection
+from dead_reckoning import DeadReckoning
 
 
 def main():
@@ -27,26 +27,16 @@ def main():
     after = int(sys.argv[2]) if len(sys.argv) > 2 else 50
     connection = Connection(socket.socket(socket.AF_UNIX, socket.SOCK_STREAM, fileno=3))
     start, _blob, _fds = connection.receive()
-    x, y, yaw = start["pose"]
-    b = start["calibration"]["wheelbase_m"]
+    pose = DeadReckoning(start)
     connection.send({"type": "ready", "name": "reply_keys_program"})
     n = 0
     busy = 0.0
-    while True:
-        received = connection.receive()
-        if received is None:
-            return 0
-        message, _blob, _fds = received
+    for message, _blob, _fds in connection.messages():
         t0 = time.perf_counter()
         kind = message["type"]
         if kind == "odometry":
             n += 1
-            travel = 0.5 * (message["left_m"] + message["right_m"])
-            x += travel * math.cos(yaw)
-            y += travel * math.sin(yaw)
-            yaw = math.remainder(yaw + (message["right_m"] - message["left_m"]) / b, 2 * math.pi)
-            reply = {"type": "estimate", "stamp_ns": message["stamp_ns"], "pose": [x, y, yaw],
-                     "covariance": [1e-4, 0, 0, 0, 1e-4, 0, 0, 0, 1e-5]}
+            reply = pose.step(message)
             if n % 10 == 0:
                 reply["innovations"] = [{"type": "lamp", "nis": 1.5, "dof": 2, "accepted": True}]
             if mode == "estimate_key" and n == after:
@@ -65,6 +55,7 @@ def main():
             return 9
         busy += time.perf_counter() - t0
         connection.send(reply)
+    return 0
 
 
 if __name__ == "__main__":

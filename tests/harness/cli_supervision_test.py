@@ -100,7 +100,8 @@ def check_exiting_plugins(binary, plugins, source, work):
 
 
 def external_scenario(path, pid_dir, mode):
-    command = ["/usr/bin/python3", os.path.join(HERE, "supervision_descendants.py"), pid_dir, mode]
+    program = os.path.join(HERE, "..", "external", "supervision_descendants.py")
+    command = ["/usr/bin/python3", program, pid_dir, mode]
     with open(path, "w") as f:
         f.write("""name: descendants
 seed: 1

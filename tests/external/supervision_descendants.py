@@ -8,7 +8,6 @@ the wheel distances; MODE hang: it stops answering at the first odometry message
 usage: supervision_descendants.py PID_DIR MODE   (MODE: ok | hang)
 """
 
-import math
 import os
 import socket
 import subprocess
@@ -16,6 +15,7 @@ import sys
 import time
 
 from corridorsim.protocol import Connection
+from dead_reckoning import DeadReckoning
 
 
 def write_pid(pid_dir, name, pid):
@@ -29,36 +29,26 @@ def main():
     pid_dir, mode = sys.argv[1], sys.argv[2]
     connection = Connection(socket.socket(socket.AF_UNIX, socket.SOCK_STREAM, fileno=3))
     start, _blob, _fds = connection.receive()
-    x, y, yaw = start["pose"]
-    b = start["calibration"]["wheelbase_m"]
+    pose = DeadReckoning(start)
     same = subprocess.Popen(["sleep", "300"], stdin=subprocess.DEVNULL)
     own = subprocess.Popen(["sleep", "300"], stdin=subprocess.DEVNULL, preexec_fn=os.setpgrp)
     write_pid(pid_dir, "same_group", same.pid)
     write_pid(pid_dir, "own_group", own.pid)
     write_pid(pid_dir, "program", os.getpid())
     connection.send({"type": "ready"})
-    while True:
-        received = connection.receive()
-        if received is None:
-            return 0
-        message, _blob, _fds = received
+    for message, _blob, _fds in connection.messages():
         kind = message["type"]
         if kind == "odometry":
             if mode == "hang":
                 time.sleep(3600)
-            travel = 0.5 * (message["left_m"] + message["right_m"])
-            x += travel * math.cos(yaw)
-            y += travel * math.sin(yaw)
-            yaw = math.remainder(yaw + (message["right_m"] - message["left_m"]) / b, 2 * math.pi)
-            connection.send({"type": "estimate", "stamp_ns": message["stamp_ns"],
-                             "pose": [x, y, yaw],
-                             "covariance": [1e-4, 0, 0, 0, 1e-4, 0, 0, 0, 1e-5]})
+            connection.send(pose.step(message))
         elif kind == "cameras":
             connection.send({"type": "processed", "stamp_ns": message["stamp_ns"]})
         elif kind == "finish":
             connection.send({"type": "finished", "health": {}})
         else:
             return 9
+    return 0
 
 
 if __name__ == "__main__":
