@@ -272,10 +272,7 @@ def read_landmarks(path):
         where = f"[{i}]"
         if not isinstance(item, dict):
             r.fail(root, where, "expected an object")
-        lid = item.get("id")
-        if not (is_integer(lid) and lid >= 0):
-            r.fail(item, f"{where}.id", f"expected a non-negative integer, got "
-                   f"{json.dumps(lid)[:40]}")
+        lid = r.integer(item, "id", where, minimum=0)
         if landmarks and lid <= landmarks[-1]["id"]:
             r.fail(item, f"{where}.id", f"{lid} is not above the previous id "
                    f"{landmarks[-1]['id']} (the file is in id order, each id once)")
@@ -337,9 +334,7 @@ def read_upward_doors(path):
     r, items = map_items(path, "corridorsim.upward_doors", "doors")
     doors = []
     for name, door in items:
-        lid = door.get("landmark_id")
-        if not is_integer(lid):
-            r.fail(door, f"{name}.landmark_id", "expected an integer")
+        lid = r.integer(door, "landmark_id", name)
         columns = door.get("columns_m")
         if not (isinstance(columns, list) and len(columns) == 2 and
                 all(finite_numbers(c, 2) for c in columns)):
@@ -362,9 +357,7 @@ def read_areas(path):
     r, items = map_items(path, "corridorsim.upward_areas", "areas")
     areas = []
     for name, area in items:
-        aid = area.get("id")
-        if not is_integer(aid):
-            r.fail(area, f"{name}.id", "expected an integer")
+        aid = r.integer(area, "id", name)
         kind = r.get(area, "kind", "text", name)
         if kind not in ("corridor", "room"):
             r.fail(area, f"{name}.kind", f"expected corridor or room, got {json.dumps(kind)[:40]}")

@@ -148,6 +148,15 @@ class JsonReader:
             self.fail(obj, name, f"expected {kind}, got {json.dumps(value)[:40]}")
         return value
 
+    def integer(self, obj, key, where, minimum=None):
+        """obj[key], which must be an integer (at least `minimum` where one is given)."""
+        value = obj.get(key)
+        if not is_integer(value) or (minimum is not None and value < minimum):
+            wanted = ("an integer" if minimum is None else "a non-negative integer"
+                      if minimum == 0 else f"an integer of at least {minimum}")
+            self.fail(obj, f"{where}.{key}", f"expected {wanted}, got {json.dumps(value)[:40]}")
+        return value
+
     def vec2(self, obj, key, where):
         """The x, y of a [x, y] or [x, y, z] array; None when absent."""
         value = obj.get(key)
