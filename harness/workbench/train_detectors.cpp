@@ -309,12 +309,7 @@ TrainingResult TrainDetectors(const TrainDetectorsOptions& o) {
 
 TrainDetectorsOptions TrainDetectorsOptionsOf(const TrainDetectorsRequest& request) {
   TrainDetectorsOptions options;
-  options.seed = request.seed;
-  options.train_worlds = request.train_worlds;
-  options.eval_worlds = request.eval_worlds;
-  options.views_per_world = request.views_per_world;
-  options.train_dataset = request.train_dataset;
-  options.eval_dataset = request.eval_dataset;
+  static_cast<TrainingViews&>(options) = request;
   return options;
 }
 

@@ -30,14 +30,12 @@
 
 namespace corridorsim {
 
-struct TrainDetectorsOptions {
-  std::uint64_t seed = 1;
-  int train_worlds = 24;     // built-in training worlds (seeds TrainingFirstWorldSeed(seed) + w)
-  int eval_worlds = 8;       // built-in held-out worlds (the seeds after the training ones)
-  int views_per_world = 48;  // lateral views per built-in world
-  // Dataset folders (`corridorsim dataset` with the lateral camera) used instead of the built-in
-  // training or evaluation set; their world seeds must not overlap.
-  std::optional<std::filesystem::path> train_dataset, eval_dataset;
+// From TrainingViews (train_detectors_request.h): seed; train_worlds, the built-in training
+// worlds (seeds TrainingFirstWorldSeed(seed) + w); eval_worlds, the built-in held-out worlds (the
+// seeds after the training ones); views_per_world, lateral views per built-in world; and
+// train_dataset and eval_dataset, `corridorsim dataset` folders (with the lateral camera) used
+// instead of the built-in training or evaluation set (their world seeds must not overlap).
+struct TrainDetectorsOptions : TrainingViews {
   // Plates drawn in these fonts are left out of training (neither positives nor negatives, no
   // digits) and evaluated apart: the held-out-font figures of the report.
   std::vector<std::string> held_out_fonts{"hershey_triplex"};

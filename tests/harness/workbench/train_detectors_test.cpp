@@ -17,8 +17,12 @@ namespace {
 
 // A small request's options, as the command makes them, with a short MLP training.
 TrainDetectorsOptions Small(std::uint64_t seed) {
-  TrainDetectorsOptions o = TrainDetectorsOptionsOf(
-      {.seed = seed, .train_worlds = 2, .eval_worlds = 1, .views_per_world = 10});
+  TrainDetectorsRequest request;
+  request.seed = seed;
+  request.train_worlds = 2;
+  request.eval_worlds = 1;
+  request.views_per_world = 10;
+  TrainDetectorsOptions o = TrainDetectorsOptionsOf(request);
   o.mlp_iterations = 60;
   return o;
 }
