@@ -3,13 +3,7 @@
 include("${CMAKE_CURRENT_LIST_DIR}/cli_support.cmake")
 
 # A short corridor with odometry errors and slips on, so determinism covers every stream.
-file(WRITE "${WORK_DIR}/short.yaml" "include: ${SOURCE_DIR}/scenarios/default.yaml
-world:
-  length_m: 9.0
-  doors: {count: 4}
-  plates: {count: 3}
-  distractors: {posters: 1, notice_boards: 0, bookshelves: 0, cabinets: 0, fire_extinguishers: 1}
-robot:
+cli_write_short_scenario("${WORK_DIR}/short.yaml" 9.0 4 3 "robot:
   odometry: {random_k_m: 0.0001, slip_rate_per_m: 0.3, diameter_ratio: 1.005}
 sensors:
   front: {width: 80, height: 60, rate_hz: 3.3333333333}

@@ -7,13 +7,7 @@ include("${CMAKE_CURRENT_LIST_DIR}/cli_support.cmake")
 cmake_policy(SET CMP0057 NEW)  # if(IN_LIST)
 
 # A short default run: odometry errors on, so the ATE is millimetres, not zero.
-file(WRITE "${WORK_DIR}/short.yaml" "include: ${SOURCE_DIR}/scenarios/default.yaml
-world:
-  length_m: 6.0
-  doors: {count: 2}
-  plates: {count: 2}
-  distractors: {posters: 1, notice_boards: 0, bookshelves: 0, cabinets: 0, fire_extinguishers: 1}
-duration_s: 12
+cli_write_short_scenario("${WORK_DIR}/short.yaml" 6.0 2 2 "duration_s: 12
 expectations: []
 ")
 

@@ -79,3 +79,15 @@ function(cli_expect_same_files a b)
     endif()
   endforeach()
 endfunction()
+
+# Writes `path`: the default scenario in a short corridor (`length` m with `doors` doors and
+# `plates` plates, one poster and one fire extinguisher), then `extra` (more top-level YAML).
+function(cli_write_short_scenario path length doors plates extra)
+  file(WRITE "${path}" "include: ${SOURCE_DIR}/scenarios/default.yaml
+world:
+  length_m: ${length}
+  doors: {count: ${doors}}
+  plates: {count: ${plates}}
+  distractors: {posters: 1, notice_boards: 0, bookshelves: 0, cabinets: 0, fire_extinguishers: 1}
+${extra}")
+endfunction()
