@@ -42,6 +42,11 @@ double FovKeyDegOf(const CameraModel& model) {
 
 }  // namespace
 
+SE3 Mount::RobotFromBody() const {
+  return SE3::FromYawPitchRoll(yaw_deg * kDegToRad, -pitch_deg * kDegToRad, roll_deg * kDegToRad,
+                               Vector3d(x_m, y_m, z_m));
+}
+
 SE3 Mount::RobotFromCamera() const {
   const double yaw = yaw_deg * kDegToRad, pitch = pitch_deg * kDegToRad,
                roll = roll_deg * kDegToRad;

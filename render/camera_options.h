@@ -21,14 +21,20 @@
 
 namespace corridorsim::render {
 
-/// Where a camera sits on the robot. Position in the robot frame R (x forward, y left, z up);
-/// the optical axis points at heading `yaw_deg` (0 forward, 90 left) and elevation `pitch_deg`
-/// (0 horizontal, 90 straight up); `roll_deg` turns the image about the optical axis. At zero
-/// roll the image x axis is horizontal (for an upward camera: towards the robot's right).
+/// Where a sensor sits on the robot. Position in the robot frame R (x forward, y left, z up);
+/// a camera's optical axis (another sensor's x axis) points at heading `yaw_deg` (0 forward, 90
+/// left) and elevation `pitch_deg` (0 horizontal, 90 straight up); `roll_deg` turns the image
+/// (the sensor) about that axis. At zero roll a camera's image x axis is horizontal (for an
+/// upward camera: towards the robot's right).
 struct Mount {
   double x_m = 0.0, y_m = 0.0, z_m = 0.0;
   double yaw_deg = 0.0, pitch_deg = 0.0, roll_deg = 0.0;
+  /// The camera's optical frame (z along the optical axis, x right and y down in the image).
   SE3 RobotFromCamera() const;
+  /// The frame of a sensor that is not a camera (an IMU, a laser scanner: sim/sensor_options.h),
+  /// REP 103's body axes: x at heading `yaw_deg` and elevation `pitch_deg`, y to its left and z
+  /// up at zero roll; `roll_deg` turns it about x. Rz(yaw) Ry(-pitch) Rx(roll).
+  SE3 RobotFromBody() const;
 };
 
 /// The camera's exposure: the gain from scene radiance to the sensor's full scale, applied before

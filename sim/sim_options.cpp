@@ -8,8 +8,23 @@
 #include "sim/odometry.h"
 #include "sim/robot.h"
 #include "sim/robot_path.h"
+#include "sim/sensor_mount.h"
 
 namespace corridorsim::sim {
+
+const OptionTable<render::Mount>& BodyMountOptionsTable() {
+  return StaticOptionTable<render::Mount>([](OptionTable<render::Mount>& t) {
+    using M = render::Mount;
+    t.Add("x_m", &M::x_m, "m", "position in the robot frame (x forward)");
+    t.Add("y_m", &M::y_m, "m", "y left");
+    t.Add("z_m", &M::z_m, "m", "z up");
+    t.Add("yaw_deg", &M::yaw_deg, "deg", "heading of the sensor's x axis (0 forward, 90 left)")
+        .Range(-360, 360);
+    t.Add("pitch_deg", &M::pitch_deg, "deg", "elevation of its x axis (0 horizontal, 90 up)")
+        .Range(-90, 90);
+    t.Add("roll_deg", &M::roll_deg, "deg", "turns the sensor about its x axis").Range(-360, 360);
+  });
+}
 
 const OptionTable<RobotOptions>& RobotOptionsTable() {
   return StaticOptionTable<RobotOptions>([](OptionTable<RobotOptions>& t) {
