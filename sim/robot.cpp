@@ -8,6 +8,7 @@
 
 #include "common/io/options_yaml.h"
 #include "common/options_checker.h"
+#include "sim/imu.h"
 
 namespace corridorsim::sim {
 namespace {
@@ -20,7 +21,6 @@ constexpr int kSolidGroup = 1 << 1;
 constexpr int kWheelGroup = 1 << 2;
 constexpr int kChassisGroup = 1 << 3;
 
-constexpr double kGravity = 9.81;     // m/s^2
 constexpr double kWheelMassKg = 0.5;  // each driven wheel with its hub
 constexpr double kCasterMassKg = 0.2;
 constexpr double kCasterRadiusM = 0.0375;    // Pioneer 3-DX rear caster: 75 mm diameter
@@ -153,7 +153,7 @@ RobotPhysics::RobotPhysics(const worlds::World& world, const RobotOptions& optio
                            const SE2& world_from_robot_start)
     : impl_(std::make_unique<Impl>()) {
   Impl& m = *impl_;
-  m.dynamics.setGravity(btVector3(0, 0, -kGravity));
+  m.dynamics.setGravity(btVector3(0, 0, -kGravityM_S2));  // sim/imu.h: the IMUs read it
   m.dynamics.getDispatchInfo().m_deterministicOverlappingPairs = true;
   // Ten solver iterations in a randomised (seeded, so deterministic) order: a fixed order
   // favours the constraints solved last and made the left and right wheels roll 5e-5 apart in
