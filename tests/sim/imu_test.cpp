@@ -210,10 +210,25 @@ TEST_CASE(
   const double dt_s = static_cast<double>(options.physics_step_ns()) * 1e-9;
   const double r = 0.3;  // m, ahead of and behind the robot frame's origin
   const SE3 front = MountAt(r, 0.0, 0.237), back = MountAt(-r, 0.0, 0.237);
+  // On the left, facing left: the centre lies along its -x.
+  const SE3 side = MountAt(0.0, r, 0.237, 90.0);
   const Eigen::Vector2d wheels = WheelSpeedsFor(options, 0.0, 2.0);
   robot.SetWheelSpeeds(wheels.x(), wheels.y());
-  for (int i = 0; i < 1500; ++i) robot.Step();  // reach the constant rate
-  double sum_front_x = 0, sum_back_x = 0, sum_front_y = 0, sum_w2 = 0;
+  // The spin-up: the tangential acceleration dw/dt r, to the front IMU's left and the back one's
+  // right. Integrated over the spin-up their difference is 2 r (w_end - w_start).
+  const double w_start = robot.state().angular_velocity_in_world.z();
+  double tangential = 0.0;
+  for (int i = 0; i < 1500; ++i) {
+    const RobotState previous = robot.state();
+    robot.Step();
+    const ImuSample f = ExactImuSample(previous, robot.state(), dt_s, front, 0, "front");
+    const ImuSample b = ExactImuSample(previous, robot.state(), dt_s, back, 0, "back");
+    tangential += (f.linear_acceleration_m_s2.y() - b.linear_acceleration_m_s2.y()) * dt_s;
+  }
+  const double w_end = robot.state().angular_velocity_in_world.z();
+  CHECK(tangential == Approx(2 * r * (w_end - w_start)).epsilon(0.01));
+  // At the constant rate: the centripetal acceleration.
+  double sum_front_x = 0, sum_back_x = 0, sum_side_x = 0, sum_front_y = 0, sum_w2 = 0;
   const int n = 2000;
   for (int i = 0; i < n; ++i) {
     const RobotState previous = robot.state();
@@ -221,20 +236,26 @@ TEST_CASE(
     const RobotState& current = robot.state();
     const ImuSample f = ExactImuSample(previous, current, dt_s, front, 0, "front");
     const ImuSample b = ExactImuSample(previous, current, dt_s, back, 0, "back");
+    const ImuSample l = ExactImuSample(previous, current, dt_s, side, 0, "side");
     sum_front_x += f.linear_acceleration_m_s2.x();
     sum_back_x += b.linear_acceleration_m_s2.x();
+    sum_side_x += l.linear_acceleration_m_s2.x();
     sum_front_y += f.linear_acceleration_m_s2.y();
     // w from the physics' state, not the IMU.
     sum_w2 += std::pow(current.angular_velocity_in_world.z(), 2);
   }
   const double w2 = sum_w2 / n;
-  const double front_x = sum_front_x / n, back_x = sum_back_x / n, front_y = sum_front_y / n;
-  std::printf("imu: turning at %.4f rad/s: front x %.5f, back x %.5f m/s^2 (w^2 r = %.5f)\n",
-              std::sqrt(w2), front_x, back_x, w2 * r);
+  const double front_x = sum_front_x / n, back_x = sum_back_x / n, side_x = sum_side_x / n;
+  const double front_y = sum_front_y / n;
+  std::printf(
+      "imu: turning at %.4f rad/s: front x %.5f, back x %.5f, side x %.5f m/s^2 (w^2 r = "
+      "%.5f); spin-up: integrated tangential difference %.5f m/s (2 r dw = %.5f)\n",
+      std::sqrt(w2), front_x, back_x, side_x, w2 * r, tangential, 2 * r * (w_end - w_start));
   CHECK(std::sqrt(w2) == Approx(2.0).epsilon(0.03));
   // Towards the centre: the front IMU's -x, the back IMU's +x (its x still points forward).
   CHECK(front_x == Approx(-w2 * r).epsilon(0.02));
   CHECK(back_x == Approx(w2 * r).epsilon(0.02));
+  CHECK(side_x == Approx(-w2 * r).epsilon(0.02));
   // The difference cancels whatever the origin itself does: 2 w^2 r.
   CHECK(back_x - front_x == Approx(2 * w2 * r).epsilon(0.005));
   CHECK(std::abs(front_y) < 0.01);  // constant rate: no tangential acceleration
@@ -331,10 +352,17 @@ TEST_CASE(
       CHECK(estimate == Approx(s.walk).epsilon(tol));
     }
   }
-  // The true bias the model reports is the walk it added: the last samples' mean sits near it.
+  // The true bias the model reports is the walk it added: the mean of the last second sits near
+  // it, within 4 standard deviations of that mean's white noise (N^2 / T) and of the walk's own
+  // wander over the second (K^2 T / 3), while the walk has wandered K sqrt(7200 s) = 0.4 rad/s.
+  const double window_s = 1.0;
+  const auto window = static_cast<std::size_t>(window_s / dt);
   double recent = 0;
-  for (std::size_t i = n - 100; i < n; ++i) recent += axes[0][i];
-  CHECK(recent / 100 == Approx(model.gyroscope_bias().x()).margin(4 * 2e-3 / std::sqrt(100 * dt)));
+  for (std::size_t i = n - window; i < n; ++i) recent += axes[0][i];
+  const double spread = std::sqrt(std::pow(options.gyroscope_noise_density, 2) / window_s +
+                                  std::pow(options.gyroscope_random_walk, 2) * window_s / 3.0);
+  CHECK(recent / static_cast<double>(window) ==
+        Approx(model.gyroscope_bias().x()).margin(4 * spread));
 }
 
 TEST_CASE("each axis saturates at its range", "[imu]") {
