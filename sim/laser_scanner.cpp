@@ -1,0 +1,335 @@
+#include "sim/laser_scanner.h"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include <btBulletCollisionCommon.h>
+
+#include "common/options_checker.h"
+#include "common/random.h"
+#include "sim/sensor_mount.h"
+
+namespace corridorsim::sim {
+
+namespace {
+
+constexpr double kDegToRad = std::numbers::pi / 180.0;
+// A sensor on the robot sits within this distance of its origin along each axis (m).
+constexpr double kMaxMountOffsetM = 10.0;
+// The quantised BVH stores a triangle's index in 21 bits (btQuantizedBvh.h, MAX_NUM_PARTS_IN_BITS
+// = 10 of 31); beyond that the unquantised tree (64-byte nodes instead of 16) takes over.
+constexpr std::size_t kMaxQuantisedTriangles = (std::size_t{1} << 21) - 1;
+
+// The number of beams of the angles, in double so that absurd values cannot overflow an int.
+double BeamCountOf(const LaserOptions& o) {
+  return std::round((o.angle_max_deg - o.angle_min_deg) / o.resolution_deg) + 1.0;
+}
+
+}  // namespace
+
+const OptionTable<LaserOptions>& LaserOptionsTable() {
+  return StaticOptionTable<LaserOptions>([](OptionTable<LaserOptions>& t) {
+    using L = LaserOptions;
+    t.Add("enabled", &L::enabled, "", "false leaves the scanner out of the run");
+    // At most 100 Hz, as the cameras (one sweep per physics step at the slowest physics rate);
+    // at least 1e-6 Hz: a period of at most 1e6 s, the longest run.
+    t.Add("rate_hz", &L::rate_hz, "Hz",
+          "sweeps per second (SICK LMS200 at 0.5 deg: 37.5); sweeps are stamped every 1 / "
+          "rate_hz rounded to the nanosecond")
+        .Range(kMinSensorRateHz, 100,
+               "must lie in [1e-06, 100] Hz: a period of at most 1e+06 s (got {})");
+    t.Add("phase_s", &L::phase_s, "s",
+          "stamp of the first sweep; sweeps are stamped at `phase_s + k / rate_hz`, rounded to "
+          "the nanosecond")
+        .Note("[0, 1 / rate_hz)");
+    t.AddSection("mount", &L::mount, BodyMountOptionsTable(),
+                 "where the scanner sits on the robot: its x axis the 0 deg beam, z the normal of "
+                 "the scan plane (docs/frames.md)");
+    t.Add("angle_min_deg", &L::angle_min_deg, "deg",
+          "angle of the first beam about the scanner's z axis (0 along x, counter-clockwise)")
+        .Range(-180, 180);
+    t.Add("angle_max_deg", &L::angle_max_deg, "deg",
+          "angle of the last beam (the beams keep resolution_deg apart: the last one lies at the "
+          "nearest multiple of it)")
+        .Range(-180, 180)
+        .Note("> angle_min_deg; (angle_max_deg - angle_min_deg) + resolution_deg <= 360");
+    // 0.01 deg is finer than any planar scanner (the LMS200 resolves 0.25 deg); it keeps the time
+    // between beams at least 278 ns at 100 Hz.
+    t.Add("resolution_deg", &L::resolution_deg, "deg",
+          "angle between two beams; beams = round((angle_max_deg - angle_min_deg) / "
+          "resolution_deg) + 1")
+        .Range(0.01, 90)
+        .Note("at most 4096 beams");
+    t.Add("range_min_m", &L::range_min_m, "m", "nearer returns read -inf (REP 117)")
+        .RangeOpenHigh(0, kMaxLaserRangeM)
+        .Note("< range_max_m");
+    t.Add("range_max_m", &L::range_max_m, "m",
+          "no return within it reads +inf (REP 117); the LMS200's cm mode: 80")
+        .RangeOpenLow(0, kMaxLaserRangeM);
+    t.Add("noise", &L::noise, "", "range noise and dropouts (false: exact ranges)");
+    t.Add("range_sigma_m", &L::range_sigma_m, "m",
+          "standard deviation of the Gaussian range noise (LMS200: about 0.01)")
+        .Range(0, 1);
+    t.Add("max_incidence_deg", &L::max_incidence_deg, "deg",
+          "a beam meeting a surface more obliquely than this, from its normal, returns nothing "
+          "(NaN); 90 keeps every return")
+        .RangeOpenLow(0, 90);
+    t.Add("dropout_probability", &L::dropout_probability, "",
+          "each return is lost (NaN) with this probability")
+        .Range(0, 1);
+  });
+}
+
+int LaserOptions::BeamCount() const { return static_cast<int>(BeamCountOf(*this)); }
+
+std::optional<OptionsProblem> LaserOptions::Check() const {
+  if (auto problem = CheckOptionBounds(LaserOptionsTable(), *this)) return problem;
+  OptionsChecker c;
+  c.Require(phase_s >= 0 && phase_s * rate_hz < 1, "phase_s",
+            "must lie in [0, 1 / rate_hz) (got " + FormatNumber(phase_s) + " s)");
+  for (const auto& [key, value] :
+       {std::pair{"mount.x_m", mount.x_m}, std::pair{"mount.y_m", mount.y_m},
+        std::pair{"mount.z_m", mount.z_m}}) {
+    c.InRange(value, -kMaxMountOffsetM, kMaxMountOffsetM, key);
+  }
+  c.Require(angle_max_deg > angle_min_deg, "angle_max_deg",
+            "must be greater than angle_min_deg (got " + FormatNumber(angle_max_deg) +
+                " <= " + FormatNumber(angle_min_deg) + ")");
+  // The beams of one sweep are fired over one turn of the mirror, each direction once.
+  c.Require(angle_max_deg - angle_min_deg + resolution_deg <= 360, "angle_max_deg",
+            "the sweep must fit in one turn: (angle_max_deg - angle_min_deg) + resolution_deg "
+            "<= 360 (got " +
+                FormatNumber(angle_max_deg - angle_min_deg + resolution_deg) + ")");
+  c.Require(
+      BeamCountOf(*this) <= kMaxLaserBeams, "resolution_deg",
+      "gives more than 4096 beams over the field (got " + FormatNumber(BeamCountOf(*this)) + ")");
+  c.Require(range_min_m < range_max_m, "range_min_m",
+            "must be less than range_max_m (got " + FormatNumber(range_min_m) +
+                " >= " + FormatNumber(range_max_m) + ")");
+  return c.problem();
+}
+
+// The world's triangles in one Bullet BVH (double precision, as sim/robot.cpp), one part: the
+// triangle's index finds its mesh in `mesh_of_triangle`.
+struct LaserScanner::Bvh {
+  std::vector<btScalar> vertices;  // x, y, z per vertex, world frame (float meshes, exact)
+  std::vector<int> indices;        // three per triangle
+  std::vector<int> mesh_of_triangle;
+  const worlds::World* world = nullptr;
+  std::unique_ptr<btTriangleIndexVertexArray> mesh_interface;
+  std::unique_ptr<btBvhTriangleMeshShape> shape;
+  std::unique_ptr<btCollisionObject> object;
+  btTransform identity = btTransform::getIdentity();
+};
+
+namespace {
+
+// How far outside a triangle's edges a hit may lie (m). Bullet's own test admits hits up to 1e-4
+// of the triangle's height outside an edge (btRaycastCallback.cpp), millimetres on a wall's long
+// triangles, so a beam grazing a door frame's corner would stop in thin air; this keeps triangles
+// watertight over their shared edges (rounding there is ~1e-13 m) and exact elsewhere.
+constexpr double kEdgeToleranceM = 1e-9;
+
+// The closest hit that lies on its triangle, and that triangle (Bullet's callback keeps only the
+// point).
+struct ClosestTriangleCallback : btCollisionWorld::ClosestRayResultCallback {
+  ClosestTriangleCallback(const btVector3& from, const btVector3& to,
+                          const std::vector<btScalar>& vertices, const std::vector<int>& indices)
+      : ClosestRayResultCallback(from, to), vertices_(vertices), indices_(indices) {}
+  int triangle = -1;
+
+  btScalar addSingleResult(btCollisionWorld::LocalRayResult& result,
+                           bool normal_in_world_space) override {
+    // Bullet calls this only for hits nearer than the closest so far.
+    if (!result.m_localShapeInfo) return m_closestHitFraction;
+    const int t = result.m_localShapeInfo->m_triangleIndex;
+    if (!OnTriangle(t, m_rayFromWorld.lerp(m_rayToWorld, result.m_hitFraction))) {
+      return m_closestHitFraction;  // rejected: the ray goes on
+    }
+    triangle = t;
+    return ClosestRayResultCallback::addSingleResult(result, normal_in_world_space);
+  }
+
+ private:
+  // Whether `p` (on the triangle's plane) lies within kEdgeToleranceM of triangle `t`.
+  bool OnTriangle(int t, const btVector3& p) const {
+    btVector3 v[3];
+    for (int k = 0; k < 3; ++k) {
+      const auto i = static_cast<std::size_t>(indices_[static_cast<std::size_t>(3 * t + k)]);
+      v[k] = btVector3(vertices_[3 * i], vertices_[3 * i + 1], vertices_[3 * i + 2]);
+    }
+    const btVector3 normal = (v[1] - v[0]).cross(v[2] - v[0]);
+    const btScalar normal_length = normal.length();
+    for (int k = 0; k < 3; ++k) {
+      const btVector3 edge = v[(k + 1) % 3] - v[k];
+      // The signed distance from the edge's line, positive inside.
+      const btScalar inside = edge.cross(p - v[k]).dot(normal) / (normal_length * edge.length());
+      if (!(inside >= -kEdgeToleranceM)) return false;
+    }
+    return true;
+  }
+
+  const std::vector<btScalar>& vertices_;
+  const std::vector<int>& indices_;
+};
+
+}  // namespace
+
+LaserScanner::LaserScanner(const worlds::World& world, const LaserOptions& options,
+                           std::uint64_t seed)
+    : options_(options),
+      seed_(seed),
+      stream_name_("sim.laser." + options.id),
+      beam_count_(0),
+      period_ns_(0),
+      phase_ns_(0),
+      time_increment_ns_(0),
+      bvh_(std::make_unique<Bvh>()) {
+  CheckOrDie(!options.Check(), "LaserScanner", "the options must pass Check()");
+  beam_count_ = options.BeamCount();
+  period_ns_ = PeriodFromRateHz(options.rate_hz);
+  phase_ns_ = FromSeconds(options.phase_s);
+  time_increment_ns_ = static_cast<TimeNs>(
+      std::llround(static_cast<double>(period_ns_) * options.resolution_deg / 360.0));
+
+  Bvh& b = *bvh_;
+  b.world = &world;
+  std::size_t vertex_count = 0, triangle_count = 0;
+  for (const worlds::Mesh& mesh : world.meshes) {
+    vertex_count += mesh.positions.size();
+    triangle_count += mesh.triangle_count();
+  }
+  CheckOrDie(vertex_count < static_cast<std::size_t>(std::numeric_limits<int>::max()) &&
+                 triangle_count < static_cast<std::size_t>(std::numeric_limits<int>::max() / 3),
+             "LaserScanner", "the world has more vertices than Bullet indexes");
+  b.vertices.reserve(3 * vertex_count);
+  b.indices.reserve(3 * triangle_count);
+  b.mesh_of_triangle.reserve(triangle_count);
+  for (std::size_t m = 0; m < world.meshes.size(); ++m) {
+    const worlds::Mesh& mesh = world.meshes[m];
+    const int base = static_cast<int>(b.vertices.size() / 3);
+    for (const Eigen::Vector3f& p : mesh.positions) {
+      b.vertices.insert(b.vertices.end(), {p.x(), p.y(), p.z()});
+    }
+    for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t index = mesh.indices[3 * t + static_cast<std::size_t>(k)];
+        CheckOrDie(index < mesh.positions.size(), "LaserScanner", "a mesh index out of range");
+        b.indices.push_back(base + static_cast<int>(index));
+      }
+      b.mesh_of_triangle.push_back(static_cast<int>(m));
+    }
+  }
+  if (b.mesh_of_triangle.empty()) return;  // nothing to hit: every beam reads +inf
+
+  btIndexedMesh part;
+  part.m_numTriangles = static_cast<int>(b.mesh_of_triangle.size());
+  part.m_triangleIndexBase = reinterpret_cast<const unsigned char*>(b.indices.data());
+  part.m_triangleIndexStride = 3 * sizeof(int);
+  part.m_numVertices = static_cast<int>(b.vertices.size() / 3);
+  part.m_vertexBase = reinterpret_cast<const unsigned char*>(b.vertices.data());
+  part.m_vertexStride = 3 * sizeof(btScalar);
+  part.m_indexType = PHY_INTEGER;
+  part.m_vertexType = PHY_DOUBLE;
+  static_assert(sizeof(btScalar) == sizeof(double), "Bullet must be its double-precision build");
+  b.mesh_interface = std::make_unique<btTriangleIndexVertexArray>();
+  b.mesh_interface->addIndexedMesh(part, PHY_INTEGER);
+  const bool quantised = b.mesh_of_triangle.size() <= kMaxQuantisedTriangles;
+  b.shape = std::make_unique<btBvhTriangleMeshShape>(b.mesh_interface.get(), quantised, true);
+  b.object = std::make_unique<btCollisionObject>();
+  b.object->setCollisionShape(b.shape.get());
+  b.object->setWorldTransform(b.identity);
+}
+
+LaserScanner::~LaserScanner() = default;
+
+double LaserScanner::BeamAngleRad(int beam) const {
+  return (options_.angle_min_deg + beam * options_.resolution_deg) * kDegToRad;
+}
+
+BeamTruth LaserScanner::Cast(int beam, const SE3& world_from_laser) const {
+  CheckOrDie(beam >= 0 && beam < beam_count_, "LaserScanner::Cast", "beam out of range");
+  BeamTruth truth;
+  truth.range_m = std::numeric_limits<double>::infinity();
+  const Bvh& b = *bvh_;
+  if (!b.object) return truth;
+  const double angle = BeamAngleRad(beam);
+  const Eigen::Vector3d direction =
+      world_from_laser.rotation() * Eigen::Vector3d(std::cos(angle), std::sin(angle), 0.0);
+  const Eigen::Vector3d& origin = world_from_laser.translation();
+  const Eigen::Vector3d end = origin + options_.range_max_m * direction;
+  const btVector3 from(origin.x(), origin.y(), origin.z()), to(end.x(), end.y(), end.z());
+  ClosestTriangleCallback callback(from, to, b.vertices, b.indices);
+  btTransform from_pose = b.identity, to_pose = b.identity;
+  from_pose.setOrigin(from);
+  to_pose.setOrigin(to);
+  // One object: its BVH directly, without a broadphase (whose shared ray stack would make
+  // concurrent casts unsafe and adds nothing for a single object).
+  btCollisionWorld::rayTestSingle(from_pose, to_pose, b.object.get(), b.shape.get(), b.identity,
+                                  callback);
+  if (!callback.hasHit() || callback.triangle < 0) return truth;
+
+  const auto t = static_cast<std::size_t>(callback.triangle);
+  const worlds::Mesh& mesh = b.world->meshes[static_cast<std::size_t>(b.mesh_of_triangle[t])];
+  truth.range_m = callback.m_closestHitFraction * options_.range_max_m;
+  truth.instance_id = mesh.instance_id;
+  truth.semantic_class = mesh.semantic_class;
+  // The incidence from the hit triangle's own geometric normal (either side).
+  auto vertex = [&](int k) {
+    const auto i = static_cast<std::size_t>(b.indices[3 * t + static_cast<std::size_t>(k)]);
+    return Eigen::Vector3d(b.vertices[3 * i], b.vertices[3 * i + 1], b.vertices[3 * i + 2]);
+  };
+  const Eigen::Vector3d normal = (vertex(1) - vertex(0)).cross(vertex(2) - vertex(0));
+  const double cos_incidence = std::abs(normal.dot(direction)) / normal.norm();
+  truth.incidence_rad = std::acos(std::min(1.0, cos_incidence));
+  return truth;
+}
+
+LaserScan LaserScanner::Measure(TimeNs sweep_stamp_ns, std::uint64_t sweep_index,
+                                const std::vector<BeamTruth>& beams) const {
+  CheckOrDie(beams.size() == static_cast<std::size_t>(beam_count_), "LaserScanner::Measure",
+             "one truth per beam");
+  LaserScan scan;
+  scan.stamp_ns = sweep_stamp_ns;
+  scan.sensor_id = options_.id;
+  scan.angle_min_rad = options_.angle_min_deg * kDegToRad;
+  scan.angle_increment_rad = options_.resolution_deg * kDegToRad;
+  scan.time_increment_ns = time_increment_ns_;
+  scan.scan_time_ns = period_ns_;
+  scan.range_min_m = options_.range_min_m;
+  scan.range_max_m = options_.range_max_m;
+  scan.ranges_m.resize(beams.size());
+
+  constexpr float kInf = std::numeric_limits<float>::infinity();
+  constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+  const double max_incidence_rad = options_.max_incidence_deg * kDegToRad;
+  // Each effect has its own stream, and draws once per beam whatever the beam hit, so a beam's
+  // noise depends on (seed, sweep, beam) alone: switching dropouts on leaves the ranges' noise.
+  const RandomStream sweep_rng(seed_, sweep_index, stream_name_);
+  RandomStream range_rng = sweep_rng.Derive("range");
+  RandomStream dropout_rng = sweep_rng.Derive("dropout");
+  const bool draw_range = options_.noise && options_.range_sigma_m > 0;
+  const bool draw_dropout = options_.noise && options_.dropout_probability > 0;
+  for (std::size_t i = 0; i < beams.size(); ++i) {
+    const double gaussian = draw_range ? range_rng.StandardNormalZiggurat() : 0.0;
+    const bool dropped = draw_dropout && dropout_rng.Uniform01() < options_.dropout_probability;
+    const BeamTruth& truth = beams[i];
+    float& out = scan.ranges_m[i];
+    if (!(truth.range_m <= options_.range_max_m)) {
+      out = kInf;  // nothing within range: no return to lose
+    } else if (truth.incidence_rad > max_incidence_rad || dropped) {
+      out = kNaN;
+    } else {
+      const double range = truth.range_m + options_.range_sigma_m * gaussian;
+      out = range > options_.range_max_m   ? kInf
+            : range < options_.range_min_m ? -kInf
+                                           : static_cast<float>(range);
+    }
+  }
+  return scan;
+}
+
+}  // namespace corridorsim::sim
