@@ -6,6 +6,7 @@
 #include <limits>
 #include <numbers>
 
+#include <BulletCollision/NarrowPhaseCollision/btRaycastCallback.h>
 #include <btBulletCollisionCommon.h>
 
 #include "common/options_checker.h"
@@ -20,8 +21,8 @@ constexpr double kDegToRad = std::numbers::pi / 180.0;
 // A sensor on the robot sits within this distance of its origin along each axis (m).
 constexpr double kMaxMountOffsetM = 10.0;
 // The quantised BVH stores a triangle's index in 21 bits (btQuantizedBvh.h, MAX_NUM_PARTS_IN_BITS
-// = 10 of 31); beyond that the unquantised tree (64-byte nodes instead of 16) takes over.
-constexpr std::size_t kMaxQuantisedTriangles = (std::size_t{1} << 21) - 1;
+// = 10 of 31).
+constexpr int kMaxTriangles = (1 << 21) - 1;
 
 // The number of beams of the angles, in double so that absurd values cannot overflow an int.
 double BeamCountOf(const LaserOptions& o) {
@@ -112,68 +113,54 @@ std::optional<OptionsProblem> LaserOptions::Check() const {
   return c.problem();
 }
 
-// The world's triangles in one Bullet BVH (double precision, as sim/robot.cpp), one part: the
-// triangle's index finds its mesh in `mesh_of_triangle`.
+// The world's triangles in Bullet's BVH (double precision, as sim/robot.cpp), corners unshared.
 struct LaserScanner::Bvh {
-  std::vector<btScalar> vertices;  // x, y, z per vertex, world frame (float meshes, exact)
-  std::vector<int> indices;        // three per triangle
-  std::vector<int> mesh_of_triangle;
+  std::vector<Eigen::Vector3d> corners;  // three per triangle, world frame (float meshes, exact)
+  std::vector<int> corner_indices;       // 0, 1, 2, ...
+  std::vector<int> mesh_of_triangle;     // index into World::meshes
   const worlds::World* world = nullptr;
   std::unique_ptr<btTriangleIndexVertexArray> mesh_interface;
   std::unique_ptr<btBvhTriangleMeshShape> shape;
-  std::unique_ptr<btCollisionObject> object;
-  btTransform identity = btTransform::getIdentity();
 };
 
 namespace {
 
-// How far outside a triangle's edges a hit may lie (m). Bullet's own test admits hits up to 1e-4
-// of the triangle's height outside an edge (btRaycastCallback.cpp), millimetres on a wall's long
-// triangles, so a beam grazing a door frame's corner would stop in thin air; this keeps triangles
-// watertight over their shared edges (rounding there is ~1e-13 m) and exact elsewhere.
+// How far outside a world triangle's edges a hit may lie (m). Bullet's own test admits hits up to
+// 1e-4 of the triangle's height outside an edge (btRaycastCallback.cpp), millimetres on a wall's
+// long triangles, so a beam grazing a door frame's corner would stop in thin air; this keeps the
+// triangles watertight over their shared edges (rounding there is ~1e-13 m) and exact elsewhere.
 constexpr double kEdgeToleranceM = 1e-9;
 
-// The closest hit that lies on its triangle, and that triangle (Bullet's callback keeps only the
-// point).
-struct ClosestTriangleCallback : btCollisionWorld::ClosestRayResultCallback {
-  ClosestTriangleCallback(const btVector3& from, const btVector3& to,
-                          const std::vector<btScalar>& vertices, const std::vector<int>& indices)
-      : ClosestRayResultCallback(from, to), vertices_(vertices), indices_(indices) {}
-  int triangle = -1;
+// The nearest hit that lies on its triangle (Bullet reports what its own, looser test admits).
+class NearestHitCallback : public btTriangleRaycastCallback {
+ public:
+  NearestHitCallback(const btVector3& from, const btVector3& to, const LaserScanner::Bvh& bvh)
+      : btTriangleRaycastCallback(from, to), bvh_(bvh) {}
+  int triangle = -1;  // the triangle hit, -1 for none
 
-  btScalar addSingleResult(btCollisionWorld::LocalRayResult& result,
-                           bool normal_in_world_space) override {
-    // Bullet calls this only for hits nearer than the closest so far.
-    if (!result.m_localShapeInfo) return m_closestHitFraction;
-    const int t = result.m_localShapeInfo->m_triangleIndex;
-    if (!OnTriangle(t, m_rayFromWorld.lerp(m_rayToWorld, result.m_hitFraction))) {
-      return m_closestHitFraction;  // rejected: the ray goes on
-    }
+  btScalar reportHit(const btVector3& /*normal*/, btScalar fraction, int /*part*/, int t) override {
+    const btVector3 p = m_from.lerp(m_to, fraction);
+    if (!OnTriangle(t, Eigen::Vector3d(p.x(), p.y(), p.z()))) return m_hitFraction;  // go on
     triangle = t;
-    return ClosestRayResultCallback::addSingleResult(result, normal_in_world_space);
+    return fraction;  // nearer hits only, from now on
   }
 
  private:
   // Whether `p` (on the triangle's plane) lies within kEdgeToleranceM of triangle `t`.
-  bool OnTriangle(int t, const btVector3& p) const {
-    btVector3 v[3];
+  bool OnTriangle(int t, const Eigen::Vector3d& p) const {
+    const Eigen::Vector3d* v = &bvh_.corners[3 * static_cast<std::size_t>(t)];
+    const Eigen::Vector3d normal = (v[1] - v[0]).cross(v[2] - v[0]);
+    const double normal_length = normal.norm();
     for (int k = 0; k < 3; ++k) {
-      const auto i = static_cast<std::size_t>(indices_[static_cast<std::size_t>(3 * t + k)]);
-      v[k] = btVector3(vertices_[3 * i], vertices_[3 * i + 1], vertices_[3 * i + 2]);
-    }
-    const btVector3 normal = (v[1] - v[0]).cross(v[2] - v[0]);
-    const btScalar normal_length = normal.length();
-    for (int k = 0; k < 3; ++k) {
-      const btVector3 edge = v[(k + 1) % 3] - v[k];
+      const Eigen::Vector3d edge = v[(k + 1) % 3] - v[k];
       // The signed distance from the edge's line, positive inside.
-      const btScalar inside = edge.cross(p - v[k]).dot(normal) / (normal_length * edge.length());
+      const double inside = edge.cross(p - v[k]).dot(normal) / (normal_length * edge.norm());
       if (!(inside >= -kEdgeToleranceM)) return false;
     }
     return true;
   }
 
-  const std::vector<btScalar>& vertices_;
-  const std::vector<int>& indices_;
+  const LaserScanner::Bvh& bvh_;
 };
 
 }  // namespace
@@ -197,51 +184,34 @@ LaserScanner::LaserScanner(const worlds::World& world, const LaserOptions& optio
 
   Bvh& b = *bvh_;
   b.world = &world;
-  std::size_t vertex_count = 0, triangle_count = 0;
-  for (const worlds::Mesh& mesh : world.meshes) {
-    vertex_count += mesh.positions.size();
-    triangle_count += mesh.triangle_count();
-  }
-  CheckOrDie(vertex_count < static_cast<std::size_t>(std::numeric_limits<int>::max()) &&
-                 triangle_count < static_cast<std::size_t>(std::numeric_limits<int>::max() / 3),
-             "LaserScanner", "the world has more vertices than Bullet indexes");
-  b.vertices.reserve(3 * vertex_count);
-  b.indices.reserve(3 * triangle_count);
-  b.mesh_of_triangle.reserve(triangle_count);
   for (std::size_t m = 0; m < world.meshes.size(); ++m) {
     const worlds::Mesh& mesh = world.meshes[m];
-    const int base = static_cast<int>(b.vertices.size() / 3);
-    for (const Eigen::Vector3f& p : mesh.positions) {
-      b.vertices.insert(b.vertices.end(), {p.x(), p.y(), p.z()});
+    for (const std::uint32_t index : mesh.indices) {
+      CheckOrDie(index < mesh.positions.size(), "LaserScanner", "a mesh index out of range");
+      b.corners.push_back(mesh.positions[index].cast<double>());
     }
-    for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
-      for (int k = 0; k < 3; ++k) {
-        const std::uint32_t index = mesh.indices[3 * t + static_cast<std::size_t>(k)];
-        CheckOrDie(index < mesh.positions.size(), "LaserScanner", "a mesh index out of range");
-        b.indices.push_back(base + static_cast<int>(index));
-      }
-      b.mesh_of_triangle.push_back(static_cast<int>(m));
-    }
+    b.mesh_of_triangle.insert(b.mesh_of_triangle.end(), mesh.triangle_count(), static_cast<int>(m));
   }
-  if (b.mesh_of_triangle.empty()) return;  // nothing to hit: every beam reads +inf
+  CheckOrDie(b.corners.size() < static_cast<std::size_t>(kMaxTriangles) * 3, "LaserScanner",
+             "the world has more triangles than Bullet's quantised BVH indexes");
+  if (b.corners.empty()) return;  // nothing to hit: every beam reads +inf
 
+  static_assert(sizeof(btScalar) == sizeof(double), "Bullet must be its double-precision build");
+  static_assert(sizeof(Eigen::Vector3d) == 3 * sizeof(double));
+  b.corner_indices.resize(b.corners.size());
+  for (std::size_t i = 0; i < b.corners.size(); ++i) b.corner_indices[i] = static_cast<int>(i);
   btIndexedMesh part;
   part.m_numTriangles = static_cast<int>(b.mesh_of_triangle.size());
-  part.m_triangleIndexBase = reinterpret_cast<const unsigned char*>(b.indices.data());
+  part.m_triangleIndexBase = reinterpret_cast<const unsigned char*>(b.corner_indices.data());
   part.m_triangleIndexStride = 3 * sizeof(int);
-  part.m_numVertices = static_cast<int>(b.vertices.size() / 3);
-  part.m_vertexBase = reinterpret_cast<const unsigned char*>(b.vertices.data());
-  part.m_vertexStride = 3 * sizeof(btScalar);
+  part.m_numVertices = static_cast<int>(b.corners.size());
+  part.m_vertexBase = reinterpret_cast<const unsigned char*>(b.corners.data());
+  part.m_vertexStride = sizeof(Eigen::Vector3d);
   part.m_indexType = PHY_INTEGER;
   part.m_vertexType = PHY_DOUBLE;
-  static_assert(sizeof(btScalar) == sizeof(double), "Bullet must be its double-precision build");
   b.mesh_interface = std::make_unique<btTriangleIndexVertexArray>();
   b.mesh_interface->addIndexedMesh(part, PHY_INTEGER);
-  const bool quantised = b.mesh_of_triangle.size() <= kMaxQuantisedTriangles;
-  b.shape = std::make_unique<btBvhTriangleMeshShape>(b.mesh_interface.get(), quantised, true);
-  b.object = std::make_unique<btCollisionObject>();
-  b.object->setCollisionShape(b.shape.get());
-  b.object->setWorldTransform(b.identity);
+  b.shape = std::make_unique<btBvhTriangleMeshShape>(b.mesh_interface.get(), true, true);
 }
 
 LaserScanner::~LaserScanner() = default;
@@ -255,34 +225,24 @@ BeamTruth LaserScanner::Cast(int beam, const SE3& world_from_laser) const {
   BeamTruth truth;
   truth.range_m = std::numeric_limits<double>::infinity();
   const Bvh& b = *bvh_;
-  if (!b.object) return truth;
+  if (!b.shape) return truth;
   const double angle = BeamAngleRad(beam);
   const Eigen::Vector3d direction =
-      world_from_laser.rotation() * Eigen::Vector3d(std::cos(angle), std::sin(angle), 0.0);
+      world_from_laser.quaternion() * Eigen::Vector3d(std::cos(angle), std::sin(angle), 0.0);
   const Eigen::Vector3d& origin = world_from_laser.translation();
   const Eigen::Vector3d end = origin + options_.range_max_m * direction;
-  const btVector3 from(origin.x(), origin.y(), origin.z()), to(end.x(), end.y(), end.z());
-  ClosestTriangleCallback callback(from, to, b.vertices, b.indices);
-  btTransform from_pose = b.identity, to_pose = b.identity;
-  from_pose.setOrigin(from);
-  to_pose.setOrigin(to);
-  // One object: its BVH directly, without a broadphase (whose shared ray stack would make
-  // concurrent casts unsafe and adds nothing for a single object).
-  btCollisionWorld::rayTestSingle(from_pose, to_pose, b.object.get(), b.shape.get(), b.identity,
-                                  callback);
-  if (!callback.hasHit() || callback.triangle < 0) return truth;
-
+  NearestHitCallback callback(btVector3(origin.x(), origin.y(), origin.z()),
+                              btVector3(end.x(), end.y(), end.z()), b);
+  b.shape->performRaycast(&callback, callback.m_from, callback.m_to);
+  if (callback.triangle < 0) return truth;
   const auto t = static_cast<std::size_t>(callback.triangle);
   const worlds::Mesh& mesh = b.world->meshes[static_cast<std::size_t>(b.mesh_of_triangle[t])];
-  truth.range_m = callback.m_closestHitFraction * options_.range_max_m;
+  truth.range_m = callback.m_hitFraction * options_.range_max_m;
   truth.instance_id = mesh.instance_id;
   truth.semantic_class = mesh.semantic_class;
-  // The incidence from the hit triangle's own geometric normal (either side).
-  auto vertex = [&](int k) {
-    const auto i = static_cast<std::size_t>(b.indices[3 * t + static_cast<std::size_t>(k)]);
-    return Eigen::Vector3d(b.vertices[3 * i], b.vertices[3 * i + 1], b.vertices[3 * i + 2]);
-  };
-  const Eigen::Vector3d normal = (vertex(1) - vertex(0)).cross(vertex(2) - vertex(0));
+  // The incidence from the triangle's own geometric normal (either side).
+  const Eigen::Vector3d* v = &b.corners[3 * t];
+  const Eigen::Vector3d normal = (v[1] - v[0]).cross(v[2] - v[0]);
   const double cos_incidence = std::abs(normal.dot(direction)) / normal.norm();
   truth.incidence_rad = std::acos(std::min(1.0, cos_incidence));
   return truth;

@@ -120,9 +120,10 @@ class LaserScanner {
   LaserScan Measure(TimeNs sweep_stamp_ns, std::uint64_t sweep_index,
                     const std::vector<BeamTruth>& beams) const;
 
- private:
-  struct Bvh;  // the Bullet objects (Bullet stays private to sim/)
+  /// The world's triangles in Bullet's BVH (defined in the .cpp: Bullet stays private to sim/).
+  struct Bvh;
 
+ private:
   LaserOptions options_;
   std::uint64_t seed_;
   std::string stream_name_;  // "sim.laser.<id>"
