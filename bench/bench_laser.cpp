@@ -6,9 +6,9 @@
 // Usage: bench_laser [sweeps, default 2000] [range_max_m, default 80]
 
 #include <algorithm>
-#include <ctime>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <vector>
 
 #include "sim/laser_scanner.h"
@@ -17,6 +17,7 @@
 namespace {
 
 using namespace corridorsim;
+
 // This thread's CPU time (s): steadier than the wall clock on a machine shared with other work.
 double CpuSeconds() {
   timespec t{};
@@ -33,6 +34,10 @@ int main(int argc, char** argv) {
   options.resolution_deg = 0.25;
   options.angle_max_deg = 89.75;  // 720 beams
   if (argc > 2) options.range_max_m = std::atof(argv[2]);
+  if (const auto problem = options.Check()) {
+    std::fprintf(stderr, "bench_laser: %s: %s\n", problem->key.c_str(), problem->message.c_str());
+    return 2;
+  }
   double start = CpuSeconds();
   const sim::LaserScanner scanner(world, options, 1);
   const double build_s = CpuSeconds() - start;

@@ -89,8 +89,10 @@ int LaserOptions::BeamCount() const { return static_cast<int>(BeamCountOf(*this)
 std::optional<OptionsProblem> LaserOptions::Check() const {
   if (auto problem = CheckOptionBounds(LaserOptionsTable(), *this)) return problem;
   OptionsChecker c;
-  c.Require(phase_s >= 0 && phase_s * rate_hz < 1, "phase_s",
-            "must lie in [0, 1 / rate_hz) (got " + FormatNumber(phase_s) + " s)");
+  // The bounds above hold, so the period is representable; && keeps FromSeconds from a bad phase.
+  c.Require(
+      phase_s >= 0 && phase_s * rate_hz < 1 && FromSeconds(phase_s) < PeriodFromRateHz(rate_hz),
+      "phase_s", "must lie in [0, 1 / rate_hz) (got " + FormatNumber(phase_s) + " s)");
   for (const auto& [key, value] :
        {std::pair{"mount.x_m", mount.x_m}, std::pair{"mount.y_m", mount.y_m},
         std::pair{"mount.z_m", mount.z_m}}) {

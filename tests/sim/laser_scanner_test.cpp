@@ -170,9 +170,11 @@ std::vector<SE3> PosesAlong(const worlds::World& world, std::uint64_t seed) {
   const double heights[] = {0.30, 0.30, 0.30, 0.9, 1.5};
   for (const worlds::CorridorSegment& s : world.segments) {
     const Eigen::Vector2d along = s.direction(), left(-along.y(), along.x());
-    constexpr int kPerSegment = 6;
-    for (int k = 0; k < kPerSegment; ++k) {
-      const double f = (k + 0.5) / kPerSegment;
+    // At least two dozen along the corridors in all.
+    const int per_segment = std::max(6, (24 + static_cast<int>(world.segments.size()) - 1) /
+                                            static_cast<int>(world.segments.size()));
+    for (int k = 0; k < per_segment; ++k) {
+      const double f = (k + 0.5) / per_segment;
       const double offset = rng.Uniform(-1.0, 1.0) * (0.5 * s.width_m - 0.4);
       const Eigen::Vector2d xy = s.start + f * (s.end - s.start) + offset * left;
       const double z = heights[rng.UniformInt(0, 4)];
@@ -472,6 +474,8 @@ TEST_CASE("laser options: every bound refused naming its key", "[sim][laser]") {
       B{[](LaserOptions& o) { o.rate_hz = 150.0; }, "rate_hz"},
       B{[](LaserOptions& o) { o.phase_s = 1.0 / 37.5; }, "phase_s"},
       B{[](LaserOptions& o) { o.phase_s = -0.001; }, "phase_s"},
+      // Below 1 / rate_hz, but the nanosecond it rounds to is the period's.
+      B{[](LaserOptions& o) { o.phase_s = 0.0266666666; }, "phase_s"},
       B{[](LaserOptions& o) { o.phase_s = std::nan(""); }, "phase_s"},
       B{[](LaserOptions& o) { o.mount.z_m = 50.0; }, "mount.z_m"},
       B{[](LaserOptions& o) { o.mount.x_m = std::nan(""); }, "mount.x_m"},
