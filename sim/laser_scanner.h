@@ -95,7 +95,8 @@ struct BeamTruth {
 /// their state, floor and ceiling, rooms, furniture, plates), for ray tests only.
 class LaserScanner {
  public:
-  /// `options` must pass Check(). `seed`: the run's seed (noise: "sim.laser.<id>").
+  /// `options` must pass Check(); `world` must outlive the scanner. `seed`: the run's seed (noise:
+  /// "sim.laser.<id>").
   LaserScanner(const worlds::World& world, const LaserOptions& options, std::uint64_t seed);
   ~LaserScanner();
   LaserScanner(const LaserScanner&) = delete;
