@@ -38,7 +38,8 @@ struct StampedDepth {
 
 /// One IMU sample, in the IMU's own frame (its mount: x forward, y left, z up at zero angles),
 /// with the axes and units of ROS's sensor_msgs/Imu. The accelerometer measures specific force:
-/// the acceleration minus gravity, so an IMU at rest reads +9.80665 m/s^2 along its up axis.
+/// the acceleration minus gravity, so an IMU at rest reads +g (the simulation's 9.81 m/s^2) along
+/// its up axis.
 struct ImuSample {
   TimeNs stamp_ns = 0;
   std::string sensor_id;

@@ -1,5 +1,6 @@
 #include "render/camera_options.h"
 
+#include "common/io/input_text.h"
 #include "common/io/options_yaml.h"
 #include "common/options_checker.h"
 #include "common/time.h"
@@ -88,6 +89,13 @@ RigOptions RigOptions::Default() {
   upward.truth_depth = true;  // upward corners are scored against the point seen (docs/metrics.md)
   rig.cameras.push_back(upward);
   return rig;
+}
+
+CameraOptions NewCameraOptions(const std::string& id) {
+  CameraOptions camera = RigOptions::Default().cameras.front();
+  camera.id = id;
+  camera.depth = false;
+  return camera;
 }
 
 const CameraOptions* RigOptions::Find(const std::string& id) const {
@@ -343,6 +351,7 @@ const OptionTable<RgbNoiseOptions>& RgbNoiseOptionsTable() {
 const OptionTable<CameraOptions>& CameraOptionsTable() {
   return StaticOptionTable<CameraOptions>([](OptionTable<CameraOptions>& t) {
     using C = CameraOptions;
+    AddSensorTypeKey(t, "camera");
     t.Add("enabled", &C::enabled, "", "false leaves the camera out of the rig");
     // At most 100 Hz, the slowest physics rate: at most one frame per camera is in flight in a
     // physics step, so the rig's memory bound (kMaxRigBytes) holds. At least 1e-6 Hz: a period of

@@ -11,6 +11,8 @@
 
 #include "common/camera_models.h"
 #include "common/error.h"
+#include "common/io/input_text.h"
+#include "common/io/options_yaml.h"
 #include "common/io/yaml_reader.h"
 #include "common/options_table.h"
 #include "common/pose.h"
@@ -52,7 +54,7 @@ struct ExposureOptions {
 };
 
 struct CameraOptions {
-  std::string id;  // "front", "lateral", "upward"
+  std::string id;  // "front", "lateral", "upward" or a name of the scenario's
   bool enabled = true;
   double rate_hz = 10.0 / 3.0;    // frames per second (P1: a 300 ms sensor period)
   double phase_s = 0.0;           // first frame at this time; then every 1 / rate_hz (sim clock)
@@ -76,7 +78,8 @@ struct CameraOptions {
 inline constexpr int kSupersampleChoices[] = {1, 9, 25};
 
 struct RigOptions {
-  std::vector<CameraOptions> cameras;  // in a fixed order: front, lateral, upward
+  // front, lateral, upward, then the scenario's own in the order they are first named
+  std::vector<CameraOptions> cameras;
   BackendKind backend = BackendKind::kOsMesa;
   int samples = 1;  // supersampling: 1, 9 (3 x 3) or 25 (5 x 5) samples per pixel
   SceneOptions scene;
@@ -90,6 +93,36 @@ struct RigOptions {
   /// The first problem of the `render:` keys (key relative to `render`), or nothing.
   std::optional<OptionsProblem> CheckRender() const;
 };
+
+/// The `type` key every sensor's table starts with (`camera`, `imu`, `laser`):
+/// harness/scenario/scenario_sensors.cpp makes a new sensor of its kind where it is first named;
+/// the sensor's map may say its kind again, and nothing else. Echoed always, so that a resolved
+/// scenario names its new sensors' kinds.
+template <class T>
+void AddSensorTypeKey(OptionTable<T>& t, const char* kind) {
+  const std::string k = kind;
+  t.AddCustom(
+      "type", "",
+      [k](YamlMap& map, T& sensor) {
+        std::string type;
+        if (map.Read("type", type) && type != k) {
+          map.Fail("type", "'" + InputExcerpt(type) + "': '" + InputExcerpt(sensor.id) +
+                               "' is a sensor of type " + k +
+                               " (a sensor's type is fixed where it is first named)");
+        }
+      },
+      [k](const T&, OptionsYamlWriter& out) { out.Scalar("type", k); },
+      [k](const T&) {
+        return std::vector<OptionDocRow>{
+            {"type", "", "`" + k + "`", "`camera`, `imu`, `laser`",
+             "the sensor's kind, required where a new sensor is first named (front, lateral "
+             "and upward are cameras); docs/sensors.md"}};
+      });
+}
+
+/// A camera named `id` that the defaults do not have (`sensors.<id>: {type: camera, ...}`): the
+/// front camera's defaults without depth (640x480 pinhole, 58 deg, at the front camera's mount).
+CameraOptions NewCameraOptions(const std::string& id);
 
 /// The keys of one camera (`sensors.<id>`), of the `sensors:` map (the cameras by id) and of the
 /// `render:` map (backend, lighting): parsing, bounds, echo, docs.

@@ -72,6 +72,7 @@ std::optional<OptionsProblem> ImuOptions::Check() const {
 const OptionTable<ImuOptions>& ImuOptionsTable() {
   return StaticOptionTable<ImuOptions>([](OptionTable<ImuOptions>& t) {
     using O = ImuOptions;
+    render::AddSensorTypeKey(t, "imu");
     t.Add("enabled", &O::enabled, "", "false: the IMU is not simulated");
     t.Add("rate_hz", &O::rate_hz, "Hz",
           "samples per second, at physics step ends (the period a whole number of steps)")

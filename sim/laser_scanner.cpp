@@ -34,6 +34,7 @@ double BeamCountOf(const LaserOptions& o) {
 const OptionTable<LaserOptions>& LaserOptionsTable() {
   return StaticOptionTable<LaserOptions>([](OptionTable<LaserOptions>& t) {
     using L = LaserOptions;
+    render::AddSensorTypeKey(t, "laser");
     t.Add("enabled", &L::enabled, "", "false leaves the scanner out of the run");
     // At most 100 Hz, as the cameras (one sweep per physics step at the slowest physics rate);
     // at least 1e-6 Hz: a period of at most 1e6 s, the longest run.

@@ -84,6 +84,8 @@ Simulation::Simulation(const worlds::World& world, const SimulationOptions& opti
       drop_rngs_.emplace_back(options.seed, 0, "sim.clock.drop." + c.id);
     }
   }
+  motion_sensors_ = std::make_unique<MotionSensors>(world, options_.imus, options_.lasers,
+                                                    options_.seed, step_ns_);
   end_ns_ = options_.max_duration_ns > 0
                 ? options_.max_duration_ns
                 : 2 * FromSeconds(NominalDurationS(path_, options_.robot_path)) + kSafetyMarginNs;
@@ -251,6 +253,8 @@ const StepOutput& Simulation::Step() {
   output_.truth_samples.clear();
   output_.odometry.clear();
   output_.frames.clear();
+  output_.imu.clear();
+  output_.scans.clear();
   output_.events.clear();
   if (finished_) return output_;
 
@@ -270,6 +274,8 @@ const StepOutput& Simulation::Step() {
   output_.truth.state = physics_->state();
   FillTruth(&output_.truth);
   TrackContacts();
+  motion_sensors_->Emit(before.stamp_ns, before.state, now_ns_, output_.truth.state, &output_.imu,
+                        &output_.scans);
   EmitDue(before, output_.truth);
 
   if (follower_->done() && !path_done_) {

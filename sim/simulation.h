@@ -22,6 +22,7 @@
 #include "common/time.h"
 #include "render/camera_rig.h"
 #include "render/frame_truth.h"
+#include "sim/motion_sensors.h"
 #include "sim/odometry.h"
 #include "sim/robot.h"
 #include "sim/robot_path.h"
@@ -90,6 +91,9 @@ struct SimulationOptions {
   std::uint64_t seed = 1;
   TimeNs max_duration_ns = 0;    // 0: until the path is done (with a safety timeout, see below)
   double truth_rate_hz = 100.0;  // the truth grid: StepOutput::truth_samples at n / rate (Hz)
+  // The sensors that need no rendering (sim/motion_sensors.h); the disabled ones are left out.
+  std::vector<ImuOptions> imus;
+  std::vector<LaserOptions> lasers;
 };
 
 /// What became due during one Step(), in stamp order per kind.
@@ -101,6 +105,8 @@ struct StepOutput {
   std::vector<TruthSample> truth_samples;
   std::vector<WheelOdometry> odometry;
   std::vector<CameraMessage> frames;
+  std::vector<ImuMessage> imu;     // per IMU in stamp order, the IMUs one after another
+  std::vector<ScanMessage> scans;  // the sweeps whose last beam fired in the step
   std::vector<Event> events;
 };
 
@@ -148,7 +154,8 @@ class Simulation {
   SensorClock odometry_clock_;
   SensorClock truth_clock_;  // the truth grid (SimulationOptions::truth_rate_hz)
   std::vector<SensorClock> camera_clocks_;
-  std::vector<RandomStream> drop_rngs_;  // per camera: "sim.clock.drop.<camera>"
+  std::vector<RandomStream> drop_rngs_;            // per camera: "sim.clock.drop.<camera>"
+  std::unique_ptr<MotionSensors> motion_sensors_;  // IMUs and laser scanners
   TimeNs step_ns_ = 0;
   // The driver's clock: it acts at the first physics step at or after each of its stamps
   // (n / control_rate_hz), so it runs at control_rate_hz on average whatever the physics rate.

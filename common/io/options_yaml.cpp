@@ -123,6 +123,7 @@ std::string Cell(const std::string& s) {
 bool HasOwnRows(const OptionTableBase& table) {
   for (const OptionField& f : table.fields()) {
     if (f.kind == OptionKind::kSection && f.key.empty() && HasOwnRows(*f.table)) return true;
+    if (f.kind == OptionKind::kCustom && f.key.empty()) continue;  // a hook with no key of its own
     if (f.kind != OptionKind::kSection && f.kind != OptionKind::kNamedSections) return true;
   }
   return false;
@@ -151,6 +152,7 @@ void CollectBlocks(const OptionTableBase& table, const std::vector<const void*>&
       CollectBlocks(*f.table, sections, names, Join(prefix, f.key), Join(prefix, f.key), blocks);
     } else if (f.kind == OptionKind::kNamedSections && !objects.empty()) {
       const void* first = objects.front();
+      if (f.count(first) == 0) continue;  // no defaults to show: the caller documents the kind
       std::vector<const void*> elements;
       std::vector<std::string> element_names;
       for (std::size_t i = 0; i < f.count(first); ++i) {

@@ -16,6 +16,7 @@
 #include "harness/run/provenance.h"
 #include "harness/run/run_folder.h"
 #include "harness/run/sensor_bus.h"
+#include "harness/run/sensor_recorder.h"
 #include "harness/run/simulation_setup.h"
 #include "harness/run/truth_recorder.h"
 #include "harness/scenario/scenario.h"
@@ -108,6 +109,8 @@ void RunDrive(const DriveRequest& request) {
     bus.Subscribe(consumer);
   }
   if (frames) bus.Subscribe(&*frames);
+  SensorRecorder sensors(EnabledSensorIds(scenario.imus), EnabledSensorIds(scenario.lasers));
+  if (!sensors.empty()) bus.Subscribe(&sensors);
   bus.Run(simulation);
 
   // ground_truth.tum means what it means in a run folder (the planar truth the metrics score);
@@ -117,6 +120,7 @@ void RunDrive(const DriveRequest& request) {
   WriteFileAtomic(out / "odometry.tum", odometry.tum());
   WriteFileAtomic(out / "odometry.csv", odometry.csv());
   WriteFileAtomic(out / "events.json", events.Json(setup.seed(), simulation.now_ns()));
+  sensors.Write(out);
   WriteFileAtomic(out / "provenance.json",
                   JsonFileText(ProvenanceJson(
                       scenario.file, ResolvedScenarioYaml(scenario, setup.seed()), setup.seed(),

@@ -24,6 +24,7 @@
 #include "harness/run/progress.h"
 #include "harness/run/run_folder.h"
 #include "harness/run/sensor_bus.h"
+#include "harness/run/sensor_recorder.h"
 #include "harness/run/simulation_setup.h"
 #include "harness/run/stopwatch.h"
 #include "harness/run/truth_recorder.h"
@@ -138,6 +139,8 @@ int RunScenario(const RunRequest& request) {
   });
   SensorBus bus(setup.camera_ids());
   bus.Subscribe(&truth);
+  SensorRecorder sensors(EnabledSensorIds(scenario.imus), EnabledSensorIds(scenario.lasers));
+  if (!sensors.empty()) bus.Subscribe(&sensors);
   if (exporter) bus.Subscribe(&*exporter);
   std::optional<FrameKeeper> kept_frames;
   if (request.keep_frames) {
@@ -204,6 +207,7 @@ int RunScenario(const RunRequest& request) {
     const WallClock::time_point t_write = WallClock::now();
     WriteRunFolder(folder, scenario, setup.seed(), setup.world(), truth, pipelines, scored.metrics,
                    events.Json(setup.seed(), simulation.now_ns()), setup.backend());
+    sensors.Write(folder);
     write_seconds = SecondsSince(t_write);
     WriteFileAtomic(folder / "timing.json", timing_json());
   };

@@ -44,7 +44,8 @@ void SensorBus::Subscribe(BusConsumer* consumer) { consumers_.push_back(consumer
 
 void SensorBus::Publish(const sim::StepOutput& step, bool last) {
   const std::vector<CameraSet> sets = GroupCameraSets(step, camera_ids_);
-  // (stamp, kind, index): truth 0, odometry 1, camera sets 2, events 3; at one stamp in that
+  // (stamp, kind, index): truth 0, odometry 1, IMU samples 2, laser sweeps 3 (at the stamp of
+  // their last beam, when they are complete), camera sets 4, events 5; at one stamp in that
   // order, and within one kind in the order the simulation emitted them. The buffer is reused
   // step to step.
   std::vector<std::tuple<TimeNs, int, std::size_t>>& order = order_;
@@ -55,9 +56,14 @@ void SensorBus::Publish(const sim::StepOutput& step, bool last) {
   for (std::size_t i = 0; i < step.odometry.size(); ++i) {
     order.emplace_back(step.odometry[i].stamp_ns, 1, i);
   }
-  for (std::size_t i = 0; i < sets.size(); ++i) order.emplace_back(sets[i].stamp_ns, 2, i);
+  for (std::size_t i = 0; i < step.imu.size(); ++i)
+    order.emplace_back(step.imu[i].exact.stamp_ns, 2, i);
+  for (std::size_t i = 0; i < step.scans.size(); ++i) {
+    order.emplace_back(step.scans[i].complete_ns, 3, i);
+  }
+  for (std::size_t i = 0; i < sets.size(); ++i) order.emplace_back(sets[i].stamp_ns, 4, i);
   for (std::size_t i = 0; i < step.events.size(); ++i) {
-    order.emplace_back(step.events[i].stamp_ns, 3, i);
+    order.emplace_back(step.events[i].stamp_ns, 5, i);
   }
   std::sort(order.begin(), order.end());
   for (const auto& [stamp, kind, index] : order) {
@@ -70,6 +76,12 @@ void SensorBus::Publish(const sim::StepOutput& step, bool last) {
           consumer->OnOdometry(step.odometry[index]);
           break;
         case 2:
+          consumer->OnImu(step.imu[index]);
+          break;
+        case 3:
+          consumer->OnScan(step.scans[index]);
+          break;
+        case 4:
           consumer->OnCameraSet(sets[index]);
           break;
         default:

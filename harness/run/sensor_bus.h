@@ -6,8 +6,8 @@
 // consumers listen (Cartographer's sensor::Collator is the model).
 //
 // Within a step, messages are delivered in stamp order; at one stamp the truth comes first
-// (on the truth grid and at odometry stamps, whatever the physics rate), then odometry, then the
-// camera set, then events. After the step's messages every consumer sees the truth at the step's
+// (on the truth grid and at odometry stamps, whatever the physics rate), then odometry, then IMU
+// samples, then laser sweeps (at their last beam's stamp), then the camera set, then events. After the step's messages every consumer sees the truth at the step's
 // end. Frames of several cameras due at one stamp arrive as one CameraSet, so a pipeline
 // that fuses cameras sees them together; a frame that was due but dropped
 // (`sensors.<camera>.drop_probability`) leaves its slot in the set with no message.
@@ -52,6 +52,10 @@ class BusConsumer {
   // Sensor messages: what a real robot would receive.
   virtual void OnOdometry(const WheelOdometry& odometry) { (void)odometry; }
   virtual void OnCameraSet(const CameraSet& set) { (void)set; }
+  /// An IMU sample (what the IMU reports, with its truth), and a laser sweep once its last beam
+  /// has fired (sim/motion_sensors.h).
+  virtual void OnImu(const sim::ImuMessage& imu) { (void)imu; }
+  virtual void OnScan(const sim::ScanMessage& scan) { (void)scan; }
   // Simulation events (collisions, slips, dropped frames, path done, timeout): ground truth.
   virtual void OnEvent(const sim::Event& event) { (void)event; }
   /// The truth at the end of a step, after the step's messages; `last`: the run is over.

@@ -68,6 +68,8 @@ void SimulationSetup::Start(const std::set<std::string>& render_cameras) {
   options.robot = scenario_.robot;
   options.robot_path = scenario_.robot_path;
   options.seed = seed_;
+  options.imus = scenario_.imus;
+  options.lasers = scenario_.lasers;
   options.max_duration_ns = FromSeconds(scenario_.duration_s);
   options.truth_rate_hz = kTruthFileRateHz;
   simulation_ =

@@ -27,9 +27,9 @@ std::vector<slam::CameraCalibration> CamerasOfRunScenario(const std::string& pat
   if (root.Has("sensors")) {
     scenario.sensors_location = root.LocationOfKey("sensors");
     YamlMap sensors = root.Map("sensors");
-    ReadOptions(sensors, render::SensorsOptionsTable(), scenario.rig);
+    ReadOptions(sensors, ScenarioSensorsTable(), scenario);
   }
-  if (const auto problem = scenario.rig.Check()) {
+  if (const auto problem = scenario.CheckSensors()) {
     throw LocateProblem(scenario, "sensors", *problem);
   }
   return CalibrationOf(scenario).cameras;

@@ -174,8 +174,9 @@ const OptionTable<Scenario>& ScenarioOptionsTable() {
         "appearance randomisation: what varies from world to world (docs/rendering.md)",
         &worlds::AppearanceOptions::Check);
     auto rig = [](S& s) -> render::RigOptions& { return s.rig; };
-    t.AddSection("sensors", rig, render::SensorsOptionsTable(), "the cameras",
-                 &render::RigOptions::Check);
+    t.AddSection(
+        "sensors", [](S& s) -> S& { return s; }, ScenarioSensorsTable(),
+        "the named sensors: cameras, IMUs, laser scanners", &Scenario::CheckSensors);
     t.AddSection("render", rig, render::RenderOptionsTable(), "how the cameras are drawn",
                  &render::RigOptions::CheckRender);
     t.AddSection("robot", &S::robot, sim::RobotOptionsTable(), "the robot and its odometry errors",

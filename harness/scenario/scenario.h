@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -14,6 +15,8 @@
 #include "common/options_table.h"
 #include "harness/metrics/metrics.h"
 #include "render/camera_rig.h"
+#include "sim/imu.h"
+#include "sim/laser_scanner.h"
 #include "sim/robot.h"
 #include "sim/robot_path.h"
 #include "slam/registry.h"
@@ -34,9 +37,11 @@ struct Scenario {
   std::string description;  // optional
   std::uint64_t seed = 1;   // seed of every random stream of the run
   worlds::WorldOptions world;
-  render::RigOptions rig = render::RigOptions::Default();  // `sensors:` and `render:`
-  sim::RobotOptions robot;           // `robot:` (odometry errors under `robot.odometry`)
-  sim::RobotPathOptions robot_path;  // `path:`
+  render::RigOptions rig = render::RigOptions::Default();  // `sensors:` cameras and `render:`
+  std::vector<sim::ImuOptions> imus;      // `sensors:` of `type: imu`, in the order first named
+  std::vector<sim::LaserOptions> lasers;  // `sensors:` of `type: laser`
+  sim::RobotOptions robot;                // `robot:` (odometry errors under `robot.odometry`)
+  sim::RobotPathOptions robot_path;       // `path:`
   double duration_s = 0;  // `duration_s`: simulated time of a run; 0 = until the path is done
   // `plugins:`: the pipeline plugin libraries the scenario loads (harness/scenario/plugins.h),
   // canonical paths, base files' first; each is loaded when the scenario is (its types are then
@@ -63,11 +68,18 @@ struct Scenario {
   SourceLocation robot_location;      // `robot:`
   SourceLocation path_location;       // `path:`
   SourceLocation pipelines_location;  // `pipelines:`
+
+  /// The first problem of the `sensors:` section (key relative to `sensors`), or nothing.
+  std::optional<OptionsProblem> CheckSensors() const;
 };
 
 /// The scenario file's keys: the top-level ones and every section through its table (parsing,
 /// checks, the echo and docs/scenarios.md's key tables).
 const OptionTable<Scenario>& ScenarioOptionsTable();
+
+/// The `sensors:` section's keys: the named sensors of every kind, a new name made of its
+/// `type:` (harness/scenario/scenario_sensors.cpp; docs/sensors.md).
+const OptionTable<Scenario>& ScenarioSensorsTable();
 
 /// docs/scenarios.md's generated key tables: every section of ScenarioOptionsTable() with the
 /// defaults ("scenario", "world", "world.doors", ..., "sensors", "render", ...) and each shipped

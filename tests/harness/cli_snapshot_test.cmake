@@ -37,7 +37,7 @@ expect_bad(zero_size "sensors:\n  lateral:\n    width: 0\n"
            "zero_size.yaml:3:5: sensors.lateral.width: the image size must be positive")
 expect_bad(in_wall "sensors:\n  lateral:\n    mount: {y_m: 1.3}\n"
            "in_wall.yaml:3:5: sensors.lateral.mount: the camera at .* is (inside|outside)")
-expect_bad(unknown_camera "sensors:\n  rear: {}\n" "unknown_camera.yaml:2:3: sensors.rear: unknown key")
+expect_bad(unknown_camera "sensors:\n  rear: {}\n" "unknown_camera.yaml:2:3: sensors.rear: no sensor has this name")
 
 cli_run(EXIT 2 WHAT "bad pose" STDERR "--pose: expected x,y,yaw" ARGS snapshot --pose 10,zero,0)
 # A pose behind the corridor's wall is the command line's fault, not a camera mount's.

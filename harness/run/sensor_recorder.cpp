@@ -1,0 +1,128 @@
+#include "harness/run/sensor_recorder.h"
+
+#include <cmath>
+#include <cstdio>
+#include <utility>
+
+#include "common/io/atomic_file.h"
+
+namespace corridorsim {
+namespace {
+
+// Seconds from integer nanoseconds, exactly (nine digits of the fraction), as the TUM files.
+std::string Stamp(TimeNs stamp_ns) {
+  char buf[40];
+  std::snprintf(buf, sizeof(buf), "%lld.%09lld",
+                static_cast<long long>(stamp_ns / kNanosecondsPerSecond),
+                static_cast<long long>(stamp_ns % kNanosecondsPerSecond));
+  return buf;
+}
+
+// A number with nine significant digits; REP 117's non-finite ranges as inf, -inf, nan (what
+// numpy, pandas and Python's float() read).
+void Append(std::string* row, double v) {
+  char buf[40];
+  if (std::isnan(v)) {
+    *row += ",nan";
+  } else if (std::isinf(v)) {
+    *row += v > 0 ? ",inf" : ",-inf";
+  } else {
+    std::snprintf(buf, sizeof(buf), ",%.9g", v);
+    *row += buf;
+  }
+}
+
+void AppendVector(std::string* row, const Eigen::Vector3d& v) {
+  for (int i = 0; i < 3; ++i) Append(row, v[i]);
+}
+
+void AppendPose(std::string* row, const SE3& pose) {
+  AppendVector(row, pose.translation());
+  const Eigen::Quaterniond& q = pose.quaternion();
+  for (const double c : {q.x(), q.y(), q.z(), q.w()}) Append(row, c);
+}
+
+std::string BeamColumns(const char* prefix, std::size_t beams) {
+  std::string s;
+  for (std::size_t i = 0; i < beams; ++i) s += "," + std::string(prefix) + std::to_string(i);
+  return s;
+}
+
+}  // namespace
+
+SensorRecorder::SensorRecorder(std::vector<std::string> imu_ids, std::vector<std::string> laser_ids)
+    : imu_ids_(std::move(imu_ids)),
+      laser_ids_(std::move(laser_ids)),
+      imu_csv_(imu_ids_.size(),
+               "t,wx_rad_s,wy_rad_s,wz_rad_s,ax_m_s2,ay_m_s2,az_m_s2,true_wx_rad_s,true_wy_rad_s,"
+               "true_wz_rad_s,true_ax_m_s2,true_ay_m_s2,true_az_m_s2,bias_wx_rad_s,bias_wy_rad_s,"
+               "bias_wz_rad_s,bias_ax_m_s2,bias_ay_m_s2,bias_az_m_s2,x_m,y_m,z_m,qx,qy,qz,qw,"
+               "vx_m_s,vy_m_s,vz_m_s\n"),
+      scans_csv_(laser_ids_.size()),
+      truth_csv_(laser_ids_.size()),
+      hits_csv_(laser_ids_.size()) {}
+
+void SensorRecorder::OnImu(const sim::ImuMessage& m) {
+  std::string row = Stamp(m.sample.stamp_ns);
+  AppendVector(&row, m.sample.angular_velocity_rad_s);
+  AppendVector(&row, m.sample.linear_acceleration_m_s2);
+  AppendVector(&row, m.exact.angular_velocity_rad_s);
+  AppendVector(&row, m.exact.linear_acceleration_m_s2);
+  AppendVector(&row, m.gyroscope_bias);
+  AppendVector(&row, m.accelerometer_bias);
+  AppendPose(&row, m.world_from_imu);
+  AppendVector(&row, m.velocity_in_world);
+  imu_csv_.at(m.imu) += row + "\n";
+}
+
+void SensorRecorder::OnScan(const sim::ScanMessage& m) {
+  const std::size_t k = m.laser;
+  const LaserScan& scan = m.scan;
+  const std::size_t beams = scan.ranges_m.size();
+  if (scans_csv_.at(k).empty()) {
+    scans_csv_[k] =
+        "t,angle_min_rad,angle_increment_rad,time_increment_s,scan_time_s,range_min_m,"
+        "range_max_m" +
+        BeamColumns("r", beams) + "\n";
+    truth_csv_[k] =
+        "t,first_x_m,first_y_m,first_z_m,first_qx,first_qy,first_qz,first_qw,last_x_m,"
+        "last_y_m,last_z_m,last_qx,last_qy,last_qz,last_qw" +
+        BeamColumns("r", beams) + "\n";
+    hits_csv_[k] = "t" + BeamColumns("id", beams) + "\n";
+  }
+  std::string row = Stamp(scan.stamp_ns);
+  for (const double v :
+       {scan.angle_min_rad, scan.angle_increment_rad, ToSeconds(scan.time_increment_ns),
+        ToSeconds(scan.scan_time_ns), scan.range_min_m, scan.range_max_m}) {
+    Append(&row, v);
+  }
+  for (const float r : scan.ranges_m) Append(&row, r);
+  scans_csv_[k] += row + "\n";
+
+  std::string truth = Stamp(scan.stamp_ns);
+  AppendPose(&truth, m.world_from_laser.front());
+  AppendPose(&truth, m.world_from_laser.back());
+  std::string hits = Stamp(scan.stamp_ns);
+  for (const sim::BeamTruth& b : m.truth) {
+    Append(&truth, b.range_m);
+    hits += "," + std::to_string(b.instance_id);
+  }
+  truth_csv_[k] += truth + "\n";
+  hits_csv_[k] += hits + "\n";
+}
+
+void SensorRecorder::Write(const std::filesystem::path& folder) const {
+  if (empty()) return;
+  const std::filesystem::path out = folder / "sensors";
+  std::filesystem::create_directories(out);
+  for (std::size_t k = 0; k < imu_ids_.size(); ++k) {
+    WriteFileAtomic(out / (imu_ids_[k] + "_imu.csv"), imu_csv_[k]);
+  }
+  for (std::size_t k = 0; k < laser_ids_.size(); ++k) {
+    WriteFileAtomic(out / (laser_ids_[k] + "_scans.csv"), scans_csv_[k]);
+    WriteFileAtomic(out / (laser_ids_[k] + "_scans_truth.csv"), truth_csv_[k]);
+    WriteFileAtomic(out / (laser_ids_[k] + "_scans_hits.csv"), hits_csv_[k]);
+  }
+}
+
+}  // namespace corridorsim
