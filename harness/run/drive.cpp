@@ -148,8 +148,9 @@ void RunDrive(const DriveRequest& request) {
   std::printf(
       "wrote %s/{ground_truth.tum, ground_truth_3d.tum, odometry.tum, odometry.csv, "
       "provenance.json, "
-      "events.json%s}\n",
-      folder->path().string().c_str(), request.save_frames ? ", frames/" : "");
+      "events.json%s%s}\n",
+      folder->path().string().c_str(), sensors.empty() ? "" : ", sensors/",
+      request.save_frames ? ", frames/" : "");
 }
 
 }  // namespace corridorsim

@@ -259,9 +259,9 @@ int RunScenario(const RunRequest& request) {
       "wrote %s/{scenario.yaml, world.json, ground_truth.tum, <pipeline>.tum, "
       "<pipeline>_cov.txt, <pipeline>_errors.csv, <pipeline>_nis.csv, <pipeline>_landmarks.json, "
       "<pipeline>_detections.csv, metrics.json, timing.json, events.json, "
-      "provenance.json%s%s}%s\n",
-      out->path().string().c_str(), plots_written ? ", plots/" : "",
-      viewer_written ? ", viewer.html" : "",
+      "provenance.json%s%s%s}%s\n",
+      out->path().string().c_str(), sensors.empty() ? "" : ", sensors/",
+      plots_written ? ", plots/" : "", viewer_written ? ", viewer.html" : "",
       dataset && dataset->committed() ? (" and the dataset in " + dataset->path().string()).c_str()
                                       : "");
   if (!simulation.path_done()) {

@@ -1,0 +1,184 @@
+#!/usr/bin/python3
+"""Named sensors as a user meets them (docs/sensors.md): a scenario with a stereo pair, an IMU and a
+laser scanner drives, writes sensors/ with the documented columns, twice the same bytes; the IMU's
+and the scanner's files checked from outside the code that made them (the exact gyroscope
+integrated from the true start heading against ground_truth.tum; gravity at rest; the scanner's
+noise against its exact ranges; every hit a world object); bad sensor input exits 2 naming the key.
+
+usage: cli_sensors_test.py CORRIDORSIM SOURCE_DIR WORK_DIR
+"""
+
+import csv
+import json
+import math
+import os
+import shutil
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from cli_test_support import fail, read, run  # noqa: E402
+
+SCENARIO = """include: {source}/scenarios/default.yaml
+world:
+  length_m: 6.0
+  doors: {{count: 2}}
+  plates: {{count: 2}}
+  distractors: {{posters: 1, notice_boards: 0, bookshelves: 0, cabinets: 0, fire_extinguishers: 1}}
+duration_s: 16
+sensors:
+  left: {{type: camera, width: 80, height: 60, mount: {{x_m: 0.2, y_m: 0.06, z_m: 0.5}}}}
+  right: {{type: camera, width: 80, height: 60, mount: {{x_m: 0.2, y_m: -0.06, z_m: 0.5}}}}
+  imu0: {{type: imu, rate_hz: 1000, mount: {{x_m: 0.1, y_m: 0.05, z_m: 0.25}}}}
+  scanner: {{type: laser, rate_hz: 10, range_sigma_m: 0.02}}
+"""
+
+
+def rows(path):
+    with open(path, newline="") as f:
+        reader = csv.reader(f)
+        header = next(reader)
+        return header, [r for r in reader]
+
+
+def tum_yaw(path):
+    """stamp (ns, from the nine decimals) -> planar heading."""
+    out = {}
+    with open(path) as f:
+        for line in f:
+            if line.startswith("#"):
+                continue
+            t, _x, _y, _z, qx, qy, qz, qw = line.split()
+            whole, frac = t.split(".")
+            stamp = int(whole) * 10**9 + int(frac)
+            out[stamp] = math.atan2(2 * (float(qw) * float(qz) + float(qx) * float(qy)),
+                                    1 - 2 * (float(qy) ** 2 + float(qz) ** 2))
+    return out
+
+
+def stamp_ns(text):
+    whole, frac = text.split(".")
+    return int(whole) * 10**9 + int(frac)
+
+
+def check_imu(folder):
+    header, data = rows(os.path.join(folder, "sensors", "imu0_imu.csv"))
+    if header[:7] != ["t", "wx_rad_s", "wy_rad_s", "wz_rad_s", "ax_m_s2", "ay_m_s2", "az_m_s2"]:
+        fail("imu0_imu.csv header: %s" % header[:7])
+    col = {name: i for i, name in enumerate(header)}
+    if len(data) != 16001:
+        fail("imu0_imu.csv: %d samples, expected 16001 (1 kHz for 16 s, and 0)" % len(data))
+    first = data[0]
+    if [float(first[col[k]]) for k in ("true_ax_m_s2", "true_ay_m_s2", "true_az_m_s2")] != [0, 0, 9.81]:
+        fail("the exact accelerometer at rest reads %s, not (0, 0, 9.81)" % first[10:13])
+    # The exact z gyroscope integrated from the true start heading follows the truth's heading
+    # (the IMU samples every physics step: each sample's rate turned the chassis over its step).
+    truth = tum_yaw(os.path.join(folder, "ground_truth.tum"))
+    yaw = truth[0]
+    worst = 0.0
+    previous = 0
+    for r in data[1:]:
+        t = stamp_ns(r[0])
+        yaw += float(r[col["true_wz_rad_s"]]) * (t - previous) * 1e-9
+        previous = t
+        if t in truth:
+            worst = max(worst, abs(math.remainder(yaw - truth[t], 2 * math.pi)))
+    if worst > 2e-3:
+        fail("the integrated gyroscope leaves the true heading by %.2e rad" % worst)
+    turned = max(abs(math.remainder(v - truth[0], 2 * math.pi)) for v in truth.values())
+    if turned < 1.0:
+        fail("the drive turned only %.2f rad: the heading check needs a turn" % turned)
+    print("ok: imu: 16001 samples; integrated gyroscope within %.1e rad of the truth's heading "
+          "(the robot turned up to %.2f rad)" % (worst, turned))
+
+
+def check_scanner(folder, world_ids):
+    header, scans = rows(os.path.join(folder, "sensors", "scanner_scans.csv"))
+    _, truth = rows(os.path.join(folder, "sensors", "scanner_scans_truth.csv"))
+    _, hits = rows(os.path.join(folder, "sensors", "scanner_scans_hits.csv"))
+    beams = len(header) - 7
+    if beams != 361 or len(scans) != 160 or len(truth) != 160 or len(hits) != 160:
+        fail("scanner: %d beams, %d/%d/%d sweeps; expected 361 beams, 160 sweeps"
+             % (beams, len(scans), len(truth), len(hits)))
+    errors = []
+    for s, t, h in zip(scans, truth, hits):
+        if not (s[0] == t[0] == h[0]):
+            fail("scanner: sweeps out of step: %s %s %s" % (s[0], t[0], h[0]))
+        for measured, exact, hit in zip(s[7:], t[15:], h[1:]):
+            m, e = float(measured), float(exact)
+            if math.isfinite(e) and int(hit) not in world_ids:
+                fail("scanner: beam hit object %s, which world.json does not have" % hit)
+            if math.isfinite(m) and 0.1 < e < 80:
+                errors.append(m - e)
+    n = len(errors)
+    mean = sum(errors) / n
+    sigma = math.sqrt(sum((x - mean) ** 2 for x in errors) / (n - 1))
+    if n < 20000 or abs(mean) > 5 * 0.02 / math.sqrt(n) or abs(sigma / 0.02 - 1) > 0.03:
+        fail("scanner: %d returns, error mean %.2e sigma %.4f (configured 0.02)" % (n, mean, sigma))
+    print("ok: scanner: 160 sweeps of 361 beams; %d returns, noise mean %.1e m, sigma %.4f m "
+          "(configured 0.02); every hit a world object" % (n, mean, sigma))
+
+
+def world_ids(folder):
+    with open(os.path.join(folder, "world.json")) as f:
+        world = json.load(f)
+    ids = set()
+
+    def walk(node):
+        if isinstance(node, dict):
+            if isinstance(node.get("id"), int):
+                ids.add(node["id"])
+            for v in node.values():
+                walk(v)
+        elif isinstance(node, list):
+            for v in node:
+                walk(v)
+    walk(world)
+    return ids
+
+
+def main():
+    binary, source, work = sys.argv[1:4]
+    shutil.rmtree(work, ignore_errors=True)
+    os.makedirs(work)
+    scenario = os.path.join(work, "sensors.yaml")
+    with open(scenario, "w") as f:
+        f.write(SCENARIO.format(source=source))
+    for name in ("a", "b"):
+        run(binary, ["drive", scenario, "--out", os.path.join(work, name)], 0, work)
+    for f in sorted(os.listdir(os.path.join(work, "a", "sensors"))):
+        if read(os.path.join(work, "a", "sensors", f)) != read(os.path.join(work, "b", "sensors", f)):
+            fail("sensors/%s differs between two drives of one scenario and seed" % f)
+    print("ok: two drives wrote the same sensors/ bytes")
+    # world.json comes with `corridorsim world` of the same scenario.
+    run(binary, ["world", scenario, "--out", os.path.join(work, "world")], 0, work)
+    check_imu(os.path.join(work, "a"))
+    shutil.copy(os.path.join(work, "world", "ground_truth.json"), os.path.join(work, "a", "world.json"))
+    check_scanner(os.path.join(work, "a"), world_ids(os.path.join(work, "a")))
+
+    bad = [
+        ("imu_rate", "  imu0: {type: imu, rate_hz: 300}\n", "sensors.imu0.rate_hz"),
+        ("imu_phase", "  imu0: {type: imu, phase_s: 0.0005}\n", "sensors.imu0.phase_s"),
+        ("imu_density", "  imu0: {type: imu, gyroscope_noise_density: -1}\n",
+         "sensors.imu0.gyroscope_noise_density"),
+        ("laser_angles", "  s: {type: laser, angle_min_deg: 10, angle_max_deg: 5}\n",
+         "sensors.s.angle_max_deg"),
+        ("laser_beams", "  s: {type: laser, resolution_deg: 0.01, angle_min_deg: -180, "
+         "angle_max_deg: 180}\n", "sensors.s."),
+        ("laser_key", "  s: {type: laser, beams: 10}\n", "sensors.s.beams"),
+        ("no_type", "  s: {rate_hz: 10}\n", "sensors.s"),
+        ("bad_type", "  s: {type: sonar}\n", "sensors.s.type"),
+        ("type_changed", "  front: {type: laser}\n", "sensors.front.type"),
+        ("bad_name", "  Scan-1: {type: laser}\n", "sensors.Scan-1"),
+    ]
+    for name, yaml, key in bad:
+        path = os.path.join(work, name + ".yaml")
+        with open(path, "w") as f:
+            f.write("include: %s/scenarios/default.yaml\nsensors:\n%s" % (source, yaml))
+        result = run(binary, ["drive", path, "--out", os.path.join(work, "bad_" + name)], 2, work)
+        if (name + ".yaml:") not in result.stderr or key not in result.stderr:
+            fail("%s: the message does not name the file and %s:\n%s" % (name, key, result.stderr))
+    print("ok: %d kinds of bad sensor input exit 2 naming the file and key" % len(bad))
+
+
+if __name__ == "__main__":
+    main()
