@@ -69,58 +69,6 @@ std::optional<OptionsProblem> ImuOptions::Check() const {
   return std::nullopt;
 }
 
-const OptionTable<ImuOptions>& ImuOptionsTable() {
-  return StaticOptionTable<ImuOptions>([](OptionTable<ImuOptions>& t) {
-    using O = ImuOptions;
-    render::AddSensorTypeKey(t, "imu");
-    t.Add("enabled", &O::enabled, "", "false: the IMU is not simulated");
-    t.Add("rate_hz", &O::rate_hz, "Hz",
-          "samples per second, at physics step ends (the period a whole number of steps)")
-        .RangeOpenLow(0, 1000, "must lie in (0, 1000] Hz (got {})");
-    t.Add("phase_s", &O::phase_s, "s", "first sample at this time, then every 1 / rate_hz")
-        .AtLeast(0)
-        .Note("[0, 1 / rate_hz)");
-    t.AddSection("mount", &O::mount, BodyMountOptionsTable(),
-                 "where the IMU sits: its body axes (x forward, y left, z up at zero angles)");
-    t.Add("noise", &O::noise, "", "apply the errors below (false: the exact samples, biases 0)");
-    // Upper bounds: 100 times the worst consumer MEMS parts, still finite and sane.
-    t.Add("gyroscope_noise_density", &O::gyroscope_noise_density, "rad/s/sqrt(Hz)",
-          "white noise sigma_g (Kalibr); per sample N(0, sigma_g^2 / dt)")
-        .Range(0, 0.1);
-    t.Add("gyroscope_random_walk", &O::gyroscope_random_walk, "rad/s^2/sqrt(Hz)",
-          "bias random walk sigma_bg (Kalibr); per sample b += sigma_bg sqrt(dt) N(0, 1)")
-        .Range(0, 0.1);
-    t.Add("accelerometer_noise_density", &O::accelerometer_noise_density, "m/s^2/sqrt(Hz)",
-          "white noise sigma_a (Kalibr)")
-        .Range(0, 1);
-    t.Add("accelerometer_random_walk", &O::accelerometer_random_walk, "m/s^3/sqrt(Hz)",
-          "bias random walk sigma_ba (Kalibr)")
-        .Range(0, 1);
-    t.Add("gyroscope_bias_rad_s", &O::gyroscope_bias_rad_s, "rad/s",
-          "initial gyroscope bias [x, y, z]")
-        .Note("3 values, each in [-1, 1]");
-    t.Add("accelerometer_bias_m_s2", &O::accelerometer_bias_m_s2, "m/s^2",
-          "initial accelerometer bias [x, y, z]")
-        .Note("3 values, each in [-5, 5]");
-    t.Add("gyroscope_scale", &O::gyroscope_scale, "", "scale factor of each axis [x, y, z]")
-        .Note("3 values, each in (0.5, 2)");
-    t.Add("accelerometer_scale", &O::accelerometer_scale, "", "scale factor of each axis [x, y, z]")
-        .Note("3 values, each in (0.5, 2)");
-    t.Add("gyroscope_misalignment_rad", &O::gyroscope_misalignment_rad, "rad",
-          "non-orthogonal axes [y towards x, z towards x, z towards y] (sim/imu.h)")
-        .Note("3 values, each in (-0.1, 0.1)");
-    t.Add("accelerometer_misalignment_rad", &O::accelerometer_misalignment_rad, "rad",
-          "non-orthogonal axes [y towards x, z towards x, z towards y] (sim/imu.h)")
-        .Note("3 values, each in (-0.1, 0.1)");
-    t.Add("gyroscope_range_rad_s", &O::gyroscope_range_rad_s, "rad/s",
-          "saturation: each axis clamped to +-range (default 1000 deg/s, ADIS16448)")
-        .RangeOpenLow(0, 100, "must lie in (0, 100] rad/s (got {})");
-    t.Add("accelerometer_range_m_s2", &O::accelerometer_range_m_s2, "m/s^2",
-          "saturation: each axis clamped to +-range (default 18 g, ADIS16448)")
-        .RangeOpenLow(0, 2000, "must lie in (0, 2000] m/s^2 (got {})");
-  });
-}
-
 Eigen::Matrix3d ImuAxesMatrix(const Eigen::Vector3d& misalignment_rad) {
   const double s0 = std::sin(misalignment_rad[0]), c0 = std::cos(misalignment_rad[0]);
   const double s1 = std::sin(misalignment_rad[1]), s2 = std::sin(misalignment_rad[2]);
@@ -155,32 +103,33 @@ ImuSample ExactImuSample(const RobotState& previous, const RobotState& current, 
   return sample;
 }
 
-ImuModel::ImuModel(const ImuOptions& options, std::uint64_t seed)
-    : noise_(options.noise),
-      period_ns_(PeriodFromRateHz(options.rate_hz)),
-      gyroscope_{ImuAxesMatrix(Vector(options.gyroscope_misalignment_rad)),
-                 options.gyroscope_noise_density,
-                 options.gyroscope_random_walk,
-                 options.gyroscope_range_rad_s,
-                 Vector(options.gyroscope_bias_rad_s),
-                 RandomStream(seed, 0, "sim.imu." + options.id + ".gyroscope"),
-                 RandomStream(seed, 0, "sim.imu." + options.id + ".gyroscope_bias")},
-      accelerometer_{ImuAxesMatrix(Vector(options.accelerometer_misalignment_rad)),
-                     options.accelerometer_noise_density,
-                     options.accelerometer_random_walk,
-                     options.accelerometer_range_m_s2,
-                     Vector(options.accelerometer_bias_m_s2),
-                     RandomStream(seed, 0, "sim.imu." + options.id + ".accelerometer"),
-                     RandomStream(seed, 0, "sim.imu." + options.id + ".accelerometer_bias")} {
-  CheckOrDie(!options.Check(), "sim::ImuModel", "the options must pass Check()");
-  gyroscope_.scale_misalignment =
-      Vector(options.gyroscope_scale).asDiagonal() * gyroscope_.scale_misalignment;
-  accelerometer_.scale_misalignment =
-      Vector(options.accelerometer_scale).asDiagonal() * accelerometer_.scale_misalignment;
-  if (!noise_) {
-    gyroscope_.bias.setZero();
-    accelerometer_.bias.setZero();
-  }
+ImuModel::Triad ImuModel::MakeTriad(const std::vector<double>& scale,
+                                    const std::vector<double>& misalignment, double noise_density,
+                                    double random_walk, double range,
+                                    const std::vector<double>& bias, bool noise, std::uint64_t seed,
+                                    const std::string& stream) {
+  Triad t{Vector(scale).asDiagonal() * ImuAxesMatrix(Vector(misalignment)),
+          noise_density,
+          random_walk,
+          range,
+          noise ? Vector(bias) : Eigen::Vector3d::Zero(),
+          RandomStream(seed, 0, stream),
+          RandomStream(seed, 0, stream + "_bias")};
+  return t;
+}
+
+ImuModel::ImuModel(const ImuOptions& o, std::uint64_t seed)
+    : noise_(o.noise),
+      period_ns_(PeriodFromRateHz(o.rate_hz)),
+      gyroscope_(MakeTriad(o.gyroscope_scale, o.gyroscope_misalignment_rad,
+                           o.gyroscope_noise_density, o.gyroscope_random_walk,
+                           o.gyroscope_range_rad_s, o.gyroscope_bias_rad_s, o.noise, seed,
+                           "sim.imu." + o.id + ".gyroscope")),
+      accelerometer_(MakeTriad(o.accelerometer_scale, o.accelerometer_misalignment_rad,
+                               o.accelerometer_noise_density, o.accelerometer_random_walk,
+                               o.accelerometer_range_m_s2, o.accelerometer_bias_m_s2, o.noise, seed,
+                               "sim.imu." + o.id + ".accelerometer")) {
+  CheckOrDie(!o.Check(), "sim::ImuModel", "the options must pass Check()");
 }
 
 Eigen::Vector3d ImuModel::Apply(Triad& triad, const Eigen::Vector3d& exact, double dt_s) {

@@ -141,6 +141,11 @@ class ImuModel {
     RandomStream bias_rng;
   };
   static Eigen::Vector3d Apply(Triad& triad, const Eigen::Vector3d& exact, double dt_s);
+  // A triad from its options; `stream`: its streams' name (`stream`, `stream` + "_bias").
+  static Triad MakeTriad(const std::vector<double>& scale, const std::vector<double>& misalignment,
+                         double noise_density, double random_walk, double range,
+                         const std::vector<double>& bias, bool noise, std::uint64_t seed,
+                         const std::string& stream);
 
   bool noise_;
   TimeNs period_ns_;

@@ -31,60 +31,6 @@ double BeamCountOf(const LaserOptions& o) {
 
 }  // namespace
 
-const OptionTable<LaserOptions>& LaserOptionsTable() {
-  return StaticOptionTable<LaserOptions>([](OptionTable<LaserOptions>& t) {
-    using L = LaserOptions;
-    render::AddSensorTypeKey(t, "laser");
-    t.Add("enabled", &L::enabled, "", "false leaves the scanner out of the run");
-    // At most 100 Hz, as the cameras (one sweep per physics step at the slowest physics rate);
-    // at least 1e-6 Hz: a period of at most 1e6 s, the longest run.
-    t.Add("rate_hz", &L::rate_hz, "Hz",
-          "sweeps per second (SICK LMS200 at 0.5 deg: 37.5); sweeps are stamped every 1 / "
-          "rate_hz rounded to the nanosecond")
-        .Range(kMinSensorRateHz, 100,
-               "must lie in [1e-06, 100] Hz: a period of at most 1e+06 s (got {})");
-    t.Add("phase_s", &L::phase_s, "s",
-          "stamp of the first sweep; sweeps are stamped at `phase_s + k / rate_hz`, rounded to "
-          "the nanosecond")
-        .Note("[0, 1 / rate_hz)");
-    t.AddSection("mount", &L::mount, BodyMountOptionsTable(),
-                 "where the scanner sits on the robot: its x axis the 0 deg beam, z the normal of "
-                 "the scan plane (docs/frames.md)");
-    t.Add("angle_min_deg", &L::angle_min_deg, "deg",
-          "angle of the first beam about the scanner's z axis (0 along x, counter-clockwise)")
-        .Range(-180, 180);
-    t.Add("angle_max_deg", &L::angle_max_deg, "deg",
-          "angle of the last beam (the beams keep resolution_deg apart: the last one lies at the "
-          "nearest multiple of it)")
-        .Range(-180, 180)
-        .Note("> angle_min_deg; (angle_max_deg - angle_min_deg) + resolution_deg <= 360");
-    // 0.01 deg is finer than any planar scanner (the LMS200 resolves 0.25 deg); it keeps the time
-    // between beams at least 278 ns at 100 Hz.
-    t.Add("resolution_deg", &L::resolution_deg, "deg",
-          "angle between two beams; beams = round((angle_max_deg - angle_min_deg) / "
-          "resolution_deg) + 1")
-        .Range(0.01, 90)
-        .Note("at most 4096 beams");
-    t.Add("range_min_m", &L::range_min_m, "m", "nearer returns read -inf (REP 117)")
-        .RangeOpenHigh(0, kMaxLaserRangeM)
-        .Note("< range_max_m");
-    t.Add("range_max_m", &L::range_max_m, "m",
-          "no return within it reads +inf (REP 117); the LMS200's cm mode: 80")
-        .RangeOpenLow(0, kMaxLaserRangeM);
-    t.Add("noise", &L::noise, "", "range noise and dropouts (false: exact ranges)");
-    t.Add("range_sigma_m", &L::range_sigma_m, "m",
-          "standard deviation of the Gaussian range noise (LMS200: about 0.01)")
-        .Range(0, 1);
-    t.Add("max_incidence_deg", &L::max_incidence_deg, "deg",
-          "a beam meeting a surface more obliquely than this, from its normal, returns nothing "
-          "(NaN); 90 keeps every return")
-        .RangeOpenLow(0, 90);
-    t.Add("dropout_probability", &L::dropout_probability, "",
-          "each return is lost (NaN) with this probability")
-        .Range(0, 1);
-  });
-}
-
 int LaserOptions::BeamCount() const { return static_cast<int>(BeamCountOf(*this)); }
 
 std::optional<OptionsProblem> LaserOptions::Check() const {

@@ -1,10 +1,13 @@
-// The scenario keys of the simulation (robot:, its odometry:, path:): one table per options struct,
-// with each key's unit, bounds and doc (common/options_table.h). The structs, their Check() and
-// the code that reads them stay in their own files.
+// The scenario keys of the simulation (robot:, its odometry:, path:, and the IMUs and laser
+// scanners of sensors:): one table per options struct, with each key's unit, bounds and doc
+// (common/options_table.h). The structs, their Check() and the code that reads them stay in their
+// own files.
 
 #include "common/io/options_yaml.h"
 #include "common/io/yaml_reader.h"
 #include "common/options_table.h"
+#include "sim/imu.h"
+#include "sim/laser_scanner.h"
 #include "sim/odometry.h"
 #include "sim/robot.h"
 #include "sim/robot_path.h"
@@ -156,6 +159,112 @@ const OptionTable<OdometryOptions>& OdometryOptionsTable() {
     t.Add("slip_mean_m", &O::slip_mean_m, "m",
           "mean extra distance a slipping wheel reports (exponential)")
         .RangeOpenLow(0, 1, "must lie in (0, 1] m (got {})");
+  });
+}
+
+const OptionTable<ImuOptions>& ImuOptionsTable() {
+  return StaticOptionTable<ImuOptions>([](OptionTable<ImuOptions>& t) {
+    using O = ImuOptions;
+    render::AddSensorTypeKey(t, "imu");
+    t.Add("enabled", &O::enabled, "", "false: the IMU is not simulated");
+    t.Add("rate_hz", &O::rate_hz, "Hz",
+          "samples per second, at physics step ends (the period a whole number of steps)")
+        .RangeOpenLow(0, 1000, "must lie in (0, 1000] Hz (got {})");
+    t.Add("phase_s", &O::phase_s, "s", "first sample at this time, then every 1 / rate_hz")
+        .AtLeast(0)
+        .Note("[0, 1 / rate_hz)");
+    t.AddSection("mount", &O::mount, BodyMountOptionsTable(),
+                 "where the IMU sits: its body axes (x forward, y left, z up at zero angles)");
+    t.Add("noise", &O::noise, "", "apply the errors below (false: the exact samples, biases 0)");
+    // Upper bounds: 100 times the worst consumer MEMS parts, still finite and sane.
+    t.Add("gyroscope_noise_density", &O::gyroscope_noise_density, "rad/s/sqrt(Hz)",
+          "white noise sigma_g (Kalibr); per sample N(0, sigma_g^2 / dt)")
+        .Range(0, 0.1);
+    t.Add("gyroscope_random_walk", &O::gyroscope_random_walk, "rad/s^2/sqrt(Hz)",
+          "bias random walk sigma_bg (Kalibr); per sample b += sigma_bg sqrt(dt) N(0, 1)")
+        .Range(0, 0.1);
+    t.Add("accelerometer_noise_density", &O::accelerometer_noise_density, "m/s^2/sqrt(Hz)",
+          "white noise sigma_a (Kalibr)")
+        .Range(0, 1);
+    t.Add("accelerometer_random_walk", &O::accelerometer_random_walk, "m/s^3/sqrt(Hz)",
+          "bias random walk sigma_ba (Kalibr)")
+        .Range(0, 1);
+    t.Add("gyroscope_bias_rad_s", &O::gyroscope_bias_rad_s, "rad/s",
+          "initial gyroscope bias [x, y, z]")
+        .Note("3 values, each in [-1, 1]");
+    t.Add("accelerometer_bias_m_s2", &O::accelerometer_bias_m_s2, "m/s^2",
+          "initial accelerometer bias [x, y, z]")
+        .Note("3 values, each in [-5, 5]");
+    t.Add("gyroscope_scale", &O::gyroscope_scale, "", "scale factor of each axis [x, y, z]")
+        .Note("3 values, each in (0.5, 2)");
+    t.Add("accelerometer_scale", &O::accelerometer_scale, "", "scale factor of each axis [x, y, z]")
+        .Note("3 values, each in (0.5, 2)");
+    t.Add("gyroscope_misalignment_rad", &O::gyroscope_misalignment_rad, "rad",
+          "non-orthogonal axes [y towards x, z towards x, z towards y] (sim/imu.h)")
+        .Note("3 values, each in (-0.1, 0.1)");
+    t.Add("accelerometer_misalignment_rad", &O::accelerometer_misalignment_rad, "rad",
+          "non-orthogonal axes [y towards x, z towards x, z towards y] (sim/imu.h)")
+        .Note("3 values, each in (-0.1, 0.1)");
+    t.Add("gyroscope_range_rad_s", &O::gyroscope_range_rad_s, "rad/s",
+          "saturation: each axis clamped to +-range (default 1000 deg/s, ADIS16448)")
+        .RangeOpenLow(0, 100, "must lie in (0, 100] rad/s (got {})");
+    t.Add("accelerometer_range_m_s2", &O::accelerometer_range_m_s2, "m/s^2",
+          "saturation: each axis clamped to +-range (default 18 g, ADIS16448)")
+        .RangeOpenLow(0, 2000, "must lie in (0, 2000] m/s^2 (got {})");
+  });
+}
+
+const OptionTable<LaserOptions>& LaserOptionsTable() {
+  return StaticOptionTable<LaserOptions>([](OptionTable<LaserOptions>& t) {
+    using L = LaserOptions;
+    render::AddSensorTypeKey(t, "laser");
+    t.Add("enabled", &L::enabled, "", "false leaves the scanner out of the run");
+    // At most 100 Hz, as the cameras (one sweep per physics step at the slowest physics rate);
+    // at least 1e-6 Hz: a period of at most 1e6 s, the longest run.
+    t.Add("rate_hz", &L::rate_hz, "Hz",
+          "sweeps per second (SICK LMS200 at 0.5 deg: 37.5); sweeps are stamped every 1 / "
+          "rate_hz rounded to the nanosecond")
+        .Range(kMinSensorRateHz, 100,
+               "must lie in [1e-06, 100] Hz: a period of at most 1e+06 s (got {})");
+    t.Add("phase_s", &L::phase_s, "s",
+          "stamp of the first sweep; sweeps are stamped at `phase_s + k / rate_hz`, rounded to "
+          "the nanosecond")
+        .Note("[0, 1 / rate_hz)");
+    t.AddSection("mount", &L::mount, BodyMountOptionsTable(),
+                 "where the scanner sits on the robot: its x axis the 0 deg beam, z the normal of "
+                 "the scan plane (docs/frames.md)");
+    t.Add("angle_min_deg", &L::angle_min_deg, "deg",
+          "angle of the first beam about the scanner's z axis (0 along x, counter-clockwise)")
+        .Range(-180, 180);
+    t.Add("angle_max_deg", &L::angle_max_deg, "deg",
+          "angle of the last beam (the beams keep resolution_deg apart: the last one lies at the "
+          "nearest multiple of it)")
+        .Range(-180, 180)
+        .Note("> angle_min_deg; (angle_max_deg - angle_min_deg) + resolution_deg <= 360");
+    // 0.01 deg is finer than any planar scanner (the LMS200 resolves 0.25 deg); it keeps the time
+    // between beams at least 278 ns at 100 Hz.
+    t.Add("resolution_deg", &L::resolution_deg, "deg",
+          "angle between two beams; beams = round((angle_max_deg - angle_min_deg) / "
+          "resolution_deg) + 1")
+        .Range(0.01, 90)
+        .Note("at most 4096 beams");
+    t.Add("range_min_m", &L::range_min_m, "m", "nearer returns read -inf (REP 117)")
+        .RangeOpenHigh(0, kMaxLaserRangeM)
+        .Note("< range_max_m");
+    t.Add("range_max_m", &L::range_max_m, "m",
+          "no return within it reads +inf (REP 117); the LMS200's cm mode: 80")
+        .RangeOpenLow(0, kMaxLaserRangeM);
+    t.Add("noise", &L::noise, "", "range noise and dropouts (false: exact ranges)");
+    t.Add("range_sigma_m", &L::range_sigma_m, "m",
+          "standard deviation of the Gaussian range noise (LMS200: about 0.01)")
+        .Range(0, 1);
+    t.Add("max_incidence_deg", &L::max_incidence_deg, "deg",
+          "a beam meeting a surface more obliquely than this, from its normal, returns nothing "
+          "(NaN); 90 keeps every return")
+        .RangeOpenLow(0, 90);
+    t.Add("dropout_probability", &L::dropout_probability, "",
+          "each return is lost (NaN) with this probability")
+        .Range(0, 1);
   });
 }
 

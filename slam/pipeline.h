@@ -44,6 +44,28 @@ struct CameraCalibration {
                                     // image, valid in this range; nothing for colour-only ones
 };
 
+/// What a robot knows about one of its IMUs: its mount and the noise of its data sheet (Kalibr's
+/// imu.yaml names and units; the simulator's values when noise is on, else 0).
+struct ImuCalibration {
+  std::string id;
+  SE3 robot_from_imu;  // mount: the IMU's body axes in the robot frame R
+  double rate_hz;
+  double gyroscope_noise_density;      // rad/s/sqrt(Hz)
+  double gyroscope_random_walk;        // rad/s^2/sqrt(Hz)
+  double accelerometer_noise_density;  // m/s^2/sqrt(Hz)
+  double accelerometer_random_walk;    // m/s^3/sqrt(Hz)
+};
+
+/// What a robot knows about one of its planar laser scanners: mount and geometry (the rest of a
+/// sweep's geometry comes with each LaserScan).
+struct LaserCalibration {
+  std::string id;
+  SE3 robot_from_laser;  // mount: x the 0 rad beam, z the scan plane's normal
+  double rate_hz;
+  int beams;             // per sweep
+  double range_sigma_m;  // range noise (0 without noise)
+};
+
 /// What a robot knows about itself, as its calibration file holds it: nominal values, never the
 /// simulator's real ones. The fields have no defaults: whoever builds a Calibration fills every
 /// one (the harness from the scenario's options, harness/scenario/calibration.h).
@@ -52,6 +74,8 @@ struct Calibration {
   double wheel_diameter_m;   // nominal wheel diameter
   int ticks_per_revolution;  // encoder counts per wheel revolution; 0 = distances unquantised
   std::vector<CameraCalibration> cameras;
+  std::vector<ImuCalibration> imus;
+  std::vector<LaserCalibration> lasers;
 
   const CameraCalibration* Find(const std::string& id) const {
     for (const CameraCalibration& c : cameras) {
@@ -191,6 +215,12 @@ class Pipeline {
   virtual void OnOdometry(const WheelOdometry& odometry) = 0;
   /// A camera frame; pipelines that use no camera ignore it.
   virtual void OnCamera(const CameraInput& input) { (void)input; }
+  /// An IMU sample, in stamp order with the other messages (docs/sensors.md); pipelines that use
+  /// no IMU ignore it. Every pipeline receives every IMU's samples (ImuSample::sensor_id).
+  virtual void OnImu(const ImuSample& sample) { (void)sample; }
+  /// A laser sweep, delivered once its last beam has fired (LaserScan::stamp_ns is its first
+  /// beam's); pipelines that use no scanner ignore it.
+  virtual void OnScan(const LaserScan& scan) { (void)scan; }
   /// Which cameras the pipeline reads (the runner renders only cameras somebody reads).
   virtual std::vector<std::string> cameras_used() const { return {}; }
   virtual PoseEstimate Estimate() const = 0;

@@ -65,6 +65,14 @@ void AsyncConsumer::OnCameraSet(const CameraSet& set) {
   Flush(1);  // a frame closes its batch: it weighs on the queue's bound
 }
 
+void AsyncConsumer::OnImu(const sim::ImuMessage& imu) {
+  Queue([this, imu] { inner_.OnImu(imu); });
+}
+
+void AsyncConsumer::OnScan(const sim::ScanMessage& scan) {
+  Queue([this, scan] { inner_.OnScan(scan); });
+}
+
 void AsyncConsumer::OnEvent(const sim::Event& event) {
   Queue([this, event] { inner_.OnEvent(event); });
 }

@@ -29,6 +29,8 @@ class AsyncConsumer : public BusConsumer {
   void OnTruth(const sim::TruthSample& truth) override;
   void OnOdometry(const WheelOdometry& odometry) override;
   void OnCameraSet(const CameraSet& set) override;
+  void OnImu(const sim::ImuMessage& imu) override;
+  void OnScan(const sim::ScanMessage& scan) override;
   void OnEvent(const sim::Event& event) override;
   void OnStepEnd(const sim::TruthSample& truth, bool last) override;
 

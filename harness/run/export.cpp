@@ -1,4 +1,5 @@
 #include "harness/run/export.h"
+#include "harness/run/run_io.h"
 
 #include <algorithm>
 #include <cmath>
@@ -28,15 +29,6 @@ constexpr const char* kRootEntries[] = {"tum_rgbd", "euroc", "labels", "coco", "
 std::string Quoted(const fs::path& path) { return "'" + path.string() + "'"; }
 
 std::string StampName(TimeNs stamp_ns) { return std::to_string(stamp_ns); }
-
-// Seconds with nine decimals from the integer nanoseconds (TUM files).
-std::string TumSeconds(TimeNs stamp_ns) {
-  char buf[40];
-  std::snprintf(buf, sizeof(buf), "%lld.%09lld",
-                static_cast<long long>(stamp_ns / kNanosecondsPerSecond),
-                static_cast<long long>(stamp_ns % kNanosecondsPerSecond));
-  return buf;
-}
 
 // Nine decimals; a value that rounds to zero is written without a sign.
 std::string Fixed9(double value) {
@@ -244,7 +236,7 @@ void DatasetExporter::FinishTum(const CameraOutput& camera) const {
   depth << "# depth maps\n# corridorsim " << camera.options.id
         << " camera, 16-bit, 5000 per metre, 0 = invalid\n# timestamp filename\n";
   for (const TimeNs t : camera.stamps) {
-    const std::string s = TumSeconds(t), name = StampName(t) + ".png";
+    const std::string s = StampSeconds(t), name = StampName(t) + ".png";
     rgb << s << " rgb/" << name << "\n";
     if (camera.options.depth) {
       depth << s << " depth/" << name << "\n";

@@ -1,4 +1,5 @@
 #include "harness/run/frame_writer.h"
+#include "harness/run/run_io.h"
 
 #include <cstdio>
 #include <string>
@@ -31,11 +32,8 @@ void FrameWriter::OnCameraSet(const CameraSet& set) {
     if (!slot.message) continue;
     const sim::CameraMessage& m = *slot.message;
     Camera& camera = cameras_.at(slot.camera);
-    char stamp[32];
-    std::snprintf(stamp, sizeof(stamp), "%lld.%09lld",
-                  static_cast<long long>(m.stamp_ns / kNanosecondsPerSecond),
-                  static_cast<long long>(m.stamp_ns % kNanosecondsPerSecond));
-    const std::string name = std::string(stamp) + ".png";
+    const std::string stamp = StampSeconds(m.stamp_ns);
+    const std::string name = stamp + ".png";
     const render::CameraFrame& f = m.frame;
     WriteFileAtomic(camera.dir / "rgb" / name, EncodePng(f.rgb, name));
     WriteFileAtomic(camera.dir / "labels" / name, EncodeLabels(f, f.rgb.width, f.rgb.height));

@@ -183,6 +183,26 @@ void PipelineRunner::OnOdometry(const WheelOdometry& odometry) {
   }
 }
 
+template <class F>
+void PipelineRunner::Timed(const char* what, TimeNs stamp_ns, F&& call) {
+  for (std::size_t i = 0; i < runs_.size(); ++i) {
+    const WallClock::time_point t0 = WallClock::now();
+    const double cpu0 = ThreadCpuSeconds();
+    Guard(i, what, stamp_ns, call);
+    runs_[i].cpu_seconds += ThreadCpuSeconds() - cpu0;
+    runs_[i].seconds += SecondsSince(t0);
+    wall_seconds_ += SecondsSince(t0);
+  }
+}
+
+void PipelineRunner::OnImu(const sim::ImuMessage& imu) {
+  Timed("OnImu", imu.sample.stamp_ns, [&](slam::Pipeline& p) { p.OnImu(imu.sample); });
+}
+
+void PipelineRunner::OnScan(const sim::ScanMessage& scan) {
+  Timed("OnScan", scan.scan.stamp_ns, [&](slam::Pipeline& p) { p.OnScan(scan.scan); });
+}
+
 void PipelineRunner::OnCameraSet(const CameraSet& set) {
   OnCameraSetWhole(set);
   for (const CameraSlot& slot : set.cameras) {

@@ -45,6 +45,9 @@ class PipelineRunner : public BusConsumer {
 
   void OnOdometry(const WheelOdometry& odometry) override;
   void OnCameraSet(const CameraSet& set) override;
+  /// Every IMU sample and laser sweep to every pipeline (slam::Pipeline::OnImu, OnScan).
+  void OnImu(const sim::ImuMessage& imu) override;
+  void OnScan(const sim::ScanMessage& scan) override;
 
   /// Ends the run: every pipeline's Finish(), then final landmarks, late detections, innovations,
   /// stage times and health go into the records.
@@ -81,6 +84,9 @@ class PipelineRunner : public BusConsumer {
   // `stamp_ns`). Returns whether the call returned normally.
   template <class F>
   bool Guard(std::size_t i, const char* what, TimeNs stamp_ns, F&& call);
+  // Guard(i, ...) for every pipeline, its time added to its cost.
+  template <class F>
+  void Timed(const char* what, TimeNs stamp_ns, F&& call);
   // What a failed program's replies brought before (and with) the mistake, into its record.
   static void KeepWhatArrived(external::ExternalPipeline& program, PipelineRecord& record);
   // The camera set to the pipelines that take sets whole (programs, harness/external).

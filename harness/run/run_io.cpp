@@ -9,6 +9,14 @@
 #include "worlds/world.h"
 
 namespace corridorsim {
+
+std::string StampSeconds(TimeNs stamp_ns) {
+  char buf[40];
+  std::snprintf(buf, sizeof(buf), "%lld.%09lld",
+                static_cast<long long>(stamp_ns / kNanosecondsPerSecond),
+                static_cast<long long>(stamp_ns % kNanosecondsPerSecond));
+  return buf;
+}
 namespace {
 
 constexpr double kSlipStepsPerM = 1e9;  // slips are often far below a micrometre

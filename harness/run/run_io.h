@@ -17,6 +17,10 @@ namespace corridorsim {
 /// 50 Hz lies on it; metrics interpolate between its points).
 inline constexpr double kTruthFileRateHz = 100.0;
 
+/// A stamp as seconds with all nine decimals of the integer nanoseconds ("12.020000000"), as the
+/// TUM files, the export and the sensors' CSV write it: exact, whatever the magnitude.
+std::string StampSeconds(TimeNs stamp_ns);
+
 /// One event of events.json: {t, t_ns, type, ...} with the fields of its kind.
 nlohmann::ordered_json EventJson(const sim::Event& event);
 

@@ -67,27 +67,13 @@ void SensorBus::Publish(const sim::StepOutput& step, bool last) {
   }
   std::sort(order.begin(), order.end());
   for (const auto& [stamp, kind, index] : order) {
-    for (BusConsumer* consumer : consumers_) {
-      switch (kind) {
-        case 0:
-          consumer->OnTruth(step.truth_samples[index]);
-          break;
-        case 1:
-          consumer->OnOdometry(step.odometry[index]);
-          break;
-        case 2:
-          consumer->OnImu(step.imu[index]);
-          break;
-        case 3:
-          consumer->OnScan(step.scans[index]);
-          break;
-        case 4:
-          consumer->OnCameraSet(sets[index]);
-          break;
-        default:
-          consumer->OnEvent(step.events[index]);
-          break;
-      }
+    for (BusConsumer* c : consumers_) {
+      if (kind == 0) c->OnTruth(step.truth_samples[index]);
+      if (kind == 1) c->OnOdometry(step.odometry[index]);
+      if (kind == 2) c->OnImu(step.imu[index]);
+      if (kind == 3) c->OnScan(step.scans[index]);
+      if (kind == 4) c->OnCameraSet(sets[index]);
+      if (kind == 5) c->OnEvent(step.events[index]);
     }
   }
   for (BusConsumer* consumer : consumers_) consumer->OnStepEnd(step.truth, last);

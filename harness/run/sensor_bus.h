@@ -7,9 +7,10 @@
 //
 // Within a step, messages are delivered in stamp order; at one stamp the truth comes first
 // (on the truth grid and at odometry stamps, whatever the physics rate), then odometry, then IMU
-// samples, then laser sweeps (at their last beam's stamp), then the camera set, then events. After the step's messages every consumer sees the truth at the step's
-// end. Frames of several cameras due at one stamp arrive as one CameraSet, so a pipeline
-// that fuses cameras sees them together; a frame that was due but dropped
+// samples, then laser sweeps (at their last beam's stamp), then the camera set, then events. After
+// the step's messages every consumer sees the truth at the step's end. Frames of several cameras
+// due at one stamp arrive as one CameraSet, so a pipeline that fuses cameras sees them together; a
+// frame that was due but dropped
 // (`sensors.<camera>.drop_probability`) leaves its slot in the set with no message.
 
 #include <cstddef>

@@ -5,18 +5,10 @@
 #include <utility>
 
 #include "common/io/atomic_file.h"
+#include "harness/run/run_io.h"
 
 namespace corridorsim {
 namespace {
-
-// Seconds from integer nanoseconds, exactly (nine digits of the fraction), as the TUM files.
-std::string Stamp(TimeNs stamp_ns) {
-  char buf[40];
-  std::snprintf(buf, sizeof(buf), "%lld.%09lld",
-                static_cast<long long>(stamp_ns / kNanosecondsPerSecond),
-                static_cast<long long>(stamp_ns % kNanosecondsPerSecond));
-  return buf;
-}
 
 // A number with nine significant digits; REP 117's non-finite ranges as inf, -inf, nan (what
 // numpy, pandas and Python's float() read).
@@ -63,7 +55,7 @@ SensorRecorder::SensorRecorder(std::vector<std::string> imu_ids, std::vector<std
       hits_csv_(laser_ids_.size()) {}
 
 void SensorRecorder::OnImu(const sim::ImuMessage& m) {
-  std::string row = Stamp(m.sample.stamp_ns);
+  std::string row = StampSeconds(m.sample.stamp_ns);
   AppendVector(&row, m.sample.angular_velocity_rad_s);
   AppendVector(&row, m.sample.linear_acceleration_m_s2);
   AppendVector(&row, m.exact.angular_velocity_rad_s);
@@ -90,7 +82,7 @@ void SensorRecorder::OnScan(const sim::ScanMessage& m) {
         BeamColumns("r", beams) + "\n";
     hits_csv_[k] = "t" + BeamColumns("id", beams) + "\n";
   }
-  std::string row = Stamp(scan.stamp_ns);
+  std::string row = StampSeconds(scan.stamp_ns);
   for (const double v :
        {scan.angle_min_rad, scan.angle_increment_rad, ToSeconds(scan.time_increment_ns),
         ToSeconds(scan.scan_time_ns), scan.range_min_m, scan.range_max_m}) {
@@ -99,10 +91,10 @@ void SensorRecorder::OnScan(const sim::ScanMessage& m) {
   for (const float r : scan.ranges_m) Append(&row, r);
   scans_csv_[k] += row + "\n";
 
-  std::string truth = Stamp(scan.stamp_ns);
+  std::string truth = StampSeconds(scan.stamp_ns);
   AppendPose(&truth, m.world_from_laser.front());
   AppendPose(&truth, m.world_from_laser.back());
-  std::string hits = Stamp(scan.stamp_ns);
+  std::string hits = StampSeconds(scan.stamp_ns);
   for (const sim::BeamTruth& b : m.truth) {
     Append(&truth, b.range_m);
     hits += "," + std::to_string(b.instance_id);

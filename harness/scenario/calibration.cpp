@@ -16,6 +16,19 @@ slam::Calibration CalibrationOf(const Scenario& scenario) {
     if (c.depth) camera.depth = slam::DepthRange{c.depth_noise.min_m, c.depth_noise.max_m};
     calibration.cameras.push_back(camera);
   }
+  for (const sim::ImuOptions& o : scenario.imus) {
+    if (!o.enabled) continue;
+    const double on = o.noise ? 1.0 : 0.0;
+    calibration.imus.push_back({o.id, o.mount.RobotFromBody(), o.rate_hz,
+                                on * o.gyroscope_noise_density, on * o.gyroscope_random_walk,
+                                on * o.accelerometer_noise_density,
+                                on * o.accelerometer_random_walk});
+  }
+  for (const sim::LaserOptions& o : scenario.lasers) {
+    if (!o.enabled) continue;
+    calibration.lasers.push_back(
+        {o.id, o.mount.RobotFromBody(), o.rate_hz, o.BeamCount(), o.noise ? o.range_sigma_m : 0.0});
+  }
   return calibration;
 }
 

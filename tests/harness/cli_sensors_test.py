@@ -16,7 +16,7 @@ import shutil
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from cli_test_support import fail, read, run  # noqa: E402
+from cli_test_support import fail, fresh_folder, read, run  # noqa: E402
 
 SCENARIO = """include: {source}/scenarios/default.yaml
 world:
@@ -137,9 +137,7 @@ def world_ids(folder):
 
 
 def main():
-    binary, source, work = sys.argv[1:4]
-    shutil.rmtree(work, ignore_errors=True)
-    os.makedirs(work)
+    binary, source, work = sys.argv[1], sys.argv[2], fresh_folder(sys.argv[3])
     scenario = os.path.join(work, "sensors.yaml")
     with open(scenario, "w") as f:
         f.write(SCENARIO.format(source=source))

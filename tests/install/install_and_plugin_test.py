@@ -115,7 +115,7 @@ def main():
     # 1. cmake --install into a prefix: what is there, and what is not.
     prefix = os.path.join(work, "prefix")
     run(["cmake", "--install", build, "--prefix", prefix])
-    for rel in ["bin/corridorsim", "lib/libcorridorsim_common.so.1", "lib/libcorridorsim_slam.so.1",
+    for rel in ["bin/corridorsim", "lib/libcorridorsim_common.so.2", "lib/libcorridorsim_slam.so.2",
                 "include/corridorsim/slam/pipeline.h", "include/corridorsim/slam/plugin.h",
                 "include/corridorsim/slam/sdk_version.h", "include/corridorsim/common/pose.h",
                 "include/corridorsim/slam/ekf/ekf_state.h",
