@@ -57,7 +57,7 @@ void SensorBus::Publish(const sim::StepOutput& step, bool last) {
     order.emplace_back(step.odometry[i].stamp_ns, 1, i);
   }
   for (std::size_t i = 0; i < step.imu.size(); ++i)
-    order.emplace_back(step.imu[i].exact.stamp_ns, 2, i);
+    order.emplace_back(step.imu[i].sample.stamp_ns, 2, i);
   for (std::size_t i = 0; i < step.scans.size(); ++i) {
     order.emplace_back(step.scans[i].complete_ns, 3, i);
   }

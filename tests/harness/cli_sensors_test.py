@@ -153,6 +153,22 @@ def main():
     shutil.copy(os.path.join(work, "world", "ground_truth.json"), os.path.join(work, "a", "world.json"))
     check_scanner(os.path.join(work, "a"), world_ids(os.path.join(work, "a")))
 
+    # A run's pipelines receive the new sensors' messages, and adding sensors changes no other
+    # stream: the same metrics.json with and without them.
+    plain = os.path.join(work, "plain.yaml")
+    with open(plain, "w") as f:
+        f.write(SCENARIO.format(source=source).split("sensors:")[0])
+    args = ["--no-plots", "--no-viewer", "--set", "pipelines.p1_harris.enabled=false", "--set",
+            "pipelines.p1_vp_doorplate.enabled=false", "--set", "expectations=[]"]
+    for name, path in (("run_sensors", scenario), ("run_plain", plain)):
+        run(binary, ["run", path, "--out", os.path.join(work, name)] + args, 0, work)
+    if read(os.path.join(work, "run_sensors", "metrics.json")) != \
+            read(os.path.join(work, "run_plain", "metrics.json")):
+        fail("metrics.json differs with the IMU and the scanner added")
+    if not os.path.exists(os.path.join(work, "run_sensors", "sensors", "imu0_imu.csv")):
+        fail("a run wrote no sensors/imu0_imu.csv")
+    print("ok: a run with the sensors writes sensors/ and the metrics of the run without them")
+
     bad = [
         ("imu_rate", "  imu0: {type: imu, rate_hz: 300}\n", "sensors.imu0.rate_hz"),
         ("imu_phase", "  imu0: {type: imu, phase_s: 0.0005}\n", "sensors.imu0.phase_s"),

@@ -53,6 +53,10 @@ class Recorder : public BusConsumer {
     Add("set[" + slots + "]", set.stamp_ns);
   }
   void OnEvent(const sim::Event& e) override { Add("event", e.stamp_ns); }
+  void OnImu(const sim::ImuMessage& m) override { Add("imu", m.sample.stamp_ns); }
+  void OnScan(const sim::ScanMessage& m) override {
+    Add("scan(" + std::to_string(m.scan.stamp_ns) + ")", m.complete_ns);
+  }
   void OnStepEnd(const sim::TruthSample& truth, bool last) override {
     Add(last ? "end(last)" : "end", truth.stamp_ns);
   }
@@ -147,6 +151,60 @@ TEST_CASE("the truth of a stamp arrives before the messages of that stamp", "[ha
   CHECK(log == expected);
 }
 
+TEST_CASE("IMU samples come after odometry and a sweep at its last beam, before the camera set",
+          "[harness][bus]") {
+  sim::StepOutput step;
+  step.truth.stamp_ns = 1000;
+  step.odometry = {Odometry(400)};
+  step.frames = {Frame(400, 0)};
+  step.events = {Drop(400, "upward")};
+  sim::ImuMessage imu;
+  imu.sample.stamp_ns = 400;
+  sim::ImuMessage later = imu;
+  later.sample.stamp_ns = 900;
+  step.imu = {imu, later};
+  sim::ScanMessage scan;
+  scan.scan.stamp_ns = 100;  // its first beam, in an earlier step
+  scan.complete_ns = 400;
+  step.scans = {scan};
+  std::vector<std::string> log;
+  Recorder recorder(&log);
+  SensorBus bus(kCameras);
+  bus.Subscribe(&recorder);
+  bus.Publish(step, /*last=*/false);
+  const std::vector<std::string> expected = {
+      "odometry@400", "imu@400", "scan(100)@400", "set[front+upward-]@400",
+      "event@400",    "imu@900", "end@1000"};
+  CHECK(log == expected);
+}
+
+TEST_CASE("an async consumer passes IMU samples and sweeps on in the inline order",
+          "[harness][bus]") {
+  std::vector<std::string> inline_log, async_log;
+  Recorder inline_recorder(&inline_log), async_recorder(&async_log);
+  AsyncConsumer async(async_recorder, 1);
+  SensorBus bus(kCameras);
+  bus.Subscribe(&inline_recorder);
+  bus.Subscribe(&async);
+  for (int k = 1; k <= 5; ++k) {
+    sim::StepOutput step;
+    step.truth.stamp_ns = k * 100;
+    sim::ImuMessage imu;
+    imu.sample.stamp_ns = k * 100 - 50;
+    sim::ScanMessage scan;
+    scan.scan.stamp_ns = k * 100 - 90;
+    scan.complete_ns = k * 100 - 10;
+    step.imu = {imu};
+    step.scans = {scan};
+    bus.Publish(step, k == 5);
+  }
+  async.Drain();
+  CHECK(async_log == inline_log);
+  REQUIRE(async_log.size() == 15);
+  CHECK(async_log[0] == "imu@50");
+  CHECK(async_log[1] == "scan(10)@90");
+}
+
 TEST_CASE("consumers receive each message in the order they subscribed", "[harness][bus]") {
   sim::StepOutput step;
   step.truth.stamp_ns = 20;
@@ -228,6 +286,10 @@ class FrameRecorder : public BusConsumer {
     if (throw_at_ == set.stamp_ns) throw std::runtime_error("pipeline failed");
   }
   void OnEvent(const sim::Event& e) override { Add("event", e.stamp_ns); }
+  void OnImu(const sim::ImuMessage& m) override { Add("imu", m.sample.stamp_ns); }
+  void OnScan(const sim::ScanMessage& m) override {
+    Add("scan(" + std::to_string(m.scan.stamp_ns) + ")", m.complete_ns);
+  }
   void OnStepEnd(const sim::TruthSample& truth, bool last) override {
     Add(last ? "end(last)" : "end", truth.stamp_ns);
   }
