@@ -10,35 +10,18 @@
 #include "slam/ekf/measurement_models.h"
 
 namespace corridorsim::slam {
-namespace {
-
-using Clock = StageClock::Clock;
-constexpr auto* SecondsSince = &StageClock::SecondsSince;
-
-}  // namespace
-
 std::optional<OptionsProblem> P1HarrisOptions::Check() const {
   return CheckOptionBounds(P1HarrisOptionsTable(), *this);
 }
 
 P1HarrisPipeline::P1HarrisPipeline(const P1HarrisOptions& options, const Calibration& calibration,
                                    std::uint64_t /*seed: draws nothing*/)
-    : options_(options), wheelbase_m_(calibration.wheelbase_m) {
+    : EkfPipeline(calibration.wheelbase_m, options.k_m), options_(options) {
   CheckOrDie(!calibration.Check(), "slam::P1HarrisPipeline", "the calibration fails its Check()");
   if (const CameraCalibration* front = calibration.Find("front")) front_ = *front;
 }
 
 P1HarrisPipeline::~P1HarrisPipeline() = default;
-
-void P1HarrisPipeline::Initialize(TimeNs stamp_ns, const SE2& world_from_robot) {
-  state_ = StateAtKnownPose(world_from_robot);
-  stamp_ns_ = stamp_ns;
-}
-
-void P1HarrisPipeline::OnOdometry(const WheelOdometry& odometry) {
-  PredictOrRefuse(odometry, wheelbase_m_, options_.k_m, state_.get(), &stamp_ns_, &health_,
-                  &clock_);
-}
 
 Eigen::Matrix3d P1HarrisPipeline::MeasurementNoise(double depth_m) const {
   const double sigma_px2 = options_.pixel_sigma_px * options_.pixel_sigma_px;
@@ -171,11 +154,6 @@ void P1HarrisPipeline::OnCamera(const CameraInput& input) {
   }
   clock_.Add("update", SecondsSince(t_update));
   frame_times_.push_back({stamp_ns, static_cast<int>(landmarks_.size()), SecondsSince(t_frame)});
-}
-
-PoseEstimate P1HarrisPipeline::Estimate() const {
-  if (!state_) return {};
-  return EstimateOf(*state_, stamp_ns_);
 }
 
 std::vector<LandmarkEstimate> P1HarrisPipeline::Landmarks() const {

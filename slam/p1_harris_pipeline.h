@@ -17,6 +17,7 @@
 #include "common/options_table.h"
 #include "common/wheel_odometry_model.h"
 #include "slam/ekf/ekf_state.h"
+#include "slam/ekf_pipeline.h"
 #include "slam/features/harris_corners.h"
 #include "slam/filter_support.h"
 #include "slam/pipeline.h"
@@ -40,7 +41,7 @@ struct P1HarrisOptions {
 };
 const OptionTable<P1HarrisOptions>& P1HarrisOptionsTable();
 
-class P1HarrisPipeline : public Pipeline {
+class P1HarrisPipeline : public EkfPipeline {
  public:
   /// `calibration` must pass Check(). A calibration without a depth front camera is reported by
   /// cameras_used() and refused by the runner.
@@ -48,17 +49,10 @@ class P1HarrisPipeline : public Pipeline {
                    std::uint64_t seed);
   ~P1HarrisPipeline() override;
 
-  void Initialize(TimeNs stamp_ns, const SE2& world_from_robot) override;
-  void OnOdometry(const WheelOdometry& odometry) override;
   void OnCamera(const CameraInput& input) override;
   std::vector<std::string> cameras_used() const override { return {"front"}; }
-  PoseEstimate Estimate() const override;
   std::vector<LandmarkEstimate> Landmarks() const override;
-  std::vector<Detection> TakeDetections() override { return std::move(detections_); }
-  std::vector<Innovation> TakeInnovations() override { return std::move(innovations_); }
   std::vector<MapFile> TakeMaps() override;
-  std::map<std::string, double> stage_seconds() const override { return clock_.seconds(); }
-  PipelineHealth health() const override { return health_; }
 
  private:
   struct PointLandmark {
@@ -68,18 +62,11 @@ class P1HarrisPipeline : public Pipeline {
   Eigen::Matrix3d MeasurementNoise(double depth_m) const;
 
   P1HarrisOptions options_;
-  double wheelbase_m_;
   std::optional<CameraCalibration> front_;
-  std::unique_ptr<ekf::EkfState> state_;
-  TimeNs stamp_ns_ = 0;
   TimeNs last_frame_ns_ = -1;
   std::vector<PointLandmark> landmarks_;
   int next_landmark_id_ = 0;
-  std::vector<Detection> detections_;
-  std::vector<Innovation> innovations_;
   std::vector<FrameCost> frame_times_;  // detection, association, updates, augmentation
-  PipelineHealth health_;
-  StageClock clock_;
 };
 
 }  // namespace corridorsim::slam

@@ -12,8 +12,6 @@
 namespace corridorsim::slam {
 namespace {
 
-using Clock = StageClock::Clock;
-constexpr auto* SecondsSince = &StageClock::SecondsSince;
 constexpr double kDegToRad = M_PI / 180.0;
 
 }  // namespace
@@ -25,7 +23,7 @@ std::optional<OptionsProblem> P1VpDoorplateOptions::Check() const {
 P1VpDoorplatePipeline::P1VpDoorplatePipeline(const P1VpDoorplateOptions& options,
                                              const Calibration& calibration,
                                              std::uint64_t /*seed: draws nothing*/)
-    : options_(options), wheelbase_m_(calibration.wheelbase_m) {
+    : EkfPipeline(calibration.wheelbase_m, options.k_m), options_(options) {
   CheckOrDie(!calibration.Check(), "slam::P1VpDoorplatePipeline",
              "the calibration fails its Check()");
   if (const CameraCalibration* front = calibration.Find("front")) front_ = *front;
@@ -46,16 +44,6 @@ std::vector<std::string> P1VpDoorplatePipeline::cameras_used() const {
   if (options_.use_vanishing_point || options_.octomap) cameras.push_back("front");
   if (options_.use_door_plates) cameras.push_back("lateral");
   return cameras;
-}
-
-void P1VpDoorplatePipeline::Initialize(TimeNs stamp_ns, const SE2& world_from_robot) {
-  state_ = StateAtKnownPose(world_from_robot);
-  stamp_ns_ = stamp_ns;
-}
-
-void P1VpDoorplatePipeline::OnOdometry(const WheelOdometry& odometry) {
-  PredictOrRefuse(odometry, wheelbase_m_, options_.k_m, state_.get(), &stamp_ns_, &health_,
-                  &clock_);
 }
 
 void P1VpDoorplatePipeline::OnCamera(const CameraInput& input) {
@@ -345,11 +333,6 @@ void P1VpDoorplatePipeline::Record(TimeNs stamp_ns, LandmarkType type,
   }
 }
 
-PoseEstimate P1VpDoorplatePipeline::Estimate() const {
-  if (!state_) return {};
-  return EstimateOf(*state_, stamp_ns_);
-}
-
 std::vector<LandmarkEstimate> P1VpDoorplatePipeline::Landmarks() const {
   std::vector<LandmarkEstimate> out;
   if (!state_) return out;
@@ -379,10 +362,6 @@ std::vector<LandmarkEstimate> P1VpDoorplatePipeline::Landmarks() const {
             [](const LandmarkEstimate& a, const LandmarkEstimate& b) { return a.id < b.id; });
   return out;
 }
-
-std::vector<Detection> P1VpDoorplatePipeline::TakeDetections() { return std::move(detections_); }
-
-std::vector<Innovation> P1VpDoorplatePipeline::TakeInnovations() { return std::move(innovations_); }
 
 std::vector<MapFile> P1VpDoorplatePipeline::TakeMaps() {
   std::vector<MapFile> maps;

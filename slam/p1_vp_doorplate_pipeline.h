@@ -32,6 +32,7 @@
 #include "common/options_table.h"
 #include "common/wheel_odometry_model.h"
 #include "slam/ekf/ekf_state.h"
+#include "slam/ekf_pipeline.h"
 #include "slam/features/door_plates.h"
 #include "slam/features/vanishing_point.h"
 #include "slam/filter_support.h"
@@ -72,7 +73,7 @@ struct P1VpDoorplateOptions {
 };
 const OptionTable<P1VpDoorplateOptions>& P1VpDoorplateOptionsTable();
 
-class P1VpDoorplatePipeline : public Pipeline {
+class P1VpDoorplatePipeline : public EkfPipeline {
  public:
   /// `calibration` must pass Check(). Loads the door-plate models (throws ModelFileError).
   /// Cameras the calibration lacks are reported by cameras_used() and refused by the runner.
@@ -80,18 +81,11 @@ class P1VpDoorplatePipeline : public Pipeline {
                         std::uint64_t seed);
   ~P1VpDoorplatePipeline() override;
 
-  void Initialize(TimeNs stamp_ns, const SE2& world_from_robot) override;
-  void OnOdometry(const WheelOdometry& odometry) override;
   void OnCamera(const CameraInput& input) override;
   std::vector<std::string> cameras_used() const override;
-  PoseEstimate Estimate() const override;
   std::vector<LandmarkEstimate> Landmarks() const override;
-  std::vector<Detection> TakeDetections() override;
-  std::vector<Innovation> TakeInnovations() override;
   std::vector<MapFile> TakeMaps() override;
   const octomap::OcTree* occupancy_map() const override;
-  std::map<std::string, double> stage_seconds() const override { return clock_.seconds(); }
-  PipelineHealth health() const override { return health_; }
 
  private:
   struct VpLandmark {
@@ -120,13 +114,10 @@ class P1VpDoorplatePipeline : public Pipeline {
   void Record(TimeNs stamp_ns, LandmarkType type, const ekf::UpdateResult& result);
 
   P1VpDoorplateOptions options_;
-  double wheelbase_m_;
   std::optional<CameraCalibration> front_;
   std::optional<CameraCalibration> lateral_;
   std::optional<DoorPlateModels> models_;
-  std::unique_ptr<ekf::EkfState> state_;
   std::unique_ptr<OccupancyMapper> mapper_;
-  TimeNs stamp_ns_ = 0;
   std::map<std::string, TimeNs> last_frame_ns_;
   std::vector<VpLandmark> vps_;
   std::map<std::string, PlateLandmark> plates_;  // by room number (P1 Table 1's signature)
@@ -134,10 +125,6 @@ class P1VpDoorplatePipeline : public Pipeline {
   double octomap_seconds_in_frame_ = 0.0;
   std::map<std::string, PendingPlate> pending_;
   int next_landmark_id_ = 0;
-  std::vector<Detection> detections_;
-  std::vector<Innovation> innovations_;
-  PipelineHealth health_;
-  StageClock clock_;
 };
 
 }  // namespace corridorsim::slam

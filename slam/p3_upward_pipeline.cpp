@@ -12,12 +12,6 @@
 #include "slam/features/image_conversion.h"
 
 namespace corridorsim::slam {
-namespace {
-
-using Clock = StageClock::Clock;
-constexpr auto* SecondsSince = &StageClock::SecondsSince;
-
-}  // namespace
 
 std::optional<OptionsProblem> P3UpwardOptions::Check() const {
   if (auto p = CheckOptionBounds(P3UpwardOptionsTable(), *this)) return p;
@@ -56,7 +50,7 @@ struct P3UpwardPipeline::Observation {
 
 P3UpwardPipeline::P3UpwardPipeline(const P3UpwardOptions& options, const Calibration& calibration,
                                    std::uint64_t /*seed: the lamp detector's seed is an option*/)
-    : options_(options), wheelbase_m_(calibration.wheelbase_m) {
+    : EkfPipeline(calibration.wheelbase_m, options.k_m), options_(options) {
   CheckOrDie(!calibration.Check(), "slam::P3UpwardPipeline", "the calibration fails its Check()");
   CheckOrDie(!options.Check(), "slam::P3UpwardPipeline", "the options fail their Check()");
   if (const CameraCalibration* upward = calibration.Find("upward")) upward_ = *upward;
@@ -75,16 +69,6 @@ P3UpwardPipeline::P3UpwardPipeline(const P3UpwardOptions& options, const Calibra
 }
 
 P3UpwardPipeline::~P3UpwardPipeline() = default;
-
-void P3UpwardPipeline::Initialize(TimeNs stamp_ns, const SE2& world_from_robot) {
-  state_ = StateAtKnownPose(world_from_robot);
-  stamp_ns_ = stamp_ns;
-}
-
-void P3UpwardPipeline::OnOdometry(const WheelOdometry& odometry) {
-  PredictOrRefuse(odometry, wheelbase_m_, options_.k_m, state_.get(), &stamp_ns_, &health_,
-                  &clock_);
-}
 
 void P3UpwardPipeline::OnCamera(const CameraInput& input) {
   if (!state_ || !upward_ || input.image.camera_id != "upward") return;
@@ -577,11 +561,6 @@ std::vector<MapArea> P3UpwardPipeline::Areas() const {
     if (l.type != LandmarkType::kDoor) points.push_back({l.id, l.position_in_world.head<2>()});
   }
   return DivideAtDoors(doors, points, options_.areas);
-}
-
-PoseEstimate P3UpwardPipeline::Estimate() const {
-  if (!state_) return {};
-  return EstimateOf(*state_, stamp_ns_);
 }
 
 std::vector<LandmarkEstimate> P3UpwardPipeline::Landmarks() const {

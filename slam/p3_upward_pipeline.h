@@ -26,6 +26,7 @@
 #include "common/options_table.h"
 #include "common/wheel_odometry_model.h"
 #include "slam/ekf/ekf_state.h"
+#include "slam/ekf_pipeline.h"
 #include "slam/features/ceiling_lamps.h"
 #include "slam/features/corner_patches.h"
 #include "slam/features/upward_doors.h"
@@ -91,7 +92,7 @@ P3UpwardOptions P3UpwardDefaults();
 P3UpwardOptions P3CornersDefaults();
 P3UpwardOptions P2UpwardDefaults();
 
-class P3UpwardPipeline : public Pipeline {
+class P3UpwardPipeline : public EkfPipeline {
  public:
   /// `calibration` must pass Check(). Without an upward camera the pipeline reports it in
   /// cameras_used() and the runner refuses the scenario.
@@ -99,21 +100,14 @@ class P3UpwardPipeline : public Pipeline {
                    std::uint64_t seed);
   ~P3UpwardPipeline() override;
 
-  void Initialize(TimeNs stamp_ns, const SE2& world_from_robot) override;
-  void OnOdometry(const WheelOdometry& odometry) override;
   void OnCamera(const CameraInput& input) override;
   std::vector<std::string> cameras_used() const override { return {"upward"}; }
-  PoseEstimate Estimate() const override;
   std::vector<LandmarkEstimate> Landmarks() const override;
-  std::vector<Detection> TakeDetections() override { return std::move(detections_); }
-  std::vector<Innovation> TakeInnovations() override { return std::move(innovations_); }
   /// `_doors.json` (pipelines with doors): each registered door's registration, with the
   /// particle filter's samples at that moment (P3 Fig. 9), its H(A, B) and its final columns.
   /// `_areas.json` too: Areas() (P2 Fig. 12).
   std::vector<MapFile> TakeMaps() override;
   std::vector<MapArea> Areas() const override;
-  std::map<std::string, double> stage_seconds() const override { return clock_.seconds(); }
-  PipelineHealth health() const override { return health_; }
 
  private:
   struct PointLandmark {
@@ -141,21 +135,14 @@ class P3UpwardPipeline : public Pipeline {
   void ProcessFrame(const CameraInput& input);
 
   P3UpwardOptions options_;
-  double wheelbase_m_;
   std::optional<CameraCalibration> upward_;
   double rho_prior_ = 1.0;        // mean of the inverse height prior (1/m)
   double rho_prior_sigma_ = 1.0;  // its sigma
-  std::unique_ptr<ekf::EkfState> state_;
-  TimeNs stamp_ns_ = 0;
   TimeNs last_frame_ns_ = -1;
   std::vector<PointLandmark> landmarks_;
   std::vector<DoorLandmark> doors_;
   std::optional<UpwardDoorVerifier> verifier_;
   int next_landmark_id_ = 0;
-  std::vector<Detection> detections_;
-  std::vector<Innovation> innovations_;
-  PipelineHealth health_;
-  StageClock clock_;
 };
 
 }  // namespace corridorsim::slam
