@@ -73,7 +73,7 @@ install(EXPORT corridorsimTargets NAMESPACE corridorsim:: DESTINATION ${CORRIDOR
 configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/corridorsimConfig.cmake.in
   ${PROJECT_BINARY_DIR}/cmake/corridorsimConfig.cmake
   INSTALL_DESTINATION ${CORRIDORSIM_INSTALL_CMAKEDIR})
-# SameMinorVersion: a plugin that asks for 0.1 gets any 0.1.x; the SDK ABI version only changes
+# SameMinorVersion: a plugin that asks for 0.2 gets any 0.2.x; the SDK ABI version only changes
 # with the minor version (CMakeLists.txt).
 write_basic_package_version_file(${PROJECT_BINARY_DIR}/cmake/corridorsimConfigVersion.cmake
   VERSION ${PROJECT_VERSION} COMPATIBILITY SameMinorVersion)

@@ -109,7 +109,7 @@ void RunDrive(const DriveRequest& request) {
     bus.Subscribe(consumer);
   }
   if (frames) bus.Subscribe(&*frames);
-  SensorRecorder sensors(EnabledSensorIds(scenario.imus), EnabledSensorIds(scenario.lasers));
+  SensorRecorder sensors(EnabledSensorIds(scenario.imus), EnabledSensorIds(scenario.lasers), out);
   if (!sensors.empty()) bus.Subscribe(&sensors);
   bus.Run(simulation);
 
@@ -120,7 +120,7 @@ void RunDrive(const DriveRequest& request) {
   WriteFileAtomic(out / "odometry.tum", odometry.tum());
   WriteFileAtomic(out / "odometry.csv", odometry.csv());
   WriteFileAtomic(out / "events.json", events.Json(setup.seed(), simulation.now_ns()));
-  sensors.Write(out);
+  sensors.Finish();
   WriteFileAtomic(out / "provenance.json",
                   JsonFileText(ProvenanceJson(
                       scenario.file, ResolvedScenarioYaml(scenario, setup.seed()), setup.seed(),

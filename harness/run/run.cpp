@@ -139,7 +139,8 @@ int RunScenario(const RunRequest& request) {
   });
   SensorBus bus(setup.camera_ids());
   bus.Subscribe(&truth);
-  SensorRecorder sensors(EnabledSensorIds(scenario.imus), EnabledSensorIds(scenario.lasers));
+  SensorRecorder sensors(EnabledSensorIds(scenario.imus), EnabledSensorIds(scenario.lasers),
+                         out->path());
   if (!sensors.empty()) bus.Subscribe(&sensors);
   if (exporter) bus.Subscribe(&*exporter);
   std::optional<FrameKeeper> kept_frames;
@@ -207,7 +208,7 @@ int RunScenario(const RunRequest& request) {
     const WallClock::time_point t_write = WallClock::now();
     WriteRunFolder(folder, scenario, setup.seed(), setup.world(), truth, pipelines, scored.metrics,
                    events.Json(setup.seed(), simulation.now_ns()), setup.backend());
-    sensors.Write(folder);
+    sensors.Finish();
     write_seconds = SecondsSince(t_write);
     WriteFileAtomic(folder / "timing.json", timing_json());
   };

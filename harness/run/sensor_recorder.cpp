@@ -2,9 +2,9 @@
 
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
 #include <utility>
 
-#include "common/io/atomic_file.h"
 #include "harness/run/run_io.h"
 
 namespace corridorsim {
@@ -42,17 +42,40 @@ std::string BeamColumns(const char* prefix, std::size_t beams) {
 
 }  // namespace
 
-SensorRecorder::SensorRecorder(std::vector<std::string> imu_ids, std::vector<std::string> laser_ids)
-    : imu_ids_(std::move(imu_ids)),
-      laser_ids_(std::move(laser_ids)),
-      imu_csv_(imu_ids_.size(),
-               "t,wx_rad_s,wy_rad_s,wz_rad_s,ax_m_s2,ay_m_s2,az_m_s2,true_wx_rad_s,true_wy_rad_s,"
-               "true_wz_rad_s,true_ax_m_s2,true_ay_m_s2,true_az_m_s2,bias_wx_rad_s,bias_wy_rad_s,"
-               "bias_wz_rad_s,bias_ax_m_s2,bias_ay_m_s2,bias_az_m_s2,x_m,y_m,z_m,qx,qy,qz,qw,"
-               "vx_m_s,vy_m_s,vz_m_s\n"),
-      scans_csv_(laser_ids_.size()),
-      truth_csv_(laser_ids_.size()),
-      hits_csv_(laser_ids_.size()) {}
+constexpr const char* kImuHeader =
+    "t,wx_rad_s,wy_rad_s,wz_rad_s,ax_m_s2,ay_m_s2,az_m_s2,true_wx_rad_s,true_wy_rad_s,"
+    "true_wz_rad_s,true_ax_m_s2,true_ay_m_s2,true_az_m_s2,bias_wx_rad_s,bias_wy_rad_s,"
+    "bias_wz_rad_s,bias_ax_m_s2,bias_ay_m_s2,bias_az_m_s2,x_m,y_m,z_m,qx,qy,qz,qw,vx_m_s,vy_m_s,"
+    "vz_m_s\n";
+
+SensorRecorder::SensorRecorder(std::vector<std::string> imu_ids, std::vector<std::string> laser_ids,
+                               const std::filesystem::path& folder)
+    : imu_ids_(std::move(imu_ids)), laser_ids_(std::move(laser_ids)), dir_(folder / "sensors") {
+  if (empty()) return;
+  std::filesystem::create_directories(dir_);
+  for (const std::string& id : imu_ids_) Open(id + "_imu.csv").out << kImuHeader;
+  for (const std::string& id : laser_ids_) {
+    scans_.push_back(std::make_unique<File>());
+    scans_.back()->path = dir_ / (id + "_scans.csv");
+    truth_.push_back(std::make_unique<File>());
+    truth_.back()->path = dir_ / (id + "_scans_truth.csv");
+    hits_.push_back(std::make_unique<File>());
+    hits_.back()->path = dir_ / (id + "_scans_hits.csv");
+    for (File* f : {scans_.back().get(), truth_.back().get(), hits_.back().get()}) {
+      f->out.open(f->path, std::ios::binary);
+    }
+  }
+}
+
+SensorRecorder::~SensorRecorder() = default;
+
+SensorRecorder::File& SensorRecorder::Open(const std::string& name) {
+  imu_.push_back(std::make_unique<File>());
+  File& f = *imu_.back();
+  f.path = dir_ / name;
+  f.out.open(f.path, std::ios::binary);
+  return f;
+}
 
 void SensorRecorder::OnImu(const sim::ImuMessage& m) {
   std::string row = StampSeconds(m.sample.stamp_ns);
@@ -64,23 +87,25 @@ void SensorRecorder::OnImu(const sim::ImuMessage& m) {
   AppendVector(&row, m.accelerometer_bias);
   AppendPose(&row, m.world_from_imu);
   AppendVector(&row, m.velocity_in_world);
-  imu_csv_.at(m.imu) += row + "\n";
+  imu_.at(m.imu)->out << row << '\n';
 }
 
 void SensorRecorder::OnScan(const sim::ScanMessage& m) {
   const std::size_t k = m.laser;
   const LaserScan& scan = m.scan;
   const std::size_t beams = scan.ranges_m.size();
-  if (scans_csv_.at(k).empty()) {
-    scans_csv_[k] =
-        "t,angle_min_rad,angle_increment_rad,time_increment_s,scan_time_s,range_min_m,"
-        "range_max_m" +
-        BeamColumns("r", beams) + "\n";
-    truth_csv_[k] =
-        "t,first_x_m,first_y_m,first_z_m,first_qx,first_qy,first_qz,first_qw,last_x_m,"
-        "last_y_m,last_z_m,last_qx,last_qy,last_qz,last_qw" +
-        BeamColumns("r", beams) + "\n";
-    hits_csv_[k] = "t" + BeamColumns("id", beams) + "\n";
+  if (m.truth.size() != beams || m.world_from_laser.empty()) {
+    throw std::logic_error("SensorRecorder: a sweep's truth does not match its beams");
+  }
+  std::ofstream& scans = scans_.at(k)->out;
+  if (scans.tellp() == 0) {  // the first sweep: the headers (the beam count is the scanner's)
+    scans << "t,angle_min_rad,angle_increment_rad,time_increment_s,scan_time_s,range_min_m,"
+             "range_max_m"
+          << BeamColumns("r", beams) << '\n';
+    truth_[k]->out << "t,first_x_m,first_y_m,first_z_m,first_qx,first_qy,first_qz,first_qw,"
+                      "last_x_m,last_y_m,last_z_m,last_qx,last_qy,last_qz,last_qw"
+                   << BeamColumns("r", beams) << '\n';
+    hits_[k]->out << "t" << BeamColumns("id", beams) << '\n';
   }
   std::string row = StampSeconds(scan.stamp_ns);
   for (const double v :
@@ -89,7 +114,7 @@ void SensorRecorder::OnScan(const sim::ScanMessage& m) {
     Append(&row, v);
   }
   for (const float r : scan.ranges_m) Append(&row, r);
-  scans_csv_[k] += row + "\n";
+  scans << row << '\n';
 
   std::string truth = StampSeconds(scan.stamp_ns);
   AppendPose(&truth, m.world_from_laser.front());
@@ -99,21 +124,18 @@ void SensorRecorder::OnScan(const sim::ScanMessage& m) {
     Append(&truth, b.range_m);
     hits += "," + std::to_string(b.instance_id);
   }
-  truth_csv_[k] += truth + "\n";
-  hits_csv_[k] += hits + "\n";
+  truth_[k]->out << truth << '\n';
+  hits_[k]->out << hits << '\n';
 }
 
-void SensorRecorder::Write(const std::filesystem::path& folder) const {
-  if (empty()) return;
-  const std::filesystem::path out = folder / "sensors";
-  std::filesystem::create_directories(out);
-  for (std::size_t k = 0; k < imu_ids_.size(); ++k) {
-    WriteFileAtomic(out / (imu_ids_[k] + "_imu.csv"), imu_csv_[k]);
-  }
-  for (std::size_t k = 0; k < laser_ids_.size(); ++k) {
-    WriteFileAtomic(out / (laser_ids_[k] + "_scans.csv"), scans_csv_[k]);
-    WriteFileAtomic(out / (laser_ids_[k] + "_scans_truth.csv"), truth_csv_[k]);
-    WriteFileAtomic(out / (laser_ids_[k] + "_scans_hits.csv"), hits_csv_[k]);
+void SensorRecorder::Finish() {
+  for (auto* files : {&imu_, &scans_, &truth_, &hits_}) {
+    for (const std::unique_ptr<File>& f : *files) {
+      f->out.close();
+      if (f->out.fail()) {
+        throw std::runtime_error("could not write " + f->path.string());
+      }
+    }
   }
 }
 

@@ -5,6 +5,8 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <fstream>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -15,21 +17,32 @@ namespace corridorsim {
 class SensorRecorder : public BusConsumer {
  public:
   /// `imu_ids` and `laser_ids`: the enabled sensors in the simulation's order
-  /// (sim::ImuMessage::imu and sim::ScanMessage::laser index them).
-  SensorRecorder(std::vector<std::string> imu_ids, std::vector<std::string> laser_ids);
+  /// (sim::ImuMessage::imu and sim::ScanMessage::laser index them). With any, the files are
+  /// opened in `folder`/sensors/ (the job's staging folder, committed whole) and written row by
+  /// row as the messages arrive, so a long run holds none of them in memory:
+  /// `<imu>_imu.csv`, `<laser>_scans.csv`, `<laser>_scans_truth.csv`, `<laser>_scans_hits.csv`.
+  SensorRecorder(std::vector<std::string> imu_ids, std::vector<std::string> laser_ids,
+                 const std::filesystem::path& folder);
+  ~SensorRecorder() override;
 
   void OnImu(const sim::ImuMessage& imu) override;
   void OnScan(const sim::ScanMessage& scan) override;
 
-  /// Writes `sensors/<imu>_imu.csv`, `sensors/<laser>_scans.csv`, `<laser>_scans_truth.csv` and
-  /// `<laser>_scans_hits.csv` into `folder` (atomically, file by file); nothing without sensors.
-  void Write(const std::filesystem::path& folder) const;
+  /// Closes the files; throws std::runtime_error naming a file that could not be written whole.
+  void Finish();
   bool empty() const { return imu_ids_.empty() && laser_ids_.empty(); }
 
  private:
+  struct File {
+    std::filesystem::path path;
+    std::ofstream out;
+  };
+  File& Open(const std::string& name);
+
   std::vector<std::string> imu_ids_, laser_ids_;
-  std::vector<std::string> imu_csv_;                           // per IMU
-  std::vector<std::string> scans_csv_, truth_csv_, hits_csv_;  // per scanner
+  std::filesystem::path dir_;
+  std::vector<std::unique_ptr<File>> imu_;                   // per IMU
+  std::vector<std::unique_ptr<File>> scans_, truth_, hits_;  // per scanner
 };
 
 /// The ids of the enabled sensors of `options` (their `enabled` keys), in order.

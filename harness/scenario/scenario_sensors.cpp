@@ -108,12 +108,16 @@ const OptionTable<Scenario>& ScenarioSensorsTable() {
 
 std::optional<OptionsProblem> Scenario::CheckSensors() const {
   if (auto problem = rig.Check()) return problem;
-  const TimeNs step_ns = robot.physics_step_ns();
+  // The physics rate is checked with `robot:` (after `sensors:`): until it passes, there is no
+  // physics step to hold an IMU's period against (a rate of 0 has none).
+  const bool physics_valid = !robot.Check();
   for (const sim::ImuOptions& imu : imus) {
     if (auto problem = imu.Check()) {
       return OptionsProblem{imu.id + "." + problem->key, problem->message};
     }
+    if (!physics_valid) continue;
     // Sampled at physics step ends only, where the state is exact (sim/motion_sensors.h).
+    const TimeNs step_ns = robot.physics_step_ns();
     const TimeNs period_ns = PeriodFromRateHz(imu.rate_hz);
     if (period_ns % step_ns != 0) {
       return OptionsProblem{

@@ -151,6 +151,28 @@ def main():
              ("sees", "OnCamera", "test_echo: the camera went dark")]:
         fail("events.json failures: %s" % failures)
 
+    # The scenario's IMUs and scanners reach a plugin (OnImu, OnScan), and a throw there fails
+    # that pipeline alone, named by the call.
+    sensors = write_scenario(os.path.join(work, "sensors.yaml"), base, 4, echo,
+                             "  imu: {type: test_echo, imu_throw_after_s: 1}\n"
+                             "  scan: {type: test_echo, scan_throw_after_s: 2}\n"
+                             "  calm: {type: test_echo}\n",
+                             sensors="sensors:\n"
+                                     "  imu0: {type: imu, rate_hz: 100}\n"
+                                     "  lidar: {type: laser, rate_hz: 10}\n")
+    folder = os.path.join(work, "sensors")
+    run([corridorsim, "run", sensors, "--out", folder, *NO_EXTRAS], 5)
+    metrics = json.loads(read(os.path.join(folder, "metrics.json")))["pipelines"]
+    events = json.loads(read(os.path.join(folder, "events.json")))["events"]
+    failures = [(e["pipeline"], e["call"], e["reason"].split(" read ")[0].split(" swept ")[0],
+                 round(e["t"], 2)) for e in events if e["type"] == "pipeline_failed"]
+    if failures != [("imu", "OnImu", "test_echo: IMU imu0", 1.01),
+                    ("scan", "OnScan", "test_echo: scanner lidar", 2.1)] or \
+            "ate_rmse_m" not in metrics["calm"]:
+        fail("a plugin's OnImu and OnScan: %s; calm: %s" % (failures, metrics["calm"]))
+    print("ok: a plugin receives the IMU's samples and the scanner's sweeps; a throw there fails "
+          "it alone")
+
     # Shards whose plugin libraries differ are not merged: the plan records each one's SHA-256.
     lib = os.path.join(work, "lib")
     os.makedirs(lib)

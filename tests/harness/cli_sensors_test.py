@@ -183,6 +183,11 @@ def main():
         ("bad_type", "  s: {type: sonar}\n", "sensors.s.type"),
         ("type_changed", "  front: {type: laser}\n", "sensors.front.type"),
         ("bad_name", "  Scan-1: {type: laser}\n", "sensors.Scan-1"),
+        # An IMU's period is held against the physics step only once the rate is valid.
+        ("physics_zero", "  imu0: {type: imu}\nrobot: {physics_rate_hz: 0}\n",
+         "robot.physics_rate_hz"),
+        ("physics_huge", "  imu0: {type: imu}\nrobot: {physics_rate_hz: 1e300}\n",
+         "robot.physics_rate_hz"),
     ]
     for name, yaml, key in bad:
         path = os.path.join(work, name + ".yaml")

@@ -70,7 +70,7 @@ def eigen_only_plugin(prefix, corridorsim, work, env):
     with open(os.path.join(source, "CMakeLists.txt"), "w") as f:
         f.write("cmake_minimum_required(VERSION 3.25)\n"
                 "project(eigen_only_plugin LANGUAGES CXX)\n"
-                "find_package(corridorsim 0.1 CONFIG REQUIRED)\n"
+                "find_package(corridorsim 0.2 CONFIG REQUIRED)\n"
                 "corridorsim_add_pipeline_plugin(eigen_only SOURCES echo_plugin.cpp)\n"
                 "if(WITH_OPENCV_HEADERS)\n"
                 "  corridorsim_add_pipeline_plugin(with_opencv SOURCES uses_opencv.cpp)\n"

@@ -32,6 +32,10 @@ struct EchoOptions {
   // The exception's message ends in a byte that is not UTF-8 and markup (Latin-1 "caf\xE9",
   // "<!--<script>"): text from outside (tests/harness/cli_outside_text_test.py).
   bool latin1_message = false;
+  // > 0: OnImu (OnScan) throws at the first IMU sample (laser sweep) after this time: the SDK
+  // hands a plugin the scenario's IMUs and scanners (docs/sensors.md).
+  double imu_throw_after_s = 0.0;
+  double scan_throw_after_s = 0.0;
   std::optional<corridorsim::OptionsProblem> Check() const;
 };
 
@@ -47,6 +51,12 @@ const corridorsim::OptionTable<EchoOptions>& EchoOptionsTable() {
           "report a malformed lamp detection (no radius) in every frame");
     t.Add("latin1_message", &EchoOptions::latin1_message, "",
           "the exception's message ends in a Latin-1 byte and markup");
+    t.Add("imu_throw_after_s", &EchoOptions::imu_throw_after_s, "s",
+          "> 0: OnImu throws at the first IMU sample after this time")
+        .Range(0, 1e6);
+    t.Add("scan_throw_after_s", &EchoOptions::scan_throw_after_s, "s",
+          "> 0: OnScan throws at the first laser sweep after this time")
+        .Range(0, 1e6);
   });
 }
 
@@ -79,6 +89,20 @@ class EchoPipeline : public corridorsim::slam::Pipeline {
       d.pixel = Eigen::Vector2d(10, 10);
       d.radius_px = 0.0;  // a lamp needs a positive radius
       detections_.push_back(d);
+    }
+  }
+  void OnImu(const corridorsim::ImuSample& sample) override {
+    if (options_.imu_throw_after_s > 0 &&
+        static_cast<double>(sample.stamp_ns) * 1e-9 > options_.imu_throw_after_s) {
+      throw std::runtime_error("test_echo: IMU " + sample.sensor_id + " read " +
+                               std::to_string(sample.linear_acceleration_m_s2.z()));
+    }
+  }
+  void OnScan(const corridorsim::LaserScan& scan) override {
+    if (options_.scan_throw_after_s > 0 &&
+        static_cast<double>(scan.stamp_ns) * 1e-9 > options_.scan_throw_after_s) {
+      throw std::runtime_error("test_echo: scanner " + scan.sensor_id + " swept " +
+                               std::to_string(scan.ranges_m.size()) + " beams");
     }
   }
   std::vector<corridorsim::slam::Detection> TakeDetections() override {
