@@ -2,9 +2,11 @@
 //   1. physics alone at 1 kHz (the Bullet robot driving at constant wheel speeds), as a
 //      real-time factor;
 //   2. the loop without cameras (physics + path follower + odometry + sensor clock);
-//   3. the closed loop with the full rig (front RGB-D + lateral + upward, noise on) at 10 Hz,
+//   3. the loop without cameras with a 1 kHz IMU and a 720-beam laser scanner at 40 Hz, against
+//      the plain loop (docs/sensors.md, "Cost");
+//   4. the closed loop with the full rig (front RGB-D + lateral + upward, noise on) at 10 Hz,
 //      with the time split between physics and rendering.
-// Usage: bench_simulation [simulated seconds, default 60] [all|physics|loop|rig]
+// Usage: bench_simulation [simulated seconds, default 60] [all|physics|loop|motion|rig]
 
 #include <algorithm>
 #include <chrono>
