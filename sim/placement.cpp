@@ -182,9 +182,11 @@ std::string SolidName(const worlds::CollisionBox& box) {
          std::to_string(box.instance_id) + ")";
 }
 
+// A point sensor that must stay in the open: a camera's optical centre or a scanner's origin.
 struct Camera {
   std::string id;
   Vector3d p_in_robot;
+  const char* kind = "camera";
 };
 
 // The first problem of one sweep: what hit, where.
@@ -277,8 +279,8 @@ class Sweep {
       const Vector3d a = Lift(from, c.p_in_robot), b = Lift(next, c.p_in_robot);
       const auto camera_hit = [&](const Vector3d& p, const std::string& what) {
         hit_ = Hit{Hit::kCamera, c.id,
-                   "the camera at (" + Num(p.x()) + ", " + Num(p.y()) + ", " + Num(p.z()) +
-                       ") m, the robot " + Where(next, along_m_) + ", is " + what};
+                   std::string("the ") + c.kind + " at (" + Num(p.x()) + ", " + Num(p.y()) + ", " +
+                       Num(p.z()) + ") m, the robot " + Where(next, along_m_) + ", is " + what};
         return true;
       };
       // Solids within the clearance of the chord (the boxes grown by it), then the corridor's
@@ -375,13 +377,35 @@ class Sweep {
 
 std::optional<PlacementProblem> CheckPathPlacement(const worlds::World& world,
                                                    const RobotOptions& robot, const RobotPath& path,
-                                                   const render::RigOptions* rig) {
+                                                   const render::RigOptions* rig,
+                                                   const std::vector<LaserOptions>& lasers) {
   const BoxGrid grid(world);
   std::vector<Camera> cameras;
   if (rig) {
     for (const render::CameraOptions& c : rig->cameras) {
       if (c.enabled) cameras.push_back({c.id, c.mount.RobotFromCamera().translation()});
     }
+  }
+  // A scanner's origin: outside the chassis (the robot is not in what its beams meet, so from
+  // inside it would see through its own body), then in the open along the path like a camera.
+  for (const LaserOptions& l : lasers) {
+    if (!l.enabled) continue;
+    const Vector3d p = l.mount.RobotFromBody().translation();
+    for (const ChassisBox& box : ChassisBoxes(robot)) {
+      if (((p - box.center_in_robot).cwiseAbs() - box.half_extents).maxCoeff() < 0.0) {
+        return PlacementProblem{
+            "sensors",
+            {l.id + ".mount", "the scanner at (" + Num(p.x()) + ", " + Num(p.y()) + ", " +
+                                  Num(p.z()) +
+                                  ") m in the robot frame is inside the chassis: its beams would "
+                                  "start inside the robot (mount it above the top plate, "
+                                  "body_height_m " +
+                                  Num(robot.body_height_m) +
+                                  " m, or outside "
+                                  "the body)"}};
+      }
+    }
+    cameras.push_back({l.id, p, "scanner"});
   }
   const std::optional<Hit> hit = Sweep(world, grid, robot, cameras).Run(path);
   if (!hit) return std::nullopt;

@@ -19,6 +19,7 @@
 
 #include "common/error.h"
 #include "render/camera_rig.h"
+#include "sim/laser_scanner.h"
 #include "sim/robot.h"
 #include "sim/robot_path.h"
 #include "worlds/world.h"
@@ -40,8 +41,11 @@ struct PlacementProblem {
 /// makes it (body_width_m, body_length_m, body_height_m, wheelbase_m: the first whose default
 /// would fit), else the path (`commands` of a script, otherwise `kind`); a camera problem names
 /// `<camera>.mount`.
+/// `lasers`: the scenario's scanners; an enabled one's origin must lie outside the chassis and
+/// keep a camera's clearance along the path (a problem names `<scanner>.mount`).
 std::optional<PlacementProblem> CheckPathPlacement(const worlds::World& world,
                                                    const RobotOptions& robot, const RobotPath& path,
-                                                   const render::RigOptions* rig);
+                                                   const render::RigOptions* rig,
+                                                   const std::vector<LaserOptions>& lasers = {});
 
 }  // namespace corridorsim::sim

@@ -36,9 +36,11 @@ SimulationSetup::SimulationSetup(const Scenario& scenario, std::uint64_t seed,
       backend_kind_(ChooseBackend(scenario.rig.backend)),  // a bad override fails before the world
       world_(GenerateWorld(scenario, seed)) {
   robot_path_.emplace(BuildScenarioRobotPath(scenario, world_));
-  // Physical sanity along the whole path: the body always, the cameras when they are checked.
+  // Physical sanity along the whole path: the body and the scanners always, the cameras when
+  // they are checked.
   if (auto problem = sim::CheckPathPlacement(world_, scenario.robot, *robot_path_,
-                                             check_camera_placement ? &scenario.rig : nullptr)) {
+                                             check_camera_placement ? &scenario.rig : nullptr,
+                                             scenario.lasers)) {
     throw LocateProblem(scenario, problem->section, problem->problem);
   }
 }

@@ -183,6 +183,9 @@ def main():
         ("bad_type", "  s: {type: sonar}\n", "sensors.s.type"),
         ("type_changed", "  front: {type: laser}\n", "sensors.front.type"),
         ("bad_name", "  Scan-1: {type: laser}\n", "sensors.Scan-1"),
+        # A scanner inside the chassis, or one that meets a wall along the path.
+        ("laser_in_chassis", "  s: {type: laser, mount: {x_m: 0, z_m: 0.15}}\n", "sensors.s.mount"),
+        ("laser_in_wall", "  s: {type: laser, mount: {y_m: 1.4, z_m: 0.5}}\n", "sensors.s.mount"),
         # An IMU's period is held against the physics step only once the rate is valid.
         ("physics_zero", "  imu0: {type: imu}\nrobot: {physics_rate_hz: 0}\n",
          "robot.physics_rate_hz"),
