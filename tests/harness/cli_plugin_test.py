@@ -53,6 +53,15 @@ def write_scenario(path, base, duration_s, plugin, pipelines, sensors="", expect
     return path
 
 
+def failed_run(corridorsim, scenario, folder):
+    """Runs `scenario` into `folder`, where a pipeline fails (exit 5): its metrics' pipelines and
+    its pipeline_failed events."""
+    run([corridorsim, "run", scenario, "--out", folder, *NO_EXTRAS], 5)
+    metrics = json.loads(read(os.path.join(folder, "metrics.json")))["pipelines"]
+    events = json.loads(read(os.path.join(folder, "events.json")))["events"]
+    return metrics, [e for e in events if e["type"] == "pipeline_failed"]
+
+
 def main():
     corridorsim, plugins, source, work = (os.path.abspath(a) for a in sys.argv[1:5])
     shutil.rmtree(work, ignore_errors=True)
@@ -135,15 +144,12 @@ def main():
                                     "  lateral: {enabled: false}\n"
                                     "  upward: {enabled: true, rate_hz: 5}\n")
     folder = os.path.join(work, "camera")
-    run([corridorsim, "run", camera, "--out", folder, *NO_EXTRAS], 5)
-    metrics = json.loads(read(os.path.join(folder, "metrics.json")))["pipelines"]
+    metrics, failures = failed_run(corridorsim, camera, folder)
     frames = json.loads(read(os.path.join(folder, "timing.json")))["pipelines"]["also"]["frames"]
     if metrics["sees"] != {"health": {"failed": 1}} or "ate_rmse_m" not in metrics["also"] or \
             metrics["bad"] != {"health": {"failed": 1}} or frames < 15:
         fail("a camera-reading pipeline that throws: %s (the other saw %s frames)" %
              (metrics, frames))
-    events = json.loads(read(os.path.join(folder, "events.json")))["events"]
-    failures = [e for e in events if e["type"] == "pipeline_failed"]
     # A malformed detection fails its pipeline at the first frame, as a throw would.
     if [(e["pipeline"], e["call"], e["reason"]) for e in failures] != \
             [("bad", "TakeDetections",
@@ -153,19 +159,14 @@ def main():
 
     # The scenario's IMUs and scanners reach a plugin (OnImu, OnScan), and a throw there fails
     # that pipeline alone, named by the call.
-    sensors = write_scenario(os.path.join(work, "sensors.yaml"), base, 4, echo,
-                             "  imu: {type: test_echo, imu_throw_after_s: 1}\n"
-                             "  scan: {type: test_echo, scan_throw_after_s: 2}\n"
-                             "  calm: {type: test_echo}\n",
-                             sensors="sensors:\n"
-                                     "  imu0: {type: imu, rate_hz: 100}\n"
-                                     "  lidar: {type: laser, rate_hz: 10}\n")
-    folder = os.path.join(work, "sensors")
-    run([corridorsim, "run", sensors, "--out", folder, *NO_EXTRAS], 5)
-    metrics = json.loads(read(os.path.join(folder, "metrics.json")))["pipelines"]
-    events = json.loads(read(os.path.join(folder, "events.json")))["events"]
+    pipelines = {"imu": "imu_throw_after_s: 1", "scan": "scan_throw_after_s: 2", "calm": "scale: 1"}
+    sensors = write_scenario(
+        os.path.join(work, "sensors.yaml"), base, 4, echo,
+        "".join("  %s: {type: test_echo, %s}\n" % item for item in pipelines.items()),
+        sensors="sensors: {imu0: {type: imu, rate_hz: 100}, lidar: {type: laser, rate_hz: 10}}\n")
+    metrics, failed = failed_run(corridorsim, sensors, os.path.join(work, "sensors"))
     failures = [(e["pipeline"], e["call"], e["reason"].split(" read ")[0].split(" swept ")[0],
-                 round(e["t"], 2)) for e in events if e["type"] == "pipeline_failed"]
+                 round(e["t"], 2)) for e in failed]
     if failures != [("imu", "OnImu", "test_echo: IMU imu0", 1.01),
                     ("scan", "OnScan", "test_echo: scanner lidar", 2.1)] or \
             "ate_rmse_m" not in metrics["calm"]:
