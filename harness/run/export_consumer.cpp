@@ -9,10 +9,11 @@
 namespace corridorsim {
 
 ExportConsumer::ExportConsumer(const std::filesystem::path& dir, const render::RigOptions& rig,
-                               double wheelbase_m)
+                               double wheelbase_m, const std::vector<sim::ImuOptions>& imus)
     : truth_period_ns_(PeriodFromRateHz(kTruthFileRateHz)) {
   try {
     exporter_.emplace(dir, rig, wheelbase_m);
+    imu_export_.emplace(dir, imus);
   } catch (const std::runtime_error& e) {
     throw InputError(SourceLocation{"command line", 0, 0}, "--export", e.what());
   }
@@ -46,9 +47,16 @@ void ExportConsumer::OnTruth(const sim::TruthSample& truth) {
   worker_.Submit([this, stamp, pose] { exporter_->AddTruth(stamp, pose); }, 0);
 }
 
+void ExportConsumer::OnImu(const sim::ImuMessage& imu) {
+  worker_.Submit([this, k = imu.imu, sample = imu.sample] { imu_export_->Add(k, sample); }, 0);
+}
+
 void ExportConsumer::Finish() {
   const WallClock::time_point t0 = WallClock::now();
-  worker_.Submit([this] { exporter_->Finish(); });
+  worker_.Submit([this] {
+    exporter_->Finish();
+    imu_export_->Finish();
+  });
   worker_.Drain();
   wait_seconds_ += SecondsSince(t0);
 }

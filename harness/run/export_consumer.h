@@ -9,6 +9,7 @@
 
 #include "common/io/serial_worker.h"
 #include "harness/run/export.h"
+#include "harness/run/export_imu.h"
 #include "harness/run/sensor_bus.h"
 
 namespace corridorsim {
@@ -17,13 +18,15 @@ class ExportConsumer : public BusConsumer {
  public:
   /// Opens the export in `dir` for the rendered cameras of `rig` (InputError at `--export` when
   /// the folder cannot take it).
+  /// `imus`: the scenario's IMUs, exported as euroc/mav0/imu<k>/ (harness/run/export_imu.h).
   ExportConsumer(const std::filesystem::path& dir, const render::RigOptions& rig,
-                 double wheelbase_m);
+                 double wheelbase_m, const std::vector<sim::ImuOptions>& imus = {});
 
   void OnStart(const sim::TruthSample& truth) override;
   void OnOdometry(const WheelOdometry& odometry) override;
   void OnCameraSet(const CameraSet& set) override;
   void OnTruth(const sim::TruthSample& truth) override;
+  void OnImu(const sim::ImuMessage& imu) override;
 
   /// Writes the index files and waits for the worker to finish everything.
   void Finish();
@@ -34,6 +37,7 @@ class ExportConsumer : public BusConsumer {
 
  private:
   std::optional<DatasetExporter> exporter_;
+  std::optional<ImuExport> imu_export_;
   SerialWorker worker_{4};
   TimeNs truth_period_ns_;
   double wait_seconds_ = 0.0;

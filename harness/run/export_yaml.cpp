@@ -24,7 +24,8 @@ Intrinsics IntrinsicsOf(const CameraModel& model) {
   return Intrinsics{{model.intrinsics()}, model.kannala_brandt() != nullptr};
 }
 
-// `name:` as EuRoC writes a 4x4 matrix (T_BS): cols, rows, data row-major.
+}  // namespace
+
 std::string Matrix4Yaml(const std::string& name, const SE3& pose) {
   Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
   m.topLeftCorner<3, 3>() = pose.rotation();
@@ -42,8 +43,6 @@ std::string Matrix4Yaml(const std::string& name, const SE3& pose) {
   y << "]\n";
   return y.str();
 }
-
-}  // namespace
 
 std::string YamlReal(double value) {
   char buf[64];

@@ -27,6 +27,9 @@ std::string YamlReal(double value);
 /// `[a, b, ...]` of YamlReal values.
 std::string YamlRealList(const std::vector<double>& values);
 
+/// `name:` as EuRoC writes a 4x4 matrix (T_BS, T_WB_start): cols, rows, data row-major.
+std::string Matrix4Yaml(const std::string& name, const SE3& pose);
+
 /// ORB-SLAM2's Examples/RGB-D/TUM1.yaml keys for `options` (with ORB-SLAM3's pre-1.0
 /// Camera.type, Camera.width and Camera.height); `%YAML:1.0`, read by cv::FileStorage.
 std::string OrbSlamYaml(const render::CameraOptions& options);

@@ -102,7 +102,10 @@ int RunScenario(const RunRequest& request) {
   setup.Start(render_cameras);
   sim::Simulation& simulation = setup.simulation();
   std::optional<ExportConsumer> exporter;
-  if (dataset) exporter.emplace(dataset->path(), setup.rig_options(), scenario.robot.wheelbase_m);
+  if (dataset) {
+    exporter.emplace(dataset->path(), setup.rig_options(), scenario.robot.wheelbase_m,
+                     scenario.imus);
+  }
   std::printf("run: %s, seed %llu, %zu pipeline(s)%s, path %s (%.1f m)%s\n",
               scenario.name.empty() ? request.scenario_file.c_str() : scenario.name.c_str(),
               static_cast<unsigned long long>(setup.seed()), pipelines.size(),

@@ -118,6 +118,35 @@ def check_scanner(folder, world_ids):
           "(configured 0.02); every hit a world object" % (n, mean, sigma))
 
 
+def check_euroc_imu(work):
+    """--export's euroc/mav0/imu0/: EuRoC's data.csv (every sample the run folder has, as
+    reported) and a sensor.yaml that a YAML reader takes, with Kalibr's noise keys and T_BS."""
+    import yaml  # python3-yaml, as Kalibr and OpenVINS read their YAML
+    folder = os.path.join(work, "export", "euroc", "mav0", "imu0")
+    with open(os.path.join(folder, "data.csv")) as f:
+        lines = f.read().splitlines()
+    if not lines[0].startswith("#timestamp [ns],w_RS_S_x [rad s^-1]"):
+        fail("imu0/data.csv header: " + lines[0])
+    _, samples = rows(os.path.join(work, "run_sensors", "sensors", "imu0_imu.csv"))
+    if len(lines) - 1 != len(samples):
+        fail("imu0/data.csv has %d rows, the run folder %d samples" % (len(lines) - 1, len(samples)))
+    for line, sample in zip(lines[1:], samples):
+        values = line.split(",")
+        if int(values[0]) != stamp_ns(sample[0]) or \
+                any(abs(float(a) - float(b)) > 1e-7 * max(1.0, abs(float(b)))
+                    for a, b in zip(values[1:], sample[1:7])):
+            fail("imu0/data.csv row %s differs from the run's sample %s" % (line, sample[:7]))
+    with open(os.path.join(folder, "sensor.yaml")) as f:
+        sensor = yaml.safe_load(f)
+    t_bs = sensor["T_BS"]["data"]
+    if sensor["sensor_type"] != "imu" or sensor["rate_hz"] != 1000.0 or len(t_bs) != 16 or \
+            abs(t_bs[3] - 0.1) > 1e-12 or abs(t_bs[7] - 0.05) > 1e-12 or \
+            abs(t_bs[11] - 0.25) > 1e-12 or sensor["gyroscope_noise_density"] != 1.6968e-4:
+        fail("imu0/sensor.yaml: %s" % sensor)
+    print("ok: --export writes EuRoC's imu0/data.csv (%d samples, those of the run) and "
+          "sensor.yaml" % len(samples))
+
+
 def world_ids(folder):
     with open(os.path.join(folder, "world.json")) as f:
         world = json.load(f)
@@ -160,14 +189,16 @@ def main():
         f.write(SCENARIO.format(source=source).split("sensors:")[0])
     args = ["--no-plots", "--no-viewer", "--set", "pipelines.p1_harris.enabled=false", "--set",
             "pipelines.p1_vp_doorplate.enabled=false", "--set", "expectations=[]"]
-    for name, path in (("run_sensors", scenario), ("run_plain", plain)):
-        run(binary, ["run", path, "--out", os.path.join(work, name)] + args, 0, work)
+    run(binary, ["run", scenario, "--out", os.path.join(work, "run_sensors"), "--export",
+                 os.path.join(work, "export")] + args, 0, work)
+    run(binary, ["run", plain, "--out", os.path.join(work, "run_plain")] + args, 0, work)
     if read(os.path.join(work, "run_sensors", "metrics.json")) != \
             read(os.path.join(work, "run_plain", "metrics.json")):
         fail("metrics.json differs with the IMU and the scanner added")
     if not os.path.exists(os.path.join(work, "run_sensors", "sensors", "imu0_imu.csv")):
         fail("a run wrote no sensors/imu0_imu.csv")
     print("ok: a run with the sensors writes sensors/ and the metrics of the run without them")
+    check_euroc_imu(work)
 
     bad = [
         ("imu_rate", "  imu0: {type: imu, rate_hz: 300}\n", "sensors.imu0.rate_hz"),
