@@ -109,7 +109,7 @@ void RunDrive(const DriveRequest& request) {
     bus.Subscribe(consumer);
   }
   if (frames) bus.Subscribe(&*frames);
-  SensorRecorder sensors(EnabledSensorIds(scenario.imus), EnabledSensorIds(scenario.lasers), out);
+  SensorRecorder sensors(scenario.imus, scenario.lasers, out);
   if (!sensors.empty()) bus.Subscribe(&sensors);
   bus.Run(simulation);
 

@@ -1,7 +1,6 @@
 #include "harness/run/export_imu.h"
 
 #include <cstdio>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 
@@ -56,25 +55,7 @@ void ImuExport::Finish() {
     if (imu->csv.fail()) {
       throw std::runtime_error("could not write " + (imu->folder / "data.csv").string());
     }
-    const sim::ImuOptions& o = imu->options;
-    const double on = o.noise ? 1.0 : 0.0;  // noise off: the samples are exact
-    std::ostringstream y;
-    y << "# General sensor definitions.\n"
-      << "sensor_type: imu\n"
-      << "comment: corridorsim IMU '" << o.id << "' (docs/sensors.md)\n\n"
-      << "# Sensor extrinsics wrt. the body-frame (the robot frame R: x forward, z up).\n"
-      << Matrix4Yaml("T_BS", o.mount.RobotFromBody()) << "\n"
-      << "rate_hz: " << YamlReal(o.rate_hz) << "\n\n"
-      << "# inertial sensor noise model parameters (static)\n"
-      << "gyroscope_noise_density: " << YamlReal(on * o.gyroscope_noise_density)
-      << "     # [ rad / s / sqrt(Hz) ]   ( gyro \"white noise\" )\n"
-      << "gyroscope_random_walk: " << YamlReal(on * o.gyroscope_random_walk)
-      << "       # [ rad / s^2 / sqrt(Hz) ] ( gyro bias diffusion )\n"
-      << "accelerometer_noise_density: " << YamlReal(on * o.accelerometer_noise_density)
-      << "  # [ m / s^2 / sqrt(Hz) ]   ( accel \"white noise\" )\n"
-      << "accelerometer_random_walk: " << YamlReal(on * o.accelerometer_random_walk)
-      << "    # [ m / s^3 / sqrt(Hz) ].  ( accel bias diffusion )\n";
-    WriteFileAtomic(imu->folder / "sensor.yaml", y.str());
+    WriteFileAtomic(imu->folder / "sensor.yaml", ImuSensorYaml(imu->options));
   }
 }
 

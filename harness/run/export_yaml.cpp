@@ -154,4 +154,51 @@ std::string CameraSensorYaml(const render::CameraOptions& options, const std::st
   return y.str();
 }
 
+std::string ImuSensorYaml(const sim::ImuOptions& o) {
+  const double on = o.noise ? 1.0 : 0.0;  // noise off: the samples are exact
+  std::ostringstream y;
+  y << "# General sensor definitions.\n"
+    << "sensor_type: imu\n"
+    << "comment: corridorsim IMU '" << o.id << "' (docs/sensors.md)\n\n"
+    << "# Sensor extrinsics wrt. the body-frame (the robot frame R: x forward, z up).\n"
+    << Matrix4Yaml("T_BS", o.mount.RobotFromBody()) << "\n"
+    << "rate_hz: " << YamlReal(o.rate_hz) << "\n\n"
+    << "# Kalibr's imu.yaml: continuous-time noise densities and bias random walks.\n"
+    << "accelerometer_noise_density: " << YamlReal(on * o.accelerometer_noise_density)
+    << "  # [ m / s^2 / sqrt(Hz) ]\n"
+    << "accelerometer_random_walk: " << YamlReal(on * o.accelerometer_random_walk)
+    << "  # [ m / s^3 / sqrt(Hz) ]\n"
+    << "gyroscope_noise_density: " << YamlReal(on * o.gyroscope_noise_density)
+    << "  # [ rad / s / sqrt(Hz) ]\n"
+    << "gyroscope_random_walk: " << YamlReal(on * o.gyroscope_random_walk)
+    << "  # [ rad / s^2 / sqrt(Hz) ]\n"
+    << "rostopic: /" << o.id << "\n"
+    << "update_rate: " << YamlReal(o.rate_hz) << "  # Hz\n";
+  return y.str();
+}
+
+std::string LaserSensorYaml(const sim::LaserOptions& o, const LaserScan& sweep) {
+  const std::size_t beams = sweep.ranges_m.size();
+  const double last = beams ? static_cast<double>(beams - 1) : 0.0;
+  std::ostringstream y;
+  y << "# General sensor definitions.\n"
+    << "sensor_type: laser\n"
+    << "comment: corridorsim planar laser scanner '" << o.id << "' (docs/sensors.md)\n\n"
+    << "# Sensor extrinsics wrt. the body-frame (the robot frame R: x forward, z up); the scan\n"
+    << "# plane is the sensor's x-y plane, beam 0 at angle_min about its z axis.\n"
+    << Matrix4Yaml("T_BS", o.mount.RobotFromBody()) << "\n"
+    << "rate_hz: " << YamlReal(o.rate_hz) << "\n"
+    << "beams: " << beams << "\n"
+    << "angle_min: " << YamlReal(sweep.angle_min_rad) << "  # rad\n"
+    << "angle_max: " << YamlReal(sweep.angle_min_rad + last * sweep.angle_increment_rad)
+    << "  # rad\n"
+    << "angle_increment: " << YamlReal(sweep.angle_increment_rad) << "  # rad\n"
+    << "time_increment: " << YamlReal(ToSeconds(sweep.time_increment_ns)) << "  # s\n"
+    << "scan_time: " << YamlReal(ToSeconds(sweep.scan_time_ns)) << "  # s\n"
+    << "range_min: " << YamlReal(sweep.range_min_m) << "  # m\n"
+    << "range_max: " << YamlReal(sweep.range_max_m) << "  # m\n"
+    << "range_sigma: " << YamlReal(o.noise ? o.range_sigma_m : 0.0) << "  # m\n";
+  return y.str();
+}
+
 }  // namespace corridorsim

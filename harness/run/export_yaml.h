@@ -8,8 +8,11 @@
 #include <vector>
 
 #include "common/pose.h"
+#include "common/sensor_messages.h"
 #include "common/time.h"
 #include "render/camera_rig.h"
+#include "sim/imu.h"
+#include "sim/laser_scanner.h"
 
 namespace corridorsim {
 
@@ -40,5 +43,18 @@ std::string OrbSlamYaml(const render::CameraOptions& options);
 /// T_WB_start (the same 4x4 form: world_from_robot of `start`) and start_timestamp_ns.
 std::string CameraSensorYaml(const render::CameraOptions& options, const std::string& comment,
                              const BodyStart& start);
+
+/// An IMU's calibration file, read by EuRoC's, Kalibr's and OpenVINS' YAML readers alike:
+/// `sensor_type: imu`, T_BS (robot_from_imu), EuRoC's `rate_hz`, Kalibr's imu.yaml keys
+/// (`accelerometer_noise_density`, `accelerometer_random_walk`, `gyroscope_noise_density`,
+/// `gyroscope_random_walk`, `rostopic`, `update_rate`); the noise figures are 0 when the
+/// scenario turns the IMU's noise off (its samples are then exact).
+std::string ImuSensorYaml(const sim::ImuOptions& imu);
+
+/// A laser scanner's geometry: `sensor_type: laser`, T_BS (robot_from_laser) and the fields of
+/// ROS's sensor_msgs/LaserScan that do not change from sweep to sweep, as `sweep` (any of its
+/// sweeps) has them (angle_min, angle_max, angle_increment in rad, time_increment and scan_time
+/// in s, range_min and range_max in m), the beams and the range noise's sigma.
+std::string LaserSensorYaml(const sim::LaserOptions& laser, const LaserScan& sweep);
 
 }  // namespace corridorsim

@@ -142,8 +142,7 @@ int RunScenario(const RunRequest& request) {
   });
   SensorBus bus(setup.camera_ids());
   bus.Subscribe(&truth);
-  SensorRecorder sensors(EnabledSensorIds(scenario.imus), EnabledSensorIds(scenario.lasers),
-                         out->path());
+  SensorRecorder sensors(scenario.imus, scenario.lasers, out->path());
   if (!sensors.empty()) bus.Subscribe(&sensors);
   if (exporter) bus.Subscribe(&*exporter);
   std::optional<FrameKeeper> kept_frames;

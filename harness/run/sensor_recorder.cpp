@@ -1,10 +1,13 @@
 #include "harness/run/sensor_recorder.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
 #include <utility>
 
+#include "common/io/atomic_file.h"
+#include "harness/run/export_yaml.h"
 #include "harness/run/run_io.h"
 
 namespace corridorsim {
@@ -48,13 +51,25 @@ constexpr const char* kImuHeader =
     "bias_wz_rad_s,bias_ax_m_s2,bias_ay_m_s2,bias_az_m_s2,x_m,y_m,z_m,qx,qy,qz,qw,vx_m_s,vy_m_s,"
     "vz_m_s\n";
 
-SensorRecorder::SensorRecorder(std::vector<std::string> imu_ids, std::vector<std::string> laser_ids,
+SensorRecorder::SensorRecorder(const std::vector<sim::ImuOptions>& imus,
+                               const std::vector<sim::LaserOptions>& lasers,
                                const std::filesystem::path& folder)
-    : imu_ids_(std::move(imu_ids)), laser_ids_(std::move(laser_ids)), dir_(folder / "sensors") {
-  if (empty()) return;
+    : dir_(folder / "sensors") {
+  for (const sim::LaserOptions& l : lasers) {
+    if (l.enabled) lasers_.push_back(l);
+  }
+  const bool any = !lasers_.empty() ||
+                   std::any_of(imus.begin(), imus.end(), [](const auto& i) { return i.enabled; });
+  if (!any) return;
   std::filesystem::create_directories(dir_);
-  for (const std::string& id : imu_ids_) Open(id + "_imu.csv").out << kImuHeader;
-  for (const std::string& id : laser_ids_) {
+  for (const sim::ImuOptions& imu : imus) {
+    if (!imu.enabled) continue;
+    imu_ids_.push_back(imu.id);
+    Open(imu.id + "_imu.csv").out << kImuHeader;
+    WriteFileAtomic(dir_ / (imu.id + "_imu.yaml"), ImuSensorYaml(imu));
+  }
+  for (const sim::LaserOptions& l : lasers_) {
+    const std::string& id = l.id;
     scans_.push_back(std::make_unique<File>());
     scans_.back()->path = dir_ / (id + "_scans.csv");
     truth_.push_back(std::make_unique<File>());
@@ -99,6 +114,7 @@ void SensorRecorder::OnScan(const sim::ScanMessage& m) {
   }
   std::ofstream& scans = scans_.at(k)->out;
   if (scans.tellp() == 0) {  // the first sweep: the headers (the beam count is the scanner's)
+    WriteFileAtomic(dir_ / (lasers_.at(k).id + "_laser.yaml"), LaserSensorYaml(lasers_[k], scan));
     scans << "t,angle_min_rad,angle_increment_rad,time_increment_s,scan_time_s,range_min_m,"
              "range_max_m"
           << BeamColumns("r", beams) << '\n';

@@ -11,18 +11,22 @@
 #include <vector>
 
 #include "harness/run/sensor_bus.h"
+#include "sim/imu.h"
+#include "sim/laser_scanner.h"
 
 namespace corridorsim {
 
 class SensorRecorder : public BusConsumer {
  public:
-  /// `imu_ids` and `laser_ids`: the enabled sensors in the simulation's order
+  /// The enabled sensors of `imus` and `lasers`, in the simulation's order
   /// (sim::ImuMessage::imu and sim::ScanMessage::laser index them). With any, the files are
   /// opened in `folder`/sensors/ (the job's staging folder, committed whole) and written row by
   /// row as the messages arrive, so a long run holds none of them in memory:
-  /// `<imu>_imu.csv`, `<laser>_scans.csv`, `<laser>_scans_truth.csv`, `<laser>_scans_hits.csv`.
-  SensorRecorder(std::vector<std::string> imu_ids, std::vector<std::string> laser_ids,
-                 const std::filesystem::path& folder);
+  /// `<imu>_imu.csv`, `<laser>_scans.csv`, `<laser>_scans_truth.csv`, `<laser>_scans_hits.csv`,
+  /// and each sensor's calibration file (harness/run/export_yaml.h): `<imu>_imu.yaml` (Kalibr's
+  /// imu.yaml keys, EuRoC's sensor.yaml), `<laser>_laser.yaml` (its geometry, at its first sweep).
+  SensorRecorder(const std::vector<sim::ImuOptions>& imus,
+                 const std::vector<sim::LaserOptions>& lasers, const std::filesystem::path& folder);
   ~SensorRecorder() override;
 
   void OnImu(const sim::ImuMessage& imu) override;
@@ -30,7 +34,7 @@ class SensorRecorder : public BusConsumer {
 
   /// Closes the files; throws std::runtime_error naming a file that could not be written whole.
   void Finish();
-  bool empty() const { return imu_ids_.empty() && laser_ids_.empty(); }
+  bool empty() const { return imu_ids_.empty() && lasers_.empty(); }
 
  private:
   struct File {
@@ -39,20 +43,11 @@ class SensorRecorder : public BusConsumer {
   };
   File& Open(const std::string& name);
 
-  std::vector<std::string> imu_ids_, laser_ids_;
+  std::vector<std::string> imu_ids_;
+  std::vector<sim::LaserOptions> lasers_;
   std::filesystem::path dir_;
   std::vector<std::unique_ptr<File>> imu_;                   // per IMU
   std::vector<std::unique_ptr<File>> scans_, truth_, hits_;  // per scanner
 };
-
-/// The ids of the enabled sensors of `options` (their `enabled` keys), in order.
-template <class Options>
-std::vector<std::string> EnabledSensorIds(const std::vector<Options>& options) {
-  std::vector<std::string> ids;
-  for (const Options& o : options) {
-    if (o.enabled) ids.push_back(o.id);
-  }
-  return ids;
-}
 
 }  // namespace corridorsim

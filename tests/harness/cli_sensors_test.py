@@ -145,6 +145,21 @@ def check_euroc_imu(work):
         fail("imu0/sensor.yaml: %s" % sensor)
     print("ok: --export writes EuRoC's imu0/data.csv (%d samples, those of the run) and "
           "sensor.yaml" % len(samples))
+    # The run folder's calibration files: Kalibr's imu.yaml keys, the scanner's geometry.
+    sensors = os.path.join(work, "run_sensors", "sensors")
+    with open(os.path.join(sensors, "imu0_imu.yaml")) as f:
+        imu = yaml.safe_load(f)
+    if imu != dict(sensor, comment=imu["comment"], rostopic="/imu0", update_rate=1000.0):
+        fail("sensors/imu0_imu.yaml is not the export's sensor.yaml with Kalibr's keys: %s" % imu)
+    with open(os.path.join(sensors, "scanner_laser.yaml")) as f:
+        laser = yaml.safe_load(f)
+    _, sweeps = rows(os.path.join(sensors, "scanner_scans.csv"))
+    first = [float(v) for v in sweeps[0][1:7]]
+    if laser["beams"] != 361 or abs(laser["angle_min"] - first[0]) > 1e-8 or \
+            abs(laser["angle_increment"] - first[1]) > 1e-11 or laser["range_max"] != first[5] or \
+            abs(laser["angle_max"] - math.pi / 2) > 1e-9 or laser["range_sigma"] != 0.02:
+        fail("sensors/scanner_laser.yaml: %s against the sweeps' %s" % (laser, first))
+    print("ok: sensors/ holds imu0_imu.yaml (Kalibr's keys) and scanner_laser.yaml (its geometry)")
 
 
 def world_ids(folder):
