@@ -48,6 +48,26 @@ def raw_receive(sock):
     return message, blob
 
 
+def test_messages_yields_each_message_until_the_connection_closes_between_messages():
+    connection, other = pair()
+    for k in range(3):
+        raw_send(other, {"type": "odometry", "k": k}, b"%d" % k)
+    other.close()
+    got = [(message["k"], blob) for message, blob, _fds in connection.messages()]
+    assert got == [(0, b"0"), (1, b"1"), (2, b"2")]
+
+
+def test_messages_raises_when_the_connection_closes_inside_a_message():
+    connection, other = pair()
+    raw_send(other, {"type": "odometry"})
+    other.sendall(HEADER.pack(MAGIC, 100, 0) + b'{"type":')
+    other.close()
+    messages = connection.messages()
+    assert next(messages)[0] == {"type": "odometry"}
+    with pytest.raises(ProtocolError):
+        next(messages)
+
+
 def test_a_message_round_trips_with_its_blob_and_descriptor():
     connection, other = pair()
     r, w = os.pipe()
