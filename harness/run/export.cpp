@@ -195,13 +195,15 @@ void DatasetExporter::AddOdometry(const WheelOdometry& odometry) {
   odometry_.push_back(odometry);
 }
 
-void DatasetExporter::AddTruth(TimeNs stamp_ns, const SE3& world_from_robot) {
+void DatasetExporter::AddTruth(TimeNs stamp_ns, const SE3& world_from_robot,
+                               const Eigen::Matrix<double, 6, 1>& biases) {
   CheckOpen("AddTruth");
   if (stamp_ns < 0 || (!truth_.empty() && stamp_ns <= truth_.back().first)) {
     throw std::invalid_argument("DatasetExporter: truth at " + std::to_string(stamp_ns) +
                                 " ns: stamps must be non-negative and increase");
   }
   truth_.emplace_back(stamp_ns, world_from_robot);
+  truth_biases_.push_back(biases);
 }
 
 void DatasetExporter::Finish() {
@@ -290,7 +292,8 @@ void DatasetExporter::FinishEuroc(const CameraOutput& camera) const {
 }
 
 // EuRoC's state_groundtruth_estimate0: the robot's pose, its velocity in W by central
-// differences of the poses (one-sided at the ends), and zero biases (there is no IMU).
+// differences of the poses (one-sided at the ends), and the first IMU's true biases (zero
+// without an IMU).
 void DatasetExporter::FinishGroundTruth() const {
   if (truth_.empty()) return;
   const fs::path folder = fs::path("euroc") / "mav0" / "state_groundtruth_estimate0";
@@ -315,7 +318,11 @@ void DatasetExporter::FinishGroundTruth() const {
     for (const double value :
          {p.x(), p.y(), p.z(), q.w(), q.x(), q.y(), q.z(), v.x(), v.y(), v.z()})
       csv << "," << Fixed9(value);
-    csv << ",0,0,0,0,0,0\n";
+    for (int i = 0; i < 6; ++i) {
+      const double b = truth_biases_[k][i];
+      csv << "," << (b == 0.0 ? std::string("0") : Fixed9(b));  // no IMU: as before, 0
+    }
+    csv << "\n";
   }
   WriteFileAtomic(dir_ / folder / "data.csv", csv.str());
 }

@@ -47,8 +47,11 @@ class DatasetExporter {
   void AddFrame(const sim::CameraMessage& message, const std::string& camera_id);
   /// One odometry message; stamps must increase (std::invalid_argument otherwise).
   void AddOdometry(const WheelOdometry& odometry);
-  /// The robot's true pose (body frame R) at `stamp_ns`; stamps must increase.
-  void AddTruth(TimeNs stamp_ns, const SE3& world_from_robot);
+  /// The robot's true pose (body frame R) at `stamp_ns`; stamps must increase. `biases`: the
+  /// first IMU's true gyroscope and accelerometer biases in its own frame at its latest sample
+  /// (state_groundtruth_estimate0's b_w and b_a; zero without an IMU).
+  void AddTruth(TimeNs stamp_ns, const SE3& world_from_robot,
+                const Eigen::Matrix<double, 6, 1>& biases = Eigen::Matrix<double, 6, 1>::Zero());
   /// Writes the index files, YAMLs, ground truth, odometry CSV and COCO JSON. Adding anything
   /// or finishing again afterwards throws std::logic_error.
   void Finish();
@@ -93,6 +96,7 @@ class DatasetExporter {
   double wheelbase_m_;
   std::vector<CameraOutput> cameras_;          // the rig's enabled cameras, in rig order
   std::vector<std::pair<TimeNs, SE3>> truth_;  // world_from_robot
+  std::vector<Eigen::Matrix<double, 6, 1>> truth_biases_;  // per truth_ row: b_w, b_a
   std::vector<WheelOdometry> odometry_;
   std::vector<CocoImage> coco_images_;
   bool finished_ = false;

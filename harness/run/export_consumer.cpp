@@ -44,10 +44,11 @@ void ExportConsumer::OnTruth(const sim::TruthSample& truth) {
   if (truth.stamp_ns % truth_period_ns_ != 0) return;
   const TimeNs stamp = truth.stamp_ns;
   const SE3 pose = truth.state.world_from_robot;
-  worker_.Submit([this, stamp, pose] { exporter_->AddTruth(stamp, pose); }, 0);
+  worker_.Submit([this, stamp, pose, b = biases_] { exporter_->AddTruth(stamp, pose, b); }, 0);
 }
 
 void ExportConsumer::OnImu(const sim::ImuMessage& imu) {
+  if (imu.imu == 0) biases_ << imu.gyroscope_bias, imu.accelerometer_bias;
   worker_.Submit([this, k = imu.imu, sample = imu.sample] { imu_export_->Add(k, sample); }, 0);
 }
 

@@ -38,6 +38,8 @@ class ExportConsumer : public BusConsumer {
  private:
   std::optional<DatasetExporter> exporter_;
   std::optional<ImuExport> imu_export_;
+  // The first IMU's true biases at its latest sample (b_w, b_a): the ground truth's.
+  Eigen::Matrix<double, 6, 1> biases_ = Eigen::Matrix<double, 6, 1>::Zero();
   SerialWorker worker_{4};
   TimeNs truth_period_ns_;
   double wait_seconds_ = 0.0;

@@ -143,8 +143,23 @@ def check_euroc_imu(work):
             abs(t_bs[3] - 0.1) > 1e-12 or abs(t_bs[7] - 0.05) > 1e-12 or \
             abs(t_bs[11] - 0.25) > 1e-12 or sensor["gyroscope_noise_density"] != 1.6968e-4:
         fail("imu0/sensor.yaml: %s" % sensor)
-    print("ok: --export writes EuRoC's imu0/data.csv (%d samples, those of the run) and "
-          "sensor.yaml" % len(samples))
+    # state_groundtruth_estimate0's biases: imu0's true ones at its latest sample before the row.
+    header, truth = rows(os.path.join(work, "export", "euroc", "mav0",
+                                      "state_groundtruth_estimate0", "data.csv"))
+    bias_at = {stamp_ns(r[0]): [float(v) for v in r[13:19]] for r in samples}
+    checked = 0
+    for r in truth:
+        t = int(r[0])
+        previous = t - 1000000  # the 1 kHz sample before the row's stamp
+        if previous in bias_at:
+            if any(abs(float(a) - b) > 1e-9 for a, b in zip(r[11:17], bias_at[previous])):
+                fail("state_groundtruth_estimate0 at %d: biases %s, imu0's %s" %
+                     (t, r[11:17], bias_at[previous]))
+            checked += 1
+    if checked < 1000 or all(float(v) == 0 for v in truth[-1][11:17]):
+        fail("state_groundtruth_estimate0: %d rows checked, last biases %s" % (checked, truth[-1][11:17]))
+    print("ok: --export writes EuRoC's imu0/data.csv (%d samples, those of the run), sensor.yaml, "
+          "and imu0's true biases in state_groundtruth_estimate0 (%d rows)" % (len(samples), checked))
     # The run folder's calibration files: Kalibr's imu.yaml keys, the scanner's geometry.
     sensors = os.path.join(work, "run_sensors", "sensors")
     with open(os.path.join(sensors, "imu0_imu.yaml")) as f:
