@@ -228,6 +228,15 @@ def main():
     if not os.path.exists(os.path.join(work, "run_sensors", "sensors", "imu0_imu.csv")):
         fail("a run wrote no sensors/imu0_imu.csv")
     print("ok: a run with the sensors writes sensors/ and the metrics of the run without them")
+    # The run folder's scenario.yaml names the new sensors' kinds: it repeats the run.
+    again = os.path.join(work, "run_again")
+    run(binary, ["run", os.path.join(work, "run_sensors", "scenario.yaml"), "--out", again,
+                 "--no-plots", "--no-viewer"], 0, work)
+    for f in sorted(os.listdir(os.path.join(work, "run_sensors", "sensors"))) + ["../metrics.json"]:
+        if read(os.path.join(work, "run_sensors", "sensors", f)) != \
+                read(os.path.join(again, "sensors", f)):
+            fail("the run repeated from its scenario.yaml differs in sensors/%s" % f)
+    print("ok: the run's scenario.yaml repeats it: the same sensors/ and metrics.json")
     check_euroc_imu(work)
 
     bad = [
