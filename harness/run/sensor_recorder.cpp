@@ -64,29 +64,21 @@ SensorRecorder::SensorRecorder(const std::vector<sim::ImuOptions>& imus,
   std::filesystem::create_directories(dir_);
   for (const sim::ImuOptions& imu : imus) {
     if (!imu.enabled) continue;
-    imu_ids_.push_back(imu.id);
-    Open(imu.id + "_imu.csv").out << kImuHeader;
+    Open(imu_, imu.id + "_imu.csv").out << kImuHeader;
     WriteFileAtomic(dir_ / (imu.id + "_imu.yaml"), ImuSensorYaml(imu));
   }
   for (const sim::LaserOptions& l : lasers_) {
-    const std::string& id = l.id;
-    scans_.push_back(std::make_unique<File>());
-    scans_.back()->path = dir_ / (id + "_scans.csv");
-    truth_.push_back(std::make_unique<File>());
-    truth_.back()->path = dir_ / (id + "_scans_truth.csv");
-    hits_.push_back(std::make_unique<File>());
-    hits_.back()->path = dir_ / (id + "_scans_hits.csv");
-    for (File* f : {scans_.back().get(), truth_.back().get(), hits_.back().get()}) {
-      f->out.open(f->path, std::ios::binary);
-    }
+    Open(scans_, l.id + "_scans.csv");
+    Open(truth_, l.id + "_scans_truth.csv");
+    Open(hits_, l.id + "_scans_hits.csv");
   }
 }
 
 SensorRecorder::~SensorRecorder() = default;
 
-SensorRecorder::File& SensorRecorder::Open(const std::string& name) {
-  imu_.push_back(std::make_unique<File>());
-  File& f = *imu_.back();
+SensorRecorder::File& SensorRecorder::Open(std::vector<std::unique_ptr<File>>& into,
+                                           const std::string& name) {
+  File& f = *into.emplace_back(std::make_unique<File>());
   f.path = dir_ / name;
   f.out.open(f.path, std::ios::binary);
   return f;

@@ -34,16 +34,16 @@ class SensorRecorder : public BusConsumer {
 
   /// Closes the files; throws std::runtime_error naming a file that could not be written whole.
   void Finish();
-  bool empty() const { return imu_ids_.empty() && lasers_.empty(); }
+  bool empty() const { return imu_.empty() && lasers_.empty(); }
 
  private:
   struct File {
     std::filesystem::path path;
     std::ofstream out;
   };
-  File& Open(const std::string& name);
+  // A new file `name` in sensors/, appended to `into`.
+  File& Open(std::vector<std::unique_ptr<File>>& into, const std::string& name);
 
-  std::vector<std::string> imu_ids_;
   std::vector<sim::LaserOptions> lasers_;
   std::filesystem::path dir_;
   std::vector<std::unique_ptr<File>> imu_;                   // per IMU

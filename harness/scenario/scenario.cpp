@@ -347,16 +347,16 @@ void RequireScoredPipeline(const Scenario& scenario) {
 }
 
 std::vector<OptionsDocBlock> ScenarioDocBlocks() {
-  Scenario defaults;
+  const Scenario defaults;
   std::vector<OptionsDocBlock> blocks =
       OptionsDocBlocks(ScenarioOptionsTable(), &defaults, "scenario");
   // The kinds of sensor a scenario names itself (no default has one): their keys with the
   // kind's defaults, under `sensors.<imu>` and `sensors.<laser>`.
+  const sim::ImuOptions imu;
+  const sim::LaserOptions laser;
   for (const std::vector<OptionsDocBlock>& more :
-       {OptionsDocBlocks(sim::ImuOptionsTable(), &defaults.imus.emplace_back(), "sensors.<imu>",
-                         "sensors.<imu>"),
-        OptionsDocBlocks(sim::LaserOptionsTable(), &defaults.lasers.emplace_back(),
-                         "sensors.<laser>", "sensors.<laser>")}) {
+       {OptionsDocBlocks(sim::ImuOptionsTable(), &imu, "sensors.<imu>", "sensors.<imu>"),
+        OptionsDocBlocks(sim::LaserOptionsTable(), &laser, "sensors.<laser>", "sensors.<laser>")}) {
     blocks.insert(blocks.end(), more.begin(), more.end());
   }
   std::vector<slam::PipelineType> types = slam::ShippedPipelineTypes();
