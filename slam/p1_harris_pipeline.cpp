@@ -122,7 +122,7 @@ void P1HarrisPipeline::OnCamera(const CameraInput& input) {
     }
     for (std::size_t i = 0; i < associated.size(); ++i) {
       innovations_.push_back(
-          {stamp_ns, LandmarkType::kCorner, associated_nis[i], 3, result.accepted});
+          {stamp_ns, LandmarkType::kCorner, associated_nis[i], 3, result.accepted, {}});
       if (!result.accepted) detections_[associated_detection[i]].landmark_id = -1;
     }
     if (!result.accepted) ++health_.rejected_updates;

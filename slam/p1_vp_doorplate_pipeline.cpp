@@ -329,7 +329,7 @@ void P1VpDoorplatePipeline::Record(TimeNs stamp_ns, LandmarkType type,
   if (result.reason == ekf::UpdateReason::kNotPositiveDefinite) ++health_.non_positive_covariance;
   if (!result.accepted) ++health_.rejected_updates;
   if (std::isfinite(result.nis)) {
-    innovations_.push_back({stamp_ns, type, result.nis, result.dof, result.accepted});
+    innovations_.push_back({stamp_ns, type, result.nis, result.dof, result.accepted, {}});
   }
 }
 

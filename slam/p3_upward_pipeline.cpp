@@ -307,7 +307,7 @@ void P3UpwardPipeline::ProcessFrame(const CameraInput& input) {
     }
     if (!result.accepted) ++health_.rejected_updates;
     for (const DoorPair& p : door_pairs) {
-      innovations_.push_back({stamp_ns, LandmarkType::kDoor, p.nis, 2, result.accepted});
+      innovations_.push_back({stamp_ns, LandmarkType::kDoor, p.nis, 2, result.accepted, {}});
       if (result.accepted) {
         ++doors_[p.door].updates;
       } else {
@@ -316,7 +316,7 @@ void P3UpwardPipeline::ProcessFrame(const CameraInput& input) {
     }
     for (std::size_t a = 0; a < pairs.size(); ++a) {
       const Observation& o = observations[pairs[a].first];
-      innovations_.push_back({stamp_ns, o.type, associated_nis[a], 2, result.accepted});
+      innovations_.push_back({stamp_ns, o.type, associated_nis[a], 2, result.accepted, {}});
       if (result.accepted) {
         ++landmarks_[pairs[a].second].updates;
       } else {

@@ -1,5 +1,6 @@
 #include "slam/pipeline.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -52,11 +53,63 @@ std::string LandmarkStatusName(LandmarkStatus status) {
   return NameOf(kLandmarkStatusNames, status);
 }
 
+bool IsMeasurementTypeName(const std::string& name) {
+  const bool syntax = !name.empty() && name.size() <= kMaxMeasurementNameLength && name[0] >= 'a' &&
+                      name[0] <= 'z' && std::all_of(name.begin(), name.end(), [](char c) {
+                        return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_';
+                      });
+  return syntax && std::none_of(std::begin(kLandmarkTypeNames), std::end(kLandmarkTypeNames),
+                                [&name](const auto& entry) { return name == entry.name; });
+}
+
+std::optional<std::string> MeasurementTypesProblem(const std::vector<MeasurementType>& types) {
+  if (types.size() > static_cast<std::size_t>(kMaxMeasurementTypes)) {
+    return "declares " + std::to_string(types.size()) + " measurement types (at most " +
+           std::to_string(kMaxMeasurementTypes) + ")";
+  }
+  for (std::size_t i = 0; i < types.size(); ++i) {
+    const MeasurementType& t = types[i];
+    if (!IsMeasurementTypeName(t.name)) {
+      return "declares measurement type number " + std::to_string(i + 1) +
+             " with a name that is not [a-z][a-z0-9_]{0," +
+             std::to_string(kMaxMeasurementNameLength - 1) +
+             "} or is a shipped landmark type's (those need no declaration)";
+    }
+    for (std::size_t j = 0; j < i; ++j) {
+      if (types[j].name == t.name) return "declares the measurement type '" + t.name + "' twice";
+    }
+    if (t.dof < 1 || t.dof > kMaxMeasurementDof) {
+      return "declares the measurement type '" + t.name + "' with " + std::to_string(t.dof) +
+             " degrees of freedom (1 to " + std::to_string(kMaxMeasurementDof) + ")";
+    }
+  }
+  return std::nullopt;
+}
+
+std::string MeasurementName(const Detection& detection) {
+  return detection.measurement.empty() ? LandmarkTypeName(detection.type) : detection.measurement;
+}
+
+std::string MeasurementName(const Innovation& innovation) {
+  return innovation.measurement.empty() ? LandmarkTypeName(innovation.type)
+                                        : innovation.measurement;
+}
+
 std::optional<std::string> DetectionProblem(const Detection& d) {
   if (d.camera_id.empty()) return "has no camera id";
   if (!d.pixel.allFinite()) return "has a non-finite pixel";
   if (!d.box_px.allFinite()) return "has a non-finite box";
   if (!std::isnan(d.score) && !std::isfinite(d.score)) return "has an infinite score";
+  if (!d.measurement.empty()) {
+    // A type of the pipeline's own: none of the shipped types' fields.
+    if (!d.label.empty() || d.open || d.radius_px != 0.0 || !std::isnan(d.recognition_score) ||
+        !d.column_bearings_rad.array().isNaN().all()) {
+      return "is of the measurement type '" + d.measurement +
+             "' with a field of a shipped type (label, open, radius, recognition score or "
+             "column bearings)";
+    }
+    return std::nullopt;
+  }
   if (!std::isnan(d.recognition_score) &&
       !(d.recognition_score >= 0.0 && d.recognition_score <= 1.0)) {
     return "has a recognition score outside [0, 1]";

@@ -107,6 +107,26 @@ struct PoseEstimate {
 enum class LandmarkType { kDoorPlate, kCorner, kLamp, kDoor, kVanishingPoint };
 std::string LandmarkTypeName(LandmarkType type);
 
+/// A measurement type of a pipeline's own (issue 53): wall lines, visual odometry, scan matches,
+/// a gyroscope bias update. A pipeline declares its types up front (Pipeline::measurement_types)
+/// and reports innovations and detections of them by name (Innovation::measurement,
+/// Detection::measurement); metrics.json, studies and the viewer then give them NIS statistics as
+/// they give the shipped landmark types (docs/metrics.md, `nis.<type>`). A type it did not declare,
+/// or an innovation whose dof differs from the declared one, fails the pipeline at once.
+struct MeasurementType {
+  std::string name;  // [a-z][a-z0-9_]{0,31}, not a LandmarkType's name
+  int dof = 0;       // its innovations' degrees of freedom, in [1, kMaxMeasurementDof]
+};
+/// Bounds of a pipeline's declaration.
+inline constexpr int kMaxMeasurementTypes = 32;
+inline constexpr int kMaxMeasurementDof = 64;
+inline constexpr std::size_t kMaxMeasurementNameLength = 32;
+/// Whether `name` may name a measurement type: [a-z][a-z0-9_]{0,31} and not a LandmarkType's name.
+bool IsMeasurementTypeName(const std::string& name);
+/// What is wrong with a declaration (a bad or reserved name, a repeated one, a dof out of range,
+/// too many types), or nothing.
+std::optional<std::string> MeasurementTypesProblem(const std::vector<MeasurementType>& types);
+
 /// Where a landmark's estimate stands: initialising (not yet fully constrained, e.g. a door plate
 /// seen from one place only: its range is not observable from one frame) or converged.
 enum class LandmarkStatus { kInitializing, kConverged };
@@ -173,6 +193,13 @@ struct Detection {
   double recognition_score = std::numeric_limits<double>::quiet_NaN();
   int landmark_id = -1;       // the landmark it was associated with (-1: none, e.g. rejected)
   bool new_landmark = false;  // it created landmark_id
+  // A detection of a measurement type the pipeline declared (MeasurementType::name): then `type`
+  // is ignored, and only camera_id, pixel, box_px (optional) and score are read. Empty: a
+  // detection of `type`.
+  std::string measurement;
+
+  /// Whether it is a detection of the shipped landmark type `t` (not of a declared type).
+  bool Is(LandmarkType t) const { return measurement.empty() && type == t; }
 };
 
 /// What is wrong with a detection a pipeline reported, or nothing: a non-finite pixel, a
@@ -181,14 +208,22 @@ struct Detection {
 /// pipeline.
 std::optional<std::string> DetectionProblem(const Detection& detection);
 
-/// One landmark update's normalised innovation squared (NIS) and its degrees of freedom.
+/// One update's normalised innovation squared (NIS) and its degrees of freedom.
 struct Innovation {
   TimeNs stamp_ns = 0;
   LandmarkType type = LandmarkType::kCorner;
   double nis = 0.0;
   int dof = 0;
   bool accepted = true;  // false: gated out
+  // An update of a measurement type the pipeline declared (MeasurementType::name; `type` is then
+  // ignored and `dof` must be the declared one). Empty: a landmark update of `type`.
+  std::string measurement;
 };
+
+/// The name a detection's or an innovation's statistics go under: its declared measurement type,
+/// else its landmark type's name.
+std::string MeasurementName(const Detection& detection);
+std::string MeasurementName(const Innovation& innovation);
 
 /// Numerical trouble and bad input a pipeline met (STYLE item 10): counted and reported, never
 /// hidden.
@@ -223,6 +258,10 @@ class Pipeline {
   virtual void OnScan(const LaserScan& scan) { (void)scan; }
   /// Which cameras the pipeline reads (the runner renders only cameras somebody reads).
   virtual std::vector<std::string> cameras_used() const { return {}; }
+  /// The measurement types of its own it will report innovations or detections of (asked once,
+  /// right after Initialize; MeasurementType above). The shipped landmark types need no
+  /// declaration.
+  virtual std::vector<MeasurementType> measurement_types() const { return {}; }
   virtual PoseEstimate Estimate() const = 0;
   virtual std::vector<LandmarkEstimate> Landmarks() const { return {}; }
   /// Detections and innovations since the last call (moved out).

@@ -22,7 +22,7 @@ void SeenPointAssociationMetrics(const PipelineRecord& pipeline, const PipelineC
   std::size_t unverifiable = 0;
   for (std::size_t i = 0; i < pipeline.detections.size(); ++i) {
     const slam::Detection& d = pipeline.detections[i];
-    if (d.type != slam::LandmarkType::kCorner || d.landmark_id < 0 || d.new_landmark) continue;
+    if (!d.Is(slam::LandmarkType::kCorner) || d.landmark_id < 0 || d.new_landmark) continue;
     ++associations;
     const auto seen = pipeline.seen_points.find(i);
     const auto origin = created.find(d.landmark_id);
@@ -57,7 +57,7 @@ void AddAssociationMetrics(const PipelineRecord& pipeline, const PipelineContext
   std::size_t possible = 0;
   std::size_t unverifiable = 0;
   for (const slam::Detection& d : pipeline.detections) {
-    if (d.type != type) continue;
+    if (!d.Is(type)) continue;
     const auto frame = context.frames.find({d.camera_id, d.stamp_ns});
     const bool to_unknown_landmark =
         d.landmark_id >= 0 && map.truth_of_estimate.count(d.landmark_id) == 0 &&

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <functional>
 #include <limits>
+#include <set>
 
 #include <Eigen/Cholesky>
 
@@ -80,15 +81,28 @@ bool MalformedInnovation(const slam::Innovation& innovation) {
 
 std::size_t AddNisMetrics(const std::vector<slam::Innovation>& innovations,
                           const MetricWriter& out) {
+  // The shipped landmark types in schema order, then the pipeline's own measurement types by
+  // name (slam::MeasurementType; their names cannot be a landmark type's).
+  std::vector<std::string> names;
+  for (const LandmarkType type : kAllTypes) names.push_back(slam::LandmarkTypeName(type));
+  std::set<std::string> own;
+  std::vector<std::string> name_of;  // each innovation's
+  name_of.reserve(innovations.size());
+  for (const slam::Innovation& innovation : innovations) {
+    if (!innovation.measurement.empty()) own.insert(innovation.measurement);
+    name_of.push_back(slam::MeasurementName(innovation));
+  }
+  names.insert(names.end(), own.begin(), own.end());
   std::size_t malformed = 0;
-  for (const LandmarkType type : kAllTypes) {
+  for (const std::string& name : names) {
     std::size_t count = 0;
     std::size_t gated = 0;
     std::size_t in_band = 0;
     double sum = 0.0;
     double dof_sum = 0.0;
-    for (const slam::Innovation& innovation : innovations) {
-      if (innovation.type != type) continue;
+    for (std::size_t k = 0; k < innovations.size(); ++k) {
+      const slam::Innovation& innovation = innovations[k];
+      if (name_of[k] != name) continue;
       if (MalformedInnovation(innovation)) {
         ++malformed;
         continue;
@@ -106,7 +120,7 @@ std::size_t AddNisMetrics(const std::vector<slam::Innovation>& innovations,
       }
     }
     if (count == 0 && gated == 0) continue;
-    const MetricWriter t = out.Sub("nis").Sub(slam::LandmarkTypeName(type));
+    const MetricWriter t = out.Sub("nis").Sub(name);
     t.Count("count", count);
     t.Count("gated", gated);
     if (count == 0) {
@@ -179,12 +193,12 @@ std::string ErrorSeriesCsv(const std::vector<TruthPose>& truth, const PipelineRe
 std::string NisSeriesCsv(const PipelineRecord& pipeline) {
   if (pipeline.innovations.empty()) return "";
   std::string csv = "t,type,dof,nis,accepted\n";
-  char line[160];
+  char line[1024];  // a name of at most 32 bytes; a NIS up to 1e308 has 309 digits
   for (const slam::Innovation& i : pipeline.innovations) {
     if (metrics::MalformedInnovation(i)) continue;
     std::snprintf(line, sizeof(line), "%.9f,%s,%d,%.6f,%d\n", ToSeconds(i.stamp_ns),
-                  slam::LandmarkTypeName(i.type).c_str(), i.dof,
-                  RoundToStep(i.nis, json_steps::kRatio), i.accepted ? 1 : 0);
+                  slam::MeasurementName(i).c_str(), i.dof, RoundToStep(i.nis, json_steps::kRatio),
+                  i.accepted ? 1 : 0);
     csv += line;
   }
   return csv;

@@ -27,7 +27,7 @@ DetectionsByFrame GroupDetections(const PipelineRecord& pipeline, const Pipeline
   DetectionsByFrame out;
   std::set<std::string> cameras;
   for (const slam::Detection& d : pipeline.detections) {
-    if (d.type != type) continue;
+    if (!d.Is(type)) continue;
     cameras.insert(d.camera_id);
     if (context.frames.count({d.camera_id, d.stamp_ns}) == 0) {
       ++out.without_truth;

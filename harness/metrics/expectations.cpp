@@ -54,7 +54,7 @@ std::optional<std::string> ParseExpectation(const std::string& text, Expectation
   }
   e.pipeline = left.substr(0, dot);
   e.metric = left.substr(dot + 1);
-  if (std::find(names.begin(), names.end(), e.metric) == names.end()) {
+  if (!metrics::IsKnownMetric(names, e.metric)) {
     std::string known;
     for (const std::string& n : names) {
       // timing.* are wall clock: scenarios may not bound them (ScenarioExpectations).

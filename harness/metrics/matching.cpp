@@ -28,7 +28,7 @@ PipelineContext MakeContext(const MetricsInput& input, const PipelineRecord& pip
 
 bool HasDetections(const PipelineRecord& pipeline, LandmarkType type) {
   return std::any_of(pipeline.detections.begin(), pipeline.detections.end(),
-                     [type](const slam::Detection& d) { return d.type == type; });
+                     [type](const slam::Detection& d) { return d.Is(type); });
 }
 
 bool HasType(const PipelineRecord& pipeline, LandmarkType type) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <optional>
 #include <stdexcept>
 #include <utility>
 
@@ -175,10 +176,36 @@ double StepsPerUnit(MetricUnit unit) { return UnitOf(unit).steps; }
 
 const std::vector<MetricSpec>& MetricRegistry() { return TheRegistry().specs; }
 
+namespace {
+// `nis.<name>.<field>` of a pipeline's own measurement type as the same field of the first
+// shipped landmark type (all types' NIS fields are declared alike), or nothing.
+std::optional<std::string> SharedNisPath(std::string_view path) {
+  constexpr std::string_view kNis = "nis.";
+  if (path.substr(0, kNis.size()) != kNis) return std::nullopt;
+  const std::size_t dot = path.find('.', kNis.size());
+  if (dot == std::string_view::npos) return std::nullopt;
+  const std::string name(path.substr(kNis.size(), dot - kNis.size()));
+  if (!slam::IsMeasurementTypeName(name)) return std::nullopt;
+  return std::string(kNis) + slam::LandmarkTypeName(metrics::kAllTypes[0]) +
+         std::string(path.substr(dot));
+}
+}  // namespace
+
 const MetricSpec* FindMetric(MetricScope scope, std::string_view path) {
   const Registry& r = TheRegistry();
-  const auto it = r.index.find({scope, std::string(path)});
+  auto it = r.index.find({scope, std::string(path)});
+  if (it == r.index.end() && scope == MetricScope::kPipeline) {
+    if (const std::optional<std::string> shared = SharedNisPath(path)) {
+      it = r.index.find({scope, *shared});
+    }
+  }
   return it == r.index.end() ? nullptr : &r.specs[it->second];
+}
+
+bool IsKnownMetric(const std::vector<std::string>& names, const std::string& metric) {
+  if (std::find(names.begin(), names.end(), metric) != names.end()) return true;
+  const std::optional<std::string> shared = SharedNisPath(metric);
+  return shared && std::find(names.begin(), names.end(), *shared) != names.end();
 }
 
 // ---- MetricWriter -------------------------------------------------------------------------------

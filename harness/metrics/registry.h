@@ -65,8 +65,13 @@ struct MetricSpec {
 /// Every metric, concrete paths (placeholders expanded), in declaration order.
 const std::vector<MetricSpec>& MetricRegistry();
 
-/// The metric at a concrete path (a map's as "<path>.*"), or null.
+/// The metric at a concrete path (a map's as "<path>.*"), or null. A pipeline's own measurement
+/// type's NIS (`nis.<name>.<field>`, slam::MeasurementType) is found as the shipped types' are.
 const MetricSpec* FindMetric(MetricScope scope, std::string_view path);
+
+/// Whether `metric` is one of `names` (MetricNames() or EvaluationMetricNames()) or, where
+/// `names` has the landmark types' NIS, a declared measurement type's NIS (`nis.<name>.mean`).
+bool IsKnownMetric(const std::vector<std::string>& names, const std::string& metric);
 
 /// Writes one JSON object's metrics through the registry: the value at prefix + name, rounded to
 /// the declared step. An undeclared path or a unit that does not fit is a bug (aborts).

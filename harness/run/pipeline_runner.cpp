@@ -69,6 +69,8 @@ struct PipelineRunner::Run {
   external::ExternalPipeline* external = nullptr;
   bool failed = false;
   std::set<std::string> cameras;
+  // The measurement types of its own it declared (slam::MeasurementType): name -> dof.
+  std::map<std::string, int> measurement_dof;
   double seconds = 0.0;      // wall time inside the pipeline
   double cpu_seconds = 0.0;  // CPU time of the threads that ran its calls, during them
 };
@@ -153,8 +155,16 @@ std::vector<const PipelineRecord*> PipelineRunner::Failed() const {
 void PipelineRunner::Initialize(TimeNs stamp_ns, const SE2& world_from_robot) {
   last_stamp_ns_ = stamp_ns;
   for (std::size_t i = 0; i < runs_.size(); ++i) {
-    Guard(i, "Initialize", stamp_ns,
-          [&](slam::Pipeline& p) { p.Initialize(stamp_ns, world_from_robot); });
+    // Its measurement types of its own are asked once it started (a program declares them in
+    // its `ready` reply, docs/protocol.md).
+    Guard(i, "Initialize", stamp_ns, [&](slam::Pipeline& p) {
+      p.Initialize(stamp_ns, world_from_robot);
+      const std::vector<slam::MeasurementType> declared = p.measurement_types();
+      if (const std::optional<std::string> problem = slam::MeasurementTypesProblem(declared)) {
+        throw std::runtime_error("it " + *problem);
+      }
+      for (const slam::MeasurementType& t : declared) runs_[i].measurement_dof[t.name] = t.dof;
+    });
   }
 }
 
@@ -180,6 +190,7 @@ void PipelineRunner::OnOdometry(const WheelOdometry& odometry) {
     if (ok || (run.external && e.stamp_ns == odometry.stamp_ns)) {
       records_[i].estimates.push_back({odometry.stamp_ns, e.world_from_robot, e.covariance});
     }
+    TakeInnovations(i, odometry.stamp_ns);
   }
 }
 
@@ -192,6 +203,7 @@ void PipelineRunner::Timed(const char* what, TimeNs stamp_ns, F&& call) {
     runs_[i].cpu_seconds += ThreadCpuSeconds() - cpu0;
     runs_[i].seconds += SecondsSince(t0);
     wall_seconds_ += SecondsSince(t0);
+    TakeInnovations(i, stamp_ns);
   }
 }
 
@@ -240,7 +252,10 @@ void PipelineRunner::OnCameraSet(const CameraSet& set) {
     if (!readers.empty()) process(readers[0]);
     for (std::future<void>& f : others) f.get();  // Guard caught the pipelines' exceptions
     wall_seconds_ += SecondsSince(t_frame);
-    for (const std::size_t i : readers) TakeDetections(i, set, message.stamp_ns);
+    for (const std::size_t i : readers) {
+      TakeDetections(i, set, message.stamp_ns);
+      TakeInnovations(i, message.stamp_ns);
+    }
   }
 }
 
@@ -263,23 +278,69 @@ void PipelineRunner::TakeDetections(std::size_t i, const CameraSet& set, TimeNs 
     if (!problem && (!slot || !slot->message || !runs_[i].cameras.count(d.camera_id))) {
       problem = "is of the camera '" + d.camera_id + "', which gave it no frame at this stamp";
     }
+    if (!problem) problem = MeasurementProblem(i, d.measurement, std::nullopt);
     if (problem) {
       runs_[i].failed = true;
       if (!records_[i].failure) {
-        records_[i].failure =
-            PipelineFailure{stamp_ns, "TakeDetections",
-                            "reported a " + slam::LandmarkTypeName(d.type) + " detection that " +
-                                InputExcerpt(*problem, 2000)};
+        records_[i].failure = PipelineFailure{
+            stamp_ns, "TakeDetections",
+            "reported a " +
+                InputExcerpt(slam::MeasurementName(d), slam::kMaxMeasurementNameLength) +
+                " detection that " + InputExcerpt(*problem, 2000)};
       }
       return;
     }
-    if (d.type == slam::LandmarkType::kCorner) {
+    if (d.Is(slam::LandmarkType::kCorner)) {
       if (const std::optional<SeenPoint> seen =
               SeenAt(slot->message->frame, true_models_.at(d.camera_id), d.pixel)) {
         records_[i].seen_points[records_[i].detections.size()] = *seen;
       }
     }
     records_[i].detections.push_back(std::move(d));
+  }
+}
+
+std::optional<std::string> PipelineRunner::MeasurementProblem(std::size_t i,
+                                                              const std::string& measurement,
+                                                              std::optional<int> dof) const {
+  if (measurement.empty()) return std::nullopt;  // a shipped landmark type
+  const std::map<std::string, int>& declared = runs_[i].measurement_dof;
+  const auto it = declared.find(measurement);
+  if (it != declared.end()) {
+    if (!dof || *dof == it->second) return std::nullopt;
+    return "has " + std::to_string(*dof) + " degrees of freedom, but the type was declared with " +
+           std::to_string(it->second);
+  }
+  std::string names;
+  for (const auto& [name, d] : declared) {
+    names += (names.empty() ? "" : ", ") + name + " (" + std::to_string(d) + " dof)";
+  }
+  return "is of a measurement type it did not declare (Pipeline::measurement_types: " +
+         (names.empty() ? std::string("none") : names) + ")";
+}
+
+void PipelineRunner::TakeInnovations(std::size_t i, TimeNs stamp_ns) {
+  std::vector<slam::Innovation> innovations;
+  if (runs_[i].external) {
+    if (runs_[i].failed) return;  // KeepWhatArrived takes a failed program's
+    innovations = runs_[i].external->TakeInnovations();
+  } else {
+    Guard(i, "TakeInnovations", stamp_ns,
+          [&](slam::Pipeline& p) { innovations = p.TakeInnovations(); });
+  }
+  for (slam::Innovation& n : innovations) {
+    if (const std::optional<std::string> problem = MeasurementProblem(i, n.measurement, n.dof)) {
+      runs_[i].failed = true;
+      if (!records_[i].failure) {
+        records_[i].failure =
+            PipelineFailure{stamp_ns, "TakeInnovations",
+                            "reported an innovation of '" +
+                                InputExcerpt(n.measurement, slam::kMaxMeasurementNameLength) +
+                                "' that " + *problem};
+      }
+      return;
+    }
+    records_[i].innovations.push_back(std::move(n));
   }
 }
 
@@ -317,6 +378,7 @@ void PipelineRunner::OnCameraSetWhole(const CameraSet& set) {
     run.seconds += SecondsSince(t0);
     wall_seconds_ += SecondsSince(t0);
     TakeDetections(i, set, set.stamp_ns);
+    TakeInnovations(i, set.stamp_ns);
   }
 }
 
@@ -334,12 +396,10 @@ void PipelineRunner::Finish() {
       record.landmarks = pipeline.Landmarks();
       record.areas = pipeline.Areas();
       record.occupancy_map = pipeline.occupancy_map();
-      for (slam::Innovation& innovation : pipeline.TakeInnovations()) {
-        record.innovations.push_back(innovation);
-      }
       record.stage_seconds = pipeline.stage_seconds();
       record.health = pipeline.health();
     });
+    TakeInnovations(i, last_stamp_ns_);
     runs_[i].cpu_seconds += ThreadCpuSeconds() - cpu0;
     runs_[i].seconds += SecondsSince(t0);
     wall_seconds_ += SecondsSince(t0);

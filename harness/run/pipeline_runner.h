@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -94,6 +95,13 @@ class PipelineRunner : public BusConsumer {
   // Run i's detections of the frames of `set`, checked (a bad one fails the pipeline), into its
   // record.
   void TakeDetections(std::size_t i, const CameraSet& set, TimeNs stamp_ns);
+  // Run i's innovations since the last call, checked against its declared measurement types (an
+  // undeclared type or a wrong dof fails the pipeline at once), into its record.
+  void TakeInnovations(std::size_t i, TimeNs stamp_ns);
+  // What is wrong with a detection (dof: nothing) or an innovation of `measurement` from run i,
+  // or nothing: a type it did not declare, or a dof other than the declared one.
+  std::optional<std::string> MeasurementProblem(std::size_t i, const std::string& measurement,
+                                                std::optional<int> dof) const;
   std::vector<Run> runs_;
   std::vector<PipelineRecord> records_;
   std::set<std::string> cameras_used_;

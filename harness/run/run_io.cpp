@@ -124,18 +124,20 @@ std::string DetectionsCsv(const std::vector<slam::Detection>& detections) {
       "plate_box,radius_px,label,open,score,recognition_score,landmark_id,new_landmark,"
       "bearing_a_rad,bearing_b_rad\n";
   for (const slam::Detection& d : detections) {
+    // A declared measurement type's detection has a box when it gave one (min < max).
     const bool boxed =
-        d.type == slam::LandmarkType::kDoorPlate || d.type == slam::LandmarkType::kDoor;
+        d.Is(slam::LandmarkType::kDoorPlate) || d.Is(slam::LandmarkType::kDoor) ||
+        (!d.measurement.empty() && d.box_px[0] < d.box_px[2] && d.box_px[1] < d.box_px[3]);
     csv += CsvNumber(ToSeconds(d.stamp_ns), 9) + "," + d.camera_id + "," +
-           slam::LandmarkTypeName(d.type) + "," + CsvNumber(d.pixel.x(), 4) + "," +
+           slam::MeasurementName(d) + "," + CsvNumber(d.pixel.x(), 4) + "," +
            CsvNumber(d.pixel.y(), 4) + ",";
     for (int i = 0; i < 4; ++i) csv += (boxed ? CsvNumber(d.box_px[i], 4) : "") + ",";
     csv += std::string(
-               d.type == slam::LandmarkType::kDoorPlate
+               d.Is(slam::LandmarkType::kDoorPlate)
                    ? (d.plate_box == slam::PlateBox::kNumberRegion ? "number_region" : "outline")
                    : "") +
            ",";
-    csv += (d.type == slam::LandmarkType::kLamp ? CsvNumber(d.radius_px, 4) : "") + ",";
+    csv += (d.Is(slam::LandmarkType::kLamp) ? CsvNumber(d.radius_px, 4) : "") + ",";
     // Labels are room numbers (digits); anything else is quoted as CSV requires, and a plugin's
     // bytes that are not UTF-8 become U+FFFD (the file stays text for every reader).
     std::string label = ValidUtf8(d.label);

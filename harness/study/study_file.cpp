@@ -260,7 +260,7 @@ void ReadStudySection(const YamlDocument& top, StudySpec* spec, StudySection& se
       }
       const std::vector<std::string> names = MetricNames();
       for (std::size_t i = 0; i < extra.size(); ++i) {
-        if (!Contains(names, extra[i])) {
+        if (!metrics::IsKnownMetric(names, extra[i])) {
           throw InputError(extra_locations[i], "study.metrics",
                            "unknown metric '" + InputExcerpt(extra[i]) +
                                "' (docs/metrics.md lists a pipeline's metrics)");

@@ -174,6 +174,37 @@ def main():
     print("ok: a plugin receives the IMU's samples and the scanner's sweeps; a throw there fails "
           "it alone")
 
+    # Measurement types of a pipeline's own: declared ones get NIS in metrics.json (and an
+    # expectation may bound it); an undeclared one or a wrong dof fails that pipeline at once.
+    pipelines = {"own": "own_measurement: true",
+                 "stray": "own_measurement: true, undeclared_after_s: 1",
+                 "wrong": "own_measurement: true, reported_dof: 2"}
+    own = write_scenario(
+        os.path.join(work, "own.yaml"), base, 3, echo,
+        "".join("  %s: {type: test_echo, %s}\n" % item for item in pipelines.items()),
+        expectations="[own.nis.wheel_yaw.mean < 0.6, own.nis.wheel_yaw.mean > 0.4]")
+    metrics, failed = failed_run(corridorsim, own, os.path.join(work, "own"))
+    nis = metrics["own"].get("nis", {}).get("wheel_yaw", {})
+    if nis.get("mean") != 0.5 or nis.get("count", 0) < 90 or nis.get("count") % 3 != 0 or \
+            list(metrics["own"]["nis"]) != ["wheel_yaw"]:
+        fail("a declared measurement type's NIS: %s" % metrics["own"].get("nis"))
+    failures = [(e["pipeline"], e["call"], e["reason"]) for e in failed]
+    if failures != [
+            ("wrong", "TakeInnovations", "reported an innovation of 'wheel_yaw' that has 2 "
+             "degrees of freedom, but the type was declared with 1"),
+            ("stray", "TakeInnovations", "reported an innovation of 'wall_line' that is of a "
+             "measurement type it did not declare (Pipeline::measurement_types: wheel_yaw (1 dof))")]:
+        fail("undeclared and wrong-dof measurement types: %s" % failures)
+    passed = [e["passed"] for e in json.loads(read(os.path.join(work, "own", "metrics.json")))[
+        "expectations"]]
+    if passed != [True, True]:
+        fail("expectations on a declared type's NIS: %s" % passed)
+    nis_csv = read(os.path.join(work, "own", "own_nis.csv")).decode().splitlines()
+    if nis_csv[0] != "t,type,dof,nis,accepted" or not nis_csv[1].split(",")[1:] == \
+            ["wheel_yaw", "1", "0.000000", "1"]:
+        fail("own_nis.csv: %s" % nis_csv[:3])
+    print("ok: a plugin's own measurement types get NIS; undeclared ones fail it at once")
+
     # Shards whose plugin libraries differ are not merged: the plan records each one's SHA-256.
     lib = os.path.join(work, "lib")
     os.makedirs(lib)

@@ -70,7 +70,7 @@ def eigen_only_plugin(prefix, corridorsim, work, env):
     with open(os.path.join(source, "CMakeLists.txt"), "w") as f:
         f.write("cmake_minimum_required(VERSION 3.25)\n"
                 "project(eigen_only_plugin LANGUAGES CXX)\n"
-                "find_package(corridorsim 0.2 CONFIG REQUIRED)\n"
+                "find_package(corridorsim 0.3 CONFIG REQUIRED)\n"
                 "corridorsim_add_pipeline_plugin(eigen_only SOURCES echo_plugin.cpp)\n"
                 "if(WITH_OPENCV_HEADERS)\n"
                 "  corridorsim_add_pipeline_plugin(with_opencv SOURCES uses_opencv.cpp)\n"
@@ -115,7 +115,7 @@ def main():
     # 1. cmake --install into a prefix: what is there, and what is not.
     prefix = os.path.join(work, "prefix")
     run(["cmake", "--install", build, "--prefix", prefix])
-    for rel in ["bin/corridorsim", "lib/libcorridorsim_common.so.2", "lib/libcorridorsim_slam.so.2",
+    for rel in ["bin/corridorsim", "lib/libcorridorsim_common.so.3", "lib/libcorridorsim_slam.so.3",
                 "include/corridorsim/slam/pipeline.h", "include/corridorsim/slam/plugin.h",
                 "include/corridorsim/slam/sdk_version.h", "include/corridorsim/common/pose.h",
                 "include/corridorsim/slam/ekf/ekf_state.h",

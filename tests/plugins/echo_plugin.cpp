@@ -36,6 +36,13 @@ struct EchoOptions {
   // hands a plugin the scenario's IMUs and scanners (docs/sensors.md).
   double imu_throw_after_s = 0.0;
   double scan_throw_after_s = 0.0;
+  // Measurement types of its own (slam::MeasurementType): declares `wheel_yaw` (1 dof) and
+  // reports one innovation of it per odometry message, of `reported_dof` degrees of freedom;
+  // with `undeclared_after_s` > 0, an innovation of `wall_line` (never declared) at the first
+  // odometry message after that time.
+  bool own_measurement = false;
+  int reported_dof = 1;
+  double undeclared_after_s = 0.0;
   std::optional<corridorsim::OptionsProblem> Check() const;
 };
 
@@ -56,6 +63,14 @@ const corridorsim::OptionTable<EchoOptions>& EchoOptionsTable() {
         .Range(0, 1e6);
     t.Add("scan_throw_after_s", &EchoOptions::scan_throw_after_s, "s",
           "> 0: OnScan throws at the first laser sweep after this time")
+        .Range(0, 1e6);
+    t.Add("own_measurement", &EchoOptions::own_measurement, "",
+          "declare the measurement type wheel_yaw and report an innovation of it per odometry");
+    t.Add("reported_dof", &EchoOptions::reported_dof, "",
+          "the degrees of freedom of the wheel_yaw innovations it reports (declared: 1)")
+        .Range(1, 3);
+    t.Add("undeclared_after_s", &EchoOptions::undeclared_after_s, "s",
+          "> 0: report an innovation of the undeclared type wall_line after this time")
         .Range(0, 1e6);
   });
 }
@@ -108,6 +123,13 @@ class EchoPipeline : public corridorsim::slam::Pipeline {
   std::vector<corridorsim::slam::Detection> TakeDetections() override {
     return std::move(detections_);
   }
+  std::vector<corridorsim::slam::MeasurementType> measurement_types() const override {
+    if (!options_.own_measurement) return {};
+    return {{"wheel_yaw", 1}};
+  }
+  std::vector<corridorsim::slam::Innovation> TakeInnovations() override {
+    return std::move(innovations_);
+  }
   void OnOdometry(const corridorsim::WheelOdometry& odometry) override {
     if (!options_.read_upward && options_.throw_after_s > 0 &&
         static_cast<double>(odometry.stamp_ns) * 1e-9 > options_.throw_after_s) {
@@ -122,12 +144,32 @@ class EchoPipeline : public corridorsim::slam::Pipeline {
         options_.scale * odometry.right_distance_m, wheelbase_m_);
     estimate_.stamp_ns = odometry.stamp_ns;
     estimate_.covariance = 1e-4 * Eigen::Matrix3d::Identity();
+    if (options_.own_measurement) {
+      // NIS 0, 0.5, 1, 0, ...: a mean of 0.5 over whole cycles.
+      corridorsim::slam::Innovation n;
+      n.stamp_ns = odometry.stamp_ns;
+      n.measurement = "wheel_yaw";
+      n.dof = options_.reported_dof;
+      n.nis = 0.5 * static_cast<double>(odometry_count_++ % 3);
+      innovations_.push_back(n);
+    }
+    if (options_.undeclared_after_s > 0 &&
+        static_cast<double>(odometry.stamp_ns) * 1e-9 > options_.undeclared_after_s) {
+      corridorsim::slam::Innovation n;
+      n.stamp_ns = odometry.stamp_ns;
+      n.measurement = "wall_line";
+      n.dof = 2;
+      n.nis = 1.0;
+      innovations_.push_back(n);
+    }
   }
   corridorsim::slam::PoseEstimate Estimate() const override { return estimate_; }
 
  private:
   EchoOptions options_;
   std::vector<corridorsim::slam::Detection> detections_;
+  std::vector<corridorsim::slam::Innovation> innovations_;
+  long odometry_count_ = 0;
   double wheelbase_m_;
   corridorsim::slam::PoseEstimate estimate_;
 };

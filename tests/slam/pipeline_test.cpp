@@ -93,5 +93,48 @@ TEST_CASE("a detection is checked for the fields its type needs", "[slam]") {
   CHECK(DetectionProblem(lamp_with_bearings));
 }
 
+TEST_CASE("a pipeline's declaration of its own measurement types is checked", "[slam]") {
+  CHECK_FALSE(MeasurementTypesProblem({}));
+  CHECK_FALSE(MeasurementTypesProblem({{"scan_match", 3}, {"gyro_bias", 1}}));
+  CHECK(IsMeasurementTypeName("wall_line2"));
+  for (const char* name : {"", "Scan", "2d", "scan-match", "lamp", "door_plate",
+                           "a23456789012345678901234567890123"}) {
+    INFO(name);
+    CHECK_FALSE(IsMeasurementTypeName(name));
+    const std::optional<std::string> problem = MeasurementTypesProblem({{name, 1}});
+    REQUIRE(problem);
+    CHECK(problem->find("number 1") != std::string::npos);
+  }
+  CHECK(IsMeasurementTypeName("a2345678901234567890123456789012"));  // 32 bytes
+  CHECK(MeasurementTypesProblem({{"wall", 2}, {"wall", 2}}) ==
+        std::optional<std::string>("declares the measurement type 'wall' twice"));
+  CHECK(MeasurementTypesProblem({{"wall", 0}})->find("0 degrees of freedom") != std::string::npos);
+  CHECK(MeasurementTypesProblem({{"wall", kMaxMeasurementDof + 1}}));
+  std::vector<MeasurementType> many;
+  for (int i = 0; i <= kMaxMeasurementTypes; ++i) many.push_back({"t" + std::to_string(i), 1});
+  CHECK(MeasurementTypesProblem(many)->find("at most 32") != std::string::npos);
+}
+
+TEST_CASE("a detection or innovation of an own type goes by its name, not its landmark type",
+          "[slam]") {
+  Detection d;
+  d.camera_id = "front";
+  d.type = LandmarkType::kLamp;
+  CHECK(d.Is(LandmarkType::kLamp));
+  CHECK(MeasurementName(d) == "lamp");
+  d.measurement = "wall_line";
+  CHECK_FALSE(d.Is(LandmarkType::kLamp));
+  CHECK(MeasurementName(d) == "wall_line");
+  // A lamp's missing radius does not matter to an own type; a shipped type's field does.
+  CHECK_FALSE(DetectionProblem(d));
+  d.label = "101";
+  CHECK(DetectionProblem(d));
+  Innovation n;
+  n.type = LandmarkType::kDoor;
+  CHECK(MeasurementName(n) == "door");
+  n.measurement = "scan_match";
+  CHECK(MeasurementName(n) == "scan_match");
+}
+
 }  // namespace
 }  // namespace corridorsim::slam

@@ -54,10 +54,10 @@ TEST_CASE("malformed pipeline output is counted in health and reported, never ab
   record.estimates[10].covariance(1, 1) = kNaN;
   record.estimates[20].world_from_robot = SE2(kNaN, 0.0, 0.0);
   // Innovations: one good lamp update, one with dof 0, one with a NaN and one with a negative NIS.
-  record.innovations.push_back({0, LandmarkType::kLamp, 1.0, 2, true});
-  record.innovations.push_back({0, LandmarkType::kLamp, 1.0, 0, true});
-  record.innovations.push_back({0, LandmarkType::kLamp, kNaN, 2, true});
-  record.innovations.push_back({0, LandmarkType::kDoor, -1.0, 1, false});
+  record.innovations.push_back({0, LandmarkType::kLamp, 1.0, 2, true, {}});
+  record.innovations.push_back({0, LandmarkType::kLamp, 1.0, 0, true, {}});
+  record.innovations.push_back({0, LandmarkType::kLamp, kNaN, 2, true, {}});
+  record.innovations.push_back({0, LandmarkType::kDoor, -1.0, 1, false, {}});
 
   const Json m = RunOne(world, truth, record);
   const Json& health = m["health"];

@@ -89,11 +89,11 @@ TEST_CASE("NIS is reported per landmark type over the accepted updates", "[metri
   PipelineRecord record = ExactRecord("nis", truth);
   // Lamps, 2 dof: 1, 2, 3 accepted (inside [0.0506, 7.38]), 0.01 accepted (below), 50 gated.
   for (const double nis : {1.0, 2.0, 3.0, 0.01}) {
-    record.innovations.push_back({0, LandmarkType::kLamp, nis, 2, true});
+    record.innovations.push_back({0, LandmarkType::kLamp, nis, 2, true, {}});
   }
-  record.innovations.push_back({0, LandmarkType::kLamp, 50.0, 2, false});
+  record.innovations.push_back({0, LandmarkType::kLamp, 50.0, 2, false, {}});
   // Doors, 1 dof: one above the interval (5.02).
-  record.innovations.push_back({0, LandmarkType::kDoor, 6.0, 1, true});
+  record.innovations.push_back({0, LandmarkType::kDoor, 6.0, 1, true, {}});
   const Json m = RunOne(world, truth, record);
   REQUIRE(m.contains("nis"));
   const Json& lamp = m["nis"]["lamp"];
@@ -110,6 +110,37 @@ TEST_CASE("NIS is reported per landmark type over the accepted updates", "[metri
   CHECK(door["count"] == 1);
   CHECK(Num(door["in_band_fraction"]) == 0.0);
   CHECK_FALSE(m["nis"].contains("corner"));
+}
+
+TEST_CASE("a pipeline's own measurement types get NIS after the landmark types, by name",
+          "[metrics]") {
+  const worlds::World world;
+  const std::vector<TruthPose> truth = ArcTruth(1.0);
+  PipelineRecord record = ExactRecord("nis", truth);
+  // A type named like none of the shipped ones, with a `type` field that must be ignored.
+  record.innovations.push_back({0, LandmarkType::kLamp, 4.0, 3, true, "scan_match"});
+  record.innovations.push_back({0, LandmarkType::kLamp, 2.0, 3, true, "scan_match"});
+  record.innovations.push_back({0, LandmarkType::kLamp, 9.0, 1, false, "gyro_bias"});
+  record.innovations.push_back({0, LandmarkType::kDoor, 1.0, 1, true, {}});
+  const Json m = RunOne(world, truth, record);
+  REQUIRE(m.contains("nis"));
+  std::vector<std::string> order;
+  for (const auto& [name, value] : m["nis"].items()) order.push_back(name);
+  CHECK(order == std::vector<std::string>{"door", "gyro_bias", "scan_match"});
+  CHECK_FALSE(m["nis"].contains("lamp"));
+  const Json& scan = m["nis"]["scan_match"];
+  CHECK(scan["count"] == 2);
+  CHECK(Num(scan["mean"]) == Approx(3.0).margin(test::kMetricsJsonRatio));
+  const boost::math::chi_squared_distribution<double> scan_mean(6);  // 2 updates x 3 dof
+  CHECK(Num(scan["mean_band_high"]) ==
+        Approx(boost::math::quantile(scan_mean, 0.975) / 2).margin(test::kMetricsJsonRatio));
+  CHECK(m["nis"]["gyro_bias"]["count"] == 0);
+  CHECK(m["nis"]["gyro_bias"]["gated"] == 1);
+  CHECK(m["nis"]["gyro_bias"]["mean"].is_null());
+  // The per-update file names the type too.
+  const std::string csv = NisSeriesCsv(record);
+  CHECK(csv.find(",scan_match,3,4.000000,1\n") != std::string::npos);
+  CHECK(csv.find(",door,1,1.000000,1\n") != std::string::npos);
 }
 
 TEST_CASE("the error series CSV has one row per estimate with errors, sigmas and NEES",

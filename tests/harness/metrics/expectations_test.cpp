@@ -38,6 +38,12 @@ TEST_CASE("expectations parse '<pipeline>.<metric> <op> <number>' and reject the
   CHECK(e.metric == "nis.lamp.mean");
   CHECK(e.op == Expectation::Op::kGreaterEqual);
   CHECK(e.value == 0.5);
+  // A pipeline's own measurement type's NIS (slam::MeasurementType), by any valid name, with the
+  // fields the shipped types' NIS has.
+  REQUIRE_FALSE(ParseExpectation("mine.nis.scan_match.mean < 2", &e));
+  CHECK(e.metric == "nis.scan_match.mean");
+  REQUIRE(ParseExpectation("mine.nis.scan_match.bogus < 2", &e));
+  REQUIRE(ParseExpectation("mine.nis.Scan-Match.mean < 2", &e));
 
   const auto bad_op = ParseExpectation("p1.ate_rmse_m == 0.1", &e);
   REQUIRE(bad_op);
@@ -87,7 +93,7 @@ TEST_CASE("a health counter written only when non-zero reads as 0 where it is ab
   const worlds::World world;
   const std::vector<TruthPose> truth = ArcTruth(1.0);
   PipelineRecord broken = ExactRecord("broken", truth);
-  broken.innovations.push_back({0, LandmarkType::kLamp, 1.0, 0, true});  // no dof: malformed
+  broken.innovations.push_back({0, LandmarkType::kLamp, 1.0, 0, true, {}});  // no dof: malformed
   MetricsInput input;
   input.world = &world;
   input.truth = truth;
