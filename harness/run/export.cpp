@@ -86,7 +86,7 @@ DatasetExporter::DatasetExporter(const fs::path& dir, const render::RigOptions& 
       camera.layout = Layout::kTumRgbd;
       camera.image_dir = fs::path("tum_rgbd") / "rgb";
       camera.depth_dir = fs::path("tum_rgbd") / "depth";
-    } else if (camera.euroc_number >= 0) {
+    } else {  // every other camera of the rig has a number
       camera.layout = Layout::kEuroc;
       const fs::path folder = fs::path("euroc") / "mav0" / EurocFolder(camera.euroc_number);
       camera.image_dir = folder / "data";
@@ -153,18 +153,16 @@ void DatasetExporter::AddFrame(const sim::CameraMessage& message, const std::str
   const fs::path labels_dir = fs::path("labels") / camera_id;
   if (camera.stamps.empty()) {
     camera.first_world_from_robot = {t, message.world_from_robot};
-    if (camera.layout != Layout::kLabelsOnly) MakeDir(camera.image_dir);
-    if (camera.layout != Layout::kLabelsOnly && camera.options.depth) MakeDir(camera.depth_dir);
+    MakeDir(camera.image_dir);
+    if (camera.options.depth) MakeDir(camera.depth_dir);
     MakeDir(labels_dir);
   }
 
   const std::string name = StampName(t) + ".png";
-  if (camera.layout != Layout::kLabelsOnly) {
-    WriteFileAtomic(dir_ / camera.image_dir / name, EncodePng(f.rgb, camera_id + " " + name));
-    if (camera.options.depth) {
-      WriteFileAtomic(dir_ / camera.depth_dir / name,
-                      EncodeDepth(f.noisy_depth_m, camera_id + " depth " + name));
-    }
+  WriteFileAtomic(dir_ / camera.image_dir / name, EncodePng(f.rgb, camera_id + " " + name));
+  if (camera.options.depth) {
+    WriteFileAtomic(dir_ / camera.depth_dir / name,
+                    EncodeDepth(f.noisy_depth_m, camera_id + " depth " + name));
   }
   if (camera.layout == Layout::kTumRgbd)
     camera.world_from_camera.emplace_back(t, f.world_from_camera);

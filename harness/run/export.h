@@ -71,7 +71,7 @@ class DatasetExporter {
   static int EurocCameraNumber(const render::RigOptions& rig, const std::string& camera_id);
 
  private:
-  enum class Layout { kTumRgbd, kEuroc, kLabelsOnly };
+  enum class Layout { kTumRgbd, kEuroc };
   struct PlateBox {
     int plate_id = 0;
     std::string room_number;
@@ -89,7 +89,7 @@ class DatasetExporter {
   struct CameraOutput {
     render::CameraOptions options;
     std::size_t order = 0;  // in the rig
-    Layout layout = Layout::kLabelsOnly;
+    Layout layout = Layout::kEuroc;
     int euroc_number = -1;            // kEuroc: N of euroc/mav0/cam<N>/
     std::filesystem::path image_dir;  // where the RGB images go (relative to the root)
     std::filesystem::path depth_dir;  // where the noisy depth goes (depth cameras)
