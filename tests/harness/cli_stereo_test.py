@@ -95,6 +95,17 @@ def passes(result):
     return n >= 20000 and median <= MAX_MEDIAN and within >= MIN_WITHIN_2PCT
 
 
+def pose_matrix(pose):
+    """The 4x4 matrix of a JSON pose {t, q = [qx, qy, qz, qw]} (docs/frames.md)."""
+    x, y, z, w = pose["q"]
+    m = np.eye(4)
+    m[:3, :3] = [[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+                 [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+                 [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]]
+    m[:3, 3] = pose["t"]
+    return m
+
+
 def check_truth_poses(export, left, right, stamps):
     """Each exported frame's world_from_camera (labels/<camera>/<t>.json) is the robot's true pose
     at the stamp times the camera's exported T_BS: the pair's calibration is the rig's."""
@@ -103,24 +114,19 @@ def check_truth_poses(export, left, right, stamps):
         for t in stamps:
             with open(os.path.join(export, "labels", camera, t + ".json")) as f:
                 truth = json.load(f)
-
-            def matrix(pose):
-                qx, qy, qz, qw = pose["q"]
-                m = np.eye(4)
-                m[:3, :3] = [[1 - 2 * (qy * qy + qz * qz), 2 * (qx * qy - qz * qw), 2 * (qx * qz + qy * qw)],
-                             [2 * (qx * qy + qz * qw), 1 - 2 * (qx * qx + qz * qz), 2 * (qy * qz - qx * qw)],
-                             [2 * (qx * qz - qy * qw), 2 * (qy * qz + qx * qw), 1 - 2 * (qx * qx + qy * qy)]]
-                m[:3, 3] = pose["t"]
-                return m
-            expected = matrix(truth["world_from_robot"]) @ calib["T_BS"]
-            worst = max(worst, float(np.abs(matrix(truth["world_from_camera"]) - expected).max()))
+            expected = pose_matrix(truth["world_from_robot"]) @ calib["T_BS"]
+            error = np.abs(pose_matrix(truth["world_from_camera"]) - expected).max()
+            worst = max(worst, float(error))
     if worst > 1e-5:  # the JSON rounds t to 1e-6 m and q to 1e-9
         fail("a frame's world_from_camera differs from world_from_robot * T_BS by %.2e" % worst)
-    print("ok: every frame's true camera pose is the robot's times its exported T_BS (%.1e)" % worst)
+    print("ok: every frame's true camera pose is the robot's times its exported T_BS (%.1e)"
+          % worst)
 
 
 def main():
-    binary, source, work = sys.argv[1], sys.argv[2], fresh_folder(sys.argv[3])
+    # Absolute: the runs start in WORK_DIR.
+    binary, source = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
+    work = fresh_folder(os.path.abspath(sys.argv[3]))
     export = os.path.join(work, "export")
     command = ["run", os.path.join(source, "scenarios", "stereo.yaml"), "--out",
                os.path.join(work, "run"), "--export", export, "--set", "duration_s=1",
@@ -166,11 +172,11 @@ def main():
     # What a wrong calibration gives on the same frames: each must miss the bound.
     half_baseline = dict(right, T_BS=right["T_BS"].copy())
     half_baseline["T_BS"][1, 3] = (right["T_BS"][1, 3] + left["T_BS"][1, 3]) / 2
+    turned = dict(right, T_BS=yawed(right["T_BS"], 0.5))
     wrong = {
         "a baseline of half the length": (left, half_baseline, images),
         "the pair swapped": (right, left, [(b, a) for a, b in images]),
-        "the right camera's T_BS turned 0.5 deg": (left, dict(right, T_BS=yawed(right["T_BS"], 0.5)),
-                                                    images),
+        "the right camera's T_BS turned 0.5 deg": (left, turned, images),
     }
     for name, (l, r, pairs) in wrong.items():
         bad = score(l, r, pairs, depths)
