@@ -30,6 +30,8 @@ std::string Quoted(const fs::path& path) { return "'" + path.string() + "'"; }
 
 std::string StampName(TimeNs stamp_ns) { return std::to_string(stamp_ns); }
 
+std::string EurocFolder(int number) { return "cam" + std::to_string(number); }
+
 // Nine decimals; a value that rounds to zero is written without a sign.
 std::string Fixed9(double value) {
   char buf[48];
@@ -79,18 +81,38 @@ DatasetExporter::DatasetExporter(const fs::path& dir, const render::RigOptions& 
     CameraOutput camera;
     camera.options = options;
     camera.order = k;
+    camera.euroc_number = EurocCameraNumber(rig, options.id);
     if (options.id == "front") {
       camera.layout = Layout::kTumRgbd;
       camera.image_dir = fs::path("tum_rgbd") / "rgb";
-    } else if (options.id == "upward") {
-      camera.layout = Layout::kEurocCam0;
-      camera.image_dir = fs::path("euroc") / "mav0" / "cam0" / "data";
-    } else if (options.id == "lateral") {
-      camera.layout = Layout::kEurocCam1;
-      camera.image_dir = fs::path("euroc") / "mav0" / "cam1" / "data";
+      camera.depth_dir = fs::path("tum_rgbd") / "depth";
+    } else {  // every other camera of the rig has a number
+      camera.layout = Layout::kEuroc;
+      const fs::path folder = fs::path("euroc") / "mav0" / EurocFolder(camera.euroc_number);
+      camera.image_dir = folder / "data";
+      camera.depth_dir = folder / "depth";
     }
     cameras_.push_back(std::move(camera));
   }
+}
+
+int DatasetExporter::EurocCameraNumber(const render::RigOptions& rig,
+                                       const std::string& camera_id) {
+  if (camera_id == "upward") return 0;
+  if (camera_id == "lateral") return 1;
+  int next = 2;  // the rig's cameras beyond the three, in its order
+  for (const render::CameraOptions& c : rig.cameras) {
+    if (c.id == "front" || c.id == "lateral" || c.id == "upward") continue;
+    if (c.id == camera_id) return next;
+    ++next;
+  }
+  return -1;
+}
+
+bool DatasetExporter::has_tum() const {
+  return std::any_of(cameras_.begin(), cameras_.end(), [](const CameraOutput& c) {
+    return c.layout == Layout::kTumRgbd && !c.stamps.empty();
+  });
 }
 
 void DatasetExporter::CheckOpen(const char* what) const {
@@ -131,22 +153,19 @@ void DatasetExporter::AddFrame(const sim::CameraMessage& message, const std::str
   const fs::path labels_dir = fs::path("labels") / camera_id;
   if (camera.stamps.empty()) {
     camera.first_world_from_robot = {t, message.world_from_robot};
-    if (camera.layout != Layout::kLabelsOnly) MakeDir(camera.image_dir);
-    if (camera.layout == Layout::kTumRgbd && camera.options.depth) MakeDir("tum_rgbd/depth");
+    MakeDir(camera.image_dir);
+    if (camera.options.depth) MakeDir(camera.depth_dir);
     MakeDir(labels_dir);
   }
 
   const std::string name = StampName(t) + ".png";
-  if (camera.layout != Layout::kLabelsOnly) {
-    WriteFileAtomic(dir_ / camera.image_dir / name, EncodePng(f.rgb, camera_id + " " + name));
+  WriteFileAtomic(dir_ / camera.image_dir / name, EncodePng(f.rgb, camera_id + " " + name));
+  if (camera.options.depth) {
+    WriteFileAtomic(dir_ / camera.depth_dir / name,
+                    EncodeDepth(f.noisy_depth_m, camera_id + " depth " + name));
   }
-  if (camera.layout == Layout::kTumRgbd) {
-    if (camera.options.depth) {
-      WriteFileAtomic(dir_ / "tum_rgbd" / "depth" / name,
-                      EncodeDepth(f.noisy_depth_m, camera_id + " depth " + name));
-    }
+  if (camera.layout == Layout::kTumRgbd)
     camera.world_from_camera.emplace_back(t, f.world_from_camera);
-  }
   WriteFileAtomic(dir_ / labels_dir / name, EncodeLabels(f, width, height));
   nlohmann::ordered_json truth;
   truth["stamp_ns"] = t;
@@ -156,7 +175,7 @@ void DatasetExporter::AddFrame(const sim::CameraMessage& message, const std::str
   WriteFileAtomic(dir_ / labels_dir / (StampName(t) + ".json"), JsonFileText(truth, 1));
 
   // Door plates: the cameras that read them (front, lateral).
-  if (camera.layout == Layout::kTumRgbd || camera.layout == Layout::kEurocCam1) {
+  if (camera_id == "front" || camera_id == "lateral") {
     CocoImage image;
     image.stamp_ns = t;
     image.camera_order = camera.order;
@@ -212,10 +231,9 @@ void DatasetExporter::Finish() {
   for (const CameraOutput& camera : cameras_) {
     if (camera.stamps.empty()) continue;
     if (camera.layout == Layout::kTumRgbd) FinishTum(camera);
-    if (camera.layout == Layout::kEurocCam0 || camera.layout == Layout::kEurocCam1) {
-      FinishEuroc(camera);
-    }
+    if (camera.layout == Layout::kEuroc) FinishEuroc(camera);
   }
+  FinishEurocCameraList();
   FinishGroundTruth();
   FinishOdometry();
   FinishCoco();
@@ -279,16 +297,45 @@ void DatasetExporter::FinishTum(const CameraOutput& camera) const {
 }
 
 void DatasetExporter::FinishEuroc(const CameraOutput& camera) const {
-  const std::string cam = camera.layout == Layout::kEurocCam0 ? "cam0" : "cam1";
+  const std::string cam = EurocFolder(camera.euroc_number);
   const fs::path folder = dir_ / "euroc" / "mav0" / cam;
   std::ostringstream csv;
   csv << "#timestamp [ns],filename\n";
   for (const TimeNs t : camera.stamps) csv << t << "," << t << ".png\n";
   WriteFileAtomic(folder / "data.csv", csv.str());
+  // A depth camera's depth/ holds an image per RGB image, of the same name: the same index.
+  if (camera.options.depth) WriteFileAtomic(folder / "depth.csv", csv.str());
   WriteFileAtomic(
       folder / "sensor.yaml",
       CameraSensorYaml(camera.options, "corridorsim " + camera.options.id + " camera as " + cam,
                        StartOf(camera)));
+}
+
+// euroc/mav0/cameras.yaml: which camera each cam<N>/ holds. Only with a camera beyond the fixed
+// cam0 (upward) and cam1 (lateral), so that an export of the three default cameras is what it
+// always was.
+void DatasetExporter::FinishEurocCameraList() const {
+  std::vector<const CameraOutput*> exported;
+  for (const CameraOutput& camera : cameras_) {
+    if (camera.layout == Layout::kEuroc && !camera.stamps.empty()) exported.push_back(&camera);
+  }
+  if (std::none_of(exported.begin(), exported.end(),
+                   [](const CameraOutput* c) { return c->euroc_number >= 2; })) {
+    return;
+  }
+  std::stable_sort(exported.begin(), exported.end(),
+                   [](const CameraOutput* a, const CameraOutput* b) {
+                     return a->euroc_number < b->euroc_number;
+                   });
+  std::ostringstream y;
+  y << "# corridorsim: the scenario's camera in each euroc/mav0/cam<N>/ (docs/export.md). cam0 is\n"
+    << "# always the upward camera and cam1 the lateral one; the scenario's other cameras follow\n"
+    << "# from cam2 in the order the scenario names them (a disabled one keeps its number). The\n"
+    << "# front camera is tum_rgbd/. Only the cameras exported are listed.\n";
+  for (const CameraOutput* camera : exported) {
+    y << EurocFolder(camera->euroc_number) << ": " << camera->options.id << "\n";
+  }
+  WriteFileAtomic(dir_ / "euroc" / "mav0" / "cameras.yaml", y.str());
 }
 
 // EuRoC's state_groundtruth_estimate0: the robot's pose, its velocity in W by central

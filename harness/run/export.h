@@ -4,8 +4,11 @@
 //   tum_rgbd/        the front camera as TUM RGB-D (rgb/, depth/ from the noisy depth, rgb.txt,
 //                    depth.txt, associations.txt, groundtruth.txt of world_from_camera), an
 //                    ORB-SLAM2/3 settings file (orb_slam.yaml) and sensor.yaml as EuRoC's;
-//   euroc/mav0/      the upward camera as cam0/ and the lateral camera as cam1/ (EuRoC/ASL:
-//                    data/<t_ns>.png, data.csv, sensor.yaml), and state_groundtruth_estimate0/;
+//   euroc/mav0/      the upward camera as cam0/, the lateral camera as cam1/ and the scenario's
+//                    other cameras as cam2/, cam3/, ... in the rig's order (EuRoC/ASL:
+//                    data/<t_ns>.png, data.csv, sensor.yaml; depth/<t_ns>.png for a depth
+//                    camera), cameras.yaml (cam<N> -> camera name) when there is a cam2 or
+//                    beyond, and state_groundtruth_estimate0/;
 //   every camera's sensor.yaml carries its extrinsics (T_BS, body_from_sensor) and the body's
 //   start pose in frame W (T_WB_start: the ground truth's first pose; export_yaml.h);
 //   odometry.csv     the wheel odometry messages;
@@ -56,8 +59,19 @@ class DatasetExporter {
   /// or finishing again afterwards throws std::logic_error.
   void Finish();
 
+  /// Whether the front camera has written a frame (tum_rgbd/ exists): where TUM RGB-D's
+  /// accelerometer.txt goes (harness/run/export_imu.h).
+  bool has_tum() const;
+
+  /// The EuRoC folder number N (euroc/mav0/cam<N>/) of camera `camera_id` of `rig`: 0 for
+  /// upward, 1 for lateral, and 2, 3, ... for the rig's other cameras after front, lateral and
+  /// upward, in the rig's order (the scenario's order of names), disabled ones counted so that a
+  /// camera keeps its number whichever others are enabled; -1 for front (TUM RGB-D) and for a
+  /// name the rig does not have.
+  static int EurocCameraNumber(const render::RigOptions& rig, const std::string& camera_id);
+
  private:
-  enum class Layout { kTumRgbd, kEurocCam0, kEurocCam1, kLabelsOnly };
+  enum class Layout { kTumRgbd, kEuroc };
   struct PlateBox {
     int plate_id = 0;
     std::string room_number;
@@ -75,8 +89,10 @@ class DatasetExporter {
   struct CameraOutput {
     render::CameraOptions options;
     std::size_t order = 0;  // in the rig
-    Layout layout = Layout::kLabelsOnly;
+    Layout layout = Layout::kEuroc;
+    int euroc_number = -1;            // kEuroc: N of euroc/mav0/cam<N>/
     std::filesystem::path image_dir;  // where the RGB images go (relative to the root)
+    std::filesystem::path depth_dir;  // where the noisy depth goes (depth cameras)
     std::vector<TimeNs> stamps;       // of the frames written, increasing
     std::vector<std::pair<TimeNs, SE3>> world_from_camera;  // front camera: per frame
     std::pair<TimeNs, SE3> first_world_from_robot;          // the robot at the first frame
@@ -88,6 +104,7 @@ class DatasetExporter {
   BodyStart StartOf(const CameraOutput& camera) const;
   void FinishTum(const CameraOutput& camera) const;
   void FinishEuroc(const CameraOutput& camera) const;
+  void FinishEurocCameraList() const;
   void FinishGroundTruth() const;
   void FinishOdometry() const;
   void FinishCoco() const;

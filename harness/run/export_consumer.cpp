@@ -9,11 +9,14 @@
 namespace corridorsim {
 
 ExportConsumer::ExportConsumer(const std::filesystem::path& dir, const render::RigOptions& rig,
-                               double wheelbase_m, const std::vector<sim::ImuOptions>& imus)
+                               double wheelbase_m, const std::vector<sim::ImuOptions>& imus,
+                               const std::vector<sim::LaserOptions>& lasers)
     : truth_period_ns_(PeriodFromRateHz(kTruthFileRateHz)) {
   try {
     exporter_.emplace(dir, rig, wheelbase_m);
-    imu_export_.emplace(dir, imus);
+    const render::CameraOptions* front = rig.Find("front");
+    imu_export_.emplace(dir, imus, front != nullptr && front->enabled);
+    laser_export_.emplace(dir, lasers);
   } catch (const std::runtime_error& e) {
     throw InputError(SourceLocation{"command line", 0, 0}, "--export", e.what());
   }
@@ -52,11 +55,16 @@ void ExportConsumer::OnImu(const sim::ImuMessage& imu) {
   worker_.Submit([this, k = imu.imu, sample = imu.sample] { imu_export_->Add(k, sample); }, 0);
 }
 
+void ExportConsumer::OnScan(const sim::ScanMessage& scan) {
+  worker_.Submit([this, k = scan.laser, sweep = scan.scan] { laser_export_->Add(k, sweep); }, 0);
+}
+
 void ExportConsumer::Finish() {
   const WallClock::time_point t0 = WallClock::now();
   worker_.Submit([this] {
     exporter_->Finish();
-    imu_export_->Finish();
+    imu_export_->Finish(exporter_->has_tum());
+    laser_export_->Finish();
   });
   worker_.Drain();
   wait_seconds_ += SecondsSince(t0);

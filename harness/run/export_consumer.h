@@ -18,15 +18,19 @@ class ExportConsumer : public BusConsumer {
  public:
   /// Opens the export in `dir` for the rendered cameras of `rig` (InputError at `--export` when
   /// the folder cannot take it).
-  /// `imus`: the scenario's IMUs, exported as euroc/mav0/imu<k>/ (harness/run/export_imu.h).
+  /// `imus` and `lasers`: the scenario's IMUs and laser scanners, exported as
+  /// euroc/mav0/imu<k>/ (with the first IMU's tum_rgbd/accelerometer.txt) and laser<k>/
+  /// (harness/run/export_imu.h).
   ExportConsumer(const std::filesystem::path& dir, const render::RigOptions& rig,
-                 double wheelbase_m, const std::vector<sim::ImuOptions>& imus = {});
+                 double wheelbase_m, const std::vector<sim::ImuOptions>& imus = {},
+                 const std::vector<sim::LaserOptions>& lasers = {});
 
   void OnStart(const sim::TruthSample& truth) override;
   void OnOdometry(const WheelOdometry& odometry) override;
   void OnCameraSet(const CameraSet& set) override;
   void OnTruth(const sim::TruthSample& truth) override;
   void OnImu(const sim::ImuMessage& imu) override;
+  void OnScan(const sim::ScanMessage& scan) override;
 
   /// Writes the index files and waits for the worker to finish everything.
   void Finish();
@@ -38,6 +42,7 @@ class ExportConsumer : public BusConsumer {
  private:
   std::optional<DatasetExporter> exporter_;
   std::optional<ImuExport> imu_export_;
+  std::optional<LaserExport> laser_export_;
   // The first IMU's true biases at its latest sample (b_w, b_a): the ground truth's.
   Eigen::Matrix<double, 6, 1> biases_ = Eigen::Matrix<double, 6, 1>::Zero();
   SerialWorker worker_{4};

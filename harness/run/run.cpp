@@ -104,7 +104,7 @@ int RunScenario(const RunRequest& request) {
   std::optional<ExportConsumer> exporter;
   if (dataset) {
     exporter.emplace(dataset->path(), setup.rig_options(), scenario.robot.wheelbase_m,
-                     scenario.imus);
+                     scenario.imus, scenario.lasers);
   }
   std::printf("run: %s, seed %llu, %zu pipeline(s)%s, path %s (%.1f m)%s\n",
               scenario.name.empty() ? request.scenario_file.c_str() : scenario.name.c_str(),

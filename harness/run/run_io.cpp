@@ -17,6 +17,15 @@ std::string StampSeconds(TimeNs stamp_ns) {
                 static_cast<long long>(stamp_ns % kNanosecondsPerSecond));
   return buf;
 }
+
+std::string CsvNumber(double value) {
+  if (std::isnan(value)) return "nan";
+  if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
+  char buf[40];
+  std::snprintf(buf, sizeof(buf), "%.9g", value);
+  return buf;
+}
+
 namespace {
 
 constexpr double kSlipStepsPerM = 1e9;  // slips are often far below a micrometre

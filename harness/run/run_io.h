@@ -21,6 +21,10 @@ inline constexpr double kTruthFileRateHz = 100.0;
 /// TUM files, the export and the sensors' CSV write it: exact, whatever the magnitude.
 std::string StampSeconds(TimeNs stamp_ns);
 
+/// A number of a sensor's CSV row: nine significant digits (`%.9g`), and REP 117's non-finite
+/// laser ranges as `inf`, `-inf`, `nan` (what numpy, pandas and Python's float() read).
+std::string CsvNumber(double value);
+
 /// One event of events.json: {t, t_ns, type, ...} with the fields of its kind.
 nlohmann::ordered_json EventJson(const sim::Event& event);
 

@@ -13,19 +13,8 @@
 namespace corridorsim {
 namespace {
 
-// A number with nine significant digits; REP 117's non-finite ranges as inf, -inf, nan (what
-// numpy, pandas and Python's float() read).
-void Append(std::string* row, double v) {
-  char buf[40];
-  if (std::isnan(v)) {
-    *row += ",nan";
-  } else if (std::isinf(v)) {
-    *row += v > 0 ? ",inf" : ",-inf";
-  } else {
-    std::snprintf(buf, sizeof(buf), ",%.9g", v);
-    *row += buf;
-  }
-}
+// One more column of a row (run_io.h: CsvNumber).
+void Append(std::string* row, double v) { *row += "," + CsvNumber(v); }
 
 void AppendVector(std::string* row, const Eigen::Vector3d& v) {
   for (int i = 0; i < 3; ++i) Append(row, v[i]);

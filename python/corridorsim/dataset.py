@@ -58,14 +58,16 @@ class Dataset(files.FolderReader):
       path, layout   the folder; 'dataset' or 'export'
       manifest       dataset.json as parsed ('dataset'; None for an export)
       cameras        the cameras with frames ('dataset': dataset.json's; 'export': front when
-                     tum_rgbd/rgb.txt exists, lateral and upward when euroc's cam1, cam0 do)
+                     tum_rgbd/rgb.txt exists, lateral and upward when euroc's cam1, cam0 do,
+                     then the named cameras of euroc/mav0/cameras.yaml in cam<N> order)
       frames(camera) DataFrame, one row per frame in order. 'dataset': image_id, file_name
                      (relative to <camera>/), world_index, frame_index, world_seed, width,
                      height (from annotations.json; before it exists, from the truth files:
                      no image_id, width, height, world_seed), path, labels_path, truth_path,
                      depth_path (None without depth). 'export': t_ns (int64, exact), t (s),
                      file_name (relative to the export root, as COCO's), path, labels_path,
-                     truth_path (labels/<camera>/<t_ns>.png/.json), depth_path (front only)
+                     truth_path (labels/<camera>/<t_ns>.png/.json), depth_path (depth
+                     cameras: front's depth.txt, a cam<N>'s depth.csv)
       image(camera, i, kind='image')   frame i's image ('image', 'labels' or 'depth') as a numpy
                      array, read now (load_image: OpenCV when installed, else matplotlib)
       truth(camera, i)   frame i's ground truth JSON (dict)
@@ -87,8 +89,14 @@ class Dataset(files.FolderReader):
                  ["tum_rgbd", "euroc", "labels", "coco", "odometry.csv"]):
             self.layout = "export"
             self.manifest = None
+            # The named cameras (euroc/mav0/cam2/, ...) as cameras.yaml numbers them.
+            listed = os.path.join(path, "euroc", "mav0", "cameras.yaml")
+            named = dataset_files.read_euroc_camera_list(listed) if os.path.exists(listed) else []
+            self._export_named = {name: cam for cam, name in named
+                                  if name not in _EXPORT_CAMERAS}
             self.cameras = [c for c in ["front", "lateral", "upward"]
                             if os.path.exists(os.path.join(path, _EXPORT_CAMERAS[c][0]))]
+            self.cameras += sorted(self._export_named, key=self._export_named.get)
         else:
             raise InputError(path, None, "neither a dataset (dataset.json) nor an export "
                              "(tum_rgbd/, euroc/, labels/, coco/)")
@@ -140,16 +148,29 @@ class Dataset(files.FolderReader):
                                for s in stems]
         return frame
 
+    def _export_files(self, camera):
+        """The camera's frame index, its reader, the images' prefix (relative to the root), and
+        its depth index with the depth images' folder (the index is absent without depth)."""
+        if camera in _EXPORT_CAMERAS:
+            index, reader, prefix = _EXPORT_CAMERAS[camera]
+        else:
+            folder = f"euroc/mav0/cam{self._export_named[camera]}/"
+            index, reader, prefix = folder + "data.csv", dataset_files.read_euroc_file_list, \
+                folder + "data/"
+        if camera == "front":
+            return index, reader, prefix, "tum_rgbd/depth.txt", "tum_rgbd/"
+        folder = os.path.dirname(index)
+        return index, reader, prefix, folder + "/depth.csv", folder + "/depth/"
+
     def _export_frames(self, camera):
-        index, reader, prefix = _EXPORT_CAMERAS[camera]
+        index, reader, prefix, depth_index, depth_prefix = self._export_files(camera)
         index_path = os.path.join(self.path, index)
         listed = reader(index_path)
         relative = [prefix + name for _, name in listed]
         depth = {}
-        depth_index = os.path.join(self.path, "tum_rgbd", "depth.txt")
-        if camera == "front" and os.path.exists(depth_index):
-            depth = {t: os.path.join(self.path, "tum_rgbd", name)
-                     for t, name in dataset_files.read_tum_file_list(depth_index)}
+        if os.path.exists(os.path.join(self.path, depth_index)):
+            depth = {t: os.path.join(self.path, depth_prefix, name)
+                     for t, name in reader(os.path.join(self.path, depth_index))}
         stamps = [t for t, _ in listed]
         labels = os.path.join(self.path, "labels", camera)
         return pd.DataFrame({
@@ -206,7 +227,7 @@ class Dataset(files.FolderReader):
             return pd.DataFrame({c: [] for c in fixed})
         images = {im["id"]: im["file_name"] for im in coco["images"]}
         if self.layout == "export":
-            prefix = _EXPORT_CAMERAS[camera][2]
+            prefix = self._export_files(camera)[2]
             images = {i: f for i, f in images.items() if f.startswith(prefix)}
         categories = {c["id"]: c["name"] for c in coco["categories"]}
         rows = []

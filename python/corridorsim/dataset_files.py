@@ -11,6 +11,8 @@ from .files import (MAX_FILE_BYTES, MAX_POSES, MAX_TEXT_CHARS, InputError, JsonR
 
 MAX_COCO_ITEMS = 10_000_000    # images or annotations of one COCO file
 MAX_FILE_NAME_CHARS = 255
+SENSOR_NAME = re.compile(r"[a-z][a-z0-9_]{0,31}")  # a scenario's sensor names (docs/sensors.md)
+MAX_EXPORT_CAMERAS = 64  # cam<N> folders of an export (a scenario has at most 16 cameras)
 
 # ------------------------------------------------------------------------------------------------
 # Datasets (docs/datasets.md, docs/export.md)
@@ -35,7 +37,8 @@ def read_dataset_manifest(path):
                f"{json.dumps(root.get('format'))[:40]}")
     if root.get("format_version") != 1:
         r.fail(root, "format_version", "expected 1")
-    cameras = text_list(r, root, "cameras", "", re.compile(r"[a-z_]{1,32}"), 16)
+    # A camera's name as a scenario's sensors: may give it (docs/sensors.md).
+    cameras = text_list(r, root, "cameras", "", SENSOR_NAME, 16)
     if not cameras:
         r.fail(root, "cameras", "no cameras")
     for key, hi in [("worlds", 100_000), ("frames_per_world", 100_000)]:
@@ -137,4 +140,25 @@ def read_euroc_file_list(path):
             raise InputError(path, number, "expected '<t_ns>,<file name>'")
         stamp = int(fields[0])
         _add_frame(out, path, number, "timestamp", stamp, fields[1])
+    return out
+
+
+def read_euroc_camera_list(path):
+    """An export's euroc/mav0/cameras.yaml: '#' comments, then `cam<N>: <camera name>` per
+    exported camera (docs/export.md), as [(N, name)] in the file's order; numbers and names
+    unique."""
+    out = []
+    for number, line in enumerate(read_text(path).splitlines(), start=1):
+        line = line.strip()
+        if not line or line.startswith("#"):
+            continue
+        m = re.fullmatch(r"cam([0-9]{1,2}):\s*(\S+)", line)
+        if m is None or SENSOR_NAME.fullmatch(m.group(2)) is None:
+            raise InputError(path, number, "expected 'cam<N>: <camera name>'")
+        cam, name = int(m.group(1)), m.group(2)
+        if any(cam == c or name == n for c, n in out):
+            raise InputError(path, number, f"cam{cam} or '{name}' is named twice")
+        if len(out) == MAX_EXPORT_CAMERAS:
+            raise InputError(path, number, f"more than {MAX_EXPORT_CAMERAS} cameras")
+        out.append((cam, name))
     return out

@@ -497,6 +497,32 @@ def test_export_layout(tmp_path):
     assert lateral["attributes.room_number"].tolist() == ["7"]
 
 
+def test_export_named_cameras(tmp_path):
+    """The scenario's named cameras: euroc/mav0/cam2/, ... as cameras.yaml names them, a depth
+    camera's depth/ through its depth.csv (docs/export.md)."""
+    root = str(tmp_path)
+    write(os.path.join(root, "euroc", "mav0", "cameras.yaml"),
+          "# comment\ncam1: lateral\ncam3: right2\ncam2: left1\n")
+    for cam in ("cam1", "cam2", "cam3"):
+        write(os.path.join(root, "euroc", "mav0", cam, "data.csv"),
+              "#timestamp [ns],filename\n0,0.png\n100000000,100000000.png\n")
+    write(os.path.join(root, "euroc", "mav0", "cam2", "depth.csv"),
+          "#timestamp [ns],filename\n0,0.png\n100000000,100000000.png\n")
+    dataset = Dataset(root)
+    assert dataset.cameras == ["lateral", "left1", "right2"]
+    left = dataset.frames("left1")
+    assert left["file_name"].tolist() == ["euroc/mav0/cam2/data/0.png",
+                                          "euroc/mav0/cam2/data/100000000.png"]
+    assert left["depth_path"][1] == os.path.join(root, "euroc/mav0/cam2/depth/100000000.png")
+    assert left["labels_path"][0].endswith(os.path.join("labels", "left1", "0.png"))
+    assert dataset.frames("right2")["depth_path"].tolist() == [None, None]
+    assert dataset.coco("left1") is None and dataset.annotations("left1").empty
+    for bad in ("cam2: left1\ncam2: other\n", "cam2 left1\n", "cam2: Left\n"):
+        write(os.path.join(root, "euroc", "mav0", "cameras.yaml"), bad)
+        with pytest.raises(InputError, match="cameras.yaml"):
+            Dataset(root)
+
+
 def test_coco_references_are_checked(tmp_path):
     path = os.path.join(tmp_path, "c.json")
     write_json(path, {"images": [], "categories": [{"id": 1, "name": "x"}],

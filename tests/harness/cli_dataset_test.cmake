@@ -214,6 +214,35 @@ cli_run(EXIT 2 WHAT "plate poses without the lateral camera"
         NOT_EXISTS "${WORK_DIR}/bad" ARGS dataset "${scenario}" --cameras upward --poses plates
         --out "${WORK_DIR}/bad")
 
+# A named camera (docs/sensors.md: `type: camera`) is a camera like the three: its own folder with
+# images, labels, depth and truth per frame, annotated, and named in dataset.json.
+file(WRITE "${WORK_DIR}/named.yaml"
+     "include: ${scenario}\nsensors:\n  high_cam:\n    type: camera\n    width: 96\n"
+     "    height: 72\n    fov_deg: 70\n    depth: true\n    mount: {x_m: 0.1, z_m: 0.6, pitch_deg: 10}\n")
+cli_run(EXIT 0 WHAT "a named camera" ARGS dataset "${WORK_DIR}/named.yaml" --worlds 1
+        --frames-per-world 2 --cameras high_cam,front --out "${WORK_DIR}/named"
+        STDOUT "cameras front,high_cam: rendered 2 frames")
+foreach(stem w000_f0000 w000_f0001)
+  cli_expect_files("${WORK_DIR}/named/high_cam" images/${stem}.png labels/${stem}.png
+                   depth/${stem}.png truth/${stem}.json)
+endforeach()
+file(READ "${WORK_DIR}/named/dataset.json" manifest)
+string(JSON named_cameras GET "${manifest}" cameras)
+string(REGEX REPLACE "[ \n]" "" named_cameras "${named_cameras}")
+file(READ "${WORK_DIR}/named/high_cam/truth/w000_f0001.json" truth)
+string(JSON truth_camera GET "${truth}" camera_id)
+string(JSON width GET "${truth}" width)
+file(READ "${WORK_DIR}/named/high_cam/annotations.json" coco)
+string(JSON n_images LENGTH "${coco}" images)
+string(JSON n_annotations LENGTH "${coco}" annotations)
+if(NOT named_cameras STREQUAL "[\"front\",\"high_cam\"]" OR NOT truth_camera STREQUAL "high_cam"
+   OR NOT width EQUAL 96 OR NOT n_images EQUAL 2 OR n_annotations EQUAL 0)
+  message(FATAL_ERROR "named camera: dataset.json cameras ${named_cameras}, truth camera_id "
+                      "${truth_camera} width ${width}, ${n_images} images, ${n_annotations} annotations")
+endif()
+cli_run(EXIT 0 WHAT "score on a named camera" ARGS score "${WORK_DIR}/none.json" --dataset
+        "${WORK_DIR}/named" --camera high_cam --out "${WORK_DIR}/named_report")
+
 # Bad input: exit 2 naming the option, nothing written.
 cli_run(EXIT 2 WHAT "unknown camera" STDERR "command line: --cameras: 'rear' is not a camera the scenario enables"
         NOT_EXISTS "${WORK_DIR}/bad" ARGS dataset "${scenario}" --cameras upward,rear --out "${WORK_DIR}/bad")

@@ -3,7 +3,8 @@
 laser scanner drives, writes sensors/ with the documented columns, twice the same bytes; the IMU's
 and the scanner's files checked from outside the code that made them (the exact gyroscope
 integrated from the true start heading against ground_truth.tum; gravity at rest; the scanner's
-noise against its exact ranges; every hit a world object); bad sensor input exits 2 naming the key.
+noise against its exact ranges; every hit a world object); `run --export` writes the named cameras,
+the scanner and TUM's accelerometer.txt; bad sensor input exits 2 naming the key.
 
 usage: cli_sensors_test.py CORRIDORSIM SOURCE_DIR WORK_DIR
 """
@@ -177,6 +178,72 @@ def check_euroc_imu(work):
     print("ok: sensors/ holds imu0_imu.yaml (Kalibr's keys) and scanner_laser.yaml (its geometry)")
 
 
+def check_export_named(work):
+    """--export's files of the named sensors (docs/export.md): the cameras beyond the three as
+    euroc/mav0/cam2/, cam3/ in the scenario's order, named in cameras.yaml, each with its mount as
+    T_BS and the pair at the same stamps; the scanner as laser0/ (every sweep of the run folder,
+    the same numbers, and its geometry); imu0's accelerometer as TUM's accelerometer.txt."""
+    import yaml
+    mav = os.path.join(work, "export", "euroc", "mav0")
+    with open(os.path.join(mav, "cameras.yaml")) as f:
+        cameras = yaml.safe_load(f)
+    if cameras != {"cam1": "lateral", "cam2": "left", "cam3": "right"}:
+        fail("euroc/mav0/cameras.yaml: %s" % cameras)
+    stamps = {}
+    for cam, y in (("cam2", 0.06), ("cam3", -0.06)):
+        with open(os.path.join(mav, cam, "sensor.yaml")) as f:
+            sensor = yaml.safe_load(f)
+        t_bs = sensor["T_BS"]["data"]
+        if sensor["resolution"] != [80, 60] or [t_bs[3], t_bs[7], t_bs[11]] != [0.2, y, 0.5]:
+            fail("%s/sensor.yaml: %s" % (cam, sensor))
+        _, data = rows(os.path.join(mav, cam, "data.csv"))
+        stamps[cam] = [r[0] for r in data]
+        for r in data:
+            if not os.path.isfile(os.path.join(mav, cam, "data", r[1])):
+                fail("%s/data.csv names %s, which is not there" % (cam, r[1]))
+    if stamps["cam2"] != stamps["cam3"] or len(stamps["cam2"]) < 40:
+        fail("the pair's stamps differ: %s / %s" % (stamps["cam2"][:5], stamps["cam3"][:5]))
+    if any(os.path.exists(os.path.join(mav, cam, "depth")) for cam in ("cam2", "cam3")):
+        fail("a camera without depth has a depth/ folder")
+    print("ok: --export writes left and right as cam2/ and cam3/ (cameras.yaml), %d frames each at "
+          "the same stamps" % len(stamps["cam2"]))
+
+    with open(os.path.join(mav, "laser0", "data.csv")) as f:
+        lines = f.read().splitlines()
+    if not lines[0].startswith("#timestamp [ns],angle_min [rad],angle_increment [rad],"
+                               "time_increment [s],range_min [m],range_max [m],ranges [m]"):
+        fail("laser0/data.csv header: " + lines[0])
+    _, sweeps = rows(os.path.join(work, "run_sensors", "sensors", "scanner_scans.csv"))
+    if len(lines) - 1 != len(sweeps) or len(sweeps) < 100:
+        fail("laser0/data.csv has %d sweeps, the run folder %d" % (len(lines) - 1, len(sweeps)))
+    for line, sweep in zip(lines[1:], sweeps):
+        values = line.split(",")
+        # The run folder's columns: t, angle_min, angle_increment, time_increment, scan_time,
+        # range_min, range_max, ranges (the same text: nine significant digits, inf, nan).
+        if int(values[0]) != stamp_ns(sweep[0]) or values[1:6] != sweep[1:4] + sweep[5:7] or \
+                values[6:] != sweep[7:]:
+            fail("laser0/data.csv row %s... differs from the run's sweep %s..." % (line[:80], sweep[:8]))
+    if read(os.path.join(mav, "laser0", "sensor.yaml")) != \
+            read(os.path.join(work, "run_sensors", "sensors", "scanner_laser.yaml")):
+        fail("laser0/sensor.yaml is not the run folder's scanner_laser.yaml")
+    print("ok: --export writes the scanner as laser0/: its %d sweeps and its geometry" % len(sweeps))
+
+    with open(os.path.join(work, "export", "tum_rgbd", "accelerometer.txt")) as f:
+        text = f.read().splitlines()
+    if text[0] != "# accelerometer data" or text[2] != "# timestamp ax ay az":
+        fail("tum_rgbd/accelerometer.txt header: %s" % text[:3])
+    with open(os.path.join(mav, "imu0", "data.csv")) as f:
+        imu = [line.split(",") for line in f.read().splitlines()[1:]]
+    if len(text) - 3 != len(imu):
+        fail("accelerometer.txt has %d rows, imu0 %d samples" % (len(text) - 3, len(imu)))
+    for line, sample in zip(text[3:], imu):
+        t, ax, ay, az = line.split(" ")
+        if stamp_ns(t) != int(sample[0]) or [ax, ay, az] != sample[4:7]:
+            fail("accelerometer.txt row %s is not imu0's sample %s" % (line, sample))
+    print("ok: tum_rgbd/accelerometer.txt holds imu0's %d accelerometer samples (its own frame)"
+          % len(imu))
+
+
 def world_ids(folder):
     with open(os.path.join(folder, "world.json")) as f:
         world = json.load(f)
@@ -238,6 +305,7 @@ def main():
             fail("the run repeated from its scenario.yaml differs in sensors/%s" % f)
     print("ok: the run's scenario.yaml repeats it: the same sensors/ and metrics.json")
     check_euroc_imu(work)
+    check_export_named(work)
 
     bad = [
         ("imu_rate", "  imu0: {type: imu, rate_hz: 300}\n", "sensors.imu0.rate_hz"),

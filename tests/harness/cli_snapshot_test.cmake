@@ -24,6 +24,26 @@ endif()
 cli_expect_same_files("${a}" "${WORK_DIR}/threads_1")
 cli_expect_same_files("${a}" "${WORK_DIR}/threads_2")
 
+# A named camera (docs/sensors.md: `type: camera`) gets the files of the three, its truth and its
+# intrinsics under its name.
+file(WRITE "${WORK_DIR}/named.yaml"
+     "include: ${WORK_DIR}/all_cameras.yaml\nsensors:\n  rear_cam:\n    type: camera\n"
+     "    width: 160\n    height: 120\n    depth: true\n    mount: {x_m: -0.1, z_m: 0.5, yaw_deg: 180}\n")
+cli_run(EXIT 0 WHAT "snapshot with a named camera" STDOUT "4 cameras.*rear_cam +160x120 .*depth"
+        ARGS snapshot "${WORK_DIR}/named.yaml" --pose 12,0.2,10 --out "${WORK_DIR}/named")
+cli_expect_files("${WORK_DIR}/named" rear_cam_rgb.png rear_cam_labels.png rear_cam_overlay.png
+                 rear_cam_depth.png)
+file(READ "${WORK_DIR}/named/intrinsics.json" intrinsics)
+string(JSON rear_width GET "${intrinsics}" rear_cam width)
+file(READ "${WORK_DIR}/named/frame_ground_truth.json" truth)
+string(JSON rear_id GET "${truth}" cameras rear_cam camera_id)
+if(NOT rear_width EQUAL 160 OR NOT rear_id STREQUAL "rear_cam")
+  message(FATAL_ERROR "named camera: intrinsics width ${rear_width}, truth camera_id ${rear_id}")
+endif()
+# The three cameras' files are those of the snapshot without it.
+cli_expect_same_files("${a}" "${WORK_DIR}/named" front_rgb.png front_depth.png lateral_rgb.png
+                      upward_rgb.png upward_labels.png)
+
 # Impossible cameras: exit code 2 and the key in the message.
 function(expect_bad name yaml pattern)
   cli_expect_bad(${name} "${yaml}" "${pattern}" snapshot --pose 10,0,0 --out "${WORK_DIR}/bad")

@@ -1,10 +1,12 @@
 // harness/run/export_yaml.h through the DatasetExporter: every exported camera's sensor.yaml
-// (tum_rgbd/, euroc/mav0/cam0/ and cam1/) carries the camera's mount as T_BS and the body's start
-// pose as T_WB_start, the first pose of the export's ground truth (docs/export.md). The frames are
-// blank images of the right size: nothing is rendered.
+// (tum_rgbd/, euroc/mav0/cam<N>/) carries the camera's mount as T_BS and the body's start pose as
+// T_WB_start, the first pose of the export's ground truth (docs/export.md); named cameras are
+// numbered from cam2 in the rig's order (cameras.yaml); harness/run/export_imu.h's scanners and
+// TUM accelerometer file. The frames are blank images of the right size: nothing is rendered.
 
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -12,6 +14,7 @@
 #include <catch2/catch.hpp>
 
 #include "harness/run/export.h"
+#include "harness/run/export_imu.h"
 #include "tests/support/exported_dataset.h"
 #include "tests/support/scratch_dir.h"
 
@@ -174,6 +177,167 @@ TEST_CASE("without truth before the first frame, the start pose is the robot's a
     REQUIRE(first.size() == 8);
     CHECK(first[0] == "0.050000000");
   }
+}
+
+// MovedRig() with named cameras after the three: `a` (depth), `off` (disabled) and `b`.
+render::RigOptions NamedRig() {
+  render::RigOptions rig = MovedRig();
+  for (const char* id : {"a", "off", "b"}) {
+    render::CameraOptions camera = render::NewCameraOptions(id);
+    camera.model = PinholeRadTan::FromFov(16, 12, 60.0 * kDeg);
+    camera.mount.y_m = id[0] == 'b' ? -0.06 : 0.06;
+    camera.depth = id[0] == 'a';
+    camera.enabled = id[0] != 'o';
+    rig.cameras.push_back(camera);
+  }
+  REQUIRE_FALSE(rig.Check());
+  return rig;
+}
+
+TEST_CASE("named cameras are numbered from cam2 in the rig's order, disabled ones counted",
+          "[export]") {
+  const render::RigOptions rig = NamedRig();
+  CHECK(DatasetExporter::EurocCameraNumber(rig, "front") == -1);
+  CHECK(DatasetExporter::EurocCameraNumber(rig, "upward") == 0);
+  CHECK(DatasetExporter::EurocCameraNumber(rig, "lateral") == 1);
+  CHECK(DatasetExporter::EurocCameraNumber(rig, "a") == 2);
+  CHECK(DatasetExporter::EurocCameraNumber(rig, "off") == 3);
+  CHECK(DatasetExporter::EurocCameraNumber(rig, "b") == 4);
+  CHECK(DatasetExporter::EurocCameraNumber(rig, "nope") == -1);
+
+  test::ScratchDir dir("export_named_test");
+  std::vector<render::CameraOptions> enabled;
+  for (const render::CameraOptions& c : rig.cameras) {
+    if (c.enabled) enabled.push_back(c);
+  }
+  {
+    DatasetExporter exporter(dir.path(), rig, 0.33);
+    for (TimeNs t = 0; t <= 2 * kFramePeriodNs; t += kFramePeriodNs) {
+      exporter.AddTruth(t, RobotPoseAt(t));
+      for (const render::CameraOptions& options : enabled) {
+        exporter.AddFrame(Frame(options, t), options.id);
+      }
+    }
+    CHECK(exporter.has_tum());
+    exporter.Finish();
+  }
+  const fs::path mav = dir.path() / "euroc" / "mav0";
+  const YAML::Node cameras = YAML::LoadFile((mav / "cameras.yaml").string());
+  CHECK(cameras.size() == 4);
+  CHECK(cameras["cam0"].as<std::string>() == "upward");
+  CHECK(cameras["cam1"].as<std::string>() == "lateral");
+  CHECK(cameras["cam2"].as<std::string>() == "a");
+  CHECK(cameras["cam4"].as<std::string>() == "b");
+  CHECK_FALSE(fs::exists(mav / "cam3"));
+  for (const auto& [cam, id] : {std::pair{"cam2", "a"}, std::pair{"cam4", "b"}}) {
+    INFO(cam);
+    const YAML::Node yaml = YAML::LoadFile((mav / cam / "sensor.yaml").string());
+    CHECK(Matrix(yaml["T_BS"]) == MatrixOf(rig.Find(id)->mount.RobotFromCamera()));
+    CHECK(yaml["comment"].as<std::string>() ==
+          std::string("corridorsim ") + id + " camera as " + cam);
+    const std::vector<std::vector<std::string>> rows = Rows(mav / cam / "data.csv", ',');
+    REQUIRE(rows.size() == 3);
+    CHECK(rows[1] == std::vector<std::string>{"300000000", "300000000.png"});
+    CHECK(fs::exists(mav / cam / "data" / "600000000.png"));
+  }
+  // The depth camera's depth/ and its index; none for the other; COCO keeps front and lateral.
+  CHECK(fs::exists(mav / "cam2" / "depth" / "600000000.png"));
+  CHECK(ReadText(mav / "cam2" / "depth.csv") == ReadText(mav / "cam2" / "data.csv"));
+  CHECK_FALSE(fs::exists(mav / "cam4" / "depth"));
+  CHECK_FALSE(fs::exists(mav / "cam4" / "depth.csv"));
+  CHECK(fs::exists(dir.path() / "labels" / "b" / "600000000.png"));
+  CHECK(ReadText(dir.path() / "coco" / "plates.json").find("cam2") == std::string::npos);
+}
+
+TEST_CASE("an export of the three cameras alone has no cameras.yaml", "[export]") {
+  test::ScratchDir dir("export_three_test");
+  Export(dir.path(), MovedRig(), 0, true, 0);
+  CHECK(fs::exists(dir.path() / "euroc" / "mav0" / "cam0" / "data.csv"));
+  CHECK_FALSE(fs::exists(dir.path() / "euroc" / "mav0" / "cameras.yaml"));
+}
+
+LaserScan Sweep(TimeNs t, std::vector<float> ranges) {
+  LaserScan scan;
+  scan.stamp_ns = t;
+  scan.angle_min_rad = -0.5;
+  scan.angle_increment_rad = 0.25;
+  scan.time_increment_ns = 1'000'000;
+  scan.scan_time_ns = 100'000'000;
+  scan.range_min_m = 0.1;
+  scan.range_max_m = 30.0;
+  scan.ranges_m = std::move(ranges);
+  return scan;
+}
+
+TEST_CASE("laser scanners are exported as laser<k>/ with one row per sweep", "[export]") {
+  test::ScratchDir dir("export_laser_test");
+  std::vector<sim::LaserOptions> lasers(3);
+  lasers[0].id = "s0";
+  lasers[1].id = "off";
+  lasers[1].enabled = false;
+  lasers[2].id = "s1";
+  LaserExport out(dir.path(), lasers);
+  const float inf = std::numeric_limits<float>::infinity();
+  out.Add(0, Sweep(0, {1.5f, inf, -inf, std::numeric_limits<float>::quiet_NaN(), 2.25f}));
+  out.Add(0, Sweep(100'000'000, {1.0f, 1.0f, 1.0f, 1.0f, 1.0f}));
+  // Out of order, or another beam count: refused.
+  CHECK_THROWS_AS(out.Add(0, Sweep(100'000'000, {1, 1, 1, 1, 1})), std::invalid_argument);
+  CHECK_THROWS_AS(out.Add(0, Sweep(200'000'000, {1, 1})), std::invalid_argument);
+  out.Finish();
+  const fs::path folder = dir.path() / "euroc" / "mav0" / "laser0";
+  const std::vector<std::vector<std::string>> rows = Rows(folder / "data.csv", ',');
+  REQUIRE(rows.size() == 2);
+  CHECK(rows[0] == std::vector<std::string>{"0", "-0.5", "0.25", "0.001", "0.1", "30", "1.5", "inf",
+                                            "-inf", "nan", "2.25"});
+  CHECK(rows[1][0] == "100000000");
+  const YAML::Node yaml = YAML::LoadFile((folder / "sensor.yaml").string());
+  CHECK(yaml["sensor_type"].as<std::string>() == "laser");
+  CHECK(yaml["beams"].as<int>() == 5);
+  CHECK(Matrix(yaml["T_BS"]) == MatrixOf(lasers[0].mount.RobotFromBody()));
+  // The second enabled scanner swept nothing: no folder.
+  CHECK_FALSE(fs::exists(dir.path() / "euroc" / "mav0" / "laser1"));
+}
+
+ImuSample Sample(TimeNs t) {
+  ImuSample s;
+  s.stamp_ns = t;
+  s.angular_velocity_rad_s = Eigen::Vector3d(0.1, 0.2, 0.3);
+  s.linear_acceleration_m_s2 = Eigen::Vector3d(0.5, -0.25, 9.81);
+  return s;
+}
+
+TEST_CASE("the first IMU's accelerometer is TUM RGB-D's accelerometer.txt beside a TUM sequence",
+          "[export]") {
+  std::vector<sim::ImuOptions> imus(2);
+  imus[0].id = "first";
+  imus[1].id = "second";
+  for (const bool has_tum : {true, false}) {
+    INFO("front frames: " << has_tum);
+    test::ScratchDir dir("export_accelerometer_test");
+    ImuExport out(dir.path(), imus, true);
+    out.Add(0, Sample(0));
+    out.Add(1, Sample(0));
+    out.Add(0, Sample(5'000'000));
+    out.Finish(has_tum);
+    const fs::path file = dir.path() / "tum_rgbd" / "accelerometer.txt";
+    if (!has_tum) {
+      CHECK_FALSE(fs::exists(file));
+      CHECK_FALSE(fs::exists(dir.path() / "tum_rgbd"));
+      continue;
+    }
+    const std::string text = ReadText(file);
+    CHECK(text.rfind("# accelerometer data\n# corridorsim IMU 'first'", 0) == 0);
+    const std::vector<std::vector<std::string>> rows = Rows(file, ' ');
+    REQUIRE(rows.size() == 2);
+    CHECK(rows[0] == std::vector<std::string>{"0.000000000", "0.5", "-0.25", "9.81"});
+    CHECK(rows[1][0] == "0.005000000");
+  }
+  // Without a front camera: no file at all.
+  test::ScratchDir dir("export_no_tum_test");
+  ImuExport out(dir.path(), imus, false);
+  out.Add(0, Sample(0));
+  out.Finish(false);
+  CHECK_FALSE(fs::exists(dir.path() / "tum_rgbd"));
 }
 
 }  // namespace
