@@ -138,9 +138,12 @@ def imu_chunks(path, f, width, index, first_line):
         if not lines:
             return
         values = None
-        if all(line.count(",") == width - 1 for line in lines):
+        # loadtxt refuses a row shorter than its last column (width - 1, read for that); with no
+        # row shorter, a longer one shows in the chunk's count of commas
+        if "".join(lines).count(",") == len(lines) * (width - 1):
             try:
-                values = np.loadtxt(lines, delimiter=",", usecols=index, ndmin=2)
+                values = np.loadtxt(lines, delimiter=",", usecols=index + [width - 1],
+                                    ndmin=2)[:, :len(index)]
             except ValueError:
                 values = None
         bad = values is None or not np.isfinite(values).all() or values[0, 0] <= previous or \

@@ -124,6 +124,30 @@ def check_sensors(corridorsim, source, work, scenario, shots, node):
         fail(f"the broken sensors' problems on the page: {problems}")
     run([node, browser_test, "sensors", "--page", os.path.join(broken, "viewer.html"), "--run",
          broken, "--shots", shots], timeout=300)
+    # More ways a file can be malformed: each named with its line (the IMU's chunked reading
+    # finds the line of a chunk that does not parse).
+    def field(k, value):  # the line with its k-th field replaced
+        return lambda line: ",".join(line.split(",")[:k] + [value] + line.split(",")[k + 1:])
+    cases = [("imu0_imu.csv", 7000, lambda line: line + ",1",
+              "imu0_imu.csv:7001: expected 29 fields, got 30"),
+             ("imu0_imu.csv", 3000, field(0, "0.5"),
+              "imu0_imu.csv:3001: t 0.5 is not after the previous sample's 2.998"),
+             ("imu0_imu.csv", 100, field(1, "nan"), "imu0_imu.csv:101: a value is not finite"),
+             ("scanner_scans.csv", 11, field(1, "-1.0"),
+              "scanner_scans.csv:12: the sweep's angles, times or range limits differ from the "
+              "first sweep's")]
+    for name, index, change, want in cases:
+        shutil.rmtree(broken)
+        shutil.copytree(folder, broken)
+        path = os.path.join(broken, "sensors", name)
+        lines = open(path, encoding="utf-8").read().split("\n")
+        lines[index] = change(lines[index])
+        write(path, "\n".join(lines))
+        run([PYTHON, os.path.join(source, "scripts", "make_viewer.py"), broken])
+        sensors = page_data(os.path.join(broken, "viewer.html"))["sensors"]
+        problems = [q["problem"] for q in sensors["imus"] + sensors["lasers"] if q["problem"]]
+        if problems != ["sensors/" + want]:
+            fail(f"{name} with line {index + 1} changed: the page says {problems}, not {want}")
     print("ok: sensors: the scan layer and the IMU plots drawn from sensors/; broken files named "
           "on the page")
 
