@@ -23,7 +23,7 @@ from viewer_series import extrema_indices, pick, rounded, significant
 # A sensor's name (docs/sensors.md): 1 to 32 of a-z, 0-9 and _, starting with a letter.
 NAME = re.compile(r"[a-z][a-z0-9_]{0,31}")
 MAX_SENSORS = 8               # of each kind (docs/sensors.md); more files than that are left out
-CHUNK_ROWS = 65536            # IMU rows parsed at once
+CHUNK_ROWS = 16384            # IMU rows parsed at once (~70 MB of peak memory in all)
 MAX_IMU_ROWS = 20_000_000     # 5.5 h at 1 kHz; a longer file is not plotted (a problem)
 MAX_SWEEPS = 2_000_000
 MAX_BEAMS = 100_000
@@ -199,7 +199,8 @@ def read_imu(path, span, limit):
                     reducer.add(numbers, values)
                 alive = set().union(*(r.kept() for r in reducers.values()))
                 alive.add(end - 1)  # the last row so far: the file's last at the end
-                stored = {k: (values[k - row] if k >= row else stored[k]) for k in alive}
+                # copies: a view would keep its whole chunk alive
+                stored = {k: (values[k - row].copy() if k >= row else stored[k]) for k in alive}
             rows = end
     if rows == 0:
         raise Problem(path, None, "has no samples")
@@ -331,14 +332,14 @@ def read_sensors(run_dir, span, limit):
         try:
             out["imus"].append((name, read_imu(os.path.join(folder, f"{name}_imu.csv"), span,
                                                limit)))
-        except (Problem, OSError, UnicodeDecodeError) as e:
+        except (Problem, OSError, UnicodeDecodeError, ValueError) as e:
             out["imus"].append((name, problem_text(e, folder, f"{name}_imu.csv")))
     for name in sensor_names(folder, "_scans.csv"):
         try:
             out["lasers"].append((name, read_scanner(
                 os.path.join(folder, f"{name}_scans.csv"),
                 os.path.join(folder, f"{name}_scans_truth.csv"), limit * RANGES_PER_POINT)))
-        except (Problem, OSError, UnicodeDecodeError) as e:
+        except (Problem, OSError, UnicodeDecodeError, ValueError) as e:
             out["lasers"].append((name, problem_text(e, folder, f"{name}_scans.csv")))
     return out if out["imus"] or out["lasers"] else None
 

@@ -172,7 +172,7 @@
     }
     for (const q of S.imus) {
       if (q.problem) continue;
-      const kept = (c) => c.n + (isFinite(q.samples) && q.samples > c.n ? " of " + q.samples + " samples, decimated (extremes kept)" : " samples");
+      const kept = (c) => c.n + (isFinite(q.samples) && q.samples > c.n ? " of " + q.samples + " samples, decimated (extremes kept)" : c.n === 1 ? " sample" : " samples");
       const reading = (title, c, unit) => addPlot(box, {
         title: "IMU " + q.name + " · " + title, unit: unit, t: c.t, note: kept(c) + "; exact dashed",
         series: ["x", "y", "z"].map((a, k) => ({ label: a, data: gaps(c[a]), color: AXIS_COLORS[k], width: 1 }))
