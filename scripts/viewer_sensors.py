@@ -143,11 +143,12 @@ def imu_chunks(path, f, width, index, first_line):
         if "".join(lines).count(",") == len(lines) * (width - 1):
             try:
                 values = np.loadtxt(lines, delimiter=",", usecols=index + [width - 1],
-                                    ndmin=2)[:, :len(index)]
+                                    ndmin=2, comments=None)[:, :len(index)]
             except ValueError:
                 values = None
-        bad = values is None or not np.isfinite(values).all() or values[0, 0] <= previous or \
-            (len(values) > 1 and not (np.diff(values[:, 0]) > 0).all())
+        # (loadtxt skips blank lines: a chunk that comes back shorter has one)
+        bad = values is None or len(values) != len(lines) or not np.isfinite(values).all() or \
+            values[0, 0] <= previous or (len(values) > 1 and not (np.diff(values[:, 0]) > 0).all())
         if bad:  # again line by line, for the line's number
             rows = []
             for k, line in enumerate(lines):
