@@ -1,8 +1,8 @@
 /* The run viewer's time plots (docs/viewer.md): uPlot charts of the focused pipeline's errors
  * with their 2-sigma bounds, NEES and NIS with their chi-square bands, frame time and cost, then
- * the IMUs' (viewer_sensors.js), all on one synchronised time axis with the cursor's line. Part of viewer.js's closure
- * (scripts/pages.py inlines it where viewer.js says CORRIDORSIM_INCLUDE viewer_plots.js); this
- * opening comment stays out of the page. */
+ * the IMUs' (viewer_sensors.js), all on one synchronised time axis with the cursor's line. Part
+ * of viewer.js's closure (scripts/pages.py inlines it where viewer.js says CORRIDORSIM_INCLUDE
+ * viewer_plots.js); this opening comment stays out of the page. */
   // ---------------------------------------------------------------- time plots (uPlot)
   const plots = [];      // {u, line}
   let syncingScale = false;
