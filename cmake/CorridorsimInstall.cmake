@@ -34,6 +34,8 @@ install(FILES ${PROJECT_SOURCE_DIR}/scripts/system_python.py
               ${PROJECT_SOURCE_DIR}/scripts/plot_plan.py ${PROJECT_SOURCE_DIR}/scripts/plot_map.py
               ${PROJECT_SOURCE_DIR}/scripts/plot_detections.py
               ${PROJECT_SOURCE_DIR}/scripts/study_summary.py ${PROJECT_SOURCE_DIR}/scripts/pages.py
+              ${PROJECT_SOURCE_DIR}/scripts/viewer_series.py
+              ${PROJECT_SOURCE_DIR}/scripts/viewer_sensors.py
         DESTINATION ${CORRIDORSIM_INSTALL_DATADIR}/scripts COMPONENT runtime)
 # The pages' sources (docs/viewer.md) and uPlot, which every viewer.html and report.html inlines
 # (npm, pinned by viewer/package-lock.json; scripts/setup.sh installs it into viewer/node_modules).
@@ -41,6 +43,7 @@ install(FILES ${PROJECT_SOURCE_DIR}/viewer/viewer.html ${PROJECT_SOURCE_DIR}/vie
               ${PROJECT_SOURCE_DIR}/viewer/viewer_plan.js ${PROJECT_SOURCE_DIR}/viewer/viewer_plots.js
               ${PROJECT_SOURCE_DIR}/viewer/viewer_frames.js
               ${PROJECT_SOURCE_DIR}/viewer/viewer_tables.js ${PROJECT_SOURCE_DIR}/viewer/page.js
+              ${PROJECT_SOURCE_DIR}/viewer/viewer_sensors.js
               ${PROJECT_SOURCE_DIR}/viewer/page_head.html ${PROJECT_SOURCE_DIR}/viewer/page_header.html
               ${PROJECT_SOURCE_DIR}/viewer/page_tail.html
               ${PROJECT_SOURCE_DIR}/viewer/viewer.css ${PROJECT_SOURCE_DIR}/viewer/report.html

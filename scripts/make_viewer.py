@@ -23,6 +23,9 @@ system_python.use_corridorsim_with("files", "stats")
 from corridorsim import files  # noqa: E402
 from corridorsim.stats import chi2_band  # noqa: E402
 from pages import fill_page, keep_path_bytes, make_page, page_json  # noqa: E402
+from viewer_series import (extrema_indices, pick, rounded, significant,  # noqa: E402
+                           stride_indices)
+from viewer_sensors import read_sensors, sensors_json  # noqa: E402
 
 SCHEMA = 1
 # Samples per series before decimation starts (paths, error plots); halved until the page fits.
@@ -36,75 +39,6 @@ M, RAD, S = 4, 5, 4        # decimals of metres, radians, seconds in the page
 # Significant digits of covariances: an elongated ellipse (odometry's, eigenvalue ratio ~4000)
 # keeps its minor axis to 1e-5 m with 7; 4 moved it by 1.4 %.
 COV_DIGITS = 7
-
-
-def rounded(values, decimals):
-    """A list with each value rounded, NaN and infinities as null."""
-    out = []
-    for v in values:
-        v = float(v)
-        out.append(round(v, decimals) if math.isfinite(v) else None)
-    return out
-
-
-def significant(values, digits=4):
-    out = []
-    for v in values:
-        v = float(v)
-        out.append(float(f"{v:.{digits}g}") if math.isfinite(v) else None)
-    return out
-
-
-def stride_indices(n, limit):
-    """Every k-th index (and the last) so that at most about `limit` remain: what the paths keep,
-    so that every pose the page draws is one of the file's."""
-    if n <= limit:
-        return list(range(n))
-    k = math.ceil(n / limit)
-    keep = list(range(0, n, k))
-    if keep[-1] != n - 1:
-        keep.append(n - 1)
-    return keep
-
-
-def extrema_indices(t, columns, limit):
-    """Indices that keep each time bucket's first sample and the minimum and maximum of every
-    column (NaN ignored): decimation that never hides a peak."""
-    n = len(t)
-    if n <= limit:
-        return list(range(n))
-    buckets = max(1, limit // (1 + 2 * max(1, len(columns))))
-    t0, t1 = float(t[0]), float(t[-1])
-    width = (t1 - t0) / buckets if t1 > t0 else 1.0
-    keep = set()
-    start = 0
-    for b in range(buckets):
-        end = start
-        edge = t0 + (b + 1) * width
-        while end < n and (b == buckets - 1 or float(t[end]) < edge):
-            end += 1
-        if end > start:
-            keep.add(start)
-            for column in columns:
-                best_lo = best_hi = None
-                for i in range(start, end):
-                    v = float(column[i])
-                    if not math.isfinite(v):
-                        continue
-                    if best_lo is None or v < float(column[best_lo]):
-                        best_lo = i
-                    if best_hi is None or v > float(column[best_hi]):
-                        best_hi = i
-                if best_lo is not None:
-                    keep.add(best_lo)
-                    keep.add(best_hi)
-        start = end
-    keep.add(n - 1)
-    return sorted(keep)
-
-
-def pick(values, indices):
-    return [values[i] for i in indices]
 
 
 def yaw_of(qz, qw):
@@ -494,8 +428,14 @@ def main(argv):
         frames, frames_bytes = read_frames(args.run_dir)
         frame_stamps = {camera: set(f["t"]) for camera, f in frames.items()}
         points = START_POINTS
+        sensors = False  # sensors/, read once (on the truth's time span) and cut to each size
         while True:
             data = build_data(args.run_dir, points, frame_stamps)
+            if sensors is False:
+                truth_t = data["truth"]["t"]
+                sensors = read_sensors(args.run_dir, (truth_t[0], truth_t[-1]), START_POINTS)
+            if sensors is not None:  # a run without IMUs and scanners: the page as before
+                data["sensors"] = sensors_json(sensors, points)
             text = page_json(data)
             if len(text.encode("utf-8")) <= args.budget_mb * 1e6 or points <= MIN_POINTS:
                 break

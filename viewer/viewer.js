@@ -1,12 +1,12 @@
 /* corridorsim run viewer (docs/viewer.md): one time cursor driving the plan, the time plots,
  * the camera frames and the events of one run. Reads the JSON in
  * <script id="corridorsim-data">; plain browser JavaScript, no framework, works from file://.
- * Test API: window.corridorsimViewer = {ready, setTime(t), state(), errors}. */
+ * Test API: window.corridorsimViewer = {ready, setTime(t), state(), plots(), errors}. */
 (function () {
   "use strict";
 
   // ---------------------------------------------------------------- errors and the test API
-  const api = { ready: false, errors: [], setTime: setTimeApi, state: stateApi };
+  const api = { ready: false, errors: [], setTime: setTimeApi, state: stateApi, plots: () => plotsApi() };
   window.corridorsimViewer = api;
 
   /*CORRIDORSIM_INCLUDE page.js*/
@@ -94,6 +94,7 @@
         .filter((e) => isFinite(e.t)).sort((a, b) => a.t - b.t),
       expectations: arr(raw.expectations).filter(isObj),
       frames: isObj(raw.frames) ? raw.frames : {},
+      sensors: loadSensors(raw.sensors),
     };
     const colorOfPipeline = pipelineColors();
     arr(raw.pipelines).filter(isObj).forEach((p, k) => {
@@ -175,6 +176,7 @@
       const q = snap.pipelines[name];
       out.pipelines[name] = q ? Object.assign(pose(q), { ellipse: q.ellipse ? Object.assign({}, q.ellipse) : null }) : null;
     }
+    if (D.sensors.lasers.length) out.scans = scanSnapshot(snap.t);   // only in a run with scanners
     return out;
   }
 
@@ -220,6 +222,7 @@
   /*CORRIDORSIM_INCLUDE viewer_plots.js*/
   /*CORRIDORSIM_INCLUDE viewer_frames.js*/
   /*CORRIDORSIM_INCLUDE viewer_tables.js*/
+  /*CORRIDORSIM_INCLUDE viewer_sensors.js*/
   // ---------------------------------------------------------------- transport: slider, play, keys
   let playing = false, speed = 1, playT = 0, lastNow = 0;
 
@@ -290,7 +293,7 @@
   function start() {
     D = loadData();
     buildStamps();
-    startParts([["header", header], ["legend", initLegend], ["plan", initPlan], ["transport", initTransport],
+    startParts([["header", header], ["legend", initLegend], ["sensors", initSensors], ["plan", initPlan], ["transport", initTransport],
       ["plots", initPlots], ["frames", initFrames], ["events", initEvents], ["expectations", initExpectations], ["metrics", initMetrics]]);
     const t = timeFromHash();
     setIndex(t === null ? 0 : Math.max(lastAtOrBefore(stamps, t), 0), { url: t === null ? "none" : "now" });

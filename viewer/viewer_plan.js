@@ -342,6 +342,7 @@
       screenTransform(ctx);
       if (isFinite(q.x) && isFinite(q.y)) drawArrow(ctx, q.x, q.y, q.yaw, p.color, 11);
     }
+    if (D.sensors.lasers.length) drawScans(ctx, t);
     screenTransform(ctx);
     if (snap.truth && isFinite(snap.truth.x)) drawArrow(ctx, snap.truth.x, snap.truth.y, snap.truth.yaw, "#ffffff", 12);
   }

@@ -1,8 +1,8 @@
 /* The run viewer's time plots (docs/viewer.md): uPlot charts of the focused pipeline's errors
- * with their 2-sigma bounds, NEES and NIS with their chi-square bands, frame time and cost, all
- * on one synchronised time axis with the cursor's line. Part of viewer.js's closure
- * (scripts/pages.py inlines it where viewer.js says CORRIDORSIM_INCLUDE viewer_plots.js); this
- * opening comment stays out of the page. */
+ * with their 2-sigma bounds, NEES and NIS with their chi-square bands, frame time and cost, then
+ * the IMUs' (viewer_sensors.js), all on one synchronised time axis with the cursor's line. Part
+ * of viewer.js's closure (scripts/pages.py inlines it where viewer.js says CORRIDORSIM_INCLUDE
+ * viewer_plots.js); this opening comment stays out of the page. */
   // ---------------------------------------------------------------- time plots (uPlot)
   const plots = [];      // {u, line}
   let syncingScale = false;
@@ -121,8 +121,13 @@
     const box = $("cs-plots");
     box.textContent = "";
     if (typeof uPlot !== "function") { box.append(el("div", { cls: "cs-plot-empty", text: "uPlot is not in this page: no plots." })); return; }
-    const p = focus;
-    if (!p) { box.append(el("div", { cls: "cs-plot-empty", text: "No pipelines in this run." })); return; }
+    if (focus) pipelinePlots(box, focus);
+    else box.append(el("div", { cls: "cs-plot-empty", text: "No pipelines in this run." }));
+    sensorPlots(box);   // the IMUs' (viewer_sensors.js)
+  }
+
+  /** The focused pipeline's plots: errors, NEES, NIS per type, frame time and cost. */
+  function pipelinePlots(box, p) {
     if (p.failed) box.append(el("div", { cls: "cs-plot-empty", text: p.name + " failed: " + p.failed }));
     const E = p.errors, t = E.t;
     const band = "rgba(110, 168, 255, 0.14)", sig = "rgba(110, 168, 255, 0.7)";

@@ -3,12 +3,15 @@
 //
 //   node tests/viewer/browser_test.mjs viewer --page RUN_DIR/viewer.html --run RUN_DIR --shots OUT_DIR
 //   node tests/viewer/browser_test.mjs report --page STUDY_DIR/report.html --shots OUT_DIR
+//   node tests/viewer/browser_test.mjs sensors --page RUN_DIR/viewer.html --run RUN_DIR --shots OUT_DIR
 //
 // Drives Debian's chromium (or $CORRIDORSIM_CHROMIUM) through playwright-core from
 // viewer/node_modules. Viewer: no console or page errors; the drawn poses at several cursor times
 // are the poses of RUN_DIR's TUM files and the drawn 2-sigma ellipses those of its _cov.txt files;
 // the cursor snaps to the page's stamps; the URL fragment, plot clicks and keys move it. Report:
-// no errors, every relative link resolves to a file, a header click sorts the runs table.
+// no errors, every relative link resolves to a file, a header click sorts the runs table. Sensors
+// (a run with IMUs and laser scanners): the scan layer and the IMU plots against RUN_DIR/sensors/
+// (sensors_check.mjs).
 // Screenshots go to OUT_DIR. Exit 0: pass; 1: fail (one line per failure); 2: bad command line.
 // A global timeout (CORRIDORSIM_BROWSER_TEST_TIMEOUT_S, default 120 s) fails instead of hanging.
 
@@ -16,6 +19,7 @@ import { createRequire } from "node:module";
 import fs from "node:fs";
 import path from "node:path";
 import { fileURLToPath, pathToFileURL } from "node:url";
+import { testSensors } from "./sensors_check.mjs";
 
 const HERE = path.dirname(fileURLToPath(import.meta.url));
 const TIMEOUT_S = Number(process.env.CORRIDORSIM_BROWSER_TEST_TIMEOUT_S || 120);
@@ -30,13 +34,14 @@ function check(ok, msg) { if (!ok) fail(msg); return ok; }
 function usage(msg) {
   if (msg) console.error("browser_test: " + msg);
   console.error("usage: browser_test.mjs viewer --page RUN_DIR/viewer.html --run RUN_DIR --shots OUT_DIR\n" +
-    "       browser_test.mjs report --page STUDY_DIR/report.html --shots OUT_DIR");
+    "       browser_test.mjs report --page STUDY_DIR/report.html --shots OUT_DIR\n" +
+    "       browser_test.mjs sensors --page RUN_DIR/viewer.html --run RUN_DIR --shots OUT_DIR");
   process.exit(2);
 }
 
 function parseArgs(argv) {
   const mode = argv[0];
-  if (mode !== "viewer" && mode !== "report") usage("the first argument is viewer or report");
+  if (!["viewer", "report", "sensors"].includes(mode)) usage("the first argument is viewer, report or sensors");
   const o = { mode };
   for (let i = 1; i < argv.length; i++) {
     const k = argv[i];
@@ -45,7 +50,7 @@ function parseArgs(argv) {
   }
   if (!o.page) usage("--page is required");
   if (!o.shots) usage("--shots is required");
-  if (mode === "viewer" && !o.run) usage("viewer mode needs --run");
+  if (mode !== "report" && !o.run) usage(mode + " mode needs --run");
   if (!fs.existsSync(o.page)) usage("no such page: " + o.page);
   return o;
 }
@@ -410,6 +415,7 @@ async function main() {
   try {
     browser = await launch();
     if (opts.mode === "viewer") await testViewer(opts, browser);
+    else if (opts.mode === "sensors") await testSensors(opts, browser, { fail, check, notes, openPage, shot });
     else await testReport(opts, browser);
   } catch (e) {
     fail("the test stopped: " + (e && e.stack ? e.stack.split("\n").slice(0, 3).join(" | ") : e));

@@ -1,13 +1,14 @@
 #!/usr/bin/env node
 // The viewer and report pages on odd data (docs/viewer.md): empty objects, failed pipelines,
-// null and NaN values, unsorted and duplicated stamps, missing sections, a broken JPEG, and
-// 100,000 samples per series. Each page is filled from viewer/ here (as scripts/make_viewer.py
+// null and NaN values, unsorted and duplicated stamps, missing sections, a broken JPEG, sensors
+// (IMUs, scanners) with malformed sweeps and series or only a problem line, 100,000 samples per
+// series, and 2 IMUs and 2 scanners of 720 beams, each with the most make_viewer.py keeps of one. Each page is filled from viewer/ here (as scripts/make_viewer.py
 // fills it), opened in headless chromium, driven a little; it must load, report no error and keep
 // answering state(). Also prints how long the large page takes.
 //
 //   node tests/viewer/odd_data_test.mjs [--shots OUT_DIR] [--keep PAGES_DIR]
 //
-// Exit 0: pass; 1: fail (one line per failure). A global timeout (120 s) fails instead of hanging.
+// Exit 0: pass; 1: fail (one line per failure). A global timeout (180 s) fails instead of hanging.
 
 import { createRequire } from "node:module";
 import fs from "node:fs";
@@ -75,6 +76,28 @@ function bigRun(n) {
   };
 }
 
+/** The sensors section at its largest (scripts/viewer_sensors.py: 6000 samples per IMU group,
+ *  96,000 ranges per scanner) for `imus` IMUs and `lasers` scanners of `beams` beams. */
+function bigSensors(imus, lasers, beams) {
+  const n = 6000, t = range(n, (i) => Math.round(i * 0.05 * 1e4) / 1e4);
+  const wave = (k) => t.map((v) => Math.round(Math.sin(v + k) * 1e5) / 1e5);
+  const group = (names) => Object.assign({ t: t }, ...names.map((c, k) => ({ [c]: wave(k) })));
+  const sweeps = Math.floor(96000 / beams);
+  const pose = (i, dx) => [i * 0.3 + dx, 0.1, 0.3, 0, 0, Math.sin(i / 100) * 0.1, Math.sqrt(1 - (Math.sin(i / 100) * 0.1) ** 2)];
+  return {
+    imus: range(imus, (k) => ({ name: "imu" + k, file: "sensors/imu" + k + "_imu.csv", samples: 300000, problem: null,
+      gyro: group(["x", "y", "z", "true_x", "true_y", "true_z"]), accel: group(["x", "y", "z", "true_x", "true_y", "true_z"]),
+      bias: group(["wx", "wy", "wz", "ax", "ay", "az"]) })),
+    lasers: range(lasers, (k) => ({ name: "scan" + k, file: "sensors/scan" + k + "_scans.csv", problem: null, sweeps: sweeps * 10, stride: 10,
+      beams: beams, angle_min: -2.35619, angle_increment: 4.71239 / (beams - 1), time_increment: 3.5e-5, range_min: 0.1, range_max: 30,
+      t: range(sweeps, (i) => i * 0.25), first: range(sweeps, (i) => pose(i, 0)), last: range(sweeps, (i) => pose(i, 0.004)),
+      ranges: range(sweeps, (i) => range(beams, (j) => (j % 50 === 7 ? null : Math.round((1.5 + Math.abs(Math.sin(j / 40)) * 3) * 1e4) / 1e4))),
+      exact: range(sweeps, (i) => range(beams, (j) => Math.round((1.5 + Math.abs(Math.sin(j / 40)) * 3) * 1e4) / 1e4)) })),
+  };
+}
+
+const SMALL_RUN = { schema: 1, truth: { t: [0, 1, 2, 3], x: [0, 1, 2, 3], y: [0, 0, 0, 0], yaw: [0, 0, 0, 0] }, pipelines: [] };
+
 const VIEWER_CASES = {
   empty: {},
   not_an_object: [1, 2, 3],
@@ -102,6 +125,17 @@ const VIEWER_CASES = {
     frames: { front: { width: 4, height: 3, scale: null, t: [0, 1], jpeg: ["notbase64!!", null] }, rear: null, top: { t: null } },
   },
   big: bigRun(100000),
+  sensors_odd: Object.assign({}, SMALL_RUN, { sensors: {
+    imus: [null, "imu", { name: null, samples: "x", gyro: { t: [0, null, 1, 1, -3], x: [1], true_z: [null, NaN, "a", 2] }, accel: null, bias: "x" },
+      { name: "broken", problem: "sensors/broken_imu.csv:3: not a number in the line" }, { name: "empty", gyro: {}, accel: { t: [] }, bias: { t: [0], wx: [1e300] } }],
+    lasers: [null, { name: "s", t: [1, null, 0.5, "x", 2], first: [[0, 0, 0, 0, 0, 0, 1], null, [1, 1]], last: [[1, 0, 0, 0, 0, 0, 1]], ranges: [[1, null, 2], "x"], exact: null, angle_min: null },
+      { name: "gone", problem: "sensors/gone_scans_truth.csv: is missing (the scanner's true poses are in it)" },
+      { name: "zero_quaternion", t: [0, 2], first: [[0, 0, 0, 0, 0, 0, 0], [0, 0, 0, 0, 0, 0, 1]], last: [[0, 0, 0, 0, 0, 0, 0], [1, 1, 0, 0, 0, -1, 0]],
+        ranges: [[1e9, -1, 3], [1, 2, 3, 4]], exact: [[1], []], angle_min: 0, angle_increment: 0.1 },
+      { name: "one_beam", t: [1], first: [[0, 0, 0, 0, 0, 0, 1]], last: [[0, 0, 0, 0, 0, 0, 1]], ranges: [[2]], exact: [[2]], angle_min: 0, angle_increment: 0 }],
+  } }),
+  sensors_not_objects: Object.assign({}, SMALL_RUN, { sensors: { imus: "x", lasers: 3 } }),
+  sensors_big: Object.assign({}, SMALL_RUN, { duration_s: 300, sensors: bigSensors(2, 2, 720) }),
 };
 
 const REPORT_CASES = {
@@ -122,7 +156,7 @@ const REPORT_CASES = {
 async function main() {
   const shotsIdx = process.argv.indexOf("--shots");
   const shots = shotsIdx > 0 ? process.argv[shotsIdx + 1] : null;
-  const timer = setTimeout(() => { console.error("odd_data_test: FAIL: timed out after 120 s"); process.exit(1); }, 120000);
+  const timer = setTimeout(() => { console.error("odd_data_test: FAIL: timed out after 180 s"); process.exit(1); }, 180000);
   const require = createRequire(path.join(VIEWER, "package.json"));
   const { chromium } = require("playwright-core");
   const keepIdx = process.argv.indexOf("--keep");   // --keep DIR: leave the pages there
@@ -160,6 +194,24 @@ async function main() {
           const sel = await page.$("#cs-focus option:nth-child(2)");
           if (sel) await page.selectOption("#cs-focus", { index: 1 });
           if (name === "big") console.log(`odd_data_test: big page (2 pipelines x 100,000 samples, 2,000 events): ready in ${ms} ms, setTime + draw ${r.setTimeMs.toFixed(1)} ms`);
+          if (name.startsWith("sensors")) {
+            // every scanner answers in state(), and every IMU that has data has its three plots
+            // (a plot without samples says so in place of its chart: the titles are the DOM's)
+            const s = r.states[3], plots = await page.$$eval(".cs-plot > .cs-plot-title", (e) => e.map((x) => x.firstChild.textContent));
+            const lasers = Array.isArray(data.sensors.lasers) ? data.sensors.lasers.filter((q) => q && typeof q === "object") : [];
+            const scans = s.scans ? Object.keys(s.scans).length : 0;
+            if (scans !== lasers.length) fail(`viewer ${name}: state() has ${scans} scans for ${lasers.length} scanners`);
+            const imus = Array.isArray(data.sensors.imus) ? data.sensors.imus.filter((q) => q && typeof q === "object" && !q.problem) : [];
+            if (plots.filter((t) => t.startsWith("IMU ")).length !== 3 * imus.length) fail(`viewer ${name}: ${plots.filter((t) => t.startsWith("IMU ")).length} IMU plots for ${imus.length} IMUs`);
+            const shown = await page.$$eval(".cs-sensor-problem", (e) => e.map((x) => x.textContent));
+            for (const q of [].concat(data.sensors.imus, data.sensors.lasers)) {
+              if (q && q.problem && !shown.includes(`${q.name} not shown: ${q.problem}`)) fail(`viewer ${name}: ${q.name}'s problem is not shown`);
+            }
+            if (name === "sensors_big") {
+              const size = fs.statSync(file).size;
+              console.log(`odd_data_test: sensors_big page (2 IMUs x 3 x 6000 samples, 2 scanners x ${lasers[0].t.length} sweeps of 720 beams, ${(size / 1e6).toFixed(1)} MB): ready in ${ms} ms, setTime + draw ${r.setTimeMs.toFixed(1)} ms`);
+            }
+          }
         } else {
           for (const th of await page.$$("th.cs-sortable")) await th.click();
           if (await page.$("#cs-metric option:nth-child(2)")) await page.selectOption("#cs-metric", { index: 1 });

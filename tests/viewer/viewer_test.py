@@ -8,6 +8,11 @@ chromium by tests/viewer/browser_test.mjs (playwright-core):
     ellipses back against ground_truth.tum, <pipeline>.tum and <pipeline>_cov.txt;
     first_frame_test.mjs reads the plan's canvas back at the moments before the first paint
     (no click, no wait after load): it holds the drawn plan;
+  - a run with an IMU and a laser scanner (docs/viewer.md, "Sensors"): browser_test.mjs sensors
+    checks the scan layer (the drawn sweep, its points' count and positions) and the IMU plots
+    (their series, every sample a row of the file, the extremes kept) against sensors/, and the
+    viewer checks pass on it too; the p3_lamps page (no sensors/) carries no sensors section; a
+    malformed IMU file and a scanner without its truth file: the page is written and says so;
   - a 2-seed study of the same: report.html links every run's viewer (relative), the browser
     test resolves them;
   - corridorsim test --junit with a failing expectation: the case's attachment is the run's
@@ -29,6 +34,14 @@ import xml.etree.ElementTree as ET
 
 PYTHON = "/usr/bin/python3" if os.path.exists("/usr/bin/python3") else sys.executable
 VIEWER_BUDGET_BYTES = 10_000_000
+# 8 s of the short run with a 1 kHz IMU (8001 samples: more than the page's 6000, so decimated)
+# and a scanner; no camera pipeline, so nothing renders.
+SENSORS_SCENARIO = """include: {scenario}
+duration_s: 8
+sensors:
+  imu0: {{type: imu, rate_hz: 1000, mount: {{x_m: 0.1, y_m: 0.05, z_m: 0.25}}}}
+  scanner: {{type: laser, rate_hz: 10, mount: {{x_m: 0.16, z_m: 0.30}}}}
+"""
 
 
 def fail(message):
@@ -64,6 +77,81 @@ def check_self_contained(page_path):
     return size
 
 
+def page_data(page):
+    return json.loads(re.search(r'id="corridorsim-data" type="application/json">(.*?)</script>',
+                                open(page, encoding="utf-8").read(), re.S).group(1)
+                      .replace("<\\/", "</"))
+
+
+def check_sensors(corridorsim, source, work, scenario, shots, node):
+    """A run with an IMU and a scanner: its page in the browser; broken sensor files."""
+    browser_test = os.path.join(source, "tests", "viewer", "browser_test.mjs")
+    sensors = os.path.join(work, "sensors.yaml")
+    write(sensors, SENSORS_SCENARIO.format(scenario=scenario))
+    folder = os.path.join(work, "run_sensors")
+    run([corridorsim, "run", sensors, "--out", folder, "--no-plots", "--set",
+         "pipelines.p3_corners.enabled=false", "--set", "pipelines.p3_upward.enabled=false",
+         "--set", "expectations=[]"])
+    page = os.path.join(folder, "viewer.html")
+    check_self_contained(page)
+    data = page_data(page)
+    imus, lasers = data["sensors"]["imus"], data["sensors"]["lasers"]
+    if [q["name"] for q in imus] != ["imu0"] or [q["name"] for q in lasers] != ["scanner"] or \
+            imus[0]["problem"] or lasers[0]["problem"] or imus[0]["samples"] != 8001 or \
+            not 0 < len(imus[0]["gyro"]["t"]) <= 6000 or lasers[0]["sweeps"] != 80 or \
+            len(lasers[0]["t"]) != 80:
+        fail(f"the sensors page's data: IMUs {[(q['name'], q.get('samples')) for q in imus]}, "
+             f"scanners {[(q['name'], q.get('sweeps')) for q in lasers]}")
+    run([node, browser_test, "sensors", "--page", page, "--run", folder, "--shots", shots],
+        timeout=300)
+    run([node, browser_test, "viewer", "--page", page, "--run", folder, "--shots",
+         os.path.join(shots, "sensors_run")], timeout=300)
+
+    # Broken sensor files: the page is written all the same and says what it left out.
+    broken = os.path.join(work, "run_sensors_broken")
+    shutil.copytree(folder, broken)
+    imu = os.path.join(broken, "sensors", "imu0_imu.csv")
+    lines = open(imu, encoding="utf-8").read().split("\n")
+    lines[49] = lines[49].replace(",", ",x", 1)
+    write(imu, "\n".join(lines))
+    os.remove(os.path.join(broken, "sensors", "scanner_scans_truth.csv"))
+    run([PYTHON, os.path.join(source, "scripts", "make_viewer.py"), broken])
+    data = page_data(os.path.join(broken, "viewer.html"))
+    problems = [q["problem"] for q in data["sensors"]["imus"] + data["sensors"]["lasers"]]
+    if problems != ["sensors/imu0_imu.csv:50: not a number in the line",
+                    "sensors/scanner_scans_truth.csv: is missing (the scanner's true poses are in "
+                    "it)"]:
+        fail(f"the broken sensors' problems on the page: {problems}")
+    run([node, browser_test, "sensors", "--page", os.path.join(broken, "viewer.html"), "--run",
+         broken, "--shots", shots], timeout=300)
+    # More ways a file can be malformed: each named with its line (the IMU's chunked reading
+    # finds the line of a chunk that does not parse).
+    def field(k, value):  # the line with its k-th field replaced
+        return lambda line: ",".join(line.split(",")[:k] + [value] + line.split(",")[k + 1:])
+    cases = [("imu0_imu.csv", 7000, lambda line: line + ",1",
+              "imu0_imu.csv:7001: expected 29 fields, got 30"),
+             ("imu0_imu.csv", 3000, field(0, "0.5"),
+              "imu0_imu.csv:3001: t 0.5 is not after the previous sample's 2.998"),
+             ("imu0_imu.csv", 100, field(1, "nan"), "imu0_imu.csv:101: a value is not finite"),
+             ("scanner_scans.csv", 11, field(1, "-1.0"),
+              "scanner_scans.csv:12: the sweep's angles, times or range limits differ from the "
+              "first sweep's")]
+    for name, index, change, want in cases:
+        shutil.rmtree(broken)
+        shutil.copytree(folder, broken)
+        path = os.path.join(broken, "sensors", name)
+        lines = open(path, encoding="utf-8").read().split("\n")
+        lines[index] = change(lines[index])
+        write(path, "\n".join(lines))
+        run([PYTHON, os.path.join(source, "scripts", "make_viewer.py"), broken])
+        sensors = page_data(os.path.join(broken, "viewer.html"))["sensors"]
+        problems = [q["problem"] for q in sensors["imus"] + sensors["lasers"] if q["problem"]]
+        if problems != ["sensors/" + want]:
+            fail(f"{name} with line {index + 1} changed: the page says {problems}, not {want}")
+    print("ok: sensors: the scan layer and the IMU plots drawn from sensors/; broken files named "
+          "on the page")
+
+
 def main():
     corridorsim, source, work = sys.argv[1:4]
     shutil.rmtree(work, ignore_errors=True)
@@ -91,11 +179,11 @@ def main():
     print(f"viewer.html: {size / 1e6:.2f} MB with {frames_bytes / 1e6:.2f} MB of frames")
     if size > VIEWER_BUDGET_BYTES + 1.4 * frames_bytes:
         fail(f"viewer.html is {size} bytes: over the budget")
-    data = json.loads(re.search(r'id="corridorsim-data" type="application/json">(.*?)</script>',
-                                open(page, encoding="utf-8").read(), re.S).group(1)
-                      .replace("<\\/", "</"))
+    data = page_data(page)
     if not data["frames"] or not data["pipelines"] or not data["truth"]["t"]:
         fail("the page's data lacks frames, pipelines or the truth")
+    if "sensors" in data:
+        fail("a run without sensors/ has a sensors section in its page")
 
     # Same scenario and seed: the same frames/ bytes.
     second = os.path.join(work, "run2")
@@ -115,6 +203,8 @@ def main():
     # The plan is drawn in the first frame the page paints (a headless screenshot's frame).
     run([node, os.path.join(source, "tests", "viewer", "first_frame_test.mjs"), "--page", page],
         timeout=300)
+
+    check_sensors(corridorsim, source, work, scenario, shots, node)
 
     # A study: report.html, links to every run's viewer.
     study = os.path.join(work, "study.yaml")
@@ -168,7 +258,8 @@ def main():
     run([corridorsim, "run", scenario, "--out", exit4, "--no-plots"], expect=(4,), env=env)
     if not os.path.isfile(os.path.join(exit4, "metrics.json")):
         fail("a failed viewer.html lost the run's results")
-    print("PASS viewer: run page, frames, browser checks, study report, JUnit link, bad input")
+    print("PASS viewer: run page, frames, browser checks, sensors, study report, JUnit link, bad "
+          "input")
 
 
 if __name__ == "__main__":
