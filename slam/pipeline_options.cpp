@@ -5,6 +5,7 @@
 // in slam/features/feature_options.cpp.
 
 #include "common/options_table.h"
+#include "slam/imu_odometry_pipeline.h"
 #include "slam/mapping/door_areas.h"
 #include "slam/mapping/occupancy_mapper.h"
 #include "slam/mapping/point_cloud.h"
@@ -23,6 +24,33 @@ const OptionTable<OdometryPipelineOptions>& OdometryPipelineOptionsTable() {
           "k of P1 eq. 17: Q = diag(k |s_l|, k |s_r|); set it to robot.odometry.random_k_m for a "
           "consistent filter")
         .Range(0, 0.1);
+  });
+}
+
+const OptionTable<ImuOdometryOptions>& ImuOdometryOptionsTable() {
+  return StaticOptionTable<ImuOdometryOptions>([](OptionTable<ImuOdometryOptions>& t) {
+    using O = ImuOdometryOptions;
+    t.Add("k_m", &O::k_m, "m",
+          "k of P1 eq. 17: Q = diag(k |s_l|, k |s_r|); set it to robot.odometry.random_k_m")
+        .Range(0, 0.1);
+    t.Add("imu", &O::imu, "", "the IMU it reads (its name under sensors:); empty: the first one");
+    t.Add("initial_bias_sigma_rad_s", &O::initial_bias_sigma_rad_s, "rad/s",
+          "prior standard deviation of the gyroscope's z bias")
+        .Range(0, 1);
+    t.Add("wheel_yaw_inflation", &O::wheel_yaw_inflation, "",
+          "factor on P1 eq. 17's wheel-turn variance in the bias update (systematic E_d, E_b)")
+        .Range(1, 1e6);
+    t.Add("max_update_turn_rate_rad_s", &O::max_update_turn_rate_rad_s, "rad/s",
+          "the bias update runs only while the gyro says the robot turns at most this fast")
+        .Range(0, 10);
+    t.Add("gate_chi2", &O::gate_chi2, "",
+          "NIS gate of the bias update (chi-square at 1 dof; 10.83 = 99.9 %): slips are refused")
+        .Range(1, 1000);
+    t.Add("compensate_slips", &O::compensate_slips, "",
+          "a gated interval's excess turn names the slipped wheel; its extra distance is dropped");
+    t.Add("max_imu_gap_s", &O::max_imu_gap_s, "s",
+          "an odometry interval with no IMU sample this recent turns by the wheels (P1 eq. 13)")
+        .Range(0.001, 10);
   });
 }
 
