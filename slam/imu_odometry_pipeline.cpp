@@ -191,8 +191,8 @@ ImuOdometryPipeline::TurnComparison ImuOdometryPipeline::CompareTurns(double lef
                      (std::abs(left) + std::abs(right)) / (wheelbase_m_ * wheelbase_m_);
   c.var_gyro_turn = imu_.gyroscope_noise_density * imu_.gyroscope_noise_density * interval_s;
   const double var = c.var_wheel_turn + c.var_gyro_turn + P_(3, 3) * interval_s * interval_s;
-  c.slip = var > 0.0 ? c.excess_turn_rad * c.excess_turn_rad / var > options_.gate_chi2
-                     : c.excess_turn_rad != 0.0;
+  c.nis = var > 0.0 ? c.excess_turn_rad * c.excess_turn_rad / var : 0.0;
+  c.slip = var > 0.0 ? c.nis > options_.gate_chi2 : c.excess_turn_rad != 0.0;
   return c;
 }
 
@@ -201,6 +201,7 @@ void ImuOdometryPipeline::UpdateBias(const TurnComparison& c, double interval_s)
     // A slipping wheel reports a turn the robot did not make: refused, the gyro carries on.
     ++gated_bias_updates_;
     ++health_.rejected_updates;
+    if (c.nis > 0.0) ReportTurn(c.nis, false);
     return;
   }
   // Only while the gyroscope says the robot drives straight or stands (in turns the wheels' turn
@@ -220,6 +221,7 @@ void ImuOdometryPipeline::UpdateBias(const TurnComparison& c, double interval_s)
     update_time_ += std::chrono::steady_clock::now() - t0;
     return;
   }
+  ReportTurn(residual * residual / S, true);
   const Eigen::Vector4d K = P_.col(3) / S;
   x_ += K * residual;
   x_(2) = NormalizeAngle(x_(2));
@@ -229,6 +231,16 @@ void ImuOdometryPipeline::UpdateBias(const TurnComparison& c, double interval_s)
   P_ = I_KH * P_ * I_KH.transpose() + R * K * K.transpose();
   P_ = 0.5 * (P_ + P_.transpose());
   update_time_ += std::chrono::steady_clock::now() - t0;
+}
+
+void ImuOdometryPipeline::ReportTurn(double nis, bool accepted) {
+  Innovation n;
+  n.stamp_ns = state_ns_;
+  n.measurement = kTurnMeasurement;
+  n.nis = nis;
+  n.dof = 1;
+  n.accepted = accepted;
+  innovations_.push_back(n);
 }
 
 PoseEstimate ImuOdometryPipeline::Estimate() const {

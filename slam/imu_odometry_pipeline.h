@@ -83,6 +83,14 @@ class ImuOdometryPipeline : public Pipeline {
   PoseEstimate Estimate() const override;
   std::map<std::string, double> stage_seconds() const override;
   PipelineHealth health() const override { return health_; }
+  /// Its own measurement type (slam::MeasurementType): kTurnMeasurement, the wheels' turn over an
+  /// odometry interval against the gyroscope's, 1 dof: the bias update's NIS (accepted) and the
+  /// slip gate's (a slip: gated out).
+  std::vector<MeasurementType> measurement_types() const override {
+    return {{kTurnMeasurement, 1}};
+  }
+  std::vector<Innovation> TakeInnovations() override { return std::move(innovations_); }
+  static constexpr const char* kTurnMeasurement = "wheel_gyro_turn";
 
   /// The state (x m, y m, yaw rad, b_gz rad/s) and its covariance, for tests and diagnostics.
   const Eigen::Vector4d& state() const { return x_; }
@@ -106,9 +114,12 @@ class ImuOdometryPipeline : public Pipeline {
     double var_wheel_turn = 0.0;   // P1 eq. 17's, inflated (rad^2)
     double var_gyro_turn = 0.0;    // sigma_g^2 dt (rad^2)
     bool slip = false;             // the excess fails the gate
+    double nis = 0.0;              // excess^2 / its variance (0 when the variance is 0)
   };
   TurnComparison CompareTurns(double left_m, double right_m, double interval_s) const;
   void UpdateBias(const TurnComparison& comparison, double interval_s);
+  // One innovation of kTurnMeasurement at the current stamp.
+  void ReportTurn(double nis, bool accepted);
 
   ImuOdometryOptions options_;
   double wheelbase_m_;
@@ -126,6 +137,7 @@ class ImuOdometryPipeline : public Pipeline {
   double interval_gyro_s_ = 0.0;    // the time since odometry_ns_ the gyro turned the state
   bool interval_on_gyro_ = true;    // the whole interval since odometry_ns_ was covered by samples
   PipelineHealth health_;
+  std::vector<Innovation> innovations_;  // since the last TakeInnovations()
   int rejected_imu_samples_ = 0;
   int gated_bias_updates_ = 0;
   int compensated_slips_ = 0;

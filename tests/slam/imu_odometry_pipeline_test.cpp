@@ -148,6 +148,24 @@ TEST_CASE("a wheel slip leaves the heading on the gyroscope and its distance out
     CHECK(std::abs(e.world_from_robot.yaw()) < 1e-3);
     CHECK(pipeline.gated_bias_updates() == 1);
     CHECK(pipeline.health().rejected_updates == 1);
+    // Its own measurement type: the turn comparisons as innovations, the slip gated out with a
+    // NIS above the gate.
+    REQUIRE(pipeline.measurement_types().size() == 1);
+    CHECK(pipeline.measurement_types()[0].name == "wheel_gyro_turn");
+    const std::vector<Innovation> innovations = pipeline.TakeInnovations();
+    CHECK(innovations.size() > 100);
+    std::size_t gated = 0;
+    for (const Innovation& n : innovations) {
+      CHECK(n.measurement == "wheel_gyro_turn");
+      CHECK(n.dof == 1);
+      CHECK(std::isfinite(n.nis));
+      if (!n.accepted) {
+        ++gated;
+        CHECK(n.nis > options.gate_chi2);
+      }
+    }
+    CHECK(gated == 1);
+    CHECK(pipeline.TakeInnovations().empty());
     if (compensate) {
       // The excess turn named the left wheel and its 3 cm: the distance is the true 1.2 m.
       CHECK(pipeline.compensated_slips() == 1);
