@@ -21,6 +21,7 @@
 #include "common/options_table.h"
 #include "harness/external/connection.h"
 #include "harness/external/exchange_timing.h"
+#include "harness/external/protocol.h"
 #include "harness/external/reply_keys.h"
 #include "slam/pipeline.h"
 #include "slam/registry.h"
@@ -87,6 +88,16 @@ class ExternalPipeline : public slam::Pipeline {
   /// The frames of one camera set this pipeline reads (the runner calls this rather than
   /// OnCamera), dropped ones included.
   void OnCameraSet(TimeNs stamp_ns, const std::vector<SetFrame>& frames);
+  /// Version 2 only: a sample of an IMU, a sweep of a scanner the program asked for in `ready`
+  /// (others, and every one for a version-1 program, are not sent).
+  void OnImu(const ImuSample& sample) override;
+  void OnScan(const LaserScan& scan) override;
+  /// What the program declared in its version-2 `ready` reply (Initialize read it).
+  std::vector<slam::MeasurementType> measurement_types() const override {
+    return ready_.measurement_types;
+  }
+  /// The protocol version the program speaks (1 until Initialize read its `ready`).
+  int protocol() const { return ready_.protocol; }
   slam::PoseEstimate Estimate() const override { return estimate_; }
   std::vector<slam::LandmarkEstimate> Landmarks() const override { return landmarks_; }
   std::vector<slam::Detection> TakeDetections() override;
@@ -114,6 +125,10 @@ class ExternalPipeline : public slam::Pipeline {
   [[noreturn]] void FailWith(const std::string& what);
   // After a reply's results were kept: its warnings noted, and its errors fail the pipeline.
   void Keep(const char* message, const ReplyProblems& problems);
+  // Reads the `processed` reply to a camera set, an IMU sample or a sweep (`cameras`: those whose
+  // frames it may detect in; none for the others) and keeps its results.
+  void KeepProcessed(const char* message, const Received& reply, TimeNs stamp_ns,
+                     const std::vector<std::string>& cameras);
   std::chrono::duration<double> timeout() const;
 
   ExternalPipelineOptions options_;
@@ -121,6 +136,7 @@ class ExternalPipeline : public slam::Pipeline {
   slam::Calibration calibration_;
   std::uint64_t seed_;
   std::unique_ptr<ProgramConnection> connection_;
+  Ready ready_;         // what the program said in `ready`: its version, sensors, measurement types
   bool ended_ = false;  // the program was ended (finished or failed)
   // The shared memory of the images (ImageTransport::kSharedMemory).
   int memory_fd_ = -1;
