@@ -323,6 +323,7 @@ void ExternalPipeline::Keep(const char* message, const ReplyProblems& problems) 
 }
 
 void ExternalPipeline::OnOdometry(const WheelOdometry& odometry) {
+  FlushImu();  // the samples before this message, in bus order
   const Received reply = Exchange(OdometryMessage(odometry), {});
   ReplyProblems problems;
   try {
@@ -343,6 +344,7 @@ void ExternalPipeline::OnCamera(const slam::CameraInput& input) {
 }
 
 void ExternalPipeline::OnCameraSet(TimeNs stamp_ns, const std::vector<SetFrame>& frames) {
+  FlushImu();
   std::vector<CameraSlice> slices;
   std::string blob;
   if (!memory_) blob.reserve(set_bytes_);
@@ -414,12 +416,21 @@ void ExternalPipeline::KeepProcessed(const char* message, const Received& reply,
 void ExternalPipeline::OnImu(const ImuSample& sample) {
   const std::vector<std::string>& wanted = ready_.imus;
   if (std::find(wanted.begin(), wanted.end(), sample.sensor_id) == wanted.end()) return;
-  KeepProcessed("imu", Exchange(ImuMessage(sample), {}), sample.stamp_ns, {});
+  imu_batch_.push_back(sample);
+  if (imu_batch_.size() >= kMaxImuBatch) FlushImu();
+}
+
+void ExternalPipeline::FlushImu() {
+  if (imu_batch_.empty()) return;
+  const std::vector<ImuSample> batch = std::move(imu_batch_);
+  imu_batch_.clear();
+  KeepProcessed("imu", Exchange(ImuMessage(batch), {}), batch.back().stamp_ns, {});
 }
 
 void ExternalPipeline::OnScan(const LaserScan& scan) {
   const std::vector<std::string>& wanted = ready_.lasers;
   if (std::find(wanted.begin(), wanted.end(), scan.sensor_id) == wanted.end()) return;
+  FlushImu();
   // The ranges ride in the blob (float32: REP 117's +-inf and NaN, which JSON lacks).
   KeepProcessed("scan", Exchange(ScanMessage(scan, 0), ScanBlob(scan)), scan.stamp_ns, {});
 }
@@ -437,6 +448,7 @@ std::vector<slam::Innovation> ExternalPipeline::TakeInnovations() {
 }
 
 void ExternalPipeline::Finish() {
+  FlushImu();
   const Received reply = Exchange(FinishMessage(estimate_.stamp_ns), {});
   ReplyProblems problems;
   try {

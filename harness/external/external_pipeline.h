@@ -89,7 +89,9 @@ class ExternalPipeline : public slam::Pipeline {
   /// OnCamera), dropped ones included.
   void OnCameraSet(TimeNs stamp_ns, const std::vector<SetFrame>& frames);
   /// Version 2 only: a sample of an IMU, a sweep of a scanner the program asked for in `ready`
-  /// (others, and every one for a version-1 program, are not sent).
+  /// (others, and every one for a version-1 program, are not sent). IMU samples are sent in one
+  /// imu message before the next message of another kind (or once kMaxImuBatch are held): the
+  /// program gets them in bus order, a batch a round trip.
   void OnImu(const ImuSample& sample) override;
   void OnScan(const LaserScan& scan) override;
   /// What the program declared in its version-2 `ready` reply (Initialize read it).
@@ -129,6 +131,8 @@ class ExternalPipeline : public slam::Pipeline {
   // frames it may detect in; none for the others) and keeps its results.
   void KeepProcessed(const char* message, const Received& reply, TimeNs stamp_ns,
                      const std::vector<std::string>& cameras);
+  // Sends the IMU samples held (one imu message) and reads its reply; nothing when none are.
+  void FlushImu();
   std::chrono::duration<double> timeout() const;
 
   ExternalPipelineOptions options_;
@@ -136,8 +140,9 @@ class ExternalPipeline : public slam::Pipeline {
   slam::Calibration calibration_;
   std::uint64_t seed_;
   std::unique_ptr<ProgramConnection> connection_;
-  Ready ready_;         // what the program said in `ready`: its version, sensors, measurement types
-  bool ended_ = false;  // the program was ended (finished or failed)
+  Ready ready_;  // what the program said in `ready`: its version, sensors, measurement types
+  std::vector<ImuSample> imu_batch_;  // samples not sent yet (FlushImu)
+  bool ended_ = false;                // the program was ended (finished or failed)
   // The shared memory of the images (ImageTransport::kSharedMemory).
   int memory_fd_ = -1;
   std::uint8_t* memory_ = nullptr;

@@ -29,10 +29,15 @@ nlohmann::ordered_json MountJson(const SE3& mount) {
   return {{"translation", {t.x(), t.y(), t.z()}}, {"rotation", MatrixJson(mount.rotation())}};
 }
 
-// The head of a version-2 sensor message: its type, stamp and sensor id.
+// The head of a version-2 sweep or IMU sample: its type (none for a sample in an imu message),
+// stamp and sensor id.
 nlohmann::ordered_json SensorMessageHead(const char* type, TimeNs stamp_ns,
                                          const std::string& sensor) {
-  return {{"type", type}, {"stamp_ns", stamp_ns}, {"sensor", sensor}};
+  nlohmann::ordered_json head = nlohmann::ordered_json::object();
+  if (type) head["type"] = type;
+  head["stamp_ns"] = stamp_ns;
+  head["sensor"] = sensor;
+  return head;
 }
 
 }  // namespace
@@ -218,13 +223,19 @@ nlohmann::ordered_json FinishMessage(TimeNs stamp_ns) {
   return {{"type", "finish"}, {"stamp_ns", stamp_ns}};
 }
 
-nlohmann::ordered_json ImuMessage(const ImuSample& sample) {
-  const Eigen::Vector3d& w = sample.angular_velocity_rad_s;
-  const Eigen::Vector3d& a = sample.linear_acceleration_m_s2;
-  nlohmann::ordered_json message = SensorMessageHead("imu", sample.stamp_ns, sample.sensor_id);
-  message["angular_velocity_rad_s"] = {w.x(), w.y(), w.z()};
-  message["linear_acceleration_m_s2"] = {a.x(), a.y(), a.z()};
-  return message;
+nlohmann::ordered_json ImuMessage(const std::vector<ImuSample>& samples) {
+  nlohmann::ordered_json list = nlohmann::ordered_json::array();
+  for (const ImuSample& sample : samples) {
+    const Eigen::Vector3d& w = sample.angular_velocity_rad_s;
+    const Eigen::Vector3d& a = sample.linear_acceleration_m_s2;
+    nlohmann::ordered_json one = SensorMessageHead(nullptr, sample.stamp_ns, sample.sensor_id);
+    one["angular_velocity_rad_s"] = {w.x(), w.y(), w.z()};
+    one["linear_acceleration_m_s2"] = {a.x(), a.y(), a.z()};
+    list.push_back(std::move(one));
+  }
+  return {{"type", "imu"},
+          {"stamp_ns", samples.empty() ? TimeNs{0} : samples.back().stamp_ns},
+          {"samples", std::move(list)}};
 }
 
 nlohmann::ordered_json ScanMessage(const LaserScan& scan, std::size_t ranges_offset) {

@@ -102,9 +102,14 @@ nlohmann::ordered_json OdometryMessage(const WheelOdometry& odometry);
 nlohmann::ordered_json CamerasMessage(TimeNs stamp_ns, const std::vector<CameraSlice>& cameras,
                                       const std::string& transport);
 nlohmann::ordered_json FinishMessage(TimeNs stamp_ns);
-/// Version 2: one IMU sample, {"type": "imu", "stamp_ns", "sensor", "angular_velocity_rad_s",
-/// "linear_acceleration_m_s2"} (slam::ImuSample).
-nlohmann::ordered_json ImuMessage(const ImuSample& sample);
+/// Version 2: the IMU samples since the last message (those between two odometry messages, or up
+/// to a sweep or a camera set), in bus order: {"type": "imu", "stamp_ns": the last sample's,
+/// "samples": [{"stamp_ns", "sensor", "angular_velocity_rad_s", "linear_acceleration_m_s2"}]}
+/// (slam::ImuSample). One message a batch: a 1 kHz IMU in single-sample messages costs more round
+/// trips than the rest of a camera-less run (docs/protocol.md, "Cost").
+nlohmann::ordered_json ImuMessage(const std::vector<ImuSample>& samples);
+/// Samples in one imu message at most (a batch is sent once it holds this many).
+inline constexpr std::size_t kMaxImuBatch = 10000;
 /// Version 2: one sweep (slam::LaserScan) whose ranges are float32 little-endian in the blob at
 /// `ranges_offset` (REP 117's +-inf and NaN as their IEEE values: JSON has none). ScanBlob gives
 /// those bytes.

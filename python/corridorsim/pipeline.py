@@ -266,8 +266,9 @@ class Pipeline:
         """odometry: :class:`Odometry`."""
 
     def on_imu(self, sample):
-        """sample: :class:`ImuSample`, of an IMU in ``imus``. Its reply carries innovations()
-        (no detections: those come with camera sets)."""
+        """sample: :class:`ImuSample`, of an IMU in ``imus``, in stamp order. corridorsim sends
+        the samples between two other messages in one imu message: on_imu is called for each,
+        then innovations() once for the reply (no detections: those come with camera sets)."""
 
     def on_scan(self, scan):
         """scan: :class:`LaserScan`, of a scanner in ``lasers``, once its last beam fired. Its
@@ -479,7 +480,9 @@ def serve(pipeline, fd=None):
             connection.send(_with_extras(_estimate_json(pipeline.estimate(), message["stamp_ns"]),
                                          pipeline))
         elif kind == "imu":
-            pipeline.on_imu(ImuSample(message))
+            # The samples since the last message, in order: one call each, one reply for all.
+            for sample in message["samples"]:
+                pipeline.on_imu(ImuSample(sample))
             connection.send(_with_extras({"type": "processed", "stamp_ns": message["stamp_ns"]},
                                          pipeline))
         elif kind == "scan":

@@ -101,13 +101,18 @@ def test_ready_says_version_2_with_the_sensors_read_and_the_types_declared():
 
 
 def test_imu_samples_and_sweeps_reach_their_hooks_exactly_and_their_replies_carry_innovations():
+    """An imu message of two samples: on_imu twice, one reply; a sweep: on_scan, its reply
+    carries the scan_match innovation."""
     pipeline = SensorReader()
     sock, thread, result = serve_in_thread(pipeline)
     raw_send(sock, start_message())
     raw_receive(sock)
     gyro, accel = [0.1, -2.5e-7, 1.0 / 3.0], [0.01, 0.2, 9.81]
-    raw_send(sock, {"type": "imu", "stamp_ns": 1000000, "sensor": "imu0",
-                    "angular_velocity_rad_s": gyro, "linear_acceleration_m_s2": accel})
+    raw_send(sock, {"type": "imu", "stamp_ns": 1000000, "samples": [
+        {"stamp_ns": 999000, "sensor": "imu0", "angular_velocity_rad_s": [0, 0, 0],
+         "linear_acceleration_m_s2": [0, 0, 9.81]},
+        {"stamp_ns": 1000000, "sensor": "imu0", "angular_velocity_rad_s": gyro,
+         "linear_acceleration_m_s2": accel}]})
     processed_imu, _ = raw_receive(sock)
     ranges = [1.25, math.inf, -math.inf, math.nan]
     blob = b"pad" + struct.pack("<4f", *ranges)
@@ -122,7 +127,8 @@ def test_imu_samples_and_sweeps_reach_their_hooks_exactly_and_their_replies_carr
     assert processed_scan == {"type": "processed", "stamp_ns": 2000000,
                               "innovations": [{"type": "scan_match", "nis": 2.5, "dof": 3,
                                                "accepted": True}]}
-    (sample,) = pipeline.samples
+    first, sample = pipeline.samples
+    assert first.stamp_ns == 999000 and first.linear_acceleration_m_s2 == (0, 0, 9.81)
     assert (sample.stamp_ns, sample.sensor) == (1000000, "imu0")
     assert sample.angular_velocity_rad_s == tuple(gyro)
     assert sample.linear_acceleration_m_s2 == tuple(accel)

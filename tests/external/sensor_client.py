@@ -9,7 +9,7 @@ scanner `scanner` and declares the measurement type scan_match (3 dof). MODE:
   their float32 bits in hex) and reports a scan_match innovation for every sweep;
 - undeclared: like record, but its first sweep's innovation is of the type wall_line, which it
   did not declare;
-- bad_imu_reply: answers its 10th IMU sample with a stamp that is not the sample's;
+- bad_imu_reply: answers its 10th imu message with a stamp that is not the message's;
 - bad_scan_reply: answers its 2nd sweep with a detection (no camera goes with a sweep);
 - bad_declaration: declares the measurement type lamp (a shipped type's name) in ready;
 - v1_ready_with_sensors: asks for imu0 in a ready reply of version 1.
@@ -104,7 +104,7 @@ def raw(mode):
             imus += kind == "imu"
             scans += kind == "scan"
             if mode == "bad_imu_reply" and kind == "imu" and imus == 10:
-                print("sensor_client: a wrong stamp for IMU sample 10", file=sys.stderr, flush=True)
+                print("sensor_client: a wrong stamp for imu message 10", file=sys.stderr, flush=True)
                 reply["stamp_ns"] = stamp + 1
             if mode == "bad_scan_reply" and kind == "scan" and scans == 2:
                 print("sensor_client: a detection for sweep 2", file=sys.stderr, flush=True)
