@@ -8,7 +8,9 @@
 namespace corridorsim::external {
 namespace {
 
-constexpr std::array<std::string_view, 4> kKinds = {"start", "odometry", "cameras", "finish"};
+// In the order of the exchange (docs/protocol.md); imu and scan: version 2 only.
+constexpr std::array<std::string_view, kMessageKinds> kKinds = {"start", "odometry", "imu",
+                                                                "scan",  "cameras",  "finish"};
 
 // Milliseconds to 1e-4 (0.1 us), seconds to 1e-6.
 double Ms(double seconds) { return RoundToStep(seconds * 1e3, 1e4); }

@@ -14,12 +14,16 @@
 
 namespace corridorsim::external {
 
-/// The round trips of one connection by message kind (start, odometry, cameras, finish). Every
+/// Message kinds timed: start, odometry, imu, scan, cameras, finish.
+inline constexpr std::size_t kMessageKinds = 6;
+
+/// The round trips of one connection by message kind (start, odometry, imu, scan, cameras,
+/// finish). Every
 /// round trip is kept (8 bytes a message: a run's messages are bounded by its simulated time and
 /// the sensor rates) so that the percentiles are exact.
 class ExchangeTimes {
  public:
-  /// One exchange of `kind` ("start", "odometry", "cameras", "finish"; another is ignored).
+  /// One exchange of `kind` (one of kMessageKinds; another is ignored).
   void Add(std::string_view kind, double seconds);
   std::size_t messages() const;
   double total_seconds() const;
@@ -28,7 +32,7 @@ class ExchangeTimes {
   nlohmann::ordered_json RoundTripMsJson() const;
 
  private:
-  std::array<std::vector<double>, 4> seconds_;
+  std::array<std::vector<double>, kMessageKinds> seconds_;
 };
 
 /// What the program itself cost, read when it was reaped (wait4's rusage: the program and the

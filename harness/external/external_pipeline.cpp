@@ -4,6 +4,7 @@
 #include <sys/mman.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -305,7 +306,7 @@ void ExternalPipeline::Initialize(TimeNs stamp_ns, const SE2& world_from_robot) 
   if (pass_fd >= 0) ::close(pass_fd);
   ReplyProblems problems;
   try {
-    ParseReady(reply.json, &problems);
+    ready_ = ParseReady(reply.json, &problems, Offered(calibration_));
   } catch (const ProtocolError& e) {
     FailWith(std::string("'start' message: ") + e.what());
   }
@@ -322,13 +323,15 @@ void ExternalPipeline::Keep(const char* message, const ReplyProblems& problems) 
 }
 
 void ExternalPipeline::OnOdometry(const WheelOdometry& odometry) {
+  FlushImu();  // the samples before this message, in bus order
   const Received reply = Exchange(OdometryMessage(odometry), {});
   ReplyProblems problems;
   try {
     ReplyExtras extras;
     // What arrived is kept before an unknown key fails the pipeline (the runner records the
     // estimate of a failed call when its stamp is the message's).
-    estimate_ = ParseEstimate(reply.json, odometry.stamp_ns, &extras, &problems);
+    estimate_ =
+        ParseEstimate(reply.json, odometry.stamp_ns, &extras, &problems, ready_.measurement_types);
     for (slam::Innovation& n : extras.innovations) innovations_.push_back(n);
   } catch (const ProtocolError& e) {
     FailWith(std::string("'odometry' message: ") + e.what());
@@ -341,6 +344,7 @@ void ExternalPipeline::OnCamera(const slam::CameraInput& input) {
 }
 
 void ExternalPipeline::OnCameraSet(TimeNs stamp_ns, const std::vector<SetFrame>& frames) {
+  FlushImu();
   std::vector<CameraSlice> slices;
   std::string blob;
   if (!memory_) blob.reserve(set_bytes_);
@@ -392,17 +396,43 @@ void ExternalPipeline::OnCameraSet(TimeNs stamp_ns, const std::vector<SetFrame>&
   }
   const nlohmann::ordered_json message =
       CamerasMessage(stamp_ns, slices, memory_ ? "shared_memory" : "inline");
-  const Received reply = Exchange(message, blob);
+  KeepProcessed("cameras", Exchange(message, blob), stamp_ns, delivered);
+}
+
+void ExternalPipeline::KeepProcessed(const char* message, const Received& reply, TimeNs stamp_ns,
+                                     const std::vector<std::string>& cameras) {
   ReplyProblems problems;
   try {
     ReplyExtras extras;
-    ParseProcessed(reply.json, stamp_ns, delivered, &extras, &problems);
+    ParseProcessed(reply.json, stamp_ns, cameras, &extras, &problems, ready_.measurement_types);
     for (slam::Detection& d : extras.detections) detections_.push_back(std::move(d));
     for (slam::Innovation& n : extras.innovations) innovations_.push_back(n);
   } catch (const ProtocolError& e) {
-    FailWith(std::string("'cameras' message: ") + e.what());
+    FailWith("'" + std::string(message) + "' message: " + e.what());
   }
-  Keep("cameras", problems);
+  Keep(message, problems);
+}
+
+void ExternalPipeline::OnImu(const ImuSample& sample) {
+  const std::vector<std::string>& wanted = ready_.imus;
+  if (std::find(wanted.begin(), wanted.end(), sample.sensor_id) == wanted.end()) return;
+  imu_batch_.push_back(sample);
+  if (imu_batch_.size() >= kMaxImuBatch) FlushImu();
+}
+
+void ExternalPipeline::FlushImu() {
+  if (imu_batch_.empty()) return;
+  const std::vector<ImuSample> batch = std::move(imu_batch_);
+  imu_batch_.clear();
+  KeepProcessed("imu", Exchange(ImuMessage(batch), {}), batch.back().stamp_ns, {});
+}
+
+void ExternalPipeline::OnScan(const LaserScan& scan) {
+  const std::vector<std::string>& wanted = ready_.lasers;
+  if (std::find(wanted.begin(), wanted.end(), scan.sensor_id) == wanted.end()) return;
+  FlushImu();
+  // The ranges ride in the blob (float32: REP 117's +-inf and NaN, which JSON lacks).
+  KeepProcessed("scan", Exchange(ScanMessage(scan, 0), ScanBlob(scan)), scan.stamp_ns, {});
 }
 
 std::vector<slam::Detection> ExternalPipeline::TakeDetections() {
@@ -418,13 +448,14 @@ std::vector<slam::Innovation> ExternalPipeline::TakeInnovations() {
 }
 
 void ExternalPipeline::Finish() {
+  FlushImu();
   const Received reply = Exchange(FinishMessage(estimate_.stamp_ns), {});
   ReplyProblems problems;
   try {
     // Each part of the reply on its own: a bad or misspelt one costs only itself, and what the
     // others hold is kept (the runner records it for a failed pipeline too).
-    Finished finished =
-        ParseFinished(reply.json, reply.blob, estimate_.stamp_ns, options_.cameras, &problems);
+    Finished finished = ParseFinished(reply.json, reply.blob, estimate_.stamp_ns, options_.cameras,
+                                      &problems, ready_.measurement_types);
     landmarks_ = std::move(finished.landmarks);
     for (slam::Detection& d : finished.extras.detections) detections_.push_back(std::move(d));
     for (slam::Innovation& n : finished.extras.innovations) innovations_.push_back(n);

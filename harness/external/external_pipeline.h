@@ -21,6 +21,7 @@
 #include "common/options_table.h"
 #include "harness/external/connection.h"
 #include "harness/external/exchange_timing.h"
+#include "harness/external/protocol.h"
 #include "harness/external/reply_keys.h"
 #include "slam/pipeline.h"
 #include "slam/registry.h"
@@ -87,6 +88,18 @@ class ExternalPipeline : public slam::Pipeline {
   /// The frames of one camera set this pipeline reads (the runner calls this rather than
   /// OnCamera), dropped ones included.
   void OnCameraSet(TimeNs stamp_ns, const std::vector<SetFrame>& frames);
+  /// Version 2 only: a sample of an IMU, a sweep of a scanner the program asked for in `ready`
+  /// (others, and every one for a version-1 program, are not sent). IMU samples are sent in one
+  /// imu message before the next message of another kind (or once kMaxImuBatch are held): the
+  /// program gets them in bus order, a batch a round trip.
+  void OnImu(const ImuSample& sample) override;
+  void OnScan(const LaserScan& scan) override;
+  /// What the program declared in its version-2 `ready` reply (Initialize read it).
+  std::vector<slam::MeasurementType> measurement_types() const override {
+    return ready_.measurement_types;
+  }
+  /// The protocol version the program speaks (1 until Initialize read its `ready`).
+  int protocol() const { return ready_.protocol; }
   slam::PoseEstimate Estimate() const override { return estimate_; }
   std::vector<slam::LandmarkEstimate> Landmarks() const override { return landmarks_; }
   std::vector<slam::Detection> TakeDetections() override;
@@ -114,6 +127,12 @@ class ExternalPipeline : public slam::Pipeline {
   [[noreturn]] void FailWith(const std::string& what);
   // After a reply's results were kept: its warnings noted, and its errors fail the pipeline.
   void Keep(const char* message, const ReplyProblems& problems);
+  // Reads the `processed` reply to a camera set, an IMU sample or a sweep (`cameras`: those whose
+  // frames it may detect in; none for the others) and keeps its results.
+  void KeepProcessed(const char* message, const Received& reply, TimeNs stamp_ns,
+                     const std::vector<std::string>& cameras);
+  // Sends the IMU samples held (one imu message) and reads its reply; nothing when none are.
+  void FlushImu();
   std::chrono::duration<double> timeout() const;
 
   ExternalPipelineOptions options_;
@@ -121,7 +140,9 @@ class ExternalPipeline : public slam::Pipeline {
   slam::Calibration calibration_;
   std::uint64_t seed_;
   std::unique_ptr<ProgramConnection> connection_;
-  bool ended_ = false;  // the program was ended (finished or failed)
+  Ready ready_;  // what the program said in `ready`: its version, sensors, measurement types
+  std::vector<ImuSample> imu_batch_;  // samples not sent yet (FlushImu)
+  bool ended_ = false;                // the program was ended (finished or failed)
   // The shared memory of the images (ImageTransport::kSharedMemory).
   int memory_fd_ = -1;
   std::uint8_t* memory_ = nullptr;

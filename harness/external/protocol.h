@@ -28,7 +28,13 @@
 
 namespace corridorsim::external {
 
+/// The version every client speaks: the `protocol` of the start message (a version-1 client,
+/// written to docs/protocol.md version 1, checks it and runs unchanged).
 inline constexpr int kProtocolVersion = 1;
+/// The newest version corridorsim speaks: the start message's `protocol_max`. A client that
+/// speaks it says so in its `ready` reply (`"protocol": 2`), and only then gets the IMU and scanner
+/// messages it asks for and may declare measurement types of its own.
+inline constexpr int kProtocolMaxVersion = 2;
 inline constexpr char kMagic[4] = {'C', 'S', 'I', 'M'};
 inline constexpr std::size_t kHeaderBytes = 12;
 /// A message's JSON at most (a finish reply with many landmarks and their points fits).
@@ -96,6 +102,19 @@ nlohmann::ordered_json OdometryMessage(const WheelOdometry& odometry);
 nlohmann::ordered_json CamerasMessage(TimeNs stamp_ns, const std::vector<CameraSlice>& cameras,
                                       const std::string& transport);
 nlohmann::ordered_json FinishMessage(TimeNs stamp_ns);
+/// Version 2: the IMU samples since the last message (those between two odometry messages, or up
+/// to a sweep or a camera set), in bus order: {"type": "imu", "stamp_ns": the last sample's,
+/// "samples": [{"stamp_ns", "sensor", "angular_velocity_rad_s", "linear_acceleration_m_s2"}]}
+/// (slam::ImuSample). One message a batch: a 1 kHz IMU in single-sample messages costs more round
+/// trips than the rest of a camera-less run (docs/protocol.md, "Cost").
+nlohmann::ordered_json ImuMessage(const std::vector<ImuSample>& samples);
+/// Samples in one imu message at most (a batch is sent once it holds this many).
+inline constexpr std::size_t kMaxImuBatch = 10000;
+/// Version 2: one sweep (slam::LaserScan) whose ranges are float32 little-endian in the blob at
+/// `ranges_offset` (REP 117's +-inf and NaN as their IEEE values: JSON has none). ScanBlob gives
+/// those bytes.
+nlohmann::ordered_json ScanMessage(const LaserScan& scan, std::size_t ranges_offset);
+std::string ScanBlob(const LaserScan& scan);
 
 /// The calibration as the start message carries it.
 nlohmann::ordered_json CalibrationJson(const slam::Calibration& calibration);
@@ -116,23 +135,43 @@ struct ReplyExtras {
 };
 
 /// The reply to start: {"type": "ready"} (and, optionally, "name" and "version" of the program,
-/// at most 200 bytes each).
+/// at most 200 bytes each). Version 2 (`"protocol": 2`) adds what the program wants: "imus" and
+/// "lasers" (the sensors it reads, by id: of `offered`, each once; only those are sent) and
+/// "measurement_types" ([{"name", "dof"}], checked by slam::MeasurementTypesProblem). These keys
+/// in a version-1 reply, a version other than 1 and 2, an unknown sensor or a bad declaration
+/// throw ProtocolError.
 struct Ready {
   std::string name, version;
+  int protocol = kProtocolVersion;
+  std::vector<std::string> imus, lasers;
+  std::vector<slam::MeasurementType> measurement_types;
 };
-Ready ParseReady(const nlohmann::json& reply, ReplyProblems* problems = nullptr);
+/// The sensors the start message offered (the calibration's IMUs and scanners).
+struct OfferedSensors {
+  std::vector<std::string> imus, lasers;
+};
+OfferedSensors Offered(const slam::Calibration& calibration);
+Ready ParseReady(const nlohmann::json& reply, ReplyProblems* problems = nullptr,
+                 const OfferedSensors& offered = {});
+
+// Innovations and detections name their type: a shipped landmark type (slam::LandmarkType), or
+// a measurement type the program declared in `ready` (`declared`: then slam::Innovation's and
+// Detection's `measurement`). Any other name fails, naming the declared ones.
 
 /// The reply to odometry: {"type": "estimate", "stamp_ns": the message's, "pose": [x, y, yaw],
 /// "covariance": 9 numbers row-major over (x, y, yaw)}, every number finite. A stamp other than
 /// the message's is out of order.
 slam::PoseEstimate ParseEstimate(const nlohmann::json& reply, TimeNs expected_stamp_ns,
-                                 ReplyExtras* extras, ReplyProblems* problems = nullptr);
+                                 ReplyExtras* extras, ReplyProblems* problems = nullptr,
+                                 const std::vector<slam::MeasurementType>& declared = {});
 
 /// The reply to a camera set: {"type": "processed", "stamp_ns": the set's}, with optional
-/// "detections" (each of one of `cameras`) and "innovations".
+/// "detections" (each of one of `cameras`) and "innovations". Version 2's `imu` and `scan`
+/// messages get the same reply, with `cameras` empty: innovations only.
 void ParseProcessed(const nlohmann::json& reply, TimeNs expected_stamp_ns,
                     const std::vector<std::string>& cameras, ReplyExtras* extras,
-                    ReplyProblems* problems = nullptr);
+                    ReplyProblems* problems = nullptr,
+                    const std::vector<slam::MeasurementType>& declared = {});
 
 /// The reply to finish: {"type": "finished"} with optional "landmarks", "detections",
 /// "innovations", "maps" ([{"suffix", "offset", "bytes"}] into the blob), "health" and
@@ -147,7 +186,8 @@ struct Finished {
   std::map<std::string, double> stage_seconds;
 };
 Finished ParseFinished(const nlohmann::json& reply, std::string_view blob, TimeNs stamp_ns,
-                       const std::vector<std::string>& cameras, ReplyProblems* problems = nullptr);
+                       const std::vector<std::string>& cameras, ReplyProblems* problems = nullptr,
+                       const std::vector<slam::MeasurementType>& declared = {});
 
 /// The "type" of a message (ParseMessage checked it is a string).
 std::string MessageType(const nlohmann::json& message);

@@ -19,13 +19,13 @@ stays light (no numpy or pandas) for pipelines that only need the protocol clien
 readers they use are in corridorsim.files.
 """
 
-from .pipeline import (Calibration, CameraCalibration, CameraFrame, Estimate, Odometry, Pipeline,
-                       Start, serve)
+from .pipeline import (Calibration, CameraCalibration, CameraFrame, Estimate, ImuCalibration,
+                       ImuSample, LaserCalibration, LaserScan, Odometry, Pipeline, Start, serve)
 from .protocol import PROTOCOL_VERSION, Connection, ProtocolError
 
 __all__ = ["Calibration", "CameraCalibration", "CameraFrame", "Connection", "Dataset", "Estimate",
-           "Odometry", "PROTOCOL_VERSION", "Pipeline", "ProtocolError", "Run", "Start", "Study",
-           "serve"]
+           "ImuCalibration", "ImuSample", "LaserCalibration", "LaserScan", "Odometry",
+           "PROTOCOL_VERSION", "Pipeline", "ProtocolError", "Run", "Start", "Study", "serve"]
 
 _ANALYSIS_NAMES = ("Run", "Study", "Dataset")
 

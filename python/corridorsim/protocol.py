@@ -12,7 +12,11 @@ import math
 import socket
 import struct
 
-PROTOCOL_VERSION = 1
+#: The version every client speaks: the start message's ``protocol``.
+BASE_PROTOCOL_VERSION = 1
+#: The newest version this client speaks (docs/protocol.md, "Version 2"): it says so in ``ready``
+#: when the start message's ``protocol_max`` offers it.
+PROTOCOL_VERSION = 2
 MAGIC = b"CSIM"
 HEADER = struct.Struct("<4sII")
 #: Bounds of a message, as corridorsim checks them (harness/external/protocol.h).
