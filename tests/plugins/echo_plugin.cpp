@@ -145,7 +145,7 @@ class EchoPipeline : public corridorsim::slam::Pipeline {
     estimate_.stamp_ns = odometry.stamp_ns;
     estimate_.covariance = 1e-4 * Eigen::Matrix3d::Identity();
     if (options_.own_measurement) {
-      // NIS 0, 0.5, 1, 0, ...: a mean of 0.5 over whole cycles.
+      // NIS 0, 0.5, 1, 0, ...
       corridorsim::slam::Innovation n;
       n.stamp_ns = odometry.stamp_ns;
       n.measurement = "wheel_yaw";
