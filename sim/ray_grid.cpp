@@ -89,8 +89,8 @@ RayGrid::RayGrid(std::vector<Eigen::Vector3d> corners, double cell_m)
     const double length = t.normal.norm();
     t.unit_normal = length > 0 ? Eigen::Vector3d(t.normal / length) : Eigen::Vector3d::Zero();
     t.unit_plane = t.unit_normal.dot(t.v0);
-    t.z_min = std::min({v[0].z(), v[1].z(), v[2].z()}) - kSlackM;
-    t.z_max = std::max({v[0].z(), v[1].z(), v[2].z()}) + kSlackM;
+    t.box_min = v[0].cwiseMin(v[1]).cwiseMin(v[2]) - Eigen::Vector3d::Constant(kSlackM);
+    t.box_max = v[0].cwiseMax(v[1]).cwiseMax(v[2]) + Eigen::Vector3d::Constant(kSlackM);
   }
 
   // The level triangles' heights; the others go in the walk's cells.
@@ -106,6 +106,44 @@ RayGrid::RayGrid(std::vector<Eigen::Vector3d> corners, double cell_m)
                        level_heights_.end());
   BuildCells([&](std::size_t i) { return !is_level(i); }, true, &cell_start_, &cell_triangles_);
   BuildCells(is_level, false, &level_start_, &level_triangles_);
+
+  // Per band, each cell's chessboard distance to the nearest cell with triangles in that band (0:
+  // its own; capped at 255), by the two-pass transform of Rosenfeld and Pfaltz ("Sequential
+  // operations in digital picture processing", JACM 1966): a ray in an empty cell leaps the
+  // empty square around it.
+  empty_radius_.assign(cell_start_.size() - 1, 255);
+  auto at = [&](int c, int r, int b) -> std::uint8_t& {
+    return empty_radius_[CellIndex(c, r) * static_cast<std::size_t>(bands_) +
+                         static_cast<std::size_t>(b)];
+  };
+  auto relax = [&](int c, int r, int b, int dc, int dr) {
+    const int nc = c + dc, nr = r + dr;
+    if (nc < 0 || nc >= columns_ || nr < 0 || nr >= rows_) return;
+    at(c, r, b) = static_cast<std::uint8_t>(std::min(at(c, r, b) + 0, at(nc, nr, b) + 1));
+  };
+  for (int b = 0; b < bands_; ++b) {
+    for (int r = 0; r < rows_; ++r) {
+      for (int c = 0; c < columns_; ++c) {
+        const std::size_t list =
+            CellIndex(c, r) * static_cast<std::size_t>(bands_) + static_cast<std::size_t>(b);
+        if (cell_start_[list] != cell_start_[list + 1]) at(c, r, b) = 0;
+      }
+    }
+    for (int r = 0; r < rows_; ++r) {
+      for (int c = 0; c < columns_; ++c) {
+        for (const auto& [dc, dr] : {std::pair{-1, 0}, {-1, -1}, {0, -1}, {1, -1}}) {
+          relax(c, r, b, dc, dr);
+        }
+      }
+    }
+    for (int r = rows_ - 1; r >= 0; --r) {
+      for (int c = columns_ - 1; c >= 0; --c) {
+        for (const auto& [dc, dr] : {std::pair{1, 0}, {1, 1}, {0, 1}, {-1, 1}}) {
+          relax(c, r, b, dc, dr);
+        }
+      }
+    }
+  }
 }
 
 int RayGrid::BandOf(double z) const {
@@ -132,8 +170,8 @@ void RayGrid::BuildCells(Member&& is_member, bool banded, std::vector<std::uint3
     };
     const auto [c0, c1] = first_last(0, columns_);
     const auto [r0, r1] = first_last(1, rows_);
-    const int b0 = banded ? BandOf(triangles_[i].z_min) : 0;
-    const int b1 = banded ? BandOf(triangles_[i].z_max) : 0;
+    const int b0 = banded ? BandOf(triangles_[i].box_min.z()) : 0;
+    const int b1 = banded ? BandOf(triangles_[i].box_max.z()) : 0;
     const std::size_t per_cell = banded ? static_cast<std::size_t>(bands_) : 1;
     for (int r = r0; r <= r1; ++r) {
       for (int c = c0; c <= c1; ++c) {
@@ -273,17 +311,61 @@ RayHit RayGrid::Nearest(const Eigen::Vector3d& origin, const Eigen::Vector3d& di
     const double z_lo = std::min(z_enter, z_exit) - kSlackM;
     const double z_hi = std::max(z_enter, z_exit) + kSlackM;
     // The bands the ray's z range meets (a triangle in several is tested again, to no effect).
+    const int band_lo = BandOf(z_lo), band_hi = BandOf(z_hi);
     const std::size_t first = CellIndex(cell[0], cell[1]) * static_cast<std::size_t>(bands_);
-    const std::size_t from = first + static_cast<std::size_t>(BandOf(z_lo));
-    const std::size_t to = first + static_cast<std::size_t>(BandOf(z_hi)) + 1;
+    const std::size_t from = first + static_cast<std::size_t>(band_lo);
+    const std::size_t to = first + static_cast<std::size_t>(band_hi) + 1;
+    if (cell_start_[from] == cell_start_[to]) {
+      // Nothing here: leap to where the ray leaves the empty square around this cell, if its z
+      // range stays within these bands until then.
+      int radius = 255;
+      for (std::size_t b = from; b < to; ++b) radius = std::min<int>(radius, empty_radius_[b]);
+      const int k = radius - 1;  // the cells within k of this one are empty in these bands
+      double t_leap = t1;
+      int leap_axis = -1;
+      for (int a = 0; a < 2 && k > 0; ++a) {
+        if (step[a] == 0) continue;
+        const int edge = cell[a] + (step[a] > 0 ? k + 1 : -k);
+        const double t = (min_[a] + edge * cell_m_ - origin[a]) * inverse[a];
+        if (t < t_leap) {
+          t_leap = t;
+          leap_axis = a;
+        }
+      }
+      const double z_leap = origin.z() + t_leap * direction.z();
+      if (k > 0 && t_leap > exit && BandOf(z_leap - kSlackM) >= band_lo &&
+          BandOf(z_leap + kSlackM) <= band_hi) {
+        if (leap_axis < 0) break;  // empty up to t1
+        // On into the cell beyond the square; across the other axis, the cell at t_leap (kept
+        // within the square: at a corner, rounding cannot skip a cell the ray crosses).
+        const int other = 1 - leap_axis;
+        cell[leap_axis] += step[leap_axis] * (k + 1);
+        const double across =
+            std::floor((origin[other] + t_leap * direction[other] - min_[other]) / cell_m_);
+        cell[other] = static_cast<int>(
+            std::clamp(across, std::max(0.0, cell[other] - static_cast<double>(k)),
+                       std::min(count[other] - 1.0, cell[other] + static_cast<double>(k))));
+        if (cell[leap_axis] < 0 || cell[leap_axis] >= count[leap_axis]) break;
+        next[0] = boundary(0);
+        next[1] = boundary(1);
+        enter = t_leap;
+        continue;
+      }
+    }
     for (std::uint32_t e = cell_start_[from]; e < cell_start_[to]; ++e) {
       const std::uint32_t i = cell_triangles_[e];
       const Triangle& tri = triangles_[i];
-      if (tri.z_min > z_hi || tri.z_max < z_lo) continue;
+      if (tri.box_min.z() > z_hi || tri.box_max.z() < z_lo) continue;
       const double cos_normal = tri.unit_normal.dot(direction);
       if (std::abs(cos_normal) >= kPlaneCullMinCos) {
+        // Where the ray meets the plane: within this cell's stretch, nearer than the best hit, and
+        // within the triangle's box (coplanar neighbours, a wall's other panels, fail here).
         const double t_plane = (tri.unit_plane - tri.unit_normal.dot(origin)) / cos_normal;
         if (t_plane < lo || t_plane > hi || t_plane > best.t + kSlackM) continue;
+        const Eigen::Vector3d at = origin + t_plane * direction;
+        if ((at.array() < tri.box_min.array()).any() || (at.array() > tri.box_max.array()).any()) {
+          continue;
+        }
       }
       Test(i, origin, direction, max_t, &best);
     }

@@ -22,6 +22,7 @@
 #include <catch2/catch.hpp>
 
 #include "common/random.h"
+#include "sim/ray_grid.h"
 #include "tests/support/broken_options.h"
 #include "tests/support/generated_worlds.h"
 #include "tests/support/generator_layouts.h"
@@ -379,6 +380,52 @@ TEST_CASE("from random poses, tilted and in doorways, every beam equals the brut
     const Compared compared = CompareWithReference(loop, RandomPoses(loop, 6, 160), options);
     CHECK(compared.hits_by_class.count(SemanticClass::kDoorFrame) == 1);
     CHECK(compared.hits_by_class.count(SemanticClass::kWall) == 1);
+  }
+}
+
+TEST_CASE("the ray grid finds the reference's hit at every cell size", "[sim][laser]") {
+  // The cells only cull: from the random poses' beams, at four sides (the grid's default, 1 m,
+  // above), RayGrid::Nearest meets the brute force's nearest surface.
+  const worlds::World& world = test::GeneratedWorld(7);
+  const ReferenceWorld reference = ReferenceOf(world);
+  std::vector<Eigen::Vector3d> corners;
+  std::vector<int> instance_of_triangle;
+  for (const worlds::Mesh& mesh : world.meshes) {
+    for (const std::uint32_t index : mesh.indices)
+      corners.push_back(mesh.positions[index].cast<double>());
+    instance_of_triangle.insert(instance_of_triangle.end(), mesh.triangle_count(),
+                                mesh.instance_id);
+  }
+  constexpr double kRangeM = 60.0;
+  for (const double cell_m : {0.25, 0.5, 2.0, 5.0}) {
+    const RayGrid grid(corners, cell_m);
+    CHECK(grid.cell_m() == cell_m);
+    int mismatches = 0, hits = 0, rays = 0;
+    for (const SE3& pose : RandomPoses(world, 7, 40)) {
+      for (int i = 0; i < 72; ++i) {
+        const double angle = i * kPi / 36;
+        const Eigen::Vector3d direction =
+            pose.rotation() * Eigen::Vector3d(std::cos(angle), std::sin(angle), 0.0);
+        const ReferenceHit expected =
+            ReferenceCast(reference, pose.translation(), direction, kRangeM);
+        const RayHit hit = grid.Nearest(pose.translation(), direction, kRangeM);
+        ++rays;
+        bool ok = false;
+        if (expected.range_m > kRangeM) {
+          ok = hit.triangle < 0;
+        } else if (hit.triangle >= 0 && std::abs(hit.t - expected.range_m) <= kBeamAgreementM) {
+          ++hits;
+          for (const ReferenceHit::Candidate& c : expected.candidates) {
+            ok =
+                ok || c.instance_id == instance_of_triangle[static_cast<std::size_t>(hit.triangle)];
+          }
+        }
+        mismatches += ok ? 0 : 1;
+      }
+    }
+    INFO("cell " << cell_m << " m: " << rays << " rays, " << hits << " hits");
+    CHECK(mismatches == 0);
+    CHECK(hits > rays / 2);
   }
 }
 
