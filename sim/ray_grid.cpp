@@ -265,18 +265,21 @@ RayHit RayGrid::Nearest(const Eigen::Vector3d& origin, const Eigen::Vector3d& di
   RayHit best;
   if (triangles_.empty() || !(max_t > 0)) return best;
   // The stretch [t0, t1] of the ray over the grid's rectangle (slabs).
-  double t0 = 0.0, t1 = max_t;
   const int count[2] = {columns_, rows_};
+  int step[2];
+  double inverse[2];
+  double t0 = 0.0, t1 = max_t;
   for (int a = 0; a < 2; ++a) {
-    const double lo = min_[a], hi = min_[a] + count[a] * cell_m_;
-    if (direction[a] == 0.0) {
-      if (origin[a] < lo || origin[a] > hi) return best;
-      continue;
-    }
-    double ta = (lo - origin[a]) / direction[a], tb = (hi - origin[a]) / direction[a];
-    if (ta > tb) std::swap(ta, tb);
-    t0 = std::max(t0, ta);
-    t1 = std::min(t1, tb);
+    step[a] = direction[a] > 0 ? 1 : direction[a] < 0 ? -1 : 0;
+    inverse[a] = step[a] == 0 ? 0.0 : 1.0 / direction[a];
+    // Where the ray crosses the grid's two sides across this axis (none when parallel to them).
+    const double side_lo = min_[a], side_hi = min_[a] + count[a] * cell_m_;
+    if (step[a] == 0 && (origin[a] < side_lo || origin[a] > side_hi)) return best;
+    if (step[a] == 0) continue;
+    const double cross_lo = (side_lo - origin[a]) * inverse[a];
+    const double cross_hi = (side_hi - origin[a]) * inverse[a];
+    t0 = std::max(t0, std::min(cross_lo, cross_hi));
+    t1 = std::min(t1, std::max(cross_lo, cross_hi));
   }
   if (!(t0 <= t1)) return best;
   NearestLevel(origin, direction, t0, t1, max_t, &best);
@@ -284,13 +287,11 @@ RayHit RayGrid::Nearest(const Eigen::Vector3d& origin, const Eigen::Vector3d& di
 
   // Amanatides and Woo's walk: the cell at t0, and per axis the step and the next boundary's t
   // (recomputed from the cell index each step, so no error accumulates).
-  int cell[2], step[2];
-  double next[2], inverse[2];
+  int cell[2];
+  double next[2];
   for (int a = 0; a < 2; ++a) {
     const double at = (origin[a] + t0 * direction[a] - min_[a]) / cell_m_;
     cell[a] = static_cast<int>(std::clamp(std::floor(at), 0.0, count[a] - 1.0));
-    step[a] = direction[a] > 0 ? 1 : direction[a] < 0 ? -1 : 0;
-    inverse[a] = step[a] == 0 ? 0.0 : 1.0 / direction[a];
   }
   auto boundary = [&](int a) {
     if (step[a] == 0) return kInf;
