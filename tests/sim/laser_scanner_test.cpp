@@ -1,7 +1,9 @@
-// Tests sim/laser_scanner.cpp: every noise-free beam against an independent brute-force ray cast
-// of the world's meshes (Moller-Trumbore over every triangle, no Bullet), the incidence against
-// the corridor's geometry, the sensing model (range noise statistics, REP 117 limits, grazing
-// returns, dropouts), determinism, the option checks and the sweep's timing fields.
+// Tests sim/laser_scanner.cpp and its caster sim/ray_grid.cpp: every noise-free beam, from poses
+// along the corridors and from random ones (tilted, in doorways, down the corridors), against an
+// independent brute-force ray cast of the world's meshes (Moller-Trumbore over every triangle, no
+// grid), the grid alone at several cell sizes, the incidence against the corridor's geometry, the
+// sensing model (range noise statistics, REP 117 limits, grazing returns, dropouts), determinism,
+// the option checks and the sweep's timing fields.
 
 #include "sim/laser_scanner.h"
 
