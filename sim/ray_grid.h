@@ -66,7 +66,8 @@ class RayGrid {
   double cell_m() const { return cell_m_; }
   int columns() const { return columns_; }
   int rows() const { return rows_; }
-  /// The (cell, triangle) pairs stored: each triangle once per cell its footprint meets.
+  /// The (list, triangle) pairs stored: each triangle once per cell its footprint meets (and, if
+  /// not level, per height band of that cell its z range meets).
   std::size_t entries() const { return cell_triangles_.size() + level_triangles_.size(); }
   /// The distinct heights of the level triangles.
   std::size_t levels() const { return level_heights_.size(); }
