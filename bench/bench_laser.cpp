@@ -1,8 +1,9 @@
-// Laser scanner speed on the default world (P1's 55 m corridor): the BVH build, and the rays per
-// second of LaserScanner::Cast for a 720-beam sweep (-90 to 89.75 deg at 0.25 deg) from poses
+// Laser scanner speed on the default world (P1's 55 m corridor): the ray grid's build, and the rays
+// per second of LaserScanner::Cast for a 720-beam sweep (-90 to 89.75 deg at 0.25 deg) from poses
 // along the corridor's centre line, the robot driving at P1's 0.34 m/s during each sweep (each
-// beam cast from where the scanner is when it fires), and Measure's cost per sweep; in this
-// thread's CPU time.
+// beam cast from where the scanner is when it fires), and Measure's cost per sweep; then the same
+// rays through RayGrid::Nearest alone at several cell sizes (sim/ray_grid.h); in this thread's
+// CPU time.
 // Usage: bench_laser [sweeps, default 2000] [range_max_m, default 80]
 
 #include <algorithm>
@@ -12,6 +13,7 @@
 #include <vector>
 
 #include "sim/laser_scanner.h"
+#include "sim/ray_grid.h"
 #include "worlds/world.h"
 
 namespace {
@@ -41,7 +43,7 @@ int main(int argc, char** argv) {
   double start = CpuSeconds();
   const sim::LaserScanner scanner(world, options, 1);
   const double build_s = CpuSeconds() - start;
-  std::printf("default world: %zu meshes, %zu triangles; BVH built in %.1f ms\n",
+  std::printf("default world: %zu meshes, %zu triangles; scanner (its ray grid) built in %.1f ms\n",
               world.meshes.size(), world.triangle_count(), 1e3 * build_s);
 
   // Sweeps evenly along the first corridor's centre line, 1 m from each end, facing along it.
@@ -75,5 +77,40 @@ int main(int argc, char** argv) {
   std::printf("Measure: %.1f us/sweep; at 40 Hz the scanner costs %.1f%% of one core\n",
               1e6 * measure_s / sweeps, 100.0 * 40.0 * (cast_s + measure_s) / sweeps);
   std::printf("(checksum %.3f)\n", checksum);
+
+  // The same rays through the grid alone, at several cell sizes.
+  std::vector<Eigen::Vector3d> corners, origins, directions;
+  for (const worlds::Mesh& mesh : world.meshes) {
+    for (const std::uint32_t index : mesh.indices) {
+      corners.push_back(mesh.positions[index].cast<double>());
+    }
+  }
+  for (int s = 0; s < sweeps; ++s) {
+    const Eigen::Vector2d xy = corridor.start + (1.0 + length_m * s / (sweeps - 1)) * along;
+    for (int i = 0; i < scanner.beam_count(); ++i) {
+      const Eigen::Vector2d at = xy + kSpeedMps * beam_s * i * along;
+      const double angle = yaw + scanner.BeamAngleRad(i);
+      origins.emplace_back(at.x(), at.y(), options.mount.z_m);
+      directions.emplace_back(std::cos(angle), std::sin(angle), 0.0);
+    }
+  }
+  for (const double cell_m : {0.25, 0.5, 1.0, 2.0}) {
+    start = CpuSeconds();
+    const sim::RayGrid grid(corners, cell_m);
+    const double grid_build_s = CpuSeconds() - start;
+    double sum = 0.0;
+    start = CpuSeconds();
+    for (std::size_t r = 0; r < origins.size(); ++r) {
+      const sim::RayHit hit = grid.Nearest(origins[r], directions[r], options.range_max_m);
+      sum += hit.triangle >= 0 ? hit.t : 0.0;
+    }
+    const double grid_s = CpuSeconds() - start;
+    std::printf(
+        "  grid %.2f m: %d x %d cells, %.1f triangles per cell, built in %.1f ms; %.0f rays/s "
+        "(mean range %.2f m)\n",
+        grid.cell_m(), grid.columns(), grid.rows(),
+        static_cast<double>(grid.entries()) / (grid.columns() * grid.rows()), 1e3 * grid_build_s,
+        rays / grid_s, sum / rays);
+  }
   return 0;
 }

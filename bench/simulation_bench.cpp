@@ -3,7 +3,8 @@
 //      real-time factor;
 //   2. the loop without cameras (physics + path follower + odometry + sensor clock);
 //   3. the loop without cameras with a 1 kHz IMU and a 720-beam laser scanner at 40 Hz, against
-//      the plain loop (docs/sensors.md, "Cost");
+//      the plain loop (docs/sensors.md, "Cost"), in wall-clock time and in this thread's CPU time
+//      (steadier on a shared machine: the loop runs on this thread alone);
 //   4. the closed loop with the full rig (front RGB-D + lateral + upward, noise on) at 10 Hz,
 //      with the time split between physics and rendering.
 // Usage: bench_simulation [simulated seconds, default 60] [all|physics|loop|motion|rig]
@@ -12,6 +13,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <string>
 #include <vector>
 
@@ -35,9 +37,17 @@ double WallSeconds(F&& work) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-// What DriveTimed measured: wall-clock seconds of the steps, and what they delivered.
+// This thread's CPU time (s).
+double CpuSeconds() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+// What DriveTimed measured: wall-clock and CPU seconds of the steps, and what they delivered.
 struct TimedDrive {
   double wall_s = 0.0;
+  double cpu_s = 0.0;
   std::size_t odometry_messages = 0;
   std::size_t frames = 0;
   std::size_t imu_samples = 0;
@@ -53,6 +63,7 @@ TimedDrive DriveTimed(const worlds::World& world, sim::SimulationOptions options
   sim::Simulation simulation(world, options, sim::BuildRobotPath(world, options.robot_path), rig,
                              rig_options);
   TimedDrive drive;
+  const double cpu_start = CpuSeconds();
   drive.wall_s = WallSeconds([&] {
     while (!simulation.finished()) {
       const sim::StepOutput& out = simulation.Step();
@@ -62,6 +73,7 @@ TimedDrive DriveTimed(const worlds::World& world, sim::SimulationOptions options
       drive.sweeps += out.scans.size();
     }
   });
+  drive.cpu_s = CpuSeconds() - cpu_start;
   return drive;
 }
 
@@ -117,20 +129,25 @@ int main(int argc, char** argv) {
     laser.range_max_m = 30;
     with.imus = {imu};
     with.lasers = {laser};
-    std::vector<double> plain_s, with_s;
+    std::vector<double> plain_s, with_s, plain_cpu_s, with_cpu_s;
     TimedDrive last;
     for (int k = 0; k < 3; ++k) {
-      plain_s.push_back(DriveTimed(world, options, sim_s).wall_s);
+      const TimedDrive plain = DriveTimed(world, options, sim_s);
+      plain_s.push_back(plain.wall_s);
+      plain_cpu_s.push_back(plain.cpu_s);
       last = DriveTimed(world, with, sim_s);
       with_s.push_back(last.wall_s);
+      with_cpu_s.push_back(last.cpu_s);
     }
-    std::sort(plain_s.begin(), plain_s.end());
-    std::sort(with_s.begin(), with_s.end());
+    for (std::vector<double>* v : {&plain_s, &with_s, &plain_cpu_s, &with_cpu_s}) {
+      std::sort(v->begin(), v->end());
+    }
     std::printf(
         "  loop + 1 kHz IMU + 720-beam 40 Hz scanner: %zu samples, %zu sweeps; median %.3f s "
-        "against %.3f s without: +%.0f %%\n",
+        "against %.3f s without: +%.0f %% (CPU time: %.3f s against %.3f s, +%.0f %%)\n",
         last.imu_samples, last.sweeps, with_s[1], plain_s[1],
-        100.0 * (with_s[1] / plain_s[1] - 1.0));
+        100.0 * (with_s[1] / plain_s[1] - 1.0), with_cpu_s[1], plain_cpu_s[1],
+        100.0 * (with_cpu_s[1] / plain_cpu_s[1] - 1.0));
   }
 
   // 4. The closed loop with the full rig at 10 Hz.

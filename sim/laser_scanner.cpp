@@ -6,9 +6,6 @@
 #include <limits>
 #include <numbers>
 
-#include <BulletCollision/NarrowPhaseCollision/btRaycastCallback.h>
-#include <btBulletCollisionCommon.h>
-
 #include "common/options_checker.h"
 #include "common/random.h"
 #include "sim/sensor_mount.h"
@@ -20,9 +17,6 @@ namespace {
 constexpr double kDegToRad = std::numbers::pi / 180.0;
 // A sensor on the robot sits within this distance of its origin along each axis (m).
 constexpr double kMaxMountOffsetM = 10.0;
-// The quantised BVH stores a triangle's index in 21 bits (btQuantizedBvh.h, MAX_NUM_PARTS_IN_BITS
-// = 10 of 31).
-constexpr int kMaxTriangles = (1 << 21) - 1;
 
 // The number of beams of the angles, in double so that absurd values cannot overflow an int.
 double BeamCountOf(const LaserOptions& o) {
@@ -62,58 +56,6 @@ std::optional<OptionsProblem> LaserOptions::Check() const {
   return c.problem();
 }
 
-// The world's triangles in Bullet's BVH (double precision, as sim/robot.cpp), corners unshared.
-struct LaserScanner::Bvh {
-  std::vector<Eigen::Vector3d> corners;  // three per triangle, world frame (float meshes, exact)
-  std::vector<int> corner_indices;       // 0, 1, 2, ...
-  std::vector<int> mesh_of_triangle;     // index into World::meshes
-  const worlds::World* world = nullptr;
-  std::unique_ptr<btTriangleIndexVertexArray> mesh_interface;
-  std::unique_ptr<btBvhTriangleMeshShape> shape;
-};
-
-namespace {
-
-// How far outside a world triangle's edges a hit may lie (m). Bullet's own test admits hits up to
-// 1e-4 of the triangle's height outside an edge (btRaycastCallback.cpp), millimetres on a wall's
-// long triangles, so a beam grazing a door frame's corner would stop in thin air; this keeps the
-// triangles watertight over their shared edges (rounding there is ~1e-13 m) and exact elsewhere.
-constexpr double kEdgeToleranceM = 1e-9;
-
-// The nearest hit that lies on its triangle (Bullet reports what its own, looser test admits).
-class NearestHitCallback : public btTriangleRaycastCallback {
- public:
-  NearestHitCallback(const btVector3& from, const btVector3& to, const LaserScanner::Bvh& bvh)
-      : btTriangleRaycastCallback(from, to), bvh_(bvh) {}
-  int triangle = -1;  // the triangle hit, -1 for none
-
-  btScalar reportHit(const btVector3& /*normal*/, btScalar fraction, int /*part*/, int t) override {
-    const btVector3 p = m_from.lerp(m_to, fraction);
-    if (!OnTriangle(t, Eigen::Vector3d(p.x(), p.y(), p.z()))) return m_hitFraction;  // go on
-    triangle = t;
-    return fraction;  // nearer hits only, from now on
-  }
-
- private:
-  // Whether `p` (on the triangle's plane) lies within kEdgeToleranceM of triangle `t`.
-  bool OnTriangle(int t, const Eigen::Vector3d& p) const {
-    const Eigen::Vector3d* v = &bvh_.corners[3 * static_cast<std::size_t>(t)];
-    const Eigen::Vector3d normal = (v[1] - v[0]).cross(v[2] - v[0]);
-    const double normal_length = normal.norm();
-    for (int k = 0; k < 3; ++k) {
-      const Eigen::Vector3d edge = v[(k + 1) % 3] - v[k];
-      // The signed distance from the edge's line, positive inside.
-      const double inside = edge.cross(p - v[k]).dot(normal) / (normal_length * edge.norm());
-      if (!(inside >= -kEdgeToleranceM)) return false;
-    }
-    return true;
-  }
-
-  const LaserScanner::Bvh& bvh_;
-};
-
-}  // namespace
-
 LaserScanner::LaserScanner(const worlds::World& world, const LaserOptions& options,
                            std::uint64_t seed)
     : options_(options),
@@ -123,44 +65,28 @@ LaserScanner::LaserScanner(const worlds::World& world, const LaserOptions& optio
       period_ns_(0),
       phase_ns_(0),
       time_increment_ns_(0),
-      bvh_(std::make_unique<Bvh>()) {
+      world_(&world) {
   CheckOrDie(!options.Check(), "LaserScanner", "the options must pass Check()");
   beam_count_ = options.BeamCount();
   period_ns_ = PeriodFromRateHz(options.rate_hz);
   phase_ns_ = FromSeconds(options.phase_s);
   time_increment_ns_ = static_cast<TimeNs>(
       std::llround(static_cast<double>(period_ns_) * options.resolution_deg / 360.0));
-
-  Bvh& b = *bvh_;
-  b.world = &world;
+  for (int i = 0; i < beam_count_; ++i) {
+    const double angle = BeamAngleRad(i);
+    beam_in_laser_.emplace_back(std::cos(angle), std::sin(angle), 0.0);
+  }
+  // The triangles in double, corners unshared (the float meshes convert exactly).
+  std::vector<Eigen::Vector3d> corners;
   for (std::size_t m = 0; m < world.meshes.size(); ++m) {
     const worlds::Mesh& mesh = world.meshes[m];
     for (const std::uint32_t index : mesh.indices) {
       CheckOrDie(index < mesh.positions.size(), "LaserScanner", "a mesh index out of range");
-      b.corners.push_back(mesh.positions[index].cast<double>());
+      corners.push_back(mesh.positions[index].cast<double>());
     }
-    b.mesh_of_triangle.insert(b.mesh_of_triangle.end(), mesh.triangle_count(), static_cast<int>(m));
+    mesh_of_triangle_.insert(mesh_of_triangle_.end(), mesh.triangle_count(), static_cast<int>(m));
   }
-  CheckOrDie(b.corners.size() < static_cast<std::size_t>(kMaxTriangles) * 3, "LaserScanner",
-             "the world has more triangles than Bullet's quantised BVH indexes");
-  if (b.corners.empty()) return;  // nothing to hit: every beam reads +inf
-
-  static_assert(sizeof(btScalar) == sizeof(double), "Bullet must be its double-precision build");
-  static_assert(sizeof(Eigen::Vector3d) == 3 * sizeof(double));
-  b.corner_indices.resize(b.corners.size());
-  for (std::size_t i = 0; i < b.corners.size(); ++i) b.corner_indices[i] = static_cast<int>(i);
-  btIndexedMesh part;
-  part.m_numTriangles = static_cast<int>(b.mesh_of_triangle.size());
-  part.m_triangleIndexBase = reinterpret_cast<const unsigned char*>(b.corner_indices.data());
-  part.m_triangleIndexStride = 3 * sizeof(int);
-  part.m_numVertices = static_cast<int>(b.corners.size());
-  part.m_vertexBase = reinterpret_cast<const unsigned char*>(b.corners.data());
-  part.m_vertexStride = sizeof(Eigen::Vector3d);
-  part.m_indexType = PHY_INTEGER;
-  part.m_vertexType = PHY_DOUBLE;
-  b.mesh_interface = std::make_unique<btTriangleIndexVertexArray>();
-  b.mesh_interface->addIndexedMesh(part, PHY_INTEGER);
-  b.shape = std::make_unique<btBvhTriangleMeshShape>(b.mesh_interface.get(), true, true);
+  grid_ = std::make_unique<RayGrid>(std::move(corners));
 }
 
 LaserScanner::~LaserScanner() = default;
@@ -172,26 +98,18 @@ double LaserScanner::BeamAngleRad(int beam) const {
 BeamTruth LaserScanner::Cast(int beam, const SE3& world_from_laser) const {
   CheckOrDie(beam >= 0 && beam < beam_count_, "LaserScanner::Cast", "beam out of range");
   BeamTruth truth;
-  truth.range_m = std::numeric_limits<double>::infinity();
-  const Bvh& b = *bvh_;
-  if (!b.shape) return truth;
-  const double angle = BeamAngleRad(beam);
   const Eigen::Vector3d direction =
-      world_from_laser.quaternion() * Eigen::Vector3d(std::cos(angle), std::sin(angle), 0.0);
-  const Eigen::Vector3d& origin = world_from_laser.translation();
-  const Eigen::Vector3d end = origin + options_.range_max_m * direction;
-  NearestHitCallback callback(btVector3(origin.x(), origin.y(), origin.z()),
-                              btVector3(end.x(), end.y(), end.z()), b);
-  b.shape->performRaycast(&callback, callback.m_from, callback.m_to);
-  if (callback.triangle < 0) return truth;
-  const auto t = static_cast<std::size_t>(callback.triangle);
-  const worlds::Mesh& mesh = b.world->meshes[static_cast<std::size_t>(b.mesh_of_triangle[t])];
-  truth.range_m = callback.m_hitFraction * options_.range_max_m;
+      world_from_laser.quaternion() * beam_in_laser_[static_cast<std::size_t>(beam)];
+  const RayHit hit =
+      grid_->Nearest(world_from_laser.translation(), direction, options_.range_max_m);
+  truth.range_m = hit.t;  // +inf when nothing was hit
+  if (hit.triangle < 0) return truth;
+  const worlds::Mesh& mesh = world_->meshes[static_cast<std::size_t>(
+      mesh_of_triangle_[static_cast<std::size_t>(hit.triangle)])];
   truth.instance_id = mesh.instance_id;
   truth.semantic_class = mesh.semantic_class;
   // The incidence from the triangle's own geometric normal (either side).
-  const Eigen::Vector3d* v = &b.corners[3 * t];
-  const Eigen::Vector3d normal = (v[1] - v[0]).cross(v[2] - v[0]);
+  const Eigen::Vector3d& normal = grid_->normal(hit.triangle);
   const double cos_incidence = std::abs(normal.dot(direction)) / normal.norm();
   truth.incidence_rad = std::acos(std::min(1.0, cos_incidence));
   return truth;

@@ -30,6 +30,7 @@
 #include "common/sensor_messages.h"
 #include "common/time.h"
 #include "render/camera_options.h"
+#include "sim/ray_grid.h"
 #include "worlds/world.h"
 
 namespace corridorsim::sim {
@@ -91,8 +92,8 @@ struct BeamTruth {
   double incidence_rad = 0.0;  // angle between the beam and the surface normal, [0, pi / 2]
 };
 
-/// A scanner over one world: its own Bullet BVH of all the world's triangles (walls, doors in
-/// their state, floor and ceiling, rooms, furniture, plates), for ray tests only.
+/// A scanner over one world: its own grid of all the world's triangles (walls, doors in their
+/// state, floor and ceiling, rooms, furniture, plates), for ray casts only (sim/ray_grid.h).
 class LaserScanner {
  public:
   /// `options` must pass Check(); `world` must outlive the scanner. `seed`: the run's seed (noise:
@@ -121,9 +122,6 @@ class LaserScanner {
   LaserScan Measure(TimeNs sweep_stamp_ns, std::uint64_t sweep_index,
                     const std::vector<BeamTruth>& beams) const;
 
-  /// The world's triangles in Bullet's BVH (defined in the .cpp: Bullet stays private to sim/).
-  struct Bvh;
-
  private:
   LaserOptions options_;
   std::uint64_t seed_;
@@ -132,7 +130,10 @@ class LaserScanner {
   TimeNs period_ns_;
   TimeNs phase_ns_;
   TimeNs time_increment_ns_;
-  std::unique_ptr<Bvh> bvh_;
+  const worlds::World* world_;
+  std::vector<Eigen::Vector3d> beam_in_laser_;  // each beam's unit direction, scanner frame
+  std::vector<int> mesh_of_triangle_;           // the grid's triangle -> index into World::meshes
+  std::unique_ptr<RayGrid> grid_;
 };
 
 }  // namespace corridorsim::sim

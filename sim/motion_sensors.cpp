@@ -108,6 +108,10 @@ void MotionSensors::Emit(TimeNs before_ns, const RobotState& before, TimeNs afte
       const int i = static_cast<int>(s.beams.size());
       const TimeNs beam_ns = s.clock.next_ns() + i * scanner.time_increment_ns();
       if (beam_ns > after_ns) break;
+      if (i == 0) {  // a new sweep (the last one's vectors went out with its message)
+        s.beams.reserve(static_cast<std::size_t>(beams));
+        s.poses.reserve(static_cast<std::size_t>(beams));
+      }
       const SE3 world_from_laser =
           PoseAt(before_ns, before.world_from_robot, after_ns, after.world_from_robot, beam_ns) *
           s.robot_from_laser;

@@ -1,7 +1,9 @@
-// Tests sim/laser_scanner.cpp: every noise-free beam against an independent brute-force ray cast
-// of the world's meshes (Moller-Trumbore over every triangle, no Bullet), the incidence against
-// the corridor's geometry, the sensing model (range noise statistics, REP 117 limits, grazing
-// returns, dropouts), determinism, the option checks and the sweep's timing fields.
+// Tests sim/laser_scanner.cpp and its caster sim/ray_grid.cpp: every noise-free beam, from poses
+// along the corridors and from random ones (tilted, in doorways, down the corridors), against an
+// independent brute-force ray cast of the world's meshes (Moller-Trumbore over every triangle, no
+// grid), the grid alone at several cell sizes, the incidence against the corridor's geometry, the
+// sensing model (range noise statistics, REP 117 limits, grazing returns, dropouts), determinism,
+// the option checks and the sweep's timing fields.
 
 #include "sim/laser_scanner.h"
 
@@ -22,6 +24,7 @@
 #include <catch2/catch.hpp>
 
 #include "common/random.h"
+#include "sim/ray_grid.h"
 #include "tests/support/broken_options.h"
 #include "tests/support/generated_worlds.h"
 #include "tests/support/generator_layouts.h"
@@ -36,7 +39,7 @@ using worlds::SemanticClass;
 
 constexpr double kPi = std::numbers::pi;
 constexpr double kInf = std::numeric_limits<double>::infinity();
-// A Bullet beam against the brute-force cast: the meshes are float, so two exact casts of them
+// A scanner's beam against the brute-force cast: the meshes are float, so two exact casts of them
 // differ by rounding only; 0.1 mm is the brief's bound (m).
 constexpr double kBeamAgreementM = 1e-4;
 // The incidence of a hit against the brute force's triangle normal (rad).
@@ -210,17 +213,23 @@ std::vector<SE3> PosesAlong(const worlds::World& world, std::uint64_t seed) {
   return poses;
 }
 
-// Casts every beam of the default scanner from every pose of PosesAlong and compares each with
-// the reference; returns how often each class was hit.
-std::map<SemanticClass, int> CompareWithReference(const worlds::World& world, std::uint64_t seed) {
-  LaserOptions options;
+// What a comparison with the reference saw: the hits per class and the longest return.
+struct Compared {
+  std::map<SemanticClass, int> hits_by_class;
+  double longest_m = 0.0;
+};
+
+// Casts every beam of a noise-free scanner with `options` from every pose of `poses` and compares
+// each (range, instance, class, incidence) with the reference.
+Compared CompareWithReference(const worlds::World& world, const std::vector<SE3>& poses,
+                              LaserOptions options) {
   options.noise = false;
   const LaserScanner scanner(world, options, 1);
   const ReferenceWorld reference = ReferenceOf(world);
-  std::map<SemanticClass, int> hits_by_class;
+  Compared compared;
   int mismatches = 0, beams = 0;
   std::string first_mismatches;
-  for (const SE3& pose : PosesAlong(world, seed)) {
+  for (const SE3& pose : poses) {
     for (int i = 0; i < scanner.beam_count(); ++i) {
       const double angle = (options.angle_min_deg + i * options.resolution_deg) * kPi / 180.0;
       const Eigen::Vector3d direction =
@@ -240,13 +249,16 @@ std::map<SemanticClass, int> CompareWithReference(const worlds::World& world, st
         }
       }
       if (ok) {
-        if (truth.range_m < kInf) ++hits_by_class[truth.semantic_class];
+        if (truth.range_m < kInf) {
+          ++compared.hits_by_class[truth.semantic_class];
+          compared.longest_m = std::max(compared.longest_m, truth.range_m);
+        }
         continue;
       }
       if (++mismatches <= 5) {
         std::ostringstream line;
         line << "beam " << i << " from (" << pose.translation().transpose() << "), yaw "
-             << pose.rotation().eulerAngles(2, 1, 0).transpose() << ": Bullet " << truth.range_m
+             << pose.rotation().eulerAngles(2, 1, 0).transpose() << ": scanner " << truth.range_m
              << " m, instance " << truth.instance_id << ", incidence " << truth.incidence_rad
              << "; reference " << expected.range_m << " m";
         for (const ReferenceHit::Candidate& c : expected.candidates) {
@@ -259,7 +271,12 @@ std::map<SemanticClass, int> CompareWithReference(const worlds::World& world, st
   INFO(beams << " beams compared; the first mismatches:\n" << first_mismatches);
   CHECK(mismatches == 0);
   CHECK(beams > 20 * scanner.beam_count());
-  return hits_by_class;
+  return compared;
+}
+
+// The default scanner from the poses of PosesAlong: how often each class was hit.
+std::map<SemanticClass, int> CompareWithReference(const worlds::World& world, std::uint64_t seed) {
+  return CompareWithReference(world, PosesAlong(world, seed), LaserOptions{}).hits_by_class;
 }
 
 TEST_CASE("every noise-free beam equals a brute-force ray cast of the world's meshes",
@@ -282,6 +299,135 @@ TEST_CASE("every noise-free beam equals a brute-force ray cast of the world's me
     CHECK(hits.count(SemanticClass::kWall) == 1);
     CHECK(hits.count(SemanticClass::kDoorLeaf) == 1);
     CHECK(hits.count(SemanticClass::kDoorPlate) == 1);
+  }
+}
+
+// Random poses over a world: anywhere in the corridors at any height, level, slightly tilted (a
+// robot on a bump) or in any orientation; on the centre line facing along a corridor (beams
+// to its far end); and in and before doorways of every state, facing through them or obliquely
+// at their frames (beams that end on a column's edge or pass it by a hair).
+std::vector<SE3> RandomPoses(const worlds::World& world, std::uint64_t seed, int count) {
+  RandomStream rng(seed, 0, "tests.laser.random_poses");
+  std::vector<SE3> poses;
+  const auto segments = static_cast<std::int64_t>(world.segments.size());
+  for (int k = 0; k < count; ++k) {
+    const worlds::CorridorSegment& s =
+        world.segments[static_cast<std::size_t>(rng.UniformInt(0, segments - 1))];
+    const Eigen::Vector2d along = s.direction(), left(-along.y(), along.x());
+    const double f = rng.Uniform(0.0, 1.0);
+    const double offset = rng.Uniform(-1.0, 1.0) * (0.5 * s.width_m - 0.05);
+    const Eigen::Vector2d xy = s.start + f * (s.end - s.start) + offset * left;
+    const double z = rng.Uniform(0.05, s.height_m - 0.05);
+    const double yaw = rng.Uniform(-kPi, kPi);
+    switch (k % 4) {
+      case 0:  // level
+        poses.push_back(LaserPose({xy.x(), xy.y(), z}, yaw));
+        break;
+      case 1:  // tilted a little
+        poses.push_back(LaserPose({xy.x(), xy.y(), z}, yaw, rng.Uniform(-0.05, 0.05),
+                                  rng.Uniform(-0.05, 0.05)));
+        break;
+      case 2:  // any orientation
+        poses.push_back(LaserPose({xy.x(), xy.y(), z}, yaw, rng.Uniform(-kPi / 2, kPi / 2),
+                                  rng.Uniform(-kPi, kPi)));
+        break;
+      default: {  // near a corridor's end, facing along it, near the centre line
+        const Eigen::Vector2d from =
+            s.start + rng.Uniform(0.2, 2.0) * along + rng.Uniform(-0.3, 0.3) * left;
+        poses.push_back(LaserPose({from.x(), from.y(), rng.Uniform(0.1, 1.0)},
+                                  std::atan2(along.y(), along.x()) + rng.Uniform(-0.02, 0.02),
+                                  rng.Uniform(-0.002, 0.002), 0.0));
+      }
+    }
+  }
+  for (const worlds::Doorway& d : world.doors) {
+    const Eigen::Vector2d mid = 0.5 * (d.column_a + d.column_b);
+    const Eigen::Vector2d normal = d.inward_normal;
+    const double into = std::atan2(-normal.y(), -normal.x());
+    // In the doorway, at a height below and above its top bar, facing through it.
+    poses.push_back(LaserPose({mid.x(), mid.y(), rng.Uniform(0.1, d.top_height_m)},
+                              into + rng.Uniform(-0.3, 0.3)));
+    poses.push_back(LaserPose({mid.x(), mid.y(), d.top_height_m + rng.Uniform(0.01, 0.2)},
+                              into + kPi + rng.Uniform(-0.3, 0.3), rng.Uniform(-0.02, 0.02)));
+    // In the corridor, 1 to 3 m out and to one side, facing the doorway's middle.
+    const Eigen::Vector2d tangent = (d.column_b - d.column_a).normalized();
+    const Eigen::Vector2d from =
+        mid + rng.Uniform(1.0, 3.0) * normal + rng.Uniform(-2.0, 2.0) * tangent;
+    const Eigen::Vector2d to = mid - from;
+    poses.push_back(LaserPose({from.x(), from.y(), rng.Uniform(0.1, 2.0)},
+                              std::atan2(to.y(), to.x()), rng.Uniform(-0.01, 0.01)));
+  }
+  return poses;
+}
+
+TEST_CASE("from random poses, tilted and in doorways, every beam equals the brute-force cast",
+          "[sim][laser]") {
+  // A full turn at 1 deg, to the longest range the options allow.
+  LaserOptions options;
+  options.angle_min_deg = -180.0;
+  options.angle_max_deg = 179.0;
+  options.resolution_deg = 1.0;
+  options.range_max_m = kMaxLaserRangeM;
+  SECTION("the default world") {
+    const worlds::World& world = test::GeneratedWorld(5);
+    const Compared compared = CompareWithReference(world, RandomPoses(world, 5, 160), options);
+    CHECK(compared.hits_by_class.count(SemanticClass::kDoorFrame) == 1);
+    CHECK(compared.hits_by_class.count(SemanticClass::kRoom) == 1);
+    CHECK(compared.hits_by_class.count(SemanticClass::kFloor) == 1);
+    CHECK(compared.hits_by_class.count(SemanticClass::kCeiling) == 1);
+    CHECK(compared.longest_m > 40.0);  // along the corridor
+  }
+  SECTION("a loop") {
+    static const worlds::World loop = worlds::Generate(test::LayoutOptions()[3], 6);
+    const Compared compared = CompareWithReference(loop, RandomPoses(loop, 6, 160), options);
+    CHECK(compared.hits_by_class.count(SemanticClass::kDoorFrame) == 1);
+    CHECK(compared.hits_by_class.count(SemanticClass::kWall) == 1);
+  }
+}
+
+TEST_CASE("the ray grid finds the reference's hit at every cell size", "[sim][laser]") {
+  // The cells only cull: from the random poses' beams, at four sides (the grid's default, 1 m,
+  // above), RayGrid::Nearest meets the brute force's nearest surface.
+  const worlds::World& world = test::GeneratedWorld(7);
+  const ReferenceWorld reference = ReferenceOf(world);
+  std::vector<Eigen::Vector3d> corners;
+  std::vector<int> instance_of_triangle;
+  for (const worlds::Mesh& mesh : world.meshes) {
+    for (const std::uint32_t index : mesh.indices)
+      corners.push_back(mesh.positions[index].cast<double>());
+    instance_of_triangle.insert(instance_of_triangle.end(), mesh.triangle_count(),
+                                mesh.instance_id);
+  }
+  constexpr double kRangeM = 60.0;
+  for (const double cell_m : {0.25, 0.5, 2.0, 5.0}) {
+    const RayGrid grid(corners, cell_m);
+    CHECK(grid.cell_m() == cell_m);
+    int mismatches = 0, hits = 0, rays = 0;
+    for (const SE3& pose : RandomPoses(world, 7, 40)) {
+      for (int i = 0; i < 72; ++i) {
+        const double angle = i * kPi / 36;
+        const Eigen::Vector3d direction =
+            pose.rotation() * Eigen::Vector3d(std::cos(angle), std::sin(angle), 0.0);
+        const ReferenceHit expected =
+            ReferenceCast(reference, pose.translation(), direction, kRangeM);
+        const RayHit hit = grid.Nearest(pose.translation(), direction, kRangeM);
+        ++rays;
+        bool ok = false;
+        if (expected.range_m > kRangeM) {
+          ok = hit.triangle < 0;
+        } else if (hit.triangle >= 0 && std::abs(hit.t - expected.range_m) <= kBeamAgreementM) {
+          ++hits;
+          for (const ReferenceHit::Candidate& c : expected.candidates) {
+            ok =
+                ok || c.instance_id == instance_of_triangle[static_cast<std::size_t>(hit.triangle)];
+          }
+        }
+        mismatches += ok ? 0 : 1;
+      }
+    }
+    INFO("cell " << cell_m << " m: " << rays << " rays, " << hits << " hits");
+    CHECK(mismatches == 0);
+    CHECK(hits > rays / 2);
   }
 }
 
