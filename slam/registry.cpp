@@ -4,6 +4,7 @@
 #include <mutex>
 #include <utility>
 
+#include "slam/laser_slam_pipeline.h"
 #include "slam/odometry_pipeline.h"
 #include "slam/p1_harris_pipeline.h"
 #include "slam/p1_vp_doorplate_pipeline.h"
@@ -45,6 +46,7 @@ const std::vector<PipelineType>& ShippedPipelineTypes() {
                                                           &P3CornersDefaults),
       MakePipelineType<P3UpwardOptions, P3UpwardPipeline>("p2_upward", &P3UpwardOptionsTable,
                                                           &P2UpwardDefaults),
+      MakePipelineType<LaserSlamOptions, LaserSlamPipeline>("laser_slam", &LaserSlamOptionsTable),
   };
   return types;
 }
