@@ -64,9 +64,9 @@ const OptionTable<LaserSlamOptions>& LaserSlamOptionsTable() {
     t.Add("insert_angle_deg", &O::insert_angle_deg, "deg", "... or this much turn").Range(0, 360);
     t.Add("search_window_m", &O::search_window_m, "m",
           "correlative search before the Ceres match: +- this in x and y (0: no search)")
-        .Range(0, 2);
+        .Range(0, 0.5);
     t.Add("search_window_deg", &O::search_window_deg, "deg", "... and +- this in heading")
-        .Range(0, 30);
+        .Range(0, 10);
     t.Add("occupied_space_weight", &O::occupied_space_weight, "",
           "w_occ of the Ceres cost's 1 - p residuals (scaled by 1 / sqrt(beams))")
         .Greater(0)
@@ -83,9 +83,9 @@ const OptionTable<LaserSlamOptions>& LaserSlamOptionsTable() {
         .Greater(0)
         .Range(0, 10);
     t.Add("map_sigma_m", &O::map_sigma_m, "m",
-          "the reported covariance adds this variance in x and y for the grid's own error")
+          "the reported covariance adds this sigma (squared) in x and y: the grid's own error")
         .Range(0, 10);
-    t.Add("map_sigma_deg", &O::map_sigma_deg, "deg", "... and this in heading").Range(0, 90);
+    t.Add("map_sigma_deg", &O::map_sigma_deg, "deg", "... and this sigma in heading").Range(0, 90);
     t.Add("normal_half_window", &O::normal_half_window, "",
           "a point's normal is fitted to this many neighbouring beams on each side")
         .Range(1, 100);

@@ -286,5 +286,24 @@ TEST_CASE("laser_slam drops bad sweeps and keeps the odometry", "[laser]") {
                   std::invalid_argument);
 }
 
+TEST_CASE("laser_slam's options are bounded and checked across keys", "[laser]") {
+  CHECK(!LaserSlamOptions{}.Check());
+  LaserSlamOptions options;
+  options.miss_probability = 0.5;
+  options.hit_probability = 0.5;  // hit must exceed 0.5
+  REQUIRE(options.Check());
+  CHECK(options.Check()->key == "hit_probability");
+  options.hit_probability = 0.55;
+  options.miss_probability = 0.55;  // above its bound [0.1, 0.5]
+  CHECK(options.Check()->key == "miss_probability");
+  options = LaserSlamOptions{};
+  options.resolution_m = 0.01;  // 2 * 200 m / 1 cm = 40000 cells a side: 1.6e9 cells
+  REQUIRE(options.Check());
+  CHECK(options.Check()->key == "max_map_extent_m");
+  options = LaserSlamOptions{};
+  options.search_window_m = 1.0;  // a correlative search of 41 x 41 cells per angle
+  CHECK(options.Check()->key == "search_window_m");
+}
+
 }  // namespace
 }  // namespace corridorsim::slam
