@@ -6,9 +6,10 @@
 // (slam/laser/scan_points.h), is matched against the probability grid built so far with Ceres
 // (slam/laser/scan_matcher.h: 1 - p per beam endpoint, priors towards the odometry prediction);
 // the matched sweep is inserted into the grid when the robot has moved enough since the last
-// insertion (Cartographer's motion filter). The covariance is the odometry's, reduced by each
-// match's point-to-line information (slam/laser/scan_matcher.h). The grid leaves as a PGM with
-// ROS map_server's YAML (maps/<name>.pgm, maps/<name>.yaml).
+// insertion (Cartographer's motion filter). The match is fused with the odometry's prediction
+// as a measurement with the sweep's point-to-line information (none along a featureless
+// corridor: the odometry carries the estimate there); the reported covariance adds the grid's
+// own error. The grid leaves as a PGM (maps/<name>.pgm).
 
 #include <cstdint>
 #include <map>
