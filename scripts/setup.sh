@@ -9,6 +9,7 @@ PACKAGES=(
   # libraries (see ../shared/DEPENDENCIES.md)
   libeigen3-dev libyaml-cpp-dev nlohmann-json3-dev libcli11-dev
   libboost-math-dev libopencv-dev libbullet-dev liboctomap-dev libpng-dev libjpeg-dev
+  libceres-dev
   libosmesa6-dev libegl-dev libegl-mesa0 libgl-dev
   libfreetype-dev fonts-dejavu-core
   catch2

@@ -6,6 +6,7 @@
 
 #include "common/options_table.h"
 #include "slam/imu_odometry_pipeline.h"
+#include "slam/laser_slam_pipeline.h"
 #include "slam/mapping/door_areas.h"
 #include "slam/mapping/occupancy_mapper.h"
 #include "slam/mapping/point_cloud.h"
@@ -51,6 +52,76 @@ const OptionTable<ImuOdometryOptions>& ImuOdometryOptionsTable() {
     t.Add("max_imu_gap_s", &O::max_imu_gap_s, "s",
           "an odometry interval with no IMU sample this recent turns by the wheels (P1 eq. 13)")
         .Range(0.001, 10);
+  });
+}
+
+const OptionTable<LaserSlamOptions>& LaserSlamOptionsTable() {
+  return StaticOptionTable<LaserSlamOptions>([](OptionTable<LaserSlamOptions>& t) {
+    using O = LaserSlamOptions;
+    t.Add("k_m", &O::k_m, "m",
+          "k of P1 eq. 17: Q = diag(k |s_l|, k |s_r|); set it to robot.odometry.random_k_m")
+        .Range(0, 0.1);
+    t.Add("laser", &O::laser, "", "the scanner used (a sensors: name; empty: the first scanner)");
+    t.Add("max_range_m", &O::max_range_m, "m", "beams beyond this range are not used")
+        .Greater(0)
+        .Range(0, 100);
+    t.Add("match_interval_s", &O::match_interval_s, "s",
+          "a sweep closer than this to the last matched one is skipped (0: match every sweep)")
+        .Range(0, 60);
+    t.Add("min_points", &O::min_points, "",
+          "a sweep with fewer usable beams is not matched (odometry alone)")
+        .Range(1, 100000);
+    t.Add("point_spacing_m", &O::point_spacing_m, "m",
+          "the matched points keep this far apart in beam order (0: every beam; all are inserted)")
+        .Range(0, 10);
+    t.Add("resolution_m", &O::resolution_m, "m", "the probability grid's cell side").Range(0.01, 1);
+    t.Add("hit_probability", &O::hit_probability, "",
+          "p_hit of a beam's endpoint cell (Cartographer: 0.55)")
+        .RangeOpenLow(0.5, 0.9);
+    t.Add("miss_probability", &O::miss_probability, "",
+          "p_miss of a cell a beam crosses (Cartographer: 0.49)")
+        .Range(0.1, 0.5)
+        .Note("< hit_probability");
+    t.Add("max_map_extent_m", &O::max_map_extent_m, "m",
+          "the grid reaches at most this far from the first sweep's origin, each way")
+        .Range(1, 5000)
+        .Note("(2 max_map_extent_m / resolution_m)^2 < 2^28 cells");
+    t.Add("insert_distance_m", &O::insert_distance_m, "m",
+          "a matched sweep is inserted after this much travel since the last insertion ...")
+        .Range(0, 100);
+    t.Add("insert_angle_deg", &O::insert_angle_deg, "deg", "... or this much turn").Range(0, 360);
+    t.Add("search_window_m", &O::search_window_m, "m",
+          "correlative search before the Ceres match: +- this in x and y (0: no search)")
+        .Range(0, 0.5);
+    t.Add("search_window_deg", &O::search_window_deg, "deg", "... and +- this in heading")
+        .Range(0, 10);
+    t.Add("occupied_space_weight", &O::occupied_space_weight, "",
+          "w_occ of the Ceres cost's 1 - p residuals (scaled by 1 / sqrt(beams))")
+        .Greater(0)
+        .Range(0, 1e6);
+    t.Add("translation_weight", &O::translation_weight, "1/m",
+          "w_t of the prior towards the odometry's predicted position")
+        .Range(0, 1e6);
+    t.Add("rotation_weight", &O::rotation_weight, "1/rad",
+          "w_r of the prior towards the odometry's predicted heading")
+        .Range(0, 1e6);
+    t.Add("max_iterations", &O::max_iterations, "", "Ceres iterations per match").Range(1, 1000);
+    t.Add("match_sigma_m", &O::match_sigma_m, "m",
+          "covariance model: sigma of a scan point across the straight piece it lies on")
+        .Greater(0)
+        .Range(0, 10);
+    t.Add("map_sigma_m", &O::map_sigma_m, "m",
+          "the reported covariance adds this sigma (squared) in x and y: the grid's own error")
+        .Range(0, 10);
+    t.Add("map_sigma_deg", &O::map_sigma_deg, "deg", "... and this sigma in heading").Range(0, 90);
+    t.Add("normal_half_window", &O::normal_half_window, "",
+          "a point's normal is fitted to this many neighbouring beams on each side")
+        .Range(1, 100);
+    t.Add("normal_neighbourhood_m", &O::normal_neighbourhood_m, "m",
+          "... those within this distance of it")
+        .Greater(0)
+        .Range(0, 10);
+    t.Add("write_map", &O::write_map, "", "write the grid as maps/<name>.pgm");
   });
 }
 

@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "slam/imu_odometry_pipeline.h"
+#include "slam/laser_slam_pipeline.h"
 #include "slam/odometry_pipeline.h"
 #include "slam/p1_harris_pipeline.h"
 #include "slam/p1_vp_doorplate_pipeline.h"
@@ -48,6 +49,7 @@ const std::vector<PipelineType>& ShippedPipelineTypes() {
                                                           &P2UpwardDefaults),
       MakePipelineType<ImuOdometryOptions, ImuOdometryPipeline>("imu_odometry",
                                                                 &ImuOdometryOptionsTable),
+      MakePipelineType<LaserSlamOptions, LaserSlamPipeline>("laser_slam", &LaserSlamOptionsTable),
   };
   return types;
 }

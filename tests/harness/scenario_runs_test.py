@@ -8,6 +8,7 @@ Usage: scenario_runs_test.py CORRIDORSIM SOURCE_DIR WORK_DIR [TestCase.test_name
 - two runs of one scenario give byte-identical trajectories, metrics and exported datasets;
 - a failing expectation fails the run (exit code 3) with a readable report;
 - P1's and P3's comparisons on shortened corridors;
+- laser_slam against dead reckoning on a shortened loop, twice: the same bytes;
 - every shipped scenario loads and its world, path and pipelines build (`run --check`).
 """
 
@@ -290,6 +291,24 @@ class P3Doors(unittest.TestCase):
             self.assertEqual(len(room["polygon_m"]), 4)
         self.assertEqual(upward["map"]["area"]["rooms_behind_open_doors"], doors["open_registered"])
         self.assertGreaterEqual(upward["map"]["area"]["assignment_accuracy"], 0.9)
+
+
+class LaserSlam(unittest.TestCase):
+    """laser_slam on a shortened loop (tests/data/scenarios/laser_short.yaml, 44 m): its
+    expectations hold, it beats dead reckoning, and a second run writes the same bytes (Ceres
+    runs on one thread)."""
+
+    def test_laser_slam_beats_odometry_and_repeats_byte_for_byte(self):
+        out, metrics = run_short(self, "laser_short.yaml", "laser/a")
+        laser, odometry = metrics["laser_slam"], metrics["odometry"]
+        self.assertLess(laser["ate_rmse_m"], odometry["ate_rmse_m"] / 5)
+        self.assertEqual(laser["health"]["rejected_updates"], 0)
+        self.assertTrue(os.path.getsize(os.path.join(out, "maps", "laser_slam.pgm")) > 1000)
+        again, _ = run_short(self, "laser_short.yaml", "laser/b")
+        for f in ("laser_slam.tum", "laser_slam_cov.txt", "metrics.json",
+                  os.path.join("maps", "laser_slam.pgm")):
+            self.assertTrue(filecmp.cmp(os.path.join(out, f), os.path.join(again, f),
+                                        shallow=False), f"{f} differs")
 
 
 class ShippedScenarios(unittest.TestCase):
