@@ -542,7 +542,7 @@ TEST_CASE("pipelines are read by name with their options, and an unknown one is 
   }
   CHECK(msg ==
         ":3:3: pipelines.orb_slam9: unknown pipeline (known: odometry, p1_harris, p1_vp_doorplate, "
-        "p3_upward, p3_corners, p2_upward, imu_odometry" +
+        "p3_upward, p3_corners, p2_upward, imu_odometry, laser_slam" +
             plugin_types + ", external; another name needs a `type:` key)");
   const std::string bad = LoadError(
       "pipelines:\n"
