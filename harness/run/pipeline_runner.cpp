@@ -391,8 +391,16 @@ void PipelineRunner::Finish() {
     // throws is failed, and what it gave before stays in its record.
     Guard(i, "Finish", last_stamp_ns_, [&](slam::Pipeline& pipeline) {
       pipeline.Finish();
-      for (slam::Detection& d : pipeline.TakeDetections())
+      for (slam::Detection& d : pipeline.TakeDetections()) {
+        if (const std::optional<std::string> problem =
+                MeasurementProblem(i, d.measurement, std::nullopt)) {
+          throw std::runtime_error(
+              "reported a " +
+              InputExcerpt(slam::MeasurementName(d), slam::kMaxMeasurementNameLength) +
+              " detection that " + *problem);
+        }
         record.detections.push_back(std::move(d));
+      }
       record.landmarks = pipeline.Landmarks();
       record.areas = pipeline.Areas();
       record.occupancy_map = pipeline.occupancy_map();

@@ -178,7 +178,8 @@ def main():
     # expectation may bound it); an undeclared one or a wrong dof fails that pipeline at once.
     pipelines = {"own": "own_measurement: true",
                  "stray": "own_measurement: true, undeclared_after_s: 1",
-                 "wrong": "own_measurement: true, reported_dof: 2"}
+                 "wrong": "own_measurement: true, reported_dof: 2",
+                 "late": "finish_detection: true"}
     own = write_scenario(
         os.path.join(work, "own.yaml"), base, 3, echo,
         "".join("  %s: {type: test_echo, %s}\n" % item for item in pipelines.items()),
@@ -195,7 +196,9 @@ def main():
             ("wrong", "TakeInnovations", "reported an innovation of 'wheel_yaw' that has 2 "
              "degrees of freedom, but the type was declared with 1"),
             ("stray", "TakeInnovations", "reported an innovation of 'wall_line' that is of a "
-             "measurement type it did not declare (Pipeline::measurement_types: wheel_yaw (1 dof))")]:
+             "measurement type it did not declare (Pipeline::measurement_types: wheel_yaw (1 dof))"),
+            ("late", "Finish", "reported a wall_line detection that is of a measurement type it "
+             "did not declare (Pipeline::measurement_types: none)")]:
         fail("undeclared and wrong-dof measurement types: %s" % failures)
     passed = [e["passed"] for e in json.loads(read(os.path.join(work, "own", "metrics.json")))[
         "expectations"]]

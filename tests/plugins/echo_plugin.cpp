@@ -43,6 +43,8 @@ struct EchoOptions {
   bool own_measurement = false;
   int reported_dof = 1;
   double undeclared_after_s = 0.0;
+  // Finish() leaves a detection of the undeclared type wall_line (the runner checks those too).
+  bool finish_detection = false;
   std::optional<corridorsim::OptionsProblem> Check() const;
 };
 
@@ -72,6 +74,8 @@ const corridorsim::OptionTable<EchoOptions>& EchoOptionsTable() {
     t.Add("undeclared_after_s", &EchoOptions::undeclared_after_s, "s",
           "> 0: report an innovation of the undeclared type wall_line after this time")
         .Range(0, 1e6);
+    t.Add("finish_detection", &EchoOptions::finish_detection, "",
+          "Finish() leaves a detection of the undeclared type wall_line");
   });
 }
 
@@ -126,6 +130,14 @@ class EchoPipeline : public corridorsim::slam::Pipeline {
   std::vector<corridorsim::slam::MeasurementType> measurement_types() const override {
     if (!options_.own_measurement) return {};
     return {{"wheel_yaw", 1}};
+  }
+  void Finish() override {
+    if (!options_.finish_detection) return;
+    corridorsim::slam::Detection d;
+    d.stamp_ns = estimate_.stamp_ns;
+    d.camera_id = "front";
+    d.measurement = "wall_line";
+    detections_.push_back(d);
   }
   std::vector<corridorsim::slam::Innovation> TakeInnovations() override {
     return std::move(innovations_);
