@@ -10,6 +10,11 @@ PACKAGES=(
   libeigen3-dev libyaml-cpp-dev nlohmann-json3-dev libcli11-dev
   libboost-math-dev libopencv-dev libbullet-dev liboctomap-dev libpng-dev libjpeg-dev
   libceres-dev
+  # recordings (docs/recordings.md): MCAP's chunk compression; ROS 1 bags through rosbag_storage
+  # with the ROS message headers; python3-rosbag reads them back in the tests
+  libzstd-dev liblz4-dev
+  librosbag-storage-dev libsensor-msgs-dev libgeometry-msgs-dev libnav-msgs-dev libtf2-msgs-dev
+  libvisualization-msgs-dev python3-rosbag
   libosmesa6-dev libegl-dev libegl-mesa0 libgl-dev
   libfreetype-dev fonts-dejavu-core
   catch2
