@@ -17,9 +17,9 @@ namespace corridorsim {
 namespace {
 
 // The subcommands, in the order of `corridorsim --help`.
-constexpr const char* kJobs[] = {"world",  "snapshot",        "run",     "drive", "where",
-                                 "detect", "train-detectors", "dataset", "score", "study",
-                                 "test",   "plugin",          "evaluate"};
+constexpr const char* kJobs[] = {"world",   "snapshot", "run",   "replay",          "drive",
+                                 "where",   "detect",   "train-detectors", "dataset", "score",
+                                 "study",   "test",     "plugin",          "evaluate"};
 
 // "world, snapshot, ..., plugin or evaluate (see corridorsim --help)" for the messages.
 std::string JobList() {
