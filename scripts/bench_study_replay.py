@@ -17,6 +17,7 @@ asserted by a test (cli.study_replay_same_files checks the files)."""
 import argparse
 import json
 import os
+import resource
 import shutil
 import subprocess
 import sys
@@ -53,8 +54,13 @@ def run_study(binary, scenario, args, out, replay):
     if not replay:
         command.append("--no-replay")
     start = time.monotonic()
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
     done = subprocess.run(command, capture_output=True, text=True)
     wall = time.monotonic() - start
+    # CPU seconds of the study and every run it waited for: on a machine that others share, a
+    # steadier measure of the work than the wall clock.
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
     # 1 with every run finished: a baseline-free pipeline diverged (accuracy, not speed).
     if done.returncode not in (0, 1):
         sys.exit("bench_study_replay: %s exited %d:\n%s%s" % (
@@ -64,7 +70,7 @@ def run_study(binary, scenario, args, out, replay):
     if any(r["outcome"] != "finished" for r in timing["runs"]):
         sys.exit("bench_study_replay: a run of %s did not finish:\n%s" % (out, done.stdout[-3000:]))
     return {"command": " ".join(command), "exit_code": done.returncode, "wall_seconds": wall,
-            "timing": timing}
+            "cpu_seconds": cpu, "timing": timing}
 
 
 def kind(record):
@@ -75,20 +81,26 @@ def kind(record):
 
 def breakdown(out, timing):
     """Per kind of run (live, recorded, replayed): count, mean wall seconds as the study saw it,
-    the mean of each stage of the runs' own timing.json, and their CPU-free parts."""
+    the mean of each stage of the runs' own timing.json, and the mean CPU seconds spent inside
+    the pipelines (their timing.json's pipelines.<name>.cpu_seconds): what a replay cannot save."""
     kinds = {}
     for r in timing["runs"]:
         folder = os.path.join(out, "runs", r["point"], "seed_%d" % r["seed"])
         with open(os.path.join(folder, "timing.json")) as f:
-            stages = json.load(f)["stages_seconds"]
+            run_timing = json.load(f)
+        stages = run_timing["stages_seconds"]
         k = kinds.setdefault(kind(r), {"runs": 0, "wall_seconds": 0.0,
+                                       "pipelines_cpu_seconds": 0.0,
                                        "stages_seconds": {s: 0.0 for s in STAGES}})
         k["runs"] += 1
         k["wall_seconds"] += r["wall_seconds"]
+        k["pipelines_cpu_seconds"] += sum(p.get("cpu_seconds") or 0.0
+                                          for p in run_timing["pipelines"].values())
         for s in STAGES:
             k["stages_seconds"][s] += stages.get(s, 0.0)
     for k in kinds.values():
         k["wall_seconds"] /= k["runs"]
+        k["pipelines_cpu_seconds"] /= k["runs"]
         for s in STAGES:
             k["stages_seconds"][s] /= k["runs"]
     return kinds
@@ -142,15 +154,26 @@ def main():
         sys.exit("bench_study_replay: the study did not replay (see %s/logs)" % replay_dir)
     same_results(replay_dir, live_dir, replay["timing"])
     ratio = live["wall_seconds"] / replay["wall_seconds"]
+    cpu_ratio = live["cpu_seconds"] / replay["cpu_seconds"]
+    # The most replay could give if replaying cost nothing but the pipelines and recording
+    # nothing: every point but one pays only its pipelines' CPU time.
+    live_runs = breakdown(live_dir, live["timing"])["live"]
+    run_cpu = live["cpu_seconds"] / live_runs["runs"]
+    bound = args.points * run_cpu / (run_cpu + (args.points - 1) *
+                                     live_runs["pipelines_cpu_seconds"])
     result = {
         "scenario": scenario, "duration_s": args.duration, "points": args.points,
         "runs": args.runs, "jobs": args.jobs, "cores": os.cpu_count(), "order": args.order,
         "load_average_at_end": os.getloadavg(),
         "no_replay": {"command": live["command"], "wall_seconds": live["wall_seconds"],
+                      "cpu_seconds": live["cpu_seconds"],
                       "runs": breakdown(live_dir, live["timing"])},
         "replay": {"command": replay["command"], "wall_seconds": replay["wall_seconds"],
+                   "cpu_seconds": replay["cpu_seconds"],
                    "runs": breakdown(replay_dir, replay["timing"])},
         "ratio": ratio,
+        "cpu_ratio": cpu_ratio,
+        "ratio_bound_pipelines_only": bound,
     }
     with open(os.path.join(args.out, "bench_study_replay.json"), "w") as f:
         json.dump(result, f, indent=2)
@@ -158,15 +181,22 @@ def main():
     print("%d-point sweep of pipelines.p1_vp_doorplate.k_m x %d seeds, %g s of default.yaml, "
           "--jobs %d, %d cores" % (args.points, args.runs, args.duration, args.jobs,
                                    os.cpu_count()))
-    print("--no-replay: %8.1f s" % live["wall_seconds"])
-    print("replay:      %8.1f s" % replay["wall_seconds"])
-    print("ratio:       %8.2fx (summaries and run results identical)" % ratio)
-    print("\nmean seconds per run by kind (the runs' timing.json):")
-    print("%-22s %5s %8s " % ("study / kind", "runs", "wall") +
+    print("%-12s %10s %10s" % ("", "wall s", "CPU s"))
+    print("%-12s %10.1f %10.1f" % ("--no-replay", live["wall_seconds"], live["cpu_seconds"]))
+    print("%-12s %10.1f %10.1f" % ("replay", replay["wall_seconds"], replay["cpu_seconds"]))
+    print("%-12s %9.2fx %9.2fx (summaries and run results identical)" % ("ratio", ratio,
+                                                                           cpu_ratio))
+    print("bound: %.2fx if a replay cost only its pipelines' CPU time (%.2f s of a live run's "
+          "%.2f CPU s) and recording cost nothing" % (bound, live_runs["pipelines_cpu_seconds"],
+                                                      run_cpu))
+    print("\nmean seconds per run by kind (the runs' timing.json; pipelines CPU: their "
+          "cpu_seconds):")
+    print("%-22s %5s %8s %9s " % ("study / kind", "runs", "wall", "pipe CPU") +
           " ".join("%9s" % s[:9] for s in STAGES))
     for label, study in (("no-replay", result["no_replay"]), ("replay", result["replay"])):
         for name, k in sorted(study["runs"].items()):
-            print("%-22s %5d %8.2f " % (label + " / " + name, k["runs"], k["wall_seconds"]) +
+            print("%-22s %5d %8.2f %9.2f " % (label + " / " + name, k["runs"], k["wall_seconds"],
+                                              k["pipelines_cpu_seconds"]) +
                   " ".join("%9.2f" % k["stages_seconds"][s] for s in STAGES))
 
 
