@@ -23,6 +23,7 @@
 #include "harness/record/replay_scenario.h"
 #include "harness/scenario/calibration.h"
 #include "harness/study/study_internal.h"
+#include "slam/registry.h"
 
 namespace corridorsim::study_internal {
 
@@ -39,13 +40,17 @@ std::string CameraList(const std::set<std::string>& cameras) {
 }
 
 // The cameras a point's pipelines read (what its run renders and a recording of it holds), by
-// creating each pipeline as the run does (harness/run/pipeline_runner.cpp) and asking it; an
-// external program's are its options' `cameras` (creating it would start the program).
-// `cache`: by type and options (as the resolved YAML echoes them), over the points. Nothing when
-// a pipeline cannot be created here (its run reports why): `why` says which.
+// creating each shipped pipeline as the run does (harness/run/pipeline_runner.cpp) and asking
+// it; an external program's are its options' `cameras` (creating it would start the program).
+// A plugin's pipeline is not created in the study's process (its code runs in the runs, behind
+// their process boundary): its cameras are known only to be the same where its options are the
+// same at every point (`first_options`, by pipeline name, the first point's). `cache`: by type
+// and options (as the resolved YAML echoes them), over the points. Nothing when they cannot be
+// known: `why` says why.
 std::optional<std::set<std::string>> PointCameras(
     const Scenario& scenario, const YAML::Node& pipelines_yaml, std::uint64_t seed,
-    std::map<std::string, std::vector<std::string>>* cache, std::string* why) {
+    std::map<std::string, std::vector<std::string>>* cache,
+    std::map<std::string, std::string>* first_options, std::string* why) {
   std::set<std::string> cameras;
   std::optional<slam::Calibration> calibration;
   for (const Scenario::PipelineEntry& entry : scenario.pipelines) {
@@ -59,6 +64,16 @@ std::optional<std::set<std::string>> PointCameras(
     YAML::Emitter options_text;
     options_text << pipelines_yaml[entry.name];
     const std::string key = entry.type + "\n" + options_text.c_str();
+    const std::optional<slam::PipelineType> type = slam::FindPipelineType(entry.type);
+    if (!type || !type->library.empty()) {
+      const auto [first, added] = first_options->emplace(entry.name, key);
+      if (!added && first->second != key) {
+        *why = "the options of the plugin pipeline '" + entry.name +
+               "' differ, so might the cameras it reads (a plugin's code runs only in the runs)";
+        return std::nullopt;
+      }
+      continue;
+    }
     auto found = cache->find(key);
     if (found == cache->end()) {
       try {
@@ -92,6 +107,7 @@ StreamSharing DecideStreamSharing(const StudySpec& spec,
                                   const std::vector<std::string>& point_yaml) {
   if (spec.points.size() < 2) return {false, "a single point"};
   std::map<std::string, std::vector<std::string>> cache;
+  std::map<std::string, std::string> plugin_options;
   std::optional<std::set<std::string>> first_cameras;
   for (std::size_t i = 0; i < spec.points.size(); ++i) {
     const std::string& id = spec.points[i].id;
@@ -106,7 +122,7 @@ StreamSharing DecideStreamSharing(const StudySpec& spec,
         }
       }
       cameras = PointCameras(spec.points[i].scenario, YAML::Load(point_yaml[i])["pipelines"],
-                             spec.first_seed, &cache, &why);
+                             spec.first_seed, &cache, &plugin_options, &why);
     } catch (const YAML::Exception& e) {
       return {false, id + "'s resolved scenario cannot be compared (" + e.what() + ")"};
     }

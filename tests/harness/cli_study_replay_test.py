@@ -5,7 +5,9 @@ default.yaml gives, with replay (each seed rendered once by p000, recorded, repl
 and with --no-replay (every run renders), the same files byte for byte: every run folder's
 metrics.json, trajectories, covariances and events, and the study's summary; the same file names
 in every run folder (the recordings made for replay are removed); with --record every run
-folder keeps its recording; a resumed study whose seed has no recording left renders the rest.
+folder keeps its recording; two shards that replay within themselves merge to the same study; a
+resumed study whose seed has no recording left renders the rest; points whose pipelines read
+other cameras render every run.
 
 Usage: cli_study_replay_test.py CORRIDORSIM SOURCE_DIR WORK_DIR"""
 
@@ -121,6 +123,16 @@ study:
         fail("--record did not replay: %s" % status(recorded, "p001", 4))
     same_studies(recorded, live)
 
+    # Two shards (run k of the plan in shard k mod 2: each holds both points of one seed), each
+    # replaying within itself, merged: the same study.
+    for k in (1, 2):
+        out = run(binary, ["study", study, "--shard", "%d/2" % k, "--out", "part%d" % k,
+                           *NO_EXTRAS], 0, work)
+        if "(replayed)" not in out.stdout:
+            fail("shard %d did not replay:\n%s" % (k, out.stdout))
+    run(binary, ["study", "merge", "part1", "part2", "--out", "merged", *NO_EXTRAS], 0, work)
+    same_studies(os.path.join(work, "merged"), live)
+
     # Resumed with one replayed run lost: its seed's recording is gone, so it renders; the
     # study's files are the same again.
     lost = os.path.join(replay, "runs", "p001", "seed_4")
@@ -131,6 +143,23 @@ study:
             status(replay, "p001", 4)["stream"] != "live":
         fail("the resumed study:\n%s\n%s" % (out.stdout, status(replay, "p001", 4)))
     same_studies(replay, live)
+    # Points whose pipelines read other cameras (a recording holds only the cameras its run
+    # rendered): every run renders, and the study says why.
+    cameras = os.path.join(work, "cameras.yaml")
+    with open(cameras, "w") as f:
+        f.write("""include: %s
+duration_s: 2
+expectations: []
+study:
+  runs: 1
+  first_seed: 3
+  vary:
+    pipelines.p1_vp_doorplate.use_door_plates: [true, false]
+""" % os.path.join(source, "scenarios", "default.yaml"))
+    out = run(binary, ["study", cameras, "--out", "cameras", *NO_EXTRAS], 0, work)
+    if "every run renders (p001's pipelines read the cameras front, p000's front, lateral)" \
+            not in out.stdout or "(replayed)" in out.stdout:
+        fail("a sweep of the cameras read replayed:\n" + out.stdout)
     print("ok")
 
 
