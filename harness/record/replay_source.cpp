@@ -17,6 +17,15 @@ InputError RecordingInputError(const std::filesystem::path& file, const std::str
   return InputError(SourceLocation{file.string(), 0, 0}, key, what);
 }
 
+// "<file>: <record> at byte <offset>: <what>" as one InputError: the record and offset as its key.
+InputError RecordingInputError(const std::filesystem::path& file, const mcap::RecordingError& e) {
+  const std::string key = e.record() + " at byte " + std::to_string(e.offset());
+  std::string what = e.what();
+  const std::string prefix = file.string() + ": " + key + ": ";
+  if (what.rfind(prefix, 0) == 0) what = what.substr(prefix.size());
+  return RecordingInputError(file, key, what);
+}
+
 std::vector<std::string> SplitCommas(const std::string& text) {
   std::vector<std::string> out;
   std::istringstream in(text);
@@ -53,8 +62,7 @@ ReplaySource::ReplaySource(const std::filesystem::path& file) : file_(file) {
   try {
     reader_ = std::make_unique<mcap::Reader>(file);
   } catch (const mcap::RecordingError& e) {
-    throw RecordingInputError(file, e.record() + " at byte " + std::to_string(e.offset()),
-                              e.what());
+    throw RecordingInputError(file, e);
   } catch (const std::runtime_error& e) {
     throw RecordingInputError(file, "RECORDING", e.what());
   }
@@ -342,8 +350,7 @@ void ReplaySource::Replay(const std::vector<BusConsumer*>& consumers, const worl
         },
         wanted);
   } catch (const mcap::RecordingError& e) {
-    throw RecordingInputError(file_, e.record() + " at byte " + std::to_string(e.offset()),
-                              e.what());
+    throw RecordingInputError(file_, e);
   } catch (const CdrError& e) {
     throw RecordingInputError(file_, "message", e.what());
   }
