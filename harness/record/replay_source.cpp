@@ -38,8 +38,20 @@ std::vector<std::string> SplitCommas(const std::string& text) {
 
 // What a topic is to replay.
 enum class Kind {
-  kTruth, kWheel, kEvent, kCameraSet, kImage, kDepth, kDepthTruth, kInstance, kSemantic,
-  kFrame, kImu, kImuTruth, kScan, kScanTruth
+  kTruth,
+  kWheel,
+  kEvent,
+  kCameraSet,
+  kImage,
+  kDepth,
+  kDepthTruth,
+  kInstance,
+  kSemantic,
+  kFrame,
+  kImu,
+  kImuTruth,
+  kScan,
+  kScanTruth
 };
 struct Route {
   Kind kind;
@@ -110,9 +122,11 @@ void ReplaySource::Require(const std::set<std::string>& cameras,
                            const std::vector<std::string>& lasers) const {
   const auto need = [&](const std::string& what, const std::string& topic) {
     if (!reader_->FindChannel(topic)) {
-      throw RecordingInputError(file_, topic,
-                                "the pipelines read " + what + " and the recording lacks its topic " +
-                                    topic + (info_.topics.empty() ? "" : " (recorded with --record-topics " + info_.topics + ")"));
+      throw RecordingInputError(
+          file_, topic,
+          "the pipelines read " + what + " and the recording lacks its topic " + topic +
+              (info_.topics.empty() ? ""
+                                    : " (recorded with --record-topics " + info_.topics + ")"));
     }
   };
   for (const std::string& camera : cameras) {
@@ -198,8 +212,8 @@ void ReplaySource::Replay(const std::vector<BusConsumer*>& consumers, const worl
   };
   const auto handle = [&](const mcap::Message& m) {
     const Route& r = routes.at(m.channel_id);
-    const std::string what = reader_->channels().at(m.channel_id).topic + " message " +
-                             std::to_string(m.sequence);
+    const std::string what =
+        reader_->channels().at(m.channel_id).topic + " message " + std::to_string(m.sequence);
     if (ended) throw CdrError(what + ": a message after the run's end");
     if (!started && r.kind != Kind::kTruth) throw CdrError(what + ": a message before the start");
     switch (r.kind) {
@@ -266,8 +280,8 @@ void ReplaySource::Replay(const std::vector<BusConsumer*>& consumers, const worl
         CameraSet set;
         set.stamp_ns = set_record.header.stamp.ns;
         for (std::size_t i = 0; i < set_record.cameras.size(); ++i) {
-          const auto it = std::find(info_.cameras.begin(), info_.cameras.end(),
-                                    set_record.cameras[i]);
+          const auto it =
+              std::find(info_.cameras.begin(), info_.cameras.end(), set_record.cameras[i]);
           if (it == info_.cameras.end()) {
             throw CdrError(what + ": camera '" + set_record.cameras[i] + "' was not recorded");
           }
@@ -316,8 +330,8 @@ void ReplaySource::Replay(const std::vector<BusConsumer*>& consumers, const worl
         if (message.stamp_ns != static_cast<TimeNs>(m.log_time_ns)) {
           throw CdrError(what + ": a frame's topics at two stamps (no camera set between)");
         }
-        const ros::Image image = r.kind == Kind::kFrame ? ros::Image{}
-                                                        : ros::FromCdr<ros::Image>(m.data, what);
+        const ros::Image image =
+            r.kind == Kind::kFrame ? ros::Image{} : ros::FromCdr<ros::Image>(m.data, what);
         if (r.kind == Kind::kImage) {
           message.frame.rgb = ros::FromRgbImage(image, what);
           pending.has_image = true;

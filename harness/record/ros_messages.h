@@ -346,8 +346,8 @@ struct MarkerArray {
 /// cameras' poses, every number as the simulation holds it.
 struct Truth {
   static constexpr const char* kType = "corridorsim_msgs/msg/Truth";
-  Header header;     // frame_id: map
-  std::uint8_t kind = 0;  // 0 the start, 1 a truth-grid or odometry stamp, 2 the run's end
+  Header header;                 // frame_id: map
+  std::uint8_t kind = 0;         // 0 the start, 1 a truth-grid or odometry stamp, 2 the run's end
   double x = 0, y = 0, yaw = 0;  // world_from_robot_2d
   Pose pose;                     // world_from_robot (3D)
   Vector3 linear_velocity, angular_velocity;  // in the world frame
@@ -490,7 +490,9 @@ struct Event {
 };
 
 template <class T>
-concept Message = requires { T::kType; };
+concept Message = requires {
+  T::kType;
+};
 
 /// ROS 2's schema text of `type` ("sensor_msgs/msg/Image"): its definition, then each message it
 /// uses, after a line of 80 '=' and "MSG: pkg/Name" (the `ros2msg` schema encoding of MCAP).
@@ -504,10 +506,8 @@ const std::string& Ros2Definition(const std::string& type);
 class CdrOut {
  public:
   template <class T>
-    requires std::is_arithmetic_v<T>
-  void operator()(const T& value) {
-    writer_.Primitive(value);
-  }
+  requires std::is_arithmetic_v<T>
+  void operator()(const T& value) { writer_.Primitive(value); }
   void operator()(const bool& value) { writer_.Bool(value); }
   void operator()(const std::string& value) { writer_.String(value); }
   void operator()(const Time& t) { Stamp(t.ns); }
@@ -545,10 +545,8 @@ class CdrIn {
  public:
   CdrIn(std::span<const std::uint8_t> data, std::string what) : reader_(data, std::move(what)) {}
   template <class T>
-    requires std::is_arithmetic_v<T>
-  void operator()(T& value) {
-    value = reader_.Primitive<T>();
-  }
+  requires std::is_arithmetic_v<T>
+  void operator()(T& value) { value = reader_.Primitive<T>(); }
   void operator()(bool& value) { value = reader_.Bool(); }
   void operator()(std::string& value) { value = reader_.String(); }
   void operator()(Time& t) { t.ns = Stamp(); }

@@ -25,7 +25,7 @@ TEST_CASE("CDR: the encapsulation header, alignment relative to it, strings with
   CHECK(d[1] == 0x01);
   CHECK(d[4] == 7);
   CHECK(d[12 + 7] == 0x3F);  // 1.5's top byte, little-endian
-  CHECK(d[20] == 3);          // the length counts the NUL
+  CHECK(d[20] == 3);         // the length counts the NUL
   CHECK(d[24] == 'a');
   CHECK(d[26] == 0);
 }
@@ -38,7 +38,8 @@ TEST_CASE("A header and a stamp: builtin_interfaces/Time as int32 sec, uint32 na
   const std::vector<std::uint8_t> d = ToCdr(h);
   REQUIRE(d.size() == 4 + 4 + 4 + 4 + 4);
   CHECK(d[4] == 12);
-  const std::uint32_t nanosec = d[8] | d[9] << 8 | d[10] << 16 | static_cast<std::uint32_t>(d[11]) << 24;
+  const std::uint32_t nanosec =
+      d[8] | d[9] << 8 | d[10] << 16 | static_cast<std::uint32_t>(d[11]) << 24;
   CHECK(nanosec == 345'678'901u);
   CHECK(FromCdr<Header>(d, "header").stamp.ns == h.stamp.ns);
 }
