@@ -3,6 +3,7 @@
 #include <lz4frame.h>
 #include <zstd.h>
 
+#include <cstring>
 #include <memory>
 #include <stdexcept>
 
@@ -179,7 +180,7 @@ std::vector<std::uint8_t> Compress(Compression compression, int zstd_level,
 
 namespace {
 
-void DecompressLz4(std::span<const std::uint8_t> compressed, std::vector<std::uint8_t>& out,
+void DecompressLz4(std::span<const std::uint8_t> compressed, ChunkBuffer& out,
                    const RecordPlace& place) {
   LZ4F_dctx* raw = nullptr;
   if (LZ4F_isError(LZ4F_createDecompressionContext(&raw, LZ4F_VERSION))) {
@@ -215,9 +216,8 @@ void DecompressLz4(std::span<const std::uint8_t> compressed, std::vector<std::ui
 
 }  // namespace
 
-std::vector<std::uint8_t> Decompress(const std::string& compression,
-                                     std::span<const std::uint8_t> compressed,
-                                     std::uint64_t uncompressed_size, const RecordPlace& place) {
+ChunkBuffer Decompress(const std::string& compression, std::span<const std::uint8_t> compressed,
+                       std::uint64_t uncompressed_size, const RecordPlace& place) {
   if (compression != "" && compression != "zstd" && compression != "lz4") {
     place.Fail("unknown compression '" + compression + "'");
   }
@@ -225,17 +225,30 @@ std::vector<std::uint8_t> Decompress(const std::string& compression,
     place.Fail("declared uncompressed size " + std::to_string(uncompressed_size) +
                " exceeds the limit of " + std::to_string(kMaxChunkUncompressedBytes) + " bytes");
   }
+  const std::string declared =
+      " bytes, not the declared uncompressed size " + std::to_string(uncompressed_size);
+  ChunkBuffer out(static_cast<std::size_t>(uncompressed_size));
   if (compression.empty()) {
     if (compressed.size() != uncompressed_size) {
-      place.Fail("uncompressed records of " + std::to_string(compressed.size()) +
-                 " bytes, not the declared " + std::to_string(uncompressed_size));
+      place.Fail("uncompressed records of " + std::to_string(compressed.size()) + declared);
     }
-    return {compressed.begin(), compressed.end()};
+    if (!compressed.empty()) std::memcpy(out.data(), compressed.data(), compressed.size());
+    return out;
   }
-  std::vector<std::uint8_t> out(static_cast<std::size_t>(uncompressed_size));
   if (compression == "lz4") {
     DecompressLz4(compressed, out, place);
     return out;
+  }
+  // One frame (what writers write) that gives its content size must give the declared one.
+  const std::size_t frame_bytes =
+      ZSTD_findFrameCompressedSize(compressed.data(), compressed.size());
+  if (ZSTD_isError(frame_bytes)) {
+    place.Fail(std::string("zstd: ") + ZSTD_getErrorName(frame_bytes));
+  }
+  const unsigned long long framed = ZSTD_getFrameContentSize(compressed.data(), compressed.size());
+  if (frame_bytes == compressed.size() && framed != ZSTD_CONTENTSIZE_UNKNOWN &&
+      framed != ZSTD_CONTENTSIZE_ERROR && framed != uncompressed_size) {
+    place.Fail("the zstd frame holds " + std::to_string(framed) + declared);
   }
   const std::size_t size =
       ZSTD_decompress(out.data(), out.size(), compressed.data(), compressed.size());
@@ -243,10 +256,8 @@ std::vector<std::uint8_t> Decompress(const std::string& compression,
     place.Fail(std::string("zstd: ") + ZSTD_getErrorName(size) + " (declared uncompressed size " +
                std::to_string(uncompressed_size) + ")");
   }
-  if (size != out.size()) {
-    place.Fail("the records decompress to " + std::to_string(size) +
-               " bytes, not the declared uncompressed size " + std::to_string(out.size()));
-  }
+  if (size != out.size())
+    place.Fail("the records decompress to " + std::to_string(size) + declared);
   return out;
 }
 
