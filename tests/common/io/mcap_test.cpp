@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -157,6 +158,46 @@ TEST_CASE("an MCAP recording reads back as written, in every compression", "[mca
   CHECK(attachment->log_time_ns == 5);
   CHECK(attachment->create_time_ns == 6);
   CHECK_FALSE(reader.ReadAttachment("missing").has_value());
+}
+
+TEST_CASE("megabyte messages span LZ4 blocks and zstd windows and read back", "[mcap]") {
+  const test::ScratchDir dir("corridorsim_mcap_large");
+  const Compression compression =
+      GENERATE(Compression::kNone, Compression::kZstd, Compression::kLz4);
+  CAPTURE(CompressionName(compression));
+  const fs::path file = dir.path() / "large.mcap";
+  std::vector<std::vector<std::uint8_t>> payloads;
+  std::uint32_t state = 12345;
+  for (int i = 0; i < 5; ++i) {
+    std::vector<std::uint8_t> data(1'500'000 + static_cast<std::size_t>(i) * 1000);
+    for (std::size_t k = 0; k < data.size(); ++k) {
+      state = state * 1664525u + 1013904223u;  // half noise, half runs (compressible)
+      data[k] = (k / 4096) % 2 == 0 ? static_cast<std::uint8_t>(state >> 24) : 7;
+    }
+    payloads.push_back(std::move(data));
+  }
+  WriterOptions options;  // the default 4 MiB chunks: several messages a chunk
+  options.compression = compression;
+  {
+    Writer writer(file, options);
+    const std::uint16_t channel = writer.AddChannel(0, "/camera", "application/octet-stream");
+    for (std::size_t i = 0; i < payloads.size(); ++i)
+      writer.Write(channel, 100 - i, i, payloads[i]);
+    writer.Close();
+  }
+  const Reader reader(file);
+  std::size_t i = 0;
+  std::set<std::uint64_t> chunks;
+  reader.ForEachMessage([&](const Message& m) {
+    REQUIRE(i < payloads.size());
+    CHECK(std::equal(m.data.begin(), m.data.end(), payloads[i].begin(), payloads[i].end()));
+    CHECK(m.log_time_ns == 100 - i);
+    chunks.insert(m.chunk_offset);
+    ++i;
+    return true;
+  });
+  CHECK(i == payloads.size());
+  CHECK(chunks.size() == 2);
 }
 
 TEST_CASE("the same calls give the same MCAP bytes", "[mcap]") {
