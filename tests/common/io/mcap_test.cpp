@@ -370,6 +370,27 @@ TEST_CASE("damaged chunks fail naming the chunk, its offset and the fault", "[mc
   ExpectError(file, not_mcap, "Magic", 0, "not an MCAP file");
 }
 
+TEST_CASE("a complete recording without a summary is read by scanning it", "[mcap]") {
+  const test::ScratchDir dir("corridorsim_mcap_no_summary");
+  const fs::path whole = dir.path() / "whole.mcap";
+  const std::vector<WrittenMessage> written =
+      WriteRecording(whole, SmallChunks(Compression::kLz4), 80);
+  const std::string bytes = test::FileBytes(whole);
+  // The data section up to its DataEnd record, then a footer saying "no summary" and the magic.
+  const std::uint64_t data_end = FindRecord(bytes, 0x0F);
+  std::string no_summary = bytes.substr(0, data_end + 9 + 4);
+  no_summary += std::string("\x02\x14\0\0\0\0\0\0\0", 9) + std::string(20, '\0');
+  no_summary += bytes.substr(bytes.size() - 8);
+  const fs::path file = dir.path() / "no_summary.mcap";
+  WriteBytes(file, no_summary);
+  const Reader reader(file);
+  CHECK_FALSE(reader.truncated());
+  CHECK(reader.channels().size() == 3);
+  CHECK(reader.metadata().size() == 2);
+  CHECK(reader.ReadAttachment("scenario.yaml")->data == kAttachmentBytes);
+  CHECK(ReadAll(reader) == written);
+}
+
 TEST_CASE("a writer dropped without Close leaves its chunks readable", "[mcap]") {
   const test::ScratchDir dir("corridorsim_mcap_unclosed");
   const fs::path file = dir.path() / "unclosed.mcap";
