@@ -16,6 +16,7 @@
 
 #include <catch2/catch.hpp>
 
+#include "common/io/mcap_records.h"
 #include "tests/support/scratch_dir.h"
 
 namespace corridorsim::mcap {
@@ -106,6 +107,25 @@ WriterOptions SmallChunks(Compression compression) {
 void WriteBytes(const fs::path& file, const std::string& bytes) {
   fs::remove(file);
   std::ofstream(file, std::ios::binary).write(bytes.data(), std::ssize(bytes));
+}
+
+TEST_CASE("MCAP's CRC-32 is zlib's", "[mcap]") {
+  const std::string check = "123456789";  // the CRC catalogue's check input
+  CHECK(records::ComputeCrc32(
+            {reinterpret_cast<const std::uint8_t*>(check.data()), check.size()}) == 0xCBF43926u);
+  CHECK(records::ComputeCrc32({}) == 0u);
+  // In pieces of every length, eight bytes at a time or not, the same value.
+  std::vector<std::uint8_t> bytes(1000);
+  for (std::size_t k = 0; k < bytes.size(); ++k) bytes[k] = static_cast<std::uint8_t>(k * 131 + 7);
+  const std::uint32_t whole = records::ComputeCrc32(bytes);
+  for (std::size_t piece = 1; piece < 20; ++piece) {
+    records::Crc32 crc;
+    for (std::size_t k = 0; k < bytes.size(); k += piece) {
+      crc.Update(std::span(bytes).subspan(k, std::min(piece, bytes.size() - k)));
+    }
+    CHECK(crc.value() == whole);
+  }
+  CHECK(whole == 0x1ED57BB9u);  // zlib.crc32 of the same bytes (Python 3.11)
 }
 
 TEST_CASE("an MCAP recording reads back as written, in every compression", "[mcap]") {
