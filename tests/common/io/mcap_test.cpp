@@ -254,7 +254,7 @@ TEST_CASE("a recording cut anywhere reads up to its last complete chunk", "[mcap
   const Compression compression = GENERATE(Compression::kNone, Compression::kZstd);
   CAPTURE(CompressionName(compression));
   const fs::path whole = dir.path() / "whole.mcap";
-  const std::vector<WrittenMessage> written = WriteRecording(whole, SmallChunks(compression), 120);
+  const std::vector<WrittenMessage> written = WriteRecording(whole, SmallChunks(compression), 80);
   const std::string bytes = test::FileBytes(whole);
   const std::vector<std::uint64_t> chunk_ends = MessageChunkEnds(whole, bytes);
   REQUIRE(chunk_ends.size() == written.size());
@@ -301,7 +301,7 @@ TEST_CASE("every flipped byte of a recording reads or fails as a RecordingError"
   const fs::path damaged = dir.path() / "damaged.mcap";
   int errors = 0;
   for (std::size_t at = 0; at < bytes.size(); ++at) {
-    for (const int mask : {0xFF, 0x01, 0x80}) {
+    for (const int mask : {0xFF, 0x01}) {
       CAPTURE(at, mask);
       std::string copy = bytes;
       copy[at] = static_cast<char>(copy[at] ^ mask);
