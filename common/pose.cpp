@@ -54,6 +54,13 @@ SE3::SE3(const Eigen::Quaterniond& quaternion, const Eigen::Vector3d& translatio
 SE3::SE3(const Eigen::Matrix3d& rotation, const Eigen::Vector3d& translation)
     : quaternion_(Eigen::Quaterniond(rotation).normalized()), translation_(translation) {}
 
+SE3 SE3::FromStored(const Eigen::Quaterniond& unit, const Eigen::Vector3d& translation) {
+  SE3 pose;
+  pose.quaternion_ = unit;
+  pose.translation_ = translation;
+  return pose;
+}
+
 SE3 SE3::FromSE2(const SE2& pose, double z) {
   return SE3(Eigen::Quaterniond(Eigen::AngleAxisd(pose.yaw(), Eigen::Vector3d::UnitZ())),
              Eigen::Vector3d(pose.x(), pose.y(), z));

@@ -57,6 +57,9 @@ class SE3 {
   SE3(const Eigen::Quaterniond& quaternion, const Eigen::Vector3d& translation);
   // `rotation` must be a rotation matrix (orthonormal, det +1).
   SE3(const Eigen::Matrix3d& rotation, const Eigen::Vector3d& translation);
+  /// A pose read back exactly (a recording, docs/recordings.md): `unit` was normalized when the
+  /// pose was made, so it is kept as it is, bit for bit (normalizing again may move the last bit).
+  static SE3 FromStored(const Eigen::Quaterniond& unit, const Eigen::Vector3d& translation);
 
   static SE3 Identity() { return SE3(); }
   // Planar pose lifted to 3D: yaw about +z, translation (x, y, z).

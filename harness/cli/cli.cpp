@@ -17,9 +17,9 @@ namespace corridorsim {
 namespace {
 
 // The subcommands, in the order of `corridorsim --help`.
-constexpr const char* kJobs[] = {"world",  "snapshot",        "run",     "drive", "where",
-                                 "detect", "train-detectors", "dataset", "score", "study",
-                                 "test",   "plugin",          "evaluate"};
+constexpr const char* kJobs[] = {"world",   "snapshot", "run",   "replay",          "drive",
+                                 "where",   "detect",   "train-detectors", "dataset", "score",
+                                 "study",   "test",     "plugin",          "evaluate"};
 
 // "world, snapshot, ..., plugin or evaluate (see corridorsim --help)" for the messages.
 std::string JobList() {
@@ -51,7 +51,8 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
   // filled in `parsed` directly.
   std::unique_ptr<cli::Subcommand> jobs[] = {
       cli::AddWorldCommand(&app),          cli::AddSnapshotCommand(&app),
-      cli::AddRunCommand(&app, &parsed),   cli::AddDriveCommand(&app, &parsed),
+      cli::AddRunCommand(&app, &parsed),   cli::AddReplayCommand(&app, &parsed),
+      cli::AddDriveCommand(&app, &parsed),
       cli::AddWhereCommand(&app),          cli::AddDetectCommand(&app),
       cli::AddTrainDetectorsCommand(&app), cli::AddDatasetCommand(&app),
       cli::AddScoreCommand(&app),          cli::AddStudyCommand(&app),

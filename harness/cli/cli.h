@@ -45,6 +45,7 @@ struct CommandLine {
     kWorld,
     kSnapshot,
     kRun,
+    kReplay,  // `replay`: RunScenario with run.replay set (no default scenario)
     kDrive,
     kWhere,
     kDetect,

@@ -147,6 +147,7 @@ int Dispatch(CommandLine& command) {
       RunSnapshot(command.snapshot);
       return kExitSuccess;
     case CommandLine::Job::kRun:
+    case CommandLine::Job::kReplay:
       return RunScenario(command.run);
     case CommandLine::Job::kDrive:
       RunDrive(command.drive);

@@ -16,6 +16,35 @@ std::string PipelineListFooter() {
   return "Pipelines (under `pipelines:`, docs/scenarios.md; P1's: docs/p1.md): " + names + ".\n";
 }
 
+// --record and its options, on `run` and `replay` (docs/recordings.md).
+struct RecordOptions {
+  OptionalArgument topics, compression;
+  void Add(CLI::App* job, CommandLine* parsed) {
+    AddSwitch(job, "--record", parsed->run.record,
+              "Also write recording.mcap in the run folder: every sensor, the truth, the "
+              "estimates and the world as ROS 2 messages (MCAP; Foxglove, Lichtblick, Rerun, "
+              "ros2 bag play: docs/recordings.md); `corridorsim replay` runs pipelines on it");
+    AddOption(job, "--record-topics", topics,
+              "Record only the topics matching these comma-separated patterns ('*' matches any "
+              "characters), e.g. '/front/*,/tf*'", "PATTERNS");
+    AddOption(job, "--record-compression", compression,
+              "The recording's chunk compression: zstd (default), lz4 or none", "NAME");
+  }
+  void Resolve(RunRequest* run) const {
+    if (topics.given()) {
+      if (!run->record) Fail("--record-topics", "needs --record");
+      run->record_topics = topics.text;
+    }
+    if (compression.given()) {
+      if (!run->record) Fail("--record-compression", "needs --record");
+      if (compression.text != "zstd" && compression.text != "lz4" && compression.text != "none") {
+        Fail("--record-compression", "must be zstd, lz4 or none " + Got(compression.text));
+      }
+      run->record_compression = compression.text;
+    }
+  }
+};
+
 class RunCommand final : public Subcommand {
  public:
   RunCommand(CLI::App* app, CommandLine* parsed)
@@ -37,6 +66,7 @@ class RunCommand final : public Subcommand {
     AddOption(job_, "--keep-frames-mb", keep_frames_mb_,
               "The most frames/ may hold, MB (1-40, default 20): past it every other kept "
               "frame is dropped and the stride doubles");
+    record_.Add(job_, parsed);
     AddSwitch(job_, "--check", parsed->run.check_only,
               "Only check the scenario: load it, build its world, path and pipelines, and exit");
     SetFooter(
@@ -66,6 +96,7 @@ class RunCommand final : public Subcommand {
     if (export_.given()) parsed->run.export_dir = FolderName(export_.text, "--export");
     parsed->run.plots = !no_plots_;
     parsed->run.viewer = !no_viewer_;
+    record_.Resolve(&parsed->run);
     if (keep_frames_mb_.given()) {
       const double mb = ParseNumberArgument(keep_frames_mb_.text, 1e6, "--keep-frames-mb");
       if (!(mb >= 1.0 && mb <= 40.0))
@@ -78,6 +109,52 @@ class RunCommand final : public Subcommand {
  private:
   JobOptions options_;
   OptionalArgument export_, keep_frames_mb_;
+  RecordOptions record_;
+  bool no_plots_ = false, no_viewer_ = false;
+};
+
+class ReplayCommand final : public Subcommand {
+ public:
+  ReplayCommand(CLI::App* app, CommandLine* parsed)
+      : Subcommand(app, "replay",
+                   "Run pipelines on a recording (no physics, no rendering) and write the run "
+                   "folder a live run would"),
+        recording_(AddOption(job_, "recording", recording_text_,
+                             "The recording (recording.mcap of `run --record`)", "RECORDING")
+                       ->required()),
+        options_(job_, "out/replay",
+                 "Scenario YAML with the pipelines to run (default: the recording's own); its "
+                 "world, robot, path and sensors must be the recording's",
+                 "The recording's seed (a replay cannot change it)", "Run folder") {
+    AddSwitch(job_, "--no-plots", no_plots_, "Skip plots/ (matplotlib)");
+    AddSwitch(job_, "--no-viewer", no_viewer_, "Skip viewer.html (docs/viewer.md)");
+    record_.Add(job_, parsed);
+    SetFooter(job_,
+              "Writes the run folder `corridorsim run` writes (docs/recordings.md): for the same "
+              "pipelines and options, metrics.json and every trajectory are the live run's, "
+              "byte for byte. A pipeline that reads a sensor the recording lacks, a scenario "
+              "whose stream differs from the recording's (the first difference is named), and a "
+              "truncated or corrupt recording (the record and byte offset are named) are bad "
+              "input.\n",
+              FolderFooter::kStaged,
+              "as `run`: 0 success; 5 a pipeline failed; 3 an expectation failed; 4 an extra "
+              "failed; 2 bad input (nothing is written); 1 other failures.");
+  }
+
+  void Resolve(CommandLine* parsed) const override {
+    parsed->job = CommandLine::Job::kReplay;
+    options_.Resolve(&parsed->run);
+    parsed->run.replay = FileName(recording_text_, "RECORDING");
+    parsed->run.plots = !no_plots_;
+    parsed->run.viewer = !no_viewer_;
+    record_.Resolve(&parsed->run);
+  }
+
+ private:
+  std::string recording_text_;
+  CLI::Option* recording_;
+  JobOptions options_;
+  RecordOptions record_;
   bool no_plots_ = false, no_viewer_ = false;
 };
 
@@ -85,6 +162,10 @@ class RunCommand final : public Subcommand {
 
 std::unique_ptr<Subcommand> AddRunCommand(CLI::App* app, CommandLine* parsed) {
   return std::make_unique<RunCommand>(app, parsed);
+}
+
+std::unique_ptr<Subcommand> AddReplayCommand(CLI::App* app, CommandLine* parsed) {
+  return std::make_unique<ReplayCommand>(app, parsed);
 }
 
 }  // namespace corridorsim::cli

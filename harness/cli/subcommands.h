@@ -38,6 +38,7 @@ std::unique_ptr<Subcommand> AddDriveCommand(CLI::App* app, CommandLine* parsed);
 std::unique_ptr<Subcommand> AddWhereCommand(CLI::App* app);
 // run_command.cpp
 std::unique_ptr<Subcommand> AddRunCommand(CLI::App* app, CommandLine* parsed);
+std::unique_ptr<Subcommand> AddReplayCommand(CLI::App* app, CommandLine* parsed);
 // workbench_commands.cpp: developing detectors.
 std::unique_ptr<Subcommand> AddDetectCommand(CLI::App* app);
 std::unique_ptr<Subcommand> AddTrainDetectorsCommand(CLI::App* app);

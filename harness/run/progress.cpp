@@ -52,14 +52,19 @@ std::string Progress::Line(TimeNs sim_ns, double fraction, const std::string& ex
 
 ProgressLine::ProgressLine(std::string job, const sim::Simulation& simulation,
                            std::function<std::string()> extra)
+    : ProgressLine(std::move(job), [&simulation] { return simulation.progress(); },
+                   std::move(extra)) {}
+
+ProgressLine::ProgressLine(std::string job, std::function<double()> fraction,
+                           std::function<std::string()> extra)
     : progress_(std::move(job)),
-      simulation_(simulation),
+      fraction_(std::move(fraction)),
       extra_(std::move(extra)),
       period_ns_(PeriodFromRateHz(10.0)) {}
 
 void ProgressLine::OnStepEnd(const sim::TruthSample& truth, bool last) {
   if (truth.stamp_ns % period_ns_ != 0 && !last) return;
-  progress_.Update(truth.stamp_ns, simulation_.progress(), extra_ ? extra_() : std::string());
+  progress_.Update(truth.stamp_ns, fraction_(), extra_ ? extra_() : std::string());
   if (last) progress_.Finish();
 }
 

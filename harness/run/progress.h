@@ -39,12 +39,15 @@ class ProgressLine : public BusConsumer {
  public:
   ProgressLine(std::string job, const sim::Simulation& simulation,
                std::function<std::string()> extra = {});
+  /// The same line over another stream (a replayed recording): `fraction()` is its progress.
+  ProgressLine(std::string job, std::function<double()> fraction,
+               std::function<std::string()> extra = {});
   void OnStepEnd(const sim::TruthSample& truth, bool last) override;
   double wall_s() const { return progress_.wall_s(); }
 
  private:
   Progress progress_;
-  const sim::Simulation& simulation_;
+  std::function<double()> fraction_;
   std::function<std::string()> extra_;
   TimeNs period_ns_;
 };

@@ -17,11 +17,15 @@
 #include "common/error.h"
 #include "common/io/atomic_file.h"
 #include "common/io/stable_json.h"
+#include "harness/record/recorder.h"
+#include "harness/record/replay_scenario.h"
+#include "harness/record/replay_source.h"
 #include "harness/run/async_consumer.h"
 #include "harness/run/export_consumer.h"
 #include "harness/run/frame_keeper.h"
 #include "harness/run/pipeline_runner.h"
 #include "harness/run/progress.h"
+#include "harness/run/provenance.h"
 #include "harness/run/run_folder.h"
 #include "harness/run/sensor_bus.h"
 #include "harness/run/sensor_recorder.h"
@@ -63,19 +67,53 @@ void CheckSeparateFolders(const std::filesystem::path& out, const std::filesyste
   }
 }
 
+template <class Options>
+std::vector<std::string> EnabledIds(const std::vector<Options>& sensors) {
+  std::vector<std::string> ids;
+  for (const Options& o : sensors) {
+    if (o.enabled) ids.push_back(o.id);
+  }
+  return ids;
+}
+
+mcap::Compression RecordCompression(const std::string& name) {
+  if (name == "zstd") return mcap::Compression::kZstd;
+  if (name == "lz4") return mcap::Compression::kLz4;
+  if (name == "none") return mcap::Compression::kNone;
+  throw InputError(SourceLocation{"command line", 0, 0}, "--record-compression",
+                   "'" + name + "' is not one of zstd, lz4, none");
+}
+
 }  // namespace
 
 // Build, loop, finish (docs/architecture.md, "How a run is made").
 int RunScenario(const RunRequest& request) {
   const WallClock::time_point run_start = WallClock::now();
-  const Scenario scenario = LoadScenario(request.scenario_file, request.settings);
+  // A replay reads its stream from a recording (harness/record/replay_source.h) instead of the
+  // simulation; everything else is the live run's, so the two write the same files.
+  std::unique_ptr<record::ReplaySource> replay;
+  if (request.replay) replay = std::make_unique<record::ReplaySource>(*request.replay);
+  const Scenario scenario =
+      replay ? record::ReplayScenario(replay->info(), request.replay->string(),
+                                      request.scenario_file, request.settings, request.seed)
+             : LoadScenario(request.scenario_file, request.settings);
+  const record::RecordOptions record_options{
+      RecordCompression(request.record_compression),
+      request.record_topics.empty() ? record::TopicFilter()
+                                    : record::TopicFilter(request.record_topics,
+                                                          "--record-topics")};
   const std::vector<Expectation> expectations = ScenarioExpectations(scenario);
+  if (replay && request.export_dir) {
+    throw InputError(SourceLocation{"command line", 0, 0}, "--export",
+                     "a replay has no dataset to export (export from the live run)");
+  }
   if (!request.export_dir) RequireScoredPipeline(scenario);  // else a run would score nothing
   // Output folders are checked and staged before anything runs: a run never ends unable to
   // write, and never leaves a folder with files of two runs.
   std::unique_ptr<StagedDirectory> out, dataset;
   if (!request.check_only) {
-    const std::vector<JobInput> inputs = ScenarioInputs(scenario);
+    std::vector<JobInput> inputs = ScenarioInputs(scenario);
+    if (request.replay) inputs.push_back({*request.replay, "the recording"});
     if (request.export_dir) CheckSeparateFolders(request.out_dir, *request.export_dir);
     out = StageOutputFolder(request.out_dir, "--out", request.force, inputs);
     if (request.export_dir)
@@ -83,7 +121,8 @@ int RunScenario(const RunRequest& request) {
   }
 
   // Build: the pipelines (all on the same stream), then the world, path and cameras they need.
-  SimulationSetup setup(scenario, request.seed.value_or(scenario.seed),
+  SimulationSetup setup(scenario,
+                        replay ? replay->info().seed : request.seed.value_or(scenario.seed),
                         /*check_camera_placement=*/true);
   PipelineRunner pipelines(scenario, CalibrationOf(scenario), setup.seed());
   pipelines.Initialize(0, setup.robot_path().world_from_start);
@@ -99,19 +138,35 @@ int RunScenario(const RunRequest& request) {
   if (request.export_dir) {
     for (const render::CameraOptions& c : scenario.rig.cameras) render_cameras.insert(c.id);
   }
-  setup.Start(render_cameras);
-  sim::Simulation& simulation = setup.simulation();
+  const std::vector<std::string> imu_ids = EnabledIds(scenario.imus);
+  const std::vector<std::string> laser_ids = EnabledIds(scenario.lasers);
+  if (replay) {
+    replay->Require(pipelines.cameras_used(), imu_ids, laser_ids);
+  } else {
+    setup.Start(render_cameras);
+  }
+  sim::Simulation* simulation = replay ? nullptr : &setup.simulation();
+  const std::vector<std::string> camera_ids =
+      replay ? replay->info().cameras : setup.camera_ids();
+  // The cameras of the stream: the rendered ones, or the recorded ones.
+  render::RigOptions stream_rig = scenario.rig;
+  for (render::CameraOptions& c : stream_rig.cameras) {
+    c.enabled = std::find(camera_ids.begin(), camera_ids.end(), c.id) != camera_ids.end();
+  }
   std::optional<ExportConsumer> exporter;
   if (dataset) {
     exporter.emplace(dataset->path(), setup.rig_options(), scenario.robot.wheelbase_m,
                      scenario.imus, scenario.lasers);
   }
-  std::printf("run: %s, seed %llu, %zu pipeline(s)%s, path %s (%.1f m)%s\n",
-              scenario.name.empty() ? request.scenario_file.c_str() : scenario.name.c_str(),
+  const char* job = replay ? "replay" : "run";
+  std::printf("%s: %s, seed %llu, %zu pipeline(s)%s, path %s (%.1f m)%s\n", job,
+              scenario.name.empty() ? scenario.file.c_str() : scenario.name.c_str(),
               static_cast<unsigned long long>(setup.seed()), pipelines.size(),
               pipelines.size() ? (": " + pipelines.Names()).c_str() : "",
-              sim::PathKindName(scenario.robot_path.kind).c_str(), simulation.path().length_m(),
-              setup.camera_ids().empty() ? "" : ", rendering cameras");
+              sim::PathKindName(scenario.robot_path.kind).c_str(),
+              setup.robot_path().length_m(),
+              replay ? (", from " + request.replay->string()).c_str()
+                     : (camera_ids.empty() ? "" : ", rendering cameras"));
 
   // Loop: the simulation publishes, the consumers listen.
   TruthRecorder truth(pipelines.cameras_used());
@@ -131,7 +186,7 @@ int RunScenario(const RunRequest& request) {
       latest = std::move(now);
     });
   }
-  ProgressLine progress("run", simulation, [&] {
+  const auto errors_line = [&] {
     if (!async_pipelines) return PipelineRunner::ErrorsLine(pipelines.LatestEstimates(), truth);
     std::vector<PipelineRunner::Latest> copy;
     {
@@ -139,8 +194,14 @@ int RunScenario(const RunRequest& request) {
       copy = latest;
     }
     return PipelineRunner::ErrorsLine(copy, truth);
-  });
-  SensorBus bus(setup.camera_ids());
+  };
+  std::optional<ProgressLine> progress;
+  if (replay) {
+    progress.emplace(job, [&] { return replay->fraction(); }, errors_line);
+  } else {
+    progress.emplace(job, *simulation, errors_line);
+  }
+  SensorBus bus(camera_ids);
   bus.Subscribe(&truth);
   SensorRecorder sensors(scenario.imus, scenario.lasers, out->path());
   if (!sensors.empty()) bus.Subscribe(&sensors);
@@ -152,13 +213,42 @@ int RunScenario(const RunRequest& request) {
   }
   bus.Subscribe(async_pipelines ? static_cast<BusConsumer*>(&*async_pipelines) : &pipelines);
   bus.Subscribe(&events);
-  bus.Subscribe(&progress);
+  std::optional<record::Recorder> recorder;
+  if (request.record) {
+    record::RecordingInfo info;
+    info.scenario_file = scenario.file;
+    info.scenario_yaml = ResolvedScenarioYaml(scenario, setup.seed());
+    info.seed = setup.seed();
+    info.cameras = camera_ids;
+    info.provenance_json = ProvenanceJson(scenario.file, info.scenario_yaml, setup.seed(),
+                                          setup.backend(), scenario.plugins, {},
+                                          scenario.settings)
+                               .dump();
+    info.topics = request.record_topics;
+    recorder.emplace(out->path() / "recording.mcap", record_options, info, stream_rig,
+                     scenario.imus, scenario.lasers, setup.world(), scenario.robot.wheelbase_m);
+    bus.Subscribe(&*recorder);
+  }
   const WallClock::time_point loop_start = WallClock::now();
-  bus.Run(simulation);
+  if (replay) {
+    replay->Replay(bus.consumers(), setup.world(), scenario.rig, imu_ids, laser_ids, &*progress);
+  } else {
+    bus.Subscribe(&*progress);
+    bus.Run(*simulation);
+  }
   if (async_pipelines) async_pipelines->Drain();
+  const TimeNs end_ns = replay ? replay->end_ns() : simulation->now_ns();
+  const bool path_done = replay ? replay->path_done() : simulation->path_done();
 
   // Finish: pipelines, then metrics (deterministic) and timing (wall clock) in separate files.
   pipelines.Finish();
+  double record_seconds = 0.0;
+  if (recorder) {
+    const WallClock::time_point t_record = WallClock::now();
+    recorder->AddPipelines(pipelines.records());
+    recorder->Close();
+    record_seconds = SecondsSince(t_record) + recorder->encode_seconds();
+  }
   const std::vector<const PipelineRecord*> failed = pipelines.Failed();
   for (const PipelineRecord* record : failed) {
     events.AddPipelineFailure(record->failure->stamp_ns, record->name, record->failure->call,
@@ -170,14 +260,14 @@ int RunScenario(const RunRequest& request) {
   input.truth = truth.poses();
   input.frames = truth.frames();
   input.pipelines = pipelines.records();
-  input.timing.sim_seconds = ToSeconds(simulation.now_ns());
+  input.timing.sim_seconds = ToSeconds(end_ns);
   ScoredRun scored = ScoreRun(input, expectations);
   const double metrics_seconds = SecondsSince(t_metrics);
 
   // Wall-clock cost by stage (physics = the simulation step minus its rendering), the whole run;
   // written with the results, and again with the extras' seconds once they ran.
-  const double sim_s = ToSeconds(simulation.now_ns());
-  const double render_seconds = simulation.render_seconds();
+  const double sim_s = ToSeconds(end_ns);
+  const double render_seconds = replay ? 0.0 : simulation->render_seconds();
   const double physics_seconds = bus.step_seconds() - render_seconds;
   double write_seconds = 0.0, export_seconds = 0.0, export_wait_seconds = 0.0, plot_seconds = 0.0;
   double viewer_seconds = 0.0;
@@ -199,7 +289,8 @@ int RunScenario(const RunRequest& request) {
         {"export", export_seconds},
         {"export_wait", export_wait_seconds},
         {"plots", plot_seconds},
-        {"viewer", viewer_seconds}};
+        {"viewer", viewer_seconds},
+        {"recording", record_seconds}};
     nlohmann::ordered_json rounded = timing;
     RoundNumbers(rounded, json_steps::kSeconds);
     return JsonFileText(rounded);
@@ -209,7 +300,7 @@ int RunScenario(const RunRequest& request) {
   const auto write_results = [&](const std::filesystem::path& folder) {
     const WallClock::time_point t_write = WallClock::now();
     WriteRunFolder(folder, scenario, setup.seed(), setup.world(), truth, pipelines, scored.metrics,
-                   events.Json(setup.seed(), simulation.now_ns()), setup.backend());
+                   events.Json(setup.seed(), end_ns), setup.backend());
     sensors.Finish();
     write_seconds = SecondsSince(t_write);
     WriteFileAtomic(folder / "timing.json", timing_json());
@@ -253,21 +344,22 @@ int RunScenario(const RunRequest& request) {
 
   PrintClosingTable(scored.metrics, scored.results, failed);
   std::printf(
-      "\nrun: %.1f s simulated in %.1f s (real-time factor %.1fx): physics %.1f s, "
+      "\n%s: %.1f s simulated in %.1f s (real-time factor %.1fx): physics %.1f s, "
       "rendering %.1f s, pipelines %.2f s, metrics %.2f s, writing %.2f s, export %.1f s, plots "
       "%.1f s\n",
-      sim_s, total, timing["real_time_factor"].get<double>(), physics_seconds, render_seconds,
+      job, sim_s, total, timing["real_time_factor"].get<double>(), physics_seconds, render_seconds,
       pipelines.seconds(), metrics_seconds, write_seconds, export_seconds, plot_seconds);
   std::printf(
       "wrote %s/{scenario.yaml, world.json, ground_truth.tum, <pipeline>.tum, "
       "<pipeline>_cov.txt, <pipeline>_errors.csv, <pipeline>_nis.csv, <pipeline>_landmarks.json, "
       "<pipeline>_detections.csv, metrics.json, timing.json, events.json, "
-      "provenance.json%s%s%s}%s\n",
+      "provenance.json%s%s%s%s}%s\n",
       out->path().string().c_str(), sensors.empty() ? "" : ", sensors/",
+      recorder ? ", recording.mcap" : "",
       plots_written ? ", plots/" : "", viewer_written ? ", viewer.html" : "",
       dataset && dataset->committed() ? (" and the dataset in " + dataset->path().string()).c_str()
                                       : "");
-  if (!simulation.path_done()) {
+  if (!path_done) {
     std::printf("warning: the path was not finished (see events.json)\n");
   }
   if (extras_failed > 0) {

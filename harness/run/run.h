@@ -21,6 +21,16 @@ struct RunRequest : JobRequest {
   bool keep_frames = false;
   double keep_frames_budget_mb = 20.0;  // --keep-frames-mb, 1 to 40
   bool check_only = false;  // --check: load, build the world, path, pipelines and rig; run nothing
+  // --record: the run's stream, truth, estimates and world as recording.mcap in the run folder
+  // (MCAP with ROS 2 messages, docs/recordings.md); --record-topics keeps only the topics that
+  // match its patterns; --record-compression zstd (default), lz4 or none.
+  bool record = false;
+  std::string record_topics;
+  std::string record_compression = "zstd";
+  // `corridorsim replay`: this recording's stream replaces the simulation and the rendering; the
+  // scenario (scenario_file, or the recording's own when empty) must match the recording's world,
+  // robot, path and sensors (its pipelines may differ).
+  std::optional<std::filesystem::path> replay;
 };
 
 /// Exit code of a run whose expectations did not all pass (0 success, 1 failure, 2 bad input).

@@ -83,6 +83,10 @@ class SensorBus {
   /// Delivers one step's output (Run's body; tests call it directly).
   void Publish(const sim::StepOutput& step, bool last);
 
+  /// The consumers in subscription order (replay delivers a recorded stream to them directly:
+  /// harness/record/replay_source.h).
+  const std::vector<BusConsumer*>& consumers() const { return consumers_; }
+
   /// Wall-clock seconds spent inside Simulation::Step (physics and rendering) during Run.
   double step_seconds() const { return step_seconds_; }
 
