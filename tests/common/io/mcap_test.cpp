@@ -390,15 +390,20 @@ TEST_CASE("damaged chunks fail naming the chunk, its offset and the fault", "[mc
   ExpectError(file, not_mcap, "Magic", 0, "not an MCAP file");
 }
 
-TEST_CASE("a complete recording without a summary is read by scanning it", "[mcap]") {
+TEST_CASE("a complete recording without a summary is read by scanning it, unknown records skipped",
+          "[mcap]") {
   const test::ScratchDir dir("corridorsim_mcap_no_summary");
   const fs::path whole = dir.path() / "whole.mcap";
   const std::vector<WrittenMessage> written =
       WriteRecording(whole, SmallChunks(Compression::kLz4), 80);
   const std::string bytes = test::FileBytes(whole);
-  // The data section up to its DataEnd record, then a footer saying "no summary" and the magic.
+  // The data section up to its DataEnd record with a record of an opcode the spec does not define
+  // after the header (readers skip it), then a footer saying "no summary" and the magic.
   const std::uint64_t data_end = FindRecord(bytes, 0x0F);
-  std::string no_summary = bytes.substr(0, data_end + 9 + 4);
+  const std::size_t header_end = 8 + 9 + 4 + 4 + 4 + 11;
+  std::string no_summary = bytes.substr(0, header_end) +
+                           std::string("\x80\x03\0\0\0\0\0\0\0abc", 12) +
+                           bytes.substr(header_end, data_end + 9 + 4 - header_end);
   no_summary += std::string("\x02\x14\0\0\0\0\0\0\0", 9) + std::string(20, '\0');
   no_summary += bytes.substr(bytes.size() - 8);
   const fs::path file = dir.path() / "no_summary.mcap";
