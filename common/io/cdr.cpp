@@ -86,8 +86,8 @@ std::size_t CdrReader::SequenceLength(std::size_t element_bytes) {
   const std::uint32_t count = Primitive<std::uint32_t>();
   if (element_bytes == 0) element_bytes = 1;
   if (count > remaining() / element_bytes) {
-    Fail("a sequence of " + std::to_string(count) + " elements in " +
-         std::to_string(remaining()) + " bytes");
+    Fail("a sequence of " + std::to_string(count) + " elements in " + std::to_string(remaining()) +
+         " bytes");
   }
   return count;
 }

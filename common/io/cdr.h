@@ -29,7 +29,7 @@ class CdrWriter {
   CdrWriter();  // writes the encapsulation header
 
   template <class T>
-    requires std::is_arithmetic_v<T>
+  requires std::is_arithmetic_v<T>
   void Primitive(T value) {
     Align(sizeof(T));
     Append(&value, sizeof(T));
@@ -40,7 +40,7 @@ class CdrWriter {
   void SequenceLength(std::size_t count);
   /// Primitives back to back (a fixed array's or a sequence's elements), aligned once.
   template <class T>
-    requires std::is_arithmetic_v<T>
+  requires std::is_arithmetic_v<T>
   void Elements(std::span<const T> values) {
     if (values.empty()) return;
     Align(sizeof(T));
@@ -62,8 +62,7 @@ class CdrReader {
   CdrReader(std::span<const std::uint8_t> data, std::string what);
 
   template <class T>
-    requires std::is_arithmetic_v<T>
-  T Primitive() {
+  requires std::is_arithmetic_v<T> T Primitive() {
     Align(sizeof(T));
     T value;
     std::memcpy(&value, Take(sizeof(T)), sizeof(T));
@@ -74,7 +73,7 @@ class CdrReader {
   /// A sequence's count, checked: `element_bytes` (at least 1) times it fits in what is left.
   std::size_t SequenceLength(std::size_t element_bytes);
   template <class T>
-    requires std::is_arithmetic_v<T>
+  requires std::is_arithmetic_v<T>
   void Elements(std::span<T> values) {
     if (values.empty()) return;
     Align(sizeof(T));

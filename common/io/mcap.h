@@ -38,8 +38,8 @@ std::string CompressionName(Compression compression);
 /// A malformed, truncated or unreadable recording: "<file>: <record> at byte <offset>: <what>".
 class RecordingError : public std::runtime_error {
  public:
-  RecordingError(const std::filesystem::path& file, const std::string& record,
-                 std::uint64_t offset, const std::string& what);
+  RecordingError(const std::filesystem::path& file, const std::string& record, std::uint64_t offset,
+                 const std::string& what);
   const std::string& record() const { return record_; }
   std::uint64_t offset() const { return offset_; }
 
@@ -52,7 +52,7 @@ struct WriterOptions {
   std::string profile = "ros2";  // the Header's profile (mcap.dev/spec/registry: "ros1", "ros2")
   std::string library = "corridorsim";
   Compression compression = Compression::kZstd;
-  int zstd_level = 1;                        // 1 to 19
+  int zstd_level = 1;                         // 1 to 19
   std::size_t chunk_bytes = 4 * 1024 * 1024;  // uncompressed chunk size that closes a chunk
   std::size_t max_pending_chunks = 4;         // chunks queued for compression (bounds memory)
 };
@@ -115,7 +115,7 @@ struct Message {
   std::uint64_t log_time_ns = 0;
   std::uint64_t publish_time_ns = 0;
   std::span<const std::uint8_t> data;  // valid during the callback only
-  std::uint64_t chunk_offset = 0;      // the file offset of the chunk that holds it
+  std::uint64_t chunk_offset = 0;      // the file offset of the chunk that holds it (0: none)
 };
 
 struct Attachment {

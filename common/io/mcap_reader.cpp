@@ -161,12 +161,12 @@ void Reader::Impl::ForEachChunkRecord(const RecordHead& head, F&& record) const 
   const std::string compression = f.String("compression");
   const std::uint64_t records_size = f.U64("records");
   const std::span<const std::uint8_t> compressed = f.Bytes(records_size, "records");
-  const std::vector<std::uint8_t> chunk_records =
+  const records::ChunkBuffer chunk_records =
       records::Decompress(compression, compressed, uncompressed_size, place);
-  if (uncompressed_crc != 0 && records::ComputeCrc32(chunk_records) != uncompressed_crc) {
+  if (uncompressed_crc != 0 && records::ComputeCrc32(chunk_records.bytes()) != uncompressed_crc) {
     place.Fail("the CRC of the uncompressed records does not match the chunk's uncompressed_crc");
   }
-  const std::span<const std::uint8_t> all(chunk_records);
+  const std::span<const std::uint8_t> all = chunk_records.bytes();
   std::size_t position = 0;
   while (position < all.size()) {
     RecordPlace inner = place;

@@ -3,6 +3,7 @@
 #include <lz4frame.h>
 #include <zstd.h>
 
+#include <cstring>
 #include <memory>
 #include <stdexcept>
 
@@ -41,22 +42,42 @@ std::string OpcodeName(std::uint8_t opcode) {
 
 namespace {
 
-std::array<std::uint32_t, 256> MakeCrcTable() {
-  std::array<std::uint32_t, 256> table{};
+// Slicing-by-8 (Intel's, Kounavis and Berry 2008): table k advances the CRC over a byte followed
+// by k zero bytes, so eight table lookups take in eight bytes at once.
+using CrcTables = std::array<std::array<std::uint32_t, 256>, 8>;
+
+CrcTables MakeCrcTables() {
+  CrcTables t{};
   for (std::uint32_t i = 0; i < 256; ++i) {
     std::uint32_t c = i;
     for (int k = 0; k < 8; ++k) c = (c & 1) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
-    table[i] = c;
+    t[0][i] = c;
   }
-  return table;
+  for (std::size_t k = 1; k < 8; ++k) {
+    for (std::size_t i = 0; i < 256; ++i) t[k][i] = (t[k - 1][i] >> 8) ^ t[0][t[k - 1][i] & 0xFFu];
+  }
+  return t;
+}
+
+std::uint32_t Load32(const std::uint8_t* p) {
+  return std::uint32_t{p[0]} | std::uint32_t{p[1]} << 8 | std::uint32_t{p[2]} << 16 |
+         std::uint32_t{p[3]} << 24;
 }
 
 }  // namespace
 
 void Crc32::Update(std::span<const std::uint8_t> bytes) {
-  static const std::array<std::uint32_t, 256> kTable = MakeCrcTable();
+  static const CrcTables kT = MakeCrcTables();
   std::uint32_t c = state_;
-  for (const std::uint8_t b : bytes) c = kTable[(c ^ b) & 0xFFu] ^ (c >> 8);
+  const std::uint8_t* p = bytes.data();
+  std::size_t n = bytes.size();
+  for (; n >= 8; n -= 8, p += 8) {
+    const std::uint32_t a = c ^ Load32(p);
+    const std::uint32_t b = Load32(p + 4);
+    c = kT[7][a & 0xFFu] ^ kT[6][(a >> 8) & 0xFFu] ^ kT[5][(a >> 16) & 0xFFu] ^ kT[4][a >> 24] ^
+        kT[3][b & 0xFFu] ^ kT[2][(b >> 8) & 0xFFu] ^ kT[1][(b >> 16) & 0xFFu] ^ kT[0][b >> 24];
+  }
+  for (; n > 0; --n, ++p) c = kT[0][(c ^ *p) & 0xFFu] ^ (c >> 8);
   state_ = c;
 }
 
@@ -179,7 +200,7 @@ std::vector<std::uint8_t> Compress(Compression compression, int zstd_level,
 
 namespace {
 
-void DecompressLz4(std::span<const std::uint8_t> compressed, std::vector<std::uint8_t>& out,
+void DecompressLz4(std::span<const std::uint8_t> compressed, ChunkBuffer& out,
                    const RecordPlace& place) {
   LZ4F_dctx* raw = nullptr;
   if (LZ4F_isError(LZ4F_createDecompressionContext(&raw, LZ4F_VERSION))) {
@@ -215,9 +236,8 @@ void DecompressLz4(std::span<const std::uint8_t> compressed, std::vector<std::ui
 
 }  // namespace
 
-std::vector<std::uint8_t> Decompress(const std::string& compression,
-                                     std::span<const std::uint8_t> compressed,
-                                     std::uint64_t uncompressed_size, const RecordPlace& place) {
+ChunkBuffer Decompress(const std::string& compression, std::span<const std::uint8_t> compressed,
+                       std::uint64_t uncompressed_size, const RecordPlace& place) {
   if (compression != "" && compression != "zstd" && compression != "lz4") {
     place.Fail("unknown compression '" + compression + "'");
   }
@@ -225,17 +245,30 @@ std::vector<std::uint8_t> Decompress(const std::string& compression,
     place.Fail("declared uncompressed size " + std::to_string(uncompressed_size) +
                " exceeds the limit of " + std::to_string(kMaxChunkUncompressedBytes) + " bytes");
   }
+  const std::string declared =
+      " bytes, not the declared uncompressed size " + std::to_string(uncompressed_size);
+  ChunkBuffer out(static_cast<std::size_t>(uncompressed_size));
   if (compression.empty()) {
     if (compressed.size() != uncompressed_size) {
-      place.Fail("uncompressed records of " + std::to_string(compressed.size()) +
-                 " bytes, not the declared " + std::to_string(uncompressed_size));
+      place.Fail("uncompressed records of " + std::to_string(compressed.size()) + declared);
     }
-    return {compressed.begin(), compressed.end()};
+    if (!compressed.empty()) std::memcpy(out.data(), compressed.data(), compressed.size());
+    return out;
   }
-  std::vector<std::uint8_t> out(static_cast<std::size_t>(uncompressed_size));
   if (compression == "lz4") {
     DecompressLz4(compressed, out, place);
     return out;
+  }
+  // One frame (what writers write) that gives its content size must give the declared one.
+  const std::size_t frame_bytes =
+      ZSTD_findFrameCompressedSize(compressed.data(), compressed.size());
+  if (ZSTD_isError(frame_bytes)) {
+    place.Fail(std::string("zstd: ") + ZSTD_getErrorName(frame_bytes));
+  }
+  const unsigned long long framed = ZSTD_getFrameContentSize(compressed.data(), compressed.size());
+  if (frame_bytes == compressed.size() && framed != ZSTD_CONTENTSIZE_UNKNOWN &&
+      framed != ZSTD_CONTENTSIZE_ERROR && framed != uncompressed_size) {
+    place.Fail("the zstd frame holds " + std::to_string(framed) + declared);
   }
   const std::size_t size =
       ZSTD_decompress(out.data(), out.size(), compressed.data(), compressed.size());
@@ -243,10 +276,8 @@ std::vector<std::uint8_t> Decompress(const std::string& compression,
     place.Fail(std::string("zstd: ") + ZSTD_getErrorName(size) + " (declared uncompressed size " +
                std::to_string(uncompressed_size) + ")");
   }
-  if (size != out.size()) {
-    place.Fail("the records decompress to " + std::to_string(size) +
-               " bytes, not the declared uncompressed size " + std::to_string(out.size()));
-  }
+  if (size != out.size())
+    place.Fail("the records decompress to " + std::to_string(size) + declared);
   return out;
 }
 

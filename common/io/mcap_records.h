@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
@@ -127,11 +128,25 @@ class FieldReader {
 /// Compresses a chunk's records (zstd at `zstd_level`, LZ4's frame format, or a copy).
 std::vector<std::uint8_t> Compress(Compression compression, int zstd_level,
                                    std::span<const std::uint8_t> records);
+/// Bytes left uninitialised until written: a chunk that declares a large uncompressed size
+/// costs memory only for what its records really decompress to.
+class ChunkBuffer {
+ public:
+  explicit ChunkBuffer(std::size_t size)
+      : data_(size > 0 ? new std::uint8_t[size] : nullptr), size_(size) {}
+  std::uint8_t* data() { return data_.get(); }
+  std::size_t size() const { return size_; }
+  std::span<const std::uint8_t> bytes() const { return {data_.get(), size_}; }
+
+ private:
+  std::unique_ptr<std::uint8_t[]> data_;
+  std::size_t size_ = 0;
+};
+
 /// Decompresses a chunk's records into exactly `uncompressed_size` bytes (at most
 /// kMaxChunkUncompressedBytes); anything else fails at `place`. `compression` is the chunk's
 /// field: "", "zstd" or "lz4".
-std::vector<std::uint8_t> Decompress(const std::string& compression,
-                                     std::span<const std::uint8_t> compressed,
-                                     std::uint64_t uncompressed_size, const RecordPlace& place);
+ChunkBuffer Decompress(const std::string& compression, std::span<const std::uint8_t> compressed,
+                       std::uint64_t uncompressed_size, const RecordPlace& place);
 
 }  // namespace corridorsim::mcap::records

@@ -91,6 +91,11 @@ struct Writer::Impl {
 
   std::unique_ptr<SerialWorker> worker;
 
+  Impl() = default;
+  Impl(const Impl&) = delete;
+  Impl& operator=(const Impl&) = delete;
+  ~Impl();
+
   void Append(std::span<const std::uint8_t> data) {
     if (!data.empty() && std::fwrite(data.data(), 1, data.size(), file) != data.size()) {
       throw std::runtime_error(path.string() +
@@ -190,18 +195,24 @@ Writer::Writer(const std::filesystem::path& file, const WriterOptions& options)
   header.fields().String(options.library);
   header.Finish();
   impl_->AppendData(head);
+  // A run killed before its first chunk still leaves a file the reader opens (as truncated).
+  if (std::fflush(impl_->file) != 0) {
+    throw std::runtime_error(file.string() +
+                             ": cannot write the recording: " + std::strerror(errno));
+  }
   impl_->worker = std::make_unique<SerialWorker>(options.max_pending_chunks);
 }
 
-Writer::~Writer() {
-  if (!impl_) return;
+Writer::~Writer() = default;
+
+Writer::Impl::~Impl() {
   try {
-    if (impl_->worker) impl_->worker->Drain();
+    if (worker) worker->Drain();
   } catch (...) {
     // The file stays as far as it got; the error was the caller's to see through Close().
   }
-  impl_->worker.reset();
-  if (impl_->file) std::fclose(impl_->file);
+  worker.reset();  // before the file closes: its queued jobs write to it
+  if (file) std::fclose(file);
 }
 
 std::uint16_t Writer::AddSchema(const std::string& name, const std::string& encoding,

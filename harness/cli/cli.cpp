@@ -17,9 +17,9 @@ namespace corridorsim {
 namespace {
 
 // The subcommands, in the order of `corridorsim --help`.
-constexpr const char* kJobs[] = {"world",   "snapshot", "run",   "replay",          "drive",
-                                 "where",   "detect",   "train-detectors", "dataset", "score",
-                                 "study",   "test",     "plugin",          "evaluate"};
+constexpr const char* kJobs[] = {"world",  "snapshot",        "run",     "replay", "drive", "where",
+                                 "detect", "train-detectors", "dataset", "score",  "study", "test",
+                                 "plugin", "evaluate"};
 
 // "world, snapshot, ..., plugin or evaluate (see corridorsim --help)" for the messages.
 std::string JobList() {
@@ -52,12 +52,11 @@ CommandLine ParseCommandLine(const std::vector<std::string>& args) {
   std::unique_ptr<cli::Subcommand> jobs[] = {
       cli::AddWorldCommand(&app),          cli::AddSnapshotCommand(&app),
       cli::AddRunCommand(&app, &parsed),   cli::AddReplayCommand(&app, &parsed),
-      cli::AddDriveCommand(&app, &parsed),
-      cli::AddWhereCommand(&app),          cli::AddDetectCommand(&app),
-      cli::AddTrainDetectorsCommand(&app), cli::AddDatasetCommand(&app),
-      cli::AddScoreCommand(&app),          cli::AddStudyCommand(&app),
-      cli::AddTestCommand(&app),           cli::AddEvaluateCommand(&app),
-      cli::AddPluginCommand(&app)};
+      cli::AddDriveCommand(&app, &parsed), cli::AddWhereCommand(&app),
+      cli::AddDetectCommand(&app),         cli::AddTrainDetectorsCommand(&app),
+      cli::AddDatasetCommand(&app),        cli::AddScoreCommand(&app),
+      cli::AddStudyCommand(&app),          cli::AddTestCommand(&app),
+      cli::AddEvaluateCommand(&app),       cli::AddPluginCommand(&app)};
 
   if (!args.empty() && !args[0].empty() && args[0][0] != '-' &&
       std::find(std::begin(kJobs), std::end(kJobs), args[0]) == std::end(kJobs)) {

@@ -26,7 +26,8 @@ struct RecordOptions {
               "ros2 bag play: docs/recordings.md); `corridorsim replay` runs pipelines on it");
     AddOption(job, "--record-topics", topics,
               "Record only the topics matching these comma-separated patterns ('*' matches any "
-              "characters), e.g. '/front/*,/tf*'", "PATTERNS");
+              "characters), e.g. '/front/*,/tf*'",
+              "PATTERNS");
     AddOption(job, "--record-compression", compression,
               "The recording's chunk compression: zstd (default), lz4 or none", "NAME");
   }

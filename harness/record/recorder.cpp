@@ -11,12 +11,18 @@ namespace {
 
 ros::ColorRGBA ClassColor(worlds::SemanticClass c) {
   switch (c) {
-    case worlds::SemanticClass::kWall: return {0.75f, 0.75f, 0.72f, 0.35f};
-    case worlds::SemanticClass::kDoorFrame: return {0.45f, 0.3f, 0.2f, 0.9f};
-    case worlds::SemanticClass::kDoorLeaf: return {0.6f, 0.4f, 0.25f, 0.9f};
-    case worlds::SemanticClass::kFloor: return {0.4f, 0.4f, 0.4f, 0.2f};
-    case worlds::SemanticClass::kCeiling: return {0.9f, 0.9f, 0.9f, 0.05f};
-    default: return {0.5f, 0.6f, 0.7f, 0.6f};
+    case worlds::SemanticClass::kWall:
+      return {0.75f, 0.75f, 0.72f, 0.35f};
+    case worlds::SemanticClass::kDoorFrame:
+      return {0.45f, 0.3f, 0.2f, 0.9f};
+    case worlds::SemanticClass::kDoorLeaf:
+      return {0.6f, 0.4f, 0.25f, 0.9f};
+    case worlds::SemanticClass::kFloor:
+      return {0.4f, 0.4f, 0.4f, 0.2f};
+    case worlds::SemanticClass::kCeiling:
+      return {0.9f, 0.9f, 0.9f, 0.05f};
+    default:
+      return {0.5f, 0.6f, 0.7f, 0.6f};
   }
 }
 
@@ -36,8 +42,8 @@ ros::MarkerArray WorldMarkers(const worlds::World& world) {
   int id = 0;
   for (const worlds::CollisionBox& box : world.collision_boxes) {
     if (box.semantic_class == worlds::SemanticClass::kFloor) continue;
-    ros::Marker m = MapMarker(worlds::SemanticClassName(box.semantic_class), id++,
-                              ros::Marker::kCube);
+    ros::Marker m =
+        MapMarker(worlds::SemanticClassName(box.semantic_class), id++, ros::Marker::kCube);
     m.pose.position = {box.center.x(), box.center.y(), box.center.z()};
     m.scale = ros::ToVector3(2.0 * box.half_extents);
     m.color = ClassColor(box.semantic_class);
@@ -64,7 +70,8 @@ ros::MarkerArray WorldMarkers(const worlds::World& world) {
     m.pose.position = {lamp.center.x(), lamp.center.y(), lamp.center.z()};
     m.scale = disc ? ros::Vector3{2 * lamp.radius_m, 2 * lamp.radius_m, 0.01}
                    : ros::Vector3{lamp.size_m.x(), lamp.size_m.y(), 0.01};
-    m.color = lamp.on ? ros::ColorRGBA{1.0f, 0.95f, 0.6f, 1.0f} : ros::ColorRGBA{0.3f, 0.3f, 0.3f, 1.0f};
+    m.color =
+        lamp.on ? ros::ColorRGBA{1.0f, 0.95f, 0.6f, 1.0f} : ros::ColorRGBA{0.3f, 0.3f, 0.3f, 1.0f};
     array.markers.push_back(std::move(m));
   }
   return array;
@@ -89,11 +96,12 @@ Recorder::Recorder(const std::filesystem::path& file, const RecordOptions& optio
                    const std::vector<sim::ImuOptions>& imus,
                    const std::vector<sim::LaserOptions>& lasers, const worlds::World& world,
                    double wheelbase_m)
-    : writer_(file, [&] {
-        mcap::WriterOptions o;
-        o.compression = options.compression;
-        return o;
-      }()),
+    : writer_(file,
+              [&] {
+                mcap::WriterOptions o;
+                o.compression = options.compression;
+                return o;
+              }()),
       filter_(options.topics),
       camera_ids_(info.cameras),
       wheelbase_m_(wheelbase_m) {
@@ -112,7 +120,8 @@ Recorder::Recorder(const std::filesystem::path& file, const RecordOptions& optio
   writer_.AddMetadata("corridorsim", {{"format", "1"},
                                       {"scenario_file", info.scenario_file},
                                       {"seed", std::to_string(info.seed)},
-                                      {"cameras", [&] {
+                                      {"cameras",
+                                       [&] {
                                          std::string s;
                                          for (const std::string& c : info.cameras) {
                                            s += (s.empty() ? "" : ",") + c;
@@ -137,10 +146,10 @@ void Recorder::Write(const std::string& topic, TimeNs stamp_ns, const T& message
   if (channel == channels_.end()) {
     auto schema = schemas_.find(T::kType);
     if (schema == schemas_.end()) {
-      schema = schemas_
-                   .emplace(T::kType, writer_.AddSchema(T::kType, "ros2msg",
-                                                        ros::Ros2Schema(T::kType)))
-                   .first;
+      schema =
+          schemas_
+              .emplace(T::kType, writer_.AddSchema(T::kType, "ros2msg", ros::Ros2Schema(T::kType)))
+              .first;
     }
     channel = channels_.emplace(topic, writer_.AddChannel(schema->second, topic, "cdr")).first;
   }
@@ -166,8 +175,8 @@ void Recorder::WriteStatic(const render::RigOptions& rig, const std::vector<sim:
   }
   for (const sim::LaserOptions& laser : lasers) {
     if (!laser.enabled) continue;
-    tf.transforms.push_back(ros::ToTransformStamped(0, kBaseFrame, SensorFrame(laser.id),
-                                                    laser.mount.RobotFromBody()));
+    tf.transforms.push_back(
+        ros::ToTransformStamped(0, kBaseFrame, SensorFrame(laser.id), laser.mount.RobotFromBody()));
   }
   Write(kTfStaticTopic, 0, tf);
   for (std::size_t k = 0; k < camera_ids_.size(); ++k) {
@@ -181,8 +190,8 @@ void Recorder::WriteTruth(const sim::TruthSample& truth, std::uint8_t kind) {
   Write(kTruthTopic, truth.stamp_ns, ros::ToTruth(truth, kind));
   if (kind == 2) return;  // the end repeats the last sample's pose for replay only
   ros::TFMessage tf;
-  tf.transforms.push_back(ros::ToTransformStamped(truth.stamp_ns, kMapFrame, kBaseFrame,
-                                                  truth.state.world_from_robot));
+  tf.transforms.push_back(
+      ros::ToTransformStamped(truth.stamp_ns, kMapFrame, kBaseFrame, truth.state.world_from_robot));
   Write(kTfTopic, truth.stamp_ns, tf);
   ros::Odometry odom;
   odom.header.stamp.ns = truth.stamp_ns;
@@ -207,8 +216,8 @@ void Recorder::OnOdometry(const WheelOdometry& o) {
   Write(kWheelTopic, o.stamp_ns, ros::ToWheelOdometry(o));
   // Dead reckoning with the nominal wheelbase (the midpoint rule), as a robot driver publishes.
   const double ds = 0.5 * (o.left_distance_m + o.right_distance_m);
-  const double dyaw = wheelbase_m_ > 0 ? (o.right_distance_m - o.left_distance_m) / wheelbase_m_
-                                       : 0.0;
+  const double dyaw =
+      wheelbase_m_ > 0 ? (o.right_distance_m - o.left_distance_m) / wheelbase_m_ : 0.0;
   const double heading = odom_pose_.yaw() + 0.5 * dyaw;
   odom_pose_ = SE2(odom_pose_.x() + ds * std::cos(heading), odom_pose_.y() + ds * std::sin(heading),
                    odom_pose_.yaw() + dyaw);
@@ -302,8 +311,7 @@ void Recorder::AddPipelines(const std::vector<PipelineRecord>& records) {
     for (const slam::LandmarkEstimate& l : record.landmarks) {
       ros::Marker m = MapMarker(LandmarkColorKey(l.type), l.id, ros::Marker::kSphere);
       m.header.stamp = path.header.stamp;
-      m.pose.position = {l.position_in_world.x(), l.position_in_world.y(),
-                         l.position_in_world.z()};
+      m.pose.position = {l.position_in_world.x(), l.position_in_world.y(), l.position_in_world.z()};
       // The sphere spans two standard deviations of the largest variance, at least 5 cm.
       const double sigma = std::sqrt(std::max(0.0, l.covariance.diagonal().maxCoeff()));
       const double d = std::max(0.05, 4.0 * sigma);

@@ -1,9 +1,9 @@
 #include "harness/record/replay_scenario.h"
 
+#include <unistd.h>
 #include <filesystem>
 #include <fstream>
 #include <set>
-#include <unistd.h>
 
 #include <yaml-cpp/yaml.h>
 
@@ -30,8 +30,7 @@ std::string Join(const std::string& prefix, const std::string& key) {
 }
 
 // The first key under `path` where a and b differ, "" when they are equal.
-std::string Compare(const YAML::Node& a, const YAML::Node& b, const std::string& path,
-                    bool top) {
+std::string Compare(const YAML::Node& a, const YAML::Node& b, const std::string& path, bool top) {
   const auto differ = [&](const std::string& key) {
     return key + ": the recording has " + Text(a) + ", the scenario " + Text(b);
   };

@@ -17,6 +17,15 @@ InputError RecordingInputError(const std::filesystem::path& file, const std::str
   return InputError(SourceLocation{file.string(), 0, 0}, key, what);
 }
 
+// "<file>: <record> at byte <offset>: <what>" as one InputError: the record and offset as its key.
+InputError RecordingInputError(const std::filesystem::path& file, const mcap::RecordingError& e) {
+  const std::string key = e.record() + " at byte " + std::to_string(e.offset());
+  std::string what = e.what();
+  const std::string prefix = file.string() + ": " + key + ": ";
+  if (what.rfind(prefix, 0) == 0) what = what.substr(prefix.size());
+  return RecordingInputError(file, key, what);
+}
+
 std::vector<std::string> SplitCommas(const std::string& text) {
   std::vector<std::string> out;
   std::istringstream in(text);
@@ -29,8 +38,20 @@ std::vector<std::string> SplitCommas(const std::string& text) {
 
 // What a topic is to replay.
 enum class Kind {
-  kTruth, kWheel, kEvent, kCameraSet, kImage, kDepth, kDepthTruth, kInstance, kSemantic,
-  kFrame, kImu, kImuTruth, kScan, kScanTruth
+  kTruth,
+  kWheel,
+  kEvent,
+  kCameraSet,
+  kImage,
+  kDepth,
+  kDepthTruth,
+  kInstance,
+  kSemantic,
+  kFrame,
+  kImu,
+  kImuTruth,
+  kScan,
+  kScanTruth
 };
 struct Route {
   Kind kind;
@@ -53,8 +74,7 @@ ReplaySource::ReplaySource(const std::filesystem::path& file) : file_(file) {
   try {
     reader_ = std::make_unique<mcap::Reader>(file);
   } catch (const mcap::RecordingError& e) {
-    throw RecordingInputError(file, e.record() + " at byte " + std::to_string(e.offset()),
-                              e.what());
+    throw RecordingInputError(file, e);
   } catch (const std::runtime_error& e) {
     throw RecordingInputError(file, "RECORDING", e.what());
   }
@@ -102,9 +122,11 @@ void ReplaySource::Require(const std::set<std::string>& cameras,
                            const std::vector<std::string>& lasers) const {
   const auto need = [&](const std::string& what, const std::string& topic) {
     if (!reader_->FindChannel(topic)) {
-      throw RecordingInputError(file_, topic,
-                                "the pipelines read " + what + " and the recording lacks its topic " +
-                                    topic + (info_.topics.empty() ? "" : " (recorded with --record-topics " + info_.topics + ")"));
+      throw RecordingInputError(
+          file_, topic,
+          "the pipelines read " + what + " and the recording lacks its topic " + topic +
+              (info_.topics.empty() ? ""
+                                    : " (recorded with --record-topics " + info_.topics + ")"));
     }
   };
   for (const std::string& camera : cameras) {
@@ -190,8 +212,8 @@ void ReplaySource::Replay(const std::vector<BusConsumer*>& consumers, const worl
   };
   const auto handle = [&](const mcap::Message& m) {
     const Route& r = routes.at(m.channel_id);
-    const std::string what = reader_->channels().at(m.channel_id).topic + " message " +
-                             std::to_string(m.sequence);
+    const std::string what =
+        reader_->channels().at(m.channel_id).topic + " message " + std::to_string(m.sequence);
     if (ended) throw CdrError(what + ": a message after the run's end");
     if (!started && r.kind != Kind::kTruth) throw CdrError(what + ": a message before the start");
     switch (r.kind) {
@@ -258,8 +280,8 @@ void ReplaySource::Replay(const std::vector<BusConsumer*>& consumers, const worl
         CameraSet set;
         set.stamp_ns = set_record.header.stamp.ns;
         for (std::size_t i = 0; i < set_record.cameras.size(); ++i) {
-          const auto it = std::find(info_.cameras.begin(), info_.cameras.end(),
-                                    set_record.cameras[i]);
+          const auto it =
+              std::find(info_.cameras.begin(), info_.cameras.end(), set_record.cameras[i]);
           if (it == info_.cameras.end()) {
             throw CdrError(what + ": camera '" + set_record.cameras[i] + "' was not recorded");
           }
@@ -308,8 +330,8 @@ void ReplaySource::Replay(const std::vector<BusConsumer*>& consumers, const worl
         if (message.stamp_ns != static_cast<TimeNs>(m.log_time_ns)) {
           throw CdrError(what + ": a frame's topics at two stamps (no camera set between)");
         }
-        const ros::Image image = r.kind == Kind::kFrame ? ros::Image{}
-                                                        : ros::FromCdr<ros::Image>(m.data, what);
+        const ros::Image image =
+            r.kind == Kind::kFrame ? ros::Image{} : ros::FromCdr<ros::Image>(m.data, what);
         if (r.kind == Kind::kImage) {
           message.frame.rgb = ros::FromRgbImage(image, what);
           pending.has_image = true;
@@ -342,8 +364,7 @@ void ReplaySource::Replay(const std::vector<BusConsumer*>& consumers, const worl
         },
         wanted);
   } catch (const mcap::RecordingError& e) {
-    throw RecordingInputError(file_, e.record() + " at byte " + std::to_string(e.offset()),
-                              e.what());
+    throw RecordingInputError(file_, e);
   } catch (const CdrError& e) {
     throw RecordingInputError(file_, "message", e.what());
   }

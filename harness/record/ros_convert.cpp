@@ -45,10 +45,9 @@ std::vector<T> Pixels(const Image& image, const char* encoding, std::uint32_t co
   const std::uint64_t row = std::uint64_t{image.width} * count_per_pixel * sizeof(T);
   if (image.width == 0 || image.height == 0 || image.width > 1 << 15 || image.height > 1 << 15 ||
       image.step != row || image.data.size() != row * image.height) {
-    Fail(what, "an image of " + std::to_string(image.width) + " x " +
-                   std::to_string(image.height) + " px with step " +
-                   std::to_string(image.step) + " and " + std::to_string(image.data.size()) +
-                   " bytes");
+    Fail(what, "an image of " + std::to_string(image.width) + " x " + std::to_string(image.height) +
+                   " px with step " + std::to_string(image.step) + " and " +
+                   std::to_string(image.data.size()) + " bytes");
   }
   std::vector<T> values(image.data.size() / sizeof(T));
   std::memcpy(values.data(), image.data.data(), image.data.size());
@@ -290,9 +289,8 @@ sim::ScanMessage FromScan(const LaserScan& s, const ScanTruth& t, std::size_t in
                           const std::string& sensor_id, const std::string& what) {
   const std::size_t n = s.ranges.size();
   if (s.header.stamp.ns != t.header.stamp.ns) Fail(what, "its truth has another stamp");
-  if (t.true_ranges.size() != n || t.instance_ids.size() != n ||
-      t.semantic_classes.size() != n || t.incidences.size() != n ||
-      (t.world_from_laser.size() != n && !t.world_from_laser.empty())) {
+  if (t.true_ranges.size() != n || t.instance_ids.size() != n || t.semantic_classes.size() != n ||
+      t.incidences.size() != n || (t.world_from_laser.size() != n && !t.world_from_laser.empty())) {
     Fail(what, "its truth does not have one entry per beam (" + std::to_string(n) + ")");
   }
   sim::ScanMessage m;

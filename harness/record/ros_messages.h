@@ -1,9 +1,9 @@
 #pragma once
 // The ROS messages a recording holds (docs/recordings.md), as plain structs. Each one lists its
-// fields once, in the order of its .msg definition, in a static `Fields(visitor, message)`; the
-// visitors write ROS 2's CDR (CdrOut), read it back (CdrIn, for replay) and write ROS 1's
-// serialization (harness/record/bag_writer.cpp). The definitions (ROS 2 Humble's, the text a
-// recording embeds as its schemas) are in ros_schemas.cpp.
+// fields once, in the order of its .msg definition, in a static `Fields()` (pointers to its
+// members, which VisitFields walks); the visitors write ROS 2's CDR (CdrOut), read it back (CdrIn,
+// for replay) and write ROS 1's serialization (harness/record/bag_writer.cpp). The definitions (ROS
+// 2 Humble's, the text a recording embeds as its schemas) are in ros_schemas.cpp.
 //
 // corridorsim_msgs are corridorsim's own: what a run needs to be replayed byte for byte (the
 // truth, exact wheel ticks, the grouping of camera frames) beside the standard messages that
@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <span>
 #include <string>
+#include <tuple>
 #include <type_traits>
 #include <vector>
 
@@ -34,91 +35,59 @@ struct Header {
   static constexpr const char* kType = "std_msgs/msg/Header";
   Time stamp;
   std::string frame_id;
-  template <class V, class M>
-  static void Fields(V& v, M& m) {
-    v(m.stamp);
-    v(m.frame_id);
-  }
+  static constexpr auto Fields() { return std::tuple{&Header::stamp, &Header::frame_id}; }
 };
 
 struct Vector3 {
   static constexpr const char* kType = "geometry_msgs/msg/Vector3";
   double x = 0, y = 0, z = 0;
-  template <class V, class M>
-  static void Fields(V& v, M& m) {
-    v(m.x);
-    v(m.y);
-    v(m.z);
-  }
+  static constexpr auto Fields() { return std::tuple{&Vector3::x, &Vector3::y, &Vector3::z}; }
 };
 struct Point {
   static constexpr const char* kType = "geometry_msgs/msg/Point";
   double x = 0, y = 0, z = 0;
-  template <class V, class M>
-  static void Fields(V& v, M& m) {
-    v(m.x);
-    v(m.y);
-    v(m.z);
-  }
+  static constexpr auto Fields() { return std::tuple{&Point::x, &Point::y, &Point::z}; }
 };
 struct Quaternion {
   static constexpr const char* kType = "geometry_msgs/msg/Quaternion";
   double x = 0, y = 0, z = 0, w = 1;
-  template <class V, class M>
-  static void Fields(V& v, M& m) {
-    v(m.x);
-    v(m.y);
-    v(m.z);
-    v(m.w);
+  static constexpr auto Fields() {
+    return std::tuple{&Quaternion::x, &Quaternion::y, &Quaternion::z, &Quaternion::w};
   }
 };
 struct Pose {
   static constexpr const char* kType = "geometry_msgs/msg/Pose";
   Point position;
   Quaternion orientation;
-  template <class V, class M>
-  static void Fields(V& v, M& m) {
-    v(m.position);
-    v(m.orientation);
-  }
+  static constexpr auto Fields() { return std::tuple{&Pose::position, &Pose::orientation}; }
 };
 struct PoseWithCovariance {
   static constexpr const char* kType = "geometry_msgs/msg/PoseWithCovariance";
   Pose pose;
   std::array<double, 36> covariance{};  // x, y, z, rotation about x, y, z; row-major
-  template <class V, class M>
-  static void Fields(V& v, M& m) {
-    v(m.pose);
-    v(m.covariance);
+  static constexpr auto Fields() {
+    return std::tuple{&PoseWithCovariance::pose, &PoseWithCovariance::covariance};
   }
 };
 struct Twist {
   static constexpr const char* kType = "geometry_msgs/msg/Twist";
   Vector3 linear, angular;
-  template <class V, class M>
-  static void Fields(V& v, M& m) {
-    v(m.linear);
-    v(m.angular);
-  }
+  static constexpr auto Fields() { return std::tuple{&Twist::linear, &Twist::angular}; }
 };
 struct TwistWithCovariance {
   static constexpr const char* kType = "geometry_msgs/msg/TwistWithCovariance";
   Twist twist;
   std::array<double, 36> covariance{};
-  template <class V, class M>
-  static void Fields(V& v, M& m) {
-    v(m.twist);
-    v(m.covariance);
+  static constexpr auto Fields() {
+    return std::tuple{&TwistWithCovariance::twist, &TwistWithCovariance::covariance};
   }
 };
 struct Transform {
   static constexpr const char* kType = "geometry_msgs/msg/Transform";
   Vector3 translation;
   Quaternion rotation;
-  template <class V, class M>
-  static void Fields(V& v, M& m) {
-    v(m.translation);
-    v(m.rotation);
+  static constexpr auto Fields() {
+    return std::tuple{&Transform::translation, &Transform::rotation};
   }
 };
 struct TransformStamped {
@@ -126,50 +95,35 @@ struct TransformStamped {
   Header header;
   std::string child_frame_id;
   Transform transform;
-  template <class V, class M>
-  static void Fields(V& v, M& m) {
-    v(m.header);
-    v(m.child_frame_id);
-    v(m.transform);
+  static constexpr auto Fields() {
+    return std::tuple{&TransformStamped::header, &TransformStamped::child_frame_id,
+                      &TransformStamped::transform};
   }
 };
 struct TFMessage {
   static constexpr const char* kType = "tf2_msgs/msg/TFMessage";
   std::vector<TransformStamped> transforms;
-  template <class V, class M>
-  static void Fields(V& v, M& m) {
-    v(m.transforms);
-  }
+  static constexpr auto Fields() { return std::tuple{&TFMessage::transforms}; }
 };
 struct PoseStamped {
   static constexpr const char* kType = "geometry_msgs/msg/PoseStamped";
   Header header;
   Pose pose;
-  template <class V, class M>
-  static void Fields(V& v, M& m) {
-    v(m.header);
-    v(m.pose);
-  }
+  static constexpr auto Fields() { return std::tuple{&PoseStamped::header, &PoseStamped::pose}; }
 };
 struct PoseWithCovarianceStamped {
   static constexpr const char* kType = "geometry_msgs/msg/PoseWithCovarianceStamped";
   Header header;
   PoseWithCovariance pose;
-  template <class V, class M>
-  static void Fields(V& v, M& m) {
-    v(m.header);
-    v(m.pose);
+  static constexpr auto Fields() {
+    return std::tuple{&PoseWithCovarianceStamped::header, &PoseWithCovarianceStamped::pose};
   }
 };
 struct Path {
   static constexpr const char* kType = "nav_msgs/msg/Path";
   Header header;
   std::vector<PoseStamped> poses;
-  template <class V, class M>
-  static void Fields(V& v, M& m) {
-    v(m.header);
-    v(m.poses);
-  }
+  static constexpr auto Fields() { return std::tuple{&Path::header, &Path::poses}; }
 };
 struct Odometry {
   static constexpr const char* kType = "nav_msgs/msg/Odometry";
@@ -177,12 +131,9 @@ struct Odometry {
   std::string child_frame_id;
   PoseWithCovariance pose;    // in header.frame_id
   TwistWithCovariance twist;  // in child_frame_id
-  template <class V, class M>
-  static void Fields(V& v, M& m) {
-    v(m.header);
-    v(m.child_frame_id);
-    v(m.pose);
-    v(m.twist);
+  static constexpr auto Fields() {
+    return std::tuple{&Odometry::header, &Odometry::child_frame_id, &Odometry::pose,
+                      &Odometry::twist};
   }
 };
 
@@ -194,28 +145,19 @@ struct Image {
   std::uint8_t is_bigendian = 0;
   std::uint32_t step = 0;  // bytes per row
   std::vector<std::uint8_t> data;
-  template <class V, class M>
-  static void Fields(V& v, M& m) {
-    v(m.header);
-    v(m.height);
-    v(m.width);
-    v(m.encoding);
-    v(m.is_bigendian);
-    v(m.step);
-    v(m.data);
+  static constexpr auto Fields() {
+    return std::tuple{&Image::header,       &Image::height, &Image::width, &Image::encoding,
+                      &Image::is_bigendian, &Image::step,   &Image::data};
   }
 };
 struct RegionOfInterest {
   static constexpr const char* kType = "sensor_msgs/msg/RegionOfInterest";
   std::uint32_t x_offset = 0, y_offset = 0, height = 0, width = 0;
   bool do_rectify = false;
-  template <class V, class M>
-  static void Fields(V& v, M& m) {
-    v(m.x_offset);
-    v(m.y_offset);
-    v(m.height);
-    v(m.width);
-    v(m.do_rectify);
+  static constexpr auto Fields() {
+    return std::tuple{&RegionOfInterest::x_offset, &RegionOfInterest::y_offset,
+                      &RegionOfInterest::height, &RegionOfInterest::width,
+                      &RegionOfInterest::do_rectify};
   }
 };
 struct CameraInfo {
@@ -229,19 +171,13 @@ struct CameraInfo {
   std::array<double, 12> p{};
   std::uint32_t binning_x = 0, binning_y = 0;
   RegionOfInterest roi;
-  template <class V, class M>
-  static void Fields(V& v, M& m) {
-    v(m.header);
-    v(m.height);
-    v(m.width);
-    v(m.distortion_model);
-    v(m.d);
-    v(m.k);
-    v(m.r);
-    v(m.p);
-    v(m.binning_x);
-    v(m.binning_y);
-    v(m.roi);
+  static constexpr auto Fields() {
+    return std::tuple{&CameraInfo::header,    &CameraInfo::height,
+                      &CameraInfo::width,     &CameraInfo::distortion_model,
+                      &CameraInfo::d,         &CameraInfo::k,
+                      &CameraInfo::r,         &CameraInfo::p,
+                      &CameraInfo::binning_x, &CameraInfo::binning_y,
+                      &CameraInfo::roi};
   }
 };
 struct Imu {
@@ -253,15 +189,14 @@ struct Imu {
   std::array<double, 9> angular_velocity_covariance{};
   Vector3 linear_acceleration;
   std::array<double, 9> linear_acceleration_covariance{};
-  template <class V, class M>
-  static void Fields(V& v, M& m) {
-    v(m.header);
-    v(m.orientation);
-    v(m.orientation_covariance);
-    v(m.angular_velocity);
-    v(m.angular_velocity_covariance);
-    v(m.linear_acceleration);
-    v(m.linear_acceleration_covariance);
+  static constexpr auto Fields() {
+    return std::tuple{&Imu::header,
+                      &Imu::orientation,
+                      &Imu::orientation_covariance,
+                      &Imu::angular_velocity,
+                      &Imu::angular_velocity_covariance,
+                      &Imu::linear_acceleration,
+                      &Imu::linear_acceleration_covariance};
   }
 };
 struct LaserScan {
@@ -270,30 +205,20 @@ struct LaserScan {
   float angle_min = 0, angle_max = 0, angle_increment = 0, time_increment = 0, scan_time = 0;
   float range_min = 0, range_max = 0;
   std::vector<float> ranges, intensities;
-  template <class V, class M>
-  static void Fields(V& v, M& m) {
-    v(m.header);
-    v(m.angle_min);
-    v(m.angle_max);
-    v(m.angle_increment);
-    v(m.time_increment);
-    v(m.scan_time);
-    v(m.range_min);
-    v(m.range_max);
-    v(m.ranges);
-    v(m.intensities);
+  static constexpr auto Fields() {
+    return std::tuple{&LaserScan::header,         &LaserScan::angle_min,
+                      &LaserScan::angle_max,      &LaserScan::angle_increment,
+                      &LaserScan::time_increment, &LaserScan::scan_time,
+                      &LaserScan::range_min,      &LaserScan::range_max,
+                      &LaserScan::ranges,         &LaserScan::intensities};
   }
 };
 
 struct ColorRGBA {
   static constexpr const char* kType = "std_msgs/msg/ColorRGBA";
   float r = 0, g = 0, b = 0, a = 1;
-  template <class V, class M>
-  static void Fields(V& v, M& m) {
-    v(m.r);
-    v(m.g);
-    v(m.b);
-    v(m.a);
+  static constexpr auto Fields() {
+    return std::tuple{&ColorRGBA::r, &ColorRGBA::g, &ColorRGBA::b, &ColorRGBA::a};
   }
 };
 struct Marker {
@@ -312,32 +237,28 @@ struct Marker {
   std::vector<ColorRGBA> colors;
   std::string text, mesh_resource;
   bool mesh_use_embedded_materials = false;
-  template <class V, class M>
-  static void Fields(V& v, M& m) {
-    v(m.header);
-    v(m.ns);
-    v(m.id);
-    v(m.type);
-    v(m.action);
-    v(m.pose);
-    v(m.scale);
-    v(m.color);
-    v(m.lifetime);
-    v(m.frame_locked);
-    v(m.points);
-    v(m.colors);
-    v(m.text);
-    v(m.mesh_resource);
-    v(m.mesh_use_embedded_materials);
+  static constexpr auto Fields() {
+    return std::tuple{&Marker::header,
+                      &Marker::ns,
+                      &Marker::id,
+                      &Marker::type,
+                      &Marker::action,
+                      &Marker::pose,
+                      &Marker::scale,
+                      &Marker::color,
+                      &Marker::lifetime,
+                      &Marker::frame_locked,
+                      &Marker::points,
+                      &Marker::colors,
+                      &Marker::text,
+                      &Marker::mesh_resource,
+                      &Marker::mesh_use_embedded_materials};
   }
 };
 struct MarkerArray {
   static constexpr const char* kType = "visualization_msgs/msg/MarkerArray";
   std::vector<Marker> markers;
-  template <class V, class M>
-  static void Fields(V& v, M& m) {
-    v(m.markers);
-  }
+  static constexpr auto Fields() { return std::tuple{&MarkerArray::markers}; }
 };
 
 // --- corridorsim_msgs: exact values for replay (docs/recordings.md) ---
@@ -346,26 +267,25 @@ struct MarkerArray {
 /// cameras' poses, every number as the simulation holds it.
 struct Truth {
   static constexpr const char* kType = "corridorsim_msgs/msg/Truth";
-  Header header;     // frame_id: map
-  std::uint8_t kind = 0;  // 0 the start, 1 a truth-grid or odometry stamp, 2 the run's end
+  Header header;                 // frame_id: map
+  std::uint8_t kind = 0;         // 0 the start, 1 a truth-grid or odometry stamp, 2 the run's end
   double x = 0, y = 0, yaw = 0;  // world_from_robot_2d
   Pose pose;                     // world_from_robot (3D)
   Vector3 linear_velocity, angular_velocity;  // in the world frame
   double left_wheel_angle = 0, right_wheel_angle = 0;
   std::vector<Pose> camera_poses;  // world_from_camera of the rig's rendered cameras
-  template <class V, class M>
-  static void Fields(V& v, M& m) {
-    v(m.header);
-    v(m.kind);
-    v(m.x);
-    v(m.y);
-    v(m.yaw);
-    v(m.pose);
-    v(m.linear_velocity);
-    v(m.angular_velocity);
-    v(m.left_wheel_angle);
-    v(m.right_wheel_angle);
-    v(m.camera_poses);
+  static constexpr auto Fields() {
+    return std::tuple{&Truth::header,
+                      &Truth::kind,
+                      &Truth::x,
+                      &Truth::y,
+                      &Truth::yaw,
+                      &Truth::pose,
+                      &Truth::linear_velocity,
+                      &Truth::angular_velocity,
+                      &Truth::left_wheel_angle,
+                      &Truth::right_wheel_angle,
+                      &Truth::camera_poses};
   }
 };
 /// Wheel odometry as the encoders report it (WheelOdometry): P1 eq. 13's input, exactly.
@@ -375,14 +295,10 @@ struct WheelOdometry {
   std::int64_t interval_ns = 0;
   double left_distance = 0, right_distance = 0;
   std::int64_t left_ticks = 0, right_ticks = 0;
-  template <class V, class M>
-  static void Fields(V& v, M& m) {
-    v(m.header);
-    v(m.interval_ns);
-    v(m.left_distance);
-    v(m.right_distance);
-    v(m.left_ticks);
-    v(m.right_ticks);
+  static constexpr auto Fields() {
+    return std::tuple{&WheelOdometry::header,        &WheelOdometry::interval_ns,
+                      &WheelOdometry::left_distance, &WheelOdometry::right_distance,
+                      &WheelOdometry::left_ticks,    &WheelOdometry::right_ticks};
   }
 };
 /// One rendered frame's truth: its clock index and poses (the images are on the camera's
@@ -393,12 +309,9 @@ struct CameraFrame {
   std::uint64_t frame_index = 0;
   Pose world_from_camera;
   Pose world_from_robot;
-  template <class V, class M>
-  static void Fields(V& v, M& m) {
-    v(m.header);
-    v(m.frame_index);
-    v(m.world_from_camera);
-    v(m.world_from_robot);
+  static constexpr auto Fields() {
+    return std::tuple{&CameraFrame::header, &CameraFrame::frame_index,
+                      &CameraFrame::world_from_camera, &CameraFrame::world_from_robot};
   }
 };
 /// The cameras of one set (sensor_bus.h's CameraSet), after their frames: dropped[i] says that
@@ -408,11 +321,8 @@ struct CameraSet {
   Header header;
   std::vector<std::string> cameras;
   std::vector<bool> dropped;
-  template <class V, class M>
-  static void Fields(V& v, M& m) {
-    v(m.header);
-    v(m.cameras);
-    v(m.dropped);
+  static constexpr auto Fields() {
+    return std::tuple{&CameraSet::header, &CameraSet::cameras, &CameraSet::dropped};
   }
 };
 /// An IMU sample's truth (sim::ImuMessage): the noise-free sample, the biases, the pose.
@@ -423,15 +333,14 @@ struct ImuTruth {
   Vector3 gyroscope_bias, accelerometer_bias;
   Pose world_from_imu;
   Vector3 velocity_in_world;
-  template <class V, class M>
-  static void Fields(V& v, M& m) {
-    v(m.header);
-    v(m.exact_angular_velocity);
-    v(m.exact_linear_acceleration);
-    v(m.gyroscope_bias);
-    v(m.accelerometer_bias);
-    v(m.world_from_imu);
-    v(m.velocity_in_world);
+  static constexpr auto Fields() {
+    return std::tuple{&ImuTruth::header,
+                      &ImuTruth::exact_angular_velocity,
+                      &ImuTruth::exact_linear_acceleration,
+                      &ImuTruth::gyroscope_bias,
+                      &ImuTruth::accelerometer_bias,
+                      &ImuTruth::world_from_imu,
+                      &ImuTruth::velocity_in_world};
   }
 };
 /// A sweep's exact parameters (LaserScan carries them as float32) and its truth per beam.
@@ -446,21 +355,14 @@ struct ScanTruth {
   std::vector<std::uint8_t> semantic_classes;
   std::vector<double> incidences;
   std::vector<Pose> world_from_laser;  // per beam
-  template <class V, class M>
-  static void Fields(V& v, M& m) {
-    v(m.header);
-    v(m.angle_min);
-    v(m.angle_increment);
-    v(m.time_increment_ns);
-    v(m.scan_time_ns);
-    v(m.complete_ns);
-    v(m.range_min);
-    v(m.range_max);
-    v(m.true_ranges);
-    v(m.instance_ids);
-    v(m.semantic_classes);
-    v(m.incidences);
-    v(m.world_from_laser);
+  static constexpr auto Fields() {
+    return std::tuple{&ScanTruth::header,           &ScanTruth::angle_min,
+                      &ScanTruth::angle_increment,  &ScanTruth::time_increment_ns,
+                      &ScanTruth::scan_time_ns,     &ScanTruth::complete_ns,
+                      &ScanTruth::range_min,        &ScanTruth::range_max,
+                      &ScanTruth::true_ranges,      &ScanTruth::instance_ids,
+                      &ScanTruth::semantic_classes, &ScanTruth::incidences,
+                      &ScanTruth::world_from_laser};
   }
 };
 /// A simulation event (events.json's, docs/metrics.md).
@@ -475,22 +377,25 @@ struct Event {
   bool left_wheel = false;
   double distance = 0;
   std::string camera_id;
-  template <class V, class M>
-  static void Fields(V& v, M& m) {
-    v(m.header);
-    v(m.kind);
-    v(m.instance_id);
-    v(m.semantic_class);
-    v(m.position);
-    v(m.depth);
-    v(m.left_wheel);
-    v(m.distance);
-    v(m.camera_id);
+  static constexpr auto Fields() {
+    return std::tuple{&Event::header,         &Event::kind,     &Event::instance_id,
+                      &Event::semantic_class, &Event::position, &Event::depth,
+                      &Event::left_wheel,     &Event::distance, &Event::camera_id};
   }
 };
 
 template <class T>
-concept Message = requires { T::kType; };
+concept Message = requires {
+  T::kType;
+};
+
+/// Calls `visitor(message.field)` for each field of `message` in its definition's order (the
+/// message's `Fields()`: pointers to its members). `message` may be const (writing) or not.
+template <class V, class M>
+void VisitFields(V& visitor, M& message) {
+  std::apply([&](auto... field) { (visitor(message.*field), ...); },
+             std::remove_const_t<M>::Fields());
+}
 
 /// ROS 2's schema text of `type` ("sensor_msgs/msg/Image"): its definition, then each message it
 /// uses, after a line of 80 '=' and "MSG: pkg/Name" (the `ros2msg` schema encoding of MCAP).
@@ -504,10 +409,8 @@ const std::string& Ros2Definition(const std::string& type);
 class CdrOut {
  public:
   template <class T>
-    requires std::is_arithmetic_v<T>
-  void operator()(const T& value) {
-    writer_.Primitive(value);
-  }
+  requires std::is_arithmetic_v<T>
+  void operator()(const T& value) { writer_.Primitive(value); }
   void operator()(const bool& value) { writer_.Bool(value); }
   void operator()(const std::string& value) { writer_.String(value); }
   void operator()(const Time& t) { Stamp(t.ns); }
@@ -531,9 +434,9 @@ class CdrOut {
   }
   template <Message T>
   void operator()(const T& message) {
-    T::Fields(*this, message);
+    VisitFields(*this, message);
   }
-  void operator()(const Header& header) { Header::Fields(*this, header); }
+  void operator()(const Header& header) { VisitFields(*this, header); }
   CdrWriter& writer() { return writer_; }
 
  private:
@@ -545,10 +448,8 @@ class CdrIn {
  public:
   CdrIn(std::span<const std::uint8_t> data, std::string what) : reader_(data, std::move(what)) {}
   template <class T>
-    requires std::is_arithmetic_v<T>
-  void operator()(T& value) {
-    value = reader_.Primitive<T>();
-  }
+  requires std::is_arithmetic_v<T>
+  void operator()(T& value) { value = reader_.Primitive<T>(); }
   void operator()(bool& value) { value = reader_.Bool(); }
   void operator()(std::string& value) { value = reader_.String(); }
   void operator()(Time& t) { t.ns = Stamp(); }
@@ -577,9 +478,9 @@ class CdrIn {
   }
   template <Message T>
   void operator()(T& message) {
-    T::Fields(*this, message);
+    VisitFields(*this, message);
   }
-  void operator()(Header& header) { Header::Fields(*this, header); }
+  void operator()(Header& header) { VisitFields(*this, header); }
   std::size_t remaining() const { return reader_.remaining(); }
 
  private:

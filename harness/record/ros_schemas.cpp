@@ -23,8 +23,7 @@ const std::map<std::string, std::string>& Definitions() {
       {"std_msgs/msg/ColorRGBA", "float32 r\nfloat32 g\nfloat32 b\nfloat32 a\n"},
       {"geometry_msgs/msg/Vector3", "float64 x\nfloat64 y\nfloat64 z\n"},
       {"geometry_msgs/msg/Point", "float64 x\nfloat64 y\nfloat64 z\n"},
-      {"geometry_msgs/msg/Quaternion",
-       "float64 x 0\nfloat64 y 0\nfloat64 z 0\nfloat64 w 1\n"},
+      {"geometry_msgs/msg/Quaternion", "float64 x 0\nfloat64 y 0\nfloat64 z 0\nfloat64 w 1\n"},
       {"geometry_msgs/msg/Pose", "Point position\nQuaternion orientation\n"},
       {"geometry_msgs/msg/PoseWithCovariance", "Pose pose\nfloat64[36] covariance\n"},
       {"geometry_msgs/msg/Twist", "Vector3 linear\nVector3 angular\n"},
@@ -103,8 +102,8 @@ const std::map<std::string, std::string>& Definitions() {
 
 bool IsPrimitive(const std::string& type) {
   static const std::set<std::string> primitives = {
-      "bool",   "byte",   "char",   "int8",   "uint8",   "int16",   "uint16", "int32",
-      "uint32", "int64",  "uint64", "float32", "float64", "string", "wstring"};
+      "bool",   "byte",  "char",   "int8",    "uint8",   "int16",  "uint16", "int32",
+      "uint32", "int64", "uint64", "float32", "float64", "string", "wstring"};
   return primitives.count(type) > 0;
 }
 
@@ -157,8 +156,8 @@ std::string Ros2Schema(const std::string& type) {
     for (auto it = more.rbegin(); it != more.rend(); ++it) stack.push_back(*it);
   }
   for (const std::string& dependency : order) {
-    const std::string name =
-        dependency.substr(0, dependency.find('/')) + "/" + dependency.substr(dependency.rfind('/') + 1);
+    const std::string name = dependency.substr(0, dependency.find('/')) + "/" +
+                             dependency.substr(dependency.rfind('/') + 1);
     schema += std::string(80, '=') + "\nMSG: " + name + "\n" + Ros2Definition(dependency);
   }
   return schema;

@@ -13,8 +13,8 @@ inline constexpr char kMapFrame[] = "map";  // the world: truth, estimates, the 
 inline constexpr char kOdomFrame[] = "odom";
 inline constexpr char kBaseFrame[] = "base_link";  // the robot frame R: floor, between the wheels
 
-inline constexpr char kTfTopic[] = "/tf";                // map -> base_link, the ground truth
-inline constexpr char kTfStaticTopic[] = "/tf_static";   // base_link -> every sensor's frame
+inline constexpr char kTfTopic[] = "/tf";               // map -> base_link, the ground truth
+inline constexpr char kTfStaticTopic[] = "/tf_static";  // base_link -> every sensor's frame
 inline constexpr char kTruthOdomTopic[] = "/ground_truth/odom";
 inline constexpr char kOdomTopic[] = "/odom";            // wheel odometry, dead-reckoned
 inline constexpr char kWorldTopic[] = "/world/markers";  // walls, doors, plates, lamps

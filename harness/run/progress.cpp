@@ -52,8 +52,8 @@ std::string Progress::Line(TimeNs sim_ns, double fraction, const std::string& ex
 
 ProgressLine::ProgressLine(std::string job, const sim::Simulation& simulation,
                            std::function<std::string()> extra)
-    : ProgressLine(std::move(job), [&simulation] { return simulation.progress(); },
-                   std::move(extra)) {}
+    : ProgressLine(
+          std::move(job), [&simulation] { return simulation.progress(); }, std::move(extra)) {}
 
 ProgressLine::ProgressLine(std::string job, std::function<double()> fraction,
                            std::function<std::string()> extra)

@@ -99,9 +99,9 @@ int RunScenario(const RunRequest& request) {
              : LoadScenario(request.scenario_file, request.settings);
   const record::RecordOptions record_options{
       RecordCompression(request.record_compression),
-      request.record_topics.empty() ? record::TopicFilter()
-                                    : record::TopicFilter(request.record_topics,
-                                                          "--record-topics")};
+      request.record_topics.empty()
+          ? record::TopicFilter()
+          : record::TopicFilter(request.record_topics, "--record-topics")};
   const std::vector<Expectation> expectations = ScenarioExpectations(scenario);
   if (replay && request.export_dir) {
     throw InputError(SourceLocation{"command line", 0, 0}, "--export",
@@ -146,8 +146,7 @@ int RunScenario(const RunRequest& request) {
     setup.Start(render_cameras);
   }
   sim::Simulation* simulation = replay ? nullptr : &setup.simulation();
-  const std::vector<std::string> camera_ids =
-      replay ? replay->info().cameras : setup.camera_ids();
+  const std::vector<std::string> camera_ids = replay ? replay->info().cameras : setup.camera_ids();
   // The cameras of the stream: the rendered ones, or the recorded ones.
   render::RigOptions stream_rig = scenario.rig;
   for (render::CameraOptions& c : stream_rig.cameras) {
@@ -163,8 +162,7 @@ int RunScenario(const RunRequest& request) {
               scenario.name.empty() ? scenario.file.c_str() : scenario.name.c_str(),
               static_cast<unsigned long long>(setup.seed()), pipelines.size(),
               pipelines.size() ? (": " + pipelines.Names()).c_str() : "",
-              sim::PathKindName(scenario.robot_path.kind).c_str(),
-              setup.robot_path().length_m(),
+              sim::PathKindName(scenario.robot_path.kind).c_str(), setup.robot_path().length_m(),
               replay ? (", from " + request.replay->string()).c_str()
                      : (camera_ids.empty() ? "" : ", rendering cameras"));
 
@@ -197,7 +195,8 @@ int RunScenario(const RunRequest& request) {
   };
   std::optional<ProgressLine> progress;
   if (replay) {
-    progress.emplace(job, [&] { return replay->fraction(); }, errors_line);
+    progress.emplace(
+        job, [&] { return replay->fraction(); }, errors_line);
   } else {
     progress.emplace(job, *simulation, errors_line);
   }
@@ -221,8 +220,7 @@ int RunScenario(const RunRequest& request) {
     info.seed = setup.seed();
     info.cameras = camera_ids;
     info.provenance_json = ProvenanceJson(scenario.file, info.scenario_yaml, setup.seed(),
-                                          setup.backend(), scenario.plugins, {},
-                                          scenario.settings)
+                                          setup.backend(), scenario.plugins, {}, scenario.settings)
                                .dump();
     info.topics = request.record_topics;
     recorder.emplace(out->path() / "recording.mcap", record_options, info, stream_rig,
@@ -355,8 +353,8 @@ int RunScenario(const RunRequest& request) {
       "<pipeline>_detections.csv, metrics.json, timing.json, events.json, "
       "provenance.json%s%s%s%s}%s\n",
       out->path().string().c_str(), sensors.empty() ? "" : ", sensors/",
-      recorder ? ", recording.mcap" : "",
-      plots_written ? ", plots/" : "", viewer_written ? ", viewer.html" : "",
+      recorder ? ", recording.mcap" : "", plots_written ? ", plots/" : "",
+      viewer_written ? ", viewer.html" : "",
       dataset && dataset->committed() ? (" and the dataset in " + dataset->path().string()).c_str()
                                       : "");
   if (!path_done) {

@@ -25,7 +25,9 @@ def fail(message):
 
 
 def stamp_ns(header):
-    return int(header["stamp"]["sec"]) * 1_000_000_000 + int(header["stamp"]["nanosec"])
+    # @foxglove/rosmsg2-serialization reads builtin_interfaces/Time as {sec, nsec}.
+    stamp = header["stamp"]
+    return int(stamp["sec"]) * 1_000_000_000 + int(stamp["nsec"] if "nsec" in stamp else stamp["nanosec"])
 
 
 def stamp_text(ns):
@@ -59,9 +61,15 @@ def read_messages(path):
     return messages, summary
 
 
+def unsigned_zero(tokens):
+    # JSON has no negative zero (JavaScript's JSON.stringify(-0) is "0"): "-0.000000" and
+    # "0.000000" are the same number read back.
+    return [t[1:] if t.startswith("-") and float(t) == 0 else t for t in tokens]
+
+
 def tum_lines(path):
     with open(path) as f:
-        return [l.split() for l in f if l.strip() and not l.startswith("#")]
+        return [unsigned_zero(l.split()) for l in f if l.strip() and not l.startswith("#")]
 
 
 def check_truth(by_topic, run):
@@ -73,9 +81,11 @@ def check_truth(by_topic, run):
     if len(lines) != len(samples):
         fail("ground_truth.tum has %d poses, /corridorsim/truth %d samples" % (len(lines), len(samples)))
     for line, t in zip(lines, samples):
-        yaw = t["yaw"]
+        # SE3::FromSE2: Eigen's AngleAxis about +z (x and y are 0 * sin(yaw / 2), signed zeros).
+        s, c = math.sin(t["yaw"] / 2), math.cos(t["yaw"] / 2)
         want = [stamp_text(stamp_ns(t["header"])), "%.6f" % t["x"], "%.6f" % t["y"], "%.6f" % 0.0,
-                "%.9f" % 0.0, "%.9f" % 0.0, "%.9f" % math.sin(yaw / 2), "%.9f" % math.cos(yaw / 2)]
+                "%.9f" % (0.0 * s), "%.9f" % (0.0 * s), "%.9f" % s, "%.9f" % c]
+        want = unsigned_zero(want)
         if line != want:
             fail("ground_truth.tum line %s differs from the recording's truth %s" % (line, want))
     tf = by_topic.get("/tf", [])
@@ -97,7 +107,7 @@ def check_truth(by_topic, run):
 def check_pipelines(by_topic, run):
     with open(os.path.join(run, "metrics.json")) as f:
         metrics = json.load(f)
-    names = [n for n in metrics if os.path.exists(os.path.join(run, n + ".tum"))]
+    names = [n for n in metrics["pipelines"] if os.path.exists(os.path.join(run, n + ".tum"))]
     if not names:
         fail("no pipeline trajectories in " + run)
     for name in names:
@@ -111,11 +121,12 @@ def check_pipelines(by_topic, run):
             p, q = msg["pose"]["pose"]["position"], msg["pose"]["pose"]["orientation"]
             want = [stamp_text(stamp_ns(msg["header"]))] + ["%.6f" % p[k] for k in "xyz"] + \
                    ["%.9f" % q[k] for k in "xyzw"]
+            want = unsigned_zero(want)
             if line != want:
                 fail("%s.tum line %s differs from the recording's %s" % (name, line, want))
             k = msg["pose"]["covariance"]
-            want_cov = want[:8] + ["0"] * 5 + ["%.9e" % k[35], "%.9e" % k[0], "%.9e" % k[1], "0",
-                                                "%.9e" % k[7], "0", "0"]
+            want_cov = want[:8] + ["0"] * 5 + unsigned_zero(
+                ["%.9e" % k[35], "%.9e" % k[0], "%.9e" % k[1], "0", "%.9e" % k[7], "0", "0"])
             if c != want_cov:
                 fail("%s_cov.txt line %s differs from the recording's covariance %s" % (name, c, want_cov))
         if len(by_topic.get("/slam/%s/path" % name, [])) != 1:

@@ -3,20 +3,24 @@
 // write_mcap_fixture writes the same recording in each compression, read_mcap.mjs reads it with
 // @mcap/core (indexed and stream readers) and decodes it with @foxglove/rosmsg2-serialization, and
 // every decoded value is checked against what write_mcap_fixture.cpp encodes. A cut file and a
-// flipped byte inside a chunk must make read_mcap.mjs fail.
+// flipped byte inside a chunk must make read_mcap.mjs fail. The other way round, files
+// @mcap/core's McapWriter writes (schemas and channels inside the chunks; with a summary, without
+// one, cut short) must read the same through corridorsim's reader (dump_mcap).
 //
-//   node tests/recordings/read_mcap_test.mjs WRITE_MCAP_FIXTURE WORK_DIR
+//   node tests/recordings/read_mcap_test.mjs WRITE_MCAP_FIXTURE DUMP_MCAP WORK_DIR
 //
 // Exit 0: every check passed; 1: failures, one line each.
 
 import { spawnSync } from "node:child_process";
 import { createHash } from "node:crypto";
 import fs from "node:fs";
+import { createRequire } from "node:module";
 import path from "node:path";
 import { fileURLToPath } from "node:url";
 
 const HERE = path.dirname(fileURLToPath(import.meta.url));
 const READ_MCAP = path.join(HERE, "read_mcap.mjs");
+const require = createRequire(path.join(HERE, "..", "..", "viewer", "package.json"));
 const failures = [];
 
 function check(condition, what) {
@@ -88,10 +92,86 @@ function expectFailure(name, file) {
   check(/^read_mcap: /.test(result.stderr) && result.stderr.trim().split("\n").length === 1, `${name}: message ${JSON.stringify(result.stderr)}`);
 }
 
-function main() {
-  const [writer, workDir] = process.argv.slice(2);
-  if (!writer || !workDir) {
-    console.error("usage: read_mcap_test.mjs WRITE_MCAP_FIXTURE WORK_DIR");
+// A file written by @mcap/core's McapWriter: three channels registered as they start (so their
+// records go into the chunks), log times out of order, metadata and an attachment. Returns the
+// messages in the order written.
+async function writeWithMcapCore(file, options) {
+  const { McapWriter } = require("@mcap/core");
+  const fd = fs.openSync(file, "w");
+  let position = 0n;
+  const writable = {
+    position: () => position,
+    write: async (buffer) => {
+      fs.writeSync(fd, buffer);
+      position += BigInt(buffer.byteLength);
+    },
+  };
+  const writer = new McapWriter({ writable, chunkSize: 700, ...options });
+  await writer.start({ profile: "ros2", library: "mcap-core-test" });
+  const written = [];
+  const channels = [];
+  const sequences = [];
+  for (let i = 0; i < 60; i++) {
+    if (i % 20 === 0) {
+      const k = channels.length;
+      const schemaId = await writer.registerSchema({ name: `test_msgs/msg/T${k}`, encoding: "ros2msg", data: new TextEncoder().encode(`uint8[] data${k}\n`) });
+      channels.push(await writer.registerChannel({ topic: `/topic${k}`, schemaId, messageEncoding: "cdr", metadata: new Map([["k", String(k)]]) }));
+      sequences.push(0);
+    }
+    const c = i % channels.length;
+    const logTime = 5000000000n + BigInt(i) * 1000n - (i % 3 === 2 ? 2500n : 0n);
+    const data = Uint8Array.from({ length: 20 + ((i * 13) % 50) }, (_, k) => (i * 31 + k) & 255);
+    const message = { channelId: channels[c], sequence: sequences[c]++, logTime, publishTime: logTime + 3n, data };
+    await writer.addMessage(message);
+    written.push({ topic: `/topic${c}`, sequence: message.sequence, log_time: logTime.toString(), publish_time: (logTime + 3n).toString(), length: data.length, sha256: sha256(data) });
+    if (i === 30) {
+      await writer.addMetadata({ name: "run", metadata: new Map([["seed", "7"], ["scenario", "ts"]]) });
+      await writer.addAttachment({ name: "notes.txt", mediaType: "text/plain", logTime: 1n, createTime: 2n, data: new TextEncoder().encode("notes\n") });
+    }
+  }
+  await writer.end();
+  fs.closeSync(fd);
+  return written;
+}
+
+function dump(dumper, file) {
+  const result = run(dumper, [file, "notes.txt"]);
+  if (result.status !== 0) return { error: `dump_mcap exited ${result.status}: ${result.stderr}` };
+  const lines = result.stdout.trim().split("\n").map((l) => JSON.parse(l));
+  return { summary: lines.pop().summary, messages: lines };
+}
+
+async function checkEcosystemFiles(dumper, workDir) {
+  const noSummary = { useStatistics: false, useSummaryOffsets: false, repeatSchemas: false, repeatChannels: false, useAttachmentIndex: false, useMetadataIndex: false, useChunkIndex: false, useMessageIndex: false };
+  for (const [name, options] of [["with_summary", {}], ["without_summary", noSummary]]) {
+    const file = path.join(workDir, `mcap_core_${name}.mcap`);
+    const written = await writeWithMcapCore(file, options);
+    const read = dump(dumper, file);
+    if (!check(!read.error, `${name}: ${read.error}`)) continue;
+    check(JSON.stringify(read.messages) === JSON.stringify(written), `${name}: corridorsim's reader read other messages than @mcap/core wrote`);
+    const s = read.summary;
+    check(s.truncated === false && s.profile === "ros2" && s.library === "mcap-core-test", `${name}: header ${JSON.stringify(s)}`);
+    check(JSON.stringify(s.counts) === JSON.stringify({ "/topic0": 36, "/topic1": 17, "/topic2": 7 }), `${name}: counts ${JSON.stringify(s.counts)}`);
+    check(Object.keys(s.schemas).length === 3 && Object.keys(s.channels).length === 3, `${name}: schemas ${JSON.stringify(s.schemas)}`);
+    check(JSON.stringify(s.metadata) === JSON.stringify([["run", { scenario: "ts", seed: "7" }]]), `${name}: metadata ${JSON.stringify(s.metadata)}`);
+    check(s.attachment && s.attachment.length === 6 && s.attachment.media_type === "text/plain", `${name}: attachment ${JSON.stringify(s.attachment)}`);
+    if (name !== "with_summary") continue;
+    // Cut at 60%: the messages of the complete chunks before the cut, in order.
+    const bytes = fs.readFileSync(file);
+    const cut = path.join(workDir, "mcap_core_cut.mcap");
+    fs.writeFileSync(cut, bytes.subarray(0, Math.floor(bytes.length * 0.6)));
+    const partial = dump(dumper, cut);
+    if (!check(!partial.error, `cut: ${partial.error}`)) continue;
+    check(partial.summary.truncated === true, "cut: not reported truncated");
+    check(partial.messages.length > 10 && partial.messages.length < written.length, `cut: ${partial.messages.length} messages`);
+    check(JSON.stringify(partial.messages) === JSON.stringify(written.slice(0, partial.messages.length)), "cut: the messages read are not the first ones written");
+  }
+}
+
+async function main() {
+  const [writer, dumper, workDir] = process.argv.slice(2);
+  if (!writer || !dumper || !workDir) {
+    console.error("usage: read_mcap_test.mjs WRITE_MCAP_FIXTURE DUMP_MCAP WORK_DIR");
     process.exit(2);
   }
   fs.rmSync(workDir, { recursive: true, force: true });
@@ -120,6 +200,7 @@ function main() {
   fs.writeFileSync(flippedFile, flipped);
   expectFailure("a flipped byte in a chunk", flippedFile);
   expectFailure("a missing file", path.join(workDir, "none_such.mcap"));
+  await checkEcosystemFiles(dumper, workDir);
 
   if (failures.length > 0) {
     for (const f of failures) console.error(`read_mcap_test: FAIL: ${f}`);
@@ -128,4 +209,7 @@ function main() {
   console.log("read_mcap_test: every check passed");
 }
 
-main();
+main().catch((e) => {
+  console.error(`read_mcap_test: FAIL: ${e && e.stack ? e.stack : e}`);
+  process.exit(1);
+});
