@@ -2,6 +2,7 @@
 // encoding): fields only, in the order ros_messages.h serializes them, and corridorsim_msgs
 // (docs/recordings.md says what each field means).
 
+#include <algorithm>
 #include <map>
 #include <set>
 #include <sstream>
