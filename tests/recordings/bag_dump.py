@@ -19,7 +19,8 @@ import rosbag
 
 def plain(value, slot_type):
     if isinstance(value, genpy.Message):
-        return [plain(getattr(value, name), t) for name, t in zip(value.__slots__, value._slot_types)]
+        return [plain(getattr(value, name), t)
+                for name, t in zip(value.__slots__, value._slot_types)]
     if isinstance(value, (genpy.Time, genpy.Duration)):
         return value.secs * 1000000000 + value.nsecs
     element_type = slot_type.split("[")[0]
