@@ -1,6 +1,7 @@
 #include "harness/record/bag_writer.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cstring>
 #include <mutex>
 #include <set>
@@ -34,6 +35,8 @@
 #include <tf2_msgs/TFMessage.h>
 #include <visualization_msgs/Marker.h>
 #include <visualization_msgs/MarkerArray.h>
+
+#include "common/io/serial_worker.h"
 
 namespace corridorsim::record {
 
@@ -461,11 +464,16 @@ void Ros1Out::operator()(const ros::Duration& d) {
 
 // --- BagWriter ---
 
+// The messages queued for the writer's thread: at most this many bytes (in units of 64 KiB).
+constexpr std::size_t kQueueUnitBytes = 64 * 1024;
+constexpr std::size_t kMaxQueuedUnits = 1024;  // 64 MiB
+
 struct BagWriter::Bag {
-  rosbag::Bag bag;
+  rosbag::Bag bag;                               // used on the worker's thread only, once open
   std::map<std::string, const Ros1Type*> types;  // ROS 2 type -> its ROS 1 description
   bool open = true;
-  std::uint64_t closed_bytes = 0;
+  std::atomic<std::uint64_t> bytes{0};
+  SerialWorker worker{kMaxQueuedUnits};
 };
 
 BagWriter::BagWriter(const std::filesystem::path& file)
@@ -487,25 +495,34 @@ BagWriter::~BagWriter() {
 }
 
 void BagWriter::WriteSerialized(const std::string& topic, TimeNs stamp_ns,
-                                const std::string& ros2_type,
-                                const std::vector<std::uint8_t>& bytes) {
+                                const std::string& ros2_type, std::vector<std::uint8_t> bytes) {
   CheckOrDie(bag_->open, "BagWriter", "a message written after Close()");
   CheckOrDie(bytes.size() <= 0xFFFFFFFFu, "BagWriter", "a message of 4 GiB or more");
   const Ros1Type*& type = bag_->types[ros2_type];
   if (type == nullptr) type = &Ros1TypeOf(ros2_type);
   ::ros::Time time;
   time.fromNSec(static_cast<std::uint64_t>(std::max<TimeNs>(stamp_ns, 1)));
-  try {
-    bag_->bag.write(topic, time, SerializedMessage{type, &bytes});
-  } catch (const std::exception& e) {
-    throw std::runtime_error("cannot write " + topic + " to the bag " + file_.string() + ": " +
-                             e.what());
-  }
+  const std::size_t units = 1 + bytes.size() / kQueueUnitBytes;
+  // std::function needs a copyable job: the bytes travel behind a shared_ptr.
+  auto data = std::make_shared<const std::vector<std::uint8_t>>(std::move(bytes));
+  Bag* bag = bag_.get();
+  bag_->worker.Submit(
+      [bag, topic, time, type, data, file = file_] {
+        try {
+          bag->bag.write(topic, time, SerializedMessage{type, data.get()});
+        } catch (const std::exception& e) {
+          throw std::runtime_error("cannot write " + topic + " to the bag " + file.string() + ": " +
+                                   e.what());
+        }
+        bag->bytes = bag->bag.getSize();
+      },
+      std::min(units, kMaxQueuedUnits));
 }
 
 void BagWriter::Close() {
   if (!bag_->open) return;
   bag_->open = false;
+  bag_->worker.Drain();  // rethrows a write's error
   try {
     bag_->bag.close();
   } catch (const std::exception& e) {
@@ -513,11 +530,11 @@ void BagWriter::Close() {
   }
   std::error_code error;
   const std::uintmax_t size = std::filesystem::file_size(file_, error);
-  bag_->closed_bytes = error ? 0 : static_cast<std::uint64_t>(size);
+  if (!error) bag_->bytes = static_cast<std::uint64_t>(size);
 }
 
-std::uint64_t BagWriter::bytes() const {
-  return bag_->open ? bag_->bag.getSize() : bag_->closed_bytes;
-}
+std::uint64_t BagWriter::bytes() const { return bag_->bytes; }
+
+double BagWriter::busy_seconds() const { return bag_->worker.busy_seconds(); }
 
 }  // namespace corridorsim::record

@@ -3,7 +3,9 @@
 // librosbag-storage (docs/recordings.md). Messages are the structs of ros_messages.h serialized as
 // ROS 1 does (Ros1Out); each connection carries the ROS 1 type name, MD5 sum and full definition:
 // the installed ROS 1 headers' for the standard messages, generated from ros_schemas.cpp's ROS 2
-// text with genmsg's MD5 rule for corridorsim_msgs. ROS's headers stay in bag_writer.cpp.
+// text with genmsg's MD5 rule for corridorsim_msgs. Messages are serialized on the caller's thread
+// and written (rosbag's LZ4 chunks) on the writer's own, in order. ROS's headers stay in
+// bag_writer.cpp.
 
 #include <array>
 #include <bit>
@@ -122,21 +124,24 @@ class BagWriter {
 
   /// Appends `message` on `topic` at `stamp_ns` (the bag's record time; ROS 1 has none below
   /// 1 ns, so 0 is written as 1 ns; the header's stamp stays exact). The header's seq counts the
-  /// topic's messages from 0. Throws std::runtime_error when the file cannot be written.
+  /// topic's messages from 0. Throws std::runtime_error when the file cannot be written (here or
+  /// at a later Write or Close: the writing runs on the writer's thread).
   template <ros::Message T>
   void Write(const std::string& topic, TimeNs stamp_ns, const T& message) {
     Ros1Out out(seq_[topic]++);
     out(message);
     WriteSerialized(topic, stamp_ns, T::kType, out.Take());
   }
-  /// Writes the index and closes the file (also done by the destructor).
+  /// Writes what is queued, the index, and closes the file (the destructor does too, silently).
   void Close();
-  /// The file's size so far (a lower bound until Close()).
+  /// The file's size so far (what the writer's thread wrote; a lower bound until Close()).
   std::uint64_t bytes() const;
+  /// Seconds the writer's thread spent writing and compressing.
+  double busy_seconds() const;
 
  private:
   void WriteSerialized(const std::string& topic, TimeNs stamp_ns, const std::string& ros2_type,
-                       const std::vector<std::uint8_t>& bytes);
+                       std::vector<std::uint8_t> bytes);
   struct Bag;
   std::unique_ptr<Bag> bag_;
   std::filesystem::path file_;

@@ -73,10 +73,11 @@ class Recorder : public BusConsumer {
   std::uint64_t bytes() const {
     return (writer_ ? writer_->bytes_written() : 0) + (bag_ ? bag_->bytes() : 0);
   }
-  /// Seconds on the bus thread (encoding; the bag's writing too) and on the MCAP writer's thread
-  /// (compressing, writing).
+  /// Seconds on the bus thread (encoding) and on the writers' threads (compressing, writing).
   double encode_seconds() const { return encode_seconds_; }
-  double compress_seconds() const { return writer_ ? writer_->busy_seconds() : 0.0; }
+  double compress_seconds() const {
+    return (writer_ ? writer_->busy_seconds() : 0.0) + (bag_ ? bag_->busy_seconds() : 0.0);
+  }
 
  private:
   template <ros::Message T>
