@@ -27,6 +27,9 @@ class CdrError : public std::runtime_error {
 class CdrWriter {
  public:
   CdrWriter();  // writes the encapsulation header
+  /// The same, reusing `buffer`'s memory (a writer of many large messages avoids allocating and
+  /// touching fresh pages for each one).
+  explicit CdrWriter(std::vector<std::uint8_t>&& buffer);
 
   template <class T>
   requires std::is_arithmetic_v<T>

@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <span>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -50,6 +51,10 @@ class Ros1Out {
   void operator()(const std::vector<T>& values) {
     Length(values.size());
     Elements(values);
+  }
+  void operator()(const std::span<const std::uint8_t>& bytes) {  // uint8[] of an ImageView
+    Length(bytes.size());
+    Append(bytes.data(), bytes.size());
   }
   template <ros::Message T>
   void operator()(const T& message) {

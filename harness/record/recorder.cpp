@@ -156,9 +156,9 @@ void Recorder::Write(const std::string& topic, TimeNs stamp_ns, const T& message
       }
       channel = channels_.emplace(topic, writer_->AddChannel(schema->second, topic, "cdr")).first;
     }
-    const std::vector<std::uint8_t> data = ros::ToCdr(message);
+    ros::ToCdr(message, &cdr_buffer_);
     const auto t = static_cast<std::uint64_t>(stamp_ns < 0 ? 0 : stamp_ns);
-    writer_->Write(channel->second, t, t, data);
+    writer_->Write(channel->second, t, t, cdr_buffer_);
   }
   if (bag_) bag_->Write(topic, stamp_ns, message);
   encode_seconds_ += SecondsSince(t0);
@@ -251,22 +251,23 @@ void Recorder::OnCameraSet(const CameraSet& set) {
     const render::CameraFrame& f = m.frame;
     const std::string& id = slot.camera_id;
     const std::string frame = OpticalFrame(id);
-    Write(SensorTopic(id, "image_raw"), m.stamp_ns, ros::ToRgbImage(m.stamp_ns, frame, f.rgb));
+    Write(SensorTopic(id, "image_raw"), m.stamp_ns, ros::ViewRgbImage(m.stamp_ns, frame, f.rgb));
     if (!f.noisy_depth_m.data.empty()) {
       Write(SensorTopic(id, "depth/image_raw"), m.stamp_ns,
-            ros::ToFloatImage(m.stamp_ns, frame, f.noisy_depth_m));
+            ros::ViewFloatImage(m.stamp_ns, frame, f.noisy_depth_m));
     }
     if (!f.depth_m.data.empty()) {
       Write(SensorTruthTopic(id, "depth_truth"), m.stamp_ns,
-            ros::ToFloatImage(m.stamp_ns, frame, f.depth_m));
+            ros::ViewFloatImage(m.stamp_ns, frame, f.depth_m));
     }
     if (!f.instance.empty()) {
       Write(SensorTruthTopic(id, "instance"), m.stamp_ns,
-            ros::ToLabelImage(m.stamp_ns, frame, f.rgb.width, f.rgb.height, f.instance));
+            ros::ViewLabelImage(m.stamp_ns, frame, f.rgb.width, f.rgb.height, f.instance,
+                                &narrow_labels_));
     }
     if (!f.semantic.empty()) {
       Write(SensorTruthTopic(id, "semantic"), m.stamp_ns,
-            ros::ToMono8Image(m.stamp_ns, frame, f.rgb.width, f.rgb.height, f.semantic));
+            ros::ViewMono8Image(m.stamp_ns, frame, f.rgb.width, f.rgb.height, f.semantic));
     }
     ros::CameraFrame info;
     info.header.stamp.ns = m.stamp_ns;

@@ -98,6 +98,8 @@ class Recorder : public BusConsumer {
   std::vector<std::string> imu_ids_, laser_ids_;
   double wheelbase_m_ = 0.0;
   SE2 odom_pose_;  // /odom: the wheel odometry dead-reckoned with the nominal wheelbase
+  std::vector<std::uint8_t> cdr_buffer_;      // one message's CDR, its memory reused
+  std::vector<std::uint16_t> narrow_labels_;  // a frame's instance ids in 16 bits
   double encode_seconds_ = 0.0;
   bool closed_ = false;
 };

@@ -3,6 +3,7 @@
 #include "common/error.h"
 #include "common/io/input_text.h"
 
+#include <algorithm>
 #include <cstring>
 #include <limits>
 
@@ -21,16 +22,27 @@ Header MakeHeader(TimeNs stamp_ns, const std::string& frame_id) {
 }
 
 template <class T>
-Image RawImage(TimeNs stamp_ns, const std::string& frame_id, int width, int height, int channels,
-               const char* encoding, const std::vector<T>& values) {
-  Image image;
+ImageView RawImage(TimeNs stamp_ns, const std::string& frame_id, int width, int height,
+                   int channels, const char* encoding, const std::vector<T>& values) {
+  ImageView image;
   image.header = MakeHeader(stamp_ns, frame_id);
   image.width = static_cast<std::uint32_t>(width);
   image.height = static_cast<std::uint32_t>(height);
   image.encoding = encoding;
   image.step = static_cast<std::uint32_t>(width * channels * static_cast<int>(sizeof(T)));
-  image.data.resize(values.size() * sizeof(T));
-  if (!values.empty()) std::memcpy(image.data.data(), values.data(), image.data.size());
+  image.data = {reinterpret_cast<const std::uint8_t*>(values.data()), values.size() * sizeof(T)};
+  return image;
+}
+
+Image Own(const ImageView& view) {
+  Image image;
+  image.header = view.header;
+  image.height = view.height;
+  image.width = view.width;
+  image.encoding = view.encoding;
+  image.is_bigendian = view.is_bigendian;
+  image.step = view.step;
+  image.data.assign(view.data.begin(), view.data.end());
   return image;
 }
 
@@ -87,23 +99,36 @@ TransformStamped ToTransformStamped(TimeNs stamp_ns, const std::string& parent,
 Vector3 ToVector3(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 Eigen::Vector3d FromVector3(const Vector3& v) { return {v.x, v.y, v.z}; }
 
-Image ToRgbImage(TimeNs stamp_ns, const std::string& frame_id, const Image8& rgb) {
-  CheckOrDie(rgb.channels == 3, "ToRgbImage", "not an RGB image");
+ImageView ViewRgbImage(TimeNs stamp_ns, const std::string& frame_id, const Image8& rgb) {
+  CheckOrDie(rgb.channels == 3, "ViewRgbImage", "not an RGB image");
   return RawImage(stamp_ns, frame_id, rgb.width, rgb.height, 3, "rgb8", rgb.data);
 }
 
-Image ToFloatImage(TimeNs stamp_ns, const std::string& frame_id, const ImageF& image) {
+ImageView ViewFloatImage(TimeNs stamp_ns, const std::string& frame_id, const ImageF& image) {
   return RawImage(stamp_ns, frame_id, image.width, image.height, 1, "32FC1", image.data);
 }
 
-Image ToLabelImage(TimeNs stamp_ns, const std::string& frame_id, int width, int height,
-                   const std::vector<std::uint32_t>& instance) {
-  return RawImage(stamp_ns, frame_id, width, height, 1, "32SC1", instance);
+ImageView ViewLabelImage(TimeNs stamp_ns, const std::string& frame_id, int width, int height,
+                         const std::vector<std::uint32_t>& instance,
+                         std::vector<std::uint16_t>* narrow) {
+  const bool fits =
+      std::all_of(instance.begin(), instance.end(), [](std::uint32_t id) { return id <= 0xFFFFu; });
+  if (!fits) return RawImage(stamp_ns, frame_id, width, height, 1, "32SC1", instance);
+  narrow->assign(instance.begin(), instance.end());
+  return RawImage(stamp_ns, frame_id, width, height, 1, "16UC1", *narrow);
 }
 
-Image ToMono8Image(TimeNs stamp_ns, const std::string& frame_id, int width, int height,
-                   const std::vector<std::uint8_t>& values) {
+ImageView ViewMono8Image(TimeNs stamp_ns, const std::string& frame_id, int width, int height,
+                         const std::vector<std::uint8_t>& values) {
   return RawImage(stamp_ns, frame_id, width, height, 1, "mono8", values);
+}
+
+Image ToRgbImage(TimeNs stamp_ns, const std::string& frame_id, const Image8& rgb) {
+  return Own(ViewRgbImage(stamp_ns, frame_id, rgb));
+}
+
+Image ToFloatImage(TimeNs stamp_ns, const std::string& frame_id, const ImageF& image) {
+  return Own(ViewFloatImage(stamp_ns, frame_id, image));
 }
 
 Image8 FromRgbImage(const Image& image, const std::string& what) {
@@ -124,6 +149,10 @@ ImageF FromFloatImage(const Image& image, const std::string& what) {
 }
 
 std::vector<std::uint32_t> FromLabelImage(const Image& image, const std::string& what) {
+  if (image.encoding == "16UC1") {
+    const std::vector<std::uint16_t> narrow = Pixels<std::uint16_t>(image, "16UC1", 1, what);
+    return std::vector<std::uint32_t>(narrow.begin(), narrow.end());
+  }
   return Pixels<std::uint32_t>(image, "32SC1", 1, what);
 }
 

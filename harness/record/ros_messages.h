@@ -141,13 +141,29 @@ struct Image {
   static constexpr const char* kType = "sensor_msgs/msg/Image";
   Header header;
   std::uint32_t height = 0, width = 0;
-  std::string encoding;  // "rgb8", "32FC1" (metres), "mono8", "32SC1"
+  std::string encoding;  // "rgb8", "32FC1" (metres), "mono8", "16UC1" or "32SC1" (labels)
   std::uint8_t is_bigendian = 0;
   std::uint32_t step = 0;  // bytes per row
   std::vector<std::uint8_t> data;
   static constexpr auto Fields() {
     return std::tuple{&Image::header,       &Image::height, &Image::width, &Image::encoding,
                       &Image::is_bigendian, &Image::step,   &Image::data};
+  }
+};
+/// An Image whose pixels are another's (a frame's buffer): what the recorder writes, without
+/// copying a frame into an Image first. Same type, same bytes as Image.
+struct ImageView {
+  static constexpr const char* kType = Image::kType;
+  Header header;
+  std::uint32_t height = 0, width = 0;
+  std::string encoding;
+  std::uint8_t is_bigendian = 0;
+  std::uint32_t step = 0;
+  std::span<const std::uint8_t> data;
+  static constexpr auto Fields() {
+    return std::tuple{&ImageView::header,   &ImageView::height,       &ImageView::width,
+                      &ImageView::encoding, &ImageView::is_bigendian, &ImageView::step,
+                      &ImageView::data};
   }
 };
 struct RegionOfInterest {
@@ -408,6 +424,8 @@ const std::string& Ros2Definition(const std::string& type);
 
 class CdrOut {
  public:
+  CdrOut() = default;
+  explicit CdrOut(std::vector<std::uint8_t>&& buffer) : writer_(std::move(buffer)) {}
   template <class T>
   requires std::is_arithmetic_v<T>
   void operator()(const T& value) { writer_.Primitive(value); }
@@ -431,6 +449,10 @@ class CdrOut {
     } else {
       for (const auto& value : values) (*this)(static_cast<const T&>(value));
     }
+  }
+  void operator()(const std::span<const std::uint8_t>& bytes) {  // uint8[] of an ImageView
+    writer_.SequenceLength(bytes.size());
+    writer_.Elements(bytes);
   }
   template <Message T>
   void operator()(const T& message) {
@@ -494,6 +516,14 @@ std::vector<std::uint8_t> ToCdr(const T& message) {
   CdrOut out;
   out(message);
   return out.writer().Take();
+}
+
+/// The same into `buffer`, whose memory is reused.
+template <Message T>
+void ToCdr(const T& message, std::vector<std::uint8_t>* buffer) {
+  CdrOut out(std::move(*buffer));
+  out(message);
+  *buffer = out.writer().Take();
 }
 
 /// A message from CDR bytes; throws CdrError (naming `what`) when they are not one.
