@@ -48,7 +48,7 @@ Image Own(const ImageView& view) {
 
 // The pixels of `image` as `count_per_pixel` values of T, after checking its encoding and sizes.
 template <class T>
-std::vector<T> Pixels(const Image& image, const char* encoding, std::uint32_t count_per_pixel,
+std::vector<T> Pixels(const ImageView& image, const char* encoding, std::uint32_t count_per_pixel,
                       const std::string& what) {
   if (image.encoding != encoding) {
     Fail(what, "encoding '" + image.encoding + "', expected '" + encoding + "'");
@@ -61,9 +61,25 @@ std::vector<T> Pixels(const Image& image, const char* encoding, std::uint32_t co
                    " px with step " + std::to_string(image.step) + " and " +
                    std::to_string(image.data.size()) + " bytes");
   }
-  std::vector<T> values(image.data.size() / sizeof(T));
-  std::memcpy(values.data(), image.data.data(), image.data.size());
-  return values;
+  if constexpr (sizeof(T) == 1) {
+    return std::vector<T>(image.data.begin(), image.data.end());
+  } else {
+    std::vector<T> values(image.data.size() / sizeof(T));
+    std::memcpy(values.data(), image.data.data(), image.data.size());
+    return values;
+  }
+}
+
+ImageView ViewOf(const Image& image) {
+  ImageView view;
+  view.header = image.header;
+  view.height = image.height;
+  view.width = image.width;
+  view.encoding = image.encoding;
+  view.is_bigendian = image.is_bigendian;
+  view.step = image.step;
+  view.data = image.data;
+  return view;
 }
 
 }  // namespace
@@ -132,6 +148,10 @@ Image ToFloatImage(TimeNs stamp_ns, const std::string& frame_id, const ImageF& i
 }
 
 Image8 FromRgbImage(const Image& image, const std::string& what) {
+  return FromRgbImage(ViewOf(image), what);
+}
+
+Image8 FromRgbImage(const ImageView& image, const std::string& what) {
   Image8 rgb;
   rgb.data = Pixels<std::uint8_t>(image, "rgb8", 3, what);
   rgb.width = static_cast<int>(image.width);
@@ -141,6 +161,10 @@ Image8 FromRgbImage(const Image& image, const std::string& what) {
 }
 
 ImageF FromFloatImage(const Image& image, const std::string& what) {
+  return FromFloatImage(ViewOf(image), what);
+}
+
+ImageF FromFloatImage(const ImageView& image, const std::string& what) {
   ImageF f;
   f.data = Pixels<float>(image, "32FC1", 1, what);
   f.width = static_cast<int>(image.width);
@@ -149,6 +173,10 @@ ImageF FromFloatImage(const Image& image, const std::string& what) {
 }
 
 std::vector<std::uint32_t> FromLabelImage(const Image& image, const std::string& what) {
+  return FromLabelImage(ViewOf(image), what);
+}
+
+std::vector<std::uint32_t> FromLabelImage(const ImageView& image, const std::string& what) {
   if (image.encoding == "16UC1") {
     const std::vector<std::uint16_t> narrow = Pixels<std::uint16_t>(image, "16UC1", 1, what);
     return std::vector<std::uint32_t>(narrow.begin(), narrow.end());
@@ -157,6 +185,10 @@ std::vector<std::uint32_t> FromLabelImage(const Image& image, const std::string&
 }
 
 std::vector<std::uint8_t> FromMono8Image(const Image& image, const std::string& what) {
+  return FromMono8Image(ViewOf(image), what);
+}
+
+std::vector<std::uint8_t> FromMono8Image(const ImageView& image, const std::string& what) {
   return Pixels<std::uint8_t>(image, "mono8", 1, what);
 }
 

@@ -39,9 +39,13 @@ ImageView ViewMono8Image(TimeNs stamp_ns, const std::string& frame_id, int width
 Image ToRgbImage(TimeNs stamp_ns, const std::string& frame_id, const Image8& rgb);
 Image ToFloatImage(TimeNs stamp_ns, const std::string& frame_id, const ImageF& image);
 Image8 FromRgbImage(const Image& image, const std::string& what);
+Image8 FromRgbImage(const ImageView& image, const std::string& what);
 ImageF FromFloatImage(const Image& image, const std::string& what);
+ImageF FromFloatImage(const ImageView& image, const std::string& what);
 std::vector<std::uint32_t> FromLabelImage(const Image& image, const std::string& what);
+std::vector<std::uint32_t> FromLabelImage(const ImageView& image, const std::string& what);
 std::vector<std::uint8_t> FromMono8Image(const Image& image, const std::string& what);
+std::vector<std::uint8_t> FromMono8Image(const ImageView& image, const std::string& what);
 
 /// The camera's intrinsics (plumb_bob for the pinhole, equidistant for Kannala-Brandt; P without
 /// rectification: K with a zero column).

@@ -498,6 +498,9 @@ class CdrIn {
       for (T& value : values) (*this)(value);
     }
   }
+  void operator()(std::span<const std::uint8_t>& bytes) {  // an ImageView's pixels, in place
+    bytes = reader_.Bytes(reader_.SequenceLength(1));
+  }
   template <Message T>
   void operator()(T& message) {
     VisitFields(*this, message);
