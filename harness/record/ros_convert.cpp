@@ -34,18 +34,6 @@ ImageView RawImage(TimeNs stamp_ns, const std::string& frame_id, int width, int 
   return image;
 }
 
-Image Own(const ImageView& view) {
-  Image image;
-  image.header = view.header;
-  image.height = view.height;
-  image.width = view.width;
-  image.encoding = view.encoding;
-  image.is_bigendian = view.is_bigendian;
-  image.step = view.step;
-  image.data.assign(view.data.begin(), view.data.end());
-  return image;
-}
-
 // The pixels of `image` as `count_per_pixel` values of T, after checking its encoding and sizes.
 template <class T>
 std::vector<T> Pixels(const ImageView& image, const char* encoding, std::uint32_t count_per_pixel,
@@ -68,18 +56,6 @@ std::vector<T> Pixels(const ImageView& image, const char* encoding, std::uint32_
     std::memcpy(values.data(), image.data.data(), image.data.size());
     return values;
   }
-}
-
-ImageView ViewOf(const Image& image) {
-  ImageView view;
-  view.header = image.header;
-  view.height = image.height;
-  view.width = image.width;
-  view.encoding = image.encoding;
-  view.is_bigendian = image.is_bigendian;
-  view.step = image.step;
-  view.data = image.data;
-  return view;
 }
 
 }  // namespace
@@ -140,15 +116,15 @@ ImageView ViewMono8Image(TimeNs stamp_ns, const std::string& frame_id, int width
 }
 
 Image ToRgbImage(TimeNs stamp_ns, const std::string& frame_id, const Image8& rgb) {
-  return Own(ViewRgbImage(stamp_ns, frame_id, rgb));
+  return ViewRgbImage(stamp_ns, frame_id, rgb).As<Image>();
 }
 
 Image ToFloatImage(TimeNs stamp_ns, const std::string& frame_id, const ImageF& image) {
-  return Own(ViewFloatImage(stamp_ns, frame_id, image));
+  return ViewFloatImage(stamp_ns, frame_id, image).As<Image>();
 }
 
 Image8 FromRgbImage(const Image& image, const std::string& what) {
-  return FromRgbImage(ViewOf(image), what);
+  return FromRgbImage(image.As<ImageView>(), what);
 }
 
 Image8 FromRgbImage(const ImageView& image, const std::string& what) {
@@ -161,7 +137,7 @@ Image8 FromRgbImage(const ImageView& image, const std::string& what) {
 }
 
 ImageF FromFloatImage(const Image& image, const std::string& what) {
-  return FromFloatImage(ViewOf(image), what);
+  return FromFloatImage(image.As<ImageView>(), what);
 }
 
 ImageF FromFloatImage(const ImageView& image, const std::string& what) {
@@ -173,7 +149,7 @@ ImageF FromFloatImage(const ImageView& image, const std::string& what) {
 }
 
 std::vector<std::uint32_t> FromLabelImage(const Image& image, const std::string& what) {
-  return FromLabelImage(ViewOf(image), what);
+  return FromLabelImage(image.As<ImageView>(), what);
 }
 
 std::vector<std::uint32_t> FromLabelImage(const ImageView& image, const std::string& what) {
@@ -185,7 +161,7 @@ std::vector<std::uint32_t> FromLabelImage(const ImageView& image, const std::str
 }
 
 std::vector<std::uint8_t> FromMono8Image(const Image& image, const std::string& what) {
-  return FromMono8Image(ViewOf(image), what);
+  return FromMono8Image(image.As<ImageView>(), what);
 }
 
 std::vector<std::uint8_t> FromMono8Image(const ImageView& image, const std::string& what) {

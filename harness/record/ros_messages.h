@@ -137,35 +137,37 @@ struct Odometry {
   }
 };
 
-struct Image {
+/// sensor_msgs/Image with its pixels owned (`Image`, what readers make) or another's
+/// (`ImageView`: a frame's buffer as the recorder writes it, or a chunk's bytes as replay reads
+/// them, without a copy). Same type, same bytes.
+template <class Data>
+struct BasicImage {
   static constexpr const char* kType = "sensor_msgs/msg/Image";
   Header header;
   std::uint32_t height = 0, width = 0;
   std::string encoding;  // "rgb8", "32FC1" (metres), "mono8", "16UC1" or "32SC1" (labels)
   std::uint8_t is_bigendian = 0;
   std::uint32_t step = 0;  // bytes per row
-  std::vector<std::uint8_t> data;
+  Data data;
   static constexpr auto Fields() {
-    return std::tuple{&Image::header,       &Image::height, &Image::width, &Image::encoding,
-                      &Image::is_bigendian, &Image::step,   &Image::data};
+    return std::tuple{&BasicImage::header,   &BasicImage::height,       &BasicImage::width,
+                      &BasicImage::encoding, &BasicImage::is_bigendian, &BasicImage::step,
+                      &BasicImage::data};
+  }
+  /// The same image over other storage (a copy of the pixels when To owns them).
+  template <class To>
+  To As() const {
+    return To{header,
+              height,
+              width,
+              encoding,
+              is_bigendian,
+              step,
+              decltype(To::data)(data.begin(), data.end())};
   }
 };
-/// An Image whose pixels are another's (a frame's buffer): what the recorder writes, without
-/// copying a frame into an Image first. Same type, same bytes as Image.
-struct ImageView {
-  static constexpr const char* kType = Image::kType;
-  Header header;
-  std::uint32_t height = 0, width = 0;
-  std::string encoding;
-  std::uint8_t is_bigendian = 0;
-  std::uint32_t step = 0;
-  std::span<const std::uint8_t> data;
-  static constexpr auto Fields() {
-    return std::tuple{&ImageView::header,   &ImageView::height,       &ImageView::width,
-                      &ImageView::encoding, &ImageView::is_bigendian, &ImageView::step,
-                      &ImageView::data};
-  }
-};
+using Image = BasicImage<std::vector<std::uint8_t>>;
+using ImageView = BasicImage<std::span<const std::uint8_t>>;
 struct RegionOfInterest {
   static constexpr const char* kType = "sensor_msgs/msg/RegionOfInterest";
   std::uint32_t x_offset = 0, y_offset = 0, height = 0, width = 0;
