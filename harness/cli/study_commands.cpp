@@ -37,6 +37,12 @@ class StudyCommand final : public Subcommand {
     AddSwitch(job_, "--no-plots", no_plots_, "Skip plots/ (matplotlib)");
     AddSwitch(job_, "--no-viewer", no_viewer_,
               "Skip report.html and each run's viewer.html (docs/viewer.md)");
+    AddSwitch(job_, "--record", record_,
+              "Also write recording.mcap in every run folder (`run --record`, "
+              "docs/recordings.md)");
+    AddSwitch(job_, "--no-replay", no_replay_,
+              "Render every run, even when the points differ only in their pipelines (by "
+              "default each seed is then rendered once and replayed for the other points)");
     AddSwitch(job_, "--slurm", slurm_,
               "Write a Slurm job array (one task per shard) and a merge job into <out>/slurm/ "
               "instead of running here (one run is run here first to measure the cost)");
@@ -55,7 +61,10 @@ class StudyCommand final : public Subcommand {
     AddSwitch(merge_, "--no-viewer", merge_no_viewer_, "Skip report.html (docs/viewer.md)");
     SetFooter(job_,
               "Each run is `corridorsim run <point scenario> --seed S --no-plots` in a process of "
-              "its own; finished runs are kept (runs/<point>/seed_<S>/, each with its "
+              "its own (when the points differ only in their pipelines, a seed's first run adds "
+              "--record and its other runs are `corridorsim replay` of that recording: the same "
+              "files, without rendering again; the recording is removed afterwards unless "
+              "--record); finished runs are kept (runs/<point>/seed_<S>/, each with its "
               "viewer.html) and skipped when the same study is run again. Writes study.json (the "
               "plan), points/, runs/, status/, logs/, summary.json, summary.csv, paired.csv, "
               "report.md, timing.json, plots/ (docs/studies.md) and report.html "
@@ -91,6 +100,8 @@ class StudyCommand final : public Subcommand {
     }
     r.plots = !no_plots_;
     r.viewer = !no_viewer_;
+    r.record = record_;
+    r.replay = !no_replay_;
     if (may_diverge_.size() > 64) Fail("--may-diverge", "at most 64 pipelines");
     r.may_diverge = may_diverge_;
     r.slurm = slurm_;
@@ -129,6 +140,7 @@ class StudyCommand final : public Subcommand {
   OptionalArgument runs_, jobs_, shard_, slurm_tasks_, task_minutes_;
   std::vector<std::string> may_diverge_;
   bool no_plots_ = false, no_viewer_ = false, slurm_ = false, submit_ = false;
+  bool record_ = false, no_replay_ = false;
   CLI::App* merge_ = nullptr;
   std::vector<std::string> merge_dirs_;
   std::string merge_out_ = "out/study_merged";
@@ -150,6 +162,8 @@ class TestCommand final : public Subcommand {
               "at most 256; a study's runs then share the cores); the report is the "
               "same for any count but for its `time` attributes",
               "J");
+    AddSwitch(job_, "--record", record_,
+              "Also write recording.mcap in every run folder (passed to each `run` and `study`)");
     AddSetOption(job_, &settings_);
     SetFooter(job_,
               "Each expectation of a scenario (or each study expectation at each sweep point) is "
@@ -175,10 +189,12 @@ class TestCommand final : public Subcommand {
     if (jobs_.given()) r.jobs = WholeArgument(jobs_.text, kMaxSuiteJobs, "--jobs");
     ParseSettings(settings_);
     r.settings = settings_;
+    r.record = record_;
   }
 
  private:
   std::vector<std::string> files_;
+  bool record_ = false;
   std::string out_ = "out/test";
   OptionalArgument junit_, jobs_;
   std::vector<std::string> settings_;

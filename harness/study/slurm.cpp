@@ -133,7 +133,10 @@ int WriteSlurmStudy(const StudyRequest& request) {
     std::fflush(stdout);
     const Clock::time_point start = Clock::now();
     CatchStopSignals();
-    std::unique_ptr<ChildProcess> child = StartRun(ThisProgram(), spec, dir, first, request.viewer);
+    RunStream stream;
+    stream.record_requested = request.record;
+    std::unique_ptr<ChildProcess> child =
+        StartRun(ThisProgram(), spec, dir, first, stream, request.viewer);
     std::optional<ChildStatus> status;
     bool timed_out = false;
     while (!(status = child->Poll())) {
@@ -150,8 +153,8 @@ int WriteSlurmStudy(const StudyRequest& request) {
       }
       std::this_thread::sleep_for(std::chrono::milliseconds(100));
     }
-    const json record =
-        RecordRun(spec, dir, first, *status, timed_out, Seconds(start), child->peak_rss_mib());
+    const json record = RecordRun(spec, dir, first, *status, timed_out, Seconds(start),
+                                  child->peak_rss_mib(), StreamText(stream, dir));
     if (record["outcome"] != "finished") {
       std::printf("study --slurm: the measuring run %s (log: %s); nothing submitted\n",
                   record["detail"].get<std::string>().c_str(),
@@ -181,6 +184,10 @@ int WriteSlurmStudy(const StudyRequest& request) {
   if (request.runs) seed_args += " --runs " + std::to_string(*request.runs);
   if (request.seed) seed_args += " --seed " + std::to_string(*request.seed);
   seed_args += MayDivergeArgument(request);
+  // Each task reuses renders within its shard (the runs of a seed that it holds); --no-replay
+  // and --record go on to the tasks.
+  if (request.record) seed_args += " --record";
+  if (!request.replay) seed_args += " --no-replay";
   for (const std::string& setting : request.settings) seed_args += " --set " + ShellWord(setting);
   const fs::path slurm_dir = dir / "slurm";
   std::error_code error;

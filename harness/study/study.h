@@ -3,7 +3,9 @@
 // child process of its own, J at a time; then the aggregate (harness/study/study_summary.h). A
 // study folder is resumable: finished runs are kept and skipped, so a killed study loses at most
 // the runs in flight. `--shard K/N` runs a deterministic part; `study merge` combines parts into
-// the summary a whole study gives, byte for byte (docs/studies.md). RunStudy is in study_run.cpp,
+// the summary a whole study gives, byte for byte (docs/studies.md). Points that differ only in
+// their pipelines share one sensor stream: each seed is rendered once, recorded, and replayed
+// for the other points (`corridorsim replay`), with the same files. RunStudy is in study_run.cpp,
 // MergeStudies in study_merge.cpp, WriteSlurmStudy in slurm.cpp; study_internal.h: what they
 // share.
 
@@ -25,7 +27,13 @@ struct StudyRequest : JobRequest {
   int jobs = 0;             // --jobs: worker processes; 0 = the number of cores
   int shard_index = 0;      // --shard K/N: this part is K - 1 of N
   int shard_count = 1;
-  bool plots = true;   // --no-plots skips plots/
+  bool plots = true;  // --no-plots skips plots/
+  // --record: a recording.mcap in every run folder (`run --record`; replays record too).
+  bool record = false;
+  // --no-replay: every run renders, even when the points share one sensor stream (by default
+  // each seed is recorded once and replayed for the other points: docs/studies.md, "Replay
+  // instead of rendering").
+  bool replay = true;
   bool viewer = true;  // --no-viewer skips report.html and the runs' viewer.html
   // --may-diverge: pipelines whose diverged runs do not fail the study (besides the study
   // file's study.may_diverge).

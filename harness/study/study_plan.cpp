@@ -172,6 +172,11 @@ PreparedStudy PrepareStudy(const StudyRequest& request) {
     fs::create_directories(file.parent_path(), error);
     WriteFileAtomic(file, point_yaml[i]);
   }
+  // Whether the runs can share their seed's stream: a local study only (--slurm measures one
+  // run and writes scripts; its tasks decide for their shards).
+  if (request.replay && !request.slurm && spec.points.size() > 1) {
+    p.stream = DecideStreamSharing(spec, point_yaml);
+  }
   if (request.shard_count > 1) {
     WriteFileAtomic(p.dir / "shard.json", JsonFileText(json{{"shard", request.shard_index + 1},
                                                             {"of", request.shard_count}}));

@@ -39,32 +39,34 @@ double Seconds(Clock::time_point since) {
   return std::chrono::duration<double>(Clock::now() - since).count();
 }
 
-// Starts one run: `corridorsim run <point scenario> --seed S --out runs/<point>/seed_S`.
-// `viewer`: false adds --no-viewer.
+// Starts one run: `corridorsim run <point scenario> --seed S --out runs/<point>/seed_S`, or
+// `corridorsim replay <recording> <point scenario> ...`. `viewer`: false adds --no-viewer.
 std::unique_ptr<ChildProcess> StartRun(const std::string& program, const StudySpec& spec,
-                                       const fs::path& dir, const PlannedRun& run, bool viewer) {
+                                       const fs::path& dir, const PlannedRun& run,
+                                       const RunStream& stream, bool viewer) {
   const std::string& id = spec.points[run.point].id;
   std::error_code error;
   fs::create_directories(RunFolder(dir, id, run.seed).parent_path(), error);
   fs::create_directories(LogFile(dir, id, run.seed).parent_path(), error);
   fs::create_directories(StatusFile(dir, id, run.seed).parent_path(), error);
   fs::remove(StatusFile(dir, id, run.seed), error);
-  std::vector<std::string> argv = {program,
-                                   "run",
-                                   (dir / "points" / (id + ".yaml")).string(),
-                                   "--seed",
-                                   std::to_string(run.seed),
-                                   "--out",
-                                   RunFolder(dir, id, run.seed).string(),
-                                   "--force",
-                                   "--no-plots"};
+  const bool replay = stream.kind == RunStream::Kind::kReplay;
+  std::vector<std::string> argv = {program, replay ? "replay" : "run"};
+  if (replay) argv.push_back(stream.recording.string());
+  argv.insert(argv.end(),
+              {(dir / "points" / (id + ".yaml")).string(), "--seed", std::to_string(run.seed),
+               "--out", RunFolder(dir, id, run.seed).string(), "--force", "--no-plots"});
   if (!viewer) argv.push_back("--no-viewer");
+  if (stream.record_requested || stream.kind == RunStream::Kind::kRecord) {
+    argv.push_back("--record");
+  }
   return std::make_unique<ChildProcess>(argv, LogFile(dir, id, run.seed).string());
 }
 
 // How a run ended, recorded in status/<point>/seed_<S>.json (and returned).
 json RecordRun(const StudySpec& spec, const fs::path& dir, const PlannedRun& run,
-               const ChildStatus& status, bool timed_out, double elapsed, double peak_rss_mib) {
+               const ChildStatus& status, bool timed_out, double elapsed, double peak_rss_mib,
+               const std::string& stream) {
   const std::string& id = spec.points[run.point].id;
   const fs::path folder = RunFolder(dir, id, run.seed);
   std::error_code error;
@@ -88,7 +90,8 @@ json RecordRun(const StudySpec& spec, const fs::path& dir, const PlannedRun& run
                  {"exit_code", status.exit_code},
                  {"signal", status.signal},
                  {"wall_seconds", elapsed},
-                 {"peak_rss_mib", peak_rss_mib}};
+                 {"peak_rss_mib", peak_rss_mib},
+                 {"stream", stream}};
   WriteFileAtomic(StatusFile(dir, id, run.seed), JsonFileText(record));
   return record;
 }
@@ -141,6 +144,7 @@ int RunStudy(const StudyRequest& request) {
                               : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
   jobs = std::min(jobs, kMaxStudyJobs);
   const std::string program = request.run_program.empty() ? ThisProgram() : request.run_program;
+  RunQueue queue(spec, dir, todo, prepared.stream.shared, request.record);
   std::printf(
       "study: %s, %zu point(s) x %d seed(s) = %zu run(s)%s; %zu already finished, %zu "
       "to run, %d worker(s); folder %s\n",
@@ -152,22 +156,30 @@ int RunStudy(const StudyRequest& request) {
                 .c_str()
           : "",
       already, todo.size(), jobs, dir.string().c_str());
+  if (prepared.stream.shared) {
+    std::printf(
+        "study: the points differ only in their pipelines: each seed's stream is rendered once, "
+        "recorded, and replayed for the other points (--no-replay renders every run)\n");
+  } else if (request.replay && !prepared.stream.why.empty() && spec.points.size() > 1) {
+    std::printf("study: every run renders (%s)\n", prepared.stream.why.c_str());
+  }
   std::fflush(stdout);
 
   struct Active {
     PlannedRun run;
+    RunStream stream;
     std::unique_ptr<ChildProcess> child;
     Clock::time_point start;
     bool timed_out = false;
   };
   std::vector<Active> active;
-  std::size_t next = 0, done = 0;
+  std::size_t done = 0;
   int failed = 0;
   double run_seconds_sum = 0.0, peak_rss_mib = 0.0;
   json run_timing = json::array();
   const Clock::time_point loop_start = Clock::now();
   CatchStopSignals();
-  while (next < todo.size() || !active.empty()) {
+  while (!queue.empty() || !active.empty()) {
     if (const int signal = StopSignal()) {
       // Stopped (Ctrl-C, kill): the runs in flight are stopped too and waited for, so that none
       // commits after the study has ended; they run again when the study is resumed.
@@ -180,9 +192,12 @@ int RunStudy(const StudyRequest& request) {
                    signal, ::strsignal(signal), active.size(), done + already, planned_here);
       DieOfSignal(signal);
     }
-    while (static_cast<int>(active.size()) < jobs && next < todo.size()) {
-      const PlannedRun& t = todo[next++];
-      active.push_back({t, StartRun(program, spec, dir, t, request.viewer), Clock::now()});
+    while (static_cast<int>(active.size()) < jobs) {
+      std::optional<std::pair<PlannedRun, RunStream>> t = queue.Next();
+      if (!t) break;  // every run started, or the rest wait for a recording
+      std::unique_ptr<ChildProcess> child =
+          StartRun(program, spec, dir, t->first, t->second, request.viewer);
+      active.push_back({t->first, std::move(t->second), std::move(child), Clock::now()});
     }
     bool changed = false;
     for (auto it = active.begin(); it != active.end();) {
@@ -200,9 +215,10 @@ int RunStudy(const StudyRequest& request) {
       // now is not recorded as failed; the stop above waits for it.
       if (StopSignal() != 0) break;
       const std::string& id = spec.points[it->run.point].id;
-      json record =
-          RecordRun(spec, dir, it->run, *status, it->timed_out, elapsed, it->child->peak_rss_mib());
+      json record = RecordRun(spec, dir, it->run, *status, it->timed_out, elapsed,
+                              it->child->peak_rss_mib(), StreamText(it->stream, dir));
       const bool finished = record["outcome"] == "finished";
+      queue.Ended(it->run, finished);
       const std::string detail = record["detail"].get<std::string>();
       run_timing.push_back(std::move(record));
       ++done;
@@ -221,10 +237,14 @@ int RunStudy(const StudyRequest& request) {
         means += " " + name + " " + FormatFixed(ate[name].first / ate[name].second, 4);
       }
       std::printf(
-          "study: [%zu/%zu] %s seed %llu %s in %.0f s; %zu running, %d failed, ETA %s; "
+          "study: [%zu/%zu] %s seed %llu %s%s in %.0f s; %zu running, %d failed, ETA %s; "
           "mean ATE (m):%s\n",
           done + already, planned_here, id.c_str(), static_cast<unsigned long long>(it->run.seed),
-          finished ? "finished" : detail.c_str(), elapsed, active.size() - 1, failed,
+          finished ? "finished" : detail.c_str(),
+          it->stream.kind == RunStream::Kind::kReplay   ? " (replayed)"
+          : it->stream.kind == RunStream::Kind::kRecord ? " (recorded)"
+                                                        : "",
+          elapsed, active.size() - 1, failed,
           FormatDuration(per_run * static_cast<double>(left) /
                          std::max(1, std::min<int>(jobs, static_cast<int>(left + 1))))
               .c_str(),

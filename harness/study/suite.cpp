@@ -302,6 +302,7 @@ int RunTestSuite(const TestRequest& request) {
       argv.insert(argv.end(), {"--jobs", std::to_string(std::max(1, cores / jobs))});
     }
     for (const std::string& setting : request.settings) argv.insert(argv.end(), {"--set", setting});
+    if (request.record) argv.push_back("--record");
     commands.push_back(
         {argv, FileLog(request, i, f), std::string(f.study ? "study " : "run ") + f.file});
   }

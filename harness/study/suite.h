@@ -16,6 +16,8 @@ struct TestRequest {
   std::vector<std::string> files;  // scenario or study files; empty: scenarios/default.yaml
   // --set KEY=VALUE: applied to every file (harness/scenario/overrides.h), passed on to its job.
   std::vector<std::string> settings;
+  // --record: every run (and every study's run) also writes recording.mcap in its folder.
+  bool record = false;
   // --jobs: files whose jobs run at once (each a `corridorsim run` or `study` of its own; a
   // study's runs then get the cores divided by this). The report is the same for any count but
   // for its wall-clock `time` attributes.
