@@ -16,6 +16,10 @@ constexpr std::size_t kMaxStringBytes = 1 << 20;
 
 CdrWriter::CdrWriter() { data_.assign(std::begin(kHeader), std::end(kHeader)); }
 
+CdrWriter::CdrWriter(std::vector<std::uint8_t>&& buffer) : data_(std::move(buffer)) {
+  data_.assign(std::begin(kHeader), std::end(kHeader));
+}
+
 void CdrWriter::Align(std::size_t size) {
   const std::size_t offset = data_.size() - 4;
   const std::size_t pad = (size - offset % size) % size;

@@ -27,6 +27,9 @@ class CdrError : public std::runtime_error {
 class CdrWriter {
  public:
   CdrWriter();  // writes the encapsulation header
+  /// The same, reusing `buffer`'s memory (a writer of many large messages avoids allocating and
+  /// touching fresh pages for each one).
+  explicit CdrWriter(std::vector<std::uint8_t>&& buffer);
 
   template <class T>
   requires std::is_arithmetic_v<T>
@@ -79,6 +82,8 @@ class CdrReader {
     Align(sizeof(T));
     std::memcpy(values.data(), Take(values.size_bytes()), values.size_bytes());
   }
+  /// The next `size` bytes as they lie in the data (no copy; valid as long as the data).
+  std::span<const std::uint8_t> Bytes(std::size_t size) { return {Take(size), size}; }
   /// Bytes left after the read position.
   std::size_t remaining() const { return data_.size() - position_; }
 

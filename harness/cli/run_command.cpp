@@ -24,6 +24,9 @@ struct RecordOptions {
               "Also write recording.mcap in the run folder: every sensor, the truth, the "
               "estimates and the world as ROS 2 messages (MCAP; Foxglove, Lichtblick, Rerun, "
               "ros2 bag play: docs/recordings.md); `corridorsim replay` runs pipelines on it");
+    AddSwitch(job, "--record-bag", parsed->run.record_bag,
+              "Also write recording.bag in the run folder: the same topics as a ROS 1 bag "
+              "(rosbag, rqt_bag, evo: docs/recordings.md); with or without --record");
     AddOption(job, "--record-topics", topics,
               "Record only the topics matching these comma-separated patterns ('*' matches any "
               "characters), e.g. '/front/*,/tf*'",
@@ -33,7 +36,8 @@ struct RecordOptions {
   }
   void Resolve(RunRequest* run) const {
     if (topics.given()) {
-      if (!run->record) Fail("--record-topics", "needs --record");
+      if (!run->record && !run->record_bag)
+        Fail("--record-topics", "needs --record or --record-bag");
       run->record_topics = topics.text;
     }
     if (compression.given()) {

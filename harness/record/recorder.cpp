@@ -96,15 +96,7 @@ Recorder::Recorder(const std::filesystem::path& file, const RecordOptions& optio
                    const std::vector<sim::ImuOptions>& imus,
                    const std::vector<sim::LaserOptions>& lasers, const worlds::World& world,
                    double wheelbase_m)
-    : writer_(file,
-              [&] {
-                mcap::WriterOptions o;
-                o.compression = options.compression;
-                return o;
-              }()),
-      filter_(options.topics),
-      camera_ids_(info.cameras),
-      wheelbase_m_(wheelbase_m) {
+    : filter_(options.topics), camera_ids_(info.cameras), wheelbase_m_(wheelbase_m) {
   for (const std::string& id : camera_ids_) {
     const render::CameraOptions* camera = rig.Find(id);
     CheckOrDie(camera != nullptr, "Recorder", "a rendered camera that is not in the rig");
@@ -117,23 +109,33 @@ Recorder::Recorder(const std::filesystem::path& file, const RecordOptions& optio
   for (const sim::LaserOptions& laser : lasers) {
     if (laser.enabled) laser_ids_.push_back(laser.id);
   }
-  writer_.AddMetadata("corridorsim", {{"format", "1"},
-                                      {"scenario_file", info.scenario_file},
-                                      {"seed", std::to_string(info.seed)},
-                                      {"cameras",
-                                       [&] {
-                                         std::string s;
-                                         for (const std::string& c : info.cameras) {
-                                           s += (s.empty() ? "" : ",") + c;
-                                         }
-                                         return s;
-                                       }()},
-                                      {"topics", info.topics}});
-  writer_.AddMetadata("provenance", {{"json", info.provenance_json}});
-  const std::string& yaml = info.scenario_yaml;
-  writer_.AddAttachment(0, 0, "scenario.yaml", "application/yaml",
-                        {reinterpret_cast<const std::uint8_t*>(yaml.data()), yaml.size()});
+  if (!options.bag_file.empty()) bag_.emplace(options.bag_file);
+  if (options.mcap) WriteMcapHeader(file, options, info);
   WriteStatic(rig, imus, lasers, world);
+}
+
+// The MCAP file, its metadata (the run's) and the scenario as an attachment; a bag has neither.
+void Recorder::WriteMcapHeader(const std::filesystem::path& file, const RecordOptions& options,
+                               const RecordingInfo& info) {
+  mcap::WriterOptions mcap_options;
+  mcap_options.compression = options.compression;
+  writer_.emplace(file, mcap_options);
+  writer_->AddMetadata("corridorsim", {{"format", "1"},
+                                       {"scenario_file", info.scenario_file},
+                                       {"seed", std::to_string(info.seed)},
+                                       {"cameras",
+                                        [&] {
+                                          std::string s;
+                                          for (const std::string& c : info.cameras) {
+                                            s += (s.empty() ? "" : ",") + c;
+                                          }
+                                          return s;
+                                        }()},
+                                       {"topics", info.topics}});
+  writer_->AddMetadata("provenance", {{"json", info.provenance_json}});
+  const std::string& yaml = info.scenario_yaml;
+  writer_->AddAttachment(0, 0, "scenario.yaml", "application/yaml",
+                         {reinterpret_cast<const std::uint8_t*>(yaml.data()), yaml.size()});
 }
 
 Recorder::~Recorder() = default;
@@ -142,20 +144,23 @@ template <ros::Message T>
 void Recorder::Write(const std::string& topic, TimeNs stamp_ns, const T& message) {
   if (!filter_.Keeps(topic)) return;
   const WallClock::time_point t0 = WallClock::now();
-  auto channel = channels_.find(topic);
-  if (channel == channels_.end()) {
-    auto schema = schemas_.find(T::kType);
-    if (schema == schemas_.end()) {
-      schema =
-          schemas_
-              .emplace(T::kType, writer_.AddSchema(T::kType, "ros2msg", ros::Ros2Schema(T::kType)))
-              .first;
+  if (writer_) {
+    auto channel = channels_.find(topic);
+    if (channel == channels_.end()) {
+      auto schema = schemas_.find(T::kType);
+      if (schema == schemas_.end()) {
+        schema = schemas_
+                     .emplace(T::kType,
+                              writer_->AddSchema(T::kType, "ros2msg", ros::Ros2Schema(T::kType)))
+                     .first;
+      }
+      channel = channels_.emplace(topic, writer_->AddChannel(schema->second, topic, "cdr")).first;
     }
-    channel = channels_.emplace(topic, writer_.AddChannel(schema->second, topic, "cdr")).first;
+    ros::ToCdr(message, &cdr_buffer_);
+    const auto t = static_cast<std::uint64_t>(stamp_ns < 0 ? 0 : stamp_ns);
+    writer_->Write(channel->second, t, t, cdr_buffer_);
   }
-  const std::vector<std::uint8_t> data = ros::ToCdr(message);
-  const auto t = static_cast<std::uint64_t>(stamp_ns < 0 ? 0 : stamp_ns);
-  writer_.Write(channel->second, t, t, data);
+  if (bag_) bag_->Write(topic, stamp_ns, message);
   encode_seconds_ += SecondsSince(t0);
 }
 
@@ -246,22 +251,23 @@ void Recorder::OnCameraSet(const CameraSet& set) {
     const render::CameraFrame& f = m.frame;
     const std::string& id = slot.camera_id;
     const std::string frame = OpticalFrame(id);
-    Write(SensorTopic(id, "image_raw"), m.stamp_ns, ros::ToRgbImage(m.stamp_ns, frame, f.rgb));
+    Write(SensorTopic(id, "image_raw"), m.stamp_ns, ros::ViewRgbImage(m.stamp_ns, frame, f.rgb));
     if (!f.noisy_depth_m.data.empty()) {
       Write(SensorTopic(id, "depth/image_raw"), m.stamp_ns,
-            ros::ToFloatImage(m.stamp_ns, frame, f.noisy_depth_m));
+            ros::ViewFloatImage(m.stamp_ns, frame, f.noisy_depth_m));
     }
     if (!f.depth_m.data.empty()) {
       Write(SensorTruthTopic(id, "depth_truth"), m.stamp_ns,
-            ros::ToFloatImage(m.stamp_ns, frame, f.depth_m));
+            ros::ViewFloatImage(m.stamp_ns, frame, f.depth_m));
     }
     if (!f.instance.empty()) {
       Write(SensorTruthTopic(id, "instance"), m.stamp_ns,
-            ros::ToLabelImage(m.stamp_ns, frame, f.rgb.width, f.rgb.height, f.instance));
+            ros::ViewLabelImage(m.stamp_ns, frame, f.rgb.width, f.rgb.height, f.instance,
+                                &narrow_labels_));
     }
     if (!f.semantic.empty()) {
       Write(SensorTruthTopic(id, "semantic"), m.stamp_ns,
-            ros::ToMono8Image(m.stamp_ns, frame, f.rgb.width, f.rgb.height, f.semantic));
+            ros::ViewMono8Image(m.stamp_ns, frame, f.rgb.width, f.rgb.height, f.semantic));
     }
     ros::CameraFrame info;
     info.header.stamp.ns = m.stamp_ns;
@@ -327,7 +333,8 @@ void Recorder::AddPipelines(const std::vector<PipelineRecord>& records) {
 void Recorder::Close() {
   if (closed_) return;
   closed_ = true;
-  writer_.Close();
+  if (writer_) writer_->Close();
+  if (bag_) bag_->Close();
 }
 
 }  // namespace corridorsim::record

@@ -9,11 +9,13 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "common/io/mcap.h"
 #include "harness/metrics/input.h"
+#include "harness/record/bag_writer.h"
 #include "harness/record/ros_messages.h"
 #include "harness/record/topics.h"
 #include "harness/run/sensor_bus.h"
@@ -37,11 +39,14 @@ struct RecordingInfo {
 struct RecordOptions {
   mcap::Compression compression = mcap::Compression::kZstd;
   TopicFilter topics;
+  bool mcap = true;                     // false: no MCAP file (--record-bag alone)
+  std::filesystem::path bag_file = {};  // --record-bag: the same topics as a ROS 1 bag ("": none)
 };
 
 class Recorder : public BusConsumer {
  public:
-  /// Opens `file` (throws std::runtime_error when it cannot) and writes the metadata, the static
+  /// Opens `file` (the MCAP, unless options.mcap is false) and options.bag_file (throws
+  /// std::runtime_error when it cannot) and writes the metadata (MCAP only), the static
   /// transforms of every mount and the world's markers. `rig`: the rendered cameras enabled.
   Recorder(const std::filesystem::path& file, const RecordOptions& options,
            const RecordingInfo& info, const render::RigOptions& rig,
@@ -65,19 +70,26 @@ class Recorder : public BusConsumer {
   /// complete chunk).
   void Close();
 
-  std::uint64_t bytes() const { return writer_.bytes_written(); }
-  /// Seconds on the bus thread (encoding) and on the writer's thread (compressing, writing).
+  std::uint64_t bytes() const {
+    return (writer_ ? writer_->bytes_written() : 0) + (bag_ ? bag_->bytes() : 0);
+  }
+  /// Seconds on the bus thread (encoding) and on the writers' threads (compressing, writing).
   double encode_seconds() const { return encode_seconds_; }
-  double compress_seconds() const { return writer_.busy_seconds(); }
+  double compress_seconds() const {
+    return (writer_ ? writer_->busy_seconds() : 0.0) + (bag_ ? bag_->busy_seconds() : 0.0);
+  }
 
  private:
   template <ros::Message T>
   void Write(const std::string& topic, TimeNs stamp_ns, const T& message);
+  void WriteMcapHeader(const std::filesystem::path& file, const RecordOptions& options,
+                       const RecordingInfo& info);
   void WriteTruth(const sim::TruthSample& truth, std::uint8_t kind);
   void WriteStatic(const render::RigOptions& rig, const std::vector<sim::ImuOptions>& imus,
                    const std::vector<sim::LaserOptions>& lasers, const worlds::World& world);
 
-  mcap::Writer writer_;
+  std::optional<mcap::Writer> writer_;
+  std::optional<BagWriter> bag_;
   TopicFilter filter_;
   std::map<std::string, std::uint16_t> schemas_;   // type -> id
   std::map<std::string, std::uint16_t> channels_;  // topic -> id
@@ -86,6 +98,8 @@ class Recorder : public BusConsumer {
   std::vector<std::string> imu_ids_, laser_ids_;
   double wheelbase_m_ = 0.0;
   SE2 odom_pose_;  // /odom: the wheel odometry dead-reckoned with the nominal wheelbase
+  std::vector<std::uint8_t> cdr_buffer_;      // one message's CDR, its memory reused
+  std::vector<std::uint16_t> narrow_labels_;  // a frame's instance ids in 16 bits
   double encode_seconds_ = 0.0;
   bool closed_ = false;
 };

@@ -330,8 +330,8 @@ void ReplaySource::Replay(const std::vector<BusConsumer*>& consumers, const worl
         if (message.stamp_ns != static_cast<TimeNs>(m.log_time_ns)) {
           throw CdrError(what + ": a frame's topics at two stamps (no camera set between)");
         }
-        const ros::Image image =
-            r.kind == Kind::kFrame ? ros::Image{} : ros::FromCdr<ros::Image>(m.data, what);
+        const ros::ImageView image =
+            r.kind == Kind::kFrame ? ros::ImageView{} : ros::FromCdr<ros::ImageView>(m.data, what);
         if (r.kind == Kind::kImage) {
           message.frame.rgb = ros::FromRgbImage(image, what);
           pending.has_image = true;

@@ -3,6 +3,7 @@
 #include "common/error.h"
 #include "common/io/input_text.h"
 
+#include <algorithm>
 #include <cstring>
 #include <limits>
 
@@ -21,22 +22,21 @@ Header MakeHeader(TimeNs stamp_ns, const std::string& frame_id) {
 }
 
 template <class T>
-Image RawImage(TimeNs stamp_ns, const std::string& frame_id, int width, int height, int channels,
-               const char* encoding, const std::vector<T>& values) {
-  Image image;
+ImageView RawImage(TimeNs stamp_ns, const std::string& frame_id, int width, int height,
+                   int channels, const char* encoding, const std::vector<T>& values) {
+  ImageView image;
   image.header = MakeHeader(stamp_ns, frame_id);
   image.width = static_cast<std::uint32_t>(width);
   image.height = static_cast<std::uint32_t>(height);
   image.encoding = encoding;
   image.step = static_cast<std::uint32_t>(width * channels * static_cast<int>(sizeof(T)));
-  image.data.resize(values.size() * sizeof(T));
-  if (!values.empty()) std::memcpy(image.data.data(), values.data(), image.data.size());
+  image.data = {reinterpret_cast<const std::uint8_t*>(values.data()), values.size() * sizeof(T)};
   return image;
 }
 
 // The pixels of `image` as `count_per_pixel` values of T, after checking its encoding and sizes.
 template <class T>
-std::vector<T> Pixels(const Image& image, const char* encoding, std::uint32_t count_per_pixel,
+std::vector<T> Pixels(const ImageView& image, const char* encoding, std::uint32_t count_per_pixel,
                       const std::string& what) {
   if (image.encoding != encoding) {
     Fail(what, "encoding '" + image.encoding + "', expected '" + encoding + "'");
@@ -49,9 +49,13 @@ std::vector<T> Pixels(const Image& image, const char* encoding, std::uint32_t co
                    " px with step " + std::to_string(image.step) + " and " +
                    std::to_string(image.data.size()) + " bytes");
   }
-  std::vector<T> values(image.data.size() / sizeof(T));
-  std::memcpy(values.data(), image.data.data(), image.data.size());
-  return values;
+  if constexpr (sizeof(T) == 1) {
+    return std::vector<T>(image.data.begin(), image.data.end());
+  } else {
+    std::vector<T> values(image.data.size() / sizeof(T));
+    std::memcpy(values.data(), image.data.data(), image.data.size());
+    return values;
+  }
 }
 
 }  // namespace
@@ -87,26 +91,43 @@ TransformStamped ToTransformStamped(TimeNs stamp_ns, const std::string& parent,
 Vector3 ToVector3(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 Eigen::Vector3d FromVector3(const Vector3& v) { return {v.x, v.y, v.z}; }
 
-Image ToRgbImage(TimeNs stamp_ns, const std::string& frame_id, const Image8& rgb) {
-  CheckOrDie(rgb.channels == 3, "ToRgbImage", "not an RGB image");
+ImageView ViewRgbImage(TimeNs stamp_ns, const std::string& frame_id, const Image8& rgb) {
+  CheckOrDie(rgb.channels == 3, "ViewRgbImage", "not an RGB image");
   return RawImage(stamp_ns, frame_id, rgb.width, rgb.height, 3, "rgb8", rgb.data);
 }
 
-Image ToFloatImage(TimeNs stamp_ns, const std::string& frame_id, const ImageF& image) {
+ImageView ViewFloatImage(TimeNs stamp_ns, const std::string& frame_id, const ImageF& image) {
   return RawImage(stamp_ns, frame_id, image.width, image.height, 1, "32FC1", image.data);
 }
 
-Image ToLabelImage(TimeNs stamp_ns, const std::string& frame_id, int width, int height,
-                   const std::vector<std::uint32_t>& instance) {
-  return RawImage(stamp_ns, frame_id, width, height, 1, "32SC1", instance);
+ImageView ViewLabelImage(TimeNs stamp_ns, const std::string& frame_id, int width, int height,
+                         const std::vector<std::uint32_t>& instance,
+                         std::vector<std::uint16_t>* narrow) {
+  const bool fits =
+      std::all_of(instance.begin(), instance.end(), [](std::uint32_t id) { return id <= 0xFFFFu; });
+  if (!fits) return RawImage(stamp_ns, frame_id, width, height, 1, "32SC1", instance);
+  narrow->assign(instance.begin(), instance.end());
+  return RawImage(stamp_ns, frame_id, width, height, 1, "16UC1", *narrow);
 }
 
-Image ToMono8Image(TimeNs stamp_ns, const std::string& frame_id, int width, int height,
-                   const std::vector<std::uint8_t>& values) {
+ImageView ViewMono8Image(TimeNs stamp_ns, const std::string& frame_id, int width, int height,
+                         const std::vector<std::uint8_t>& values) {
   return RawImage(stamp_ns, frame_id, width, height, 1, "mono8", values);
 }
 
+Image ToRgbImage(TimeNs stamp_ns, const std::string& frame_id, const Image8& rgb) {
+  return ViewRgbImage(stamp_ns, frame_id, rgb).As<Image>();
+}
+
+Image ToFloatImage(TimeNs stamp_ns, const std::string& frame_id, const ImageF& image) {
+  return ViewFloatImage(stamp_ns, frame_id, image).As<Image>();
+}
+
 Image8 FromRgbImage(const Image& image, const std::string& what) {
+  return FromRgbImage(image.As<ImageView>(), what);
+}
+
+Image8 FromRgbImage(const ImageView& image, const std::string& what) {
   Image8 rgb;
   rgb.data = Pixels<std::uint8_t>(image, "rgb8", 3, what);
   rgb.width = static_cast<int>(image.width);
@@ -116,6 +137,10 @@ Image8 FromRgbImage(const Image& image, const std::string& what) {
 }
 
 ImageF FromFloatImage(const Image& image, const std::string& what) {
+  return FromFloatImage(image.As<ImageView>(), what);
+}
+
+ImageF FromFloatImage(const ImageView& image, const std::string& what) {
   ImageF f;
   f.data = Pixels<float>(image, "32FC1", 1, what);
   f.width = static_cast<int>(image.width);
@@ -124,10 +149,22 @@ ImageF FromFloatImage(const Image& image, const std::string& what) {
 }
 
 std::vector<std::uint32_t> FromLabelImage(const Image& image, const std::string& what) {
+  return FromLabelImage(image.As<ImageView>(), what);
+}
+
+std::vector<std::uint32_t> FromLabelImage(const ImageView& image, const std::string& what) {
+  if (image.encoding == "16UC1") {
+    const std::vector<std::uint16_t> narrow = Pixels<std::uint16_t>(image, "16UC1", 1, what);
+    return std::vector<std::uint32_t>(narrow.begin(), narrow.end());
+  }
   return Pixels<std::uint32_t>(image, "32SC1", 1, what);
 }
 
 std::vector<std::uint8_t> FromMono8Image(const Image& image, const std::string& what) {
+  return FromMono8Image(image.As<ImageView>(), what);
+}
+
+std::vector<std::uint8_t> FromMono8Image(const ImageView& image, const std::string& what) {
   return Pixels<std::uint8_t>(image, "mono8", 1, what);
 }
 

@@ -25,17 +25,27 @@ TransformStamped ToTransformStamped(TimeNs stamp_ns, const std::string& parent,
 Vector3 ToVector3(const Eigen::Vector3d& v);
 Eigen::Vector3d FromVector3(const Vector3& v);
 
-/// Images: rgb8, 32FC1 (metres), 32SC1 (instance ids), mono8 (semantic classes); row 0 on top.
+/// Images: rgb8, 32FC1 (metres), mono8 (semantic classes), instance ids as 16UC1 when every id
+/// fits in 16 bits (else 32SC1); row 0 on top. A view's pixels are the frame's: it lives as long.
+ImageView ViewRgbImage(TimeNs stamp_ns, const std::string& frame_id, const Image8& rgb);
+ImageView ViewFloatImage(TimeNs stamp_ns, const std::string& frame_id, const ImageF& image);
+/// `narrow`: where the 16-bit ids are put (its memory is the view's).
+ImageView ViewLabelImage(TimeNs stamp_ns, const std::string& frame_id, int width, int height,
+                         const std::vector<std::uint32_t>& instance,
+                         std::vector<std::uint16_t>* narrow);
+ImageView ViewMono8Image(TimeNs stamp_ns, const std::string& frame_id, int width, int height,
+                         const std::vector<std::uint8_t>& values);
+/// Owning copies (tests, tools).
 Image ToRgbImage(TimeNs stamp_ns, const std::string& frame_id, const Image8& rgb);
 Image ToFloatImage(TimeNs stamp_ns, const std::string& frame_id, const ImageF& image);
-Image ToLabelImage(TimeNs stamp_ns, const std::string& frame_id, int width, int height,
-                   const std::vector<std::uint32_t>& instance);
-Image ToMono8Image(TimeNs stamp_ns, const std::string& frame_id, int width, int height,
-                   const std::vector<std::uint8_t>& values);
 Image8 FromRgbImage(const Image& image, const std::string& what);
+Image8 FromRgbImage(const ImageView& image, const std::string& what);
 ImageF FromFloatImage(const Image& image, const std::string& what);
+ImageF FromFloatImage(const ImageView& image, const std::string& what);
 std::vector<std::uint32_t> FromLabelImage(const Image& image, const std::string& what);
+std::vector<std::uint32_t> FromLabelImage(const ImageView& image, const std::string& what);
 std::vector<std::uint8_t> FromMono8Image(const Image& image, const std::string& what);
+std::vector<std::uint8_t> FromMono8Image(const ImageView& image, const std::string& what);
 
 /// The camera's intrinsics (plumb_bob for the pinhole, equidistant for Kannala-Brandt; P without
 /// rectification: K with a zero column).

@@ -137,19 +137,37 @@ struct Odometry {
   }
 };
 
-struct Image {
+/// sensor_msgs/Image with its pixels owned (`Image`, what readers make) or another's
+/// (`ImageView`: a frame's buffer as the recorder writes it, or a chunk's bytes as replay reads
+/// them, without a copy). Same type, same bytes.
+template <class Data>
+struct BasicImage {
   static constexpr const char* kType = "sensor_msgs/msg/Image";
   Header header;
   std::uint32_t height = 0, width = 0;
-  std::string encoding;  // "rgb8", "32FC1" (metres), "mono8", "32SC1"
+  std::string encoding;  // "rgb8", "32FC1" (metres), "mono8", "16UC1" or "32SC1" (labels)
   std::uint8_t is_bigendian = 0;
   std::uint32_t step = 0;  // bytes per row
-  std::vector<std::uint8_t> data;
+  Data data;
   static constexpr auto Fields() {
-    return std::tuple{&Image::header,       &Image::height, &Image::width, &Image::encoding,
-                      &Image::is_bigendian, &Image::step,   &Image::data};
+    return std::tuple{&BasicImage::header,   &BasicImage::height,       &BasicImage::width,
+                      &BasicImage::encoding, &BasicImage::is_bigendian, &BasicImage::step,
+                      &BasicImage::data};
+  }
+  /// The same image over other storage (a copy of the pixels when To owns them).
+  template <class To>
+  To As() const {
+    return To{header,
+              height,
+              width,
+              encoding,
+              is_bigendian,
+              step,
+              decltype(To::data)(data.begin(), data.end())};
   }
 };
+using Image = BasicImage<std::vector<std::uint8_t>>;
+using ImageView = BasicImage<std::span<const std::uint8_t>>;
 struct RegionOfInterest {
   static constexpr const char* kType = "sensor_msgs/msg/RegionOfInterest";
   std::uint32_t x_offset = 0, y_offset = 0, height = 0, width = 0;
@@ -408,6 +426,8 @@ const std::string& Ros2Definition(const std::string& type);
 
 class CdrOut {
  public:
+  CdrOut() = default;
+  explicit CdrOut(std::vector<std::uint8_t>&& buffer) : writer_(std::move(buffer)) {}
   template <class T>
   requires std::is_arithmetic_v<T>
   void operator()(const T& value) { writer_.Primitive(value); }
@@ -431,6 +451,10 @@ class CdrOut {
     } else {
       for (const auto& value : values) (*this)(static_cast<const T&>(value));
     }
+  }
+  void operator()(const std::span<const std::uint8_t>& bytes) {  // uint8[] of an ImageView
+    writer_.SequenceLength(bytes.size());
+    writer_.Elements(bytes);
   }
   template <Message T>
   void operator()(const T& message) {
@@ -476,6 +500,9 @@ class CdrIn {
       for (T& value : values) (*this)(value);
     }
   }
+  void operator()(std::span<const std::uint8_t>& bytes) {  // an ImageView's pixels, in place
+    bytes = reader_.Bytes(reader_.SequenceLength(1));
+  }
   template <Message T>
   void operator()(T& message) {
     VisitFields(*this, message);
@@ -494,6 +521,14 @@ std::vector<std::uint8_t> ToCdr(const T& message) {
   CdrOut out;
   out(message);
   return out.writer().Take();
+}
+
+/// The same into `buffer`, whose memory is reused.
+template <Message T>
+void ToCdr(const T& message, std::vector<std::uint8_t>* buffer) {
+  CdrOut out(std::move(*buffer));
+  out(message);
+  *buffer = out.writer().Take();
 }
 
 /// A message from CDR bytes; throws CdrError (naming `what`) when they are not one.

@@ -213,7 +213,7 @@ int RunScenario(const RunRequest& request) {
   bus.Subscribe(async_pipelines ? static_cast<BusConsumer*>(&*async_pipelines) : &pipelines);
   bus.Subscribe(&events);
   std::optional<record::Recorder> recorder;
-  if (request.record) {
+  if (request.record || request.record_bag) {
     record::RecordingInfo info;
     info.scenario_file = scenario.file;
     info.scenario_yaml = ResolvedScenarioYaml(scenario, setup.seed());
@@ -223,8 +223,11 @@ int RunScenario(const RunRequest& request) {
                                           setup.backend(), scenario.plugins, {}, scenario.settings)
                                .dump();
     info.topics = request.record_topics;
-    recorder.emplace(out->path() / "recording.mcap", record_options, info, stream_rig,
-                     scenario.imus, scenario.lasers, setup.world(), scenario.robot.wheelbase_m);
+    record::RecordOptions files = record_options;
+    files.mcap = request.record;
+    if (request.record_bag) files.bag_file = out->path() / "recording.bag";
+    recorder.emplace(out->path() / "recording.mcap", files, info, stream_rig, scenario.imus,
+                     scenario.lasers, setup.world(), scenario.robot.wheelbase_m);
     bus.Subscribe(&*recorder);
   }
   const WallClock::time_point loop_start = WallClock::now();
@@ -351,10 +354,10 @@ int RunScenario(const RunRequest& request) {
       "wrote %s/{scenario.yaml, world.json, ground_truth.tum, <pipeline>.tum, "
       "<pipeline>_cov.txt, <pipeline>_errors.csv, <pipeline>_nis.csv, <pipeline>_landmarks.json, "
       "<pipeline>_detections.csv, metrics.json, timing.json, events.json, "
-      "provenance.json%s%s%s%s}%s\n",
+      "provenance.json%s%s%s%s%s}%s\n",
       out->path().string().c_str(), sensors.empty() ? "" : ", sensors/",
-      recorder ? ", recording.mcap" : "", plots_written ? ", plots/" : "",
-      viewer_written ? ", viewer.html" : "",
+      request.record ? ", recording.mcap" : "", request.record_bag ? ", recording.bag" : "",
+      plots_written ? ", plots/" : "", viewer_written ? ", viewer.html" : "",
       dataset && dataset->committed() ? (" and the dataset in " + dataset->path().string()).c_str()
                                       : "");
   if (!path_done) {

@@ -25,6 +25,8 @@ struct RunRequest : JobRequest {
   // (MCAP with ROS 2 messages, docs/recordings.md); --record-topics keeps only the topics that
   // match its patterns; --record-compression zstd (default), lz4 or none.
   bool record = false;
+  // --record-bag: the same topics as recording.bag, a ROS 1 bag (with or without --record).
+  bool record_bag = false;
   std::string record_topics;
   std::string record_compression = "zstd";
   // `corridorsim replay`: this recording's stream replaces the simulation and the rendering; the
