@@ -65,6 +65,28 @@ TEST_CASE("ParseCommandLine fills each job's request", "[harness]") {
   CHECK(world.world.seed == std::uint64_t{7});
 }
 
+TEST_CASE("run --record and replay fill the run request; their flags are strict", "[harness]") {
+  const CommandLine run = ParseCommandLine({"run", "s.yaml", "--record", "--record-topics",
+                                            "/front/*,/tf*", "--record-compression", "lz4"});
+  CHECK(run.run.record);
+  CHECK(run.run.record_topics == "/front/*,/tf*");
+  CHECK(run.run.record_compression == "lz4");
+  CHECK_FALSE(run.run.replay);
+  const CommandLine replay = ParseCommandLine({"replay", "r.mcap", "mine.yaml", "--out", "o"});
+  CHECK(replay.job == Job::kReplay);
+  CHECK(replay.run.replay == std::filesystem::path("r.mcap"));
+  CHECK(replay.run.scenario_file == "mine.yaml");
+  CHECK(replay.run.out_dir == "o");
+  CHECK_FALSE(replay.run.record);
+  // Without a scenario the recording's own runs: none is picked here.
+  CHECK(ParseCommandLine({"replay", "r.mcap"}).run.scenario_file.empty());
+  CHECK_THAT(ErrorOf({"replay"}), Catch::Contains("recording"));
+  CHECK_THAT(ErrorOf({"replay", ""}), Catch::Contains("RECORDING: an empty file name"));
+  CHECK_THAT(ErrorOf({"run", "--record-topics", "/tf"}), Catch::Contains("needs --record"));
+  CHECK_THAT(ErrorOf({"run", "--record", "--record-compression", "gzip"}),
+             Catch::Contains("--record-compression: must be zstd, lz4 or none"));
+}
+
 TEST_CASE("A setting (--set) is repeatable on every job that reads a scenario, one KEY=VALUE each",
           "[harness]") {
   const Args settings = {"--set", "duration_s=20", "--set=world.doors.count=4", "--set",
@@ -243,7 +265,7 @@ TEST_CASE("the detect command line is strict", "[harness]") {
   CHECK_THAT(ErrorOf({"detect", "a.png", "--seed", "1"}), Catch::Contains("--seed"));
   CHECK_THAT(ErrorOf({"detect", "a.png", "--force"}), Catch::Contains("--force"));
   CHECK_THAT(ErrorOf({"detekt", "a.png"}),
-             Catch::Contains("expected world, snapshot, run, drive, where, detect, "
+             Catch::Contains("expected world, snapshot, run, replay, drive, where, detect, "
                              "train-detectors, dataset, score, study, test, plugin or evaluate"));
 }
 
