@@ -354,7 +354,8 @@ void ReplaySource::Replay(const std::vector<BusConsumer*>& consumers, const worl
       }
     }
     ++count;
-    fraction_ = total > 0 ? std::min(1.0, static_cast<double>(count) / total) : 0.0;
+    fraction_ =
+        total > 0 ? std::min(1.0, static_cast<double>(count) / static_cast<double>(total)) : 0.0;
   };
   try {
     reader_->ForEachMessage(

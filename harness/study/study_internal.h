@@ -148,7 +148,6 @@ class RunQueue {
   };
   const StudySpec& spec_;
   fs::path dir_;
-  bool record_ = false;
   std::vector<Entry> entries_;
   std::vector<Group> groups_;
   std::size_t started_ = 0;

@@ -151,7 +151,7 @@ std::string StreamText(const RunStream& stream, const fs::path& dir) {
 
 RunQueue::RunQueue(const StudySpec& spec, const fs::path& dir, const std::vector<PlannedRun>& todo,
                    bool share, bool record)
-    : spec_(spec), dir_(dir), record_(record) {
+    : spec_(spec), dir_(dir) {
   for (const PlannedRun& run : todo) {
     Entry entry;
     entry.run = run;
