@@ -178,8 +178,15 @@ std::vector<std::uint8_t> Compress(Compression compression, int zstd_level,
   if (compression == Compression::kNone) return {records.begin(), records.end()};
   if (compression == Compression::kZstd) {
     out.resize(ZSTD_compressBound(records.size()));
+    // The frame carries its own checksum (XXH64 of the content, checked by every zstd decoder):
+    // the chunk's CRC-32, a second pass over the uncompressed bytes, is then left out (0).
+    const std::unique_ptr<ZSTD_CCtx, decltype(&ZSTD_freeCCtx)> context(ZSTD_createCCtx(),
+                                                                      &ZSTD_freeCCtx);
+    if (!context) throw std::runtime_error("zstd: cannot create a compression context");
+    ZSTD_CCtx_setParameter(context.get(), ZSTD_c_compressionLevel, zstd_level);
+    ZSTD_CCtx_setParameter(context.get(), ZSTD_c_checksumFlag, 1);
     const std::size_t size =
-        ZSTD_compress(out.data(), out.size(), records.data(), records.size(), zstd_level);
+        ZSTD_compress2(context.get(), out.data(), out.size(), records.data(), records.size());
     if (ZSTD_isError(size)) {
       throw std::runtime_error(std::string("zstd compression failed: ") + ZSTD_getErrorName(size));
     }
@@ -188,6 +195,7 @@ std::vector<std::uint8_t> Compress(Compression compression, int zstd_level,
   }
   LZ4F_preferences_t preferences{};
   preferences.frameInfo.contentSize = records.size();
+  preferences.frameInfo.contentChecksumFlag = LZ4F_contentChecksumEnabled;  // as zstd's above
   out.resize(LZ4F_compressFrameBound(records.size(), &preferences));
   const std::size_t size =
       LZ4F_compressFrame(out.data(), out.size(), records.data(), records.size(), &preferences);

@@ -140,7 +140,9 @@ void Writer::Impl::WriteChunk(OpenChunk& full) {
     f.U64(full.start_time);
     f.U64(full.end_time);
     f.U64(full.records.size());
-    f.U32(records::ComputeCrc32(full.records));
+    // uncompressed_crc: 0 ("not computed", MCAP spec) for zstd and lz4 chunks, whose frames
+    // carry their own content checksum (records::Compress); the CRC-32 for uncompressed ones.
+    f.U32(options.compression == Compression::kNone ? records::ComputeCrc32(full.records) : 0);
     f.String(CompressionName(options.compression));
     f.U64(compressed.size());
     f.Bytes(compressed);
