@@ -181,7 +181,7 @@ std::vector<std::uint8_t> Compress(Compression compression, int zstd_level,
     // The frame carries its own checksum (XXH64 of the content, checked by every zstd decoder):
     // the chunk's CRC-32, a second pass over the uncompressed bytes, is then left out (0).
     const std::unique_ptr<ZSTD_CCtx, decltype(&ZSTD_freeCCtx)> context(ZSTD_createCCtx(),
-                                                                      &ZSTD_freeCCtx);
+                                                                       &ZSTD_freeCCtx);
     if (!context) throw std::runtime_error("zstd: cannot create a compression context");
     ZSTD_CCtx_setParameter(context.get(), ZSTD_c_compressionLevel, zstd_level);
     ZSTD_CCtx_setParameter(context.get(), ZSTD_c_checksumFlag, 1);
