@@ -87,8 +87,6 @@ std::array<double, 36> Covariance6(const Eigen::Matrix3d& c) {
   return out;
 }
 
-std::string LandmarkColorKey(slam::LandmarkType type) { return slam::LandmarkTypeName(type); }
-
 }  // namespace
 
 Recorder::Recorder(const std::filesystem::path& file, const RecordOptions& options,
@@ -315,7 +313,7 @@ void Recorder::AddPipelines(const std::vector<PipelineRecord>& records) {
     Write(PipelineTopic(record.name, "path"), path.header.stamp.ns, path);
     ros::MarkerArray landmarks;
     for (const slam::LandmarkEstimate& l : record.landmarks) {
-      ros::Marker m = MapMarker(LandmarkColorKey(l.type), l.id, ros::Marker::kSphere);
+      ros::Marker m = MapMarker(slam::LandmarkTypeName(l.type), l.id, ros::Marker::kSphere);
       m.header.stamp = path.header.stamp;
       m.pose.position = {l.position_in_world.x(), l.position_in_world.y(), l.position_in_world.z()};
       // The sphere spans two standard deviations of the largest variance, at least 5 cm.
